@@ -1,0 +1,12 @@
+# SHORE_SANITIZE=address,undefined adds the sanitizers to every target of this build.
+if(SHORE_SANITIZE)
+  string(REPLACE "," ";" _san_list "${SHORE_SANITIZE}")
+  foreach(_s IN LISTS _san_list)
+    if(NOT _s MATCHES "^(address|undefined|thread|leak)$")
+      message(FATAL_ERROR "SHORE_SANITIZE: '${_s}' is not one of address, undefined, thread, leak")
+    endif()
+  endforeach()
+  add_compile_options(-fsanitize=${SHORE_SANITIZE} -fno-omit-frame-pointer -fno-sanitize-recover=all)
+  add_link_options(-fsanitize=${SHORE_SANITIZE})
+  message(STATUS "Shore: sanitizers ${SHORE_SANITIZE}")
+endif()

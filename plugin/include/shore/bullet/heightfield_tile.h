@@ -1,0 +1,62 @@
+#pragma once
+// One square patch of ground as a Bullet btHeightfieldTerrainShape, editable in place.
+//
+// Bullet 3.24 facts this class hides (measured):
+// - the height data is referenced, not copied: edits to the buffer are seen at once;
+// - min/max heights only set the AABB, and the shape's local origin is the AABB centre,
+//   so the object sits at z = (min + max) / 2 for world heights to equal buffer heights;
+// - heights outside [min, max] are clamped: set_height() clamps and reports it;
+// - with Z up the triangle winding must be flipped for normals to point up;
+// - the accelerator (buildAccelerator) is stale after edits: it is never built here.
+// Column (i, j) of the tile is at world (origin_x + i * cell, origin_y + j * cell).
+
+#include <memory>
+#include <vector>
+
+#include <BulletCollision/CollisionDispatch/btCollisionObject.h>
+#include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
+
+#include "shore/bullet/config.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+
+struct HeightfieldTileSettings {
+  int columns = 65;            ///< vertices per side, >= 2
+  double cell = 0.01;          ///< m, spacing of vertices, > 0
+  double origin_x = 0.0;       ///< m, world x of vertex (0, 0)
+  double origin_y = 0.0;       ///< m, world y of vertex (0, 0)
+  double min_height = -1.0;    ///< m, lowest height the tile can hold (< max_height)
+  double max_height = 1.0;     ///< m, highest height the tile can hold
+  double initial_height = 0.0; ///< m, in [min_height, max_height]
+  double friction = 0.6;       ///< Coulomb friction, >= 0
+
+  void validate() const;
+};
+
+class HeightfieldTile {
+ public:
+  explicit HeightfieldTile(const HeightfieldTileSettings& settings);
+  HeightfieldTile(const HeightfieldTile&) = delete;
+  HeightfieldTile& operator=(const HeightfieldTile&) = delete;
+
+  /// Sets the world height of vertex (i, j), clamped to [min, max]. Returns false if it
+  /// had to clamp.
+  bool set_height(int i, int j, double h);
+  [[nodiscard]] double height(int i, int j) const;
+  [[nodiscard]] int columns() const noexcept { return settings_.columns; }
+  [[nodiscard]] const HeightfieldTileSettings& settings() const noexcept { return settings_; }
+
+  /// The static collision object to add to a btCollisionWorld (owned by the tile).
+  [[nodiscard]] btCollisionObject* object() noexcept { return object_.get(); }
+  [[nodiscard]] btHeightfieldTerrainShape* shape() noexcept { return shape_.get(); }
+
+ private:
+  HeightfieldTileSettings settings_;
+  std::vector<float> heights_;  // row-major, index j * columns + i
+  std::unique_ptr<btHeightfieldTerrainShape> shape_;
+  std::unique_ptr<btCollisionObject> object_;
+};
+
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet

@@ -1,0 +1,59 @@
+#include "shore/bullet/heightfield_tile.h"
+
+#include <algorithm>
+
+#include "shore/core/error.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+
+void HeightfieldTileSettings::validate() const {
+  const Check c{"bullet.HeightfieldTileSettings"};
+  c.at_least("columns", columns, 2);
+  c.positive("cell", cell);
+  c.finite("origin_x", origin_x);
+  c.finite("origin_y", origin_y);
+  c.finite("min_height", min_height);
+  c.finite("max_height", max_height);
+  if (!(max_height > min_height))
+    throw InvalidSetting(c.name("max_height"), detail::to_text(max_height),
+                         "must be > min_height (" + detail::to_text(min_height) + ")");
+  c.in_closed("initial_height", initial_height, min_height, max_height);
+  c.non_negative("friction", friction);
+}
+
+HeightfieldTile::HeightfieldTile(const HeightfieldTileSettings& settings) : settings_(settings) {
+  settings_.validate();
+  const int n = settings_.columns;
+  heights_.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n),
+                  static_cast<float>(settings_.initial_height));
+  shape_ = std::make_unique<btHeightfieldTerrainShape>(
+      n, n, heights_.data(), static_cast<btScalar>(settings_.min_height),
+      static_cast<btScalar>(settings_.max_height), 2, false);
+  shape_->setFlipTriangleWinding(true);
+  shape_->setLocalScaling(btVector3(btScalar(settings_.cell), btScalar(settings_.cell), btScalar(1)));
+  object_ = std::make_unique<btCollisionObject>();
+  object_->setCollisionShape(shape_.get());
+  const double half_span = 0.5 * (n - 1) * settings_.cell;
+  btTransform pose;
+  pose.setIdentity();
+  pose.setOrigin(btVector3(btScalar(settings_.origin_x + half_span), btScalar(settings_.origin_y + half_span),
+                           btScalar(0.5 * (settings_.min_height + settings_.max_height))));
+  object_->setWorldTransform(pose);
+  object_->setFriction(btScalar(settings_.friction));
+}
+
+bool HeightfieldTile::set_height(int i, int j, double h) {
+  const double clamped = std::clamp(h, settings_.min_height, settings_.max_height);
+  heights_[static_cast<std::size_t>(j) * static_cast<std::size_t>(settings_.columns) + static_cast<std::size_t>(i)] =
+      static_cast<float>(clamped);
+  return clamped == h;
+}
+
+double HeightfieldTile::height(int i, int j) const {
+  return heights_[static_cast<std::size_t>(j) * static_cast<std::size_t>(settings_.columns) +
+                  static_cast<std::size_t>(i)];
+}
+
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet

@@ -1,0 +1,44 @@
+#pragma once
+// Soil materials: the appearance parameters of Sumner, O'Brien & Hodgins (1998, Table 1)
+// plus Bekker's pressure-sinkage parameters (Wong, Theory of Ground Vehicles), friction
+// and soil depth. Angles in radians, lengths in metres, pressures in Pa.
+
+#include <string>
+
+namespace shore::terrain {
+
+struct Material {
+  std::string name = "sand";
+
+  // ---- appearance (Sumner et al. Table 1) ----
+  double theta_stop = 0.8;   ///< rad, (0, pi/2]: erosion stops when every slope is below this ("liquidity")
+  double sigma = 0.2;        ///< [0, 1]: share of the excess height difference moved per pass ("roughness")
+  double theta_in = 0.8;     ///< rad, (0, pi/2]: steepest stable slope toward a column the body touches
+  double theta_out = 0.436;  ///< rad, (0, pi/2]: angle of repose elsewhere
+  double alpha = 0.3;        ///< [0, 1]: share of displaced soil pushed to the rim; the rest is compressed
+
+  // ---- bearing (Bekker: p = (k_c / b + k_phi) z^n) ----
+  double bekker_n = 1.1;           ///< sinkage exponent, (0, 3)
+  double bekker_kc = 0.99e3;       ///< cohesive modulus, N/m^(n+1), >= 0
+  double bekker_kphi = 1528.43e3;  ///< frictional modulus, N/m^(n+2), >= 0 (k_c + k_phi > 0)
+
+  double friction = 0.6;     ///< Coulomb friction coefficient body-soil, >= 0
+  double soil_depth = 1.0;   ///< m, > 0: deformable soil above bedrock
+  bool rigid = false;        ///< true: the ground never deforms (rock, asphalt)
+
+  /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
+  void validate() const;
+
+  /// Dry sand (Wong): n 1.1, k_c 0.99 kN/m^2.1, k_phi 1528.43 kN/m^3.1.
+  static Material sand();
+  /// Clayey soil, 55 % moisture (Wong): n 0.7, k_c 16.03, k_phi 1262.53.
+  static Material mud();
+  /// Snow, U.S. (Wong): n 1.6, k_c 4.37, k_phi 196.72.
+  static Material snow();
+  /// Ground that does not deform.
+  static Material rigid_ground();
+  /// Looks a preset up by name ("sand", "mud", "snow", "rigid"); throws InvalidSetting otherwise.
+  static Material preset(const std::string& name);
+};
+
+}  // namespace shore::terrain
