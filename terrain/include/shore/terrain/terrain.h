@@ -1,0 +1,152 @@
+#pragma once
+// The deformable ground: a sparse grid of vertical soil columns (Sumner, O'Brien &
+// Hodgins 1998) with Bekker's bearing law (DESIGN.md section 3).
+//
+// Grid: column (i, j) stands at world (origin_x + i cell, origin_y + j cell) (see
+// shore/core/envelope.h). Storage is in square tiles created on first write, so a
+// 1 km field costs nothing until touched; reads of untouched columns come from the base
+// height source.
+//
+// Two per-column quantities are kept apart:
+// - height: the collision surface bodies feel (may be lowered further by the
+//   conservative "star" imprint);
+// - sinkage: the soil state, how far the column has been pressed below its uncompacted
+//   level by the true envelope. Bekker's law reads sinkage, so a star imprint does not
+//   inflate bearing capacity, and reloading to the same pressure sinks no further.
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "shore/core/envelope.h"
+#include "shore/terrain/height_source.h"
+#include "shore/terrain/material.h"
+
+namespace shore::terrain {
+
+struct TerrainSettings {
+  double cell = 0.01;          ///< m, column spacing, > 0
+  double origin_x = 0.0;       ///< m, world x of column (0, 0), finite
+  double origin_y = 0.0;       ///< m, world y of column (0, 0), finite
+  int tile_columns = 64;       ///< columns per tile side, in [4, 1024]
+  Material material = Material::sand();
+  /// Untouched ground. Null: flat at base_height.
+  std::shared_ptr<const HeightSource> base;
+  double base_height = 0.0;     ///< m, flat ground level when base is null, finite
+  int max_erosion_passes = 64;  ///< erosion pass cap per step, >= 0
+  int active_margin = 4;        ///< columns added around each imprint window for displacement and erosion, >= 1
+  double contact_tolerance = 1e-4;  ///< m: a column counts as touched when the envelope is within this of its top, >= 0
+  int threads = 0;              ///< OpenMP threads, 0 = runtime default; results never depend on it, >= 0
+
+  /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
+  void validate() const;
+};
+
+/// One body's imprint for one step.
+struct Imprint {
+  const EnvelopeRaster* envelope = nullptr;  ///< the body's lower envelope (world heights)
+  double offset = 0.0;  ///< m, >= 0: the envelope is lowered by this much (bearing offset)
+  /// Conservative collision surface: lower each column to the lowest (offset) envelope
+  /// point within +-1 column, so no heightfield triangle cuts into the body. Sinkage
+  /// (soil state) is still taken from the true envelope.
+  bool star = false;
+  double vx = 0.0, vy = 0.0, vz = 0.0;  ///< body velocity at the imprint, m/s (spray particles)
+};
+
+/// Force one contact column can carry at its sinkage.
+struct ColumnForce {
+  std::int64_t i = 0, j = 0;
+  double force = 0.0;  ///< N
+};
+
+/// What the soil under an envelope can bear.
+struct Bearing {
+  /// N: sum over contact columns of p_yield(z) cell^2 with z each column's sinkage if
+  /// pressed to the (offset) envelope; +infinity if any contact column is at bedrock or
+  /// the material is rigid.
+  double capacity = 0.0;
+  double patch_width = 0.0;  ///< m, b: the smaller width of the contact patch
+  int contact_columns = 0;
+  std::vector<ColumnForce> columns;  ///< per-column share of capacity (same order as the window)
+};
+
+struct StepReport {
+  int active_columns = 0;      ///< columns visited by the pipeline this step
+  int contact_columns = 0;     ///< columns pushed down by a body
+  int erosion_passes = 0;      ///< passes until every slope was below theta_stop (or the cap)
+  double displaced_volume = 0; ///< m^3 pushed down by collision this step
+  double compacted_volume = 0; ///< m^3 of it kept as compaction
+};
+
+/// Volume bookkeeping, m^3, relative to the untouched base: ground + compacted + airborne
+/// stays equal to its start value (zero) to rounding.
+struct VolumeTotals {
+  double ground = 0.0;     ///< sum of (height - base height) cell^2 over touched columns
+  double compacted = 0.0;  ///< volume removed from the surface by compression
+  double airborne = 0.0;   ///< volume carried by spray particles in flight
+  [[nodiscard]] double total() const { return ground + compacted + airborne; }
+};
+
+/// A rectangle of columns [i0, i0 + nx) x [j0, j0 + ny).
+struct ColumnRect {
+  std::int64_t i0 = 0, j0 = 0;
+  int nx = 0, ny = 0;
+};
+
+class Terrain {
+ public:
+  explicit Terrain(TerrainSettings settings);
+  ~Terrain();
+  Terrain(Terrain&&) noexcept;
+  Terrain& operator=(Terrain&&) noexcept;
+
+  [[nodiscard]] const TerrainSettings& settings() const noexcept;
+
+  // ---- grid geometry ----
+  [[nodiscard]] std::int64_t column_i(double x) const;  ///< nearest column to world x
+  [[nodiscard]] std::int64_t column_j(double y) const;  ///< nearest column to world y
+  [[nodiscard]] double column_x(std::int64_t i) const;
+  [[nodiscard]] double column_y(std::int64_t j) const;
+
+  // ---- state of one column ----
+  [[nodiscard]] double height(std::int64_t i, std::int64_t j) const;       ///< collision surface, m
+  [[nodiscard]] double sinkage(std::int64_t i, std::int64_t j) const;      ///< plastic sinkage, m, >= 0
+  [[nodiscard]] double base_height(std::int64_t i, std::int64_t j) const;  ///< untouched ground, m
+  [[nodiscard]] double bedrock(std::int64_t i, std::int64_t j) const;      ///< base height - soil depth, m
+  /// Writes a height directly (editing tools, tests); keeps volume accounting in step.
+  void set_height(std::int64_t i, std::int64_t j, double h);
+
+  // ---- physics ----
+  /// What the soil under the envelope, lowered by offset, can carry (Bekker).
+  [[nodiscard]] Bearing bearing(const EnvelopeRaster& envelope, double offset = 0.0) const;
+  /// The downward offset (m, >= 0) of the envelope at which the bearing capacity equals
+  /// load (N); 0 if the soil already carries it.
+  [[nodiscard]] double bearing_offset(const EnvelopeRaster& envelope, double load) const;
+  /// One step of the pipeline for all imprints together: collision, contour map,
+  /// displacement, erosion, over the active region only. Throws InvalidSetting (grid
+  /// untouched) if an envelope holds NaN or an offset is negative or not finite.
+  StepReport step(std::span<const Imprint> imprints);
+  /// Erosion alone over a region (e.g. to relax a pile that was set by set_height).
+  StepReport relax(const ColumnRect& region);
+
+  // ---- output ----
+  /// Rectangles of columns whose height changed since the last call (for push-back).
+  std::vector<ColumnRect> take_changed();
+  [[nodiscard]] VolumeTotals volume() const;
+  [[nodiscard]] std::uint64_t state_hash() const;  ///< FNV-1a over tiles in key order
+  [[nodiscard]] std::size_t tile_count() const;
+  [[nodiscard]] std::size_t memory_bytes() const;
+
+  /// Bit-exact round trip of the touched state. save() writes a temporary file and
+  /// renames it; load() throws shore::FileError on a truncated or foreign file.
+  void save(const std::filesystem::path& file) const;
+  static Terrain load(const std::filesystem::path& file, std::shared_ptr<const HeightSource> base = nullptr);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace shore::terrain
