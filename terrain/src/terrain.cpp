@@ -356,7 +356,8 @@ double Terrain::Impl::displace(Scratch& sc) const {
 // - no column gives more than it holds above bedrock;
 // - only interior columns give; the one-column halo around the region only receives;
 // - passes repeat while material moves and (unless to_rest) some moving pair is steeper
-//   than theta_stop, up to max_erosion_passes (tolerances below).
+//   than theta_stop, up to max_erosion_passes (tolerances below); a pair whose flow is
+//   capped by the body above the lower column does not count (the body holds that slope).
 int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   const Material& m = s.material;
   const double diag = std::numbers::sqrt2 * s.cell;
@@ -371,10 +372,10 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   // 0.06 degrees of its threshold at most) in a finite number of passes.
   const double eps = 1e-3 * s.cell;
   // A moving pair counts as steeper than theta_stop only when it exceeds both theta_stop and
-  // its own threshold by 1 % of a cell. Every preset has theta_stop equal to theta_in or
+  // its own threshold by 5 % of a cell. Every preset has theta_stop equal to theta_in or
   // theta_out, and the excess over a threshold only decays geometrically, so without the
   // margin the last creeping pair would keep the passes going to the cap.
-  const double stop_tolerance = 1e-2 * s.cell;
+  const double stop_tolerance = 5e-2 * s.cell;
   const double sigma = m.sigma;
 
   // Work is tracked in blocks of kBlock x kBlock columns. A giver's flow depends on the
@@ -382,12 +383,15 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   // last pass can flow in the next one; late passes, when a few columns still creep,
   // then cost little. The block sets are computed serially, so they never depend on the
   // thread count.
-  constexpr int kBlock = 8;
+  constexpr int kBlock = 4;
   const int bw = (sc.w + kBlock - 1) / kBlock, bh = (sc.h + kBlock - 1) / kBlock;
   const std::size_t blocks = static_cast<std::size_t>(bw) * static_cast<std::size_t>(bh);
-  std::vector<unsigned char> active(blocks, 1), near(blocks, 0), changed(blocks, 0);
+  std::vector<unsigned char> active(blocks, 1), near(blocks, 0), changed(blocks, 0), giving(blocks, 0),
+      receiving(blocks, 0);
   std::vector<unsigned char> row_flow(static_cast<std::size_t>(bh)), row_steep(static_cast<std::size_t>(bh));
-  auto block = [&](int bx, int by) { return static_cast<std::size_t>(by) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(bx); };
+  auto block = [&](int bx, int by) {
+    return static_cast<std::size_t>(by) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(bx);
+  };
   auto dilate = [&](const std::vector<unsigned char>& from, std::vector<unsigned char>& to) {
     for (int by = 0; by < bh; ++by)
       for (int bx = 0; bx < bw; ++bx) {
@@ -414,8 +418,7 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   std::fill(sc.mask.begin(), sc.mask.end(), 0);
   // Neighbour offsets (wrap-around safe: size_t arithmetic modulo 2^64).
   std::size_t off[8];
-  for (int d = 0; d < 8; ++d)
-    off[d] = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(kDy[d]) * sc.w + kDx[d]);
+  for (int d = 0; d < 8; ++d) off[d] = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(kDy[d]) * sc.w + kDx[d]);
 
   int passes = 0;
   while (passes < s.max_erosion_passes) {
@@ -447,15 +450,15 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
     });
     std::fill(row_flow.begin(), row_flow.end(), 0);
     std::fill(row_steep.begin(), row_steep.end(), 0);
-    for_blocks(active, [&](int, int by, int, int, std::size_t k) {
+    std::fill(giving.begin(), giving.end(), 0);
+    for_blocks(active, [&](int bx, int by, int, int, std::size_t k) {
       sc.mask[k] = 0;
       sc.out[k] = 0.0;
       if ((sc.flags[k] & (kInterior | kContact)) != kInterior) return;
       const double h0 = sc.ht[k];
       double excess_sum = 0.0;
       int count = 0;
-      unsigned char mk = 0;
-      bool steep_here = false;
+      unsigned char mk = 0, steep_mk = 0;
       for (int d = 0; d < 8; ++d) {
         const std::size_t nk = k + off[d];  // interior: neighbours exist
         if (sc.cap[nk] == 0.0) continue;
@@ -465,20 +468,29 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
         excess_sum += diff - thr;
         ++count;
         mk = static_cast<unsigned char>(mk | (1u << d));
-        steep_here = steep_here || diff > std::max(thr, thr_stop[d]) + stop_tolerance;
+        if (diff > std::max(thr, thr_stop[d]) + stop_tolerance)
+          steep_mk = static_cast<unsigned char>(steep_mk | (1u << d));
       }
       if (count == 0) return;
       double share = sigma * (excess_sum / count) / count;
       share = std::min(share, std::max(0.0, h0 - sc.bed[k]) / count);
       if (!(share > 0.0)) return;
       double total = 0.0;
-      for (int d = 0; d < 8; ++d)
-        if (mk & (1u << d)) total += std::min(share, sc.cap[k + off[d]]);
+      bool steep_here = false;
+      for (int d = 0; d < 8; ++d) {
+        if (!(mk & (1u << d))) continue;
+        const double cap = sc.cap[k + off[d]];
+        total += std::min(share, cap);
+        // A pair whose flow the body caps (the column under it is full) stays steep: the
+        // body holds that slope, erosion cannot relax it.
+        steep_here = steep_here || ((steep_mk & (1u << d)) && cap >= share);
+      }
       if (!(total > 0.0)) return;
       sc.q[k] = share;
       sc.mask[k] = mk;
       sc.out[k] = total;
       row_flow[static_cast<std::size_t>(by)] = 1;  // only this block row's task writes it
+      giving[block(bx, by)] = 1;
       if (steep_here) row_steep[static_cast<std::size_t>(by)] = 1;
     });
     bool flow = false, steep = false;
@@ -492,7 +504,8 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
     // neighbours gave it. In place: a column's update reads only its own height and the
     // shares, caps and masks fixed in (a).
     std::fill(changed.begin(), changed.end(), 0);
-    for_blocks(near, [&](int bx, int by, int x, int y, std::size_t k) {
+    dilate(giving, receiving);
+    for_blocks(receiving, [&](int bx, int by, int x, int y, std::size_t k) {
       const double old = sc.ht[k];
       double hk = old - sc.out[k];
       const double cap = sc.cap[k];

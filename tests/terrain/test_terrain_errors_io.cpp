@@ -88,7 +88,9 @@ std::vector<unsigned char> png16(int w, int h, const std::vector<std::uint16_t>&
   std::vector<unsigned char> raw;  // filter byte 0 per row, big-endian samples
   for (int r = 0; r < h; ++r) {
     raw.push_back(0);
-    for (int c = 0; c < w; ++c) raw.push_back(static_cast<unsigned char>(px[r * w + c] >> 8)), raw.push_back(static_cast<unsigned char>(px[r * w + c]));
+    for (int c = 0; c < w; ++c)
+      raw.push_back(static_cast<unsigned char>(px[r * w + c] >> 8)),
+          raw.push_back(static_cast<unsigned char>(px[r * w + c]));
   }
   std::vector<unsigned char> z = {0x78, 0x01, 0x01};  // zlib header, one final stored block
   z.push_back(static_cast<unsigned char>(raw.size())), z.push_back(static_cast<unsigned char>(raw.size() >> 8));
@@ -211,7 +213,8 @@ TEST(Files, CorruptStatesAreRefusedByName) {
   std::vector<unsigned char> version = good;
   version[8] = 99;
   EXPECT_TRUE(mentions(load_error(version), "version"));
-  EXPECT_TRUE(mentions(message_of<shore::FileError>([&] { (void)Terrain::load(temp_file("missing.state")); }), "cannot open"));
+  EXPECT_TRUE(
+      mentions(message_of<shore::FileError>([&] { (void)Terrain::load(temp_file("missing.state")); }), "cannot open"));
   std::filesystem::remove(file);
   std::filesystem::remove(bad);
 }
@@ -230,7 +233,7 @@ TEST(Files, Png8And16BitAndRawFloatHeightmaps) {
   EXPECT_NEAR(h8.height(11.0, 20.5), -1.0 + 2.0 * 102 / 255.0, 1e-6);
   EXPECT_NEAR(h8.height(10.5, 20.0), -1.0 + 2.0 * 204 / 255.0, 1e-6);
   EXPECT_NEAR(h8.height(10.25, 20.0), -1.0 + 2.0 * (153 + 204) / 2 / 255.0, 1e-6);  // bilinear
-  EXPECT_NEAR(h8.height(-5.0, 100.0), -1.0, 1e-6);  // edge extends outward
+  EXPECT_NEAR(h8.height(-5.0, 100.0), -1.0, 1e-6);                                  // edge extends outward
   // 16-bit, hand-encoded.
   const std::vector<std::uint16_t> px16 = {0, 1000, 65535, 30000};
   const auto f16 = temp_file("h16.png");
@@ -265,15 +268,18 @@ TEST(Files, Png8And16BitAndRawFloatHeightmaps) {
   std::vector<unsigned char> png = png16(2, 2, px16);
   png.resize(png.size() - 30);
   EXPECT_TRUE(mentions(png_error(png), "heightmap PNG")) << png_error(png);
-  EXPECT_TRUE(mentions(message_of<shore::FileError>([&] { (void)Heightmap::from_raw_float32(fr, 4, 2, place); }), "expected 32"));
+  EXPECT_TRUE(mentions(message_of<shore::FileError>([&] { (void)Heightmap::from_raw_float32(fr, 4, 2, place); }),
+                       "expected 32"));
   std::vector<float> nan_raw = raw;
   nan_raw[4] = std::numeric_limits<float>::quiet_NaN();
   write_bytes(fr, std::vector<unsigned char>(reinterpret_cast<const unsigned char*>(nan_raw.data()),
                                              reinterpret_cast<const unsigned char*>(nan_raw.data() + nan_raw.size())));
-  EXPECT_TRUE(mentions(message_of<shore::FileError>([&] { (void)Heightmap::from_raw_float32(fr, 3, 2, place); }), "sample 4"));
+  EXPECT_TRUE(
+      mentions(message_of<shore::FileError>([&] { (void)Heightmap::from_raw_float32(fr, 3, 2, place); }), "sample 4"));
   HeightmapPlacement bad_place = place;
   bad_place.spacing = 0.0;
-  EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { (void)Heightmap::from_raw_float32(fr, 3, 2, bad_place); }), "spacing"));
+  EXPECT_TRUE(mentions(
+      message_of<shore::InvalidSetting>([&] { (void)Heightmap::from_raw_float32(fr, 3, 2, bad_place); }), "spacing"));
   for (const auto& f : {f8, f16, fr}) std::filesystem::remove(f);
 }
 

@@ -113,6 +113,7 @@ TEST(Memory, OneSquareMetreOfAKilometreFieldAllocatesOnlyItsTiles) {
   const std::size_t per_tile = 3 * sizeof(double) * 64 * 64;
   EXPECT_LT(t.memory_bytes(), empty + max_tiles * per_tile + 2u * 1024u * 1024u);
   // Far away the ground is untouched and unstored.
-  EXPECT_EQ(t.height(t.column_i(400.0), t.column_j(-400.0)), s.base->height(t.column_x(t.column_i(400.0)), t.column_y(t.column_j(-400.0))));
+  EXPECT_EQ(t.height(t.column_i(400.0), t.column_j(-400.0)),
+            s.base->height(t.column_x(t.column_i(400.0)), t.column_y(t.column_j(-400.0))));
   EXPECT_LE(t.tile_count(), max_tiles);
 }
