@@ -114,7 +114,7 @@ TEST_P(WaterReflection, MatchesTheImageSource) {
   EXPECT_GT(sign * correlation, 0.98) << "correlation of the reflected with the direct wave " << correlation;
   RecordProperty("difference_over_peak", std::to_string(diff / peak));
   RecordProperty("correlation", std::to_string(correlation));
-  EXPECT_LT(diff, 0.1 * peak) << "reflection differs from the image wave by " << diff << " of " << peak;
+  EXPECT_LT(diff, 0.05 * peak) << "reflection differs from the image wave by " << diff << " of " << peak;
 }
 
 INSTANTIATE_TEST_SUITE_P(Walls, WaterReflection,
