@@ -27,7 +27,7 @@ struct Coefficients {
   float c = 1.f;          ///< spring stiffness (3-D); k_t (vertical-only)
   float rest = 1.f;       ///< axis rest length
   float rest_diag = 1.f;  ///< diagonal rest length
-  float keep = 1.f;       ///< 1 - gamma dt / m: velocity kept after damping
+  float damping = 0.f;    ///< gamma, N s/m
   float impulse = 1.f;    ///< dt / m
   float dt = 1.f;
 };

@@ -108,7 +108,7 @@ kernel::Coefficients make_coefficients(const SurfaceSettings& s, double dt) {
   k.c = static_cast<float>(s.mode == SurfaceMode::full_3d ? p.stiffness : p.transverse_stiffness());
   k.rest = static_cast<float>(p.rest_ratio * p.spacing);
   k.rest_diag = static_cast<float>(kSqrt2 * p.rest_ratio * p.spacing);
-  k.keep = static_cast<float>(1.0 - p.damping * dt / p.mass);
+  k.damping = static_cast<float>(p.damping);
   k.impulse = static_cast<float>(dt / p.mass);
   k.dt = static_cast<float>(dt);
   return k;
