@@ -114,13 +114,19 @@ kernel::Coefficients make_coefficients(const SurfaceSettings& s, double dt) {
   return k;
 }
 
-int resolve_threads(int threads) { return threads > 0 ? threads : std::max(1, omp_get_max_threads()); }
+/// Explicit thread counts are honoured; the default (0) takes OpenMP's count but at most one
+/// thread per 16384 nodes, as fork/join costs more than it saves on small grids.
+int resolve_threads(int threads, std::size_t nodes) {
+  if (threads > 0) return threads;
+  const auto by_size = static_cast<int>(std::min<std::size_t>(nodes / 16384u, 1024u));
+  return std::max(1, std::min(omp_get_max_threads(), by_size));
+}
 }  // namespace
 
 double Surface::omega_bound() const {
   const LatticeParameters& p = settings_.lattice;
   if (settings_.mode == SurfaceMode::vertical_only) return omega_max_vertical(p);
-  const int threads = resolve_threads(threads_);
+  const int threads = resolve_threads(threads_, node_count());
   workspace_.resize(kernel::workspace_floats_per_thread(nx()) * static_cast<std::size_t>(threads));
   const kernel::Grid g = make_grid(nx(), ny(), ux_, uy_, uz_, vx_, vy_, vz_, constraints_);
   const kernel::Deformation d = kernel::measure_3d(g, make_coefficients(settings_, 1.0), threads, workspace_.data());
@@ -145,7 +151,7 @@ StepStats Surface::step(double dt) {
 }
 
 void Surface::step_substep(double dt) {
-  const int threads = resolve_threads(threads_);
+  const int threads = resolve_threads(threads_, node_count());
   workspace_.resize(kernel::workspace_floats_per_thread(nx()) * static_cast<std::size_t>(threads));
   const kernel::Grid g = make_grid(nx(), ny(), ux_, uy_, uz_, vx_, vy_, vz_, constraints_);
   const kernel::Coefficients k = make_coefficients(settings_, dt);

@@ -79,7 +79,8 @@ class Surface {
   // ---- stepping -------------------------------------------------------------------------
   /// Advances by dt seconds (finite, > 0), in as many substeps as the guard needs.
   StepStats step(double dt);
-  /// Threads for step() (0: OpenMP's default). Results do not depend on it.
+  /// Threads for step() (0: OpenMP's default, at most one per 16384 nodes). Results do not
+  /// depend on it.
   void set_threads(int threads);
   /// "avx2" or "generic": the fast kernel's instruction set on this CPU.
   [[nodiscard]] static const char* fast_kernel_isa();

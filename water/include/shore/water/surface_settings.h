@@ -61,7 +61,8 @@ struct SurfaceSettings {
   double density = 1000.0;    ///< kg/m^3, water density for buoyancy in a coupling, > 0
   SurfaceMode mode = SurfaceMode::full_3d;
   Boundary boundary = Boundary::fixed;
-  int threads = 0;  ///< OpenMP threads for the step, >= 0 (0: OpenMP's default)
+  int threads = 0;  ///< OpenMP threads for the step, >= 0 (0: OpenMP's default, at most one
+                    ///< per 16384 nodes). Results do not depend on it.
   GuardSettings guard;
 
   /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
