@@ -31,7 +31,9 @@ TEST_P(WaterRing, IsSymmetricUnderTheGridsEightSymmetries) {
   s.origin_x = 100.0;  // away from the origin: the state is stored relative to rest
   s.origin_y = -50.0;
   Surface surf(s);
-  surf.disturb(Disturbance::point_height(surf.node_x(20), surf.node_y(20), 2.0, 1.0));
+  // 0.3 h: steep enough for a clear ring, gentle enough that no spring is compressed (a
+  // compressed pre-tensioned lattice buckles in-plane, which amplifies rounding noise).
+  surf.disturb(Disturbance::point_height(surf.node_x(20), surf.node_y(20), 2.0, 0.3));
   for (int k = 0; k < 120; ++k) surf.step(0.4);  // the ring reaches the edges and comes back
   const Surface::View v = surf.view();
   const auto at = [N](std::span<const float> a, int i, int j) {

@@ -32,33 +32,50 @@ struct Coefficients {
   float dt = 1.f;
 };
 
-/// Deformation measures of the 3-D lattice for the guard: max over springs of
-/// max(0, 1 - L0 / l) and of sin^2(angle to the rest direction).
-struct Deformation {
-  float max_tension = 0.f;
-  float max_sin2 = 0.f;
+/// The guard's raw measures of the 3-D lattice, as bit patterns of non-negative floats
+/// (they order like the floats; max and min are exact in any order): per spring family
+/// (axis, diagonal) the largest and smallest squared length and the largest squared
+/// component across the rest direction; and the largest squared relative velocity
+/// |v_b - v_a|^2 of the ends of an axis spring after the substep (a diagonal's is at most
+/// twice the square root of it).
+struct Extremes {
+  std::uint32_t long_axis = 0u, short_axis = 0x7f7fffffu, across_axis = 0u;
+  std::uint32_t long_diag = 0u, short_diag = 0x7f7fffffu, across_diag = 0u;
+  std::uint32_t relative = 0u;
+
+  void merge(const Extremes& o) {
+    long_axis = long_axis > o.long_axis ? long_axis : o.long_axis;
+    short_axis = short_axis < o.short_axis ? short_axis : o.short_axis;
+    across_axis = across_axis > o.across_axis ? across_axis : o.across_axis;
+    long_diag = long_diag > o.long_diag ? long_diag : o.long_diag;
+    short_diag = short_diag < o.short_diag ? short_diag : o.short_diag;
+    across_diag = across_diag > o.across_diag ? across_diag : o.across_diag;
+    relative = relative > o.relative ? relative : o.relative;
+  }
 };
 
 /// Floats of scratch per thread the kernels need for a row of nx nodes.
 std::size_t workspace_floats_per_thread(int nx);
 
 // One substep in place. workspace: threads * workspace_floats_per_thread(nx) floats.
-void step_3d(const Grid& g, const Coefficients& k, int threads, float* workspace);
+// step_3d returns the measures of the positions it started from and the largest relative
+// velocity of a spring's ends it ended with.
+Extremes step_3d(const Grid& g, const Coefficients& k, int threads, float* workspace);
 void step_vertical(const Grid& g, const Coefficients& k, int threads, float* workspace);
-Deformation measure_3d(const Grid& g, const Coefficients& k, int threads, float* workspace);
+Extremes measure_3d(const Grid& g, const Coefficients& k, int threads);
 
 /// Whether the AVX2 variant runs on this CPU.
 bool uses_avx2();
 
 namespace avx2 {
-void step_3d(const Grid& g, const Coefficients& k, int threads, float* workspace);
+Extremes step_3d(const Grid& g, const Coefficients& k, int threads, float* workspace);
 void step_vertical(const Grid& g, const Coefficients& k, int threads, float* workspace);
-Deformation measure_3d(const Grid& g, const Coefficients& k, int threads, float* workspace);
+Extremes measure_3d(const Grid& g, const Coefficients& k, int threads);
 }  // namespace avx2
 namespace generic {
-void step_3d(const Grid& g, const Coefficients& k, int threads, float* workspace);
+Extremes step_3d(const Grid& g, const Coefficients& k, int threads, float* workspace);
 void step_vertical(const Grid& g, const Coefficients& k, int threads, float* workspace);
-Deformation measure_3d(const Grid& g, const Coefficients& k, int threads, float* workspace);
+Extremes measure_3d(const Grid& g, const Coefficients& k, int threads);
 }  // namespace generic
 
 }  // namespace shore::water::kernel

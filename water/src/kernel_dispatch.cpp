@@ -16,11 +16,11 @@ bool uses_avx2() {
 #endif
 }
 
-void step_3d(const Grid& g, const Coefficients& k, int threads, float* workspace) {
+Extremes step_3d(const Grid& g, const Coefficients& k, int threads, float* workspace) {
 #ifndef SHORE_WATER_NO_AVX2
   if (uses_avx2()) return avx2::step_3d(g, k, threads, workspace);
 #endif
-  generic::step_3d(g, k, threads, workspace);
+  return generic::step_3d(g, k, threads, workspace);
 }
 
 void step_vertical(const Grid& g, const Coefficients& k, int threads, float* workspace) {
@@ -30,11 +30,11 @@ void step_vertical(const Grid& g, const Coefficients& k, int threads, float* wor
   generic::step_vertical(g, k, threads, workspace);
 }
 
-Deformation measure_3d(const Grid& g, const Coefficients& k, int threads, float* workspace) {
+Extremes measure_3d(const Grid& g, const Coefficients& k, int threads) {
 #ifndef SHORE_WATER_NO_AVX2
-  if (uses_avx2()) return avx2::measure_3d(g, k, threads, workspace);
+  if (uses_avx2()) return avx2::measure_3d(g, k, threads);
 #endif
-  return generic::measure_3d(g, k, threads, workspace);
+  return generic::measure_3d(g, k, threads);
 }
 
 }  // namespace shore::water::kernel

@@ -1,6 +1,7 @@
 #include "shore/water/surface.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -123,31 +124,78 @@ int resolve_threads(int threads, std::size_t nodes) {
 }
 }  // namespace
 
+namespace {
+float from_bits(std::uint32_t b) { return std::bit_cast<float>(b); }
+
+/// Turns the kernel's raw measures into the guard's (max tension, max sin), for positions
+/// that may have moved by up to `slack` along every spring since they were measured:
+/// lengths and across-components grow or shrink by at most slack.
+Deformation deformation_of(const kernel::Extremes& e, const kernel::Coefficients& k, double slack_axis,
+                           double slack_diag) {
+  const auto family = [](double rest, std::uint32_t longest2, std::uint32_t shortest2, std::uint32_t across2,
+                         double slack, double& tension, double& sine) {
+    const double longest = std::sqrt(static_cast<double>(from_bits(longest2))) + slack;
+    const double shortest = std::sqrt(static_cast<double>(from_bits(shortest2))) - slack;
+    const double across = std::sqrt(static_cast<double>(from_bits(across2))) + slack;
+    tension = std::max(tension, longest > 0.0 ? 1.0 - rest / longest : 0.0);
+    sine = std::max(sine, shortest > 0.0 ? std::min(1.0, across / shortest) : 1.0);
+  };
+  Deformation d;
+  family(k.rest, e.long_axis, e.short_axis, e.across_axis, slack_axis, d.max_tension, d.max_sin);
+  family(k.rest_diag, e.long_diag, e.short_diag, e.across_diag, slack_diag, d.max_tension, d.max_sin);
+  return d;
+}
+}  // namespace
+
 double Surface::omega_bound() const {
   const LatticeParameters& p = settings_.lattice;
   if (settings_.mode == SurfaceMode::vertical_only) return omega_max_vertical(p);
-  const int threads = resolve_threads(threads_, node_count());
-  workspace_.resize(kernel::workspace_floats_per_thread(nx()) * static_cast<std::size_t>(threads));
-  const kernel::Grid g = make_grid(nx(), ny(), ux_, uy_, uz_, vx_, vy_, vz_, constraints_);
-  const kernel::Deformation d = kernel::measure_3d(g, make_coefficients(settings_, 1.0), threads, workspace_.data());
-  return omega_bound_3d(p, d.max_tension, std::sqrt(static_cast<double>(d.max_sin2)));
+  if (!deformation_) {
+    const kernel::Grid g = make_grid(nx(), ny(), ux_, uy_, uz_, vx_, vy_, vz_, constraints_);
+    const kernel::Coefficients k = make_coefficients(settings_, 1.0);
+    deformation_ = deformation_of(kernel::measure_3d(g, k, resolve_threads(threads_, node_count())), k, 0.0, 0.0);
+  }
+  return omega_bound_3d(p, deformation_->max_tension, deformation_->max_sin);
 }
 
 StepStats Surface::step(double dt) {
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw InvalidSetting("water.Surface.step.dt", detail::to_text(dt), "must be finite and > 0");
   const LatticeParameters& p = settings_.lattice;
-  const double omega = omega_bound();
-  const SubstepPlan plan = plan_substeps(omega, dt, p.mass, p.damping, settings_.guard.safety, settings_.guard.max_substeps);
-  for (int s = 0; s < plan.substeps; ++s) step_substep(plan.substep);
-  last_stats_.substeps = plan.substeps;
-  last_stats_.substep = plan.substep;
-  last_stats_.simulated = plan.simulated;
-  last_stats_.omega_bound = omega;
-  last_stats_.time_clamped = plan.time_clamped;
-  last_substep_ = plan.substep;
-  time_ += plan.simulated;
-  return last_stats_;
+  const GuardSettings& guard = settings_.guard;
+  double omega = omega_bound();
+  SubstepPlan plan = plan_substeps(omega, dt, p.mass, p.damping, guard.safety, guard.max_substeps);
+  StepStats stats;
+  stats.omega_bound = omega;
+  stats.time_clamped = plan.time_clamped;
+  int left = plan.substeps;
+  double remaining = dt;
+  while (left > 0 && stats.substeps < guard.max_substeps) {
+    step_substep(plan.substep);
+    --left;
+    ++stats.substeps;
+    stats.simulated += plan.substep;
+    remaining -= plan.substep;
+    last_substep_ = plan.substep;
+    if (left == 0) break;
+    // The lattice may have stiffened during the substep: re-plan what is left if needed.
+    omega = omega_bound();
+    stats.omega_bound = std::max(stats.omega_bound, omega);
+    if (omega * plan.substep > 2.0 * guard.safety * std::sqrt(1.0 - 0.5 * p.damping * plan.substep / p.mass)) {
+      const int budget = guard.max_substeps - stats.substeps;
+      if (budget < 1) {
+        stats.time_clamped = true;
+        break;
+      }
+      plan = plan_substeps(omega, remaining, p.mass, p.damping, guard.safety, budget);
+      stats.time_clamped = stats.time_clamped || plan.time_clamped;
+      left = plan.substeps;
+    }
+  }
+  stats.substep = stats.simulated / stats.substeps;
+  last_stats_ = stats;
+  time_ += stats.simulated;
+  return stats;
 }
 
 void Surface::step_substep(double dt) {
@@ -156,7 +204,13 @@ void Surface::step_substep(double dt) {
   const kernel::Grid g = make_grid(nx(), ny(), ux_, uy_, uz_, vx_, vy_, vz_, constraints_);
   const kernel::Coefficients k = make_coefficients(settings_, dt);
   if (settings_.mode == SurfaceMode::full_3d) {
-    kernel::step_3d(g, k, threads, workspace_.data());
+    const kernel::Extremes e = kernel::step_3d(g, k, threads, workspace_.data());
+    // Measured on the positions the substep started from; then every spring vector moved by
+    // (v_b - v_a) dt with the new velocities: at most r dt for an axis spring, 2 r dt for a
+    // diagonal (r the largest axis relative speed), plus a hair for rounding.
+    const double slack = std::sqrt(static_cast<double>(from_bits(e.relative))) * dt * (1.0 + 1e-6) +
+                         1e-7 * settings_.lattice.spacing;
+    deformation_ = deformation_of(e, k, slack, 2.0 * slack);
   } else {
     kernel::step_vertical(g, k, threads, workspace_.data());
   }
@@ -216,6 +270,7 @@ void Surface::disturb(std::span<const Disturbance> ds) {
                            "must be within +-" + detail::to_text(cap) + (height ? " m" : " m/s") +
                                " (GuardSettings::max_disturbance_spacings)");
   }
+  deformation_.reset();
   for (const Disturbance& d : ds) {
     const DisturbanceAxis ax = tabulate_axis(d, d.x, d.half_x, settings_.origin_x, spacing(), nx());
     const DisturbanceAxis ay = tabulate_axis(d, d.y, d.half_y, settings_.origin_y, spacing(), ny());
@@ -252,6 +307,7 @@ bool Surface::add_height(int i, int j, double dz) {
                          "must be finite and within +-" + detail::to_text(cap) + " m");
   const std::size_t k = index(i, j);
   if (constraints_[k] == NodeConstraint::fixed) return false;
+  deformation_.reset();
   uz_[k] += static_cast<float>(dz);
   return true;
 }

@@ -64,6 +64,13 @@ struct Energy {
   double centred = 0.0;
 };
 
+/// The guard's deformation measures (see stability.h): max over springs of
+/// max(0, 1 - L0 / l), and of sin(angle to the rest direction).
+struct Deformation {
+  double max_tension = 0.0;
+  double max_sin = 0.0;
+};
+
 /// A node index pair.
 struct NodeIndex {
   int i = 0;
@@ -177,6 +184,9 @@ class Surface {
   std::vector<float> ux_, uy_, uz_, vx_, vy_, vz_;
   std::vector<NodeConstraint> constraints_;
   mutable std::vector<float> workspace_;  // kernel scratch, per thread
+  /// The guard's deformation measures of the current positions (3-D mode): refreshed by
+  /// every substep, dropped when positions are edited, re-measured on demand.
+  mutable std::optional<Deformation> deformation_;
   StepStats last_stats_;
   double last_substep_ = 0.0;
   double time_ = 0.0;
