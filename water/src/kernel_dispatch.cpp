@@ -4,7 +4,7 @@ namespace shore::water::kernel {
 
 std::size_t workspace_floats_per_thread(int nx) {
   const std::size_t n = (static_cast<std::size_t>(nx) + 15u) & ~std::size_t{15};
-  return 27 * n + 16;
+  return 27 * (n + 16) + 16;  // 9 guarded rows of 3 (see take_row3)
 }
 
 bool uses_avx2() {
