@@ -52,14 +52,13 @@ void for_each_spring(int nx, int ny, Fn&& fn) {
 Surface::Surface(const SurfaceSettings& settings) : settings_(settings) {
   settings_.validate();
   const std::size_t n = node_count();
-  uz_.assign(n, 0.f);
-  vz_.assign(n, 0.f);
-  if (settings_.mode == SurfaceMode::full_3d) {
-    ux_.assign(n, 0.f);
-    uy_.assign(n, 0.f);
-    vx_.assign(n, 0.f);
-    vy_.assign(n, 0.f);
-  }
+  const bool full = settings_.mode == SurfaceMode::full_3d;
+  const std::size_t fields = full ? 6 : 2;
+  const std::size_t stride = ((n + 15) & ~std::size_t{15}) + 48;  // + 192 bytes per field
+  storage_.assign(fields * stride + 16, 0.f);
+  float* base = storage_.data();
+  float** targets[6] = {&uz_, &vz_, &ux_, &uy_, &vx_, &vy_};
+  for (std::size_t f = 0; f < fields; ++f) *targets[f] = base + f * stride;
   constraints_.assign(n, NodeConstraint::free);
   apply_boundary(settings_.boundary);
   threads_ = settings_.threads;
@@ -86,18 +85,17 @@ const char* Surface::fast_kernel_isa() { return kernel::uses_avx2() ? "avx2" : "
 
 namespace {
 /// The kernel's view of the state. The measure pass only reads through it.
-kernel::Grid make_grid(int nx, int ny, const std::vector<float>& ux, const std::vector<float>& uy,
-                       const std::vector<float>& uz, const std::vector<float>& vx, const std::vector<float>& vy,
-                       const std::vector<float>& vz, const std::vector<NodeConstraint>& constraints) {
+kernel::Grid make_grid(int nx, int ny, const float* ux, const float* uy, const float* uz, const float* vx,
+                       const float* vy, const float* vz, const std::vector<NodeConstraint>& constraints) {
   kernel::Grid g;
   g.nx = nx;
   g.ny = ny;
-  g.ux = const_cast<float*>(ux.data());
-  g.uy = const_cast<float*>(uy.data());
-  g.uz = const_cast<float*>(uz.data());
-  g.vx = const_cast<float*>(vx.data());
-  g.vy = const_cast<float*>(vy.data());
-  g.vz = const_cast<float*>(vz.data());
+  g.ux = const_cast<float*>(ux);
+  g.uy = const_cast<float*>(uy);
+  g.uz = const_cast<float*>(uz);
+  g.vx = const_cast<float*>(vx);
+  g.vy = const_cast<float*>(vy);
+  g.vz = const_cast<float*>(vz);
   g.flags = reinterpret_cast<const std::uint8_t*>(constraints.data());
   return g;
 }
@@ -274,7 +272,7 @@ void Surface::disturb(std::span<const Disturbance> ds) {
   for (const Disturbance& d : ds) {
     const DisturbanceAxis ax = tabulate_axis(d, d.x, d.half_x, settings_.origin_x, spacing(), nx());
     const DisturbanceAxis ay = tabulate_axis(d, d.y, d.half_y, settings_.origin_y, spacing(), ny());
-    std::vector<float>& target = d.target == Disturbance::Target::height ? uz_ : vz_;
+    float* target = d.target == Disturbance::Target::height ? uz_ : vz_;
     for (std::size_t b = 0; b < ay.weights.size(); ++b) {
       const double wy = d.amplitude * ay.weights[b];
       const int j = ay.first + static_cast<int>(b);
@@ -360,7 +358,7 @@ bool Surface::contains(double x, double y) const {
 
 namespace {
 /// Bilinear sample of a node field at continuous grid coordinates, clamped to the grid.
-double bilinear(const std::vector<float>& field, int nx, int ny, Eigen::Vector2d g) {
+double bilinear(const float* field, int nx, int ny, Eigen::Vector2d g) {
   const double gx = std::clamp(std::isfinite(g.x()) ? g.x() : 0.0, 0.0, static_cast<double>(nx - 1));
   const double gy = std::clamp(std::isfinite(g.y()) ? g.y() : 0.0, 0.0, static_cast<double>(ny - 1));
   const int i = std::min(static_cast<int>(gx), nx - 2), j = std::min(static_cast<int>(gy), ny - 2);
@@ -495,11 +493,13 @@ std::uint64_t Surface::state_hash() const {
   h.add(nx());
   h.add(ny());
   h.add(static_cast<std::uint8_t>(settings_.mode));
-  for (const std::vector<float>* a : {&ux_, &uy_, &uz_, &vx_, &vy_, &vz_}) h.add(std::span<const float>(*a));
+  for (const float* a : {ux_, uy_, uz_, vx_, vy_, vz_}) h.add(field(a));
   h.add(std::span<const NodeConstraint>(constraints_));
   return h.value();
 }
 
-Surface::View Surface::view() const { return {ux_, uy_, uz_, vx_, vy_, vz_, constraints_}; }
+Surface::View Surface::view() const {
+  return {field(ux_), field(uy_), field(uz_), field(vx_), field(vy_), field(vz_), constraints_};
+}
 
 }  // namespace shore::water

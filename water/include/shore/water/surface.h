@@ -82,6 +82,10 @@ class Surface {
   /// Validates the settings (throws shore::InvalidSetting) and builds a surface at rest
   /// with the boundary preset applied.
   explicit Surface(const SurfaceSettings& settings);
+  Surface(const Surface&) = delete;  // the state fields point into one owned buffer
+  Surface& operator=(const Surface&) = delete;
+  Surface(Surface&&) noexcept = default;
+  Surface& operator=(Surface&&) noexcept = default;
 
   // ---- stepping -------------------------------------------------------------------------
   /// Advances by dt seconds (finite, > 0), in as many substeps as the guard needs.
@@ -181,7 +185,18 @@ class Surface {
 
   SurfaceSettings settings_;
   int threads_ = 0;
-  std::vector<float> ux_, uy_, uz_, vx_, vy_, vz_;
+  /// The float state lives in one buffer, each field staggered by a few cache lines so that
+  /// same-index elements of different fields do not share cache sets (power-of-two grids).
+  std::vector<float> storage_;
+  float* ux_ = nullptr;  // null in vertical-only mode
+  float* uy_ = nullptr;
+  float* uz_ = nullptr;
+  float* vx_ = nullptr;
+  float* vy_ = nullptr;
+  float* vz_ = nullptr;
+  [[nodiscard]] std::span<const float> field(const float* f) const {
+    return f ? std::span<const float>(f, node_count()) : std::span<const float>();
+  }
   std::vector<NodeConstraint> constraints_;
   mutable std::vector<float> workspace_;  // kernel scratch, per thread
   /// The guard's deformation measures of the current positions (3-D mode): refreshed by
