@@ -49,10 +49,14 @@ Throughput time_steps(Step&& step, double min_seconds) {
 
 const char* variant_name(Variant v) {
   switch (v) {
-    case Variant::fast_3d: return "fast_3d";
-    case Variant::reference_3d: return "reference_3d";
-    case Variant::vertical_only: return "vertical_only";
-    case Variant::reference_vertical: return "reference_vertical";
+    case Variant::fast_3d:
+      return "fast_3d";
+    case Variant::reference_3d:
+      return "reference_3d";
+    case Variant::vertical_only:
+      return "vertical_only";
+    case Variant::reference_vertical:
+      return "reference_vertical";
   }
   return "?";
 }
@@ -121,7 +125,8 @@ Report run_report(const std::vector<int>& sizes, const std::vector<int>& threads
   r.isa = Surface::fast_kernel_isa();
   const int max_threads = *std::max_element(threads.begin(), threads.end());
   r.bandwidth.assign(static_cast<std::size_t>(max_threads), 0.0);
-  for (int t : threads) r.bandwidth[static_cast<std::size_t>(t - 1)] = triad_bandwidth(std::size_t{1} << 25, t, min_seconds);
+  for (int t : threads)
+    r.bandwidth[static_cast<std::size_t>(t - 1)] = triad_bandwidth(std::size_t{1} << 25, t, min_seconds);
   for (int n : sizes)
     for (int t : threads)
       for (Variant v : {Variant::fast_3d, Variant::reference_3d, Variant::vertical_only, Variant::reference_vertical})
@@ -139,8 +144,8 @@ std::string format_report(const Report& r) {
       std::snprintf(line, sizeof line, "triad bandwidth, %zu thread(s): %.2f GB/s\n", t + 1, r.bandwidth[t] * 1e-9);
       o << line;
     }
-  std::snprintf(line, sizeof line, "%-19s %6s %3s %12s %10s %8s %9s\n", "variant", "n", "thr", "node-steps/s", "ms/step",
-                "of floor", "vs ref");
+  std::snprintf(line, sizeof line, "%-19s %6s %3s %12s %10s %8s %9s\n", "variant", "n", "thr", "node-steps/s",
+                "ms/step", "of floor", "vs ref");
   o << line;
   for (const Throughput& row : r.rows) {
     const double bw = r.bandwidth[static_cast<std::size_t>(row.threads - 1)];
@@ -157,7 +162,8 @@ std::string format_report(const Report& r) {
                   100.0 * row.node_steps_per_second / floor, speedup);
     o << line;
   }
-  std::snprintf(line, sizeof line, "paper's 50 x 50 grid at dt 0.4, 1 thread: %.4f ms/step (paper: 4.8 ms, Pentium II 300 MHz)\n",
+  std::snprintf(line, sizeof line,
+                "paper's 50 x 50 grid at dt 0.4, 1 thread: %.4f ms/step (paper: 4.8 ms, Pentium II 300 MHz)\n",
                 r.paper_grid_ms);
   o << line;
   return o.str();

@@ -27,9 +27,9 @@ double bytes_per_node_step(Variant v);
 
 struct Throughput {
   Variant variant = Variant::fast_3d;
-  int n = 0;        ///< grid is n x n nodes
+  int n = 0;  ///< grid is n x n nodes
   int threads = 1;
-  long steps = 0;   ///< steps timed
+  long steps = 0;  ///< steps timed
   double seconds_per_step = 0.0;
   double node_steps_per_second = 0.0;
   int substeps = 1;  ///< substeps per step taken by the guard (fast variants)
@@ -53,7 +53,7 @@ struct Report {
   std::vector<Throughput> rows;
   std::vector<double> bandwidth;  ///< bytes/s, indexed by threads - 1
   double paper_grid_ms = 0.0;
-  std::string isa;                ///< "avx2" or "generic"
+  std::string isa;  ///< "avx2" or "generic"
 };
 /// Every (variant, size, threads) of the table; sizes default to 64, 256, 1024, 2048.
 Report run_report(const std::vector<int>& sizes, const std::vector<int>& threads, double min_seconds);

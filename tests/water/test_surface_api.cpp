@@ -42,8 +42,8 @@ TEST(WaterInput, BadSettingsAreRejectedByName) {
   expect_invalid(build([](SurfaceSettings& s) { s.lattice.spacing = 0.0; }), "water.LatticeParameters.spacing", "0");
   expect_invalid(build([](SurfaceSettings& s) { s.nx = 2; }), "water.SurfaceSettings.nx", "2");
   expect_invalid(build([](SurfaceSettings& s) { s.ny = 1; }), "water.SurfaceSettings.ny", "1");
-  expect_invalid(build([](SurfaceSettings& s) { s.lattice.damping = std::nan(""); }),
-                 "water.LatticeParameters.damping", "nan");
+  expect_invalid(build([](SurfaceSettings& s) { s.lattice.damping = std::nan(""); }), "water.LatticeParameters.damping",
+                 "nan");
   expect_invalid(build([](SurfaceSettings& s) { s.guard.safety = 1.5; }), "water.GuardSettings.safety", "1.5");
   PhysicalParameters p;
   p.cell = -0.05;

@@ -74,7 +74,8 @@ TEST_P(WaterDamping, AmplitudeDecaysAtTheDocumentedRate) {
   Surface surf(s);
   const std::vector<double> phi = tabulate_mode(17, 1, 1);
   for (int j = 0; j < 17; ++j)
-    for (int i = 0; i < 17; ++i) surf.add_height(i, j, GetParam().amplitude * phi[static_cast<std::size_t>(j * 17 + i)]);
+    for (int i = 0; i < 17; ++i)
+      surf.add_height(i, j, GetParam().amplitude * phi[static_cast<std::size_t>(j * 17 + i)]);
   const double dt = 0.4;
   std::vector<double> q{project(surf, phi)};
   for (int k = 0; k < 1200; ++k) {

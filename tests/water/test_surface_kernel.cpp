@@ -16,7 +16,7 @@ namespace {
 
 SurfaceSettings mixed_settings(SurfaceMode mode) {
   SurfaceSettings s = SurfaceSettings::paper();  // 50 x 50, h 1, m 4, c 7, gamma 0.05
-  s.nx = 53;  // not a multiple of the vector width
+  s.nx = 53;                                     // not a multiple of the vector width
   s.ny = 47;
   s.mode = mode;
   s.boundary = Boundary::vertical_only;

@@ -13,8 +13,8 @@
 using namespace shore::water;
 using shore::water::testing::mode_shape;
 using shore::water::testing::project;
-using shore::water::testing::tabulate_mode;
 using shore::water::testing::prony_frequency;
+using shore::water::testing::tabulate_mode;
 
 namespace {
 

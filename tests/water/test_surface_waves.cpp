@@ -51,8 +51,8 @@ TEST_P(WaterRing, IsSymmetricUnderTheGridsEightSymmetries) {
                         std::abs(z - at(v.uz, i, N - 1 - j))});
       if (full) {
         const double x = at(v.ux, i, j);
-        worst_plane = std::max({worst_plane, std::abs(x + at(v.ux, N - 1 - i, j)),
-                                std::abs(x - at(v.ux, i, N - 1 - j)), std::abs(x - at(v.uy, j, i))});
+        worst_plane = std::max({worst_plane, std::abs(x + at(v.ux, N - 1 - i, j)), std::abs(x - at(v.ux, i, N - 1 - j)),
+                                std::abs(x - at(v.uy, j, i))});
       }
     }
   }

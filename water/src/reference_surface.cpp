@@ -48,7 +48,8 @@ void ReferenceSurface::disturb(const Disturbance& d) {
   for (std::size_t b = 0; b < ay.weights.size(); ++b) {
     for (std::size_t a = 0; a < ax.weights.size(); ++a) {
       const int i = ax.first + static_cast<int>(a), j = ay.first + static_cast<int>(b);
-      Node& n = nodes_[static_cast<std::size_t>(j) * static_cast<std::size_t>(settings_.nx) + static_cast<std::size_t>(i)];
+      Node& n =
+          nodes_[static_cast<std::size_t>(j) * static_cast<std::size_t>(settings_.nx) + static_cast<std::size_t>(i)];
       if (n.constraint == NodeConstraint::fixed) continue;
       float& target = height ? n.u[2] : n.v[2];
       target += static_cast<float>(d.amplitude * ay.weights[b] * ax.weights[a]);

@@ -4,8 +4,8 @@
 #include <bit>
 #include <cmath>
 
-#include <Eigen/Geometry>
 #include <omp.h>
+#include <Eigen/Geometry>
 
 #include "kernel.h"
 #include "shore/core/error.h"
@@ -25,10 +25,10 @@ struct SpringFamily {
   double rest_scale;   ///< rest length / (rest_ratio h): 1 or sqrt(2)
 };
 constexpr SpringFamily kFamilies[4] = {
-    {0, 0, 1, 0, 1.0},    // horizontal
-    {0, 0, 0, 1, 1.0},    // vertical
-    {0, 0, 1, 1, kSqrt2}, // diagonal
-    {1, 0, 0, 1, kSqrt2}, // anti-diagonal
+    {0, 0, 1, 0, 1.0},     // horizontal
+    {0, 0, 0, 1, 1.0},     // vertical
+    {0, 0, 1, 1, kSqrt2},  // diagonal
+    {1, 0, 0, 1, kSqrt2},  // anti-diagonal
 };
 
 /// Calls fn(a, b, family) for every spring of an nx x ny grid, a and b node indices.
@@ -206,8 +206,8 @@ void Surface::step_substep(double dt) {
     // Measured on the positions the substep started from; then every spring vector moved by
     // (v_b - v_a) dt with the new velocities: at most r dt for an axis spring, 2 r dt for a
     // diagonal (r the largest axis relative speed), plus a hair for rounding.
-    const double slack = std::sqrt(static_cast<double>(from_bits(e.relative))) * dt * (1.0 + 1e-6) +
-                         1e-7 * settings_.lattice.spacing;
+    const double slack =
+        std::sqrt(static_cast<double>(from_bits(e.relative))) * dt * (1.0 + 1e-6) + 1e-7 * settings_.lattice.spacing;
     deformation_ = deformation_of(e, k, slack, 2.0 * slack);
   } else {
     kernel::step_vertical(g, k, threads, workspace_.data());
@@ -326,8 +326,8 @@ Eigen::Vector3d Surface::position(int i, int j) const {
   check_index("position", i, j);
   const std::size_t k = index(i, j);
   const bool full = settings_.mode == SurfaceMode::full_3d;
-  return {node_x(i) + (full ? static_cast<double>(ux_[k]) : 0.0), node_y(j) + (full ? static_cast<double>(uy_[k]) : 0.0),
-          settings_.rest_height + static_cast<double>(uz_[k])};
+  return {node_x(i) + (full ? static_cast<double>(ux_[k]) : 0.0),
+          node_y(j) + (full ? static_cast<double>(uy_[k]) : 0.0), settings_.rest_height + static_cast<double>(uz_[k])};
 }
 
 Eigen::Vector3d Surface::velocity(int i, int j) const {
@@ -364,7 +364,8 @@ double bilinear(const float* field, int nx, int ny, Eigen::Vector2d g) {
   const int i = std::min(static_cast<int>(gx), nx - 2), j = std::min(static_cast<int>(gy), ny - 2);
   const double s = gx - i, t = gy - j;
   const auto at = [&](int a, int b) {
-    return static_cast<double>(field[static_cast<std::size_t>(b) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(a)]);
+    return static_cast<double>(
+        field[static_cast<std::size_t>(b) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(a)]);
   };
   return (1 - t) * ((1 - s) * at(i, j) + s * at(i + 1, j)) + t * ((1 - s) * at(i, j + 1) + s * at(i + 1, j + 1));
 }
@@ -421,7 +422,9 @@ void triangulate(int nx, int ny, std::vector<std::uint32_t>& indices) {
   indices.clear();
   if (nx < 2 || ny < 2) return;
   indices.reserve(6 * static_cast<std::size_t>(nx - 1) * static_cast<std::size_t>(ny - 1));
-  const auto v = [nx](int i, int j) { return static_cast<std::uint32_t>(j) * static_cast<std::uint32_t>(nx) + static_cast<std::uint32_t>(i); };
+  const auto v = [nx](int i, int j) {
+    return static_cast<std::uint32_t>(j) * static_cast<std::uint32_t>(nx) + static_cast<std::uint32_t>(i);
+  };
   for (int j = 0; j + 1 < ny; ++j) {
     for (int i = 0; i + 1 < nx; ++i) {
       indices.insert(indices.end(), {v(i, j), v(i + 1, j), v(i, j + 1)});

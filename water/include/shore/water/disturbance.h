@@ -39,8 +39,7 @@ struct Disturbance {
   static Disturbance point_height(double x, double y, double radius, double amplitude);
   static Disturbance point_velocity(double x, double y, double radius, double amplitude);
   static Disturbance area_height(double x, double y, double half_x, double half_y, double radius, double amplitude);
-  static Disturbance area_velocity(double x, double y, double half_x, double half_y, double radius,
-                                   double amplitude);
+  static Disturbance area_velocity(double x, double y, double half_x, double half_y, double radius, double amplitude);
 };
 
 /// One axis of a disturbance's weight table: nodes [first, first + weights.size()).

@@ -32,13 +32,13 @@ struct LatticeParameters {
 };
 
 struct PhysicalParameters {
-  double cell = 0.05;            ///< m, node spacing, > 0
-  double depth = 0.5;            ///< m, water depth: sets c_w = sqrt(g depth) and the node mass, > 0
-  double wave_speed = 0.0;       ///< m/s, >= 0; 0: c_w = sqrt(g depth), else c_w = wave_speed
-  double density = 1000.0;       ///< kg/m^3, > 0
-  double damping_time = 5.0;     ///< s, amplitude e-folding time, > 0 (infinity: undamped)
-  double rest_ratio = 0.9;       ///< l_rest / h, in (0, 1)
-  double gravity = 9.81;         ///< m/s^2, > 0
+  double cell = 0.05;         ///< m, node spacing, > 0
+  double depth = 0.5;         ///< m, water depth: sets c_w = sqrt(g depth) and the node mass, > 0
+  double wave_speed = 0.0;    ///< m/s, >= 0; 0: c_w = sqrt(g depth), else c_w = wave_speed
+  double density = 1000.0;    ///< kg/m^3, > 0
+  double damping_time = 5.0;  ///< s, amplitude e-folding time, > 0 (infinity: undamped)
+  double rest_ratio = 0.9;    ///< l_rest / h, in (0, 1)
+  double gravity = 9.81;      ///< m/s^2, > 0
 
   void validate() const;
   /// Wave speed c_w: wave_speed if set, else sqrt(g depth), m/s.

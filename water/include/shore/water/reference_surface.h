@@ -30,7 +30,9 @@ class ReferenceSurface {
   /// Validated like Surface::disturb, including the amplitude cap.
   void disturb(const Disturbance& d);
 
-  [[nodiscard]] const Node& node(int i, int j) const { return nodes_[static_cast<std::size_t>(j) * static_cast<std::size_t>(settings_.nx) + static_cast<std::size_t>(i)]; }
+  [[nodiscard]] const Node& node(int i, int j) const {
+    return nodes_[static_cast<std::size_t>(j) * static_cast<std::size_t>(settings_.nx) + static_cast<std::size_t>(i)];
+  }
   [[nodiscard]] const std::vector<Node>& nodes() const { return nodes_; }
   [[nodiscard]] const SurfaceSettings& settings() const { return settings_; }
 

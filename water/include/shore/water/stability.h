@@ -40,8 +40,8 @@ double discrete_frequency(double omega, double dt);
 /// and beta = gamma dt_sub / m <= 0.5, with at most max_substeps substeps.
 struct SubstepPlan {
   int substeps = 1;
-  double substep = 0.0;    ///< s, length of each substep
-  double simulated = 0.0;  ///< s, substeps * substep (< dt only when the cap was hit)
+  double substep = 0.0;       ///< s, length of each substep
+  double simulated = 0.0;     ///< s, substeps * substep (< dt only when the cap was hit)
   bool time_clamped = false;  ///< the cap was hit: the step simulates less than dt
 };
 SubstepPlan plan_substeps(double omega, double dt, double mass, double damping, double safety, int max_substeps);

@@ -107,7 +107,9 @@ class Surface {
   void set_constraint(int i, int j, NodeConstraint c);
   [[nodiscard]] NodeConstraint constraint(int i, int j) const;
   /// For a coupling that marks the shoreline from terrain: fixed (true) or free (false).
-  void set_fixed(int i, int j, bool fixed) { set_constraint(i, j, fixed ? NodeConstraint::fixed : NodeConstraint::free); }
+  void set_fixed(int i, int j, bool fixed) {
+    set_constraint(i, j, fixed ? NodeConstraint::fixed : NodeConstraint::free);
+  }
   [[nodiscard]] bool is_fixed(int i, int j) const { return constraint(i, j) == NodeConstraint::fixed; }
   /// Applies a boundary preset to the four edges (interior nodes keep theirs).
   void apply_boundary(Boundary b);
@@ -162,7 +164,9 @@ class Surface {
   [[nodiscard]] const SurfaceSettings& settings() const { return settings_; }
   [[nodiscard]] int nx() const { return settings_.nx; }
   [[nodiscard]] int ny() const { return settings_.ny; }
-  [[nodiscard]] std::size_t node_count() const { return static_cast<std::size_t>(nx()) * static_cast<std::size_t>(ny()); }
+  [[nodiscard]] std::size_t node_count() const {
+    return static_cast<std::size_t>(nx()) * static_cast<std::size_t>(ny());
+  }
   [[nodiscard]] double spacing() const { return settings_.lattice.spacing; }
   [[nodiscard]] double density() const { return settings_.density; }
   [[nodiscard]] SurfaceMode mode() const { return settings_.mode; }

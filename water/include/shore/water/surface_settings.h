@@ -40,10 +40,10 @@ enum class SurfaceMode : std::uint8_t {
 /// Stability guard: each step(dt) is split into enough substeps that the bound on the
 /// highest lattice frequency times the substep stays inside the stable range.
 struct GuardSettings {
-  double safety = 0.9;  ///< fraction of the stability limit (w dt < 2) used, in (0, 1]
-  int max_substeps = 256;  ///< substeps per step() at most, >= 1. Beyond it the step advances
-                           ///< only max_substeps stable substeps (the water runs slow rather
-                           ///< than explode) and reports StepStats::time_clamped.
+  double safety = 0.9;                       ///< fraction of the stability limit (w dt < 2) used, in (0, 1]
+  int max_substeps = 256;                    ///< substeps per step() at most, >= 1. Beyond it the step advances
+                                             ///< only max_substeps stable substeps (the water runs slow rather
+                                             ///< than explode) and reports StepStats::time_clamped.
   double max_disturbance_spacings = 1000.0;  ///< disturbance cap, > 0: |height| <= this * h,
                                              ///< |velocity| <= this * h * w_rest (w_rest: the
                                              ///< at-rest top lattice frequency)
@@ -52,11 +52,11 @@ struct GuardSettings {
 };
 
 struct SurfaceSettings {
-  int nx = 64;  ///< nodes along x, >= 3
-  int ny = 64;  ///< nodes along y, >= 3
-  double origin_x = 0.0;     ///< m, world x of node (0, 0), finite
-  double origin_y = 0.0;     ///< m, world y of node (0, 0), finite
-  double rest_height = 0.0;  ///< m, world z of the surface at rest (z0), finite
+  int nx = 64;                ///< nodes along x, >= 3
+  int ny = 64;                ///< nodes along y, >= 3
+  double origin_x = 0.0;      ///< m, world x of node (0, 0), finite
+  double origin_y = 0.0;      ///< m, world y of node (0, 0), finite
+  double rest_height = 0.0;   ///< m, world z of the surface at rest (z0), finite
   LatticeParameters lattice;  ///< h, m, c, rest_ratio, gamma (default: the seed paper's set)
   double density = 1000.0;    ///< kg/m^3, water density for buoyancy in a coupling, > 0
   SurfaceMode mode = SurfaceMode::full_3d;
