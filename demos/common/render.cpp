@@ -153,15 +153,15 @@ Field make_field(const HeightGrid& heights, const ReliefStyle& style) {
       fd.colour[k] = diverging_colour(scale > 0.0 ? d / scale : 0.0);
     }
     fd.diverging = true;
-    fd.legend_low = "lowered " + format_length(-scale, true);
+    fd.legend_low = format_length(-scale, true) + " lowered";
     fd.legend_mid = "0";
-    fd.legend_high = format_length(scale, true) + " raised";
+    fd.legend_high = "raised " + format_length(scale, true);
   } else {
     const double range = hi - lo;
     for (std::size_t k = 0; k < fd.colour.size(); ++k)
       fd.colour[k] = height_colour(range > 0.0 ? (fd.ground.z[k] - lo) / range : 0.5);
     fd.legend_low = format_length(lo, false);
-    fd.legend_mid = "height";
+    fd.legend_mid = "";
     fd.legend_high = format_length(hi, false);
   }
 
@@ -171,28 +171,32 @@ Field make_field(const HeightGrid& heights, const ReliefStyle& style) {
   return fd;
 }
 
+/// A colour bar with its low / middle / high labels underneath, as wide as the labels need.
+void draw_legend(Image& out, int y, bool diverging, const std::string& low, const std::string& mid,
+                 const std::string& high) {
+  const int x = 6, gap = 24;
+  const int needed = text_width(low, 2) + text_width(mid, 2) + text_width(high, 2) + 2 * gap;
+  const int bar_w = std::clamp(needed, 256, std::max(256, out.width() - 2 * x));
+  for (int k = 0; k < bar_w; ++k) {
+    const double t = static_cast<double>(k) / (bar_w - 1);
+    out.fill_rect(x + k, y, 1, 10, diverging ? diverging_colour(2.0 * t - 1.0) : height_colour(t));
+  }
+  draw_text(out, x, y + 14, low, kInk, 2);
+  draw_text(out, x + bar_w - text_width(high, 2), y + 14, high, kInk, 2);
+  if (!mid.empty() && needed <= bar_w) draw_text(out, x + (bar_w - text_width(mid, 2)) / 2, y + 14, mid, kInk, 2);
+}
+
 /// Adds a title strip above and a legend strip below a picture.
 Image frame_picture(const Image& picture, const std::string& title, const Field* legend) {
   const int top = title.empty() ? 0 : kTitleHeight;
   const int bottom = legend ? kLegendHeight : 0;
-  const int width = std::max(picture.width(), legend ? 360 : 1);
+  const int width = std::max(picture.width(), legend ? 480 : 1);
   Image out(width, picture.height() + top + bottom, kPaper);
   out.blit(picture, 0, top);
   if (!title.empty()) draw_text(out, 6, 5, title, kInk, 2);
-  if (legend) {
-    const int y = top + picture.height() + 6;
-    const int bar_w = 256, bar_x = 6;
-    for (int k = 0; k < bar_w; ++k) {
-      const double t = static_cast<double>(k) / (bar_w - 1);
-      const Rgb c = legend->diverging ? diverging_colour(2.0 * t - 1.0) : height_colour(t);
-      out.fill_rect(bar_x + k, y, 1, 10, c);
-    }
-    draw_text(out, bar_x, y + 14, legend->legend_low, kInk, 2);
-    const int right = bar_x + bar_w - text_width(legend->legend_high, 2);
-    draw_text(out, std::max(right, bar_x + text_width(legend->legend_low, 2) + 12), y + 14, legend->legend_high, kInk,
-              2);
-    if (legend->diverging) draw_text(out, bar_x + bar_w / 2 - 3, y + 14, legend->legend_mid, kInk, 2);
-  }
+  if (legend)
+    draw_legend(out, top + picture.height() + 6, legend->diverging, legend->legend_low, legend->legend_mid,
+                legend->legend_high);
   return out;
 }
 
@@ -304,16 +308,16 @@ Image render_water(const HeightGrid& surface, double rest_level, double scale, c
       const double t = scale > 0.0 ? (r.z[k] - rest_level) / scale : 0.0;
       pic.at(i, r.ny - 1 - j) = shade(water_colour(t), 0.45 + 0.7 * s[k]);
     }
-  Image out(std::max(pic.width(), 360), pic.height() + (title.empty() ? 0 : kTitleHeight) + kLegendHeight, kPaper);
+  Image out(std::max(pic.width(), 480), pic.height() + (title.empty() ? 0 : kTitleHeight) + kLegendHeight, kPaper);
   const int top = title.empty() ? 0 : kTitleHeight;
   out.blit(pic, 0, top);
   if (!title.empty()) draw_text(out, 6, 5, title, kInk, 2);
   const int y = top + pic.height() + 6;
-  for (int k = 0; k < 256; ++k) out.fill_rect(6 + k, y, 1, 10, water_colour(2.0 * k / 255.0 - 1.0));
-  draw_text(out, 6, y + 14, format_length(-scale, true), kInk, 2);
-  const std::string hi = format_length(scale, true);
-  draw_text(out, std::max(6 + 256 - text_width(hi, 2), 6 + text_width(format_length(-scale, true), 2) + 12), y + 14, hi,
-            kInk, 2);
+  const int bar_w = std::min(out.width() - 12, 480);
+  for (int k = 0; k < bar_w; ++k) out.fill_rect(6 + k, y, 1, 10, water_colour(2.0 * k / (bar_w - 1) - 1.0));
+  const std::string lo = format_length(-scale, true) + " trough", hi = "crest " + format_length(scale, true);
+  draw_text(out, 6, y + 14, lo, kInk, 2);
+  draw_text(out, 6 + bar_w - text_width(hi, 2), y + 14, hi, kInk, 2);
   return out;
 }
 
