@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <map>
@@ -44,6 +45,12 @@ std::string cpu_model() {
       return colon == std::string::npos ? line : line.substr(colon + 2);
     }
   return "unknown";
+}
+
+/// 1-minute load average at the end of the run: above the core count, timings are inflated.
+double load_average() {
+  double load[1] = {-1.0};
+  return getloadavg(load, 1) == 1 ? load[0] : -1.0;
 }
 
 std::string gnuplot_quote(const std::string& s) {
@@ -211,6 +218,7 @@ nlohmann::json results_json(const std::vector<SweepRun>& runs, bool quick, const
                {"bullet_precision", bullet::built_with_double_precision() ? "double" : "float"},
                {"build_type", SHORE_BUILD_TYPE},
                {"compiler", __VERSION__},
+               {"load_average_1min", load_average()},
                {"quick", quick},
                {"command", command}};
   j["figures"] = nlohmann::json::object();
