@@ -84,6 +84,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     const std::vector<const Sweep*> chosen = select(only);
+    const int openmp_threads = omp_get_max_threads();  // before any sweep changes it
     fs::create_directories(out);
     std::vector<SweepRun> runs;
     int failed = 0;
@@ -96,7 +97,8 @@ int main(int argc, char** argv) {
       run.sweep = &s;
       SweepContext ctx;
       ctx.quick = quick;
-      ctx.max_threads = omp_get_max_threads();
+      ctx.max_threads = openmp_threads;
+      omp_set_num_threads(openmp_threads);  // each sweep starts from the same setting
       const auto t0 = std::chrono::steady_clock::now();
       ctx.progress_fn = [&](const std::string& what) {
         const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -117,7 +119,7 @@ int main(int argc, char** argv) {
       std::printf("    done in %.1f s\n", run.wall_seconds);
       runs.push_back(std::move(run));
     }
-    const nlohmann::json results = results_json(runs, quick, command_line(argc, argv));
+    const nlohmann::json results = results_json(runs, quick, command_line(argc, argv), openmp_threads);
     write_text(out / "results.json", results.dump(2) + "\n");
     if (!json_file.empty()) write_text(json_file, results.dump(2) + "\n");
     if (save) {

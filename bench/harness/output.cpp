@@ -1,6 +1,5 @@
 #include "output.h"
 
-#include <omp.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -208,13 +207,14 @@ std::string host_name() {
   return buf;
 }
 
-nlohmann::json results_json(const std::vector<SweepRun>& runs, bool quick, const std::string& command) {
+nlohmann::json results_json(const std::vector<SweepRun>& runs, bool quick, const std::string& command,
+                            int openmp_threads) {
   nlohmann::json j;
   j["meta"] = {{"date", today()},
                {"host", host_name()},
                {"cpu", cpu_model()},
                {"hardware_threads", static_cast<int>(sysconf(_SC_NPROCESSORS_ONLN))},
-               {"openmp_max_threads", omp_get_max_threads()},
+               {"openmp_max_threads", openmp_threads},
                {"bullet_precision", bullet::built_with_double_precision() ? "double" : "float"},
                {"build_type", SHORE_BUILD_TYPE},
                {"compiler", __VERSION__},
@@ -261,7 +261,8 @@ std::filesystem::path write_benchmarks_md(const std::filesystem::path& source_di
      << meta["date"].get<std::string>() << " on `" << meta["host"].get<std::string>() << "` ("
      << meta["cpu"].get<std::string>() << ", " << meta["hardware_threads"].get<int>() << " hardware threads), Bullet "
      << meta["bullet_precision"].get<std::string>() << ", " << meta["build_type"].get<std::string>()
-     << (meta["quick"].get<bool>() ? ", quick run" : ", full run") << ". Raw results: [" << results_file << "](../"
+     << (meta["quick"].get<bool>() ? ", quick run" : ", full run") << ", load average "
+     << meta["load_average_1min"].get<double>() << " at the end. Raw results: [" << results_file << "](../"
      << results_file << ").\n\n"
      << "Times are medians of repeated runs on a shared machine; compare figures measured in the same run.\n\n"
      << "## Headline figures\n\n| figure | value | unit |\n|---|---|---|\n";

@@ -30,7 +30,9 @@ std::vector<std::filesystem::path> render_plots(const std::filesystem::path& dir
 
 /// The results document: meta (date, host, cpu, threads, precision, quick), figures merged
 /// across sweeps, tables, and per-sweep wall time and errors.
-nlohmann::json results_json(const std::vector<SweepRun>& runs, bool quick, const std::string& command);
+/// openmp_threads: omp_get_max_threads() at start (scenes run by sweeps may change it).
+nlohmann::json results_json(const std::vector<SweepRun>& runs, bool quick, const std::string& command,
+                            int openmp_threads);
 
 /// Writes docs/BENCHMARKS.md: the figures table, per-sweep notes and plots (copied from
 /// plot_dir to docs/bench/), and the command that reproduces them.
