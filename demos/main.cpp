@@ -1,75 +1,178 @@
-// shore-demo: headless scenes. (Foundation version: one scene; the scene library grows
-// with the physics.)
+// shore-demo: headless Shore scenes. One subcommand per registered scene, "all" for every
+// scene, "pin" to check or update the pinned state hashes of the regression test.
 #include <CLI/CLI.hpp>
-#include <btBulletDynamicsCommon.h>
 
-#include <chrono>
 #include <cstdio>
-#include <filesystem>
+#include <exception>
 #include <fstream>
+#include <string>
+#include <vector>
+
 #include <nlohmann/json.hpp>
 
-#include "shore/bullet/heightfield_tile.h"
-#include "shore/terrain/bekker.h"
+#include "shore/core/hash.h"
+#include "shore/demo/report.h"
+#include "shore/demo/scene.h"
 
 namespace fs = std::filesystem;
+using namespace shore::demo;
 
 namespace {
-// A box dropped on a rigid heightfield tile: where it comes to rest.
-nlohmann::json run_tile_drop(double seconds, double substep) {
-  shore::bullet::HeightfieldTileSettings s;
-  s.columns = 65;
-  s.cell = 0.02;
-  s.origin_x = -0.64;
-  s.origin_y = -0.64;
-  shore::bullet::HeightfieldTile tile(s);
-  btDefaultCollisionConfiguration config;
-  btCollisionDispatcher dispatcher(&config);
-  btDbvtBroadphase broadphase;
-  btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &config);
-  world.setGravity(btVector3(0, 0, btScalar(-9.81)));
-  world.addCollisionObject(tile.object());
-  btBoxShape box(btVector3(btScalar(0.15), btScalar(0.15), btScalar(0.1)));
-  btVector3 inertia;
-  box.calculateLocalInertia(btScalar(10), inertia);
-  btTransform start;
-  start.setIdentity();
-  start.setOrigin(btVector3(0, 0, btScalar(1.0)));
-  btDefaultMotionState motion(start);
-  btRigidBody body(btRigidBody::btRigidBodyConstructionInfo(btScalar(10), &motion, &box, inertia));
-  world.addRigidBody(&body);
-  const int steps = static_cast<int>(seconds / substep + 0.5);
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int k = 0; k < steps; ++k) world.stepSimulation(btScalar(substep), 1, btScalar(substep));
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const double rest = body.getWorldTransform().getOrigin().z() - 0.1;
-  world.removeRigidBody(&body);
-  world.removeCollisionObject(tile.object());
-  return {{"scene", "tile_drop"},
-          {"substeps", steps},
-          {"sim_seconds", seconds},
-          {"wall_seconds", wall},
-          {"box_bottom_rest_height_m", rest}};
+
+struct Cli {
+  Overrides overrides;
+  std::string progress = "auto";
+};
+
+void add_common_options(CLI::App& app, Cli& cli) {
+  Overrides& o = cli.overrides;
+  app.add_option("--out", o.out_root, "output root; each scene writes to <out>/<scene>/")->capture_default_str();
+  app.add_option("--threads", o.threads, "OpenMP threads (default: OpenMP's default)")->check(CLI::Range(1, 1024));
+  app.add_option("--seconds", o.seconds, "simulated seconds (default: the scene's)")->check(CLI::PositiveNumber);
+  app.add_option("--substep", o.substep, "fixed substep, s (default: the scene's)")->check(CLI::Range(1e-6, 0.1));
+  app.add_option("--material", o.material, "soil material (default: the scene's)")
+      ->check(CLI::IsMember({"sand", "mud", "snow"}));
+  app.add_option("--cell", o.cell, "grid spacing, m (default: the scene's)")->check(CLI::Range(1e-4, 1.0));
+  app.add_flag("--smoke", o.smoke, "short run (the scene's smoke_seconds), as the tests do");
+  app.add_option("--progress", cli.progress, "progress on stderr: auto (bar on a terminal), bar, lines, quiet")
+      ->check(CLI::IsMember({"auto", "bar", "lines", "quiet"}))
+      ->capture_default_str();
 }
+
+std::string scene_help(const Scene& s) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "\n\ndefaults: --seconds %g --substep %g --material %s --cell %g (smoke: %g s)",
+                s.defaults.seconds, s.defaults.substep, s.defaults.material.c_str(), s.defaults.cell,
+                s.defaults.smoke_seconds);
+  return s.description + buf;
+}
+
+/// Runs the scenes; returns the number that failed.
+int run_scenes(const std::vector<const Scene*>& list, const Cli& cli) {
+  int failed = 0;
+  const ProgressMode mode = parse_progress_mode(cli.progress);
+  for (const Scene* s : list) {
+    std::fprintf(stderr, "shore-demo: %s ...\n", s->name.c_str());
+    try {
+      const SceneResult r = run_scene(*s, resolve(*s, cli.overrides), mode);
+      const auto& m = r.metrics;
+      std::printf("%-16s %6.2f s simulated in %6.3f s (x%.1f real time), hash %s, %zu files in %s\n", s->name.c_str(),
+                  m["sim_seconds"].get<double>(), m["wall_seconds"].get<double>(), m["realtime_factor"].get<double>(),
+                  m["state_hash"].get<std::string>().c_str(), r.files.size(),
+                  (cli.overrides.out_root / s->name).c_str());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "shore-demo: scene %s failed: %s\n", s->name.c_str(), e.what());
+      ++failed;
+    }
+  }
+  const fs::path report = write_report(cli.overrides.out_root);
+  std::printf("output: %s/  (report: %s)\n", fs::absolute(cli.overrides.out_root).lexically_normal().c_str(),
+              fs::absolute(report).lexically_normal().c_str());
+  return failed;
+}
+
+/// Smoke-run state hashes of the chosen scenes (one thread, no files), keyed by name.
+nlohmann::json current_hashes(const std::vector<const Scene*>& list) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const Scene* s : list) {
+    Overrides o;
+    o.smoke = true;
+    o.threads = 1;
+    o.write_files = false;
+    const SceneOptions opt = resolve(*s, o);
+    const SceneResult r = run_scene(*s, opt, ProgressMode::quiet);
+    out[s->name] = {{"state_hash", shore::to_hex(r.state_hash)},
+                    {"substeps", opt.substeps()},
+                    {"substep_s", opt.substep},
+                    {"seconds", opt.seconds}};
+  }
+  return out;
+}
+
+int pin(const std::string& file, bool update, const std::vector<std::string>& names) {
+  std::vector<const Scene*> list;
+  if (names.empty())
+    for (const Scene& s : scenes()) list.push_back(&s);
+  for (const auto& n : names) {
+    const Scene* s = find_scene(n);
+    if (!s) {
+      std::fprintf(stderr, "shore-demo pin: no scene called %s\n", n.c_str());
+      return 2;
+    }
+    list.push_back(s);
+  }
+  nlohmann::json pinned = nlohmann::json::object();
+  if (fs::exists(file)) std::ifstream(file) >> pinned;
+  const std::string precision = precision_name();
+  const nlohmann::json now = current_hashes(list);
+  int differ = 0;
+  for (const auto& [name, entry] : now.items()) {
+    const nlohmann::json* old =
+        pinned.contains(name) && pinned[name].contains(precision) ? &pinned[name][precision] : nullptr;
+    const bool same = old && (*old)["state_hash"] == entry["state_hash"] && (*old)["substeps"] == entry["substeps"];
+    std::printf("%-16s %s %s  %s\n", name.c_str(), precision.c_str(), entry["state_hash"].get<std::string>().c_str(),
+                same ? "pinned" : (old ? "DIFFERS from pinned" : "not pinned"));
+    if (!same) ++differ;
+    if (update) pinned[name][precision] = entry;
+  }
+  if (update) {
+    pinned["_about"] =
+        "State hash of each demo scene after its smoke run (fixed substeps, one thread), per btScalar precision. "
+        "Checked by tests/demos (ctest -L demos). Update on purpose with: "
+        "build/release/demos/shore-demo pin --update tests/demos/pinned_hashes.json "
+        "(and build/double/demos/shore-demo pin --update ... for double).";
+    const std::string tmp = file + ".tmp";
+    std::ofstream(tmp) << pinned.dump(2) << '\n';
+    fs::rename(tmp, file);
+    std::printf("updated %s (%s)\n", file.c_str(), precision.c_str());
+    return 0;
+  }
+  return differ == 0 ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"shore-demo: headless Shore scenes"};
-  std::string out = "out";
-  double seconds = 2.0;
-  double substep = 1.0 / 240;
-  app.add_option("--out", out, "output directory")->capture_default_str();
-  app.add_option("--seconds", seconds, "simulated seconds")->check(CLI::PositiveNumber)->capture_default_str();
-  app.add_option("--substep", substep, "substep, s")->check(CLI::PositiveNumber)->capture_default_str();
-  app.add_subcommand("all", "run every scene");
-  app.add_subcommand("tile_drop", "a box dropped on a rigid heightfield tile");
-  app.require_subcommand(1);
+  CLI::App app{
+      "shore-demo: headless Shore scenes. Each writes pictures, a mesh and metrics.json to <out>/<scene>/, "
+      "then <out>/report.md shows them all."};
+  app.require_subcommand(1, 1);
+  Cli cli;
+  add_common_options(app, cli);
+  std::vector<std::pair<const Scene*, CLI::App*>> subs;
+  for (const Scene& s : scenes()) subs.emplace_back(&s, app.add_subcommand(s.name, scene_help(s)));
+  CLI::App* all = app.add_subcommand("all", "run every scene in turn");
+  CLI::App* list = app.add_subcommand("list", "list the scenes and their defaults");
+
+  CLI::App* pin_cmd = app.add_subcommand(
+      "pin", "print each scene's smoke-run state hash and compare it with a pinned-hash file; --update writes it");
+  std::string pin_file = "tests/demos/pinned_hashes.json";
+  bool pin_update = false;
+  std::vector<std::string> pin_scenes;
+  pin_cmd->add_option("file", pin_file, "pinned-hash file")->capture_default_str();
+  pin_cmd->add_flag("--update", pin_update, "write the current hashes for this build's precision");
+  pin_cmd->add_option("--scene", pin_scenes, "only these scenes");
+  for (auto& [scene, sub] : subs) {
+    (void)scene;
+    sub->fallthrough();
+  }
+  all->fallthrough();
   CLI11_PARSE(app, argc, argv);
-  const nlohmann::json m = run_tile_drop(seconds, substep);
-  const fs::path dir = fs::path(out) / "tile_drop";
-  fs::create_directories(dir);
-  std::ofstream(dir / "metrics.json") << m.dump(2) << '\n';
-  std::printf("%s\nwrote %s\n", m.dump(2).c_str(), (dir / "metrics.json").c_str());
-  return 0;
+
+  try {
+    if (list->parsed()) {
+      for (const Scene& s : scenes()) std::printf("%s\n  %s\n\n", s.name.c_str(), scene_help(s).c_str());
+      return 0;
+    }
+    if (pin_cmd->parsed()) return pin(pin_file, pin_update, pin_scenes);
+    std::vector<const Scene*> chosen;
+    if (all->parsed())
+      for (const Scene& s : scenes()) chosen.push_back(&s);
+    for (auto& [scene, sub] : subs)
+      if (sub->parsed()) chosen.push_back(scene);
+    return run_scenes(chosen, cli) == 0 ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "shore-demo: %s\n", e.what());
+    return 1;
+  }
 }

@@ -1,0 +1,141 @@
+// shore-bench: Shore's speed-against-error report. Runs the registered sweeps
+// (bench/harness/sweeps/*.cpp), writes one CSV per table and gnuplot PNGs to --out, the
+// results JSON to --json, and with --save a dated reference run under bench/results/ plus
+// docs/BENCHMARKS.md.
+// GCC 12 reports a false "potential null pointer dereference" inside CLI11's string
+// splitting once inlined here; the warning is off for this file only.
+#pragma GCC diagnostic ignored "-Wnull-dereference"
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <omp.h>
+
+#include "output.h"
+#include "sweep.h"
+
+namespace fs = std::filesystem;
+using namespace shore::bench;
+
+namespace {
+
+std::string command_line(int argc, char** argv) {
+  std::string s = "shore-bench";
+  for (int k = 1; k < argc; ++k) s += std::string(" ") + argv[k];
+  return s;
+}
+
+std::vector<const Sweep*> select(const std::vector<std::string>& only) {
+  std::vector<const Sweep*> chosen;
+  std::set<std::string> wanted;
+  for (const std::string& item : only) {
+    std::stringstream parts(item);
+    for (std::string name; std::getline(parts, name, ',');)
+      if (!name.empty()) wanted.insert(name);
+  }
+  for (const Sweep& s : sweeps())
+    if (wanted.empty() || wanted.count(s.name)) {
+      chosen.push_back(&s);
+      wanted.erase(s.name);
+    }
+  for (const auto& w : wanted) throw CLI::ValidationError("--only", "no sweep called " + w);
+  return chosen;
+}
+
+void print_figures(const SweepResult& r) {
+  for (const auto& [key, unit] : r.figure_list()) {
+    std::string path = "/" + key;
+    for (char& c : path)
+      if (c == '.') c = '/';
+    std::printf("    %-52s %12.4g %s\n", key.c_str(), r.figures()[nlohmann::json::json_pointer(path)].get<double>(),
+                unit.c_str());
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string list_text;
+  for (const Sweep& s : sweeps()) list_text += "\n  " + s.name + ": " + s.description;
+  CLI::App app{"shore-bench: speed against error for Shore's modules.\nSweeps:" + list_text};
+  bool quick = false, save = false, list = false;
+  std::string json_file;
+  fs::path out = "out/bench";
+  std::vector<std::string> only;
+  app.add_flag("--quick", quick, "short run (all sweeps under 5 minutes on 2 cores)");
+  app.add_option("--json", json_file, "also write the results JSON to this file");
+  app.add_option("--out", out, "folder for CSV files, plot scripts and PNGs")->capture_default_str();
+  app.add_option("--only", only, "run only these sweeps (repeat or comma-separate)");
+  app.add_flag("--save", save,
+               "write bench/results/<YYYY-MM-DD>-<hostname>.json and docs/BENCHMARKS.md (committed reference runs)");
+  app.add_flag("--list", list, "list the sweeps and exit");
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    if (list) {
+      for (const Sweep& s : sweeps()) std::printf("%-12s %s\n", s.name.c_str(), s.description.c_str());
+      return 0;
+    }
+    const std::vector<const Sweep*> chosen = select(only);
+    const int openmp_threads = omp_get_max_threads();  // before any sweep changes it
+    fs::create_directories(out);
+    std::vector<SweepRun> runs;
+    int failed = 0;
+    const auto start = std::chrono::steady_clock::now();
+    for (std::size_t k = 0; k < chosen.size(); ++k) {
+      const Sweep& s = *chosen[k];
+      std::printf("[%zu/%zu] %s: %s\n", k + 1, chosen.size(), s.name.c_str(), s.description.c_str());
+      std::fflush(stdout);
+      SweepRun run;
+      run.sweep = &s;
+      SweepContext ctx;
+      ctx.quick = quick;
+      ctx.max_threads = openmp_threads;
+      omp_set_num_threads(openmp_threads);  // each sweep starts from the same setting
+      const auto t0 = std::chrono::steady_clock::now();
+      ctx.progress_fn = [&](const std::string& what) {
+        const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::printf("    %6.1f s  %s\n", t, what.c_str());
+        std::fflush(stdout);
+      };
+      try {
+        s.run(ctx, run.result);
+      } catch (const std::exception& e) {
+        run.error = e.what();
+        ++failed;
+        std::fprintf(stderr, "shore-bench: sweep %s failed: %s\n", s.name.c_str(), e.what());
+      }
+      run.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      write_csv(out, run.result);
+      render_plots(out, run.result);
+      print_figures(run.result);
+      std::printf("    done in %.1f s\n", run.wall_seconds);
+      runs.push_back(std::move(run));
+    }
+    const nlohmann::json results = results_json(runs, quick, command_line(argc, argv), openmp_threads);
+    write_text(out / "results.json", results.dump(2) + "\n");
+    if (!json_file.empty()) write_text(json_file, results.dump(2) + "\n");
+    if (save) {
+      const fs::path source = SHORE_SOURCE_DIR;
+      const std::string name = "bench/results/" + today() + "-" + host_name() + ".json";
+      fs::create_directories(source / "bench/results");
+      write_text(source / name, results.dump(2) + "\n");
+      const fs::path md = write_benchmarks_md(source, results, runs, out, name);
+      std::printf("saved %s and %s\n", (source / name).c_str(), md.c_str());
+    }
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("output: %s/ (CSV, plots, results.json); total %.1f s\n", fs::absolute(out).lexically_normal().c_str(),
+                total);
+    return failed == 0 ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "shore-bench: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,118 @@
+// Every registered scene, run briefly (its smoke settings): the metrics it reports must be
+// complete, finite and pass the scene's outside-reference checks; its files must exist.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "shore/core/hash.h"
+#include "shore/demo/scene.h"
+
+namespace fs = std::filesystem;
+using namespace shore::demo;
+
+namespace {
+
+std::vector<std::string> scene_names() {
+  std::vector<std::string> names;
+  for (const Scene& s : scenes()) names.push_back(s.name);
+  return names;
+}
+
+SceneResult smoke_run(const std::string& name, int threads, bool write_files) {
+  Overrides o;
+  o.out_root = fs::path(testing::TempDir()) / "shore_demo_smoke";
+  o.smoke = true;
+  o.threads = threads;
+  o.write_files = write_files;
+  const Scene& scene = *find_scene(name);
+  return run_scene(scene, resolve(scene, o), ProgressMode::quiet);
+}
+
+/// Paths of every number in j that is not finite (nlohmann stores NaN/inf as numbers).
+void collect_non_finite(const nlohmann::json& j, const std::string& path, std::vector<std::string>& bad) {
+  if (j.is_number_float() && !std::isfinite(j.get<double>())) bad.push_back(path);
+  if (j.is_object())
+    for (const auto& [k, v] : j.items()) collect_non_finite(v, path + "." + k, bad);
+  if (j.is_array())
+    for (std::size_t k = 0; k < j.size(); ++k) collect_non_finite(j[k], path + "[" + std::to_string(k) + "]", bad);
+}
+
+class SceneSmoke : public testing::TestWithParam<std::string> {};
+
+TEST(DemoRegistry, HasScenesWithDescriptionsAndSmokeSettings) {
+  ASSERT_FALSE(scenes().empty());
+  for (const Scene& s : scenes()) {
+    EXPECT_GT(s.description.size(), 40u) << s.name << ": describe what the scene shows";
+    EXPECT_GT(s.defaults.smoke_seconds, 0.0) << s.name;
+    EXPECT_LE(s.defaults.smoke_seconds, s.defaults.seconds) << s.name;
+  }
+}
+
+TEST_P(SceneSmoke, ReportsCompleteFiniteMetricsAndPassesItsChecks) {
+  const SceneResult r = smoke_run(GetParam(), 1, true);
+  const nlohmann::json& m = r.metrics;
+  for (const char* key : {"scene", "material", "threads", "substeps", "sim_seconds", "wall_seconds", "realtime_factor",
+                          "state_hash", "nan_count", "precision", "files"})
+    EXPECT_TRUE(m.contains(key)) << "missing metric " << key;
+  EXPECT_EQ(m["scene"], GetParam());
+  EXPECT_EQ(m["threads"], 1);
+  const std::string hash = m["state_hash"].get<std::string>();
+  EXPECT_EQ(hash.size(), 16u);
+  EXPECT_EQ(hash.find_first_not_of("0123456789abcdef"), std::string::npos) << hash;
+  EXPECT_EQ(m["state_hash"], shore::to_hex(r.state_hash));
+  EXPECT_NEAR(m["sim_seconds"].get<double>(), m["substeps"].get<int>() * m["substep_s"].get<double>(), 1e-9);
+  EXPECT_EQ(m["nan_count"].get<long>(), 0);
+  std::vector<std::string> bad;
+  collect_non_finite(m, "metrics", bad);
+  EXPECT_TRUE(bad.empty()) << "non-finite metric " << (bad.empty() ? "" : bad.front());
+
+  if (m.contains("fallthrough_count")) {
+    EXPECT_EQ(m["fallthrough_count"].get<long>(), 0);
+  }
+  if (m.contains("volume_drift_rel")) {
+    EXPECT_LT(std::abs(m["volume_drift_rel"].get<double>()), 1e-6);
+  }
+  if (m.contains("checks"))
+    for (const auto& c : m["checks"]) {
+      const double v = c["value"], ref = c["reference"], tol = c["tolerance"];
+      EXPECT_LE(std::abs(v - ref), tol) << c["name"] << " = " << v << ", reference " << ref << " +- " << tol << " ("
+                                        << c["source"] << ")";
+    }
+}
+
+TEST_P(SceneSmoke, WritesItsFilesAndMetricsJson) {
+  const SceneResult r = smoke_run(GetParam(), 1, true);
+  ASSERT_FALSE(r.files.empty());
+  for (const fs::path& f : r.files) {
+    ASSERT_TRUE(fs::exists(f)) << f;
+    EXPECT_GT(fs::file_size(f), 0u) << f;
+    if (f.extension() == ".png") {
+      std::ifstream in(f, std::ios::binary);
+      char sig[8] = {};
+      in.read(sig, 8);
+      EXPECT_EQ(std::string(sig + 1, 3), "PNG") << f;
+    }
+  }
+  const fs::path metrics = r.files.back();
+  ASSERT_EQ(metrics.filename(), "metrics.json");
+  nlohmann::json on_disk;
+  std::ifstream(metrics) >> on_disk;
+  EXPECT_EQ(on_disk["state_hash"], r.metrics["state_hash"]);
+  EXPECT_EQ(on_disk["files"].size(), r.files.size());
+}
+
+TEST_P(SceneSmoke, StateIsBitIdenticalForOneAndTwoThreads) {
+  const SceneResult one = smoke_run(GetParam(), 1, false);
+  const SceneResult two = smoke_run(GetParam(), 2, false);
+  EXPECT_EQ(shore::to_hex(one.state_hash), shore::to_hex(two.state_hash));
+}
+
+INSTANTIATE_TEST_SUITE_P(AllScenes, SceneSmoke, testing::ValuesIn(scene_names()),
+                         [](const testing::TestParamInfo<std::string>& p) { return p.param; });
+
+}  // namespace
