@@ -1,0 +1,121 @@
+#pragma once
+// Two-way coupling of Bullet rigid bodies with the deformable soil.
+//
+// Add it to an existing btDiscreteDynamicsWorld; it is a btActionInterface, so its work
+// runs inside every internal substep of stepSimulation(dt, maxSubSteps, fixedStep), after
+// the solver and integration and before the next substep's collision detection:
+//
+//   shore::terrain::Terrain soil(settings);
+//   shore::bullet::TerrainCoupling ground(world, soil);   // adds itself to the world
+//   ground.add_body(wheel);                                // this body deforms the soil
+//   world.stepSimulation(1.0 / 60, 8, 1.0 / 240);
+//
+// Soil reaction: the momentum rule (DESIGN.md, "loads, impacts and Bullet's contact").
+// Bullet's heightfield contact keeps friction and rolling; after its solve, the downward
+// momentum the soil must absorb this substep is p = J - m v_z (J: vertical impulse Bullet
+// applied through the terrain contacts; v_z: vertical velocity after the solve). The soil
+// can absorb at most S h (S: Bekker bearing capacity of the columns under the body at
+// their current sinkage). Bullet's vertical contact impulses are replaced by the soil's,
+// min(p, S h), applied per column in proportion to each column's bearing (not through
+// the centre: rigid-ground impulses make boxes rock). If p > S h the soil yields: the
+// body keeps moving down, its pose is re-integrated with the corrected velocity, and the
+// soil is imprinted with the conservative "star" envelope at the new pose; its terrain
+// contact points are cleared and it is kept awake. Load is never J / h (craters would
+// grow like 1/h). Kinematic bodies imprint geometrically.
+
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include <BulletDynamics/Dynamics/btActionInterface.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+
+#include "shore/bullet/config.h"
+#include "shore/bullet/terrain_tiles.h"
+#include "shore/core/envelope.h"
+#include "shore/terrain/terrain.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+
+/// Per-body choices.
+struct BodySoilSettings {
+  bool deform = true;       ///< the body presses the soil (false: it only feels the ground)
+  bool enable_ccd = true;   ///< turn on Bullet's continuous collision for fast impacts
+};
+
+struct TerrainCouplingSettings {
+  TerrainTilesSettings tiles;
+  double cover_margin = 0.25;  ///< m kept covered by tiles around every dynamic body's AABB, > 0
+  double max_speed = 500.0;    ///< m/s: a body faster than this (or with a non-finite pose) is skipped and counted
+  /// Every dynamic body in the world gets ground under it (tiles), not only added ones.
+  bool cover_all_bodies = true;
+  /// Lift a body whose lowest point fell below bedrock back onto the surface (counted).
+  bool rescue_fallthrough = true;
+  void validate() const;
+};
+
+/// Counters and timings of the last substep and totals since creation.
+struct TerrainCouplingStats {
+  std::int64_t substeps = 0;
+  std::int64_t skipped_bodies = 0;   ///< bodies skipped for a non-finite pose or absurd speed (total)
+  std::int64_t yields = 0;           ///< body-substeps in which the soil yielded (total)
+  std::int64_t rescues = 0;          ///< bodies lifted back above bedrock (total)
+  std::int64_t vertices_pushed = 0;  ///< heightfield vertices written (total)
+  double plastic_work = 0.0;         ///< J: soil impulse times the body's downward travel while yielding (total)
+  // last substep, seconds of wall time
+  double envelope_seconds = 0.0;
+  double terrain_seconds = 0.0;
+  double push_seconds = 0.0;
+  double reaction_seconds = 0.0;
+  int active_columns = 0;
+  int erosion_passes = 0;
+};
+
+class TerrainCoupling : public btActionInterface {
+ public:
+  /// Adds itself to world (world.addAction) and removes itself when destroyed. The soil
+  /// and world must outlive it.
+  TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrain& soil, TerrainCouplingSettings settings = {});
+  ~TerrainCoupling() override;
+  TerrainCoupling(const TerrainCoupling&) = delete;
+  TerrainCoupling& operator=(const TerrainCoupling&) = delete;
+
+  /// The body presses the soil (dynamic: by the momentum rule; kinematic: geometrically).
+  /// Tiles under it are created at once.
+  void add_body(btRigidBody* body, BodySoilSettings body_settings = {});
+  void remove_body(btRigidBody* body);
+
+  void updateAction(btCollisionWorld* world, btScalar substep) override;
+  void debugDraw(btIDebugDraw*) override {}
+
+  [[nodiscard]] const TerrainCouplingStats& stats() const noexcept { return stats_; }
+  [[nodiscard]] TerrainTiles& tiles() noexcept { return tiles_; }
+  [[nodiscard]] terrain::Terrain& soil() noexcept { return soil_; }
+
+ private:
+  struct Body {
+    btRigidBody* body = nullptr;
+    BodySoilSettings settings;
+    EnvelopeRaster envelope;  // reused buffer
+  };
+  bool body_is_sane(const btRigidBody& body) const;
+  void cover_bodies(double substep);
+  void rasterize(Body& b);
+  /// The momentum rule for one dynamic body; returns true if the soil yielded.
+  bool react(Body& b, double substep);
+  void rescue_fallen_bodies();
+
+  btDiscreteDynamicsWorld& world_;
+  terrain::Terrain& soil_;
+  TerrainCouplingSettings settings_;
+  TerrainTiles tiles_;
+  std::vector<Body> bodies_;
+  std::vector<terrain::Imprint> imprints_;
+  TerrainCouplingStats stats_;
+};
+
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet
