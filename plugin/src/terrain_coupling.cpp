@@ -38,6 +38,8 @@ TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrai
                                  TerrainCouplingSettings settings)
     : world_(world), soil_(soil), settings_(std::move(settings)), tiles_(world, soil, settings_.tiles) {
   settings_.validate();
+  const Region& r = settings_.region;
+  tiles_.set_region(r.x0, r.y0, r.x1, r.y1);
   world_.addAction(this);
 }
 
@@ -100,6 +102,17 @@ void TerrainCoupling::rasterize(Body& b) {
   const terrain::TerrainSettings& s = soil_.settings();
   const EnvelopeGrid grid{s.origin_x, s.origin_y, s.cell};
   rasterize_envelope(*b.body->getCollisionShape(), b.body->getWorldTransform(), grid, EnvelopeOptions{}, b.envelope);
+  clip_to_region(b.envelope);
+}
+
+void TerrainCoupling::clip_to_region(EnvelopeRaster& env) const {
+  const Region& r = settings_.region;
+  if (r.x0 <= -1e29 && r.y0 <= -1e29 && r.x1 >= 1e29 && r.y1 >= 1e29) return;
+  for (int b = 0; b < env.ny; ++b)
+    for (int a = 0; a < env.nx; ++a)
+      if (!r.contains(soil_.column_x(env.i0 + a), soil_.column_y(env.j0 + b)))
+        env.lower[static_cast<std::size_t>(b) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(a)] =
+            EnvelopeRaster::kNoLower;
 }
 
 bool TerrainCoupling::react(Body& b, double h) {
@@ -178,6 +191,7 @@ void TerrainCoupling::rescue_fallen_bodies() {
     btVector3 lo, hi;
     body.getCollisionShape()->getAabb(body.getWorldTransform(), lo, hi);
     const btVector3 c = body.getCenterOfMassPosition();
+    if (!settings_.region.contains(c.x(), c.y())) continue;
     const std::int64_t i = soil_.column_i(c.x()), j = soil_.column_j(c.y());
     if (lo.z() >= soil_.bedrock(i, j) - 0.01) continue;
     btTransform t = body.getWorldTransform();

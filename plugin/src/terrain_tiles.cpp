@@ -81,10 +81,29 @@ TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
   return tiles_.emplace(key(tx, ty), std::move(tile)).first->second;
 }
 
+void TerrainTiles::set_region(double x0, double y0, double x1, double y1) {
+  region_[0] = x0;
+  region_[1] = y0;
+  region_[2] = x1;
+  region_[3] = y1;
+}
+
 int TerrainTiles::ensure_cover(double x0, double y0, double x1, double y1) {
   const int T = settings_.tile_cells;
-  const std::int64_t tx0 = floor_div(soil_.column_i(x0) - 1, T), tx1 = floor_div(soil_.column_i(x1) + 1, T);
-  const std::int64_t ty0 = floor_div(soil_.column_j(y0) - 1, T), ty1 = floor_div(soil_.column_j(y1) + 1, T);
+  // Tiles whose span lies strictly inside the region's edges (a tile touching the region
+  // only along its border belongs to the neighbour).
+  const double eps = 1e-6 * soil_.settings().cell;
+  x0 = std::max(x0, region_[0] + eps);
+  y0 = std::max(y0, region_[1] + eps);
+  x1 = std::min(x1, region_[2] - eps);
+  y1 = std::min(y1, region_[3] - eps);
+  if (x0 > x1 || y0 > y1) return 0;
+  const terrain::TerrainSettings& s = soil_.settings();
+  auto tile_of = [&](double w, double origin) {
+    return static_cast<std::int64_t>(std::floor((w - origin) / (s.cell * T)));
+  };
+  const std::int64_t tx0 = tile_of(x0, s.origin_x), tx1 = tile_of(x1, s.origin_x);
+  const std::int64_t ty0 = tile_of(y0, s.origin_y), ty1 = tile_of(y1, s.origin_y);
   int created = 0;
   for (std::int64_t ty = ty0; ty <= ty1; ++ty)
     for (std::int64_t tx = tx0; tx <= tx1; ++tx)

@@ -46,8 +46,18 @@ struct BodySoilSettings {
   bool enable_ccd = true;   ///< turn on Bullet's continuous collision for fast impacts
 };
 
+/// A world-space rectangle (m). Default: everywhere.
+struct Region {
+  double x0 = -1e30, y0 = -1e30, x1 = 1e30, y1 = 1e30;
+  [[nodiscard]] bool contains(double x, double y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+};
+
 struct TerrainCouplingSettings {
   TerrainTilesSettings tiles;
+  /// Where this soil is. Several Terrain objects (say sand, then mud) can lie side by side,
+  /// each with its own coupling and region; put region edges on tile edges
+  /// (multiples of tiles.tile_cells * cell from the soil's origin) so tiles meet exactly.
+  Region region;
   double cover_margin = 0.25;  ///< m kept covered by tiles around every dynamic body's AABB, > 0
   double max_speed = 500.0;    ///< m/s: a body faster than this (or with a non-finite pose) is skipped and counted
   /// Every dynamic body in the world gets ground under it (tiles), not only added ones.
@@ -104,6 +114,7 @@ class TerrainCoupling : public btActionInterface {
   bool body_is_sane(const btRigidBody& body) const;
   void cover_bodies(double substep);
   void rasterize(Body& b);
+  void clip_to_region(EnvelopeRaster& env) const;
   /// The momentum rule for one dynamic body; returns true if the soil yielded.
   bool react(Body& b, double substep);
   void rescue_fallen_bodies();

@@ -39,9 +39,11 @@ class TerrainTiles {
   TerrainTiles(const TerrainTiles&) = delete;
   TerrainTiles& operator=(const TerrainTiles&) = delete;
 
-  /// Creates the tiles (if missing) that cover the world box [x0, x1] x [y0, y1].
-  /// Returns how many were created.
+  /// Creates the tiles (if missing) that cover the world box [x0, x1] x [y0, y1], limited
+  /// to tiles that overlap the allowed region (set_region). Returns how many were created.
   int ensure_cover(double x0, double y0, double x1, double y1);
+  /// Only tiles overlapping this world box are ever created (default: everywhere).
+  void set_region(double x0, double y0, double x1, double y1);
 
   /// Copies the given changed columns (and any tile still catching up) from the soil into
   /// the tiles, removes stale contact points there and wakes the bodies. Returns the
@@ -73,6 +75,7 @@ class TerrainTiles {
   double friction_;
   std::unordered_map<std::uint64_t, Tile> tiles_;
   std::int64_t clamped_ = 0;
+  double region_[4] = {-1e30, -1e30, 1e30, 1e30};
 };
 
 }  // namespace SHORE_BULLET_ABI
