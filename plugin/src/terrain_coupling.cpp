@@ -222,7 +222,12 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
     }
     if (!b.settings.deform) continue;
     t0 = Clock::now();
-    rasterize(b);
+    try {
+      rasterize(b);
+    } catch (const InvalidSetting&) {  // e.g. an absurdly large shape: skip it, never poison the grid
+      ++stats_.skipped_bodies;
+      continue;
+    }
     stats_.envelope_seconds += seconds_since(t0);
     const btVector3 v = body.getLinearVelocity();
     terrain::Imprint imprint{&b.envelope, 0.0, false, v.x(), v.y(), v.z()};

@@ -178,7 +178,12 @@ void WaterCoupling::updateAction(btCollisionWorld*, btScalar substep) {
       ++stats_.skipped_bodies;
       continue;
     }
-    rasterize(body, b.current);
+    try {
+      rasterize(body, b.current);
+    } catch (const InvalidSetting&) {  // e.g. an absurdly large shape: skip it, never poison the water
+      ++stats_.skipped_bodies;
+      continue;
+    }
     const double mass = body.getInvMass() > 0 ? 1.0 / body.getInvMass() : 0.0;
     if (mass > 0.0) {
       const WaterImpulse w = water_impulse(b.current, sample_grid_.origin_x, sample_grid_.origin_y, sample_grid_.cell,
