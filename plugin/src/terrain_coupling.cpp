@@ -36,7 +36,12 @@ void TerrainCouplingSettings::validate() const {
 
 TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrain& soil,
                                  TerrainCouplingSettings settings)
-    : world_(world), soil_(soil), settings_(std::move(settings)), tiles_(world, soil, settings_.tiles) {
+    : world_(world),
+      soil_(soil),
+      settings_(std::move(settings)),
+      tiles_(world, soil, settings_.tiles),
+      rasterizer_(EnvelopeGrid{soil.settings().origin_x, soil.settings().origin_y, soil.settings().cell},
+                  EnvelopeOptions{}) {
   settings_.validate();
   const Region& r = settings_.region;
   tiles_.set_region(r.x0, r.y0, r.x1, r.y1);
@@ -99,9 +104,7 @@ void TerrainCoupling::cover_bodies(double substep) {
 }
 
 void TerrainCoupling::rasterize(Body& b) {
-  const terrain::TerrainSettings& s = soil_.settings();
-  const EnvelopeGrid grid{s.origin_x, s.origin_y, s.cell};
-  rasterize_envelope(*b.body->getCollisionShape(), b.body->getWorldTransform(), grid, EnvelopeOptions{}, b.envelope);
+  rasterizer_.rasterize(*b.body->getCollisionShape(), b.body->getWorldTransform(), b.envelope);
   clip_to_region(b.envelope);
 }
 

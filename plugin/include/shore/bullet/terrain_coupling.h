@@ -33,6 +33,7 @@
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include "shore/bullet/config.h"
+#include "shore/bullet/envelope.h"
 #include "shore/bullet/terrain_tiles.h"
 #include "shore/core/envelope.h"
 #include "shore/terrain/terrain.h"
@@ -123,6 +124,7 @@ class TerrainCoupling : public btActionInterface {
   terrain::Terrain& soil_;
   TerrainCouplingSettings settings_;
   TerrainTiles tiles_;
+  EnvelopeRasterizer rasterizer_;
   std::vector<Body> bodies_;
   std::vector<terrain::Imprint> imprints_;
   TerrainCouplingStats stats_;
