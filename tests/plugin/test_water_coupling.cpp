@@ -79,7 +79,7 @@ TEST(WaterCoupling, TiltedBoxRightsItself) {
 // spring alone; added mass and drag can only lengthen it.
 TEST(WaterCoupling, HeavePeriodIsHydrostaticOrLonger) {
   Floater f = floater(FloaterShape::box, btVector3(0.3f, 0.3f, 0.2f), 0.5);
-  f.position.setZ(btScalar(0.1 - 0.1 + 0.1 + 0.03));  // 3 cm above equilibrium (centre at draft - H/2 = 0)
+  f.position.setZ(0.03f);  // 3 cm above equilibrium (the centre floats at draft - H/2 = 0)
   PoolRun run = one_floater(f, 3.0);
   run.record_every = 1;
   run.pool.damping_time = 5.0;
