@@ -1,0 +1,321 @@
+// Analytic envelope primitives: ball, finite cylinder, box, rounded cylinder, cone.
+// Each one intersects the vertical line through a column with its solid in closed form;
+// only the rounded rims of margin-swept cylinders and cones (tori, a quartic) use a Newton
+// iteration on the distance to the solid's core, which is convex along the line and so
+// converges monotonically from outside.
+#include <limits>
+#include <utility>
+
+#include "envelope_internal.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+namespace envelope_detail {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// A line this close to parallel with a cylinder's axis (sin^2 of the angle) is treated as
+// parallel: the error is below 1e-12 m for any body under a kilometre.
+constexpr double kParallel = 1e-24;
+// Newton stops when the line point is this close to the margin surface (m).
+constexpr double kNewtonTolerance = 1e-12;
+constexpr int kNewtonIterations = 100;
+
+/// Real roots t1 <= t2 of a t^2 + 2 b t + c = 0 (a != 0), without cancellation.
+bool quadratic_roots(double a, double b, double c, double& t1, double& t2) noexcept {
+  const double disc = b * b - a * c;
+  if (disc < 0) return false;
+  const double q = -(b + std::copysign(std::sqrt(disc), b));
+  if (q == 0) {
+    t1 = t2 = 0;
+    return true;
+  }
+  t1 = q / a;
+  t2 = c / q;
+  if (t1 > t2) std::swap(t1, t2);
+  return true;
+}
+
+/// Narrows [lo, hi] to the parameters where o + s d lies in [-h, h].
+bool clip_slab(double o, double d, double h, double& lo, double& hi) noexcept {
+  if (d == 0) return std::abs(o) <= h && lo <= hi;
+  const double inv = 1.0 / d;
+  double a = (-h - o) * inv;
+  double b = (h - o) * inv;
+  if (a > b) std::swap(a, b);
+  lo = std::max(lo, a);
+  hi = std::min(hi, b);
+  return lo <= hi;
+}
+
+/// Finite sharp cylinder: radial condition a s^2 + 2 b s + c <= 0 (a = sin^2 of the angle
+/// between line and axis), axial coordinate a0 + s da in [-h, h].
+bool cylinder_interval(double a, double b, double c, double a0, double da, double h, double& lo, double& hi) noexcept {
+  lo = -kInf;
+  hi = kInf;
+  if (a <= kParallel) {
+    if (c > 0) return false;
+  } else if (!quadratic_roots(a, b, c, lo, hi)) {
+    return false;
+  }
+  return clip_slab(a0, da, h, lo, hi);
+}
+
+/// Cone along local z, apex at z = za, radius k * (za - z), base plane z = zb.
+bool cone_interval(V3 o, V3 d, double za, double zb, double k, double& lo, double& hi) noexcept {
+  double slo = -kInf;
+  double shi = kInf;
+  if (!clip_slab(o.z - 0.5 * (za + zb), d.z, 0.5 * (za - zb), slo, shi)) return false;
+  const double w = za - o.z;
+  const double k2 = k * k;
+  const double dr2 = d.x * d.x + d.y * d.y;
+  const double a = dr2 - k2 * d.z * d.z;
+  const double b = o.x * d.x + o.y * d.y + k2 * w * d.z;
+  const double c = o.x * o.x + o.y * o.y - k2 * w * w;
+  // The pieces of the line inside the double cone (f <= 0): an interval, or two rays (one
+  // per nappe), or all of it. Clipped to the slab only the lower nappe's piece survives
+  // (and at most the apex point of the other), so their hull is the answer.
+  double piece_lo[2] = {-kInf, -kInf};
+  double piece_hi[2] = {kInf, kInf};
+  int pieces = 1;
+  if (std::abs(a) <= 1e-14 * (dr2 + k2 * d.z * d.z)) {  // line parallel to a generator
+    if (b == 0) {
+      if (c > 0) return false;
+    } else if (b > 0) {
+      piece_hi[0] = -c / (2 * b);
+    } else {
+      piece_lo[0] = -c / (2 * b);
+    }
+  } else {
+    double t1 = 0;
+    double t2 = 0;
+    const bool real = quadratic_roots(a, b, c, t1, t2);
+    if (a > 0) {
+      if (!real) return false;
+      piece_lo[0] = t1;
+      piece_hi[0] = t2;
+    } else if (real) {
+      piece_hi[0] = t1;
+      piece_lo[1] = t2;
+      pieces = 2;
+    }
+  }
+  lo = kInf;
+  hi = -kInf;
+  for (int p = 0; p < pieces; ++p) {
+    const double plo = std::max(piece_lo[p], slo);
+    const double phi = std::min(piece_hi[p], shi);
+    if (plo <= phi) {
+      lo = std::min(lo, plo);
+      hi = std::max(hi, phi);
+    }
+  }
+  return lo <= hi;
+}
+
+/// Walks from s (outside the swept solid) along dir (+1 up, -1 down) to the first point
+/// within margin of the core: g(s) = dist(core) - margin is convex along the line, so Newton
+/// from outside never overshoots. False if the line misses (g stops decreasing above 0).
+template <class Dist>
+bool newton_to_surface(const Dist& dist, V3 o, V3 d, double margin, double s, double s_end, double dir,
+                       double& hit) noexcept {
+  for (int it = 0; it < kNewtonIterations; ++it) {
+    V3 diff;
+    const double r = dist(o + d * s, diff);
+    const double g = r - margin;
+    if (g <= kNewtonTolerance) {
+      hit = s;
+      return true;
+    }
+    const double slope = dir * dot(diff, d) / r;
+    if (!(slope < 0)) return false;
+    s -= dir * g / slope;
+    if (dir * (s - s_end) > 0) return false;
+  }
+  return false;
+}
+
+/// Frame whose local z is the shape's axis `up` (the other two axes are the radial ones).
+Frame with_axis_as_z(const Frame& f, int up) noexcept {
+  const int p = (up + 1) % 3;
+  const int q = (up + 2) % 3;
+  Frame g = f;
+  for (int row = 0; row < 3; ++row) {
+    g.r[row][0] = f.r[row][p];
+    g.r[row][1] = f.r[row][q];
+    g.r[row][2] = f.r[row][up];
+  }
+  return g;
+}
+
+/// World half extents of a cylinder along unit axis u (half length h, radius r).
+V3 cylinder_extent(V3 u, double h, double r) noexcept {
+  auto ext = [&](double uk) { return h * std::abs(uk) + r * std::sqrt(std::max(0.0, 1.0 - uk * uk)); };
+  return {ext(u.x), ext(u.y), ext(u.z)};
+}
+
+/// Calls fn(o, d, lo, hi) for every column within ext of f.t, with the column's vertical
+/// line o + s d in local coordinates (s = world z - f.t.z); merges [lo, hi] where it returns true.
+template <class Fn>
+void for_each_local_column(Canvas& cv, const Frame& f, V3 ext, Fn&& fn) {
+  std::int64_t ilo = 0, ihi = 0, jlo = 0, jhi = 0;
+  if (!cv.span_i(f.t.x - ext.x, f.t.x + ext.x, ilo, ihi) || !cv.span_j(f.t.y - ext.y, f.t.y + ext.y, jlo, jhi)) return;
+  const V3 d = f.to_local_dir({0, 0, 1});
+  const V3 step = f.to_local_dir({cv.cell(), 0, 0});
+  const double x0 = cv.x(ilo) - f.t.x;
+  for (std::int64_t j = jlo; j <= jhi; ++j) {
+    const V3 row = f.to_local_dir({x0, cv.y(j) - f.t.y, 0});
+    for (std::int64_t i = ilo; i <= ihi; ++i) {
+      const V3 o = row + step * static_cast<double>(i - ilo);
+      double lo = 0;
+      double hi = 0;
+      if (fn(o, d, lo, hi)) cv.put(i, j, f.t.z + lo, f.t.z + hi);
+    }
+  }
+}
+
+}  // namespace
+
+void draw_ball(Canvas& cv, V3 c, double r) {
+  std::int64_t ilo = 0, ihi = 0, jlo = 0, jhi = 0;
+  if (!cv.span_j(c.y - r, c.y + r, jlo, jhi)) return;
+  const double r2 = r * r;
+  for (std::int64_t j = jlo; j <= jhi; ++j) {
+    const double dy = cv.y(j) - c.y;
+    const double q = r2 - dy * dy;
+    if (q < 0) continue;
+    const double half_row = std::sqrt(q);
+    if (!cv.span_i(c.x - half_row, c.x + half_row, ilo, ihi)) continue;
+    for (std::int64_t i = ilo; i <= ihi; ++i) {
+      const double dx = cv.x(i) - c.x;
+      const double h2 = q - dx * dx;
+      if (h2 < 0) continue;
+      const double half = std::sqrt(h2);
+      cv.put(i, j, c.z - half, c.z + half);
+    }
+  }
+}
+
+void draw_cylinder(Canvas& cv, V3 c, V3 u, double h, double r) {
+  const V3 ext = cylinder_extent(u, h, r);
+  std::int64_t ilo = 0, ihi = 0, jlo = 0, jhi = 0;
+  if (!cv.span_i(c.x - ext.x, c.x + ext.x, ilo, ihi) || !cv.span_j(c.y - ext.y, c.y + ext.y, jlo, jhi)) return;
+  // Line (x, y, c.z + s): w0 = (x - c.x, y - c.y, 0), axial a0 + s u.z, radial part
+  // perp0 + s dperp with dperp = e_z - u.z u, |dperp|^2 = u.x^2 + u.y^2 and perp0 . dperp = -a0 u.z.
+  const double a = u.x * u.x + u.y * u.y;
+  const double r2 = r * r;
+  for (std::int64_t j = jlo; j <= jhi; ++j) {
+    const double wy = cv.y(j) - c.y;
+    for (std::int64_t i = ilo; i <= ihi; ++i) {
+      const V3 w0{cv.x(i) - c.x, wy, 0};
+      const double a0 = dot(w0, u);
+      const V3 perp0 = w0 - u * a0;
+      double lo = 0;
+      double hi = 0;
+      if (cylinder_interval(a, -a0 * u.z, dot(perp0, perp0) - r2, a0, u.z, h, lo, hi)) cv.put(i, j, c.z + lo, c.z + hi);
+    }
+  }
+}
+
+void draw_box(Canvas& cv, const Frame& f, V3 half) {
+  V3 ext;
+  ext.x = std::abs(f.r[0][0]) * half.x + std::abs(f.r[0][1]) * half.y + std::abs(f.r[0][2]) * half.z;
+  ext.y = std::abs(f.r[1][0]) * half.x + std::abs(f.r[1][1]) * half.y + std::abs(f.r[1][2]) * half.z;
+  ext.z = 0;
+  for_each_local_column(cv, f, ext, [&](V3 o, V3 d, double& lo, double& hi) {
+    lo = -kInf;
+    hi = kInf;
+    return clip_slab(o.x, d.x, half.x, lo, hi) && clip_slab(o.y, d.y, half.y, lo, hi) &&
+           clip_slab(o.z, d.z, half.z, lo, hi);
+  });
+}
+
+void draw_rounded_cylinder(Canvas& cv, const Frame& f, int up, double r, double h, double margin) {
+  if (margin <= 0) {
+    draw_cylinder(cv, f.t, f.axis(up), h, r);
+    return;
+  }
+  const Frame g = with_axis_as_z(f, up);
+  const double rc = std::max(r - margin, 0.0);
+  const double hc = std::max(h - margin, 0.0);
+  auto core_distance = [rc, hc](V3 p, V3& diff) {
+    const double rho = std::sqrt(p.x * p.x + p.y * p.y);
+    const double over = rho - rc;
+    const double s = (over > 0 && rho > 0) ? over / rho : 0.0;
+    const double dz = p.z > hc ? p.z - hc : (p.z < -hc ? p.z + hc : 0.0);
+    diff = {p.x * s, p.y * s, dz};
+    return norm(diff);
+  };
+  const bool upper = cv.upper();
+  for_each_local_column(cv, g, cylinder_extent(g.axis(2), h, r), [&](V3 o, V3 d, double& lo, double& hi) {
+    // The sharp cylinder contains the rounded one and shares its flat and curved faces:
+    // start there and let Newton round the rims.
+    if (!cylinder_interval(d.x * d.x + d.y * d.y, o.x * d.x + o.y * d.y, o.x * o.x + o.y * o.y - r * r, o.z, d.z, h, lo,
+                           hi))
+      return false;
+    double entry = 0;
+    if (!newton_to_surface(core_distance, o, d, margin, lo, hi, +1.0, entry)) return false;
+    double exit = entry;
+    if (upper && !newton_to_surface(core_distance, o, d, margin, hi, entry, -1.0, exit)) exit = entry;
+    lo = entry;
+    hi = exit;
+    return true;
+  });
+}
+
+void draw_cone(Canvas& cv, const Frame& f, int up, double radius, double height, double margin) {
+  const Frame g = with_axis_as_z(f, up);
+  const double half = 0.5 * height;
+  const double k = radius / height;
+  const V3 ext = cylinder_extent(g.axis(2), half + margin, radius + margin);
+  if (margin <= 0) {
+    for_each_local_column(
+        cv, g, ext, [&](V3 o, V3 d, double& lo, double& hi) { return cone_interval(o, d, half, -half, k, lo, hi); });
+    return;
+  }
+  // The cone swept by a ball lies inside the cone whose faces are moved out by the margin:
+  // apex up by margin / sin(half angle), base down by margin. Start there, Newton rounds
+  // the apex and the base rim.
+  const double sin_half_angle = radius / std::sqrt(radius * radius + height * height);
+  const double apex = half + margin / sin_half_angle;
+  const double base = -half - margin;
+  auto core_distance = [radius, height, half](V3 p, V3& diff) {
+    const double rho = std::sqrt(p.x * p.x + p.y * p.y);
+    if (p.z >= -half && p.z <= half && rho * height <= radius * (half - p.z)) {
+      diff = {};
+      return 0.0;
+    }
+    // Nearest point in the meridian half-plane: on the base segment or the slanted side.
+    const double base_dr = rho - std::min(rho, radius);
+    const double base_dz = p.z + half;
+    const double ex = radius;
+    const double ey = -height;
+    const double tau = std::clamp((rho * ex + (p.z - half) * ey) / (ex * ex + ey * ey), 0.0, 1.0);
+    const double side_dr = rho - tau * radius;
+    const double side_dz = p.z - (half - tau * height);
+    double dr = base_dr;
+    double dz = base_dz;
+    if (side_dr * side_dr + side_dz * side_dz < base_dr * base_dr + base_dz * base_dz) {
+      dr = side_dr;
+      dz = side_dz;
+    }
+    const double s = rho > 0 ? dr / rho : 0.0;
+    diff = {p.x * s, p.y * s, dz};
+    return norm(diff);
+  };
+  const bool upper = cv.upper();
+  for_each_local_column(cv, g, ext, [&](V3 o, V3 d, double& lo, double& hi) {
+    if (!cone_interval(o, d, apex, base, k, lo, hi)) return false;
+    double entry = 0;
+    if (!newton_to_surface(core_distance, o, d, margin, lo, hi, +1.0, entry)) return false;
+    double exit = entry;
+    if (upper && !newton_to_surface(core_distance, o, d, margin, hi, entry, -1.0, exit)) exit = entry;
+    lo = entry;
+    hi = exit;
+    return true;
+  });
+}
+
+}  // namespace envelope_detail
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet
