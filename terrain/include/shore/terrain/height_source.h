@@ -15,4 +15,90 @@ class HeightSource {
   [[nodiscard]] virtual double height(double x, double y) const = 0;
 };
 
+/// Level ground.
+class FlatHeight final : public HeightSource {
+ public:
+  explicit FlatHeight(double level);  ///< m, finite (throws InvalidSetting otherwise)
+  [[nodiscard]] double height(double x, double y) const override;
+
+ private:
+  double level_;
+};
+
+/// Sumner et al.'s initial ground: random values on a square lattice, interpolated with
+/// Catmull-Rom splines in x and y (a variant of 2-D Perlin noise). The lattice values come
+/// from an integer hash of (seed, octave, lattice i, lattice j), so the same settings give
+/// the same ground on every machine and thread. Octaves add finer lattices (spacing / 2^k)
+/// with amplitude * persistence^k.
+struct LatticeNoiseSettings {
+  std::uint64_t seed = 1;    ///< any value
+  double spacing = 0.5;      ///< m, lattice period of the first octave, finite and > 0
+  double amplitude = 0.02;   ///< m, lattice values lie in [-amplitude, amplitude], finite and >= 0
+  double mean = 0.0;         ///< m, height the noise varies around, finite
+  int octaves = 1;           ///< in [1, 16]
+  double persistence = 0.5;  ///< amplitude ratio between octaves, in (0, 1]
+
+  /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
+  void validate() const;
+};
+
+class LatticeNoise final : public HeightSource {
+ public:
+  explicit LatticeNoise(LatticeNoiseSettings settings);  ///< validates
+  [[nodiscard]] double height(double x, double y) const override;
+  /// Value at lattice point (li, lj) of octave k, in [-1, 1] (before amplitude).
+  [[nodiscard]] double lattice_value(int octave, std::int64_t li, std::int64_t lj) const;
+  [[nodiscard]] const LatticeNoiseSettings& settings() const noexcept { return settings_; }
+
+ private:
+  LatticeNoiseSettings settings_;
+};
+
+/// Where a heightmap lies and how its samples become heights.
+/// Sample (c, r) (column c, row r, r = 0 the image's top row) stands at world
+/// x = x0 + c spacing, y = y0 + (rows - 1 - r) spacing: seen from above with y pointing up,
+/// the map looks like the image. (x0, y0) is the bottom-left sample.
+/// height = vertical_offset + vertical_scale * v, with v = pixel / 255 or / 65535 for PNG
+/// (so v in [0, 1]) and the stored value for raw float32.
+struct HeightmapPlacement {
+  double x0 = 0.0;               ///< m, finite
+  double y0 = 0.0;               ///< m, finite
+  double spacing = 1.0;          ///< m between samples, finite and > 0
+  double vertical_scale = 1.0;   ///< m per unit sample value, finite
+  double vertical_offset = 0.0;  ///< m, finite
+
+  /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
+  void validate() const;
+};
+
+/// Imported ground, bilinearly interpolated between samples; outside the map the edge
+/// samples extend outward.
+class Heightmap final : public HeightSource {
+ public:
+  /// values: width * rows samples, row-major, row 0 the top row. Throws InvalidSetting on
+  /// sizes that do not match or non-finite values.
+  Heightmap(int width, int rows, std::vector<float> values, HeightmapPlacement placement);
+
+  /// 8- or 16-bit PNG (grey, grey+alpha, RGB or RGBA; colour is converted to grey by
+  /// luminance, alpha ignored). Throws shore::FileError naming the file and the problem.
+  static Heightmap from_png(const std::filesystem::path& file, HeightmapPlacement placement);
+  /// Headerless little-endian float32 samples, row-major, row 0 the top row. The file size
+  /// must be exactly width * rows * 4 bytes and every sample finite, else shore::FileError.
+  static Heightmap from_raw_float32(const std::filesystem::path& file, int width, int rows,
+                                    HeightmapPlacement placement);
+
+  [[nodiscard]] double height(double x, double y) const override;
+  [[nodiscard]] int width() const noexcept { return width_; }
+  [[nodiscard]] int rows() const noexcept { return rows_; }
+  /// Stored sample (c, r), before the vertical scale and offset.
+  [[nodiscard]] float sample(int c, int r) const { return values_[static_cast<std::size_t>(r) * width_ + c]; }
+  [[nodiscard]] const HeightmapPlacement& placement() const noexcept { return placement_; }
+
+ private:
+  int width_ = 0;
+  int rows_ = 0;
+  std::vector<float> values_;
+  HeightmapPlacement placement_;
+};
+
 }  // namespace shore::terrain

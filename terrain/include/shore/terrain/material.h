@@ -22,9 +22,9 @@ struct Material {
   double bekker_kc = 0.99e3;       ///< cohesive modulus, N/m^(n+1), >= 0
   double bekker_kphi = 1528.43e3;  ///< frictional modulus, N/m^(n+2), >= 0 (k_c + k_phi > 0)
 
-  double friction = 0.6;     ///< Coulomb friction coefficient body-soil, >= 0
-  double soil_depth = 1.0;   ///< m, > 0: deformable soil above bedrock
-  bool rigid = false;        ///< true: the ground never deforms (rock, asphalt)
+  double friction = 0.6;    ///< Coulomb friction coefficient body-soil, >= 0
+  double soil_depth = 1.0;  ///< m, > 0: deformable soil above bedrock
+  bool rigid = false;       ///< true: the ground never deforms (rock, asphalt)
 
   /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
   void validate() const;

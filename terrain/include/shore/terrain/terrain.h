@@ -13,6 +13,31 @@
 // - sinkage: the soil state, how far the column has been pressed below its uncompacted
 //   level by the true envelope. Bekker's law reads sinkage, so a star imprint does not
 //   inflate bearing capacity, and reloading to the same pressure sinks no further.
+//
+// One step (Terrain::step), over the active region only (each imprint's covered columns
+// enlarged by active_margin; touching regions merge), gathered into dense arrays with a
+// one-column halo and scattered back:
+// 1. Collision: a column whose top lies above the collision surface (the offset envelope,
+//    or its star-lowered version) is pushed down to it, never below bedrock; a column is
+//    in contact when the surface lies within contact_tolerance of its top. Sinkage grows
+//    by how far the TRUE offset envelope pressed the column below its previous top.
+// 2. Contour map: chessboard (8-connected) distance in columns from each contact column
+//    to the nearest column not in contact.
+// 3. Displacement: alpha of each column's pushed-down height is carried to the neighbours
+//    with lower contour values, split equally, until it lands on the first ring outside
+//    the contact area; 1 - alpha is compacted (VolumeTotals::compacted).
+// 4. Erosion (Jacobi passes): a pair of 8-neighbours is too steep when the height
+//    difference exceeds dist * tan(theta), theta = theta_in toward a column lying under a
+//    body (its envelope covers the column) and theta_out otherwise. A column moves sigma
+//    times the average excess over the limit, shared equally among its too-steep downhill
+//    neighbours, never more than it holds above bedrock. Contact columns are held by the
+//    body (they neither give nor receive); a column under a body but not touching it
+//    receives at most the room up to the collision surface. Passes repeat while material
+//    moves and some moving pair is steeper than theta_stop, at most max_erosion_passes.
+//    Only the region's columns give; the halo only receives.
+// Spray particles are not simulated: VolumeTotals::airborne stays 0.
+// Every pass is Jacobi-style with fixed reduction order: results are bit-identical for
+// any thread count.
 
 #include <cstdint>
 #include <filesystem>
@@ -27,18 +52,18 @@
 namespace shore::terrain {
 
 struct TerrainSettings {
-  double cell = 0.01;          ///< m, column spacing, > 0
-  double origin_x = 0.0;       ///< m, world x of column (0, 0), finite
-  double origin_y = 0.0;       ///< m, world y of column (0, 0), finite
-  int tile_columns = 64;       ///< columns per tile side, in [4, 1024]
+  double cell = 0.01;     ///< m, column spacing, > 0
+  double origin_x = 0.0;  ///< m, world x of column (0, 0), finite
+  double origin_y = 0.0;  ///< m, world y of column (0, 0), finite
+  int tile_columns = 64;  ///< columns per tile side, in [4, 1024]
   Material material = Material::sand();
   /// Untouched ground. Null: flat at base_height.
   std::shared_ptr<const HeightSource> base;
-  double base_height = 0.0;     ///< m, flat ground level when base is null, finite
-  int max_erosion_passes = 64;  ///< erosion pass cap per step, >= 0
-  int active_margin = 4;        ///< columns added around each imprint window for displacement and erosion, >= 1
+  double base_height = 0.0;         ///< m, flat ground level when base is null, finite
+  int max_erosion_passes = 64;      ///< erosion pass cap per step, >= 0
+  int active_margin = 4;            ///< columns added around each imprint window for displacement and erosion, >= 1
   double contact_tolerance = 1e-4;  ///< m: a column counts as touched when the envelope is within this of its top, >= 0
-  int threads = 0;              ///< OpenMP threads, 0 = runtime default; results never depend on it, >= 0
+  int threads = 0;                  ///< OpenMP threads, 0 = runtime default; results never depend on it, >= 0
 
   /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
   void validate() const;
@@ -47,7 +72,7 @@ struct TerrainSettings {
 /// One body's imprint for one step.
 struct Imprint {
   const EnvelopeRaster* envelope = nullptr;  ///< the body's lower envelope (world heights)
-  double offset = 0.0;  ///< m, >= 0: the envelope is lowered by this much (bearing offset)
+  double offset = 0.0;                       ///< m, >= 0: the envelope is lowered by this much (bearing offset)
   /// Conservative collision surface: lower each column to the lowest (offset) envelope
   /// point within +-1 column, so no heightfield triangle cuts into the body. Sinkage
   /// (soil state) is still taken from the true envelope.
@@ -73,11 +98,11 @@ struct Bearing {
 };
 
 struct StepReport {
-  int active_columns = 0;      ///< columns visited by the pipeline this step
-  int contact_columns = 0;     ///< columns pushed down by a body
-  int erosion_passes = 0;      ///< passes until every slope was below theta_stop (or the cap)
-  double displaced_volume = 0; ///< m^3 pushed down by collision this step
-  double compacted_volume = 0; ///< m^3 of it kept as compaction
+  int active_columns = 0;       ///< columns visited by the pipeline this step
+  int contact_columns = 0;      ///< columns pushed down by a body
+  int erosion_passes = 0;       ///< passes until every slope was below theta_stop (or the cap)
+  double displaced_volume = 0;  ///< m^3 pushed down by collision this step
+  double compacted_volume = 0;  ///< m^3 of it kept as compaction
 };
 
 /// Volume bookkeeping, m^3, relative to the untouched base: ground + compacted + airborne
@@ -85,7 +110,10 @@ struct StepReport {
 struct VolumeTotals {
   double ground = 0.0;     ///< sum of (height - base height) cell^2 over touched columns
   double compacted = 0.0;  ///< volume removed from the surface by compression
-  double airborne = 0.0;   ///< volume carried by spray particles in flight
+  double airborne = 0.0;   ///< volume carried by spray particles in flight (always 0: no particles yet)
+  /// Net volume added by set_height (an outside edit): ground + compacted + airborne equals
+  /// this to rounding. Not part of total().
+  double edited = 0.0;
   [[nodiscard]] double total() const { return ground + compacted + airborne; }
 };
 
@@ -115,24 +143,40 @@ class Terrain {
   [[nodiscard]] double sinkage(std::int64_t i, std::int64_t j) const;      ///< plastic sinkage, m, >= 0
   [[nodiscard]] double base_height(std::int64_t i, std::int64_t j) const;  ///< untouched ground, m
   [[nodiscard]] double bedrock(std::int64_t i, std::int64_t j) const;      ///< base height - soil depth, m
-  /// Writes a height directly (editing tools, tests); keeps volume accounting in step.
+  /// Writes a height directly (editing tools, tests); keeps volume accounting in step: the
+  /// change is added to VolumeTotals::edited and reported by take_changed. Heights below
+  /// bedrock are raised to bedrock; sinkage is left as it is. Throws InvalidSetting if h is
+  /// not finite.
   void set_height(std::int64_t i, std::int64_t j, double h);
 
   // ---- physics ----
-  /// What the soil under the envelope, lowered by offset, can carry (Bekker).
+  /// What the soil under the envelope, lowered by offset, can carry (Bekker). A column
+  /// touches when the lowered envelope lies within contact_tolerance of its top; its z is
+  /// its sinkage plus how far the lowered envelope lies below its top; b is the smaller
+  /// side of the touching columns' bounding box, each column one cell wide. Reads only
+  /// (never creates tiles). Throws InvalidSetting on a bad envelope or offset.
   [[nodiscard]] Bearing bearing(const EnvelopeRaster& envelope, double offset = 0.0) const;
   /// The downward offset (m, >= 0) of the envelope at which the bearing capacity equals
-  /// load (N); 0 if the soil already carries it.
+  /// load (N); 0 if the soil already carries it, and 0 if the envelope covers no column.
+  /// Bracketed regula falsi / bisection to 1e-7 m; returns the upper end of the bracket, so
+  /// bearing(envelope, result).capacity >= load. Columns pressed to bedrock carry anything,
+  /// so the result never exceeds the depth to bedrock.
   [[nodiscard]] double bearing_offset(const EnvelopeRaster& envelope, double load) const;
   /// One step of the pipeline for all imprints together: collision, contour map,
   /// displacement, erosion, over the active region only. Throws InvalidSetting (grid
-  /// untouched) if an envelope holds NaN or an offset is negative or not finite.
+  /// untouched) if an envelope holds NaN or -inf, its size does not match nx * ny, an
+  /// offset is negative or not finite, or a velocity is not finite. Rigid material: no-op.
   StepReport step(std::span<const Imprint> imprints);
-  /// Erosion alone over a region (e.g. to relax a pile that was set by set_height).
+  /// Erosion alone over a region (e.g. to relax a pile that was set by set_height), run to
+  /// rest: passes repeat while material moves (theta_stop is ignored), at most
+  /// max_erosion_passes; call again while erosion_passes == max_erosion_passes. No column
+  /// is in contact; the one-column ring around the region receives but does not give.
   StepReport relax(const ColumnRect& region);
 
   // ---- output ----
-  /// Rectangles of columns whose height changed since the last call (for push-back).
+  /// Rectangles of columns whose height changed since the last call (for push-back): at
+  /// most one per tile, the bounding box of that tile's changed columns, in tile key order.
+  /// After load() every loaded tile is reported whole.
   std::vector<ColumnRect> take_changed();
   [[nodiscard]] VolumeTotals volume() const;
   [[nodiscard]] std::uint64_t state_hash() const;  ///< FNV-1a over tiles in key order
@@ -140,7 +184,10 @@ class Terrain {
   [[nodiscard]] std::size_t memory_bytes() const;
 
   /// Bit-exact round trip of the touched state. save() writes a temporary file and
-  /// renames it; load() throws shore::FileError on a truncated or foreign file.
+  /// renames it; load() throws shore::FileError on a truncated or foreign file. The file
+  /// holds the settings (but not the base source: pass the same one to load, or null for
+  /// flat ground at the saved base_height), the bookkeeping (compacted, edited) and every
+  /// tile's heights, sinkage and sampled base; a checksum guards the whole file.
   void save(const std::filesystem::path& file) const;
   static Terrain load(const std::filesystem::path& file, std::shared_ptr<const HeightSource> base = nullptr);
 

@@ -1,0 +1,205 @@
+#include "shore/terrain/height_source.h"
+
+#include <stb_image.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "shore/core/error.h"
+
+namespace shore::terrain {
+
+// ---- flat ----------------------------------------------------------------------------
+
+FlatHeight::FlatHeight(double level) : level_(level) { Check{"terrain.FlatHeight"}.finite("level", level); }
+
+double FlatHeight::height(double, double) const { return level_; }
+
+// ---- lattice noise -------------------------------------------------------------------
+
+void LatticeNoiseSettings::validate() const {
+  const Check c{"terrain.LatticeNoiseSettings"};
+  c.positive("spacing", spacing);
+  c.non_negative("amplitude", amplitude);
+  c.finite("mean", mean);
+  if (!(octaves >= 1 && octaves <= 16))
+    throw InvalidSetting(c.name("octaves"), detail::to_text(octaves), "must be in [1, 16]");
+  c.in_left_open("persistence", persistence, 0.0, 1.0);
+}
+
+LatticeNoise::LatticeNoise(LatticeNoiseSettings settings) : settings_(settings) { settings_.validate(); }
+
+namespace {
+
+// SplitMix64 finaliser: a well-mixed 64-bit hash of one word.
+std::uint64_t mix64(std::uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+// Catmull-Rom spline through p1 (t = 0) and p2 (t = 1).
+double catmull_rom(double p0, double p1, double p2, double p3, double t) {
+  return 0.5 * (2.0 * p1 + (p2 - p0) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t * t +
+                (3.0 * (p1 - p2) + p3 - p0) * t * t * t);
+}
+
+}  // namespace
+
+double LatticeNoise::lattice_value(int octave, std::int64_t li, std::int64_t lj) const {
+  std::uint64_t h = mix64(settings_.seed ^ 0x9e3779b97f4a7c15ull);
+  h = mix64(h ^ static_cast<std::uint64_t>(octave));
+  h = mix64(h ^ static_cast<std::uint64_t>(li));
+  h = mix64(h ^ static_cast<std::uint64_t>(lj));
+  // 53 random bits to [0, 1), then to [-1, 1).
+  return static_cast<double>(h >> 11) * 0x1.0p-52 - 1.0;
+}
+
+double LatticeNoise::height(double x, double y) const {
+  double sum = settings_.mean;
+  double amp = settings_.amplitude;
+  double spacing = settings_.spacing;
+  for (int k = 0; k < settings_.octaves; ++k) {
+    const double u = x / spacing, v = y / spacing;
+    const double fu = std::floor(u), fv = std::floor(v);
+    const auto li = static_cast<std::int64_t>(fu), lj = static_cast<std::int64_t>(fv);
+    const double tu = u - fu, tv = v - fv;
+    double row[4];
+    for (int b = 0; b < 4; ++b) {
+      const std::int64_t j = lj - 1 + b;
+      row[b] = catmull_rom(lattice_value(k, li - 1, j), lattice_value(k, li, j), lattice_value(k, li + 1, j),
+                           lattice_value(k, li + 2, j), tu);
+    }
+    sum += amp * catmull_rom(row[0], row[1], row[2], row[3], tv);
+    amp *= settings_.persistence;
+    spacing *= 0.5;
+  }
+  return sum;
+}
+
+// ---- heightmap -----------------------------------------------------------------------
+
+void HeightmapPlacement::validate() const {
+  const Check c{"terrain.HeightmapPlacement"};
+  c.finite("x0", x0);
+  c.finite("y0", y0);
+  c.positive("spacing", spacing);
+  c.finite("vertical_scale", vertical_scale);
+  c.finite("vertical_offset", vertical_offset);
+}
+
+Heightmap::Heightmap(int width, int rows, std::vector<float> values, HeightmapPlacement placement)
+    : width_(width), rows_(rows), values_(std::move(values)), placement_(placement) {
+  const Check c{"terrain.Heightmap"};
+  placement_.validate();
+  if (width < 1) throw InvalidSetting(c.name("width"), detail::to_text(width), "must be >= 1");
+  if (rows < 1) throw InvalidSetting(c.name("rows"), detail::to_text(rows), "must be >= 1");
+  const auto expected = static_cast<std::size_t>(width) * static_cast<std::size_t>(rows);
+  if (values_.size() != expected)
+    throw InvalidSetting(c.name("values.size()"), detail::to_text(values_.size()),
+                         "must equal width * rows = " + detail::to_text(expected));
+  for (std::size_t k = 0; k < values_.size(); ++k)
+    if (!std::isfinite(values_[k]))
+      throw InvalidSetting(c.name("values") + "[" + std::to_string(k) + "]", detail::to_text(values_[k]),
+                           "must be finite");
+}
+
+namespace {
+
+struct StbFree {
+  void operator()(void* p) const { stbi_image_free(p); }
+};
+
+std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file, const char* what) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw FileError(std::string(what) + " " + file.string() + ": cannot open for reading");
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size < 0) throw FileError(std::string(what) + " " + file.string() + ": cannot determine the file size");
+  in.seekg(0, std::ios::beg);
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size))
+    throw FileError(std::string(what) + " " + file.string() + ": read failed");
+  return bytes;
+}
+
+}  // namespace
+
+Heightmap Heightmap::from_png(const std::filesystem::path& file, HeightmapPlacement placement) {
+  placement.validate();
+  const std::string where = "heightmap PNG " + file.string() + ": ";
+  const std::vector<unsigned char> bytes = read_file_bytes(file, "heightmap PNG");
+  static constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (bytes.size() < 8 || std::memcmp(bytes.data(), kPngSignature, 8) != 0)
+    throw FileError(where + "not a PNG file (signature missing)");
+  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw FileError(where + "file too large");
+  const int len = static_cast<int>(bytes.size());
+  int w = 0, h = 0, channels = 0;
+  if (!stbi_info_from_memory(bytes.data(), len, &w, &h, &channels))
+    throw FileError(where + "unreadable header (" + stbi_failure_reason() + ")");
+  if (w < 1 || h < 1) throw FileError(where + "empty image");
+  const bool sixteen = stbi_is_16_bit_from_memory(bytes.data(), len) != 0;
+  std::vector<float> values(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  if (sixteen) {
+    std::unique_ptr<stbi_us, StbFree> pixels(stbi_load_16_from_memory(bytes.data(), len, &w, &h, &channels, 1));
+    if (!pixels) throw FileError(where + "cannot decode 16-bit image (" + stbi_failure_reason() + ")");
+    for (std::size_t k = 0; k < values.size(); ++k) values[k] = static_cast<float>(pixels.get()[k] / 65535.0);
+  } else {
+    std::unique_ptr<stbi_uc, StbFree> pixels(stbi_load_from_memory(bytes.data(), len, &w, &h, &channels, 1));
+    if (!pixels) throw FileError(where + "cannot decode 8-bit image (" + stbi_failure_reason() + ")");
+    for (std::size_t k = 0; k < values.size(); ++k) values[k] = static_cast<float>(pixels.get()[k] / 255.0);
+  }
+  return Heightmap(w, h, std::move(values), placement);
+}
+
+Heightmap Heightmap::from_raw_float32(const std::filesystem::path& file, int width, int rows,
+                                      HeightmapPlacement placement) {
+  placement.validate();
+  const std::string where = "heightmap raw float32 " + file.string() + ": ";
+  if (width < 1 || rows < 1)
+    throw FileError(where + "width and rows must be >= 1 (got " + std::to_string(width) + " x " + std::to_string(rows) +
+                    ")");
+  const std::vector<unsigned char> bytes = read_file_bytes(file, "heightmap raw float32");
+  const auto count = static_cast<std::size_t>(width) * static_cast<std::size_t>(rows);
+  if (bytes.size() != count * 4)
+    throw FileError(where + "size is " + std::to_string(bytes.size()) + " bytes, expected " +
+                    std::to_string(count * 4) + " (" + std::to_string(width) + " x " + std::to_string(rows) +
+                    " float32 samples)");
+  std::vector<float> values(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    std::uint32_t word = 0;
+    std::memcpy(&word, bytes.data() + 4 * k, 4);
+    if constexpr (std::endian::native == std::endian::big) word = __builtin_bswap32(word);
+    values[k] = std::bit_cast<float>(word);
+    if (!std::isfinite(values[k]))
+      throw FileError(where + "sample " + std::to_string(k) + " (column " + std::to_string(k % width) + ", row " +
+                      std::to_string(k / width) + ") is not finite");
+  }
+  return Heightmap(width, rows, std::move(values), placement);
+}
+
+double Heightmap::height(double x, double y) const {
+  // Continuous sample coordinates, row counted from the top.
+  double u = (x - placement_.x0) / placement_.spacing;
+  double v = static_cast<double>(rows_ - 1) - (y - placement_.y0) / placement_.spacing;
+  if (std::isnan(u)) u = 0.0;  // never reached from the grid; keeps the casts below defined
+  if (std::isnan(v)) v = 0.0;
+  u = std::clamp(u, 0.0, static_cast<double>(width_ - 1));
+  v = std::clamp(v, 0.0, static_cast<double>(rows_ - 1));
+  const int c0 = std::min(static_cast<int>(u), std::max(width_ - 2, 0));
+  const int r0 = std::min(static_cast<int>(v), std::max(rows_ - 2, 0));
+  const int c1 = std::min(c0 + 1, width_ - 1), r1 = std::min(r0 + 1, rows_ - 1);
+  const double tu = u - c0, tv = v - r0;
+  const double top = (1.0 - tu) * sample(c0, r0) + tu * sample(c1, r0);
+  const double bottom = (1.0 - tu) * sample(c0, r1) + tu * sample(c1, r1);
+  return placement_.vertical_offset + placement_.vertical_scale * ((1.0 - tv) * top + tv * bottom);
+}
+
+}  // namespace shore::terrain

@@ -1,0 +1,107 @@
+#pragma once
+// Private: the storage behind shore::terrain::Terrain (tiles, scratch, bookkeeping).
+
+#include <compare>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "shore/terrain/terrain.h"
+
+namespace shore::terrain {
+
+struct TileKey {
+  std::int64_t tx = 0, ty = 0;
+  friend bool operator==(const TileKey&, const TileKey&) = default;
+  friend auto operator<=>(const TileKey&, const TileKey&) = default;
+};
+
+struct TileKeyHash {
+  std::size_t operator()(const TileKey& k) const noexcept {
+    std::uint64_t h = static_cast<std::uint64_t>(k.tx) * 0x9e3779b97f4a7c15ull;
+    h ^= static_cast<std::uint64_t>(k.ty) + 0x632be59bd9b4e019ull + (h << 6) + (h >> 2);
+    return static_cast<std::size_t>(h ^ (h >> 29));
+  }
+};
+
+/// tile_columns^2 columns, row-major (local index = lj * n + li).
+struct Tile {
+  explicit Tile(int n);
+  std::vector<double> height;   ///< collision surface, m
+  std::vector<double> sinkage;  ///< plastic sinkage, m
+  std::vector<double> base;     ///< untouched ground, sampled once at creation, m
+  /// Columns whose height changed since the last take_changed (local, inclusive).
+  bool dirty = false;
+  int di0 = 0, dj0 = 0, di1 = 0, dj1 = 0;
+  void mark_dirty(int li0, int lj0, int li1, int lj1);
+};
+
+enum : unsigned char { kInterior = 1, kCovered = 2, kContact = 4 };
+
+/// The active region plus a one-column halo, gathered into dense arrays.
+struct Scratch {
+  std::int64_t si0 = 0, sj0 = 0;  ///< global column of scratch (0, 0)
+  int w = 0, h = 0;
+  bool parallel = false;
+  int threads = 1;
+  std::vector<double> ht, ht_next, ht_orig, sink, bed;
+  std::vector<double> e_plain, e_star, e_coll, e_true;
+  std::vector<double> disp, carry, q, out, cap;
+  std::vector<unsigned char> flags, mask;
+  std::vector<int> contour;
+
+  void resize(std::int64_t i0, std::int64_t j0, int width, int height);
+  [[nodiscard]] std::size_t at(int x, int y) const noexcept {
+    return static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+  }
+  [[nodiscard]] std::size_t bytes() const;
+};
+
+struct Terrain::Impl {
+  explicit Impl(TerrainSettings settings);
+
+  TerrainSettings s;
+  int n = 64;
+  double cell_area = 1e-4;
+  std::unordered_map<TileKey, std::unique_ptr<Tile>, TileKeyHash> tiles;
+  double compacted = 0.0;  ///< m^3
+  double edited = 0.0;     ///< m^3 added by set_height
+  std::vector<TileKey> dirty_keys;
+  Scratch scratch;
+
+  [[nodiscard]] double base_at(std::int64_t i, std::int64_t j) const;
+  [[nodiscard]] const Tile* find(TileKey key) const;
+  Tile& tile(TileKey key);  ///< creates on first use
+  [[nodiscard]] TileKey key_of(std::int64_t i, std::int64_t j) const;
+  [[nodiscard]] std::size_t local(std::int64_t i, std::int64_t j) const;
+  [[nodiscard]] std::vector<TileKey> sorted_keys() const;
+  [[nodiscard]] int thread_count() const;
+
+  template <class Fn>
+  void for_each_piece(std::int64_t i0, std::int64_t j0, int w, int h, Fn&& fn);
+
+  void prepare_scratch(Scratch& sc, std::int64_t i0, std::int64_t j0, int w, int h) const;
+  void gather(Scratch& sc);
+  void scatter(const Scratch& sc);
+  void rasterize(Scratch& sc, std::span<const Imprint> imprints) const;
+  double collide(Scratch& sc, int& contact_count) const;
+  void contour_map(Scratch& sc) const;
+  double displace(Scratch& sc) const;
+  int erode(Scratch& sc, bool to_rest) const;
+  [[nodiscard]] std::vector<ColumnRect> active_regions(std::span<const Imprint> imprints) const;
+  StepReport run_region(const ColumnRect& region, std::span<const Imprint> imprints);
+
+  struct BearingColumn {
+    std::int64_t i, j;
+    double top, sink, bed, lower;
+  };
+  struct BearingInput {
+    std::vector<BearingColumn> columns;  ///< covered columns, window order
+  };
+  [[nodiscard]] BearingInput bearing_input(const EnvelopeRaster& env) const;
+  [[nodiscard]] Bearing capacity(const BearingInput& in, double offset, bool with_columns) const;
+};
+
+}  // namespace shore::terrain

@@ -1,0 +1,221 @@
+// Saved terrain state: a little binary format guarded by a checksum.
+//
+//   "SHORETRN" (8 bytes), u32 version, u32 byte-order mark 0x01020304
+//   settings: f64 cell, origin_x, origin_y; i32 tile_columns; f64 base_height;
+//             i32 max_erosion_passes, active_margin; f64 contact_tolerance; i32 threads
+//   material: u32 name length, name bytes; f64 theta_stop, sigma, theta_in, theta_out,
+//             alpha, bekker_n, bekker_kc, bekker_kphi, friction, soil_depth; u8 rigid
+//   f64 compacted, edited; u64 tile count
+//   per tile (in key order): i64 tx, ty; f64[n*n] height, sinkage, base
+//   u64 FNV-1a of every byte before it
+// Numbers are stored in the writing machine's byte order; the mark rejects the other one.
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <system_error>
+
+#include "shore/core/error.h"
+#include "shore/core/hash.h"
+#include "terrain_impl.h"
+
+namespace shore::terrain {
+
+namespace {
+
+constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'T', 'R', 'N'};
+constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kByteOrderMark = 0x01020304u;
+
+class Writer {
+ public:
+  template <class T>
+  void put(const T& v) {
+    const auto* p = reinterpret_cast<const unsigned char*>(&v);
+    bytes.insert(bytes.end(), p, p + sizeof(T));
+  }
+  void put_doubles(const std::vector<double>& v) {
+    const auto* p = reinterpret_cast<const unsigned char*>(v.data());
+    bytes.insert(bytes.end(), p, p + v.size() * sizeof(double));
+  }
+  std::vector<unsigned char> bytes;
+};
+
+class Reader {
+ public:
+  Reader(const std::vector<unsigned char>& bytes, std::size_t end, std::string file)
+      : bytes_(bytes), end_(end), file_(std::move(file)) {}
+  template <class T>
+  T get(const char* what) {
+    need(sizeof(T), what);
+    T v;
+    std::memcpy(&v, bytes_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return v;
+  }
+  void get_doubles(std::vector<double>& v, const char* what) {
+    need(v.size() * sizeof(double), what);
+    std::memcpy(v.data(), bytes_.data() + pos_, v.size() * sizeof(double));
+    pos_ += v.size() * sizeof(double);
+  }
+  std::string get_string(std::size_t size, const char* what) {
+    need(size, what);
+    std::string s(reinterpret_cast<const char*>(bytes_.data() + pos_), size);
+    pos_ += size;
+    return s;
+  }
+  [[nodiscard]] std::size_t remaining() const { return end_ - pos_; }
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw FileError("terrain state " + file_ + ": " + problem);
+  }
+
+ private:
+  void need(std::size_t size, const char* what) const {
+    if (size > end_ - pos_) fail(std::string("truncated (file ends inside ") + what + ")");
+  }
+  const std::vector<unsigned char>& bytes_;
+  std::size_t end_;
+  std::size_t pos_ = 0;
+  std::string file_;
+};
+
+std::uint64_t checksum(const unsigned char* data, std::size_t size) {
+  StateHash h;
+  h.add_bytes(data, size);
+  return h.value();
+}
+
+}  // namespace
+
+void Terrain::save(const std::filesystem::path& file) const {
+  const Impl& im = *impl_;
+  const TerrainSettings& s = im.s;
+  const Material& m = s.material;
+  Writer w;
+  for (char c : kMagic) w.put(c);
+  w.put(kVersion);
+  w.put(kByteOrderMark);
+  w.put(s.cell), w.put(s.origin_x), w.put(s.origin_y);
+  w.put(static_cast<std::int32_t>(s.tile_columns));
+  w.put(s.base_height);
+  w.put(static_cast<std::int32_t>(s.max_erosion_passes)), w.put(static_cast<std::int32_t>(s.active_margin));
+  w.put(s.contact_tolerance);
+  w.put(static_cast<std::int32_t>(s.threads));
+  w.put(static_cast<std::uint32_t>(m.name.size()));
+  for (char c : m.name) w.put(c);
+  for (double v : {m.theta_stop, m.sigma, m.theta_in, m.theta_out, m.alpha, m.bekker_n, m.bekker_kc, m.bekker_kphi,
+                   m.friction, m.soil_depth})
+    w.put(v);
+  w.put(static_cast<std::uint8_t>(m.rigid ? 1 : 0));
+  w.put(im.compacted), w.put(im.edited);
+  const std::vector<TileKey> keys = im.sorted_keys();
+  w.put(static_cast<std::uint64_t>(keys.size()));
+  for (const TileKey& key : keys) {
+    const Tile& t = *im.tiles.at(key);
+    w.put(key.tx), w.put(key.ty);
+    w.put_doubles(t.height), w.put_doubles(t.sinkage), w.put_doubles(t.base);
+  }
+  w.put(checksum(w.bytes.data(), w.bytes.size()));
+
+  // Write beside the target, then rename: a reader never sees a half-written state.
+  std::filesystem::path temp = file;
+  temp += ".tmp";
+  {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    if (!out) throw FileError("terrain state " + file.string() + ": cannot open " + temp.string() + " for writing");
+    out.write(reinterpret_cast<const char*>(w.bytes.data()), static_cast<std::streamsize>(w.bytes.size()));
+    out.flush();
+    if (!out) {
+      std::error_code ignored;
+      std::filesystem::remove(temp, ignored);
+      throw FileError("terrain state " + file.string() + ": write failed (disk full?)");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(temp, file, ec);
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(temp, ignored);
+    throw FileError("terrain state " + file.string() + ": cannot rename the temporary file (" + ec.message() + ")");
+  }
+}
+
+Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const HeightSource> base) {
+  const std::string name = file.string();
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw FileError("terrain state " + name + ": cannot open for reading");
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw FileError("terrain state " + name + ": read failed");
+
+  Reader r(bytes, bytes.size(), name);
+  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    r.fail("not a Shore terrain state (magic \"SHORETRN\" missing)");
+  if (bytes.size() < sizeof kMagic + 8 + 8) r.fail("truncated (file ends inside the header)");
+  const std::size_t body = bytes.size() - sizeof(std::uint64_t);
+  Reader hr(bytes, body, name);
+  for (std::size_t k = 0; k < sizeof kMagic; ++k) hr.get<char>("magic");
+  const auto version = hr.get<std::uint32_t>("version");
+  if (version != kVersion)
+    hr.fail("unsupported version " + std::to_string(version) + " (this build reads " + std::to_string(kVersion) + ")");
+  if (hr.get<std::uint32_t>("byte-order mark") != kByteOrderMark)
+    hr.fail("written on a machine with the other byte order");
+  std::uint64_t stored_sum = 0;
+  std::memcpy(&stored_sum, bytes.data() + body, sizeof stored_sum);
+  if (stored_sum != checksum(bytes.data(), body)) hr.fail("checksum mismatch (file truncated or corrupt)");
+
+  TerrainSettings s;
+  s.cell = hr.get<double>("settings");
+  s.origin_x = hr.get<double>("settings");
+  s.origin_y = hr.get<double>("settings");
+  s.tile_columns = hr.get<std::int32_t>("settings");
+  s.base_height = hr.get<double>("settings");
+  s.max_erosion_passes = hr.get<std::int32_t>("settings");
+  s.active_margin = hr.get<std::int32_t>("settings");
+  s.contact_tolerance = hr.get<double>("settings");
+  s.threads = hr.get<std::int32_t>("settings");
+  const auto name_size = hr.get<std::uint32_t>("material");
+  if (name_size > 4096) hr.fail("material name of " + std::to_string(name_size) + " bytes (corrupt)");
+  Material& m = s.material;
+  m.name = hr.get_string(name_size, "material");
+  for (double* v : {&m.theta_stop, &m.sigma, &m.theta_in, &m.theta_out, &m.alpha, &m.bekker_n, &m.bekker_kc,
+                    &m.bekker_kphi, &m.friction, &m.soil_depth})
+    *v = hr.get<double>("material");
+  m.rigid = hr.get<std::uint8_t>("material") != 0;
+  s.base = std::move(base);
+  try {
+    s.validate();
+  } catch (const InvalidSetting& e) {
+    hr.fail(std::string("invalid settings: ") + e.what());
+  }
+
+  Terrain t(s);
+  Impl& im = *t.impl_;
+  im.compacted = hr.get<double>("volume bookkeeping");
+  im.edited = hr.get<double>("volume bookkeeping");
+  if (!std::isfinite(im.compacted) || !std::isfinite(im.edited)) hr.fail("volume bookkeeping is not finite");
+  const auto count = hr.get<std::uint64_t>("tile count");
+  const std::size_t columns = static_cast<std::size_t>(s.tile_columns) * s.tile_columns;
+  const std::size_t tile_bytes = 2 * sizeof(std::int64_t) + 3 * columns * sizeof(double);
+  if (count > hr.remaining() / tile_bytes || count * tile_bytes != hr.remaining())
+    hr.fail("tile count " + std::to_string(count) + " does not match the file size");
+  for (std::uint64_t k = 0; k < count; ++k) {
+    TileKey key;
+    key.tx = hr.get<std::int64_t>("tile");
+    key.ty = hr.get<std::int64_t>("tile");
+    auto tile = std::make_unique<Tile>(s.tile_columns);
+    hr.get_doubles(tile->height, "tile");
+    hr.get_doubles(tile->sinkage, "tile");
+    hr.get_doubles(tile->base, "tile");
+    for (std::size_t c = 0; c < columns; ++c)
+      if (!std::isfinite(tile->height[c]) || !std::isfinite(tile->sinkage[c]) || !std::isfinite(tile->base[c]))
+        hr.fail("tile (" + std::to_string(key.tx) + ", " + std::to_string(key.ty) + ") holds a non-finite value");
+    tile->mark_dirty(0, 0, s.tile_columns - 1, s.tile_columns - 1);
+    if (!im.tiles.emplace(key, std::move(tile)).second)
+      hr.fail("tile (" + std::to_string(key.tx) + ", " + std::to_string(key.ty) + ") appears twice");
+    im.dirty_keys.push_back(key);
+  }
+  return t;
+}
+
+}  // namespace shore::terrain

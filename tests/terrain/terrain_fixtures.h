@@ -1,0 +1,60 @@
+#pragma once
+// Analytic body envelopes and grid measurements shared by the terrain tests.
+
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+
+#include "shore/core/envelope.h"
+#include "shore/terrain/terrain.h"
+
+namespace shore::terrain::testing {
+
+/// Lowest point of a sphere (centre cx, cy, cz, radius r) over every column it covers.
+inline EnvelopeRaster sphere_envelope(const Terrain& t, double cx, double cy, double cz, double r) {
+  EnvelopeRaster env;
+  const std::int64_t i0 = t.column_i(cx - r) - 1, i1 = t.column_i(cx + r) + 1;
+  const std::int64_t j0 = t.column_j(cy - r) - 1, j1 = t.column_j(cy + r) + 1;
+  env.resize(i0, j0, static_cast<int>(i1 - i0 + 1), static_cast<int>(j1 - j0 + 1), false);
+  for (std::int64_t j = j0; j <= j1; ++j)
+    for (std::int64_t i = i0; i <= i1; ++i) {
+      const double dx = t.column_x(i) - cx, dy = t.column_y(j) - cy;
+      const double rr = dx * dx + dy * dy;
+      if (rr < r * r) env.lower[env.index(i, j)] = cz - std::sqrt(r * r - rr);
+    }
+  return env;
+}
+
+/// Flat-bottomed box: columns i in [i0, i0 + nx), j in [j0, j0 + ny) at height bottom.
+inline EnvelopeRaster box_envelope(std::int64_t i0, std::int64_t j0, int nx, int ny, double bottom) {
+  EnvelopeRaster env;
+  env.resize(i0 - 2, j0 - 2, nx + 4, ny + 4, false);  // a little uncovered border, as a rasterizer gives
+  for (std::int64_t j = j0; j < j0 + ny; ++j)
+    for (std::int64_t i = i0; i < i0 + nx; ++i) env.lower[env.index(i, j)] = bottom;
+  return env;
+}
+
+/// Volume (m^3) above and below the base over a rectangle of columns.
+struct GroundChange {
+  double raised = 0.0;   ///< sum of (h - base) where positive
+  double lowered = 0.0;  ///< sum of (base - h) where positive
+};
+
+inline GroundChange ground_change(const Terrain& t, std::int64_t i0, std::int64_t j0, int nx, int ny) {
+  GroundChange g;
+  const double a = t.settings().cell * t.settings().cell;
+  for (std::int64_t j = j0; j < j0 + ny; ++j)
+    for (std::int64_t i = i0; i < i0 + nx; ++i) {
+      const double d = t.height(i, j) - t.base_height(i, j);
+      if (d > 0)
+        g.raised += d * a;
+      else
+        g.lowered -= d * a;
+    }
+  return g;
+}
+
+/// Spherical cap of a sphere of radius r cut at depth z.
+inline double cap_volume(double r, double z) { return std::numbers::pi * z * z * (r - z / 3.0); }
+
+}  // namespace shore::terrain::testing

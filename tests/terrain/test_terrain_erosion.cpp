@@ -1,0 +1,69 @@
+// A steep pile relaxes to the angle of repose; erosion conserves volume.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "shore/terrain/terrain.h"
+
+using namespace shore::terrain;
+
+namespace {
+
+// Steepest slope (rad) between 8-neighbours over a square of columns.
+double steepest_slope(const Terrain& t, std::int64_t lo, std::int64_t hi) {
+  double steepest = 0.0;
+  const double cell = t.settings().cell;
+  for (std::int64_t j = lo; j < hi; ++j)
+    for (std::int64_t i = lo; i < hi; ++i)
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          if (!di && !dj) continue;
+          const double dist = cell * std::hypot(di, dj);
+          steepest = std::max(steepest, std::atan((t.height(i, j) - t.height(i + di, j + dj)) / dist));
+        }
+  return steepest;
+}
+
+}  // namespace
+
+TEST(Erosion, SteepSandPileRelaxesToReposeAngle) {
+  TerrainSettings s;
+  s.material = Material::sand();
+  s.max_erosion_passes = 1000;
+  Terrain t(s);
+  // A 60 degree cone, 10 cm radius.
+  const double r = 0.10, slope = std::numbers::pi / 3;
+  for (std::int64_t j = -12; j <= 12; ++j)
+    for (std::int64_t i = -12; i <= 12; ++i) {
+      const double d = std::hypot(t.column_x(i), t.column_y(j));
+      if (d < r) t.set_height(i, j, (r - d) * std::tan(slope));
+    }
+  const double before = t.volume().ground;
+  EXPECT_GT(before, 0.0);
+  EXPECT_NEAR(t.volume().edited, before, 1e-15);
+  EXPECT_GT(steepest_slope(t, -14, 14), 1.0);
+  const ColumnRect region{-40, -40, 80, 80};
+  int rounds = 0;
+  while (t.relax(region).erosion_passes == s.max_erosion_passes && rounds < 200) ++rounds;
+  ASSERT_LT(rounds, 200);
+  const double one_degree = std::numbers::pi / 180;
+  EXPECT_LE(steepest_slope(t, -39, 39), s.material.theta_out + one_degree);
+  EXPECT_NEAR(t.volume().ground, before, 1e-12 * before);
+  // Settled at the repose angle, not far below it: the pile is still there.
+  EXPECT_GT(steepest_slope(t, -39, 39), s.material.theta_out - 5 * one_degree);
+  EXPECT_GT(t.height(0, 0), 0.05);
+}
+
+TEST(Erosion, SnowHoldsItsShape) {
+  // theta_out = 1.57: snow walls stand (Sumner Table 1).
+  TerrainSettings s;
+  s.material = Material::snow();
+  Terrain t(s);
+  for (std::int64_t j = -3; j <= 3; ++j)
+    for (std::int64_t i = -3; i <= 3; ++i) t.set_height(i, j, 0.05);
+  const std::uint64_t h = t.state_hash();
+  EXPECT_EQ(t.relax({-10, -10, 20, 20}).erosion_passes, 0);
+  EXPECT_EQ(t.state_hash(), h);
+}
