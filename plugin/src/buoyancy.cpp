@@ -72,7 +72,7 @@ WaterImpulse water_impulse(const EnvelopeRaster& env, double origin_x, double or
                         if (water.velocity) u -= water.velocity(x, y);
                         const double speed = u.length();
                         const double side = s * sample_cell;
-                        const btVector3 wetted(btScalar(side), btScalar(side), btScalar(area));
+                        const btVector3 wetted{btScalar(side), btScalar(side), btScalar(area)};
                         const double k = fluid.density * (fluid.linear_drag + 0.5 * fluid.quadratic_drag * speed);
                         const btVector3 f = -btScalar(k) * (u * wetted);
                         drag += f;

@@ -20,11 +20,6 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 bool finite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
-/// Bullet's vertical normal impulse on one body at one contact point.
-struct VerticalImpulse {
-  btVector3 arm;   // contact point relative to the centre of mass
-  double jz = 0;   // N s, upward positive
-};
 }  // namespace
 
 void TerrainCouplingSettings::validate() const {
@@ -45,6 +40,8 @@ TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrai
   settings_.validate();
   const Region& r = settings_.region;
   tiles_.set_region(r.x0, r.y0, r.x1, r.y1);
+  rigid_ = soil.settings().material.rigid;
+  tiles_.set_collision_group(rigid_ ? int(btBroadphaseProxy::StaticFilter) : settings_.soil_filter_bit);
   world_.addAction(this);
 }
 
@@ -63,6 +60,22 @@ void TerrainCoupling::add_body(btRigidBody* body, BodySoilSettings body_settings
     body->setCcdMotionThreshold(btScalar(0.25) * half);
     body->setCcdSweptSphereRadius(btScalar(0.2) * half);
   }
+  if (!rigid_ && !body->isStaticOrKinematicObject() && body_settings.deform) {
+    // Shore owns this body's contact with soft soil: Bullet must not collide it with the tiles.
+    btBroadphaseProxy* proxy = body->getBroadphaseHandle();
+    if (proxy == nullptr)
+      throw InvalidSetting("bullet.TerrainCoupling.add_body(body)", "not in the world",
+                           "add the body to the dynamics world before add_body");
+    proxy->m_collisionFilterMask &= ~settings_.soil_filter_bit;
+    world_.getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(proxy, world_.getDispatcher());
+  }
+  if (body_is_sane(*body) && body_settings.deform) {
+    try {
+      rasterize(b);
+    } catch (const InvalidSetting&) {
+      b.envelope.lower.clear();
+    }
+  }
   bodies_.push_back(std::move(b));
   if (body_is_sane(*body)) {
     btVector3 lo, hi;
@@ -73,6 +86,9 @@ void TerrainCoupling::add_body(btRigidBody* body, BodySoilSettings body_settings
 }
 
 void TerrainCoupling::remove_body(btRigidBody* body) {
+  for (const Body& b : bodies_)
+    if (b.body == body && body->getBroadphaseHandle() != nullptr)
+      body->getBroadphaseHandle()->m_collisionFilterMask |= settings_.soil_filter_bit;
   std::erase_if(bodies_, [body](const Body& b) { return b.body == body; });
 }
 
@@ -121,58 +137,25 @@ void TerrainCoupling::clip_to_region(EnvelopeRaster& env) const {
 bool TerrainCoupling::react(Body& b, double h) {
   btRigidBody& body = *b.body;
   const double inv_mass = body.getInvMass();
-  if (inv_mass <= 0.0) return false;
+  if (inv_mass <= 0.0 || b.envelope.lower.empty()) return false;
   const double mass = 1.0 / inv_mass;
   const btVector3 com = body.getCenterOfMassPosition();
-  const btScalar friction = btScalar(soil_.settings().material.friction);
 
-  // 1. What Bullet's terrain contacts did this substep (vertical part only; friction and
-  //    the horizontal push of rut walls stay Bullet's).
-  std::vector<VerticalImpulse> bullet_impulses;
-  double J = 0.0;
-  btDispatcher* dispatcher = world_.getDispatcher();
-  for (int m = 0; m < dispatcher->getNumManifolds(); ++m) {
-    btPersistentManifold* manifold = dispatcher->getManifoldByIndexInternal(m);
-    const bool body_is_0 = manifold->getBody0() == &body;
-    if (!body_is_0 && manifold->getBody1() != &body) continue;
-    if (!tiles_.is_tile(body_is_0 ? manifold->getBody1() : manifold->getBody0())) continue;
-    for (int p = 0; p < manifold->getNumContacts(); ++p) {
-      btManifoldPoint& pt = manifold->getContactPoint(p);
-      pt.m_combinedFriction = friction;  // the material's friction, not Bullet's product rule
-      const double jz = (body_is_0 ? 1.0 : -1.0) * pt.m_appliedImpulse * pt.m_normalWorldOnB.z();
-      const btVector3& at = body_is_0 ? pt.getPositionWorldOnA() : pt.getPositionWorldOnB();
-      bullet_impulses.push_back({at - com, jz});
-      J += jz;
-    }
-  }
-
-  // 2. The momentum the soil must absorb, and what it can.
-  const double vz = body.getLinearVelocity().z();
-  const double p = J - mass * vz;
-  if (p <= 0.0) return false;
+  // The soil's state where the body stood at the start of this substep (the envelope kept
+  // from the end of the previous one): Bullet has since applied gravity and integrated
+  // freely, since it does not collide this body with soft tiles.
+  const double p = -mass * double(body.getLinearVelocity().z());  // downward momentum to absorb
   const terrain::Bearing bearing = soil_.bearing(b.envelope, 0.0);
-  if (bearing.contact_columns == 0) return false;     // our envelope does not reach the soil
-  if (!std::isfinite(bearing.capacity)) return false;  // bedrock or rigid ground: Bullet's answer stands
-  const double absorbable = bearing.capacity * h;
+  if (bearing.contact_columns == 0 || p <= 0.0) return false;
+  const double absorbable = bearing.capacity * h;  // +inf on bedrock
   const bool yields = p > absorbable;
   const double soil_impulse = yields ? absorbable : p;
 
-  // 3. Replace Bullet's vertical impulses by the soil's, distributed like the bearing.
   const btVector3 v0 = body.getLinearVelocity(), w0 = body.getAngularVelocity();
-  for (const VerticalImpulse& vi : bullet_impulses) body.applyImpulse(btVector3(0, 0, btScalar(-vi.jz)), vi.arm);
-  if (soil_impulse > 0.0 && bearing.capacity > 0.0) {
-    const double per_newton = soil_impulse / bearing.capacity;
-    const EnvelopeRaster& env = b.envelope;
-    for (const terrain::ColumnForce& c : bearing.columns) {
-      const double z = env.contains(c.i, c.j) ? env.lower[env.index(c.i, c.j)] : com.z();
-      const btVector3 at(btScalar(soil_.column_x(c.i)), btScalar(soil_.column_y(c.j)), btScalar(z));
-      body.applyImpulse(btVector3(0, 0, btScalar(per_newton * c.force)), at - com);
-    }
-  } else if (soil_impulse > 0.0) {
-    body.applyCentralImpulse(btVector3(0, 0, btScalar(soil_impulse)));
-  }
+  const btVector3 patch = apply_soil_impulse(b, bearing, soil_impulse, com);
+  apply_friction(body, patch - com, soil_impulse);
 
-  // 4. Re-integrate this substep's pose with the corrected velocity.
+  // Re-integrate this substep's pose with the corrected velocity.
   const btVector3 dv = body.getLinearVelocity() - v0, dw = body.getAngularVelocity() - w0;
   btTransform corrected;
   btTransformUtil::integrateTransform(body.getCenterOfMassTransform(), dv, dw, btScalar(h), corrected);
@@ -181,10 +164,98 @@ bool TerrainCoupling::react(Body& b, double h) {
   if (yields) {
     stats_.plastic_work += soil_impulse * std::max(0.0, -double(body.getLinearVelocity().z()));
     ++stats_.yields;
-    body.activate(true);
-    body.setDeactivationTime(0);
   }
   return yields;
+}
+
+void TerrainCoupling::keep_above_bedrock(Body& b) {
+  // A body driven below bedrock within one substep (a very fast impact) is lifted back.
+  EnvelopeRaster& env = b.envelope;
+  double depth = 0.0;
+  for (int y = 0; y < env.ny; ++y)
+    for (int x = 0; x < env.nx; ++x) {
+      const std::size_t k = std::size_t(y) * std::size_t(env.nx) + std::size_t(x);
+      if (env.covers(k)) depth = std::max(depth, soil_.bedrock(env.i0 + x, env.j0 + y) - env.lower[k]);
+    }
+  if (depth <= 0.0) return;
+  btRigidBody& body = *b.body;
+  btTransform t = body.getCenterOfMassTransform();
+  t.setOrigin(t.getOrigin() + btVector3(0, 0, btScalar(depth)));
+  body.setCenterOfMassTransform(t);
+  btVector3 v = body.getLinearVelocity();
+  v.setZ(std::max<btScalar>(v.z(), 0));
+  body.setLinearVelocity(v);
+  for (std::size_t k = 0; k < env.lower.size(); ++k)
+    if (env.covers(k)) env.lower[k] += depth;
+  ++stats_.rescues;
+}
+
+btVector3 TerrainCoupling::apply_soil_impulse(Body& b, const terrain::Bearing& bearing, double impulse,
+                                              const btVector3& com) {
+  btRigidBody& body = *b.body;
+  const EnvelopeRaster& env = b.envelope;
+  // Per column, in proportion to the force it bears; returns the bearing-weighted centre.
+  double weight = 0.0;
+  btVector3 centre(0, 0, 0);
+  // Columns on bedrock carry everything (infinite force): they share it equally; on fresh
+  // soil (no capacity yet) the plain centre of the patch is used.
+  const bool on_bedrock = !std::isfinite(bearing.capacity);
+  auto weight_of = [&](const terrain::ColumnForce& c) {
+    if (on_bedrock) return std::isfinite(c.force) ? 0.0 : 1.0;
+    return bearing.capacity > 0.0 ? c.force : 1.0;
+  };
+  for (const terrain::ColumnForce& c : bearing.columns) weight += weight_of(c);
+  if (weight <= 0.0) return com;
+  for (const terrain::ColumnForce& c : bearing.columns) {
+    const double w = weight_of(c);
+    if (w <= 0.0) continue;
+    const double z = env.contains(c.i, c.j) ? env.lower[env.index(c.i, c.j)] : double(com.z());
+    const btVector3 at(btScalar(soil_.column_x(c.i)), btScalar(soil_.column_y(c.j)), btScalar(z));
+    if (impulse > 0.0) body.applyImpulse(btVector3(0, 0, btScalar(impulse * w / weight)), at - com);
+    centre += at * btScalar(w / weight);
+  }
+  return centre;
+}
+
+void TerrainCoupling::apply_friction(btRigidBody& body, const btVector3& arm, double normal_impulse) {
+  // One Coulomb contact at the patch centre, solved exactly: the horizontal impulse that
+  // stops the point's horizontal slip, limited to mu times the normal impulse.
+  const double limit = soil_.settings().material.friction * normal_impulse;
+  if (limit <= 0.0) return;
+  const btVector3 u = body.getVelocityInLocalPoint(arm);
+  const btMatrix3x3& inv_inertia = body.getInvInertiaTensorWorld();
+  // K = (1/m) I + [r]x^T I^-1 [r]x, restricted to x and y.
+  double k[2][2];
+  for (int a = 0; a < 2; ++a) {
+    btVector3 e(0, 0, 0);
+    e[a] = 1;
+    const btVector3 du = e * body.getInvMass() + (inv_inertia * arm.cross(e)).cross(arm);
+    k[0][a] = du.x();
+    k[1][a] = du.y();
+  }
+  const double det = k[0][0] * k[1][1] - k[0][1] * k[1][0];
+  if (!(std::abs(det) > 0.0)) return;
+  double px = -(k[1][1] * u.x() - k[0][1] * u.y()) / det;
+  double py = -(-k[1][0] * u.x() + k[0][0] * u.y()) / det;
+  const double size = std::hypot(px, py);
+  if (size > limit) {  // sliding: kinetic friction against the slip
+    px *= limit / size;
+    py *= limit / size;
+  }
+  body.applyImpulse(btVector3(btScalar(px), btScalar(py), 0), arm);
+}
+
+void TerrainCoupling::wake_bodies_over(const std::vector<terrain::ColumnRect>& changed) {
+  // Soft-soil bodies have no Bullet contact with the tiles, so nothing else wakes them.
+  for (Body& b : bodies_) {
+    if (b.body->isActive() || b.envelope.lower.empty()) continue;
+    const EnvelopeRaster& e = b.envelope;
+    for (const terrain::ColumnRect& r : changed)
+      if (r.i0 <= e.i0 + e.nx && e.i0 <= r.i0 + r.nx && r.j0 <= e.j0 + e.ny && e.j0 <= r.j0 + r.ny) {
+        b.body->activate(true);
+        break;
+      }
+  }
 }
 
 void TerrainCoupling::rescue_fallen_bodies() {
@@ -224,29 +295,24 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
       continue;
     }
     if (!b.settings.deform) continue;
+    const btVector3 v = body.getLinearVelocity();
+    if (!body.isStaticOrKinematicObject() && body.isActive() && !rigid_) {
+      t0 = Clock::now();
+      react(b, h);  // reads the envelope of the previous substep
+      stats_.reaction_seconds += seconds_since(t0);
+    }
+    if (!body.isActive()) continue;
     t0 = Clock::now();
     try {
-      rasterize(b);
+      rasterize(b);  // at the (corrected) pose: this substep's imprint, next substep's bearing
     } catch (const InvalidSetting&) {  // e.g. an absurdly large shape: skip it, never poison the grid
       ++stats_.skipped_bodies;
+      b.envelope.lower.clear();
       continue;
     }
     stats_.envelope_seconds += seconds_since(t0);
-    const btVector3 v = body.getLinearVelocity();
-    terrain::Imprint imprint{&b.envelope, 0.0, false, v.x(), v.y(), v.z()};
-    if (body.isStaticOrKinematicObject()) {
-      imprints_.push_back(imprint);  // kinematic: the paper's geometric imprint
-      continue;
-    }
-    t0 = Clock::now();
-    const bool yielded = react(b, h);
-    stats_.reaction_seconds += seconds_since(t0);
-    if (!yielded) continue;
-    t0 = Clock::now();
-    rasterize(b);  // at the corrected pose
-    stats_.envelope_seconds += seconds_since(t0);
-    imprint.star = true;
-    imprints_.push_back(imprint);
+    if (!body.isStaticOrKinematicObject() && !rigid_) keep_above_bedrock(b);
+    imprints_.push_back(terrain::Imprint{&b.envelope, 0.0, false, v.x(), v.y(), v.z()});
   }
 
   t0 = Clock::now();
@@ -258,6 +324,7 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   t0 = Clock::now();
   const std::vector<terrain::ColumnRect> changed = soil_.take_changed();
   stats_.vertices_pushed += tiles_.push(changed);
+  wake_bodies_over(changed);
   if (settings_.rescue_fallthrough) rescue_fallen_bodies();
   stats_.push_seconds += seconds_since(t0);
 }

@@ -76,7 +76,7 @@ TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
   for (int b = 0; b <= T; ++b)
     for (int a = 0; a <= T; ++a) tile.field->set_height(a, b, soil_.height(tile.i0 + a, tile.j0 + b));
   tile.field->object()->setUserIndex2(kTileTag);
-  world_.addCollisionObject(tile.field->object(), btBroadphaseProxy::StaticFilter,
+  world_.addCollisionObject(tile.field->object(), group_,
                             btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
   return tiles_.emplace(key(tx, ty), std::move(tile)).first->second;
 }

@@ -10,18 +10,22 @@
 //   ground.add_body(wheel);                                // this body deforms the soil
 //   world.stepSimulation(1.0 / 60, 8, 1.0 / 240);
 //
-// Soil reaction: the momentum rule (DESIGN.md, "loads, impacts and Bullet's contact").
-// Bullet's heightfield contact keeps friction and rolling; after its solve, the downward
-// momentum the soil must absorb this substep is p = J - m v_z (J: vertical impulse Bullet
-// applied through the terrain contacts; v_z: vertical velocity after the solve). The soil
-// can absorb at most S h (S: Bekker bearing capacity of the columns under the body at
-// their current sinkage). Bullet's vertical contact impulses are replaced by the soil's,
-// min(p, S h), applied per column in proportion to each column's bearing (not through
-// the centre: rigid-ground impulses make boxes rock). If p > S h the soil yields: the
-// body keeps moving down, its pose is re-integrated with the corrected velocity, and the
-// soil is imprinted with the conservative "star" envelope at the new pose; its terrain
-// contact points are cleared and it is kept awake. Load is never J / h (craters would
-// grow like 1/h). Kinematic bodies imprint geometrically.
+// Soil reaction: Shore owns the normal contact of added bodies with soft soil (DESIGN.md,
+// "loads, impacts and Bullet's contact", last row: exact at every substep). Bullet does
+// not collide these bodies with the soft tiles (a broadphase filter bit); every substep,
+// after Bullet's solve and integration, the downward momentum p = -m v_z the soil must
+// absorb is compared with what it can: S h, S the Bekker bearing capacity of the columns
+// under the body where it stood at the start of the substep. The soil's impulse
+// min(p, S h) is applied per column in proportion to each column's bearing (not through
+// the centre), with Coulomb friction (the material's) at the patch's bearing centre; the
+// pose is re-integrated with the corrected velocity, and the soil is imprinted with the
+// body's envelope at that pose. If p > S h the soil yields and the body sinks on. Load
+// is never J / h (craters would grow like 1/h). Columns on bedrock carry anything; a body
+// driven below bedrock in one substep is lifted back (counted as a rescue). The first
+// design kept Bullet's rigid contact and replaced its impulses afterwards; Bullet's
+// friction, solved together with rigid-ground normals, then tilted sinking plates until
+// they fell through, which is why Shore owns the contact. Rigid materials keep Bullet's
+// contact unchanged. Kinematic bodies imprint geometrically.
 
 #include <cstdint>
 #include <memory>
@@ -65,6 +69,11 @@ struct TerrainCouplingSettings {
   bool cover_all_bodies = true;
   /// Lift a body whose lowest point fell below bedrock back onto the surface (counted).
   bool rescue_fallthrough = true;
+  /// Broadphase filter bit of soft-soil tiles. Shore owns the normal contact of added
+  /// bodies with soft soil, so this bit is cleared from their collision mask (and restored
+  /// by remove_body); other bodies collide with the tiles through Bullet as with rigid
+  /// ground. Pick a bit your own filters do not use. Rigid materials use StaticFilter.
+  int soil_filter_bit = 1 << 13;
   void validate() const;
 };
 
@@ -118,7 +127,18 @@ class TerrainCoupling : public btActionInterface {
   void clip_to_region(EnvelopeRaster& env) const;
   /// The momentum rule for one dynamic body; returns true if the soil yielded.
   bool react(Body& b, double substep);
+  /// The soil's vertical impulse per contact column; returns the bearing-weighted centre.
+  btVector3 apply_soil_impulse(Body& b, const terrain::Bearing& bearing, double impulse, const btVector3& com);
+  void apply_friction(btRigidBody& body, const btVector3& arm, double normal_impulse);
   void rescue_fallen_bodies();
+  void keep_above_bedrock(Body& b);
+  void wake_bodies_over(const std::vector<terrain::ColumnRect>& changed);
+
+  struct ContactImpulse {
+    btVector3 arm;      // contact point relative to the centre of mass
+    btVector3 impulse;  // what Bullet applied there that the soil replaces, N s
+  };
+  std::vector<ContactImpulse> bullet_impulses_;
 
   btDiscreteDynamicsWorld& world_;
   terrain::Terrain& soil_;
@@ -128,6 +148,7 @@ class TerrainCoupling : public btActionInterface {
   std::vector<Body> bodies_;
   std::vector<terrain::Imprint> imprints_;
   TerrainCouplingStats stats_;
+  bool rigid_ = false;
 };
 
 }  // namespace SHORE_BULLET_ABI

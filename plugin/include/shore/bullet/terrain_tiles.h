@@ -54,6 +54,8 @@ class TerrainTiles {
   [[nodiscard]] std::size_t count() const noexcept { return tiles_.size(); }
   /// Vertices clamped to a tile's height range so far (should stay 0; raise headroom if not).
   [[nodiscard]] std::int64_t clamped_vertices() const noexcept { return clamped_; }
+  /// Broadphase group of tiles created from now on (default StaticFilter).
+  void set_collision_group(int group) { group_ = group; }
   /// Sets the friction of every tile, present and future.
   void set_friction(double friction);
 
@@ -76,6 +78,7 @@ class TerrainTiles {
   std::unordered_map<std::uint64_t, Tile> tiles_;
   std::int64_t clamped_ = 0;
   double region_[4] = {-1e30, -1e30, 1e30, 1e30};
+  int group_ = btBroadphaseProxy::StaticFilter;
 };
 
 }  // namespace SHORE_BULLET_ABI
