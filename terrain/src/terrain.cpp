@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <numbers>
@@ -23,10 +25,6 @@ namespace shore::terrain {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// Below this many scratch columns a region is processed on one thread: forking costs more
-// than it saves. Results do not depend on it (every pass is Jacobi-style).
-constexpr std::size_t kParallelMinColumns = 1024;
 
 // Largest active region (columns, halo included) one step may gather: 64 M columns is
 // ~4 GB of scratch. A body that big is a setup error, reported before any state changes.
@@ -58,6 +56,7 @@ void TerrainSettings::validate() const {
   c.at_least("active_margin", active_margin, 1);
   c.non_negative("contact_tolerance", contact_tolerance);
   c.at_least("threads", threads, 0);
+  c.at_least("parallel_min_columns", parallel_min_columns, 0);
 }
 
 // ---- tiles ---------------------------------------------------------------------------
@@ -353,12 +352,12 @@ double Terrain::Impl::displace(Scratch& sc) const {
 //   slopes settle at the threshold instead of below it;
 // - contact columns are held by the body: they neither give nor receive;
 // - a column under a body but not touching it (the body overhangs) receives at most the
-//   room between its top and the collision surface, split over its 8 possible givers;
+//   room between its top and the collision surface, split over this pass's givers;
 // - no column gives more than it holds above bedrock;
 // - only interior columns give; the one-column halo around the region only receives;
 // - passes repeat while material moves and (unless to_rest) some moving pair is steeper
-//   than theta_stop, up to max_erosion_passes. Moves smaller than 1e-7 cells are ignored
-//   so a relaxing slope comes to rest in a finite number of passes.
+//   than theta_stop, up to max_erosion_passes (tolerances below); a pair whose flow is
+//   capped by the body above the lower column does not count (the body holds that slope).
 int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   const Material& m = s.material;
   const double diag = std::numbers::sqrt2 * s.cell;
@@ -369,89 +368,173 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
     thr_in[d] = dist * std::tan(m.theta_in);
     thr_stop[d] = dist * std::tan(m.theta_stop);
   }
-  const double eps = 1e-7 * s.cell;
+  // Moves of less than 1e-3 cell are ignored, so a relaxing slope comes to rest (within
+  // 0.06 degrees of its threshold at most) in a finite number of passes.
+  const double eps = 1e-3 * s.cell;
+  // A moving pair counts as steeper than theta_stop only when it exceeds both theta_stop and
+  // its own threshold by 5 % of a cell. Every preset has theta_stop equal to theta_in or
+  // theta_out, and the excess over a threshold only decays geometrically, so without the
+  // margin the last creeping pair would keep the passes going to the cap.
+  const double stop_tolerance = 5e-2 * s.cell;
   const double sigma = m.sigma;
-  std::ptrdiff_t off[8];
-  for (int d = 0; d < 8; ++d) off[d] = static_cast<std::ptrdiff_t>(kDy[d]) * sc.w + kDx[d];
-  std::vector<unsigned char> row_flow(static_cast<std::size_t>(sc.h)), row_steep(static_cast<std::size_t>(sc.h));
+
+  // Work is tracked in blocks of kBlock x kBlock columns. A giver's flow depends on the
+  // heights within two columns of it, so only blocks next to a block that changed in the
+  // last pass can flow in the next one; late passes, when a few columns still creep,
+  // then cost little. The block sets are computed serially, so they never depend on the
+  // thread count.
+  constexpr int kBlock = 4;
+  const int bw = (sc.w + kBlock - 1) / kBlock, bh = (sc.h + kBlock - 1) / kBlock;
+  const std::size_t blocks = static_cast<std::size_t>(bw) * static_cast<std::size_t>(bh);
+  std::vector<unsigned char> active(blocks, 1), near(blocks, 0), changed(blocks, 0), giving(blocks, 0),
+      receiving(blocks, 0);
+  std::vector<unsigned char> row_flow(static_cast<std::size_t>(bh)), row_steep(static_cast<std::size_t>(bh));
+  auto block = [&](int bx, int by) {
+    return static_cast<std::size_t>(by) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(bx);
+  };
+  auto dilate = [&](const std::vector<unsigned char>& from, std::vector<unsigned char>& to) {
+    for (int by = 0; by < bh; ++by)
+      for (int bx = 0; bx < bw; ++bx) {
+        unsigned char any = 0;
+        for (int dy = -1; dy <= 1 && !any; ++dy)
+          for (int dx = -1; dx <= 1 && !any; ++dx) {
+            const int nx = bx + dx, ny = by + dy;
+            if (nx >= 0 && ny >= 0 && nx < bw && ny < bh) any = from[block(nx, ny)];
+          }
+        to[block(bx, by)] = any;
+      }
+  };
+  // Calls fn(x, y, k) for every column of the blocks in `set`, one block row per task.
+  auto for_blocks = [&](const std::vector<unsigned char>& set, auto&& fn) {
+    for_rows(0, bh, sc.parallel, sc.threads, [&](int by) {
+      for (int bx = 0; bx < bw; ++bx) {
+        if (!set[block(bx, by)]) continue;
+        const int x1 = std::min(sc.w, (bx + 1) * kBlock), y1 = std::min(sc.h, (by + 1) * kBlock);
+        for (int y = by * kBlock; y < y1; ++y)
+          for (int x = bx * kBlock; x < x1; ++x) fn(bx, by, x, y, sc.at(x, y));
+      }
+    });
+  };
+  std::fill(sc.mask.begin(), sc.mask.end(), 0);
+  // Neighbour offsets (wrap-around safe: size_t arithmetic modulo 2^64).
+  std::size_t off[8];
+  for (int d = 0; d < 8; ++d) off[d] = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(kDy[d]) * sc.w + kDx[d]);
 
   int passes = 0;
   while (passes < s.max_erosion_passes) {
-    // (a) From the old heights: each giver's share per too-steep neighbour, and the cap
-    // each column puts on what one neighbour may give it.
-    for_rows(0, sc.h, sc.parallel, sc.threads, [&](int y) {
-      for (int x = 0; x < sc.w; ++x) {
-        const std::size_t k = sc.at(x, y);
-        sc.cap[k] = (sc.flags[k] & kCovered) ? std::max(0.0, sc.e_coll[k] - sc.ht[k]) / 8.0 : kInf;
-        if (sc.flags[k] & kContact) sc.cap[k] = 0.0;
-      }
-    });
-    for_rows(0, sc.h, sc.parallel, sc.threads, [&](int y) {
-      bool flow = false, steep = false;
-      for (int x = 0; x < sc.w; ++x) {
-        const std::size_t k = sc.at(x, y);
-        sc.mask[k] = 0;
-        sc.out[k] = 0.0;
-        if ((sc.flags[k] & (kInterior | kContact)) != kInterior) continue;
-        const double h0 = sc.ht[k];
-        double excess_sum = 0.0;
-        int count = 0;
-        unsigned char mk = 0;
-        bool steep_here = false;
-        for (int d = 0; d < 8; ++d) {
-          const std::size_t nk = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(k) + off[d]);
-          if (sc.cap[nk] == 0.0) continue;
-          const double diff = h0 - sc.ht[nk];
-          const double thr = (sc.flags[nk] & kCovered) ? thr_in[d] : thr_out[d];
-          if (!(diff > thr + eps)) continue;
-          excess_sum += diff - thr;
-          ++count;
-          mk = static_cast<unsigned char>(mk | (1u << d));
-          steep_here = steep_here || diff > thr_stop[d];
-        }
-        if (count == 0) continue;
-        double share = sigma * (excess_sum / count) / count;
-        share = std::min(share, std::max(0.0, h0 - sc.bed[k]) / count);
-        if (!(share > 0.0)) continue;
-        double total = 0.0;
-        for (int d = 0; d < 8; ++d)
-          if (mk & (1u << d))
-            total += std::min(share, sc.cap[static_cast<std::size_t>(static_cast<std::ptrdiff_t>(k) + off[d])]);
-        if (!(total > 0.0)) continue;
-        sc.q[k] = share;
-        sc.mask[k] = mk;
-        sc.out[k] = total;
-        flow = true;
-        steep = steep || steep_here;
-      }
-      row_flow[static_cast<std::size_t>(y)] = flow;
-      row_steep[static_cast<std::size_t>(y)] = steep;
-    });
-    bool flow = false, steep = false;
-    for (int y = 0; y < sc.h; ++y) {
-      flow = flow || row_flow[static_cast<std::size_t>(y)];
-      steep = steep || row_steep[static_cast<std::size_t>(y)];
-    }
-    if (!flow) break;
-    if (passes > 0 && !steep && !to_rest) break;
-    // (b) Every column takes what it gave off and gathers what its neighbours gave it.
-    for_rows(0, sc.h, sc.parallel, sc.threads, [&](int y) {
-      for (int x = 0; x < sc.w; ++x) {
-        const std::size_t k = sc.at(x, y);
-        double hk = sc.ht[k] - sc.out[k];
-        if (sc.cap[k] > 0.0) {
+    dilate(active, near);
+    // (a) From the old heights: the cap each column puts on what one neighbour may give
+    // it, then each giver's share per too-steep neighbour.
+    for_blocks(near, [&](int, int, int x, int y, std::size_t k) {
+      const unsigned char f = sc.flags[k];
+      if (f & kContact) {
+        sc.cap[k] = 0.0;
+      } else if (!(f & kCovered)) {
+        sc.cap[k] = kInf;
+      } else {
+        // Under a body: the room up to the collision surface, split over the columns that
+        // will give to this one this pass (the same test the givers make), so it fills in
+        // one pass instead of creeping up on the body.
+        const double room = sc.e_coll[k] - sc.ht[k];
+        int givers = 0;
+        if (room > eps)
           for (int d = 0; d < 8; ++d) {
             const int nx = x + kDx[d], ny = y + kDy[d];
             if (nx < 0 || ny < 0 || nx >= sc.w || ny >= sc.h) continue;
             const std::size_t nk = sc.at(nx, ny);
-            // neighbour nk gives toward k along the opposite direction
-            if (sc.mask[nk] & (1u << (d ^ 1))) hk += std::min(sc.q[nk], sc.cap[k]);
+            if ((sc.flags[nk] & (kInterior | kContact)) != kInterior) continue;
+            if (sc.ht[nk] - sc.ht[k] > thr_in[d] + eps) ++givers;
           }
-        }
-        sc.ht_next[k] = hk;
+        sc.cap[k] = givers > 0 ? room / givers : 0.0;
       }
     });
-    std::swap(sc.ht, sc.ht_next);
+    std::fill(row_flow.begin(), row_flow.end(), 0);
+    std::fill(row_steep.begin(), row_steep.end(), 0);
+    std::fill(giving.begin(), giving.end(), 0);
+    for_blocks(active, [&](int bx, int by, int, int, std::size_t k) {
+      sc.mask[k] = 0;
+      sc.out[k] = 0.0;
+      if ((sc.flags[k] & (kInterior | kContact)) != kInterior) return;
+      const double h0 = sc.ht[k];
+      double excess_sum = 0.0;
+      int count = 0;
+      unsigned char mk = 0, steep_mk = 0;
+      for (int d = 0; d < 8; ++d) {
+        const std::size_t nk = k + off[d];  // interior: neighbours exist
+        if (sc.cap[nk] == 0.0) continue;
+        const double diff = h0 - sc.ht[nk];
+        const double thr = (sc.flags[nk] & kCovered) ? thr_in[d] : thr_out[d];
+        if (!(diff > thr + eps)) continue;
+        excess_sum += diff - thr;
+        ++count;
+        mk = static_cast<unsigned char>(mk | (1u << d));
+        if (diff > std::max(thr, thr_stop[d]) + stop_tolerance)
+          steep_mk = static_cast<unsigned char>(steep_mk | (1u << d));
+      }
+      if (count == 0) return;
+      double share = sigma * (excess_sum / count) / count;
+      share = std::min(share, std::max(0.0, h0 - sc.bed[k]) / count);
+      if (!(share > 0.0)) return;
+      double total = 0.0;
+      bool steep_here = false;
+      for (int d = 0; d < 8; ++d) {
+        if (!(mk & (1u << d))) continue;
+        const double cap = sc.cap[k + off[d]];
+        total += std::min(share, cap);
+        // A pair whose flow the body caps (the column under it is full) stays steep: the
+        // body holds that slope, erosion cannot relax it.
+        steep_here = steep_here || ((steep_mk & (1u << d)) && cap >= share);
+      }
+      if (!(total > 0.0)) return;
+      sc.q[k] = share;
+      sc.mask[k] = mk;
+      sc.out[k] = total;
+      row_flow[static_cast<std::size_t>(by)] = 1;  // only this block row's task writes it
+      giving[block(bx, by)] = 1;
+      if (steep_here) row_steep[static_cast<std::size_t>(by)] = 1;
+    });
+    bool flow = false, steep = false;
+    for (int by = 0; by < bh; ++by) {
+      flow = flow || row_flow[static_cast<std::size_t>(by)];
+      steep = steep || row_steep[static_cast<std::size_t>(by)];
+    }
+    if (!flow) break;
+    if (passes > 0 && !steep && !to_rest) break;
+    // (b) Every column near a giver takes what it gave off and gathers what its
+    // neighbours gave it. In place: a column's update reads only its own height and the
+    // shares, caps and masks fixed in (a).
+    std::fill(changed.begin(), changed.end(), 0);
+    dilate(giving, receiving);
+    for_blocks(receiving, [&](int bx, int by, int x, int y, std::size_t k) {
+      const double old = sc.ht[k];
+      double hk = old - sc.out[k];
+      const double cap = sc.cap[k];
+      if (cap > 0.0) {
+        if (x > 0 && y > 0 && x < sc.w - 1 && y < sc.h - 1) {
+          for (int d = 0; d < 8; ++d) {
+            const std::size_t nk = k + off[d];
+            // neighbour nk gives toward k along the opposite direction
+            if (sc.mask[nk] & (1u << (d ^ 1))) hk += std::min(sc.q[nk], cap);
+          }
+        } else {
+          for (int d = 0; d < 8; ++d) {
+            const int nx = x + kDx[d], ny = y + kDy[d];
+            if (nx < 0 || ny < 0 || nx >= sc.w || ny >= sc.h) continue;
+            const std::size_t nk = sc.at(nx, ny);
+            if (sc.mask[nk] & (1u << (d ^ 1))) hk += std::min(sc.q[nk], cap);
+          }
+        }
+      }
+      if (hk != old) {
+        sc.ht[k] = hk;
+        changed[block(bx, by)] = 1;  // only this block row's task writes it
+      }
+    });
+    for_blocks(active, [&](int, int, int, int, std::size_t k) {
+      sc.mask[k] = 0;
+      sc.out[k] = 0.0;
+    });
+    dilate(changed, active);
     ++passes;
   }
   return passes;
@@ -460,7 +543,7 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
 void Terrain::Impl::prepare_scratch(Scratch& sc, std::int64_t i0, std::int64_t j0, int w, int h) const {
   sc.resize(i0, j0, w, h);
   sc.threads = thread_count();
-  sc.parallel = sc.threads > 1 && static_cast<std::size_t>(w) * static_cast<std::size_t>(h) >= kParallelMinColumns;
+  sc.parallel = sc.threads > 1 && static_cast<std::int64_t>(w) * h >= s.parallel_min_columns;
 }
 
 StepReport Terrain::Impl::run_region(const ColumnRect& region, std::span<const Imprint> imprints) {

@@ -2,7 +2,8 @@
 //
 //   "SHORETRN" (8 bytes), u32 version, u32 byte-order mark 0x01020304
 //   settings: f64 cell, origin_x, origin_y; i32 tile_columns; f64 base_height;
-//             i32 max_erosion_passes, active_margin; f64 contact_tolerance; i32 threads
+//             i32 max_erosion_passes, active_margin; f64 contact_tolerance; i32 threads,
+//             parallel_min_columns
 //   material: u32 name length, name bytes; f64 theta_stop, sigma, theta_in, theta_out,
 //             alpha, bekker_n, bekker_kc, bekker_kphi, friction, soil_depth; u8 rigid
 //   f64 compacted, edited; u64 tile count
@@ -102,6 +103,7 @@ void Terrain::save(const std::filesystem::path& file) const {
   w.put(static_cast<std::int32_t>(s.max_erosion_passes)), w.put(static_cast<std::int32_t>(s.active_margin));
   w.put(s.contact_tolerance);
   w.put(static_cast<std::int32_t>(s.threads));
+  w.put(static_cast<std::int32_t>(s.parallel_min_columns));
   w.put(static_cast<std::uint32_t>(m.name.size()));
   for (char c : m.name) w.put(c);
   for (double v : {m.theta_stop, m.sigma, m.theta_in, m.theta_out, m.alpha, m.bekker_n, m.bekker_kc, m.bekker_kphi,
@@ -174,6 +176,7 @@ Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const H
   s.active_margin = hr.get<std::int32_t>("settings");
   s.contact_tolerance = hr.get<double>("settings");
   s.threads = hr.get<std::int32_t>("settings");
+  s.parallel_min_columns = hr.get<std::int32_t>("settings");
   const auto name_size = hr.get<std::uint32_t>("material");
   if (name_size > 4096) hr.fail("material name of " + std::to_string(name_size) + " bytes (corrupt)");
   Material& m = s.material;

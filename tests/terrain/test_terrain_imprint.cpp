@@ -48,9 +48,9 @@ TEST(Imprint, SphereInSnowAllCompressedMatchesCapVolume) {
   EXPECT_NEAR(g.lowered, cap, 0.02 * cap);
   EXPECT_NEAR(g.raised, 0.0, 1e-12);
   const VolumeTotals v = t.volume();
-  EXPECT_NEAR(v.compacted, g.lowered, 1e-12);     // all of it compressed
-  EXPECT_NEAR(v.total(), 0.0, 1e-9 * cap);        // nothing lost
-  EXPECT_NEAR(t.height(0, 0), -z, 1e-12);         // the deepest column sits at the sphere's bottom
+  EXPECT_NEAR(v.compacted, g.lowered, 1e-12);  // all of it compressed
+  EXPECT_NEAR(v.total(), 0.0, 1e-9 * cap);     // nothing lost
+  EXPECT_NEAR(t.height(0, 0), -z, 1e-12);      // the deepest column sits at the sphere's bottom
   EXPECT_NEAR(t.sinkage(0, 0), z, 1e-12);
 }
 
@@ -137,8 +137,7 @@ TEST(Imprint, ChangedRectanglesCoverExactlyTheChangedColumns) {
     for (std::int64_t i = -20; i <= 20; ++i, ++k) {
       if (t.height(i, j) == before[k]) continue;
       bool inside = false;
-      for (const auto& r : rects)
-        inside = inside || (i >= r.i0 && i < r.i0 + r.nx && j >= r.j0 && j < r.j0 + r.ny);
+      for (const auto& r : rects) inside = inside || (i >= r.i0 && i < r.i0 + r.nx && j >= r.j0 && j < r.j0 + r.ny);
       EXPECT_TRUE(inside) << i << "," << j;
     }
   for (const auto& r : rects) {  // tight: each rectangle's border rows and columns hold a change

@@ -64,6 +64,10 @@ struct TerrainSettings {
   int active_margin = 4;            ///< columns added around each imprint window for displacement and erosion, >= 1
   double contact_tolerance = 1e-4;  ///< m: a column counts as touched when the envelope is within this of its top, >= 0
   int threads = 0;                  ///< OpenMP threads, 0 = runtime default; results never depend on it, >= 0
+  /// Active regions with fewer columns (halo included) run on one thread: for small
+  /// regions forking costs more than it saves, badly so on a loaded machine. Results
+  /// never depend on it. >= 0 (0: always use `threads`).
+  int parallel_min_columns = 16384;
 
   /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
   void validate() const;

@@ -1,0 +1,312 @@
+// Bad input is refused with an error naming the field, before any state changes; files
+// round-trip bit-exactly and corrupt ones are refused.
+#include <gtest/gtest.h>
+#include <stb_image_write.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "shore/core/error.h"
+#include "shore/terrain/terrain.h"
+#include "terrain_fixtures.h"
+
+using namespace shore::terrain;
+using namespace shore::terrain::testing;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+template <class E>
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
+  }
+  return "(no exception)";
+}
+
+bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+std::filesystem::path temp_file(const std::string& name) {
+  return std::filesystem::temp_directory_path() / ("shore_terrain_test_" + name);
+}
+
+void write_bytes(const std::filesystem::path& p, const std::vector<unsigned char>& bytes) {
+  std::ofstream out(p, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+std::vector<unsigned char> read_bytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// A terrain with some history: a sphere pressed into sand.
+Terrain pressed_sand() {
+  TerrainSettings s;
+  s.material = Material::sand();
+  s.tile_columns = 16;
+  Terrain t(s);
+  for (int k = 1; k <= 5; ++k) {
+    const shore::EnvelopeRaster env = sphere_envelope(t, 0.0, 0.0, 0.1 - 0.004 * k, 0.1);
+    const Imprint im{&env};
+    t.step({&im, 1});
+  }
+  return t;
+}
+
+// ---- a minimal PNG writer for 16-bit grey (stored deflate blocks), for the loader test.
+std::uint32_t crc32(const unsigned char* p, std::size_t n, std::uint32_t c = 0xffffffffu) {
+  for (std::size_t i = 0; i < n; ++i) {
+    c ^= p[i];
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+  }
+  return c;
+}
+void put_be32(std::vector<unsigned char>& v, std::uint32_t x) {
+  for (int s = 24; s >= 0; s -= 8) v.push_back(static_cast<unsigned char>(x >> s));
+}
+void put_chunk(std::vector<unsigned char>& png, const char* type, const std::vector<unsigned char>& data) {
+  put_be32(png, static_cast<std::uint32_t>(data.size()));
+  std::vector<unsigned char> body(type, type + 4);
+  body.insert(body.end(), data.begin(), data.end());
+  png.insert(png.end(), body.begin(), body.end());
+  put_be32(png, crc32(body.data(), body.size()) ^ 0xffffffffu);
+}
+std::vector<unsigned char> png16(int w, int h, const std::vector<std::uint16_t>& px) {
+  std::vector<unsigned char> raw;  // filter byte 0 per row, big-endian samples
+  for (int r = 0; r < h; ++r) {
+    raw.push_back(0);
+    for (int c = 0; c < w; ++c)
+      raw.push_back(static_cast<unsigned char>(px[r * w + c] >> 8)),
+          raw.push_back(static_cast<unsigned char>(px[r * w + c]));
+  }
+  std::vector<unsigned char> z = {0x78, 0x01, 0x01};  // zlib header, one final stored block
+  z.push_back(static_cast<unsigned char>(raw.size())), z.push_back(static_cast<unsigned char>(raw.size() >> 8));
+  z.push_back(static_cast<unsigned char>(~raw.size())), z.push_back(static_cast<unsigned char>(~raw.size() >> 8));
+  z.insert(z.end(), raw.begin(), raw.end());
+  std::uint32_t a = 1, b = 0;
+  for (unsigned char ch : raw) a = (a + ch) % 65521, b = (b + a) % 65521;
+  put_be32(z, (b << 16) | a);
+  std::vector<unsigned char> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  std::vector<unsigned char> ihdr;
+  put_be32(ihdr, static_cast<std::uint32_t>(w)), put_be32(ihdr, static_cast<std::uint32_t>(h));
+  ihdr.insert(ihdr.end(), {16, 0, 0, 0, 0});  // 16-bit grey
+  put_chunk(png, "IHDR", ihdr);
+  put_chunk(png, "IDAT", z);
+  put_chunk(png, "IEND", {});
+  return png;
+}
+
+}  // namespace
+
+TEST(Errors, SettingsNameTheField) {
+  auto bad = [](const std::function<void(TerrainSettings&)>& edit) {
+    TerrainSettings s;
+    edit(s);
+    return message_of<shore::InvalidSetting>([&] { Terrain t(s); });
+  };
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.cell = 0.0; }), "cell = 0"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.cell = -0.01; }), "cell"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.cell = kNaN; }), "cell"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.origin_x = kInf; }), "origin_x"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.tile_columns = 2; }), "tile_columns"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.material.alpha = 1.5; }), "alpha = 1.5"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.material.alpha = -0.1; }), "alpha"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.material.theta_out = 0.0; }), "theta_out"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.material.theta_in = 2.0; }), "theta_in"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.material.theta_stop = -1.0; }), "theta_stop"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.material.sigma = 2.0; }), "sigma"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.base_height = kNaN; }), "base_height"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.max_erosion_passes = -1; }), "max_erosion_passes"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.active_margin = 0; }), "active_margin"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.contact_tolerance = -1e-3; }), "contact_tolerance"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.threads = -2; }), "threads"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.parallel_min_columns = -1; }), "parallel_min_columns"));
+  EXPECT_TRUE(mentions(bad([](auto&) {}), "(no exception)"));
+}
+
+TEST(Errors, BadEnvelopesAndOffsetsLeaveTheGridUntouched) {
+  Terrain t = pressed_sand();
+  t.take_changed();
+  const std::uint64_t before = t.state_hash();
+  const std::size_t tiles = t.tile_count();
+  const shore::EnvelopeRaster good = sphere_envelope(t, 0.3, 0.0, 0.09, 0.1);
+  auto step_with = [&](const shore::EnvelopeRaster& env, double offset) {
+    // A valid imprint first, so a partial step would show in the hash.
+    const Imprint ims[2] = {{&good}, {&env, offset}};
+    return message_of<shore::InvalidSetting>([&] { t.step(ims); });
+  };
+  shore::EnvelopeRaster env = sphere_envelope(t, 0.0, 0.0, 0.05, 0.1);
+  env.lower[env.lower.size() / 2] = kNaN;
+  EXPECT_TRUE(mentions(step_with(env, 0.0), "terrain.Imprint[1].envelope.lower[")) << step_with(env, 0.0);
+  env.lower[env.lower.size() / 2] = -kInf;
+  EXPECT_TRUE(mentions(step_with(env, 0.0), "-inf"));
+  env = sphere_envelope(t, 0.0, 0.0, 0.05, 0.1);
+  EXPECT_TRUE(mentions(step_with(env, -0.001), "terrain.Imprint[1].offset"));
+  EXPECT_TRUE(mentions(step_with(env, kInf), "offset"));
+  EXPECT_TRUE(mentions(step_with(env, kNaN), "offset"));
+  env.lower.pop_back();
+  EXPECT_TRUE(mentions(step_with(env, 0.0), "lower.size()"));
+  const Imprint null_envelope{};
+  EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { t.step({&null_envelope, 1}); }), "envelope"));
+  env = sphere_envelope(t, 0.0, 0.0, 0.05, 0.1);
+  env.lower[3] = kNaN;
+  EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { (void)t.bearing(env); }), "lower[3]"));
+  EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { (void)t.bearing_offset(good, -1.0); }), "load"));
+  EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { t.set_height(0, 0, kNaN); }), "h = nan"));
+  EXPECT_EQ(t.state_hash(), before);
+  EXPECT_EQ(t.tile_count(), tiles);
+  EXPECT_TRUE(t.take_changed().empty());
+}
+
+TEST(Files, SaveLoadRoundTripIsBitExactAndContinuesIdentically) {
+  Terrain a = pressed_sand();
+  const auto file = temp_file("roundtrip.state");
+  a.save(file);
+  EXPECT_FALSE(std::filesystem::exists(file.string() + ".tmp"));
+  Terrain b = Terrain::load(file);
+  EXPECT_EQ(b.state_hash(), a.state_hash());
+  EXPECT_EQ(b.tile_count(), a.tile_count());
+  EXPECT_EQ(b.volume().compacted, a.volume().compacted);
+  EXPECT_EQ(b.settings().material.name, "sand");
+  // Both continue the same way.
+  for (Terrain* t : {&a, &b}) {
+    const shore::EnvelopeRaster env = sphere_envelope(*t, 0.05, 0.0, 0.07, 0.1);
+    const Imprint im{&env};
+    t->step({&im, 1});
+  }
+  EXPECT_EQ(b.state_hash(), a.state_hash());
+  std::filesystem::remove(file);
+}
+
+TEST(Files, CorruptStatesAreRefusedByName) {
+  const Terrain a = pressed_sand();
+  const auto file = temp_file("good.state");
+  a.save(file);
+  const std::vector<unsigned char> good = read_bytes(file);
+  const auto bad = temp_file("bad.state");
+  auto load_error = [&](const std::vector<unsigned char>& bytes) {
+    write_bytes(bad, bytes);
+    return message_of<shore::FileError>([&] { (void)Terrain::load(bad); });
+  };
+  EXPECT_TRUE(mentions(load_error({}), "magic"));
+  EXPECT_TRUE(mentions(load_error({'P', 'K', 3, 4, 0, 0, 0, 0, 0, 0}), "not a Shore terrain state"));
+  std::vector<unsigned char> cut(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(good.size() / 2));
+  EXPECT_TRUE(mentions(load_error(cut), "checksum")) << load_error(cut);
+  cut.assign(good.begin(), good.begin() + 14);
+  EXPECT_TRUE(mentions(load_error(cut), "truncated"));
+  std::vector<unsigned char> flipped = good;
+  flipped[good.size() / 3] ^= 0x10;
+  EXPECT_TRUE(mentions(load_error(flipped), "checksum"));
+  std::vector<unsigned char> version = good;
+  version[8] = 99;
+  EXPECT_TRUE(mentions(load_error(version), "version"));
+  EXPECT_TRUE(
+      mentions(message_of<shore::FileError>([&] { (void)Terrain::load(temp_file("missing.state")); }), "cannot open"));
+  std::filesystem::remove(file);
+  std::filesystem::remove(bad);
+}
+
+TEST(Files, Png8And16BitAndRawFloatHeightmaps) {
+  const HeightmapPlacement place{10.0, 20.0, 0.5, 2.0, -1.0};  // x0, y0, spacing, scale, offset
+  // 8-bit, written by stb_image_write: 3 x 2 grey.
+  const unsigned char px8[6] = {0, 51, 102, 153, 204, 255};
+  const auto f8 = temp_file("h8.png");
+  ASSERT_TRUE(stbi_write_png(f8.string().c_str(), 3, 2, 1, px8, 3));
+  const Heightmap h8 = Heightmap::from_png(f8, place);
+  ASSERT_EQ(h8.width(), 3);
+  ASSERT_EQ(h8.rows(), 2);
+  // Sample (c, r) at (x0 + c s, y0 + (rows - 1 - r) s): the top row is the far (high y) one.
+  EXPECT_NEAR(h8.height(10.0, 20.5), -1.0 + 2.0 * 0 / 255.0, 1e-6);
+  EXPECT_NEAR(h8.height(11.0, 20.5), -1.0 + 2.0 * 102 / 255.0, 1e-6);
+  EXPECT_NEAR(h8.height(10.5, 20.0), -1.0 + 2.0 * 204 / 255.0, 1e-6);
+  EXPECT_NEAR(h8.height(10.25, 20.0), -1.0 + 2.0 * (153 + 204) / 2 / 255.0, 1e-6);  // bilinear
+  EXPECT_NEAR(h8.height(-5.0, 100.0), -1.0, 1e-6);                                  // edge extends outward
+  // 16-bit, hand-encoded.
+  const std::vector<std::uint16_t> px16 = {0, 1000, 65535, 30000};
+  const auto f16 = temp_file("h16.png");
+  write_bytes(f16, png16(2, 2, px16));
+  const Heightmap h16 = Heightmap::from_png(f16, place);
+  EXPECT_NEAR(h16.height(10.5, 20.5), -1.0 + 2.0 * 1000 / 65535.0, 1e-6);
+  EXPECT_NEAR(h16.height(10.0, 20.0), -1.0 + 2.0 * 65535 / 65535.0, 1e-6);
+  EXPECT_NEAR(h16.height(10.5, 20.0), -1.0 + 2.0 * 30000 / 65535.0, 1e-6);
+  // Raw float32.
+  const std::vector<float> raw = {0.5f, -0.25f, 3.0f, 1.5f, 2.0f, 0.0f};
+  const auto fr = temp_file("h.raw");
+  write_bytes(fr, std::vector<unsigned char>(reinterpret_cast<const unsigned char*>(raw.data()),
+                                             reinterpret_cast<const unsigned char*>(raw.data() + raw.size())));
+  const Heightmap hr = Heightmap::from_raw_float32(fr, 3, 2, place);
+  EXPECT_NEAR(hr.height(10.5, 20.5), -1.0 + 2.0 * -0.25, 1e-6);
+  EXPECT_NEAR(hr.height(11.0, 20.0), -1.0 + 2.0 * 0.0, 1e-6);
+  // As a terrain's base.
+  TerrainSettings s;
+  s.cell = 0.5, s.origin_x = 10.0, s.origin_y = 20.0;
+  s.base = std::make_shared<Heightmap>(hr);
+  Terrain t(s);
+  EXPECT_NEAR(t.height(1, 1), -1.0 + 2.0 * -0.25, 1e-6);
+  EXPECT_EQ(t.tile_count(), 0u);
+
+  // Bad files.
+  auto png_error = [&](const std::vector<unsigned char>& bytes) {
+    const auto f = temp_file("bad.png");
+    write_bytes(f, bytes);
+    return message_of<shore::FileError>([&] { (void)Heightmap::from_png(f, place); });
+  };
+  EXPECT_TRUE(mentions(png_error({'G', 'I', 'F', '8'}), "not a PNG"));
+  std::vector<unsigned char> png = png16(2, 2, px16);
+  png.resize(png.size() - 30);
+  EXPECT_TRUE(mentions(png_error(png), "heightmap PNG")) << png_error(png);
+  EXPECT_TRUE(mentions(message_of<shore::FileError>([&] { (void)Heightmap::from_raw_float32(fr, 4, 2, place); }),
+                       "expected 32"));
+  std::vector<float> nan_raw = raw;
+  nan_raw[4] = std::numeric_limits<float>::quiet_NaN();
+  write_bytes(fr, std::vector<unsigned char>(reinterpret_cast<const unsigned char*>(nan_raw.data()),
+                                             reinterpret_cast<const unsigned char*>(nan_raw.data() + nan_raw.size())));
+  EXPECT_TRUE(
+      mentions(message_of<shore::FileError>([&] { (void)Heightmap::from_raw_float32(fr, 3, 2, place); }), "sample 4"));
+  HeightmapPlacement bad_place = place;
+  bad_place.spacing = 0.0;
+  EXPECT_TRUE(mentions(
+      message_of<shore::InvalidSetting>([&] { (void)Heightmap::from_raw_float32(fr, 3, 2, bad_place); }), "spacing"));
+  for (const auto& f : {f8, f16, fr}) std::filesystem::remove(f);
+}
+
+TEST(HeightSources, LatticeNoiseInterpolatesItsLatticeReproducibly) {
+  LatticeNoiseSettings ns;
+  ns.seed = 42, ns.spacing = 0.5, ns.amplitude = 0.1, ns.mean = 1.0;
+  const LatticeNoise a(ns), b(ns);
+  ns.seed = 43;
+  const LatticeNoise c(ns);
+  double differ = 0.0, lo = kInf, hi = -kInf;
+  for (int k = 0; k < 400; ++k) {
+    const double x = -3.1 + 0.037 * k, y = 2.3 - 0.021 * k;
+    EXPECT_EQ(a.height(x, y), b.height(x, y));
+    differ = std::max(differ, std::abs(a.height(x, y) - c.height(x, y)));
+    lo = std::min(lo, a.height(x, y)), hi = std::max(hi, a.height(x, y));
+  }
+  EXPECT_GT(differ, 0.01);
+  // Catmull-Rom passes through the lattice values; bicubic overshoot is at most 1.25^2.
+  for (int li = -3; li <= 3; ++li)
+    for (int lj = -3; lj <= 3; ++lj)
+      EXPECT_NEAR(a.height(0.5 * li, 0.5 * lj), 1.0 + 0.1 * a.lattice_value(0, li, lj), 1e-12);
+  EXPECT_GE(lo, 1.0 - 0.1 * 1.5625);
+  EXPECT_LE(hi, 1.0 + 0.1 * 1.5625);
+  // Continuous across lattice lines.
+  EXPECT_NEAR(a.height(0.5 - 1e-9, 0.3), a.height(0.5 + 1e-9, 0.3), 1e-7);
+  LatticeNoiseSettings bad;
+  bad.octaves = 0;
+  EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { LatticeNoise n(bad); }), "octaves"));
+  EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { FlatHeight f(kNaN); }), "level"));
+}
