@@ -12,6 +12,17 @@ using shore::terrain::Material;
 
 namespace {
 double rel(double value, double reference) { return std::abs(value - reference) / reference; }
+
+/// Bekker's closed forms and the impact energy balance describe pure compaction: the
+/// soil under a body is compressed, none is pushed aside. The presets push a share alpha
+/// into a rim (Sumner's appearance model); rim soil that erodes back under the body is
+/// pressed again, which makes craters 3-6 % shallower and rolling ruts ~20 % shallower
+/// (measured, see the benchmark). The comparisons with the closed forms therefore use
+/// the same soil with alpha = 0.
+Material compacting(Material m) {
+  m.alpha = 0.0;
+  return m;
+}
 }  // namespace
 
 // Weight ramped in over 5 s: the rigid-plastic plate follows Bekker's quasi-static curve,
@@ -60,6 +71,8 @@ TEST(SoilCoupling, WheelPressedStaticallyBearsOnBothHalves) {
 TEST(SoilCoupling, TowedWheelBearsOnTheFrontHalfAndLeavesARut) {
   WheelCase c;
   c.towed = true;
+  c.run.material = compacting(Material::sand());
+  c.run.cell = 0.02;  // 2 cm: within 1 % of the 1 cm result (benchmark), 4x cheaper
   const WheelResult r = run_wheel(c);
   EXPECT_NEAR(r.reference_sinkage, 0.0736, 2e-4);
   EXPECT_LT(rel(r.sinkage, r.reference_sinkage), 0.10) << "rolling sinkage " << r.sinkage;
@@ -72,6 +85,7 @@ TEST(SoilCoupling, TowedWheelBearsOnTheFrontHalfAndLeavesARut) {
 // same whatever the substep, and the plastic work accounts for the energy lost.
 TEST(SoilCoupling, ImpactCraterDoesNotDependOnTheSubstep) {
   SphereDropCase c;
+  c.run.material = compacting(Material::sand());
   EXPECT_NEAR(sphere_drop_reference_depth(c.run.material, c.diameter, c.mass, c.height), 0.1075, 3e-4);
   c.run.substep = 1.0 / 120;
   const SphereDropResult coarse = run_sphere_drop(c);
