@@ -67,13 +67,13 @@ std::uint64_t run_with_threads(int threads, int substeps) {
   s.material.alpha = 0.6;
   s.threads = threads;
   s.parallel_min_columns = 0;  // split even this small region between threads
-  s.max_erosion_passes = 6;    // fewer fork-joins: this machine's cores are shared
+  s.max_erosion_passes = 4;    // fewer fork-joins: this machine's cores are shared
   s.tile_columns = 32;
   Terrain t(s);
   for (int k = 0; k < substeps; ++k) {
     const double x = 0.002 * k;
-    const shore::EnvelopeRaster ball = sphere_envelope(t, x, 0.0, 0.12 - 0.03 - 0.00002 * k, 0.12);
-    const shore::EnvelopeRaster box = box_envelope(t.column_i(0.3 - x), 20, 12, 8, -0.01 - 0.00004 * k);
+    const shore::EnvelopeRaster ball = sphere_envelope(t, x, 0.0, 0.07 - 0.02 - 0.00002 * k, 0.07);
+    const shore::EnvelopeRaster box = box_envelope(t.column_i(0.2 - x), 12, 6, 4, -0.01 - 0.00004 * k);
     const Imprint ims[2] = {{&ball, 0.0, false}, {&box, 0.001, true}};
     t.step(ims);
   }
@@ -89,7 +89,7 @@ TEST(Threads, SameStateHashForOneTwoAndFourThreads) {
   EXPECT_EQ(run_with_threads(4, substeps), one);
   // Settings.threads = 0 follows the OpenMP default.
   omp_set_num_threads(3);
-  EXPECT_EQ(run_with_threads(0, substeps), one);
+  EXPECT_EQ(run_with_threads(0, 50), run_with_threads(1, 50));
 }
 
 TEST(Memory, OneSquareMetreOfAKilometreFieldAllocatesOnlyItsTiles) {

@@ -20,6 +20,8 @@ double LatticeParameters::wave_speed() const {
   return spacing * std::sqrt(3.0 * stiffness * (1.0 - rest_ratio) / mass);
 }
 
+double LatticeParameters::transverse_stiffness() const { return stiffness * (1.0 - rest_ratio); }
+
 double LatticeParameters::damping_time() const {
   return damping > 0.0 ? 2.0 * mass / damping : std::numeric_limits<double>::infinity();
 }
@@ -35,6 +37,11 @@ void PhysicalParameters::validate() const {
   if (!(rest_ratio > 0.0 && rest_ratio < 1.0))
     throw InvalidSetting(c.name("rest_ratio"), detail::to_text(rest_ratio), "must be in (0, 1) (pre-tension)");
   c.positive("gravity", gravity);
+  c.non_negative("wave_speed", wave_speed);
+}
+
+double PhysicalParameters::target_wave_speed() const {
+  return wave_speed > 0.0 ? wave_speed : std::sqrt(gravity * depth);
 }
 
 LatticeParameters PhysicalParameters::to_lattice() const {
@@ -43,7 +50,8 @@ LatticeParameters PhysicalParameters::to_lattice() const {
   p.spacing = cell;
   p.rest_ratio = rest_ratio;
   p.mass = density * cell * cell * depth;
-  const double cw2 = gravity * depth;
+  const double cw = target_wave_speed();
+  const double cw2 = cw * cw;
   p.stiffness = cw2 * p.mass / (3.0 * cell * cell * (1.0 - rest_ratio));
   p.damping = std::isfinite(damping_time) ? 2.0 * p.mass / damping_time : 0.0;
   return p;

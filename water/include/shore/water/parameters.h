@@ -22,6 +22,9 @@ struct LatticeParameters {
   void validate() const;
   /// c_w = h sqrt(3 c (1 - rest_ratio) / m), m/s.
   [[nodiscard]] double wave_speed() const;
+  /// k_t = c (1 - rest_ratio), N/m: the vertical stiffness of every pre-tensioned spring
+  /// (axis and diagonal alike: tension over length), the linearised vertical coupling.
+  [[nodiscard]] double transverse_stiffness() const;
   /// Amplitude e-folding time 2 m / gamma (s); infinite without damping.
   [[nodiscard]] double damping_time() const;
   /// The seed paper's preset: h 1, m 4, c 7, gamma 0.05 (its dt was 0.4).
@@ -29,15 +32,19 @@ struct LatticeParameters {
 };
 
 struct PhysicalParameters {
-  double cell = 0.05;            ///< m, node spacing, > 0
-  double depth = 0.5;            ///< m, water depth: sets c_w = sqrt(g depth) and the node mass, > 0
-  double density = 1000.0;       ///< kg/m^3, > 0
-  double damping_time = 5.0;     ///< s, amplitude e-folding time, > 0 (infinity: undamped)
-  double rest_ratio = 0.9;       ///< l_rest / h, in (0, 1)
-  double gravity = 9.81;         ///< m/s^2, > 0
+  double cell = 0.05;         ///< m, node spacing, > 0
+  double depth = 0.5;         ///< m, water depth: sets c_w = sqrt(g depth) and the node mass, > 0
+  double wave_speed = 0.0;    ///< m/s, >= 0; 0: c_w = sqrt(g depth), else c_w = wave_speed
+  double density = 1000.0;    ///< kg/m^3, > 0
+  double damping_time = 5.0;  ///< s, amplitude e-folding time, > 0 (infinity: undamped)
+  double rest_ratio = 0.9;    ///< l_rest / h, in (0, 1)
+  double gravity = 9.81;      ///< m/s^2, > 0
 
   void validate() const;
-  /// Node mass rho h^2 depth; stiffness from c_w = sqrt(g depth); gamma = 2 m / damping_time.
+  /// Wave speed c_w: wave_speed if set, else sqrt(g depth), m/s.
+  [[nodiscard]] double target_wave_speed() const;
+  /// Node mass rho h^2 depth; stiffness c = c_w^2 m / (3 h^2 (1 - rest_ratio)) so that the
+  /// lattice's wave speed is c_w; gamma = 2 m / damping_time.
   [[nodiscard]] LatticeParameters to_lattice() const;
 };
 

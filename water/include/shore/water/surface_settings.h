@@ -1,0 +1,78 @@
+#pragma once
+// Settings of a water surface: grid size and placement, lattice parameters, mode,
+// boundary preset, threads and the stability guard.
+//
+// Grid convention (shared with terrain and the plugin): world Z is up; node (i, j) rests at
+// (origin_x + i * h, origin_y + j * h, rest_height), i in [0, nx), j in [0, ny), h = spacing.
+
+#include <cstdint>
+
+#include "shore/water/parameters.h"
+
+namespace shore::water {
+
+/// What a node may do. Stored per node; settable at any time (islands, shoreline).
+enum class NodeConstraint : std::uint8_t {
+  free = 0,           ///< moves in 3-D (in vertical-only mode: moves vertically)
+  vertical_only = 1,  ///< horizontal motion suppressed (pool walls)
+  fixed = 2,          ///< does not move (shoreline, islands)
+};
+
+/// Which constraint the four grid edges get at construction.
+enum class Boundary : std::uint8_t {
+  fixed,          ///< all edge nodes fixed: waves reflect with inverted sign (shoreline)
+  vertical_only,  ///< edge nodes move only vertically: waves reflect without inversion (pool walls)
+  free,           ///< no constraint (3-D mode: pre-tension pulls a free edge inwards)
+};
+
+/// How nodes move.
+enum class SurfaceMode : std::uint8_t {
+  /// Nodes move in 3-D under the full nonlinear spring forces (the seed paper's model).
+  full_3d,
+  /// Every node moves only vertically, under the linearised vertical restoring force of the
+  /// pre-tensioned springs: m w'' = k_t * sum over the 8 neighbours (w_n - w) - gamma w',
+  /// k_t = c (1 - rest_ratio). This is the discrete wave equation with the same
+  /// small-amplitude speed c_w as the 3-D mode. State is a height and a vertical velocity per
+  /// node (8 bytes instead of 24) and the stable step is about 2.6x longer.
+  vertical_only,
+};
+
+/// Stability guard: each step(dt) is split into enough substeps that the bound on the
+/// highest lattice frequency times the substep stays inside the stable range.
+struct GuardSettings {
+  double safety = 0.9;                       ///< fraction of the stability limit (w dt < 2) used, in (0, 1]
+  int max_substeps = 256;                    ///< substeps per step() at most, >= 1. Beyond it the step advances
+                                             ///< only max_substeps stable substeps (the water runs slow rather
+                                             ///< than explode) and reports StepStats::time_clamped.
+  double max_disturbance_spacings = 1000.0;  ///< disturbance cap, > 0: |height| <= this * h,
+                                             ///< |velocity| <= this * h * w_rest (w_rest: the
+                                             ///< at-rest top lattice frequency)
+
+  void validate() const;
+};
+
+struct SurfaceSettings {
+  int nx = 64;                ///< nodes along x, >= 3
+  int ny = 64;                ///< nodes along y, >= 3
+  double origin_x = 0.0;      ///< m, world x of node (0, 0), finite
+  double origin_y = 0.0;      ///< m, world y of node (0, 0), finite
+  double rest_height = 0.0;   ///< m, world z of the surface at rest (z0), finite
+  LatticeParameters lattice;  ///< h, m, c, rest_ratio, gamma (default: the seed paper's set)
+  double density = 1000.0;    ///< kg/m^3, water density for buoyancy in a coupling, > 0
+  SurfaceMode mode = SurfaceMode::full_3d;
+  Boundary boundary = Boundary::fixed;
+  int threads = 0;  ///< OpenMP threads for the step, >= 0 (0: OpenMP's default, at most one
+                    ///< per 16384 nodes). Results do not depend on it.
+  GuardSettings guard;
+
+  /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
+  void validate() const;
+
+  /// The seed paper's surface: 50 x 50 nodes, h 1, m 4, c 7, gamma 0.05 (its dt was 0.4),
+  /// with rest_ratio 0.9 for pre-tension.
+  static SurfaceSettings paper();
+  /// A surface in physical units (cell size, depth or wave speed, damping time, density).
+  static SurfaceSettings physical(const PhysicalParameters& p, int nx, int ny);
+};
+
+}  // namespace shore::water

@@ -1,0 +1,47 @@
+#include "shore/water/surface_settings.h"
+
+#include "shore/core/error.h"
+
+namespace shore::water {
+
+void GuardSettings::validate() const {
+  const Check c{"water.GuardSettings"};
+  c.in_left_open("safety", safety, 0.0, 1.0);
+  c.at_least("max_substeps", max_substeps, 1);
+  c.positive("max_disturbance_spacings", max_disturbance_spacings);
+}
+
+void SurfaceSettings::validate() const {
+  const Check c{"water.SurfaceSettings"};
+  c.at_least("nx", nx, 3);
+  c.at_least("ny", ny, 3);
+  // Heights are stored as float displacements and indices as 32-bit triangle indices.
+  if (static_cast<long long>(nx) * ny > (1LL << 31))
+    throw InvalidSetting(c.name("nx*ny"), detail::to_text(static_cast<long long>(nx) * ny), "must be <= 2^31");
+  c.finite("origin_x", origin_x);
+  c.finite("origin_y", origin_y);
+  c.finite("rest_height", rest_height);
+  c.positive("density", density);
+  c.at_least("threads", threads, 0);
+  lattice.validate();
+  guard.validate();
+}
+
+SurfaceSettings SurfaceSettings::paper() {
+  SurfaceSettings s;
+  s.nx = 50;
+  s.ny = 50;
+  s.lattice = LatticeParameters::paper();
+  return s;
+}
+
+SurfaceSettings SurfaceSettings::physical(const PhysicalParameters& p, int nx, int ny) {
+  SurfaceSettings s;
+  s.nx = nx;
+  s.ny = ny;
+  s.lattice = p.to_lattice();
+  s.density = p.density;
+  return s;
+}
+
+}  // namespace shore::water
