@@ -82,22 +82,29 @@ class WaterCoupling : public btActionInterface {
   [[nodiscard]] double submerged_volume(const btRigidBody* body) const;
 
  private:
+  /// Envelopes on a sample grid anchored at the body's centre of mass (samples at
+  /// com +- (k + 1/2) cell), so a point-symmetric body is sampled symmetrically and its
+  /// centre of buoyancy has no sampling bias (a world-fixed grid shifted it by up to half a
+  /// sample: enough to hold a box heeled at 0.05 rad).
+  struct Sampled {
+    EnvelopeRaster raster;
+    double origin_x = 0.0, origin_y = 0.0;  // world position of sample (0, 0)
+  };
   struct Body {
     btRigidBody* body = nullptr;
     bool disturb = true;
-    EnvelopeRaster previous;  // envelopes at the last substep's pose
-    EnvelopeRaster current;
+    Sampled previous;  // envelopes at the last substep's pose
+    Sampled current;
     double submerged = 0.0;
   };
   bool body_is_sane(const btRigidBody& body) const;
-  void rasterize(const btRigidBody& body, EnvelopeRaster& out);
+  void rasterize(const btRigidBody& body, Sampled& out) const;
   void displace(Body& b);
 
   btDiscreteDynamicsWorld& world_;
   water::Surface& surface_;
   WaterCouplingSettings settings_;
-  EnvelopeGrid sample_grid_;
-  EnvelopeRasterizer rasterizer_;
+  double sample_cell_ = 0.0;
   WaterSampler sampler_;
   std::vector<Body> bodies_;
   std::vector<double> scratch_, lengths_old_, lengths_new_;

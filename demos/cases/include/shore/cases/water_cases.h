@@ -46,6 +46,7 @@ struct PoolRecord {
   double t = 0.0;
   std::vector<double> z;      ///< centre of mass heights, one per floater
   std::vector<double> tilt;   ///< angle between body z and world z (rad), one per floater
+  double water_energy = 0.0;  ///< J, the surface's time-centred energy (waves)
 };
 
 struct PoolResult {
