@@ -1,0 +1,155 @@
+#pragma once
+// Two-way coupling of Bullet rigid bodies with the deformable soil.
+//
+// Add it to an existing btDiscreteDynamicsWorld; it is a btActionInterface, so its work
+// runs inside every internal substep of stepSimulation(dt, maxSubSteps, fixedStep), after
+// the solver and integration and before the next substep's collision detection:
+//
+//   shore::terrain::Terrain soil(settings);
+//   shore::bullet::TerrainCoupling ground(world, soil);   // adds itself to the world
+//   ground.add_body(wheel);                                // this body deforms the soil
+//   world.stepSimulation(1.0 / 60, 8, 1.0 / 240);
+//
+// Soil reaction: Shore owns the normal contact of added bodies with soft soil (DESIGN.md,
+// "loads, impacts and Bullet's contact", last row: exact at every substep). Bullet does
+// not collide these bodies with the soft tiles (a broadphase filter bit); every substep,
+// after Bullet's solve and integration, the downward momentum p = -m v_z the soil must
+// absorb is compared with what it can: S h, S the Bekker bearing capacity of the columns
+// under the body where it stood at the start of the substep. The soil's impulse
+// min(p, S h) is applied per column in proportion to each column's bearing (not through
+// the centre), with Coulomb friction (the material's) at the patch's bearing centre; the
+// pose is re-integrated with the corrected velocity, and the soil is imprinted with the
+// body's envelope at that pose. If p > S h the soil yields and the body sinks on. Load
+// is never J / h (craters would grow like 1/h). Columns on bedrock carry anything; a body
+// driven below bedrock in one substep is lifted back (counted as a rescue). The first
+// design kept Bullet's rigid contact and replaced its impulses afterwards; Bullet's
+// friction, solved together with rigid-ground normals, then tilted sinking plates until
+// they fell through, which is why Shore owns the contact. Rigid materials keep Bullet's
+// contact unchanged. Kinematic bodies imprint geometrically.
+
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include <BulletDynamics/Dynamics/btActionInterface.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+
+#include "shore/bullet/config.h"
+#include "shore/bullet/envelope.h"
+#include "shore/bullet/terrain_tiles.h"
+#include "shore/core/envelope.h"
+#include "shore/terrain/terrain.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+
+/// Per-body choices.
+struct BodySoilSettings {
+  bool deform = true;       ///< the body presses the soil (false: it only feels the ground)
+  bool enable_ccd = true;   ///< turn on Bullet's continuous collision for fast impacts
+};
+
+/// A world-space rectangle (m). Default: everywhere.
+struct Region {
+  double x0 = -1e30, y0 = -1e30, x1 = 1e30, y1 = 1e30;
+  [[nodiscard]] bool contains(double x, double y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+};
+
+struct TerrainCouplingSettings {
+  TerrainTilesSettings tiles;
+  /// Where this soil is. Several Terrain objects (say sand, then mud) can lie side by side,
+  /// each with its own coupling and region; put region edges on tile edges
+  /// (multiples of tiles.tile_cells * cell from the soil's origin) so tiles meet exactly.
+  Region region;
+  double cover_margin = 0.25;  ///< m kept covered by tiles around every dynamic body's AABB, > 0
+  double max_speed = 500.0;    ///< m/s: a body faster than this (or with a non-finite pose) is skipped and counted
+  /// Every dynamic body in the world gets ground under it (tiles), not only added ones.
+  bool cover_all_bodies = true;
+  /// Lift a body whose lowest point fell below bedrock back onto the surface (counted).
+  bool rescue_fallthrough = true;
+  /// Broadphase filter bit of soft-soil tiles. Shore owns the normal contact of added
+  /// bodies with soft soil, so this bit is cleared from their collision mask (and restored
+  /// by remove_body); other bodies collide with the tiles through Bullet as with rigid
+  /// ground. Pick a bit your own filters do not use. Rigid materials use StaticFilter.
+  int soil_filter_bit = 1 << 13;
+  void validate() const;
+};
+
+/// Counters and timings of the last substep and totals since creation.
+struct TerrainCouplingStats {
+  std::int64_t substeps = 0;
+  std::int64_t skipped_bodies = 0;   ///< bodies skipped for a non-finite pose or absurd speed (total)
+  std::int64_t yields = 0;           ///< body-substeps in which the soil yielded (total)
+  std::int64_t rescues = 0;          ///< bodies lifted back above bedrock (total)
+  std::int64_t vertices_pushed = 0;  ///< heightfield vertices written (total)
+  double plastic_work = 0.0;         ///< J: soil impulse times the body's downward travel while yielding (total)
+  // last substep, seconds of wall time
+  double envelope_seconds = 0.0;
+  double terrain_seconds = 0.0;
+  double push_seconds = 0.0;
+  double reaction_seconds = 0.0;
+  int active_columns = 0;
+  int erosion_passes = 0;
+};
+
+class TerrainCoupling : public btActionInterface {
+ public:
+  /// Adds itself to world (world.addAction) and removes itself when destroyed. The soil
+  /// and world must outlive it.
+  TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrain& soil, TerrainCouplingSettings settings = {});
+  ~TerrainCoupling() override;
+  TerrainCoupling(const TerrainCoupling&) = delete;
+  TerrainCoupling& operator=(const TerrainCoupling&) = delete;
+
+  /// The body presses the soil (dynamic: by the momentum rule; kinematic: geometrically).
+  /// Tiles under it are created at once.
+  void add_body(btRigidBody* body, BodySoilSettings body_settings = {});
+  void remove_body(btRigidBody* body);
+
+  void updateAction(btCollisionWorld* world, btScalar substep) override;
+  void debugDraw(btIDebugDraw*) override {}
+
+  [[nodiscard]] const TerrainCouplingStats& stats() const noexcept { return stats_; }
+  [[nodiscard]] TerrainTiles& tiles() noexcept { return tiles_; }
+  [[nodiscard]] terrain::Terrain& soil() noexcept { return soil_; }
+
+ private:
+  struct Body {
+    btRigidBody* body = nullptr;
+    BodySoilSettings settings;
+    EnvelopeRaster envelope;  // reused buffer
+  };
+  bool body_is_sane(const btRigidBody& body) const;
+  void cover_bodies(double substep);
+  void rasterize(Body& b);
+  void clip_to_region(EnvelopeRaster& env) const;
+  /// The momentum rule for one dynamic body; returns true if the soil yielded.
+  bool react(Body& b, double substep);
+  /// The soil's vertical impulse per contact column; returns the bearing-weighted centre.
+  btVector3 apply_soil_impulse(Body& b, const terrain::Bearing& bearing, double impulse, const btVector3& com);
+  void apply_friction(btRigidBody& body, const btVector3& arm, double normal_impulse);
+  void rescue_fallen_bodies();
+  void keep_above_bedrock(Body& b);
+  void wake_bodies_over(const std::vector<terrain::ColumnRect>& changed);
+
+  struct ContactImpulse {
+    btVector3 arm;      // contact point relative to the centre of mass
+    btVector3 impulse;  // what Bullet applied there that the soil replaces, N s
+  };
+  std::vector<ContactImpulse> bullet_impulses_;
+
+  btDiscreteDynamicsWorld& world_;
+  terrain::Terrain& soil_;
+  TerrainCouplingSettings settings_;
+  TerrainTiles tiles_;
+  EnvelopeRasterizer rasterizer_;
+  std::vector<Body> bodies_;
+  std::vector<terrain::Imprint> imprints_;
+  TerrainCouplingStats stats_;
+  bool rigid_ = false;
+};
+
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet
