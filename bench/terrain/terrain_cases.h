@@ -23,8 +23,8 @@ enum class TerrainCase {
 struct TerrainCaseResult {
   std::string name;
   int threads = 1;
-  bool forced_parallel = false;  ///< parallel_min_columns = 0 (split even small regions)
-  int steps = 0;                 ///< measured steps
+  bool forced_parallel = false;      ///< parallel_min_columns = 0 (split even small regions)
+  int steps = 0;                     ///< measured steps
   double ms_per_step = 0.0;          ///< Terrain::step wall time
   double bearing_ms_per_step = 0.0;  ///< bearing wall time: bearing_offset (wheel) or bearing (towed wheel)
   double active_columns = 0.0;       ///< mean per step
@@ -36,9 +36,12 @@ struct TerrainCaseResult {
 
 inline const char* case_name(TerrainCase c) {
   switch (c) {
-    case TerrainCase::footprint: return "footprint";
-    case TerrainCase::wheel: return "wheel";
-    case TerrainCase::towed_wheel: return "towed_wheel";
+    case TerrainCase::footprint:
+      return "footprint";
+    case TerrainCase::wheel:
+      return "wheel";
+    case TerrainCase::towed_wheel:
+      return "towed_wheel";
   }
   return "?";
 }
@@ -48,16 +51,16 @@ inline const char* case_name(TerrainCase c) {
 /// x each substep. The envelope window is the body's whole footprint seen from below
 /// (2 radius x width), as the coupling rasterizes it, closed form, no Bullet.
 struct TowedWheelCase {
-  double cell = 0.01;             ///< m, column spacing
-  double radius = 0.4;            ///< m
-  double width = 0.3;             ///< m
-  double sinkage = 0.07;          ///< m below the untouched ground (0)
-  double speed = 1.0;             ///< m/s
-  double substep = 1.0 / 240.0;   ///< s
-  int steps = 480;                ///< substeps in all (2 m at the defaults)
-  int measured = 100;             ///< the last `measured` substeps are timed
+  double cell = 0.01;            ///< m, column spacing
+  double radius = 0.4;           ///< m
+  double width = 0.3;            ///< m
+  double sinkage = 0.07;         ///< m below the untouched ground (0)
+  double speed = 1.0;            ///< m/s
+  double substep = 1.0 / 240.0;  ///< s
+  int steps = 480;               ///< substeps in all (2 m at the defaults)
+  int measured = 100;            ///< the last `measured` substeps are timed
   int threads = 1;
-  bool star = true;               ///< conservative collision surface, as the coupling uses
+  bool star = true;  ///< conservative collision surface, as the coupling uses
 };
 
 namespace detail {

@@ -149,6 +149,7 @@ void Scratch::resize(std::int64_t i0, std::int64_t j0, int width, int height) {
     v->assign(size, 0.0);
   flags.assign(size, 0);
   mask.assign(size, 0);
+  cover.assign(size, 0);
   contour.assign(size, 0);
 }
 
@@ -190,6 +191,26 @@ template <class Fn>
 void for_rows(int first, int last, bool parallel, int threads, Fn&& fn) {
 #pragma omp parallel for schedule(static) num_threads(threads) if (parallel)
   for (int y = first; y < last; ++y) fn(y);
+}
+
+// to = from grown by one column in each of the 8 directions.
+void dilate(const ColumnBits& from, ColumnBits& to) {
+  to.reset(from.w, from.h);
+  const int words = from.words;
+  for (int y = 0; y < from.h; ++y) {
+    const std::uint64_t* mid = from.row(y);
+    const std::uint64_t* up = y > 0 ? from.row(y - 1) : nullptr;
+    const std::uint64_t* down = y + 1 < from.h ? from.row(y + 1) : nullptr;
+    std::uint64_t* t = to.row(y);
+    for (int i = 0; i < words; ++i) t[i] = mid[i] | (up ? up[i] : 0) | (down ? down[i] : 0);
+    std::uint64_t prev = 0;
+    for (int i = 0; i < words; ++i) {
+      const std::uint64_t cur = t[i], next = i + 1 < words ? t[i + 1] : 0;
+      t[i] = cur | (cur << 1) | (prev >> 63) | (cur >> 1) | (next << 63);
+      prev = cur;
+    }
+    t[words - 1] &= from.tail_mask();
+  }
 }
 
 }  // namespace
@@ -358,16 +379,15 @@ double Terrain::Impl::displace(Scratch& sc) const {
 // - passes repeat while material moves and (unless to_rest) some moving pair is steeper
 //   than theta_stop, up to max_erosion_passes (tolerances below); a pair whose flow is
 //   capped by the body above the lower column does not count (the body holds that slope).
+//
+// Work per pass follows the columns that changed. A giver's flow depends only on the
+// heights within two columns of it (its neighbours' heights and their caps), so after the
+// first pass only columns within two of a column changed by the last pass are evaluated;
+// a column further away gives exactly what it gave before: nothing. The sets are bit
+// rows built serially, so they never depend on the thread count.
 int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   const Material& m = s.material;
   const double diag = std::numbers::sqrt2 * s.cell;
-  double thr_out[8], thr_in[8], thr_stop[8];
-  for (int d = 0; d < 8; ++d) {
-    const double dist = d < 4 ? s.cell : diag;
-    thr_out[d] = dist * std::tan(m.theta_out);
-    thr_in[d] = dist * std::tan(m.theta_in);
-    thr_stop[d] = dist * std::tan(m.theta_stop);
-  }
   // Moves of less than 1e-3 cell are ignored, so a relaxing slope comes to rest (within
   // 0.06 degrees of its threshold at most) in a finite number of passes.
   const double eps = 1e-3 * s.cell;
@@ -376,165 +396,177 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   // theta_out, and the excess over a threshold only decays geometrically, so without the
   // margin the last creeping pair would keep the passes going to the cap.
   const double stop_tolerance = 5e-2 * s.cell;
+  // Per direction: [0] toward a column in the open (theta_out), [1] toward one under a body
+  // (theta_in): the limit, and the limit a moving pair must exceed to count as steep.
+  double thr[8][2], steep_limit[8][2], give_in[8];
+  for (int d = 0; d < 8; ++d) {
+    const double dist = d < 4 ? s.cell : diag;
+    thr[d][0] = dist * std::tan(m.theta_out);
+    thr[d][1] = dist * std::tan(m.theta_in);
+    const double stop = dist * std::tan(m.theta_stop);
+    for (int c = 0; c < 2; ++c) steep_limit[d][c] = std::max(thr[d][c], stop) + stop_tolerance;
+    give_in[d] = thr[d][1] + eps;
+  }
   const double sigma = m.sigma;
-
-  // Work is tracked in blocks of kBlock x kBlock columns. A giver's flow depends on the
-  // heights within two columns of it, so only blocks next to a block that changed in the
-  // last pass can flow in the next one; late passes, when a few columns still creep,
-  // then cost little. The block sets are computed serially, so they never depend on the
-  // thread count.
-  constexpr int kBlock = 4;
-  const int bw = (sc.w + kBlock - 1) / kBlock, bh = (sc.h + kBlock - 1) / kBlock;
-  const std::size_t blocks = static_cast<std::size_t>(bw) * static_cast<std::size_t>(bh);
-  std::vector<unsigned char> active(blocks, 1), near(blocks, 0), changed(blocks, 0), giving(blocks, 0),
-      receiving(blocks, 0);
-  std::vector<unsigned char> row_flow(static_cast<std::size_t>(bh)), row_steep(static_cast<std::size_t>(bh));
-  auto block = [&](int bx, int by) {
-    return static_cast<std::size_t>(by) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(bx);
-  };
-  auto dilate = [&](const std::vector<unsigned char>& from, std::vector<unsigned char>& to) {
-    for (int by = 0; by < bh; ++by)
-      for (int bx = 0; bx < bw; ++bx) {
-        unsigned char any = 0;
-        for (int dy = -1; dy <= 1 && !any; ++dy)
-          for (int dx = -1; dx <= 1 && !any; ++dx) {
-            const int nx = bx + dx, ny = by + dy;
-            if (nx >= 0 && ny >= 0 && nx < bw && ny < bh) any = from[block(nx, ny)];
-          }
-        to[block(bx, by)] = any;
-      }
-  };
-  // Calls fn(x, y, k) for every column of the blocks in `set`, one block row per task.
-  auto for_blocks = [&](const std::vector<unsigned char>& set, auto&& fn) {
-    for_rows(0, bh, sc.parallel, sc.threads, [&](int by) {
-      for (int bx = 0; bx < bw; ++bx) {
-        if (!set[block(bx, by)]) continue;
-        const int x1 = std::min(sc.w, (bx + 1) * kBlock), y1 = std::min(sc.h, (by + 1) * kBlock);
-        for (int y = by * kBlock; y < y1; ++y)
-          for (int x = bx * kBlock; x < x1; ++x) fn(bx, by, x, y, sc.at(x, y));
-      }
-    });
-  };
-  std::fill(sc.mask.begin(), sc.mask.end(), 0);
+  const int w = sc.w, h = sc.h;
   // Neighbour offsets (wrap-around safe: size_t arithmetic modulo 2^64).
   std::size_t off[8];
-  for (int d = 0; d < 8; ++d) off[d] = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(kDy[d]) * sc.w + kDx[d]);
+  for (int d = 0; d < 8; ++d) off[d] = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(kDy[d]) * w + kDx[d]);
+
+  // Fixed for the whole erosion: who may give, and the caps of columns not under a body.
+  ColumnBits& givable = sc.givable;
+  ColumnBits& overhang = sc.overhang;
+  givable.reset(w, h), overhang.reset(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t k = sc.at(x, y);
+      const unsigned char f = sc.flags[k];
+      sc.mask[k] = 0;
+      sc.out[k] = 0.0;
+      sc.cover[k] = (f & kCovered) ? 1 : 0;
+      if (f & kContact)
+        sc.cap[k] = 0.0;
+      else if (!(f & kCovered))
+        sc.cap[k] = kInf;
+      else
+        overhang.set(x, y);  // covered columns are interior (see collide)
+      if ((f & (kInterior | kContact)) == kInterior) givable.set(x, y);
+    }
+  ColumnBits& cand = sc.cand;
+  ColumnBits& changed = sc.changed;
+  ColumnBits& givers = sc.givers;
+  ColumnBits& near = sc.near;
+  cand = givable;
+  givers.reset(w, h), changed.reset(w, h), near.reset(w, h);
+  std::vector<unsigned char>& row_flow = sc.row_flow;
+  std::vector<unsigned char>& row_steep = sc.row_steep;
+  row_flow.assign(static_cast<std::size_t>(h), 0);
+  row_steep.assign(static_cast<std::size_t>(h), 0);
 
   int passes = 0;
   while (passes < s.max_erosion_passes) {
-    dilate(active, near);
-    // (a) From the old heights: the cap each column puts on what one neighbour may give
-    // it, then each giver's share per too-steep neighbour.
-    for_blocks(near, [&](int, int, int x, int y, std::size_t k) {
-      const unsigned char f = sc.flags[k];
-      if (f & kContact) {
-        sc.cap[k] = 0.0;
-      } else if (!(f & kCovered)) {
-        sc.cap[k] = kInf;
-      } else {
+    if (passes > 0) {
+      dilate(changed, near);
+      dilate(near, cand);
+      cand.keep(givable);
+    }
+    // (a) From the old heights: the cap each column under a body puts on what one
+    // neighbour may give it, then each giver's share per too-steep neighbour.
+    dilate(cand, near);
+    near.keep(overhang);
+    for_rows(0, h, sc.parallel, sc.threads, [&](int y) {
+      near.for_each_in_row(y, [&](int x) {
         // Under a body: the room up to the collision surface, split over the columns that
         // will give to this one this pass (the same test the givers make), so it fills in
         // one pass instead of creeping up on the body.
-        const double room = sc.e_coll[k] - sc.ht[k];
-        int givers = 0;
+        const std::size_t k = sc.at(x, y);
+        const double hk = sc.ht[k];
+        const double room = sc.e_coll[k] - hk;
+        int count = 0;
         if (room > eps)
           for (int d = 0; d < 8; ++d) {
-            const int nx = x + kDx[d], ny = y + kDy[d];
-            if (nx < 0 || ny < 0 || nx >= sc.w || ny >= sc.h) continue;
-            const std::size_t nk = sc.at(nx, ny);
+            const std::size_t nk = k + off[d];
             if ((sc.flags[nk] & (kInterior | kContact)) != kInterior) continue;
-            if (sc.ht[nk] - sc.ht[k] > thr_in[d] + eps) ++givers;
+            if (sc.ht[nk] - hk > give_in[d]) ++count;
           }
-        sc.cap[k] = givers > 0 ? room / givers : 0.0;
-      }
+        sc.cap[k] = count > 0 ? room / count : 0.0;
+      });
     });
-    std::fill(row_flow.begin(), row_flow.end(), 0);
-    std::fill(row_steep.begin(), row_steep.end(), 0);
-    std::fill(giving.begin(), giving.end(), 0);
-    for_blocks(active, [&](int bx, int by, int, int, std::size_t k) {
-      sc.mask[k] = 0;
-      sc.out[k] = 0.0;
-      if ((sc.flags[k] & (kInterior | kContact)) != kInterior) return;
-      const double h0 = sc.ht[k];
-      double excess_sum = 0.0;
-      int count = 0;
-      unsigned char mk = 0, steep_mk = 0;
-      for (int d = 0; d < 8; ++d) {
-        const std::size_t nk = k + off[d];  // interior: neighbours exist
-        if (sc.cap[nk] == 0.0) continue;
-        const double diff = h0 - sc.ht[nk];
-        const double thr = (sc.flags[nk] & kCovered) ? thr_in[d] : thr_out[d];
-        if (!(diff > thr + eps)) continue;
-        excess_sum += diff - thr;
-        ++count;
-        mk = static_cast<unsigned char>(mk | (1u << d));
-        if (diff > std::max(thr, thr_stop[d]) + stop_tolerance)
-          steep_mk = static_cast<unsigned char>(steep_mk | (1u << d));
-      }
-      if (count == 0) return;
-      double share = sigma * (excess_sum / count) / count;
-      share = std::min(share, std::max(0.0, h0 - sc.bed[k]) / count);
-      if (!(share > 0.0)) return;
-      double total = 0.0;
-      bool steep_here = false;
-      for (int d = 0; d < 8; ++d) {
-        if (!(mk & (1u << d))) continue;
-        const double cap = sc.cap[k + off[d]];
-        total += std::min(share, cap);
-        // A pair whose flow the body caps (the column under it is full) stays steep: the
-        // body holds that slope, erosion cannot relax it.
-        steep_here = steep_here || ((steep_mk & (1u << d)) && cap >= share);
-      }
-      if (!(total > 0.0)) return;
-      sc.q[k] = share;
-      sc.mask[k] = mk;
-      sc.out[k] = total;
-      row_flow[static_cast<std::size_t>(by)] = 1;  // only this block row's task writes it
-      giving[block(bx, by)] = 1;
-      if (steep_here) row_steep[static_cast<std::size_t>(by)] = 1;
+    for_rows(0, h, sc.parallel, sc.threads, [&](int y) {
+      std::uint64_t* giver_row = givers.row(y);
+      bool flow = false, steep = false;
+      cand.for_each_in_row(y, [&](int x) {
+        const std::size_t k = sc.at(x, y);
+        const double h0 = sc.ht[k];
+        double excess_sum = 0.0;
+        int count = 0;
+        unsigned mk = 0, steep_mk = 0;
+        for (int d = 0; d < 8; ++d) {
+          const std::size_t nk = k + off[d];  // interior: neighbours exist
+          if (sc.cap[nk] == 0.0) continue;
+          const double diff = h0 - sc.ht[nk];
+          const int c = sc.cover[nk];
+          const double t = thr[d][c];
+          if (!(diff > t + eps)) continue;
+          excess_sum += diff - t;
+          ++count;
+          mk |= 1u << d;
+          if (diff > steep_limit[d][c]) steep_mk |= 1u << d;
+        }
+        if (count == 0) return;
+        double share = sigma * (excess_sum / count) / count;
+        share = std::min(share, std::max(0.0, h0 - sc.bed[k]) / count);
+        if (!(share > 0.0)) return;
+        double total = 0.0;
+        bool steep_here = false;
+        for (int d = 0; d < 8; ++d) {
+          if (!(mk & (1u << d))) continue;
+          const double cap = sc.cap[k + off[d]];
+          total += std::min(share, cap);
+          // A pair whose flow the body caps (the column under it is full) stays steep: the
+          // body holds that slope, erosion cannot relax it.
+          steep_here = steep_here || ((steep_mk & (1u << d)) && cap >= share);
+        }
+        if (!(total > 0.0)) return;
+        sc.q[k] = share;
+        sc.mask[k] = static_cast<unsigned char>(mk);
+        sc.out[k] = total;
+        giver_row[x >> 6] |= std::uint64_t{1} << (x & 63);
+        flow = true;
+        steep = steep || steep_here;
+      });
+      row_flow[static_cast<std::size_t>(y)] = flow;  // only this row's task writes it
+      row_steep[static_cast<std::size_t>(y)] = steep;
     });
     bool flow = false, steep = false;
-    for (int by = 0; by < bh; ++by) {
-      flow = flow || row_flow[static_cast<std::size_t>(by)];
-      steep = steep || row_steep[static_cast<std::size_t>(by)];
+    for (int y = 0; y < h; ++y) {
+      flow = flow || row_flow[static_cast<std::size_t>(y)];
+      steep = steep || row_steep[static_cast<std::size_t>(y)];
     }
     if (!flow) break;
     if (passes > 0 && !steep && !to_rest) break;
-    // (b) Every column near a giver takes what it gave off and gathers what its
-    // neighbours gave it. In place: a column's update reads only its own height and the
+    // (b) Every giver and its neighbours take what they gave off and gather what their
+    // neighbours gave them. In place: a column's update reads only its own height and the
     // shares, caps and masks fixed in (a).
-    std::fill(changed.begin(), changed.end(), 0);
-    dilate(giving, receiving);
-    for_blocks(receiving, [&](int bx, int by, int x, int y, std::size_t k) {
-      const double old = sc.ht[k];
-      double hk = old - sc.out[k];
-      const double cap = sc.cap[k];
-      if (cap > 0.0) {
-        if (x > 0 && y > 0 && x < sc.w - 1 && y < sc.h - 1) {
-          for (int d = 0; d < 8; ++d) {
-            const std::size_t nk = k + off[d];
-            // neighbour nk gives toward k along the opposite direction
-            if (sc.mask[nk] & (1u << (d ^ 1))) hk += std::min(sc.q[nk], cap);
-          }
-        } else {
-          for (int d = 0; d < 8; ++d) {
-            const int nx = x + kDx[d], ny = y + kDy[d];
-            if (nx < 0 || ny < 0 || nx >= sc.w || ny >= sc.h) continue;
-            const std::size_t nk = sc.at(nx, ny);
-            if (sc.mask[nk] & (1u << (d ^ 1))) hk += std::min(sc.q[nk], cap);
+    dilate(givers, near);
+    changed.clear();
+    for_rows(0, h, sc.parallel, sc.threads, [&](int y) {
+      std::uint64_t* changed_row = changed.row(y);
+      const bool edge_row = y == 0 || y == h - 1;
+      near.for_each_in_row(y, [&](int x) {
+        const std::size_t k = sc.at(x, y);
+        const double old = sc.ht[k];
+        double hk = old - sc.out[k];
+        const double cap = sc.cap[k];
+        if (cap > 0.0) {
+          if (!edge_row && x > 0 && x < w - 1) {
+            for (int d = 0; d < 8; ++d) {
+              const std::size_t nk = k + off[d];
+              // neighbour nk gives toward k along the opposite direction
+              if (sc.mask[nk] & (1u << (d ^ 1))) hk += std::min(sc.q[nk], cap);
+            }
+          } else {
+            for (int d = 0; d < 8; ++d) {
+              const int nx = x + kDx[d], ny = y + kDy[d];
+              if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+              const std::size_t nk = sc.at(nx, ny);
+              if (sc.mask[nk] & (1u << (d ^ 1))) hk += std::min(sc.q[nk], cap);
+            }
           }
         }
-      }
-      if (hk != old) {
-        sc.ht[k] = hk;
-        changed[block(bx, by)] = 1;  // only this block row's task writes it
-      }
+        if (hk != old) {
+          sc.ht[k] = hk;
+          changed_row[x >> 6] |= std::uint64_t{1} << (x & 63);
+        }
+      });
     });
-    for_blocks(active, [&](int, int, int, int, std::size_t k) {
-      sc.mask[k] = 0;
-      sc.out[k] = 0.0;
-    });
-    dilate(changed, active);
+    for (int y = 0; y < h; ++y)
+      givers.for_each_in_row(y, [&](int x) {
+        const std::size_t k = sc.at(x, y);
+        sc.mask[k] = 0;
+        sc.out[k] = 0.0;
+      });
+    givers.clear();
     ++passes;
   }
   return passes;
@@ -907,6 +939,10 @@ std::size_t Terrain::memory_bytes() const {
          impl_->scratch.bytes() + impl_->dirty_keys.capacity() * sizeof(TileKey);
 }
 
-std::size_t Scratch::bytes() const { return (14 * sizeof(double) + 2 + sizeof(int)) * ht.capacity(); }
+std::size_t Scratch::bytes() const {
+  const std::size_t bit_words = givable.bits.capacity() + overhang.bits.capacity() + cand.bits.capacity() +
+                                changed.bits.capacity() + givers.bits.capacity() + near.bits.capacity();
+  return (14 * sizeof(double) + 3 + sizeof(int)) * ht.capacity() + bit_words * sizeof(std::uint64_t);
+}
 
 }  // namespace shore::terrain
