@@ -62,6 +62,10 @@ struct ColumnBits {
   void keep(const ColumnBits& other) {
     for (std::size_t k = 0; k < bits.size(); ++k) bits[k] &= other.bits[k];
   }
+  /// this |= other (same size)
+  void add(const ColumnBits& other) {
+    for (std::size_t k = 0; k < bits.size(); ++k) bits[k] |= other.bits[k];
+  }
   /// Calls fn(x) for every set column of row y, left to right.
   template <class Fn>
   void for_each_in_row(int y, Fn&& fn) const {
@@ -77,7 +81,7 @@ struct Scratch {
   int w = 0, h = 0;
   bool parallel = false;
   int threads = 1;
-  std::vector<double> ht, ht_next, ht_orig, sink, bed;
+  std::vector<double> ht, ht_orig, sink, bed;
   std::vector<double> e_plain, e_star, e_coll, e_true;
   std::vector<double> disp, carry, q, out, cap;
   std::vector<unsigned char> flags, mask;
