@@ -15,9 +15,9 @@ namespace {
 void print(const tb::TerrainCaseResult& r, double cell) {
   std::printf(
       "%s cell %.3f m threads %d: %.4f ms/step (last %d steps), bearing %.4f ms, active columns %.0f, "
-      "erosion passes %.2f, hash %016llx, volume error %.3e m^3\n",
+      "erosion passes %.2f, hash %016llx, volume error %.3e m^3, bearing sum %.17g\n",
       r.name.c_str(), cell, r.threads, r.ms_per_step, r.steps, r.bearing_ms_per_step, r.active_columns,
-      r.erosion_passes, static_cast<unsigned long long>(r.state_hash), r.volume_error);
+      r.erosion_passes, static_cast<unsigned long long>(r.state_hash), r.volume_error, r.bearing_sum);
 }
 
 }  // namespace

@@ -314,21 +314,20 @@ double Terrain::Impl::collide(Scratch& sc, int& contact_count) const {
 void Terrain::Impl::contour_map(Scratch& sc) const {
   const int big = sc.w + sc.h;
   for (std::size_t k = 0; k < sc.contour.size(); ++k) sc.contour[k] = (sc.flags[k] & kContact) ? big : 0;
-  auto relax = [&](int x, int y, int dx, int dy) {
-    const int nx = x + dx, ny = y + dy;
-    if (nx < 0 || ny < 0 || nx >= sc.w || ny >= sc.h) return;
-    int& c = sc.contour[sc.at(x, y)];
-    c = std::min(c, sc.contour[sc.at(nx, ny)] + 1);
-  };
-  for (int y = 0; y < sc.h; ++y)
-    for (int x = 0; x < sc.w; ++x) {
-      if (!sc.contour[sc.at(x, y)]) continue;
-      relax(x, y, -1, 0), relax(x, y, -1, -1), relax(x, y, 0, -1), relax(x, y, 1, -1);
+  // Only contact columns relax, and they are interior: their neighbours exist.
+  int* c = sc.contour.data();
+  const std::ptrdiff_t w = sc.w;
+  for (int y = 1; y < sc.h - 1; ++y)
+    for (int x = 1; x < sc.w - 1; ++x) {
+      int* p = c + y * w + x;
+      if (!*p) continue;
+      *p = std::min({*p, p[-1] + 1, p[-w - 1] + 1, p[-w] + 1, p[-w + 1] + 1});
     }
-  for (int y = sc.h - 1; y >= 0; --y)
-    for (int x = sc.w - 1; x >= 0; --x) {
-      if (!sc.contour[sc.at(x, y)]) continue;
-      relax(x, y, 1, 0), relax(x, y, 1, 1), relax(x, y, 0, 1), relax(x, y, -1, 1);
+  for (int y = sc.h - 2; y >= 1; --y)
+    for (int x = sc.w - 2; x >= 1; --x) {
+      int* p = c + y * w + x;
+      if (!*p) continue;
+      *p = std::min({*p, p[1] + 1, p[w + 1] + 1, p[w] + 1, p[w - 1] + 1});
     }
 }
 
@@ -790,27 +789,40 @@ StepReport Terrain::relax(const ColumnRect& region) {
 
 // ---- bearing -------------------------------------------------------------------------
 
-Terrain::Impl::BearingInput Terrain::Impl::bearing_input(const EnvelopeRaster& env) const {
+// Row by row, one tile lookup per run of columns in the same tile. With only_touching, a
+// column is kept only if the envelope lowered by `offset` touches it (bearing at one
+// offset needs no others).
+Terrain::Impl::BearingInput Terrain::Impl::bearing_input(const EnvelopeRaster& env, bool only_touching,
+                                                         double offset) const {
   BearingInput in;
-  const Tile* cached = nullptr;
-  TileKey cached_key{std::numeric_limits<std::int64_t>::min(), 0};
-  for (int y = 0; y < env.ny; ++y)
-    for (int x = 0; x < env.nx; ++x) {
-      const double lower = env.lower[static_cast<std::size_t>(y) * env.nx + x];
-      if (lower == kInf) continue;
-      const std::int64_t i = env.i0 + x, j = env.j0 + y;
-      const TileKey key = key_of(i, j);
-      if (!(key == cached_key)) cached = find(key), cached_key = key;
-      BearingColumn c{i, j, 0, 0, 0, lower};
-      if (cached) {
-        const std::size_t k = local(i, j);
-        c.top = cached->height[k], c.sink = cached->sinkage[k], c.bed = cached->base[k] - s.material.soil_depth;
-      } else {
-        const double b = base_at(i, j);
-        c.top = b, c.sink = 0.0, c.bed = b - s.material.soil_depth;
+  const double depth = s.material.soil_depth, tol = s.contact_tolerance;
+  for (int y = 0; y < env.ny; ++y) {
+    const std::int64_t j = env.j0 + y;
+    const std::int64_t ty = floor_div(j, n);
+    const std::size_t row = static_cast<std::size_t>(j - ty * n) * static_cast<std::size_t>(n);
+    const double* lower = env.lower.data() + static_cast<std::size_t>(y) * env.nx;
+    for (int x = 0; x < env.nx;) {
+      const std::int64_t i = env.i0 + x;
+      const std::int64_t tx = floor_div(i, n);
+      const int run = static_cast<int>(std::min<std::int64_t>(env.nx - x, (tx + 1) * n - i));
+      const Tile* t = find({tx, ty});
+      for (int r = 0; r < run; ++r) {
+        const double e = lower[x + r];
+        if (e == kInf) continue;
+        BearingColumn c{i + r, j, 0, 0, 0, e};
+        if (t) {
+          const std::size_t k = row + static_cast<std::size_t>(i + r - tx * n);
+          c.top = t->height[k], c.sink = t->sinkage[k], c.bed = t->base[k] - depth;
+        } else {
+          const double b = base_at(i + r, j);
+          c.top = b, c.sink = 0.0, c.bed = b - depth;
+        }
+        if (only_touching && !(e - offset <= c.top + tol)) continue;
+        in.columns.push_back(c);
       }
-      in.columns.push_back(c);
+      x += run;
     }
+  }
   return in;
 }
 
@@ -851,7 +863,7 @@ Bearing Terrain::Impl::capacity(const BearingInput& in, double offset, bool with
 Bearing Terrain::bearing(const EnvelopeRaster& envelope, double offset) const {
   check_envelope(&envelope, "terrain.Terrain.bearing.envelope");
   Check{"terrain.Terrain.bearing"}.non_negative("offset", offset);
-  return impl_->capacity(impl_->bearing_input(envelope), offset, true);
+  return impl_->capacity(impl_->bearing_input(envelope, true, offset), offset, true);
 }
 
 // Solves capacity(offset) = load. Capacity grows with the offset (more columns touch,
@@ -861,7 +873,7 @@ Bearing Terrain::bearing(const EnvelopeRaster& envelope, double offset) const {
 double Terrain::bearing_offset(const EnvelopeRaster& envelope, double load) const {
   check_envelope(&envelope, "terrain.Terrain.bearing_offset.envelope");
   Check{"terrain.Terrain.bearing_offset"}.non_negative("load", load);
-  const Impl::BearingInput in = impl_->bearing_input(envelope);
+  const Impl::BearingInput in = impl_->bearing_input(envelope, false, 0.0);
   if (in.columns.empty()) return 0.0;  // the body covers no column: nothing to sink into
   auto f = [&](double o) { return impl_->capacity(in, o, false).capacity - load; };
   double f_lo = f(0.0);

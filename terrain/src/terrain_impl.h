@@ -138,7 +138,7 @@ struct Terrain::Impl {
   struct BearingInput {
     std::vector<BearingColumn> columns;  ///< covered columns, window order
   };
-  [[nodiscard]] BearingInput bearing_input(const EnvelopeRaster& env) const;
+  [[nodiscard]] BearingInput bearing_input(const EnvelopeRaster& env, bool only_touching, double offset) const;
   [[nodiscard]] Bearing capacity(const BearingInput& in, double offset, bool with_columns) const;
 };
 
