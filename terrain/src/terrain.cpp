@@ -421,6 +421,13 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
     for (int c = 0; c < 2; ++c) steep_limit[d][c] = std::max(thr[d][c], stop) + stop_tolerance;
     give_in[d] = thr[d][1] + eps;
   }
+  // The smallest limits: a column less than these above (below) all its neighbours can
+  // neither give nor be given to, so most columns are dismissed without the pair tests.
+  double least_give = kInf, least_give_in = kInf;
+  for (int d = 0; d < 8; ++d) {
+    least_give = std::min({least_give, thr[d][0] + eps, thr[d][1] + eps});
+    least_give_in = std::min(least_give_in, give_in[d]);
+  }
   const double sigma = m.sigma;
   const int w = sc.w, h = sc.h;
   // Neighbour offsets (wrap-around safe: size_t arithmetic modulo 2^64).
@@ -481,7 +488,9 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
         const double hk = sc.ht[k];
         const double room = sc.e_coll[k] - hk;
         int count = 0;
-        if (room > eps)
+        double highest = sc.ht[k + off[0]];
+        for (int d = 1; d < 8; ++d) highest = std::max(highest, sc.ht[k + off[d]]);
+        if (room > eps && highest - hk > least_give_in)
           for (int d = 0; d < 8; ++d) {
             const std::size_t nk = k + off[d];
             if ((sc.flags[nk] & (kInterior | kContact)) != kInterior) continue;
@@ -496,6 +505,9 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
       cand.for_each_in_row(y, [&](int x) {
         const std::size_t k = sc.at(x, y);
         const double h0 = sc.ht[k];
+        double lowest = sc.ht[k + off[0]];
+        for (int d = 1; d < 8; ++d) lowest = std::min(lowest, sc.ht[k + off[d]]);
+        if (!(h0 - lowest > least_give)) return;
         double excess_sum = 0.0;
         int count = 0;
         unsigned mk = 0, steep_mk = 0;
