@@ -195,6 +195,15 @@ void for_rows(int first, int last, bool parallel, int threads, Fn&& fn) {
   for (int y = first; y < last; ++y) fn(y);
 }
 
+// The lowest (highest) of the 8 neighbours of *p in rows of w, as a balanced tree: min and
+// max are exact, so the order does not change the value, only the dependency chain.
+template <class Pick>
+double neighbour_extreme(const double* p, std::ptrdiff_t w, Pick pick) {
+  const double a = pick(p[-1], p[1]), b = pick(p[-w], p[w]);
+  const double c = pick(p[-w - 1], p[w + 1]), d = pick(p[-w + 1], p[w - 1]);
+  return pick(pick(a, b), pick(c, d));
+}
+
 // to = from grown by one column in each of the 8 directions.
 void dilate(const ColumnBits& from, ColumnBits& to) {
   to.reset(from.w, from.h);
@@ -488,8 +497,7 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
         const double hk = sc.ht[k];
         const double room = sc.e_coll[k] - hk;
         int count = 0;
-        double highest = sc.ht[k + off[0]];
-        for (int d = 1; d < 8; ++d) highest = std::max(highest, sc.ht[k + off[d]]);
+        const double highest = neighbour_extreme(&sc.ht[k], w, [](double a, double b) { return std::max(a, b); });
         if (room > eps && highest - hk > least_give_in)
           for (int d = 0; d < 8; ++d) {
             const std::size_t nk = k + off[d];
@@ -505,8 +513,7 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
       cand.for_each_in_row(y, [&](int x) {
         const std::size_t k = sc.at(x, y);
         const double h0 = sc.ht[k];
-        double lowest = sc.ht[k + off[0]];
-        for (int d = 1; d < 8; ++d) lowest = std::min(lowest, sc.ht[k + off[d]]);
+        const double lowest = neighbour_extreme(&sc.ht[k], w, [](double a, double b) { return std::min(a, b); });
         if (!(h0 - lowest > least_give)) return;
         double excess_sum = 0.0;
         int count = 0;
