@@ -562,10 +562,19 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
     }
     if (!flow) break;
     if (passes > 0 && !steep && !to_rest) break;
-    // (b) Every giver and its neighbours take what they gave off and gather what their
-    // neighbours gave them. In place: a column's update reads only its own height and the
+    // (b) Every giver and receiver takes what it gave off and gathers what its neighbours
+    // gave it. In place: a column's update reads only its own height and the
     // shares, caps and masks fixed in (a).
-    dilate(givers, near);
+    // The columns that change: the givers and the neighbours they give to.
+    near.clear();
+    for (int y = 0; y < h; ++y)
+      givers.for_each_in_row(y, [&](int x) {
+        near.set(x, y);
+        for (unsigned mk = sc.mask[sc.at(x, y)]; mk != 0; mk &= mk - 1) {
+          const int d = std::countr_zero(mk);
+          near.set(x + kDx[d], y + kDy[d]);
+        }
+      });
     changed.clear();
     for_rows(0, h, sc.parallel, sc.threads, [&](int y) {
       std::uint64_t* changed_row = changed.row(y);
