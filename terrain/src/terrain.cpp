@@ -359,6 +359,8 @@ double Terrain::Impl::displace(Scratch& sc) const {
     if (sc.contour[k] > 0)
       order[static_cast<std::size_t>(count[static_cast<std::size_t>(top_level - sc.contour[k])]++)] = k;
 
+  std::size_t off[8];  // neighbour offsets (wrap-around safe: size_t arithmetic modulo 2^64)
+  for (int d = 0; d < 8; ++d) off[d] = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(kDy[d]) * sc.w + kDx[d]);
   double kept = 0.0;
   for (std::size_t k : order) sc.carry[k] = 0.0;
   for (std::size_t k : order) {
@@ -369,15 +371,13 @@ double Terrain::Impl::displace(Scratch& sc) const {
   for (std::size_t k : order) {
     const double carry = sc.carry[k];
     if (carry == 0.0) continue;
-    const int x = static_cast<int>(k % static_cast<std::size_t>(sc.w)),
-              y = static_cast<int>(k / static_cast<std::size_t>(sc.w));
     const int level = sc.contour[k];
     int lower = 0;
-    for (int d = 0; d < 8; ++d)
-      if (sc.contour[sc.at(x + kDx[d], y + kDy[d])] < level) ++lower;
+    for (int d = 0; d < 8; ++d)  // contact columns are interior: neighbours exist
+      if (sc.contour[k + off[d]] < level) ++lower;
     const double share = carry / lower;
     for (int d = 0; d < 8; ++d) {
-      const std::size_t nk = sc.at(x + kDx[d], y + kDy[d]);
+      const std::size_t nk = k + off[d];
       if (sc.contour[nk] >= level) continue;
       if (sc.contour[nk] == 0)
         sc.ht[nk] += share;
@@ -447,21 +447,22 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   ColumnBits& givable = sc.givable;
   ColumnBits& overhang = sc.overhang;
   givable.reset(w, h), overhang.reset(w, h);
-  for (int y = 0; y < h; ++y)
+  for (int y = 0; y < h; ++y) {
+    std::uint64_t* give_row = givable.row(y);
+    std::uint64_t* over_row = overhang.row(y);
     for (int x = 0; x < w; ++x) {
       const std::size_t k = sc.at(x, y);
       const unsigned char f = sc.flags[k];
       sc.mask[k] = 0;
       sc.out[k] = 0.0;
       sc.cover[k] = (f & kCovered) ? 1 : 0;
-      if (f & kContact)
-        sc.cap[k] = 0.0;
-      else if (!(f & kCovered))
-        sc.cap[k] = kInf;
-      else
-        overhang.set(x, y);  // covered columns are interior (see collide)
-      if ((f & (kInterior | kContact)) == kInterior) givable.set(x, y);
+      sc.cap[k] = (f & kContact) ? 0.0 : kInf;  // under a body: set each pass
+      const std::uint64_t bit = std::uint64_t{1} << (x & 63);
+      // covered columns are interior (see collide)
+      if ((f & (kCovered | kContact)) == kCovered) over_row[x >> 6] |= bit;
+      if ((f & (kInterior | kContact)) == kInterior) give_row[x >> 6] |= bit;
     }
+  }
   ColumnBits& cand = sc.cand;
   ColumnBits& changed = sc.changed;
   ColumnBits& givers = sc.givers;
