@@ -500,6 +500,7 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
         int count = 0;
         const double highest = neighbour_extreme(&sc.ht[k], w, [](double a, double b) { return std::max(a, b); });
         if (room > eps && highest - hk > least_give_in)
+#pragma GCC unroll 8
           for (int d = 0; d < 8; ++d) {
             const std::size_t nk = k + off[d];
             if ((sc.flags[nk] & (kInterior | kContact)) != kInterior) continue;
@@ -519,6 +520,7 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
         double excess_sum = 0.0;
         int count = 0;
         unsigned mk = 0, steep_mk = 0;
+#pragma GCC unroll 8
         for (int d = 0; d < 8; ++d) {
           const std::size_t nk = k + off[d];  // interior: neighbours exist
           if (sc.cap[nk] == 0.0) continue;
@@ -537,6 +539,7 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
         if (!(share > 0.0)) return;
         double total = 0.0;
         bool steep_here = false;
+#pragma GCC unroll 8
         for (int d = 0; d < 8; ++d) {
           if (!(mk & (1u << d))) continue;
           const double cap = sc.cap[k + off[d]];
@@ -587,12 +590,14 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
         const double cap = sc.cap[k];
         if (cap > 0.0) {
           if (!edge_row && x > 0 && x < w - 1) {
+#pragma GCC unroll 8
             for (int d = 0; d < 8; ++d) {
               const std::size_t nk = k + off[d];
               // neighbour nk gives toward k along the opposite direction
               if (sc.mask[nk] & (1u << (d ^ 1))) hk += std::min(sc.q[nk], cap);
             }
           } else {
+#pragma GCC unroll 8
             for (int d = 0; d < 8; ++d) {
               const int nx = x + kDx[d], ny = y + kDy[d];
               if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
