@@ -467,6 +467,7 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   ColumnBits& changed = sc.changed;
   ColumnBits& givers = sc.givers;
   ColumnBits& near = sc.near;
+  ColumnBits& recap = sc.recap;
   cand = givable;
   givers.reset(w, h), changed.reset(w, h), near.reset(w, h);
   std::vector<unsigned char>& row_flow = sc.row_flow;
@@ -476,21 +477,23 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
 
   int passes = 0;
   while (passes < s.max_erosion_passes) {
-    if (passes > 0) {
-      // The columns whose flow may differ from the last pass: next to a changed column,
-      // or next to a column under a body whose cap a changed column alters.
-      dilate(changed, near);
-      near.keep(overhang);
+    // Caps to (re)compute: a cap depends only on the heights around its column, so after
+    // the first pass only those next to a changed column. Candidates: the columns whose
+    // flow may differ from the last pass, next to a changed column or to a changed cap.
+    if (passes == 0) {
+      recap = overhang;
+    } else {
+      dilate(changed, recap);
+      recap.keep(overhang);
+      near = recap;
       near.add(changed);
       dilate(near, cand);
       cand.keep(givable);
     }
     // (a) From the old heights: the cap each column under a body puts on what one
     // neighbour may give it, then each giver's share per too-steep neighbour.
-    dilate(cand, near);
-    near.keep(overhang);
     for_rows(0, h, sc.parallel, sc.threads, [&](int y) {
-      near.for_each_in_row(y, [&](int x) {
+      recap.for_each_in_row(y, [&](int x) {
         // Under a body: the room up to the collision surface, split over the columns that
         // will give to this one this pass (the same test the givers make), so it fills in
         // one pass instead of creeping up on the body.
@@ -1006,7 +1009,8 @@ std::size_t Terrain::memory_bytes() const {
 
 std::size_t Scratch::bytes() const {
   const std::size_t bit_words = givable.bits.capacity() + overhang.bits.capacity() + cand.bits.capacity() +
-                                changed.bits.capacity() + givers.bits.capacity() + near.bits.capacity();
+                                changed.bits.capacity() + givers.bits.capacity() + near.bits.capacity() +
+                                recap.bits.capacity();
   return (13 * sizeof(double) + 3 + sizeof(int)) * ht.capacity() + bit_words * sizeof(std::uint64_t);
 }
 

@@ -85,8 +85,8 @@ struct Scratch {
   std::vector<double> e_plain, e_star, e_coll, e_true;
   std::vector<double> disp, carry, q, out, cap;
   std::vector<unsigned char> flags, mask;
-  std::vector<unsigned char> cover;                           ///< erosion: 1 where the column lies under a body
-  ColumnBits givable, overhang, cand, changed, givers, near;  ///< erosion column sets
+  std::vector<unsigned char> cover;                                  ///< erosion: 1 where the column lies under a body
+  ColumnBits givable, overhang, cand, changed, givers, near, recap;  ///< erosion column sets
   std::vector<unsigned char> row_flow, row_steep;
   std::vector<int> contour;
 
