@@ -1,5 +1,5 @@
-// shore_terrain_bench: time per Terrain::step for a boot footprint and a rolling wheel at
-// 1 cm in dry sand, 1 and 2 threads (regions this small run on one thread unless
+// shore_terrain_bench: time per Terrain::step for a boot footprint, a rolling wheel and a
+// towed wheel at 1 cm in dry sand, 1 and 2 threads (regions this small run on one thread unless
 // parallel_min_columns is lowered: the "split" rows force it).
 #include <benchmark/benchmark.h>
 
@@ -15,7 +15,7 @@ void BM_TerrainStep(benchmark::State& state) {
   const bool split = state.range(2) != 0;
   shore::terrain::bench::TerrainCaseResult r;
   for (auto _ : state) {
-    r = shore::terrain::bench::run_terrain_case(c, threads, 400, split);
+    r = shore::terrain::bench::run_terrain_case(c, threads, c == TerrainCase::towed_wheel ? 100 : 400, split);
     state.SetIterationTime(r.ms_per_step * 1e-3);
   }
   state.SetLabel(std::string(r.name) + (split ? " split" : ""));
@@ -28,7 +28,7 @@ void BM_TerrainStep(benchmark::State& state) {
 
 }  // namespace
 
-// Args: case (0 footprint, 1 wheel), threads, split small regions between threads.
+// Args: case (0 footprint, 1 wheel, 2 towed wheel), threads, split small regions between threads.
 BENCHMARK(BM_TerrainStep)
     ->Args({0, 1, 0})
     ->Args({0, 2, 0})
@@ -36,6 +36,8 @@ BENCHMARK(BM_TerrainStep)
     ->Args({1, 1, 0})
     ->Args({1, 2, 0})
     ->Args({1, 2, 1})
+    ->Args({2, 1, 0})
+    ->Args({2, 2, 0})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);

@@ -144,12 +144,15 @@ void Terrain::Impl::for_each_piece(std::int64_t i0, std::int64_t j0, int w, int 
 void Scratch::resize(std::int64_t i0, std::int64_t j0, int width, int height) {
   si0 = i0, sj0 = j0, w = width, h = height;
   const std::size_t size = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
-  for (auto* v :
-       {&ht, &ht_next, &ht_orig, &sink, &bed, &e_plain, &e_star, &e_coll, &e_true, &disp, &carry, &q, &out, &cap})
-    v->assign(size, 0.0);
-  flags.assign(size, 0);
-  mask.assign(size, 0);
-  contour.assign(size, 0);
+  // Every stage writes these before it reads them (gather, rasterize, collide, erode), so
+  // they are only sized here, not cleared: clearing 14 arrays each step cost more than
+  // the rest of a small step's bookkeeping.
+  for (auto* v : {&ht, &ht_orig, &sink, &bed, &e_plain, &e_star, &e_coll, &e_true, &disp, &carry, &q, &out, &cap})
+    v->resize(size);
+  flags.assign(size, 0);  // the halo's flags stay 0: it is neither interior nor covered
+  mask.resize(size);
+  cover.resize(size);
+  contour.resize(size);
 }
 
 void Terrain::Impl::gather(Scratch& sc) {
@@ -192,6 +195,35 @@ void for_rows(int first, int last, bool parallel, int threads, Fn&& fn) {
   for (int y = first; y < last; ++y) fn(y);
 }
 
+// The lowest (highest) of the 8 neighbours of *p in rows of w, as a balanced tree: min and
+// max are exact, so the order does not change the value, only the dependency chain.
+template <class Pick>
+double neighbour_extreme(const double* p, std::ptrdiff_t w, Pick pick) {
+  const double a = pick(p[-1], p[1]), b = pick(p[-w], p[w]);
+  const double c = pick(p[-w - 1], p[w + 1]), d = pick(p[-w + 1], p[w - 1]);
+  return pick(pick(a, b), pick(c, d));
+}
+
+// to = from grown by one column in each of the 8 directions.
+void dilate(const ColumnBits& from, ColumnBits& to) {
+  to.reset(from.w, from.h);
+  const int words = from.words;
+  for (int y = 0; y < from.h; ++y) {
+    const std::uint64_t* mid = from.row(y);
+    const std::uint64_t* up = y > 0 ? from.row(y - 1) : nullptr;
+    const std::uint64_t* down = y + 1 < from.h ? from.row(y + 1) : nullptr;
+    std::uint64_t* t = to.row(y);
+    for (int i = 0; i < words; ++i) t[i] = mid[i] | (up ? up[i] : 0) | (down ? down[i] : 0);
+    std::uint64_t prev = 0;
+    for (int i = 0; i < words; ++i) {
+      const std::uint64_t cur = t[i], next = i + 1 < words ? t[i + 1] : 0;
+      t[i] = cur | (cur << 1) | (prev >> 63) | (cur >> 1) | (next << 63);
+      prev = cur;
+    }
+    t[words - 1] &= from.tail_mask();
+  }
+}
+
 }  // namespace
 
 // Rasterizes the imprints into the region: e_plain / e_star hold the lowest (offset)
@@ -220,15 +252,28 @@ void Terrain::Impl::rasterize(Scratch& sc, std::span<const Imprint> imprints) co
     sc.e_coll = sc.e_true;
     return;
   }
-  for (int y = 0; y < sc.h; ++y)
-    for (int x = 0; x < sc.w; ++x) {
-      double lowest = sc.e_star[sc.at(x, y)];
-      for (int d = 0; d < 8; ++d) {
-        const int nx = x + kDx[d], ny = y + kDy[d];
-        if (nx >= 0 && ny >= 0 && nx < sc.w && ny < sc.h) lowest = std::min(lowest, sc.e_star[sc.at(nx, ny)]);
-      }
-      sc.e_coll[sc.at(x, y)] = std::min(sc.e_plain[sc.at(x, y)], lowest);
+  // Lowest star envelope over each 3 x 3 neighbourhood (clipped to the scratch): the
+  // minimum along x into e_coll, then along y, then the plain envelope.
+  const int w = sc.w, h = sc.h;
+  for (int y = 0; y < h; ++y) {
+    const double* e = &sc.e_star[sc.at(0, y)];
+    double* row = &sc.e_coll[sc.at(0, y)];
+    for (int x = 0; x < w; ++x) {
+      double lowest = e[x];
+      if (x > 0) lowest = std::min(lowest, e[x - 1]);
+      if (x + 1 < w) lowest = std::min(lowest, e[x + 1]);
+      row[x] = lowest;
     }
+  }
+  std::vector<double>& across = sc.carry;  // free until displacement
+  for (int y = 0; y < h; ++y) {
+    const double* mid = &sc.e_coll[sc.at(0, y)];
+    const double* up = y > 0 ? &sc.e_coll[sc.at(0, y - 1)] : mid;
+    const double* down = y + 1 < h ? &sc.e_coll[sc.at(0, y + 1)] : mid;
+    double* out = &across[sc.at(0, y)];
+    for (int x = 0; x < w; ++x) out[x] = std::min(mid[x], std::min(up[x], down[x]));
+  }
+  for (std::size_t k = 0; k < sc.e_coll.size(); ++k) sc.e_coll[k] = std::min(sc.e_plain[k], across[k]);
 }
 
 // Collision: push every column whose top lies above the collision surface down to it
@@ -278,21 +323,20 @@ double Terrain::Impl::collide(Scratch& sc, int& contact_count) const {
 void Terrain::Impl::contour_map(Scratch& sc) const {
   const int big = sc.w + sc.h;
   for (std::size_t k = 0; k < sc.contour.size(); ++k) sc.contour[k] = (sc.flags[k] & kContact) ? big : 0;
-  auto relax = [&](int x, int y, int dx, int dy) {
-    const int nx = x + dx, ny = y + dy;
-    if (nx < 0 || ny < 0 || nx >= sc.w || ny >= sc.h) return;
-    int& c = sc.contour[sc.at(x, y)];
-    c = std::min(c, sc.contour[sc.at(nx, ny)] + 1);
-  };
-  for (int y = 0; y < sc.h; ++y)
-    for (int x = 0; x < sc.w; ++x) {
-      if (!sc.contour[sc.at(x, y)]) continue;
-      relax(x, y, -1, 0), relax(x, y, -1, -1), relax(x, y, 0, -1), relax(x, y, 1, -1);
+  // Only contact columns relax, and they are interior: their neighbours exist.
+  int* c = sc.contour.data();
+  const std::ptrdiff_t w = sc.w;
+  for (int y = 1; y < sc.h - 1; ++y)
+    for (int x = 1; x < sc.w - 1; ++x) {
+      int* p = c + y * w + x;
+      if (!*p) continue;
+      *p = std::min({*p, p[-1] + 1, p[-w - 1] + 1, p[-w] + 1, p[-w + 1] + 1});
     }
-  for (int y = sc.h - 1; y >= 0; --y)
-    for (int x = sc.w - 1; x >= 0; --x) {
-      if (!sc.contour[sc.at(x, y)]) continue;
-      relax(x, y, 1, 0), relax(x, y, 1, 1), relax(x, y, 0, 1), relax(x, y, -1, 1);
+  for (int y = sc.h - 2; y >= 1; --y)
+    for (int x = sc.w - 2; x >= 1; --x) {
+      int* p = c + y * w + x;
+      if (!*p) continue;
+      *p = std::min({*p, p[1] + 1, p[w + 1] + 1, p[w] + 1, p[w - 1] + 1});
     }
 }
 
@@ -315,6 +359,8 @@ double Terrain::Impl::displace(Scratch& sc) const {
     if (sc.contour[k] > 0)
       order[static_cast<std::size_t>(count[static_cast<std::size_t>(top_level - sc.contour[k])]++)] = k;
 
+  std::size_t off[8];  // neighbour offsets (wrap-around safe: size_t arithmetic modulo 2^64)
+  for (int d = 0; d < 8; ++d) off[d] = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(kDy[d]) * sc.w + kDx[d]);
   double kept = 0.0;
   for (std::size_t k : order) sc.carry[k] = 0.0;
   for (std::size_t k : order) {
@@ -325,15 +371,13 @@ double Terrain::Impl::displace(Scratch& sc) const {
   for (std::size_t k : order) {
     const double carry = sc.carry[k];
     if (carry == 0.0) continue;
-    const int x = static_cast<int>(k % static_cast<std::size_t>(sc.w)),
-              y = static_cast<int>(k / static_cast<std::size_t>(sc.w));
     const int level = sc.contour[k];
     int lower = 0;
-    for (int d = 0; d < 8; ++d)
-      if (sc.contour[sc.at(x + kDx[d], y + kDy[d])] < level) ++lower;
+    for (int d = 0; d < 8; ++d)  // contact columns are interior: neighbours exist
+      if (sc.contour[k + off[d]] < level) ++lower;
     const double share = carry / lower;
     for (int d = 0; d < 8; ++d) {
-      const std::size_t nk = sc.at(x + kDx[d], y + kDy[d]);
+      const std::size_t nk = k + off[d];
       if (sc.contour[nk] >= level) continue;
       if (sc.contour[nk] == 0)
         sc.ht[nk] += share;
@@ -358,16 +402,15 @@ double Terrain::Impl::displace(Scratch& sc) const {
 // - passes repeat while material moves and (unless to_rest) some moving pair is steeper
 //   than theta_stop, up to max_erosion_passes (tolerances below); a pair whose flow is
 //   capped by the body above the lower column does not count (the body holds that slope).
+//
+// Work per pass follows the columns that changed. A giver's flow depends only on its own
+// height and its neighbours' heights and caps (a cap under a body depends on that
+// column's neighbours too), so after the first pass only columns whose inputs changed in
+// the last pass are evaluated; any other gives exactly what it gave before: nothing. The sets are bit
+// rows built serially, so they never depend on the thread count.
 int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   const Material& m = s.material;
   const double diag = std::numbers::sqrt2 * s.cell;
-  double thr_out[8], thr_in[8], thr_stop[8];
-  for (int d = 0; d < 8; ++d) {
-    const double dist = d < 4 ? s.cell : diag;
-    thr_out[d] = dist * std::tan(m.theta_out);
-    thr_in[d] = dist * std::tan(m.theta_in);
-    thr_stop[d] = dist * std::tan(m.theta_stop);
-  }
   // Moves of less than 1e-3 cell are ignored, so a relaxing slope comes to rest (within
   // 0.06 degrees of its threshold at most) in a finite number of passes.
   const double eps = 1e-3 * s.cell;
@@ -376,165 +419,209 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   // theta_out, and the excess over a threshold only decays geometrically, so without the
   // margin the last creeping pair would keep the passes going to the cap.
   const double stop_tolerance = 5e-2 * s.cell;
+  // Per direction: [0] toward a column in the open (theta_out), [1] toward one under a body
+  // (theta_in): the limit, and the limit a moving pair must exceed to count as steep.
+  double thr[8][2], steep_limit[8][2], give_in[8];
+  for (int d = 0; d < 8; ++d) {
+    const double dist = d < 4 ? s.cell : diag;
+    thr[d][0] = dist * std::tan(m.theta_out);
+    thr[d][1] = dist * std::tan(m.theta_in);
+    const double stop = dist * std::tan(m.theta_stop);
+    for (int c = 0; c < 2; ++c) steep_limit[d][c] = std::max(thr[d][c], stop) + stop_tolerance;
+    give_in[d] = thr[d][1] + eps;
+  }
+  // The smallest limits: a column less than these above (below) all its neighbours can
+  // neither give nor be given to, so most columns are dismissed without the pair tests.
+  double least_give = kInf, least_give_in = kInf;
+  for (int d = 0; d < 8; ++d) {
+    least_give = std::min({least_give, thr[d][0] + eps, thr[d][1] + eps});
+    least_give_in = std::min(least_give_in, give_in[d]);
+  }
   const double sigma = m.sigma;
-
-  // Work is tracked in blocks of kBlock x kBlock columns. A giver's flow depends on the
-  // heights within two columns of it, so only blocks next to a block that changed in the
-  // last pass can flow in the next one; late passes, when a few columns still creep,
-  // then cost little. The block sets are computed serially, so they never depend on the
-  // thread count.
-  constexpr int kBlock = 4;
-  const int bw = (sc.w + kBlock - 1) / kBlock, bh = (sc.h + kBlock - 1) / kBlock;
-  const std::size_t blocks = static_cast<std::size_t>(bw) * static_cast<std::size_t>(bh);
-  std::vector<unsigned char> active(blocks, 1), near(blocks, 0), changed(blocks, 0), giving(blocks, 0),
-      receiving(blocks, 0);
-  std::vector<unsigned char> row_flow(static_cast<std::size_t>(bh)), row_steep(static_cast<std::size_t>(bh));
-  auto block = [&](int bx, int by) {
-    return static_cast<std::size_t>(by) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(bx);
-  };
-  auto dilate = [&](const std::vector<unsigned char>& from, std::vector<unsigned char>& to) {
-    for (int by = 0; by < bh; ++by)
-      for (int bx = 0; bx < bw; ++bx) {
-        unsigned char any = 0;
-        for (int dy = -1; dy <= 1 && !any; ++dy)
-          for (int dx = -1; dx <= 1 && !any; ++dx) {
-            const int nx = bx + dx, ny = by + dy;
-            if (nx >= 0 && ny >= 0 && nx < bw && ny < bh) any = from[block(nx, ny)];
-          }
-        to[block(bx, by)] = any;
-      }
-  };
-  // Calls fn(x, y, k) for every column of the blocks in `set`, one block row per task.
-  auto for_blocks = [&](const std::vector<unsigned char>& set, auto&& fn) {
-    for_rows(0, bh, sc.parallel, sc.threads, [&](int by) {
-      for (int bx = 0; bx < bw; ++bx) {
-        if (!set[block(bx, by)]) continue;
-        const int x1 = std::min(sc.w, (bx + 1) * kBlock), y1 = std::min(sc.h, (by + 1) * kBlock);
-        for (int y = by * kBlock; y < y1; ++y)
-          for (int x = bx * kBlock; x < x1; ++x) fn(bx, by, x, y, sc.at(x, y));
-      }
-    });
-  };
-  std::fill(sc.mask.begin(), sc.mask.end(), 0);
+  const int w = sc.w, h = sc.h;
   // Neighbour offsets (wrap-around safe: size_t arithmetic modulo 2^64).
   std::size_t off[8];
-  for (int d = 0; d < 8; ++d) off[d] = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(kDy[d]) * sc.w + kDx[d]);
+  for (int d = 0; d < 8; ++d) off[d] = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(kDy[d]) * w + kDx[d]);
+
+  // Fixed for the whole erosion: who may give, and the caps of columns not under a body.
+  ColumnBits& givable = sc.givable;
+  ColumnBits& overhang = sc.overhang;
+  givable.reset(w, h), overhang.reset(w, h);
+  for (int y = 0; y < h; ++y) {
+    std::uint64_t* give_row = givable.row(y);
+    std::uint64_t* over_row = overhang.row(y);
+    for (int x = 0; x < w; ++x) {
+      const std::size_t k = sc.at(x, y);
+      const unsigned char f = sc.flags[k];
+      sc.mask[k] = 0;
+      sc.out[k] = 0.0;
+      sc.cover[k] = (f & kCovered) ? 1 : 0;
+      sc.cap[k] = (f & kContact) ? 0.0 : kInf;  // under a body: set each pass
+      const std::uint64_t bit = std::uint64_t{1} << (x & 63);
+      // covered columns are interior (see collide)
+      if ((f & (kCovered | kContact)) == kCovered) over_row[x >> 6] |= bit;
+      if ((f & (kInterior | kContact)) == kInterior) give_row[x >> 6] |= bit;
+    }
+  }
+  ColumnBits& cand = sc.cand;
+  ColumnBits& changed = sc.changed;
+  ColumnBits& givers = sc.givers;
+  ColumnBits& near = sc.near;
+  ColumnBits& recap = sc.recap;
+  cand = givable;
+  givers.reset(w, h), changed.reset(w, h), near.reset(w, h);
+  std::vector<unsigned char>& row_flow = sc.row_flow;
+  std::vector<unsigned char>& row_steep = sc.row_steep;
+  row_flow.assign(static_cast<std::size_t>(h), 0);
+  row_steep.assign(static_cast<std::size_t>(h), 0);
 
   int passes = 0;
   while (passes < s.max_erosion_passes) {
-    dilate(active, near);
-    // (a) From the old heights: the cap each column puts on what one neighbour may give
-    // it, then each giver's share per too-steep neighbour.
-    for_blocks(near, [&](int, int, int x, int y, std::size_t k) {
-      const unsigned char f = sc.flags[k];
-      if (f & kContact) {
-        sc.cap[k] = 0.0;
-      } else if (!(f & kCovered)) {
-        sc.cap[k] = kInf;
-      } else {
+    // Caps to (re)compute: a cap depends only on the heights around its column, so after
+    // the first pass only those next to a changed column. Candidates: the columns whose
+    // flow may differ from the last pass, next to a changed column or to a changed cap.
+    if (passes == 0) {
+      recap = overhang;
+    } else {
+      dilate(changed, recap);
+      recap.keep(overhang);
+      near = recap;
+      near.add(changed);
+      dilate(near, cand);
+      cand.keep(givable);
+    }
+    // (a) From the old heights: the cap each column under a body puts on what one
+    // neighbour may give it, then each giver's share per too-steep neighbour.
+    for_rows(0, h, sc.parallel, sc.threads, [&](int y) {
+      recap.for_each_in_row(y, [&](int x) {
         // Under a body: the room up to the collision surface, split over the columns that
         // will give to this one this pass (the same test the givers make), so it fills in
         // one pass instead of creeping up on the body.
-        const double room = sc.e_coll[k] - sc.ht[k];
-        int givers = 0;
-        if (room > eps)
+        const std::size_t k = sc.at(x, y);
+        const double hk = sc.ht[k];
+        const double room = sc.e_coll[k] - hk;
+        int count = 0;
+        const double highest = neighbour_extreme(&sc.ht[k], w, [](double a, double b) { return std::max(a, b); });
+        if (room > eps && highest - hk > least_give_in)
+#pragma GCC unroll 8
           for (int d = 0; d < 8; ++d) {
-            const int nx = x + kDx[d], ny = y + kDy[d];
-            if (nx < 0 || ny < 0 || nx >= sc.w || ny >= sc.h) continue;
-            const std::size_t nk = sc.at(nx, ny);
+            const std::size_t nk = k + off[d];
             if ((sc.flags[nk] & (kInterior | kContact)) != kInterior) continue;
-            if (sc.ht[nk] - sc.ht[k] > thr_in[d] + eps) ++givers;
+            if (sc.ht[nk] - hk > give_in[d]) ++count;
           }
-        sc.cap[k] = givers > 0 ? room / givers : 0.0;
-      }
+        sc.cap[k] = count > 0 ? room / count : 0.0;
+      });
     });
-    std::fill(row_flow.begin(), row_flow.end(), 0);
-    std::fill(row_steep.begin(), row_steep.end(), 0);
-    std::fill(giving.begin(), giving.end(), 0);
-    for_blocks(active, [&](int bx, int by, int, int, std::size_t k) {
-      sc.mask[k] = 0;
-      sc.out[k] = 0.0;
-      if ((sc.flags[k] & (kInterior | kContact)) != kInterior) return;
-      const double h0 = sc.ht[k];
-      double excess_sum = 0.0;
-      int count = 0;
-      unsigned char mk = 0, steep_mk = 0;
-      for (int d = 0; d < 8; ++d) {
-        const std::size_t nk = k + off[d];  // interior: neighbours exist
-        if (sc.cap[nk] == 0.0) continue;
-        const double diff = h0 - sc.ht[nk];
-        const double thr = (sc.flags[nk] & kCovered) ? thr_in[d] : thr_out[d];
-        if (!(diff > thr + eps)) continue;
-        excess_sum += diff - thr;
-        ++count;
-        mk = static_cast<unsigned char>(mk | (1u << d));
-        if (diff > std::max(thr, thr_stop[d]) + stop_tolerance)
-          steep_mk = static_cast<unsigned char>(steep_mk | (1u << d));
-      }
-      if (count == 0) return;
-      double share = sigma * (excess_sum / count) / count;
-      share = std::min(share, std::max(0.0, h0 - sc.bed[k]) / count);
-      if (!(share > 0.0)) return;
-      double total = 0.0;
-      bool steep_here = false;
-      for (int d = 0; d < 8; ++d) {
-        if (!(mk & (1u << d))) continue;
-        const double cap = sc.cap[k + off[d]];
-        total += std::min(share, cap);
-        // A pair whose flow the body caps (the column under it is full) stays steep: the
-        // body holds that slope, erosion cannot relax it.
-        steep_here = steep_here || ((steep_mk & (1u << d)) && cap >= share);
-      }
-      if (!(total > 0.0)) return;
-      sc.q[k] = share;
-      sc.mask[k] = mk;
-      sc.out[k] = total;
-      row_flow[static_cast<std::size_t>(by)] = 1;  // only this block row's task writes it
-      giving[block(bx, by)] = 1;
-      if (steep_here) row_steep[static_cast<std::size_t>(by)] = 1;
+    for_rows(0, h, sc.parallel, sc.threads, [&](int y) {
+      std::uint64_t* giver_row = givers.row(y);
+      bool flow = false, steep = false;
+      cand.for_each_in_row(y, [&](int x) {
+        const std::size_t k = sc.at(x, y);
+        const double h0 = sc.ht[k];
+        const double lowest = neighbour_extreme(&sc.ht[k], w, [](double a, double b) { return std::min(a, b); });
+        if (!(h0 - lowest > least_give)) return;
+        double excess_sum = 0.0;
+        int count = 0;
+        unsigned mk = 0, steep_mk = 0;
+#pragma GCC unroll 8
+        for (int d = 0; d < 8; ++d) {
+          const std::size_t nk = k + off[d];  // interior: neighbours exist
+          if (sc.cap[nk] == 0.0) continue;
+          const double diff = h0 - sc.ht[nk];
+          const int c = sc.cover[nk];
+          const double t = thr[d][c];
+          if (!(diff > t + eps)) continue;
+          excess_sum += diff - t;
+          ++count;
+          mk |= 1u << d;
+          if (diff > steep_limit[d][c]) steep_mk |= 1u << d;
+        }
+        if (count == 0) return;
+        double share = sigma * (excess_sum / count) / count;
+        share = std::min(share, std::max(0.0, h0 - sc.bed[k]) / count);
+        if (!(share > 0.0)) return;
+        double total = 0.0;
+        bool steep_here = false;
+#pragma GCC unroll 8
+        for (int d = 0; d < 8; ++d) {
+          if (!(mk & (1u << d))) continue;
+          const double cap = sc.cap[k + off[d]];
+          total += std::min(share, cap);
+          // A pair whose flow the body caps (the column under it is full) stays steep: the
+          // body holds that slope, erosion cannot relax it.
+          steep_here = steep_here || ((steep_mk & (1u << d)) && cap >= share);
+        }
+        if (!(total > 0.0)) return;
+        sc.q[k] = share;
+        sc.mask[k] = static_cast<unsigned char>(mk);
+        sc.out[k] = total;
+        giver_row[x >> 6] |= std::uint64_t{1} << (x & 63);
+        flow = true;
+        steep = steep || steep_here;
+      });
+      row_flow[static_cast<std::size_t>(y)] = flow;  // only this row's task writes it
+      row_steep[static_cast<std::size_t>(y)] = steep;
     });
     bool flow = false, steep = false;
-    for (int by = 0; by < bh; ++by) {
-      flow = flow || row_flow[static_cast<std::size_t>(by)];
-      steep = steep || row_steep[static_cast<std::size_t>(by)];
+    for (int y = 0; y < h; ++y) {
+      flow = flow || row_flow[static_cast<std::size_t>(y)];
+      steep = steep || row_steep[static_cast<std::size_t>(y)];
     }
     if (!flow) break;
     if (passes > 0 && !steep && !to_rest) break;
-    // (b) Every column near a giver takes what it gave off and gathers what its
-    // neighbours gave it. In place: a column's update reads only its own height and the
+    // (b) Every giver and receiver takes what it gave off and gathers what its neighbours
+    // gave it. In place: a column's update reads only its own height and the
     // shares, caps and masks fixed in (a).
-    std::fill(changed.begin(), changed.end(), 0);
-    dilate(giving, receiving);
-    for_blocks(receiving, [&](int bx, int by, int x, int y, std::size_t k) {
-      const double old = sc.ht[k];
-      double hk = old - sc.out[k];
-      const double cap = sc.cap[k];
-      if (cap > 0.0) {
-        if (x > 0 && y > 0 && x < sc.w - 1 && y < sc.h - 1) {
-          for (int d = 0; d < 8; ++d) {
-            const std::size_t nk = k + off[d];
-            // neighbour nk gives toward k along the opposite direction
-            if (sc.mask[nk] & (1u << (d ^ 1))) hk += std::min(sc.q[nk], cap);
-          }
-        } else {
-          for (int d = 0; d < 8; ++d) {
-            const int nx = x + kDx[d], ny = y + kDy[d];
-            if (nx < 0 || ny < 0 || nx >= sc.w || ny >= sc.h) continue;
-            const std::size_t nk = sc.at(nx, ny);
-            if (sc.mask[nk] & (1u << (d ^ 1))) hk += std::min(sc.q[nk], cap);
+    // The columns that change: the givers and the neighbours they give to.
+    near.clear();
+    for (int y = 0; y < h; ++y)
+      givers.for_each_in_row(y, [&](int x) {
+        near.set(x, y);
+        for (unsigned mk = sc.mask[sc.at(x, y)]; mk != 0; mk &= mk - 1) {
+          const int d = std::countr_zero(mk);
+          near.set(x + kDx[d], y + kDy[d]);
+        }
+      });
+    changed.clear();
+    for_rows(0, h, sc.parallel, sc.threads, [&](int y) {
+      std::uint64_t* changed_row = changed.row(y);
+      const bool edge_row = y == 0 || y == h - 1;
+      near.for_each_in_row(y, [&](int x) {
+        const std::size_t k = sc.at(x, y);
+        const double old = sc.ht[k];
+        double hk = old - sc.out[k];
+        const double cap = sc.cap[k];
+        if (cap > 0.0) {
+          if (!edge_row && x > 0 && x < w - 1) {
+#pragma GCC unroll 8
+            for (int d = 0; d < 8; ++d) {
+              const std::size_t nk = k + off[d];
+              // neighbour nk gives toward k along the opposite direction
+              if (sc.mask[nk] & (1u << (d ^ 1))) hk += std::min(sc.q[nk], cap);
+            }
+          } else {
+#pragma GCC unroll 8
+            for (int d = 0; d < 8; ++d) {
+              const int nx = x + kDx[d], ny = y + kDy[d];
+              if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+              const std::size_t nk = sc.at(nx, ny);
+              if (sc.mask[nk] & (1u << (d ^ 1))) hk += std::min(sc.q[nk], cap);
+            }
           }
         }
-      }
-      if (hk != old) {
-        sc.ht[k] = hk;
-        changed[block(bx, by)] = 1;  // only this block row's task writes it
-      }
+        if (hk != old) {
+          sc.ht[k] = hk;
+          changed_row[x >> 6] |= std::uint64_t{1} << (x & 63);
+        }
+      });
     });
-    for_blocks(active, [&](int, int, int, int, std::size_t k) {
-      sc.mask[k] = 0;
-      sc.out[k] = 0.0;
-    });
-    dilate(changed, active);
+    for (int y = 0; y < h; ++y)
+      givers.for_each_in_row(y, [&](int x) {
+        const std::size_t k = sc.at(x, y);
+        sc.mask[k] = 0;
+        sc.out[k] = 0.0;
+      });
+    givers.clear();
     ++passes;
   }
   return passes;
@@ -739,27 +826,40 @@ StepReport Terrain::relax(const ColumnRect& region) {
 
 // ---- bearing -------------------------------------------------------------------------
 
-Terrain::Impl::BearingInput Terrain::Impl::bearing_input(const EnvelopeRaster& env) const {
+// Row by row, one tile lookup per run of columns in the same tile. With only_touching, a
+// column is kept only if the envelope lowered by `offset` touches it (bearing at one
+// offset needs no others).
+Terrain::Impl::BearingInput Terrain::Impl::bearing_input(const EnvelopeRaster& env, bool only_touching,
+                                                         double offset) const {
   BearingInput in;
-  const Tile* cached = nullptr;
-  TileKey cached_key{std::numeric_limits<std::int64_t>::min(), 0};
-  for (int y = 0; y < env.ny; ++y)
-    for (int x = 0; x < env.nx; ++x) {
-      const double lower = env.lower[static_cast<std::size_t>(y) * env.nx + x];
-      if (lower == kInf) continue;
-      const std::int64_t i = env.i0 + x, j = env.j0 + y;
-      const TileKey key = key_of(i, j);
-      if (!(key == cached_key)) cached = find(key), cached_key = key;
-      BearingColumn c{i, j, 0, 0, 0, lower};
-      if (cached) {
-        const std::size_t k = local(i, j);
-        c.top = cached->height[k], c.sink = cached->sinkage[k], c.bed = cached->base[k] - s.material.soil_depth;
-      } else {
-        const double b = base_at(i, j);
-        c.top = b, c.sink = 0.0, c.bed = b - s.material.soil_depth;
+  const double depth = s.material.soil_depth, tol = s.contact_tolerance;
+  for (int y = 0; y < env.ny; ++y) {
+    const std::int64_t j = env.j0 + y;
+    const std::int64_t ty = floor_div(j, n);
+    const std::size_t row = static_cast<std::size_t>(j - ty * n) * static_cast<std::size_t>(n);
+    const double* lower = env.lower.data() + static_cast<std::size_t>(y) * env.nx;
+    for (int x = 0; x < env.nx;) {
+      const std::int64_t i = env.i0 + x;
+      const std::int64_t tx = floor_div(i, n);
+      const int run = static_cast<int>(std::min<std::int64_t>(env.nx - x, (tx + 1) * n - i));
+      const Tile* t = find({tx, ty});
+      for (int r = 0; r < run; ++r) {
+        const double e = lower[x + r];
+        if (e == kInf) continue;
+        BearingColumn c{i + r, j, 0, 0, 0, e};
+        if (t) {
+          const std::size_t k = row + static_cast<std::size_t>(i + r - tx * n);
+          c.top = t->height[k], c.sink = t->sinkage[k], c.bed = t->base[k] - depth;
+        } else {
+          const double b = base_at(i + r, j);
+          c.top = b, c.sink = 0.0, c.bed = b - depth;
+        }
+        if (only_touching && !(e - offset <= c.top + tol)) continue;
+        in.columns.push_back(c);
       }
-      in.columns.push_back(c);
+      x += run;
     }
+  }
   return in;
 }
 
@@ -800,7 +900,7 @@ Bearing Terrain::Impl::capacity(const BearingInput& in, double offset, bool with
 Bearing Terrain::bearing(const EnvelopeRaster& envelope, double offset) const {
   check_envelope(&envelope, "terrain.Terrain.bearing.envelope");
   Check{"terrain.Terrain.bearing"}.non_negative("offset", offset);
-  return impl_->capacity(impl_->bearing_input(envelope), offset, true);
+  return impl_->capacity(impl_->bearing_input(envelope, true, offset), offset, true);
 }
 
 // Solves capacity(offset) = load. Capacity grows with the offset (more columns touch,
@@ -810,7 +910,7 @@ Bearing Terrain::bearing(const EnvelopeRaster& envelope, double offset) const {
 double Terrain::bearing_offset(const EnvelopeRaster& envelope, double load) const {
   check_envelope(&envelope, "terrain.Terrain.bearing_offset.envelope");
   Check{"terrain.Terrain.bearing_offset"}.non_negative("load", load);
-  const Impl::BearingInput in = impl_->bearing_input(envelope);
+  const Impl::BearingInput in = impl_->bearing_input(envelope, false, 0.0);
   if (in.columns.empty()) return 0.0;  // the body covers no column: nothing to sink into
   auto f = [&](double o) { return impl_->capacity(in, o, false).capacity - load; };
   double f_lo = f(0.0);
@@ -907,6 +1007,11 @@ std::size_t Terrain::memory_bytes() const {
          impl_->scratch.bytes() + impl_->dirty_keys.capacity() * sizeof(TileKey);
 }
 
-std::size_t Scratch::bytes() const { return (14 * sizeof(double) + 2 + sizeof(int)) * ht.capacity(); }
+std::size_t Scratch::bytes() const {
+  const std::size_t bit_words = givable.bits.capacity() + overhang.bits.capacity() + cand.bits.capacity() +
+                                changed.bits.capacity() + givers.bits.capacity() + near.bits.capacity() +
+                                recap.bits.capacity();
+  return (13 * sizeof(double) + 3 + sizeof(int)) * ht.capacity() + bit_words * sizeof(std::uint64_t);
+}
 
 }  // namespace shore::terrain

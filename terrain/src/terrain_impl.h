@@ -1,6 +1,8 @@
 #pragma once
 // Private: the storage behind shore::terrain::Terrain (tiles, scratch, bookkeeping).
 
+#include <algorithm>
+#include <bit>
 #include <compare>
 #include <cstdint>
 #include <memory>
@@ -40,16 +42,52 @@ struct Tile {
 
 enum : unsigned char { kInterior = 1, kCovered = 2, kContact = 4 };
 
+/// One bit per column of a w x h scratch, row by row; bits past a row's end stay clear.
+struct ColumnBits {
+  int w = 0, h = 0, words = 0;  ///< words: 64-bit words per row
+  std::vector<std::uint64_t> bits;
+
+  void reset(int width, int height) {
+    w = width, h = height, words = (width + 63) / 64;
+    bits.assign(static_cast<std::size_t>(words) * static_cast<std::size_t>(height), 0);
+  }
+  void clear() { std::fill(bits.begin(), bits.end(), 0); }
+  [[nodiscard]] std::uint64_t* row(int y) { return bits.data() + static_cast<std::size_t>(y) * words; }
+  [[nodiscard]] const std::uint64_t* row(int y) const { return bits.data() + static_cast<std::size_t>(y) * words; }
+  void set(int x, int y) { row(y)[x >> 6] |= std::uint64_t{1} << (x & 63); }
+  [[nodiscard]] std::uint64_t tail_mask() const {
+    return (w & 63) ? (std::uint64_t{1} << (w & 63)) - 1 : ~std::uint64_t{0};
+  }
+  /// this &= other (same size)
+  void keep(const ColumnBits& other) {
+    for (std::size_t k = 0; k < bits.size(); ++k) bits[k] &= other.bits[k];
+  }
+  /// this |= other (same size)
+  void add(const ColumnBits& other) {
+    for (std::size_t k = 0; k < bits.size(); ++k) bits[k] |= other.bits[k];
+  }
+  /// Calls fn(x) for every set column of row y, left to right.
+  template <class Fn>
+  void for_each_in_row(int y, Fn&& fn) const {
+    const std::uint64_t* r = row(y);
+    for (int i = 0; i < words; ++i)
+      for (std::uint64_t word = r[i]; word != 0; word &= word - 1) fn(i * 64 + std::countr_zero(word));
+  }
+};
+
 /// The active region plus a one-column halo, gathered into dense arrays.
 struct Scratch {
   std::int64_t si0 = 0, sj0 = 0;  ///< global column of scratch (0, 0)
   int w = 0, h = 0;
   bool parallel = false;
   int threads = 1;
-  std::vector<double> ht, ht_next, ht_orig, sink, bed;
+  std::vector<double> ht, ht_orig, sink, bed;
   std::vector<double> e_plain, e_star, e_coll, e_true;
   std::vector<double> disp, carry, q, out, cap;
   std::vector<unsigned char> flags, mask;
+  std::vector<unsigned char> cover;                                  ///< erosion: 1 where the column lies under a body
+  ColumnBits givable, overhang, cand, changed, givers, near, recap;  ///< erosion column sets
+  std::vector<unsigned char> row_flow, row_steep;
   std::vector<int> contour;
 
   void resize(std::int64_t i0, std::int64_t j0, int width, int height);
@@ -100,7 +138,7 @@ struct Terrain::Impl {
   struct BearingInput {
     std::vector<BearingColumn> columns;  ///< covered columns, window order
   };
-  [[nodiscard]] BearingInput bearing_input(const EnvelopeRaster& env) const;
+  [[nodiscard]] BearingInput bearing_input(const EnvelopeRaster& env, bool only_touching, double offset) const;
   [[nodiscard]] Bearing capacity(const BearingInput& in, double offset, bool with_columns) const;
 };
 
