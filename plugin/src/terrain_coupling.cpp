@@ -22,6 +22,16 @@ bool finite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v
 
 }  // namespace
 
+namespace {
+/// The body's true shape, without Bullet's collision margin: Shore, not Bullet, makes the
+/// contact of added bodies with soft soil (and a sharp cylinder rasterizes in closed form).
+EnvelopeOptions nominal_solid() {
+  EnvelopeOptions o;
+  o.include_margin = false;
+  return o;
+}
+}  // namespace
+
 void TerrainCouplingSettings::validate() const {
   tiles.validate();
   const Check c{"bullet.TerrainCouplingSettings"};
@@ -36,7 +46,7 @@ TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrai
       settings_(std::move(settings)),
       tiles_(world, soil, settings_.tiles),
       rasterizer_(EnvelopeGrid{soil.settings().origin_x, soil.settings().origin_y, soil.settings().cell},
-                  EnvelopeOptions{}) {
+                  nominal_solid()) {
   settings_.validate();
   const Region& r = settings_.region;
   tiles_.set_region(r.x0, r.y0, r.x1, r.y1);
@@ -171,12 +181,13 @@ bool TerrainCoupling::react(Body& b, double h) {
 void TerrainCoupling::keep_above_bedrock(Body& b) {
   // A body driven below bedrock within one substep (a very fast impact) is lifted back.
   EnvelopeRaster& env = b.envelope;
+  if (env.nx <= 0 || env.ny <= 0) return;
+  base_scratch_.resize(env.lower.size());
+  soil_.base_heights({env.i0, env.j0, env.nx, env.ny}, base_scratch_);
+  const double soil_depth = soil_.settings().material.soil_depth;
   double depth = 0.0;
-  for (int y = 0; y < env.ny; ++y)
-    for (int x = 0; x < env.nx; ++x) {
-      const std::size_t k = std::size_t(y) * std::size_t(env.nx) + std::size_t(x);
-      if (env.covers(k)) depth = std::max(depth, soil_.bedrock(env.i0 + x, env.j0 + y) - env.lower[k]);
-    }
+  for (std::size_t k = 0; k < env.lower.size(); ++k)
+    if (env.covers(k)) depth = std::max(depth, base_scratch_[k] - soil_depth - env.lower[k]);
   if (depth <= 0.0) return;
   btRigidBody& body = *b.body;
   btTransform t = body.getCenterOfMassTransform();
@@ -192,28 +203,27 @@ void TerrainCoupling::keep_above_bedrock(Body& b) {
 
 btVector3 TerrainCoupling::apply_soil_impulse(Body& b, const terrain::Bearing& bearing, double impulse,
                                               const btVector3& com) {
-  btRigidBody& body = *b.body;
-  const EnvelopeRaster& env = b.envelope;
-  // Per column, in proportion to the force it bears; returns the bearing-weighted centre.
-  double weight = 0.0;
-  btVector3 centre(0, 0, 0);
+  // Each contact column pushes up in proportion to the force it bears. Vertical impulses
+  // at many points add up exactly to their sum at their weighted centre (same linear and
+  // angular impulse), so one impulse is applied there: the bearing centre, not the centre
+  // of mass (rigid-ground style impulses through the middle make boxes rock).
   // Columns on bedrock carry everything (infinite force): they share it equally; on fresh
   // soil (no capacity yet) the plain centre of the patch is used.
+  const EnvelopeRaster& env = b.envelope;
   const bool on_bedrock = !std::isfinite(bearing.capacity);
-  auto weight_of = [&](const terrain::ColumnForce& c) {
-    if (on_bedrock) return std::isfinite(c.force) ? 0.0 : 1.0;
-    return bearing.capacity > 0.0 ? c.force : 1.0;
-  };
-  for (const terrain::ColumnForce& c : bearing.columns) weight += weight_of(c);
-  if (weight <= 0.0) return com;
+  double weight = 0.0, cx = 0.0, cy = 0.0, cz = 0.0;
   for (const terrain::ColumnForce& c : bearing.columns) {
-    const double w = weight_of(c);
+    const double w = on_bedrock ? (std::isfinite(c.force) ? 0.0 : 1.0) : (bearing.capacity > 0.0 ? c.force : 1.0);
     if (w <= 0.0) continue;
     const double z = env.contains(c.i, c.j) ? env.lower[env.index(c.i, c.j)] : double(com.z());
-    const btVector3 at(btScalar(soil_.column_x(c.i)), btScalar(soil_.column_y(c.j)), btScalar(z));
-    if (impulse > 0.0) body.applyImpulse(btVector3(0, 0, btScalar(impulse * w / weight)), at - com);
-    centre += at * btScalar(w / weight);
+    cx += w * soil_.column_x(c.i);
+    cy += w * soil_.column_y(c.j);
+    cz += w * z;
+    weight += w;
   }
+  if (weight <= 0.0) return com;
+  const btVector3 centre(btScalar(cx / weight), btScalar(cy / weight), btScalar(cz / weight));
+  if (impulse > 0.0) b.body->applyImpulse(btVector3(0, 0, btScalar(impulse)), centre - com);
   return centre;
 }
 

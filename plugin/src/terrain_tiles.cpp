@@ -120,11 +120,16 @@ std::int64_t TerrainTiles::copy_rect(Tile& tile, std::int64_t ci0, std::int64_t 
   const std::int64_t a0 = std::max<std::int64_t>(ci0 - tile.i0, 0), a1 = std::min<std::int64_t>(ci1 - tile.i0, T);
   const std::int64_t b0 = std::max<std::int64_t>(cj0 - tile.j0, 0), b1 = std::min<std::int64_t>(cj1 - tile.j0, T);
   const double cap = settings_.max_rise_per_substep;
+  if (a0 > a1 || b0 > b1) return 0;
+  const terrain::ColumnRect rect{tile.i0 + a0, tile.j0 + b0, int(a1 - a0 + 1), int(b1 - b0 + 1)};
+  scratch_.resize(static_cast<std::size_t>(rect.nx) * static_cast<std::size_t>(rect.ny));
+  soil_.heights(rect, scratch_);
   std::int64_t written = 0;
   for (std::int64_t b = b0; b <= b1; ++b)
     for (std::int64_t a = a0; a <= a1; ++a) {
       const int ia = static_cast<int>(a), ib = static_cast<int>(b);
-      const double target = soil_.height(tile.i0 + a, tile.j0 + b);
+      const double target = scratch_[static_cast<std::size_t>(b - b0) * static_cast<std::size_t>(rect.nx) +
+                                     static_cast<std::size_t>(a - a0)];
       const double now = tile.field->height(ia, ib);
       double next = target;
       if (target > now + cap) {  // raised ground may not jump over a body

@@ -752,6 +752,31 @@ double Terrain::height(std::int64_t i, std::int64_t j) const {
   const Tile* t = impl_->find(impl_->key_of(i, j));
   return t ? t->height[impl_->local(i, j)] : impl_->base_at(i, j);
 }
+void Terrain::heights(const ColumnRect& r, std::span<double> out) const { read_rect(r, out, false); }
+void Terrain::base_heights(const ColumnRect& r, std::span<double> out) const { read_rect(r, out, true); }
+
+void Terrain::read_rect(const ColumnRect& r, std::span<double> out, bool base) const {
+  if (r.nx < 0 || r.ny < 0 || out.size() != static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny))
+    throw InvalidSetting("terrain.Terrain.heights(out).size", detail::to_text(out.size()),
+                         "must be nx * ny of the rectangle");
+  const std::int64_t n = impl_->n;
+  std::size_t k = 0;
+  for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
+    for (std::int64_t i = r.i0; i < r.i0 + r.nx;) {
+      // One lookup per run of columns inside one tile; the local index then steps by one.
+      const TileKey key = impl_->key_of(i, j);
+      const std::int64_t run_end = std::min<std::int64_t>(r.i0 + r.nx, (key.tx + 1) * n);
+      const Tile* t = impl_->find(key);
+      if (t) {
+        const std::vector<double>& field = base ? t->base : t->height;
+        std::size_t local = impl_->local(i, j);
+        for (; i < run_end; ++i) out[k++] = field[local++];
+      } else {
+        for (; i < run_end; ++i) out[k++] = impl_->base_at(i, j);
+      }
+    }
+}
+
 double Terrain::sinkage(std::int64_t i, std::int64_t j) const {
   const Tile* t = impl_->find(impl_->key_of(i, j));
   return t ? t->sinkage[impl_->local(i, j)] : 0.0;

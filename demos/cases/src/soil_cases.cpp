@@ -22,6 +22,7 @@ terrain::TerrainSettings soil_settings(const SoilRun& run) {
   s.cell = run.cell;
   s.material = run.material;
   s.threads = run.threads;
+  s.max_erosion_passes = run.max_erosion_passes;
   return s;
 }
 

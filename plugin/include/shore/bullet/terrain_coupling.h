@@ -127,18 +127,15 @@ class TerrainCoupling : public btActionInterface {
   void clip_to_region(EnvelopeRaster& env) const;
   /// The momentum rule for one dynamic body; returns true if the soil yielded.
   bool react(Body& b, double substep);
-  /// The soil's vertical impulse per contact column; returns the bearing-weighted centre.
+  /// The soil's vertical impulse, at the bearing-weighted centre of the contact columns
+  /// (equivalent to one impulse per column); returns that centre.
   btVector3 apply_soil_impulse(Body& b, const terrain::Bearing& bearing, double impulse, const btVector3& com);
   void apply_friction(btRigidBody& body, const btVector3& arm, double normal_impulse);
   void rescue_fallen_bodies();
   void keep_above_bedrock(Body& b);
   void wake_bodies_over(const std::vector<terrain::ColumnRect>& changed);
 
-  struct ContactImpulse {
-    btVector3 arm;      // contact point relative to the centre of mass
-    btVector3 impulse;  // what Bullet applied there that the soil replaces, N s
-  };
-  std::vector<ContactImpulse> bullet_impulses_;
+  std::vector<double> base_scratch_;  // untouched ground under an envelope
 
   btDiscreteDynamicsWorld& world_;
   terrain::Terrain& soil_;

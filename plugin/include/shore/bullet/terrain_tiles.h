@@ -79,6 +79,7 @@ class TerrainTiles {
   std::int64_t clamped_ = 0;
   double region_[4] = {-1e30, -1e30, 1e30, 1e30};
   int group_ = btBroadphaseProxy::StaticFilter;
+  std::vector<double> scratch_;  // heights of the rectangle being copied
 };
 
 }  // namespace SHORE_BULLET_ABI

@@ -145,6 +145,11 @@ class Terrain {
   // ---- state of one column ----
   [[nodiscard]] double height(std::int64_t i, std::int64_t j) const;       ///< collision surface, m
   [[nodiscard]] double sinkage(std::int64_t i, std::int64_t j) const;      ///< plastic sinkage, m, >= 0
+  /// Heights of a rectangle of columns, row-major (out.size() == nx * ny): the bulk form of
+  /// height(), one tile lookup per run of columns. Throws InvalidSetting on a size mismatch.
+  void heights(const ColumnRect& rect, std::span<double> out) const;
+  /// Untouched ground heights of a rectangle, like heights() (bedrock = base - soil depth).
+  void base_heights(const ColumnRect& rect, std::span<double> out) const;
   [[nodiscard]] double base_height(std::int64_t i, std::int64_t j) const;  ///< untouched ground, m
   [[nodiscard]] double bedrock(std::int64_t i, std::int64_t j) const;      ///< base height - soil depth, m
   /// Writes a height directly (editing tools, tests); keeps volume accounting in step: the
@@ -196,6 +201,7 @@ class Terrain {
   static Terrain load(const std::filesystem::path& file, std::shared_ptr<const HeightSource> base = nullptr);
 
  private:
+  void read_rect(const ColumnRect& rect, std::span<double> out, bool base) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

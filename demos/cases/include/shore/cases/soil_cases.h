@@ -7,6 +7,7 @@
 #include <string>
 
 #include "shore/terrain/material.h"
+#include "shore/terrain/terrain.h"
 
 namespace shore::cases {
 
@@ -16,6 +17,7 @@ struct SoilRun {
   double cell = 0.01;           ///< m, soil column spacing
   double substep = 1.0 / 240;   ///< s, Bullet's fixed substep
   int threads = 1;              ///< OpenMP threads of the soil
+  int max_erosion_passes = terrain::TerrainSettings{}.max_erosion_passes;  ///< erosion pass cap per substep
 };
 
 /// Results common to every case.
