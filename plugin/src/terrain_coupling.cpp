@@ -129,6 +129,14 @@ void TerrainCoupling::cover_bodies(double substep) {
   }
 }
 
+bool TerrainCoupling::overlaps_region(const btRigidBody& body) const {
+  const Region& r = settings_.region;
+  btVector3 lo, hi;
+  body.getCollisionShape()->getAabb(body.getWorldTransform(), lo, hi);
+  const double pad = soil_.settings().cell;
+  return hi.x() + pad >= r.x0 && lo.x() - pad <= r.x1 && hi.y() + pad >= r.y0 && lo.y() - pad <= r.y1;
+}
+
 void TerrainCoupling::rasterize(Body& b) {
   rasterizer_.rasterize(*b.body->getCollisionShape(), b.body->getWorldTransform(), b.envelope);
   clip_to_region(b.envelope);
@@ -305,6 +313,10 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
       continue;
     }
     if (!b.settings.deform) continue;
+    if (!overlaps_region(body)) {  // nothing to do here (another soil's region, say)
+      b.envelope.lower.clear();
+      continue;
+    }
     const btVector3 v = body.getLinearVelocity();
     if (!body.isStaticOrKinematicObject() && body.isActive() && !rigid_) {
       t0 = Clock::now();

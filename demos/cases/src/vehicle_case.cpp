@@ -70,7 +70,9 @@ VehicleResult run_vehicle(const VehicleCase& c) {
     wheels[k]->setFriction(1.0f);
     hinges.push_back(std::make_unique<btHingeConstraint>(*chassis, *wheels[k], mounts[k], btVector3(0, 0, 0),
                                                          btVector3(0, 1, 0), btVector3(0, 1, 0)));
-    hinges.back()->enableAngularMotor(true, btScalar(c.target_speed / kWheelRadius),
+    // Bullet drives body A relative to B about the hinge axis: a negative target rolls the
+    // wheels forward (+x) for an axis along +y.
+    hinges.back()->enableAngularMotor(true, btScalar(-c.target_speed / kWheelRadius),
                                       btScalar(kMotorTorque * c.substep));
     world.world().addConstraint(hinges.back().get(), true);
     sand.add_body(wheels[k]);

@@ -124,6 +124,7 @@ class TerrainCoupling : public btActionInterface {
   bool body_is_sane(const btRigidBody& body) const;
   void cover_bodies(double substep);
   void rasterize(Body& b);
+  [[nodiscard]] bool overlaps_region(const btRigidBody& body) const;
   void clip_to_region(EnvelopeRaster& env) const;
   /// The momentum rule for one dynamic body; returns true if the soil yielded.
   bool react(Body& b, double substep);
