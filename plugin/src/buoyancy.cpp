@@ -26,7 +26,8 @@ void for_each_wet_sample(const EnvelopeRaster& env, double origin_x, double orig
   const bool has_upper = !env.upper.empty();
   for (int b = 0; b < env.ny; ++b)
     for (int a = 0; a < env.nx; ++a) {
-      const std::size_t k = static_cast<std::size_t>(b) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(a);
+      const std::size_t k =
+          static_cast<std::size_t>(b) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(a);
       if (!env.covers(k)) continue;
       const double x = origin_x + double(env.i0 + a) * cell, y = origin_y + double(env.j0 + b) * cell;
       const double surface = water.height(x, y);

@@ -27,9 +27,9 @@ HeightfieldTile::HeightfieldTile(const HeightfieldTileSettings& settings) : sett
   const int n = settings_.columns;
   heights_.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n),
                   static_cast<float>(settings_.initial_height));
-  shape_ = std::make_unique<btHeightfieldTerrainShape>(
-      n, n, heights_.data(), static_cast<btScalar>(settings_.min_height),
-      static_cast<btScalar>(settings_.max_height), 2, false);
+  shape_ =
+      std::make_unique<btHeightfieldTerrainShape>(n, n, heights_.data(), static_cast<btScalar>(settings_.min_height),
+                                                  static_cast<btScalar>(settings_.max_height), 2, false);
   shape_->setFlipTriangleWinding(true);
   shape_->setLocalScaling(btVector3(btScalar(settings_.cell), btScalar(settings_.cell), btScalar(1)));
   object_ = std::make_unique<btCollisionObject>();

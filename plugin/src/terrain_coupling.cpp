@@ -8,6 +8,7 @@
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <LinearMath/btTransformUtil.h>
 
+#include "coupling_util.h"
 #include "shore/bullet/envelope.h"
 #include "shore/core/error.h"
 
@@ -15,10 +16,8 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-bool finite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+using coupling_detail::Clock;
+using coupling_detail::seconds_since;
 
 }  // namespace
 
@@ -103,12 +102,7 @@ void TerrainCoupling::remove_body(btRigidBody* body) {
 }
 
 bool TerrainCoupling::body_is_sane(const btRigidBody& body) const {
-  const btTransform& t = body.getWorldTransform();
-  if (!finite(t.getOrigin()) || !finite(t.getBasis()[0]) || !finite(t.getBasis()[1]) || !finite(t.getBasis()[2]))
-    return false;
-  const btVector3& v = body.getLinearVelocity();
-  if (!finite(v) || !finite(body.getAngularVelocity())) return false;
-  return v.length() <= settings_.max_speed;
+  return coupling_detail::body_is_sane(body, settings_.max_speed);
 }
 
 void TerrainCoupling::cover_bodies(double substep) {
@@ -326,7 +320,7 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
     if (!body.isActive()) continue;
     t0 = Clock::now();
     try {
-      rasterize(b);  // at the (corrected) pose: this substep's imprint, next substep's bearing
+      rasterize(b);                    // at the (corrected) pose: this substep's imprint, next substep's bearing
     } catch (const InvalidSetting&) {  // e.g. an absurdly large shape: skip it, never poison the grid
       ++stats_.skipped_bodies;
       b.envelope.lower.clear();

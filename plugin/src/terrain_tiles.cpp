@@ -27,8 +27,7 @@ void TerrainTilesSettings::validate() const {
   c.positive("max_rise_per_substep", max_rise_per_substep);
 }
 
-TerrainTiles::TerrainTiles(btCollisionWorld& world, const terrain::Terrain& soil,
-                           const TerrainTilesSettings& settings)
+TerrainTiles::TerrainTiles(btCollisionWorld& world, const terrain::Terrain& soil, const TerrainTilesSettings& settings)
     : world_(world), soil_(soil), settings_(settings), friction_(soil.settings().material.friction) {
   settings_.validate();
 }
@@ -38,8 +37,7 @@ TerrainTiles::~TerrainTiles() {
 }
 
 std::uint64_t TerrainTiles::key(std::int64_t tx, std::int64_t ty) noexcept {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(tx)) << 32) |
-         static_cast<std::uint32_t>(ty);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(tx)) << 32) | static_cast<std::uint32_t>(ty);
 }
 
 bool TerrainTiles::is_tile(const btCollisionObject* object) const noexcept {

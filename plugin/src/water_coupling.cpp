@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <utility>
 
+#include "coupling_util.h"
 #include "shore/core/error.h"
 #include "shore/terrain/terrain.h"
 
@@ -13,10 +14,8 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-bool finite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
-
+using coupling_detail::Clock;
+using coupling_detail::seconds_since;
 
 /// Both envelopes of the nominal solid: buoyancy needs the body's true volume (Bullet's
 /// contact solid rounds cylinder rims and inflates hulls by the margin).
@@ -36,8 +35,14 @@ void smooth(std::vector<double>& f, int nx, int ny, std::vector<double>& tmp) {
       if (v == 0.0) continue;
       const std::size_t row = std::size_t(y) * std::size_t(nx);
       tmp[row + std::size_t(x)] += 0.5 * v;
-      if (x > 0) tmp[row + std::size_t(x - 1)] += 0.25 * v; else tmp[row + std::size_t(x)] += 0.25 * v;
-      if (x + 1 < nx) tmp[row + std::size_t(x + 1)] += 0.25 * v; else tmp[row + std::size_t(x)] += 0.25 * v;
+      if (x > 0)
+        tmp[row + std::size_t(x - 1)] += 0.25 * v;
+      else
+        tmp[row + std::size_t(x)] += 0.25 * v;
+      if (x + 1 < nx)
+        tmp[row + std::size_t(x + 1)] += 0.25 * v;
+      else
+        tmp[row + std::size_t(x)] += 0.25 * v;
     }
   f.assign(f.size(), 0.0);
   for (int y = 0; y < ny; ++y)
@@ -78,11 +83,7 @@ WaterCoupling::WaterCoupling(btDiscreteDynamicsWorld& world, water::Surface& sur
 WaterCoupling::~WaterCoupling() { world_.removeAction(this); }
 
 bool WaterCoupling::body_is_sane(const btRigidBody& body) const {
-  const btTransform& t = body.getWorldTransform();
-  if (!finite(t.getOrigin()) || !finite(t.getBasis()[0]) || !finite(t.getBasis()[1]) || !finite(t.getBasis()[2]))
-    return false;
-  const btVector3& v = body.getLinearVelocity();
-  return finite(v) && finite(body.getAngularVelocity()) && v.length() <= settings_.max_speed;
+  return coupling_detail::body_is_sane(body, settings_.max_speed);
 }
 
 void WaterCoupling::rasterize(const btRigidBody& body, Sampled& out) const {

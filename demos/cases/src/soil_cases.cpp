@@ -97,9 +97,9 @@ WheelResult run_wheel(const WheelCase& c) {
   BulletWorld world(kGravity);
   bullet::TerrainCoupling ground(world.world(), soil);
   const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
-  btRigidBody* wheel = world.add_body(
-      std::make_unique<btCylinderShape>(btVector3(btScalar(R), btScalar(c.width / 2), btScalar(R))), mass,
-      btVector3(0, btScalar(0.5 * c.run.cell), btScalar(R)));
+  btRigidBody* wheel =
+      world.add_body(std::make_unique<btCylinderShape>(btVector3(btScalar(R), btScalar(c.width / 2), btScalar(R))),
+                     mass, btVector3(0, btScalar(0.5 * c.run.cell), btScalar(R)));
   wheel->setActivationState(DISABLE_DEACTIVATION);
   wheel->setLinearFactor(btVector3(0, 0, 1));
   wheel->setAngularFactor(btVector3(0, 0, 0));
@@ -153,7 +153,8 @@ WheelResult run_wheel(const WheelCase& c) {
   }
   out.rut_depth = n ? rut / n : 0.0;
   out.reference_sinkage = terrain::bekker::wheel_sinkage_rolling(c.run.material, c.load, c.diameter, c.width);
-  out.reference_resistance = terrain::bekker::wheel_compaction_resistance(c.run.material, out.reference_sinkage, c.width);
+  out.reference_resistance =
+      terrain::bekker::wheel_compaction_resistance(c.run.material, out.reference_sinkage, c.width);
   finish(out.stats, soil, ground, *wheel);
   return out;
 }
@@ -164,8 +165,8 @@ SphereDropResult run_sphere_drop(const SphereDropCase& c) {
   BulletWorld world(kGravity);
   bullet::TerrainCoupling ground(world.world(), soil);
   const double R = c.diameter / 2, h = c.run.substep;
-  btRigidBody* ball = world.add_body(std::make_unique<btSphereShape>(btScalar(R)), c.mass,
-                                     btVector3(0, 0, btScalar(R + c.height)));
+  btRigidBody* ball =
+      world.add_body(std::make_unique<btSphereShape>(btScalar(R)), c.mass, btVector3(0, 0, btScalar(R + c.height)));
   ball->setActivationState(DISABLE_DEACTIVATION);
   ground.add_body(ball);
   const auto steps = static_cast<std::int64_t>(std::lround(c.seconds / h));
@@ -173,8 +174,8 @@ SphereDropResult run_sphere_drop(const SphereDropCase& c) {
   out.depth = -(ball->getCenterOfMassPosition().z() - R);
   out.reference = sphere_drop_reference_depth(c.run.material, c.diameter, c.mass, c.height);
   out.energy_lost = c.mass * kGravity * (c.height + out.depth);
-  const double crater = out.depth < R ? 2.0 * std::sqrt(std::max(0.0, 2 * R * out.depth - out.depth * out.depth))
-                                      : c.diameter;
+  const double crater =
+      out.depth < R ? 2.0 * std::sqrt(std::max(0.0, 2 * R * out.depth - out.depth * out.depth)) : c.diameter;
   const std::int64_t span = soil.column_i(R) + 2;
   out.plastic_work = plastic_work_in(soil, {-span, -span, int(2 * span + 1), int(2 * span + 1)}, crater);
   finish(out.stats, soil, ground, *ball);

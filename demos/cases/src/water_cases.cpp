@@ -18,17 +18,22 @@ constexpr double kPi = std::numbers::pi;
 
 double volume_of(const Floater& f) {
   switch (f.shape) {
-    case FloaterShape::box: return double(f.size.x()) * f.size.y() * f.size.z();
-    case FloaterShape::sphere: return kPi * std::pow(double(f.size.x()), 3) / 6.0;
-    case FloaterShape::cylinder: return kPi * 0.25 * double(f.size.x()) * f.size.x() * f.size.y();
+    case FloaterShape::box:
+      return double(f.size.x()) * f.size.y() * f.size.z();
+    case FloaterShape::sphere:
+      return kPi * std::pow(double(f.size.x()), 3) / 6.0;
+    case FloaterShape::cylinder:
+      return kPi * 0.25 * double(f.size.x()) * f.size.x() * f.size.y();
   }
   return 0.0;
 }
 
 std::unique_ptr<btCollisionShape> shape_of(const Floater& f) {
   switch (f.shape) {
-    case FloaterShape::box: return std::make_unique<btBoxShape>(f.size * btScalar(0.5));
-    case FloaterShape::sphere: return std::make_unique<btSphereShape>(f.size.x() * btScalar(0.5));
+    case FloaterShape::box:
+      return std::make_unique<btBoxShape>(f.size * btScalar(0.5));
+    case FloaterShape::sphere:
+      return std::make_unique<btSphereShape>(f.size.x() * btScalar(0.5));
     case FloaterShape::cylinder:
       return std::make_unique<btCylinderShape>(
           btVector3(f.size.x() * btScalar(0.5), f.size.y() * btScalar(0.5), f.size.x() * btScalar(0.5)));
@@ -51,7 +56,8 @@ double solve(F&& f, double target, double hi) {
 double archimedes_draft(const Floater& f) {
   const double r = f.density_ratio;
   switch (f.shape) {
-    case FloaterShape::box: return r * f.size.z();
+    case FloaterShape::box:
+      return r * f.size.z();
     case FloaterShape::sphere: {
       const double R = 0.5 * f.size.x();
       return solve([&](double d) { return kPi * d * d * (3 * R - d) / 3.0; }, r * 4.0 / 3.0 * kPi * R * R * R, 2 * R);
@@ -88,7 +94,8 @@ PoolResult run_pool(const PoolRun& run) {
   bullet::WaterCoupling coupling(world.world(), *out.surface);
   std::vector<btRigidBody*> bodies;
   for (const Floater& f : run.floaters) {
-    btRigidBody* b = world.add_body(shape_of(f), f.density_ratio * kWaterDensity * volume_of(f), f.position, f.rotation);
+    btRigidBody* b =
+        world.add_body(shape_of(f), f.density_ratio * kWaterDensity * volume_of(f), f.position, f.rotation);
     b->setLinearVelocity(f.velocity);
     b->setActivationState(DISABLE_DEACTIVATION);
     coupling.add_body(b);

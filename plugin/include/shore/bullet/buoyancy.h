@@ -23,11 +23,11 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
 struct FluidSettings {
-  double density = 1000.0;       ///< kg/m^3, water density, > 0
-  double gravity = 9.81;         ///< m/s^2, > 0
-  double linear_drag = 0.5;      ///< m/s: linear drag rho A k u per unit wetted area, >= 0
-  double quadratic_drag = 1.0;   ///< dimensionless C_d in 0.5 rho C_d A |u| u, >= 0
-  int samples_per_cell = 4;      ///< buoyancy samples per water cell side, in [1, 16]
+  double density = 1000.0;      ///< kg/m^3, water density, > 0
+  double gravity = 9.81;        ///< m/s^2, > 0
+  double linear_drag = 0.5;     ///< m/s: linear drag rho A k u per unit wetted area, >= 0
+  double quadratic_drag = 1.0;  ///< dimensionless C_d in 0.5 rho C_d A |u| u, >= 0
+  int samples_per_cell = 4;     ///< buoyancy samples per water cell side, in [1, 16]
   void validate() const;
 };
 

@@ -22,14 +22,14 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
 struct HeightfieldTileSettings {
-  int columns = 65;            ///< vertices per side, >= 2
-  double cell = 0.01;          ///< m, spacing of vertices, > 0
-  double origin_x = 0.0;       ///< m, world x of vertex (0, 0)
-  double origin_y = 0.0;       ///< m, world y of vertex (0, 0)
-  double min_height = -1.0;    ///< m, lowest height the tile can hold (< max_height)
-  double max_height = 1.0;     ///< m, highest height the tile can hold
-  double initial_height = 0.0; ///< m, in [min_height, max_height]
-  double friction = 0.6;       ///< Coulomb friction, >= 0
+  int columns = 65;             ///< vertices per side, >= 2
+  double cell = 0.01;           ///< m, spacing of vertices, > 0
+  double origin_x = 0.0;        ///< m, world x of vertex (0, 0)
+  double origin_y = 0.0;        ///< m, world y of vertex (0, 0)
+  double min_height = -1.0;     ///< m, lowest height the tile can hold (< max_height)
+  double max_height = 1.0;      ///< m, highest height the tile can hold
+  double initial_height = 0.0;  ///< m, in [min_height, max_height]
+  double friction = 0.6;        ///< Coulomb friction, >= 0
 
   void validate() const;
 };

@@ -47,8 +47,8 @@ inline namespace SHORE_BULLET_ABI {
 
 /// Per-body choices.
 struct BodySoilSettings {
-  bool deform = true;       ///< the body presses the soil (false: it only feels the ground)
-  bool enable_ccd = true;   ///< turn on Bullet's continuous collision for fast impacts
+  bool deform = true;      ///< the body presses the soil (false: it only feels the ground)
+  bool enable_ccd = true;  ///< turn on Bullet's continuous collision for fast impacts
 };
 
 /// A world-space rectangle (m). Default: everywhere.

@@ -26,8 +26,8 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
 struct TerrainTilesSettings {
-  int tile_cells = 64;            ///< cells per tile side (vertices = tile_cells + 1), in [4, 1024]
-  double headroom = 0.5;          ///< m a tile can hold above its highest untouched ground (rims), > 0
+  int tile_cells = 64;                  ///< cells per tile side (vertices = tile_cells + 1), in [4, 1024]
+  double headroom = 0.5;                ///< m a tile can hold above its highest untouched ground (rims), > 0
   double max_rise_per_substep = 0.002;  ///< m, > 0: cap on how far ground may rise in one substep
   void validate() const;
 };
@@ -64,7 +64,7 @@ class TerrainTiles {
   struct Tile {
     std::unique_ptr<HeightfieldTile> field;
     std::int64_t i0 = 0, j0 = 0;  // first column
-    bool lagging = false;          // a capped rise left it below the soil
+    bool lagging = false;         // a capped rise left it below the soil
   };
   static std::uint64_t key(std::int64_t tx, std::int64_t ty) noexcept;
   Tile& create(std::int64_t tx, std::int64_t ty);

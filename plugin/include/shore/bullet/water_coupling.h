@@ -42,21 +42,21 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
 struct WaterCouplingSettings {
-  FluidSettings fluid;               ///< density is taken from the surface's settings
-  double displacement_gain = 0.5;    ///< share of the swept displacement given to the nodes, [0, 1]
-  int smoothing_passes = 2;          ///< [1 2 1]/4 smoothing passes of the displacement, in [0, 8]
-  double max_speed = 500.0;          ///< m/s: faster bodies (or non-finite poses) are skipped and counted
-  bool step_water = true;            ///< step the surface inside every substep (false: the caller does)
+  FluidSettings fluid;             ///< density is taken from the surface's settings
+  double displacement_gain = 0.5;  ///< share of the swept displacement given to the nodes, [0, 1]
+  int smoothing_passes = 2;        ///< [1 2 1]/4 smoothing passes of the displacement, in [0, 8]
+  double max_speed = 500.0;        ///< m/s: faster bodies (or non-finite poses) are skipped and counted
+  bool step_water = true;          ///< step the surface inside every substep (false: the caller does)
   void validate() const;
 };
 
 struct WaterCouplingStats {
   std::int64_t substeps = 0;
   std::int64_t skipped_bodies = 0;
-  int water_substeps = 0;          ///< internal substeps the surface took in the last substep
-  double coupling_seconds = 0.0;   ///< last substep: envelopes, buoyancy, displacement
-  double water_seconds = 0.0;      ///< last substep: the surface's own step
-  double displaced_volume = 0.0;   ///< m^3 added to the water in total (signed)
+  int water_substeps = 0;         ///< internal substeps the surface took in the last substep
+  double coupling_seconds = 0.0;  ///< last substep: envelopes, buoyancy, displacement
+  double water_seconds = 0.0;     ///< last substep: the surface's own step
+  double displaced_volume = 0.0;  ///< m^3 added to the water in total (signed)
 };
 
 class WaterCoupling : public btActionInterface {

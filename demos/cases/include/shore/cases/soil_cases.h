@@ -14,17 +14,17 @@ namespace shore::cases {
 /// Common knobs of every soil case.
 struct SoilRun {
   terrain::Material material = terrain::Material::sand();
-  double cell = 0.01;           ///< m, soil column spacing
-  double substep = 1.0 / 240;   ///< s, Bullet's fixed substep
-  int threads = 1;              ///< OpenMP threads of the soil
+  double cell = 0.01;                                                      ///< m, soil column spacing
+  double substep = 1.0 / 240;                                              ///< s, Bullet's fixed substep
+  int threads = 1;                                                         ///< OpenMP threads of the soil
   int max_erosion_passes = terrain::TerrainSettings{}.max_erosion_passes;  ///< erosion pass cap per substep
 };
 
 /// Results common to every case.
 struct RunStats {
   std::int64_t substeps = 0;
-  double wall_seconds = 0.0;     ///< whole simulation (Bullet + Shore)
-  double plugin_seconds = 0.0;   ///< Shore's share (envelopes, soil, push back, reaction)
+  double wall_seconds = 0.0;    ///< whole simulation (Bullet + Shore)
+  double plugin_seconds = 0.0;  ///< Shore's share (envelopes, soil, push back, reaction)
   double envelope_seconds = 0.0;
   double terrain_seconds = 0.0;
   double push_seconds = 0.0;
@@ -63,9 +63,9 @@ struct WheelCase {
   double ramp_seconds = 2.0;
 };
 struct WheelResult {
-  double sinkage = 0.0;     ///< m: static, final depth; towed, mean depth over the second half of the run
-  double resistance = 0.0;  ///< N, mean towing force over the second half (towed only)
-  double rut_depth = 0.0;   ///< m, mean depth of the soil along the track's centre line behind the wheel
+  double sinkage = 0.0;               ///< m: static, final depth; towed, mean depth over the second half of the run
+  double resistance = 0.0;            ///< N, mean towing force over the second half (towed only)
+  double rut_depth = 0.0;             ///< m, mean depth of the soil along the track's centre line behind the wheel
   double reference_sinkage = 0.0;     ///< m, Bekker: static both-halves integral or rolling formula
   double reference_resistance = 0.0;  ///< N, Bekker compaction resistance (towed)
   RunStats stats;
@@ -81,10 +81,10 @@ struct SphereDropCase {
   double seconds = 1.5;   ///< s simulated
 };
 struct SphereDropResult {
-  double depth = 0.0;          ///< m, final depth of the sphere's bottom below the original surface
-  double reference = 0.0;      ///< m, energy balance of the column model (sphere_drop_reference_depth)
-  double energy_lost = 0.0;    ///< J, m g (height + depth)
-  double plastic_work = 0.0;   ///< J, sum over soil columns of cell^2 * integral of p_yield dz
+  double depth = 0.0;         ///< m, final depth of the sphere's bottom below the original surface
+  double reference = 0.0;     ///< m, energy balance of the column model (sphere_drop_reference_depth)
+  double energy_lost = 0.0;   ///< J, m g (height + depth)
+  double plastic_work = 0.0;  ///< J, sum over soil columns of cell^2 * integral of p_yield dz
   RunStats stats;
 };
 SphereDropResult run_sphere_drop(const SphereDropCase& c);

@@ -13,22 +13,22 @@
 namespace shore::cases {
 
 struct VehicleCase {
-  double cell = 0.02;           ///< m, soil column spacing
-  double substep = 1.0 / 240;   ///< s
+  double cell = 0.02;          ///< m, soil column spacing
+  double substep = 1.0 / 240;  ///< s
   int threads = 1;
-  double seconds = 6.0;         ///< s simulated
-  double target_speed = 2.0;    ///< m/s the wheel motors aim for
-  double start_x = -2.0;        ///< m, chassis centre at the start (rigid ground)
-  int sand_tiles = 3;           ///< length of the sand strip in tiles of 64 cells
-  int mud_tiles = 3;            ///< length of the mud strip in tiles
+  double seconds = 6.0;       ///< s simulated
+  double target_speed = 2.0;  ///< m/s the wheel motors aim for
+  double start_x = -2.0;      ///< m, chassis centre at the start (rigid ground)
+  int sand_tiles = 3;         ///< length of the sand strip in tiles of 64 cells
+  int mud_tiles = 3;          ///< length of the mud strip in tiles
 };
 
 struct VehicleResult {
   double sim_seconds = 0.0;
-  double distance = 0.0;          ///< m travelled by the chassis
-  double mean_speed_sand = 0.0;   ///< m/s over the sand strip
-  double mean_speed_mud = 0.0;    ///< m/s over the mud strip
-  double max_sinkage = 0.0;       ///< m, deepest soil sinkage left behind
+  double distance = 0.0;               ///< m travelled by the chassis
+  double mean_speed_sand = 0.0;        ///< m/s over the sand strip
+  double mean_speed_mud = 0.0;         ///< m/s over the mud strip
+  double max_sinkage = 0.0;            ///< m, deepest soil sinkage left behind
   std::int64_t fallthrough_count = 0;  ///< wheels that ended below bedrock or were rescued
   int nan_count = 0;
   RunStats stats;

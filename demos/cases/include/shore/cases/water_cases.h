@@ -18,12 +18,12 @@ namespace shore::cases {
 /// at -depth, walls at the edges (vertical-only nodes). The surface rests at z = 0 and is
 /// centred on the origin.
 struct PoolSettings {
-  int nodes = 64;                   ///< per side
-  double cell = 0.05;               ///< m
-  double depth = 0.5;               ///< m (also sets the wave speed sqrt(g depth))
-  double damping_time = 2.0;        ///< s, amplitude e-folding time
-  bool vertical_only = true;        ///< the vertical-only surface (cheaper, larger stable steps)
-  double substep = 1.0 / 240;       ///< s
+  int nodes = 64;              ///< per side
+  double cell = 0.05;          ///< m
+  double depth = 0.5;          ///< m (also sets the wave speed sqrt(g depth))
+  double damping_time = 2.0;   ///< s, amplitude e-folding time
+  bool vertical_only = true;   ///< the vertical-only surface (cheaper, larger stable steps)
+  double substep = 1.0 / 240;  ///< s
   int threads = 1;
 };
 
@@ -31,9 +31,11 @@ enum class FloaterShape { box, sphere, cylinder };
 
 struct Floater {
   FloaterShape shape = FloaterShape::box;
-  btVector3 size{0.3f, 0.3f, 0.2f};  ///< m: box full extents; sphere: x = diameter; cylinder: x = diameter, y = length (axis along y)
-  double density_ratio = 0.5;        ///< body density / water density
-  btVector3 position{0, 0, 0};       ///< m, centre of mass at the start
+  btVector3 size{
+      0.3f, 0.3f,
+      0.2f};  ///< m: box full extents; sphere: x = diameter; cylinder: x = diameter, y = length (axis along y)
+  double density_ratio = 0.5;   ///< body density / water density
+  btVector3 position{0, 0, 0};  ///< m, centre of mass at the start
   btQuaternion rotation = btQuaternion::getIdentity();
   btVector3 velocity{0, 0, 0};
 };
@@ -56,8 +58,8 @@ struct PoolResult {
   int nan_count = 0;
   std::int64_t substeps = 0;
   double wall_seconds = 0.0;
-  double coupling_seconds = 0.0;    ///< Shore's coupling (buoyancy, displacement), total
-  double water_seconds = 0.0;       ///< the surface's own steps, total
+  double coupling_seconds = 0.0;  ///< Shore's coupling (buoyancy, displacement), total
+  double water_seconds = 0.0;     ///< the surface's own steps, total
   std::uint64_t state_hash = 0;
   std::shared_ptr<water::Surface> surface;  ///< final water (pictures, ring checks)
 };
