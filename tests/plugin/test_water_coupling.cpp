@@ -5,7 +5,10 @@
 #include <cmath>
 #include <numbers>
 
+#include "shore/bullet/water_coupling.h"
+#include "shore/cases/bullet_world.h"
 #include "shore/cases/water_cases.h"
+#include "shore/terrain/terrain.h"
 
 using namespace shore::cases;
 
@@ -88,7 +91,8 @@ TEST(WaterCoupling, HeavePeriodIsHydrostaticOrLonger) {
   std::vector<double> crossings;
   for (std::size_t k = 1; k < r.records.size(); ++k) {
     const double a = r.records[k - 1].z[0], b = r.records[k].z[0];
-    if (a < 0 && b >= 0) crossings.push_back(r.records[k - 1].t + (r.records[k].t - r.records[k - 1].t) * (-a) / (b - a));
+    if (a < 0 && b >= 0)
+      crossings.push_back(r.records[k - 1].t + (r.records[k].t - r.records[k - 1].t) * (-a) / (b - a));
   }
   ASSERT_GE(crossings.size(), 2u) << "no oscillation";
   const double period = crossings[1] - crossings[0];
@@ -132,7 +136,8 @@ TEST(WaterCoupling, DroppedSphereMakesSymmetricRingsLargerFromHigher) {
     }
   EXPECT_GT(peak, 1e-3) << "no rings";
   EXPECT_LT(asym, 1e-3 * peak) << "asymmetry " << asym << " of " << peak;
-  EXPECT_GT(peak_wave_energy(high), 1.1 * peak_wave_energy(low)) << "a faster entry makes larger rings";  // measured 1.34x
+  EXPECT_GT(peak_wave_energy(high), 1.1 * peak_wave_energy(low))
+      << "a faster entry makes larger rings";  // measured 1.34x
 }
 
 TEST(WaterCoupling, FiftyFloatersStayFiniteAndInTheWater) {
@@ -181,4 +186,42 @@ TEST(WaterCoupling, SameResultWhateverTheThreadCount) {
     if (threads == 1) first = r.state_hash;
     EXPECT_EQ(r.state_hash, first) << threads << " threads";
   }
+}
+
+namespace {
+/// A beach: ground rising along x with slope 0.1, crossing z = 0 at x = 1 m.
+class Slope : public shore::terrain::HeightSource {
+ public:
+  [[nodiscard]] double height(double x, double) const override { return 0.1 * (x - 1.0); }
+};
+}  // namespace
+
+// Nodes over ground above the water's rest level are fixed (the shoreline), the others
+// are not: exactly the nodes with x > 1 m on this slope.
+TEST(WaterCoupling, ShorelineIsFixedWhereTheGroundRisesAboveTheWater) {
+  shore::terrain::TerrainSettings ts;
+  ts.cell = 0.05;
+  ts.base = std::make_shared<Slope>();
+  const shore::terrain::Terrain ground(ts);
+  shore::water::PhysicalParameters phys;
+  phys.cell = 0.05;
+  shore::water::SurfaceSettings ws = shore::water::SurfaceSettings::physical(phys, 32, 16);
+  ws.origin_x = 0.0125;  // nodes between soil columns: no node sits exactly on the waterline
+  ws.mode = shore::water::SurfaceMode::vertical_only;
+  ws.boundary = shore::water::Boundary::vertical_only;
+  shore::water::Surface surface(ws);
+  shore::cases::BulletWorld world;
+  shore::bullet::WaterCoupling coupling(world.world(), surface);
+  const int fixed = coupling.fix_shoreline(ground);
+  int expected = 0;
+  for (int j = 0; j < surface.ny(); ++j)
+    for (int i = 0; i < surface.nx(); ++i) {
+      // The soil column under node i is the nearest one; its ground is above water iff its x > 1.
+      const double column_x = ground.column_x(ground.column_i(surface.node_x(i)));
+      const bool dry = column_x > 1.0 + 1e-9;
+      expected += dry;
+      EXPECT_EQ(surface.is_fixed(i, j), dry) << "node " << i << "," << j;
+    }
+  EXPECT_EQ(fixed, expected);
+  EXPECT_GT(fixed, 0);
 }
