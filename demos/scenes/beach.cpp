@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -40,7 +41,9 @@ constexpr double kBallStartY = -0.25;    // m
 constexpr double kBallPush = 1.2;        // m/s, initial speed down the slope
 constexpr double kBoxRatio = 0.4;        // density ratio of the floating box
 constexpr double kAfloatClearance = 0.005;  // m: a body this far above the sand counts as floating
-constexpr int kFrames = 6;               // filmstrip frames (3 in smoke runs)
+// Filmstrip frames as fractions of the run: the roll, the entry, the rings, the end.
+constexpr double kFrameAt[] = {0.0, 0.08, 0.16, 0.24, 0.4, 1.0};
+constexpr double kSmokeFrameAt[] = {0.0, 0.5, 1.0};
 
 /// Untouched sand: a plane rising inland (+x), crossing z = 0 at the shoreline.
 class SlopedSand final : public terrain::HeightSource {
@@ -122,13 +125,13 @@ double max_sinkage(const terrain::Terrain& t) {
   return m;
 }
 
-/// Sand with the water drawn over it where the water lies above the sand: what the
-/// oblique views show.
-HeightGrid scenery(const HeightGrid& sand, const water::Surface& w) {
+/// Sand with the water drawn over it where the water lies above the sand (what the
+/// oblique views show); with no surface, the water at its rest level (their baseline).
+HeightGrid scenery(const HeightGrid& sand, const water::Surface* w) {
   HeightGrid g = sand;
   for (int j = 0; j < g.ny; ++j)
     for (int i = 0; i < g.nx; ++i)
-      if (g.x(i) <= kWaterX1) g.at(i, j) = std::max(g.at(i, j), w.height_at(g.x(i), g.y(j)));
+      if (g.x(i) <= kWaterX1) g.at(i, j) = std::max(g.at(i, j), w ? w->height_at(g.x(i), g.y(j)) : 0.0);
   return g;
 }
 
@@ -165,15 +168,17 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   const int n = o.substeps();
   const double window = std::min(1.0, 0.5 * o.seconds);
   const int window_start = n - std::max(1, static_cast<int>(std::lround(window / o.substep)));
-  const int frames = o.smoke ? 3 : kFrames;
+  std::vector<int> frame_steps;
+  for (double f : o.smoke ? std::span<const double>(kSmokeFrameAt) : std::span<const double>(kFrameAt))
+    frame_steps.push_back(std::clamp(static_cast<int>(std::lround(f * n)), 0, n));
   std::vector<Image> film;
   std::vector<std::string> labels;
   auto frame = [&](int min_pixels, const std::string& title) {
     const SandGrids g = sand_grids(sand);
-    const HeightGrid now = scenery(g.now, sea);
+    const HeightGrid now = scenery(g.now, &sea), before = scenery(g.base, nullptr);
     const water_scene::BodyEnvelopes b = water_scene::body_envelopes(drawn, now);
     ReliefStyle style;
-    style.baseline = &g.base;
+    style.baseline = &before;  // blue: track and troughs, red: rims and crests
     style.bodies = &b.top;
     style.body_bottoms = &b.bottom;
     style.min_pixels = min_pixels;
@@ -181,11 +186,12 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     style.legend = !title.empty();
     return render_oblique(now, style, 30.0);
   };
-  int next_frame = 1;
-  if (o.write_files) {
+  auto capture = [&](int k) {
+    if (!o.write_files || std::find(frame_steps.begin(), frame_steps.end(), k) == frame_steps.end()) return;
     film.push_back(frame(240, ""));
-    labels.push_back(water_scene::time_label(0.0));
-  }
+    labels.push_back(water_scene::time_label(k * o.substep));
+  };
+  capture(0);
 
   double wall = 0.0, box_draft_sum = 0.0, ball_draft_sum = 0.0, entered_water = -1.0;
   long samples = 0;
@@ -207,12 +213,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
       if (ball_bottom - bed < kAfloatClearance) ball_afloat = false;
       ++samples;
     }
-    if (o.write_files && next_frame < frames &&
-        k == static_cast<int>(std::lround(static_cast<double>(n) * next_frame / (frames - 1)))) {
-      film.push_back(frame(240, ""));
-      labels.push_back(water_scene::time_label(k * o.substep));
-      ++next_frame;
-    }
+    capture(k);
     progress.update(static_cast<double>(k) / n);
   }
 
@@ -274,14 +275,17 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     const water_scene::BodyEnvelopes b = water_scene::body_envelopes(drawn, grids.now);
     top.bodies = &b.top;
     top.body_bottoms = &b.bottom;
-    top.title = "beach: sand relief, coloured by deformation (ball track)";
+    top.title = "beach: sand, coloured by deformation";
     r.files.push_back(write_png(o.file("relief.png"), render_relief(grids.now, top)));
     const terrain::Terrain* s = &sand;
     const water::Surface* w = &sea;
     const water_scene::WaterOverlay overlay{
-        [s, w](double x, double y) { return s->height(s->column_i(x), s->column_j(y)) > w->height_at(x, y); }, drawn};
+        [s, w](double x, double y) {
+          return s->height(s->column_i(x), s->column_j(y)) > w->settings().rest_height;
+        },
+        drawn};
     r.files.push_back(
-        write_png(o.file("water.png"), water_scene::render_water_scene(sea, overlay, 0.0, "beach: water, sand dry")));
+        write_png(o.file("water.png"), water_scene::render_water_scene(sea, overlay, 0.0, "beach: water (sand: dry land)")));
     r.files.push_back(write_png(o.file("view.png"),
                                 frame(480, "beach at " + water_scene::time_label(n * o.substep))));
     r.files.push_back(write_png(o.file("filmstrip.png"), filmstrip(film, labels, 3)));

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -37,8 +38,11 @@ constexpr double kBumpX = -1.45;            // m, centre of the violent disturba
 constexpr double kBumpY = -1.45;            // m
 constexpr double kBumpSpacings = 20.0;      // bump height in water spacings
 constexpr double kBumpRadiusSpacings = 3.0;  // bump std. dev. in water spacings
-constexpr double kBumpAt = 0.4;             // fraction of the run at which the bump is thrown
-constexpr int kFrames = 6;                  // filmstrip frames (3 in smoke runs)
+constexpr double kBumpAt = 0.35;            // fraction of the run at which the bump is thrown
+// Filmstrip frames as fractions of the run: rings of the drops, just after the bump, its
+// reflections, the end (smoke runs keep three).
+constexpr double kFrameAt[] = {0.07, 0.14, 0.38, 0.45, 0.6, 1.0};
+constexpr double kSmokeFrameAt[] = {0.3, 0.6, 1.0};
 
 using cases::Floater;
 using cases::FloaterShape;
@@ -106,9 +110,11 @@ water::SurfaceSettings pool_settings(double cell, int nodes, int threads) {
   water::SurfaceSettings s = water::SurfaceSettings::physical(phys, nodes, nodes);
   s.origin_x = s.origin_y = -0.5 * (nodes - 1) * cell;
   s.rest_height = 0.0;
-  s.mode = water::SurfaceMode::vertical_only;
+  // The seed paper's 3-D lattice: the violent bump stretches its springs far into the
+  // nonlinear range, which is what the stability guard's deformation-aware bound watches.
+  s.mode = water::SurfaceMode::full_3d;
   s.boundary = water::Boundary::vertical_only;  // pool walls: waves reflect without inversion
-  s.threads = threads;
+  s.threads = threads;  // 0: the surface's own choice (one thread per 16384 nodes at most)
   return s;
 }
 
@@ -137,17 +143,19 @@ double mean_level(const water::Surface& s) {
   return n ? sum / double(n) : 0.0;
 }
 
-double lowest_point(const btRigidBody& b) {
-  btVector3 lo, hi;
-  b.getCollisionShape()->getAabb(b.getWorldTransform(), lo, hi);
-  return lo.z();
+/// Height of the floater's bottom: the centre of its bottom face (box) or its lowest
+/// point (sphere). Unlike the lowest corner, the face centre is not biased by a small heel.
+double bottom_of(const Piece& p) {
+  const btTransform& t = p.body->getWorldTransform();
+  if (p.f.shape == FloaterShape::sphere) return t.getOrigin().z() - 0.5 * p.f.size.x();
+  return (t.getOrigin() - t.getBasis().getColumn(2) * (btScalar(0.5) * p.f.size.z())).z();
 }
 
 SceneResult run(const SceneOptions& o, Progress& progress) {
   const double cell = o.smoke ? std::max(o.cell, 0.1) : o.cell;
   const int nodes = std::clamp(static_cast<int>(std::lround(kExtent / cell)) + 1, 9, 1025);
   const double h = kExtent / (nodes - 1);
-  water::Surface pond(pool_settings(h, nodes, o.threads));
+  water::Surface pond(pool_settings(h, nodes, 0));
   const int island_nodes = make_island(pond);
 
   cases::BulletWorld world(9.81);
@@ -175,16 +183,17 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   const double bump_height = kBumpSpacings * h;
   const double window = std::min(1.0, 0.5 * o.seconds);  // s, drafts are averaged over the last `window`
   const int window_start = n - std::max(1, static_cast<int>(std::lround(window / o.substep)));
-  const int frames = o.smoke ? 3 : kFrames;
+  std::vector<int> frame_steps;
+  for (double f : o.smoke ? std::span<const double>(kSmokeFrameAt) : std::span<const double>(kFrameAt))
+    frame_steps.push_back(std::clamp(static_cast<int>(std::lround(f * n)), 1, n));
   std::vector<Image> film;
   std::vector<std::string> labels;
-  const water_scene::WaterOverlay overlay{on_island, drawn};
+  const water_scene::WaterOverlay overlay{on_island, {drawn.begin() + 1, drawn.end()}};  // island: land
   auto capture = [&](int k) {
     if (!o.write_files) return;
-    film.push_back(water_scene::render_water_scene(pond, overlay, 0.0, "", 240));
+    film.push_back(water_scene::render_water_scene(pond, overlay, 0.0, "", 480));
     labels.push_back(water_scene::time_label(k * o.substep));
   };
-  int next_frame = 1;
 
   double wall = 0.0, max_wave = 0.0;
   int water_substeps_max = 0;
@@ -199,13 +208,10 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     max_wave = std::max(max_wave, water_scene::max_deviation(pond));
     if (k > window_start) {
       const double level = mean_level(pond);
-      for (Piece& p : parts) p.draft_sum += level - lowest_point(*p.body);
+      for (Piece& p : parts) p.draft_sum += level - bottom_of(p);
       ++draft_samples;
     }
-    if (next_frame <= frames && k == static_cast<int>(std::lround(static_cast<double>(n) * next_frame / frames))) {
-      capture(k);
-      ++next_frame;
-    }
+    if (std::find(frame_steps.begin(), frame_steps.end(), k) != frame_steps.end()) capture(k);
     progress.update(static_cast<double>(k) / n);
   }
 
@@ -220,7 +226,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   SceneResult r;
   r.state_hash = hash.value();
   r.metrics = common_metrics("pond", o, n, wall, r.state_hash, nan_count);
-  r.metrics["water"] = std::to_string(nodes) + " x " + std::to_string(nodes) + " nodes, vertical-only, spacing " +
+  r.metrics["water"] = std::to_string(nodes) + " x " + std::to_string(nodes) + " nodes, 3-D lattice, spacing " +
                        std::to_string(h) + " m, depth " + std::to_string(kDepth) + " m";
   r.metrics["island_nodes"] = island_nodes;
   r.metrics["disturbance_height_m"] = bump_height;
@@ -260,7 +266,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     view.baseline = &rest;
     view.bodies = &bodies.top;
     view.body_bottoms = &bodies.bottom;
-    view.title = "pond: floaters, island and waves at " + water_scene::time_label(n * o.substep);
+    view.title = "pond at " + water_scene::time_label(n * o.substep);
     r.files.push_back(write_png(o.file("view.png"), render_oblique(g, view, 35.0)));
     r.files.push_back(write_obj(o.file("water.obj"), g));
   }
@@ -270,12 +276,13 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
 const SceneRegistrar kRegistered{Scene{
     .name = "pond",
     .description =
-        "A 4 x 4 m pool of spring-mass water (0.5 m deep, vertical-only surface, walls reflect) with a fixed island. "
+        "A 4 x 4 m pool of spring-mass water (0.5 m deep; the seed paper's 3-D lattice; walls reflect) with a fixed "
+        "island. "
         "A sphere, a light box and a stone are dropped in and make rings that reflect off the walls and wrap around "
-        "the island; three flat boxes of densities 0.25, 0.5 and 0.75 float. At 40 % of the run a Gaussian bump 20 "
+        "the island; three flat boxes of densities 0.25, 0.5 and 0.75 float. At 35 % of the run a Gaussian bump 20 "
         "water spacings high is thrown into the south-west corner: the stability guard must keep everything finite, "
         "and the floaters must settle back to Archimedes' drafts. Look at the filmstrip for rings and reflections.",
-    .defaults = {.seconds = 6.0, .substep = 1.0 / 240.0, .material = "sand", .cell = 0.05, .smoke_seconds = 0.5},
+    .defaults = {.seconds = 8.0, .substep = 1.0 / 240.0, .material = "sand", .cell = 0.05, .smoke_seconds = 0.5},
     .metric_help =
         {
             {"water", "the water grid"},
@@ -283,7 +290,8 @@ const SceneRegistrar kRegistered{Scene{
             {"disturbance_height_m", "height of the violent Gaussian bump, m (20 water spacings)"},
             {"disturbance_time_s", "when the bump is thrown, s"},
             {"draft_error_rel",
-             "worst relative error of the floating boxes' mean draft (last second, below the mean water level) "
+             "worst relative error of the floating boxes' mean draft (last second, bottom-face centre below the mean water "
+             "level) "
              "against Archimedes"},
             {"drafts", "per floater: mean draft over the last second, Archimedes' draft, relative error"},
             {"stone_height_m", "final height of the stone's centre, m (the floor is at -0.5 m)"},
