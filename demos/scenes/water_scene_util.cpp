@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 
 #include "shore/bullet/envelope.h"
 #include "shore/demo/render.h"
@@ -26,8 +27,8 @@ int pixels_per_cell(int nx, int ny, int min_pixels) {
 bool finite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
 /// Which pixels of a (w x h, row 0 = south) grid the bodies cover.
-std::vector<std::uint8_t> body_cover(const std::vector<const btRigidBody*>& bodies, double x0, double y0,
-                                     double pixel, int w, int h) {
+std::vector<std::uint8_t> body_cover(const std::vector<const btRigidBody*>& bodies, double x0, double y0, double pixel,
+                                     int w, int h) {
   std::vector<std::uint8_t> cover(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0);
   bullet::EnvelopeOptions options;
   options.include_margin = false;
@@ -123,8 +124,8 @@ BodyEnvelopes body_envelopes(const std::vector<const btRigidBody*>& bodies, cons
     for (int jj = 0; jj < raster.ny; ++jj)
       for (int ii = 0; ii < raster.nx; ++ii) {
         const std::int64_t i = raster.i0 + ii, j = raster.j0 + jj;
-        const std::size_t k = static_cast<std::size_t>(jj) * static_cast<std::size_t>(raster.nx) +
-                              static_cast<std::size_t>(ii);
+        const std::size_t k =
+            static_cast<std::size_t>(jj) * static_cast<std::size_t>(raster.nx) + static_cast<std::size_t>(ii);
         if (i < 0 || j < 0 || i >= like.nx || j >= like.ny || !raster.covers(k)) continue;
         double& top = e.top.at(static_cast<int>(i), static_cast<int>(j));
         double& bottom = e.bottom.at(static_cast<int>(i), static_cast<int>(j));
@@ -163,6 +164,16 @@ Image render_water_scene(const water::Surface& surface, const WaterOverlay& over
   }
   if (!overlay.bodies.empty()) paint(image, top, w, h, body_cover(overlay.bodies, g.x0, g.y0, pixel, w, h), kBody, 0.8);
   return image;
+}
+
+double level_around(const water::Surface& surface, double x, double y, double radius) {
+  constexpr int kPoints = 32;
+  double sum = 0.0;
+  for (int k = 0; k < kPoints; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / kPoints;
+    sum += surface.height_at(x + radius * std::cos(a), y + radius * std::sin(a));
+  }
+  return sum / kPoints;
 }
 
 std::string time_label(double seconds) {

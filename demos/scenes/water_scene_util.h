@@ -51,6 +51,11 @@ Image render_water_scene(const water::Surface& surface, const WaterOverlay& over
 /// Largest |height - rest level| over the surface's nodes that are not fixed, m.
 double max_deviation(const water::Surface& surface);
 
+/// Mean water height on a circle of `radius` around (x, y) (32 points, bilinear): the level
+/// a floater at (x, y) sits in, free of the surface under the body itself, which the body's
+/// displacement raises.
+double level_around(const water::Surface& surface, double x, double y, double radius);
+
 /// "t = 1.25 s".
 std::string time_label(double seconds);
 
