@@ -138,7 +138,7 @@ HeightGrid scenery(const HeightGrid& sand, const water::Surface* w) {
 SceneResult run(const SceneOptions& o, Progress& progress) {
   const double cell = o.smoke ? std::max(o.cell, 0.05) : o.cell;
   terrain::Terrain sand(sand_settings(o, cell));
-  water::Surface sea(water_settings(2.0 * cell, o.threads));
+  water::Surface sea(water_settings(2.0 * cell, 0));  // 0: the surface's own thread choice (small grid)
 
   cases::BulletWorld world(9.81);
   bullet::TerrainCoupling ground(world.world(), sand);

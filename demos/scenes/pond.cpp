@@ -185,10 +185,25 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   std::vector<Image> film;
   std::vector<std::string> labels;
   const water_scene::WaterOverlay overlay{on_island, {drawn.begin() + 1, drawn.end()}};  // island: land
+  // The oblique view is taken while the bump's waves wrap around the island (frame 4).
+  const int view_step = frame_steps[std::min<std::size_t>(3, frame_steps.size() - 1)];
+  Image view_picture;
+  auto oblique = [&](int k) {
+    const HeightGrid g = water_scene::surface_grid(pond);
+    const HeightGrid rest(g.nx, g.ny, g.cell, g.x0, g.y0, pond.settings().rest_height);
+    const water_scene::BodyEnvelopes bodies = water_scene::body_envelopes(drawn, g);
+    ReliefStyle style;
+    style.baseline = &rest;  // blue: troughs, red: crests
+    style.bodies = &bodies.top;
+    style.body_bottoms = &bodies.bottom;
+    style.title = "pond at " + water_scene::time_label(k * o.substep);
+    return render_oblique(g, style, 35.0);
+  };
   auto capture = [&](int k) {
     if (!o.write_files) return;
     film.push_back(water_scene::render_water_scene(pond, overlay, 0.0, "", o.smoke ? 160 : 480));
     labels.push_back(water_scene::time_label(k * o.substep));
+    if (k == view_step) view_picture = oblique(k);
   };
 
   double wall = 0.0, max_wave = 0.0;
@@ -254,16 +269,8 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     r.files.push_back(
         write_png(o.file("water.png"), water_scene::render_water_scene(pond, overlay, 0.0, "pond: water at the end")));
     r.files.push_back(write_png(o.file("filmstrip.png"), filmstrip(film, labels, 3)));
-    const HeightGrid g = water_scene::surface_grid(pond);
-    const HeightGrid rest(g.nx, g.ny, g.cell, g.x0, g.y0, pond.settings().rest_height);
-    const water_scene::BodyEnvelopes bodies = water_scene::body_envelopes(drawn, g);
-    ReliefStyle view;
-    view.baseline = &rest;
-    view.bodies = &bodies.top;
-    view.body_bottoms = &bodies.bottom;
-    view.title = "pond at " + water_scene::time_label(n * o.substep);
-    r.files.push_back(write_png(o.file("view.png"), render_oblique(g, view, 35.0)));
-    r.files.push_back(write_obj(o.file("water.obj"), g));
+    r.files.push_back(write_png(o.file("view.png"), view_picture));
+    r.files.push_back(write_obj(o.file("water.obj"), water_scene::surface_grid(pond)));
   }
   return r;
 }
