@@ -40,12 +40,13 @@ std::vector<const Sweep*> select(const std::vector<std::string>& only) {
     for (std::string name; std::getline(parts, name, ',');)
       if (!name.empty()) wanted.insert(name);
   }
+  std::set<std::string> unknown = wanted;  // names no sweep answers to
   for (const Sweep& s : sweeps())
     if (wanted.empty() || wanted.count(s.name)) {
       chosen.push_back(&s);
-      wanted.erase(s.name);
+      unknown.erase(s.name);
     }
-  for (const auto& w : wanted) throw CLI::ValidationError("--only", "no sweep called " + w);
+  for (const auto& w : unknown) throw CLI::ValidationError("--only", "no sweep called " + w);
   return chosen;
 }
 
