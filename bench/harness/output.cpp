@@ -30,6 +30,12 @@ std::string cell_text(const Cell& c) {
   return q + "\"";
 }
 
+/// A cell as plain text (no CSV quoting): plot titles and Markdown tables.
+std::string cell_plain(const Cell& c) {
+  if (const std::string* s = std::get_if<std::string>(&c)) return *s;
+  return cell_text(c);
+}
+
 double cell_number(const Cell& c) {
   const double* d = std::get_if<double>(&c);
   return d ? *d : NAN;
@@ -66,7 +72,7 @@ std::string plot_script(const PlotSpec& p, const Table& t, const std::filesystem
     const double x = cell_number(row[xi]), y = cell_number(row[yi]);
     if (!std::isfinite(x) || !std::isfinite(y)) continue;
     if ((p.log_x && x <= 0) || (p.log_y && y <= 0)) continue;  // cannot sit on a log axis
-    const std::string name = p.series.empty() ? p.y : cell_text(row[t.column(p.series)]);
+    const std::string name = p.series.empty() ? p.y : cell_plain(row[t.column(p.series)]);
     series[name].emplace_back(x, y);
   }
   std::ostringstream s;
@@ -111,7 +117,7 @@ std::string markdown_table(const Table& t) {
   s << "\n";
   for (const auto& row : t.rows) {
     s << "|";
-    for (const auto& c : row) s << ' ' << cell_text(c) << " |";
+    for (const auto& c : row) s << ' ' << cell_plain(c) << " |";
     s << "\n";
   }
   return s.str();
