@@ -52,7 +52,7 @@ void floating_sweep(const SweepContext& ctx, SweepResult& out) {
   const std::vector<double> cells = ctx.quick ? std::vector<double>{0.1, 0.05, 0.025}
                                               : std::vector<double>{0.1, 0.05, 0.025, 0.0125};
   const std::vector<double> substeps = ctx.quick
-                                           ? std::vector<double>{1.0 / 60, 1.0 / 240, 1.0 / 960}
+                                           ? std::vector<double>{1.0 / 60, 1.0 / 240, 1.0 / 480}
                                            : std::vector<double>{1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480, 1.0 / 960};
   for (const FloatMethod& m : methods) {
     const bool swept = m.shape == cases::FloaterShape::box || !ctx.quick;
