@@ -211,7 +211,11 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
       "Water kernels (bench/water/water_cases.h): the paper's 8-spring lattice stepped at dt 0.3 with a "
       "disturbance in the middle; fast = Shore's fused SIMD kernel with its stability guard, reference = the plain "
       "loops of the same algorithm (ReferenceSurface). Floor = float triad bandwidth / bytes a node-step must move "
-      "(49 B in 3-D, 17 B vertical-only), measured with the same thread count in this run.");
+      "(49 B in 3-D, 17 B vertical-only), measured with the same thread count in this run. The triad is counted "
+      "as STREAM counts it, 12 B per element; its store also reads the line first (write-allocate), so the real "
+      "traffic is nearer 16 B and the floor is conservative: fractions can exceed 1 (vertical-only at 2048^2) and "
+      "may overstate the kernel's share by up to 4/3. At 256^2 the state fits in the caches and the fraction "
+      "means nothing.");
 }
 
 /// Threads: the soil step alone (region split even when small) at 1 and 2 threads.
