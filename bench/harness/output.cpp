@@ -293,9 +293,9 @@ std::filesystem::path write_benchmarks_md(const std::filesystem::path& source_di
      << meta["bullet_precision"].get<std::string>() << ", " << meta["build_type"].get<std::string>()
      << (meta["quick"].get<bool>() ? ", quick run" : ", full run") << " of " << meta_number(meta, "total_wall_seconds")
      << " s. Raw results: [" << results_file << "](../" << results_file << ").\n\n"
-     << "The machine was shared with other builds: 1-minute load average " << meta_number(meta, "load_average_1min_start")
-     << " at the start and " << meta_number(meta, "load_average_1min") << " at the end, on "
-     << meta["hardware_threads"].get<int>()
+     << "The machine was shared with other builds: 1-minute load average "
+     << meta_number(meta, "load_average_1min_start") << " at the start and " << meta_number(meta, "load_average_1min")
+     << " at the end, on " << meta["hardware_threads"].get<int>()
      << " hardware threads. Above the core count every timing is inflated; ratios measured side by side in the "
         "same run (speedups, fractions of the memory floor) suffer least. Times are medians of repeated runs.\n\n";
   bool any_target = false;

@@ -54,10 +54,10 @@ struct Table {
 
 /// A performance target: value op threshold, printed PASS or SHORT (never hidden).
 struct Target {
-  std::string key;        ///< the figure it checks ("plugin.wheel_ms_per_substep")
-  std::string what;       ///< one line: "one towed wheel, 1 cm sand, 1/240 s"
-  double value = 0.0;     ///< measured (NaN: not measured, counts as SHORT)
-  std::string op;         ///< "<", "<=", ">" or ">="
+  std::string key;     ///< the figure it checks ("plugin.wheel_ms_per_substep")
+  std::string what;    ///< one line: "one towed wheel, 1 cm sand, 1/240 s"
+  double value = 0.0;  ///< measured (NaN: not measured, counts as SHORT)
+  std::string op;      ///< "<", "<=", ">" or ">="
   double threshold = 0.0;
   std::string unit;
   [[nodiscard]] bool pass() const;

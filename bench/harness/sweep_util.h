@@ -31,8 +31,8 @@ inline bool same(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max
 
 /// One run of a cross sweep: which parameter this row varies, and the setting.
 struct CrossPoint {
-  double cell = 0.01;         ///< m
-  double substep = 1.0 / 240;  ///< s
+  double cell = 0.01;            ///< m
+  double substep = 1.0 / 240;    ///< s
   bool on_cell_axis = false;     ///< part of the cell-size series (substep = standard)
   bool on_substep_axis = false;  ///< part of the substep series (cell = standard)
 };

@@ -104,10 +104,9 @@ std::string substep_label(double h) {
 void envelope_vs_rays(const SweepContext& ctx, SweepResult& out) {
   ctx.progress("envelope vs ray casting, 1 cm, 4 shapes");
   const std::vector<EnvelopeCaseResult> cases = run_envelope_cases(0.01, ctx.quick ? 5 : 15);
-  Table& t = out.table("baseline_envelope_vs_rays",
-                       {"case", "columns", "covered", "envelope_us", "ray_world_us", "ray_single_us",
-                        "speedup_vs_world_ray", "speedup_vs_single_ray", "ray_vs_envelope_mean_abs_mm",
-                        "coverage_mismatch"});
+  Table& t = out.table("baseline_envelope_vs_rays", {"case", "columns", "covered", "envelope_us", "ray_world_us",
+                                                     "ray_single_us", "speedup_vs_world_ray", "speedup_vs_single_ray",
+                                                     "ray_vs_envelope_mean_abs_mm", "coverage_mismatch"});
   Table& l = out.table("baseline_envelope_methods", {"method", "case", "covered_columns", "us_per_body"});
   double log_sum = 0.0, worst = 1e300, log_single = 0.0;
   for (const EnvelopeCaseResult& r : cases) {

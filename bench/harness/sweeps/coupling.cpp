@@ -41,16 +41,16 @@ cases::Floater floater_of(const FloatMethod& m) {
 }
 
 void floating_sweep(const SweepContext& ctx, SweepResult& out) {
-  Table& t = out.table("coupling_floating",
-                       {"curve", "method", "varied", "cell_m", "nodes", "substep_s", "ms_per_substep",
-                        "coupling_ms_per_substep", "water_ms_per_substep", "s_wall_per_s_sim", "draft_m",
-                        "reference_m", "error_pct", "abs_error_pct"});
+  Table& t =
+      out.table("coupling_floating", {"curve", "method", "varied", "cell_m", "nodes", "substep_s", "ms_per_substep",
+                                      "coupling_ms_per_substep", "water_ms_per_substep", "s_wall_per_s_sim", "draft_m",
+                                      "reference_m", "error_pct", "abs_error_pct"});
   const std::vector<FloatMethod> methods = {
       {"box, vertical-only water", "box_vertical", cases::FloaterShape::box, true},
       {"box, 3-D water", "box_3d", cases::FloaterShape::box, false},
       {"sphere, vertical-only water", "sphere_vertical", cases::FloaterShape::sphere, true}};
-  const std::vector<double> cells = ctx.quick ? std::vector<double>{0.1, 0.05, 0.025}
-                                              : std::vector<double>{0.1, 0.05, 0.025, 0.0125};
+  const std::vector<double> cells =
+      ctx.quick ? std::vector<double>{0.1, 0.05, 0.025} : std::vector<double>{0.1, 0.05, 0.025, 0.0125};
   const std::vector<double> substeps = ctx.quick
                                            ? std::vector<double>{1.0 / 60, 1.0 / 240, 1.0 / 480}
                                            : std::vector<double>{1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480, 1.0 / 960};
@@ -198,8 +198,8 @@ void vehicle(const SweepContext& ctx, SweepResult& out) {
   c.threads = 1;
   const cases::VehicleResult r = cases::run_vehicle(c);
   Table& t = out.table("coupling_vehicle", {"substep_s", "cell_m", "sim_s", "wall_s", "realtime_factor",
-                                            "plugin_ms_per_substep", "ms_per_substep", "distance_m",
-                                            "speed_sand_m_s", "speed_mud_m_s", "max_sinkage_m", "fallthrough"});
+                                            "plugin_ms_per_substep", "ms_per_substep", "distance_m", "speed_sand_m_s",
+                                            "speed_mud_m_s", "max_sinkage_m", "fallthrough"});
   t.add({c.substep, c.cell, r.sim_seconds, r.stats.wall_seconds, r.realtime_factor(), r.stats.plugin_ms_per_substep(),
          r.stats.ms_per_substep(), r.distance, r.mean_speed_sand, r.mean_speed_mud, r.max_sinkage,
          double(r.fallthrough_count)});

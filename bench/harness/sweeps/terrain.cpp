@@ -53,9 +53,9 @@ std::string where(const CrossPoint& p) { return cell_label(p.cell) + ", " + subs
 
 // ---- plate ------------------------------------------------------------------------------
 void plate_sweep(const SweepContext& ctx, SweepResult& out) {
-  Table& t = out.table("terrain_plate", {"curve", "method", "varied", "cell_m", "substep_s", "ms_per_substep",
-                                         "plugin_ms_per_substep", "s_wall_per_s_sim", "sinkage_m", "reference_m",
-                                         "error_pct", "abs_error_pct"});
+  Table& t = out.table("terrain_plate",
+                       {"curve", "method", "varied", "cell_m", "substep_s", "ms_per_substep", "plugin_ms_per_substep",
+                        "s_wall_per_s_sim", "sinkage_m", "reference_m", "error_pct", "abs_error_pct"});
   const Axes a = axes(ctx);
   for (const bool ramped : {false, true}) {
     const std::string method = ramped ? "plate ramped 2 s" : "plate released";
@@ -112,11 +112,11 @@ struct WheelMethod {
 };
 
 void wheel_sweep(const SweepContext& ctx, SweepResult& out) {
-  Table& t = out.table("terrain_wheel",
-                       {"curve", "method", "varied", "cell_m", "substep_s", "ms_per_substep", "plugin_ms_per_substep",
-                        "envelope_ms_per_substep", "terrain_ms_per_substep", "push_ms_per_substep",
-                        "s_wall_per_s_sim", "sinkage_m", "reference_m", "error_pct", "abs_error_pct", "resistance_n",
-                        "reference_resistance_n", "resistance_error_pct"});
+  Table& t =
+      out.table("terrain_wheel", {"curve", "method", "varied", "cell_m", "substep_s", "ms_per_substep",
+                                  "plugin_ms_per_substep", "envelope_ms_per_substep", "terrain_ms_per_substep",
+                                  "push_ms_per_substep", "s_wall_per_s_sim", "sinkage_m", "reference_m", "error_pct",
+                                  "abs_error_pct", "resistance_n", "reference_resistance_n", "resistance_error_pct"});
   terrain::Material alpha0 = terrain::Material::sand();
   alpha0.alpha = 0.0;
   const std::vector<WheelMethod> methods = {{"wheel static", alpha0, false},
@@ -154,7 +154,7 @@ void wheel_sweep(const SweepContext& ctx, SweepResult& out) {
                                  re};
       });
       if (same(p.cell, kStandardCell) && same(p.substep, kStandardSubstep)) {
-        const std::string key = m.name == "wheel static"              ? "wheel_static"
+        const std::string key = m.name == "wheel static"            ? "wheel_static"
                                 : m.name == "wheel rolling alpha 0" ? "wheel_rolling_alpha0"
                                                                     : "wheel_rolling_sand";
         out.figure("terrain." + key + "_sinkage_error_pct", e, "% vs Bekker (1 cm, 1/240 s)");
@@ -210,7 +210,8 @@ ImprintRun press_kinematic(std::unique_ptr<btCollisionShape> shape, double botto
   bullet::TerrainCoupling ground(world.world(), soil);
   // Off the column lattice by a fraction of a cell, so no edge passes exactly through columns.
   const double x0 = 0.0031, y0 = 0.0017;
-  btRigidBody* body = world.add_body(std::move(shape), 0.0, btVector3(btScalar(x0), btScalar(y0), btScalar(bottom_offset)));
+  btRigidBody* body =
+      world.add_body(std::move(shape), 0.0, btVector3(btScalar(x0), btScalar(y0), btScalar(bottom_offset)));
   body->setCollisionFlags(body->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
   body->setActivationState(DISABLE_DEACTIVATION);
   ground.add_body(body);
@@ -242,16 +243,15 @@ ImprintRun press_kinematic(std::unique_ptr<btCollisionShape> shape, double botto
 void imprint_sweep(const SweepContext& ctx, SweepResult& out) {
   Table& t = out.table("terrain_imprint", {"method", "cell_m", "plugin_ms_per_substep", "volume_m3", "reference_m3",
                                            "error_pct", "abs_error_pct"});
-  const double R = 0.15, depth = 0.05;               // sphere D 0.3 m pressed 5 cm
-  const double bx = 0.15, by = 0.1, bz = 0.05;       // box 0.3 x 0.2 x 0.1 m (half extents)
+  const double R = 0.15, depth = 0.05;          // sphere D 0.3 m pressed 5 cm
+  const double bx = 0.15, by = 0.1, bz = 0.05;  // box 0.3 x 0.2 x 0.1 m (half extents)
   const double cap = std::numbers::pi * depth * depth * (R - depth / 3.0);
   const double prism = 4.0 * bx * by * depth;
   for (double cell : axes(ctx).cells) {
     ctx.progress("imprint, " + cell_label(cell));
     const ImprintRun s = press_kinematic(std::make_unique<btSphereShape>(btScalar(R)), R, depth, cell);
-    const ImprintRun b =
-        press_kinematic(std::make_unique<btBoxShape>(btVector3(btScalar(bx), btScalar(by), btScalar(bz))), bz, depth,
-                        cell);
+    const ImprintRun b = press_kinematic(
+        std::make_unique<btBoxShape>(btVector3(btScalar(bx), btScalar(by), btScalar(bz))), bz, depth, cell);
     const double es = error_pct(s.lowered_m3, cap), eb = error_pct(b.lowered_m3, prism);
     t.add({"sphere D 0.3 m, 5 cm", cell, s.ms_per_substep, s.lowered_m3, cap, es, std::abs(es)});
     t.add({"box 0.3 x 0.2 m, 5 cm", cell, b.ms_per_substep, b.lowered_m3, prism, eb, std::abs(eb)});
@@ -277,9 +277,9 @@ void imprint_sweep(const SweepContext& ctx, SweepResult& out) {
 
 // ---- sphere drop -----------------------------------------------------------------------
 void sphere_drop_sweep(const SweepContext& ctx, SweepResult& out) {
-  Table& t = out.table("terrain_sphere_drop", {"method", "cell_m", "substep_s", "ms_per_substep",
-                                               "plugin_ms_per_substep", "s_wall_per_s_sim", "depth_m", "reference_m",
-                                               "error_pct", "abs_error_pct"});
+  Table& t =
+      out.table("terrain_sphere_drop", {"method", "cell_m", "substep_s", "ms_per_substep", "plugin_ms_per_substep",
+                                        "s_wall_per_s_sim", "depth_m", "reference_m", "error_pct", "abs_error_pct"});
   for (double h : axes(ctx).substeps) {
     ctx.progress("sphere drop, " + substep_label(h));
     cases::SphereDropCase c;
@@ -288,7 +288,8 @@ void sphere_drop_sweep(const SweepContext& ctx, SweepResult& out) {
     const double e = error_pct(r.depth, r.reference);
     t.add({"sphere drop, 1 cm sand", kStandardCell, h, r.stats.ms_per_substep(), r.stats.plugin_ms_per_substep(),
            r.stats.ms_per_substep() * 1e-3 / h, r.depth, r.reference, e, std::abs(e)});
-    if (same(h, kStandardSubstep)) out.figure("terrain.sphere_drop_depth_error_pct", e, "% vs energy balance (1/240 s)");
+    if (same(h, kStandardSubstep))
+      out.figure("terrain.sphere_drop_depth_error_pct", e, "% vs energy balance (1/240 s)");
   }
   out.plot({.name = "terrain_sphere_drop_time_vs_error",
             .title = "Sphere dropped into sand: cost against crater depth error",
@@ -312,8 +313,8 @@ void step_alone(const SweepContext& ctx, SweepResult& out) {
   for (const auto c : {terrain::bench::TerrainCase::wheel, terrain::bench::TerrainCase::footprint}) {
     ctx.progress(std::string("terrain step alone, ") + terrain::bench::case_name(c));
     const terrain::bench::TerrainCaseResult r = terrain::bench::run_terrain_case(c, 1, steps);
-    t.add({r.name, 1.0, r.ms_per_step, r.bearing_ms_per_step, r.active_columns, r.erosion_passes,
-           r.columns_per_second});
+    t.add(
+        {r.name, 1.0, r.ms_per_step, r.bearing_ms_per_step, r.active_columns, r.erosion_passes, r.columns_per_second});
     if (c == terrain::bench::TerrainCase::wheel) {
       out.figure("terrain.wheel_ms_per_substep", r.ms_per_step, "ms (Terrain::step alone, wheel at 1 cm, 1 thread)");
       out.figure("terrain.wheel_active_columns", r.active_columns, "columns per substep");

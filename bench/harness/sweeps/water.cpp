@@ -71,10 +71,10 @@ double prony_omega(const std::vector<double>& q, double dt) {
 }
 
 struct ModeRun {
-  double omega = 0.0;          ///< rad/s, measured
+  double omega = 0.0;           ///< rad/s, measured
   double seconds_stepping = 0;  ///< wall time inside step()
-  long substeps = 0;           ///< internal substeps taken
-  double substep = 0.0;        ///< s, their length
+  long substeps = 0;            ///< internal substeps taken
+  double substep = 0.0;         ///< s, their length
 };
 
 ModeRun run_mode(water::SurfaceMode mode, double cell, double dt) {
@@ -105,8 +105,8 @@ ModeRun run_mode(water::SurfaceMode mode, double cell, double dt) {
 }
 
 struct EnergyRun {
-  double drift_pct = 0.0;      ///< 100 (E_end - E_0) / E_0, time-centred energy
-  double max_dev_pct = 0.0;    ///< 100 max |E(t) - E_0| / E_0
+  double drift_pct = 0.0;    ///< 100 (E_end - E_0) / E_0, time-centred energy
+  double max_dev_pct = 0.0;  ///< 100 max |E(t) - E_0| / E_0
 };
 
 /// A Gaussian bump (sigma 3 cells, 1 cm high in vertical-only, 0.1 cell in 3-D) off centre,
@@ -114,8 +114,8 @@ struct EnergyRun {
 EnergyRun run_energy(water::SurfaceMode mode, double cell, double dt) {
   water::Surface s = make_surface(mode, cell);
   const double amplitude = mode == water::SurfaceMode::full_3d ? 0.1 * cell : 0.01;
-  s.disturb(water::Disturbance::point_height(s.node_x(0) + 0.37 * kSide, s.node_y(0) + 0.41 * kSide, 3.0 * cell,
-                                             amplitude));
+  s.disturb(
+      water::Disturbance::point_height(s.node_x(0) + 0.37 * kSide, s.node_y(0) + 0.41 * kSide, 3.0 * cell, amplitude));
   const double e0 = s.energy().centred;
   const long steps = std::lround(kSimSeconds / dt);
   const long every = std::max(1L, steps / 400);
@@ -135,14 +135,15 @@ EnergyRun run_energy(water::SurfaceMode mode, double cell, double dt) {
 const char* mode_name(water::SurfaceMode m) { return m == water::SurfaceMode::full_3d ? "3-D" : "vertical-only"; }
 
 void run(const SweepContext& ctx, SweepResult& out) {
-  Table& t = out.table("water_modes", {"curve", "method", "varied", "cell_m", "nodes", "dt_s", "substep_s",
-                                       "ms_per_substep", "s_wall_per_s_sim", "omega_rad_s", "continuum_rad_s",
-                                       "freq_error_pct", "abs_freq_error_pct", "energy_drift_pct",
-                                       "abs_energy_drift_pct", "energy_max_dev_pct"});
-  const std::vector<double> cells = ctx.quick ? std::vector<double>{0.1, 0.05, 0.025}
-                                              : std::vector<double>{0.2, 0.1, 0.05, 0.025, 0.0125};
-  const std::vector<double> steps = ctx.quick ? std::vector<double>{1.0 / 60, 1.0 / 240, 1.0 / 960}
-                                              : std::vector<double>{1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480, 1.0 / 960};
+  Table& t = out.table("water_modes",
+                       {"curve", "method", "varied", "cell_m", "nodes", "dt_s", "substep_s", "ms_per_substep",
+                        "s_wall_per_s_sim", "omega_rad_s", "continuum_rad_s", "freq_error_pct", "abs_freq_error_pct",
+                        "energy_drift_pct", "abs_energy_drift_pct", "energy_max_dev_pct"});
+  const std::vector<double> cells =
+      ctx.quick ? std::vector<double>{0.1, 0.05, 0.025} : std::vector<double>{0.2, 0.1, 0.05, 0.025, 0.0125};
+  const std::vector<double> steps = ctx.quick
+                                        ? std::vector<double>{1.0 / 60, 1.0 / 240, 1.0 / 960}
+                                        : std::vector<double>{1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480, 1.0 / 960};
   const double w_ref = continuum_omega();
   for (const auto mode : {water::SurfaceMode::full_3d, water::SurfaceMode::vertical_only}) {
     const std::string method = mode_name(mode);
@@ -154,21 +155,11 @@ void run(const SweepContext& ctx, SweepResult& out) {
       const double ms = m.substeps ? 1e3 * m.seconds_stepping / double(m.substeps) : NAN;
       const double nodes = std::lround(kSide / p.cell) + 1;
       auto row = [&](const std::string& curve, const char* varied) {
-        return std::vector<Cell>{curve,
-                                 method,
-                                 varied,
-                                 p.cell,
-                                 nodes,
-                                 p.substep,
-                                 m.substep,
-                                 ms,
-                                 m.seconds_stepping / kSimSeconds,
-                                 m.omega,
-                                 w_ref,
-                                 err,
-                                 std::abs(err),
-                                 e.drift_pct,
-                                 std::abs(e.drift_pct),
+        return std::vector<Cell>{curve,         method,      varied,
+                                 p.cell,        nodes,       p.substep,
+                                 m.substep,     ms,          m.seconds_stepping / kSimSeconds,
+                                 m.omega,       w_ref,       err,
+                                 std::abs(err), e.drift_pct, std::abs(e.drift_pct),
                                  e.max_dev_pct};
       };
       if (p.on_cell_axis) t.add(row(method + " vs spacing", "cell"));
