@@ -40,12 +40,13 @@ std::vector<const Sweep*> select(const std::vector<std::string>& only) {
     for (std::string name; std::getline(parts, name, ',');)
       if (!name.empty()) wanted.insert(name);
   }
+  std::set<std::string> unknown = wanted;  // names no sweep answers to
   for (const Sweep& s : sweeps())
     if (wanted.empty() || wanted.count(s.name)) {
       chosen.push_back(&s);
-      wanted.erase(s.name);
+      unknown.erase(s.name);
     }
-  for (const auto& w : wanted) throw CLI::ValidationError("--only", "no sweep called " + w);
+  for (const auto& w : unknown) throw CLI::ValidationError("--only", "no sweep called " + w);
   return chosen;
 }
 
@@ -89,6 +90,8 @@ int main(int argc, char** argv) {
     std::vector<SweepRun> runs;
     int failed = 0;
     const auto start = std::chrono::steady_clock::now();
+    const double load_at_start = load_average();
+    std::printf("load average (1 min) at start: %.2f on %d OpenMP threads\n", load_at_start, openmp_threads);
     for (std::size_t k = 0; k < chosen.size(); ++k) {
       const Sweep& s = *chosen[k];
       std::printf("[%zu/%zu] %s: %s\n", k + 1, chosen.size(), s.name.c_str(), s.description.c_str());
@@ -116,10 +119,14 @@ int main(int argc, char** argv) {
       write_csv(out, run.result);
       render_plots(out, run.result);
       print_figures(run.result);
+      for (const Target& tg : run.result.targets())
+        std::printf("    target %-45s %s  %s\n", tg.key.c_str(), target_text(tg).c_str(), tg.pass() ? "PASS" : "SHORT");
       std::printf("    done in %.1f s\n", run.wall_seconds);
       runs.push_back(std::move(run));
     }
-    const nlohmann::json results = results_json(runs, quick, command_line(argc, argv), openmp_threads);
+    const double total_so_far = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const nlohmann::json results =
+        results_json(runs, quick, command_line(argc, argv), openmp_threads, load_at_start, total_so_far);
     write_text(out / "results.json", results.dump(2) + "\n");
     if (!json_file.empty()) write_text(json_file, results.dump(2) + "\n");
     if (save) {

@@ -30,6 +30,12 @@ std::string cell_text(const Cell& c) {
   return q + "\"";
 }
 
+/// A cell as plain text (no CSV quoting): plot titles and Markdown tables.
+std::string cell_plain(const Cell& c) {
+  if (const std::string* s = std::get_if<std::string>(&c)) return *s;
+  return cell_text(c);
+}
+
 double cell_number(const Cell& c) {
   const double* d = std::get_if<double>(&c);
   return d ? *d : NAN;
@@ -44,12 +50,6 @@ std::string cpu_model() {
       return colon == std::string::npos ? line : line.substr(colon + 2);
     }
   return "unknown";
-}
-
-/// 1-minute load average at the end of the run: above the core count, timings are inflated.
-double load_average() {
-  double load[1] = {-1.0};
-  return getloadavg(load, 1) == 1 ? load[0] : -1.0;
 }
 
 std::string gnuplot_quote(const std::string& s) {
@@ -72,7 +72,7 @@ std::string plot_script(const PlotSpec& p, const Table& t, const std::filesystem
     const double x = cell_number(row[xi]), y = cell_number(row[yi]);
     if (!std::isfinite(x) || !std::isfinite(y)) continue;
     if ((p.log_x && x <= 0) || (p.log_y && y <= 0)) continue;  // cannot sit on a log axis
-    const std::string name = p.series.empty() ? p.y : cell_text(row[t.column(p.series)]);
+    const std::string name = p.series.empty() ? p.y : cell_plain(row[t.column(p.series)]);
     series[name].emplace_back(x, y);
   }
   std::ostringstream s;
@@ -117,7 +117,7 @@ std::string markdown_table(const Table& t) {
   s << "\n";
   for (const auto& row : t.rows) {
     s << "|";
-    for (const auto& c : row) s << ' ' << cell_text(c) << " |";
+    for (const auto& c : row) s << ' ' << cell_plain(c) << " |";
     s << "\n";
   }
   return s.str();
@@ -133,7 +133,26 @@ std::string figure_value_text(const nlohmann::json& figures, const std::string& 
   return buf;
 }
 
+std::string meta_number(const nlohmann::json& meta, const char* key) {
+  if (!meta.contains(key)) return "?";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", meta[key].get<double>());
+  return buf;
+}
+
 }  // namespace
+
+double load_average() {
+  double load[1] = {-1.0};
+  return getloadavg(load, 1) == 1 ? load[0] : -1.0;
+}
+
+std::string target_text(const Target& t) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "%.4g %s %s %.4g %s", t.value, t.unit.c_str(), t.op.c_str(), t.threshold,
+                t.unit.c_str());
+  return buf;
+}
 
 void write_text(const std::filesystem::path& path, const std::string& text) {
   std::filesystem::path tmp = path;
@@ -208,7 +227,7 @@ std::string host_name() {
 }
 
 nlohmann::json results_json(const std::vector<SweepRun>& runs, bool quick, const std::string& command,
-                            int openmp_threads) {
+                            int openmp_threads, double load_at_start, double total_seconds) {
   nlohmann::json j;
   j["meta"] = {{"date", today()},
                {"host", host_name()},
@@ -219,11 +238,14 @@ nlohmann::json results_json(const std::vector<SweepRun>& runs, bool quick, const
                {"build_type", SHORE_BUILD_TYPE},
                {"compiler", __VERSION__},
                {"load_average_1min", load_average()},
+               {"load_average_1min_start", load_at_start},
+               {"total_wall_seconds", total_seconds},
                {"quick", quick},
                {"command", command}};
   j["figures"] = nlohmann::json::object();
   j["tables"] = nlohmann::json::object();
   j["sweeps"] = nlohmann::json::object();
+  j["targets"] = nlohmann::json::array();
   for (const SweepRun& run : runs) {
     j["figures"].merge_patch(run.result.figures());
     for (const Table& t : run.result.tables()) {
@@ -240,6 +262,14 @@ nlohmann::json results_json(const std::vector<SweepRun>& runs, bool quick, const
       }
       j["tables"][t.name] = {{"sweep", run.sweep->name}, {"columns", t.columns}, {"rows", rows}};
     }
+    for (const Target& t : run.result.targets())
+      j["targets"].push_back({{"key", t.key},
+                              {"what", t.what},
+                              {"value", std::isfinite(t.value) ? nlohmann::json(t.value) : nlohmann::json(nullptr)},
+                              {"op", t.op},
+                              {"threshold", t.threshold},
+                              {"unit", t.unit},
+                              {"pass", t.pass()}});
     j["sweeps"][run.sweep->name] = {{"wall_seconds", run.wall_seconds}, {"notes", run.result.notes()}};
     if (!run.error.empty()) j["sweeps"][run.sweep->name]["error"] = run.error;
   }
@@ -261,11 +291,27 @@ std::filesystem::path write_benchmarks_md(const std::filesystem::path& source_di
      << meta["date"].get<std::string>() << " on `" << meta["host"].get<std::string>() << "` ("
      << meta["cpu"].get<std::string>() << ", " << meta["hardware_threads"].get<int>() << " hardware threads), Bullet "
      << meta["bullet_precision"].get<std::string>() << ", " << meta["build_type"].get<std::string>()
-     << (meta["quick"].get<bool>() ? ", quick run" : ", full run") << ", load average "
-     << meta["load_average_1min"].get<double>() << " at the end. Raw results: [" << results_file << "](../"
-     << results_file << ").\n\n"
-     << "Times are medians of repeated runs on a shared machine; compare figures measured in the same run.\n\n"
-     << "## Headline figures\n\n| figure | value | unit |\n|---|---|---|\n";
+     << (meta["quick"].get<bool>() ? ", quick run" : ", full run") << " of " << meta_number(meta, "total_wall_seconds")
+     << " s. Raw results: [" << results_file << "](../" << results_file << ").\n\n"
+     << "The machine was shared with other builds: 1-minute load average "
+     << meta_number(meta, "load_average_1min_start") << " at the start and " << meta_number(meta, "load_average_1min")
+     << " at the end, on " << meta["hardware_threads"].get<int>()
+     << " hardware threads. Above the core count every timing is inflated; ratios measured side by side in the "
+        "same run (speedups, fractions of the memory floor) suffer least. Times are medians of repeated runs.\n\n";
+  bool any_target = false;
+  for (const SweepRun& run : runs) any_target = any_target || !run.result.targets().empty();
+  if (any_target) {
+    md << "## Targets\n\n| target | measured | goal | result |\n|---|---|---|---|\n";
+    for (const SweepRun& run : runs)
+      for (const Target& t : run.result.targets()) {
+        char value[40];
+        std::snprintf(value, sizeof value, "%.4g", t.value);
+        md << "| " << t.what << " (`" << t.key << "`) | " << value << " " << t.unit << " | " << t.op << " "
+           << t.threshold << " " << t.unit << " | " << (t.pass() ? "pass" : "**short**") << " |\n";
+      }
+    md << "\n";
+  }
+  md << "## Headline figures\n\n| figure | value | unit |\n|---|---|---|\n";
   for (const SweepRun& run : runs)
     for (const auto& [key, unit] : run.result.figure_list())
       md << "| `" << key << "` | " << figure_value_text(results["figures"], key) << " | " << unit << " |\n";

@@ -30,9 +30,16 @@ std::vector<std::filesystem::path> render_plots(const std::filesystem::path& dir
 
 /// The results document: meta (date, host, cpu, threads, precision, quick), figures merged
 /// across sweeps, tables, and per-sweep wall time and errors.
-/// openmp_threads: omp_get_max_threads() at start (scenes run by sweeps may change it).
+/// openmp_threads: omp_get_max_threads() at start (scenes run by sweeps may change it);
+/// load_at_start: load_average() before the first sweep.
 nlohmann::json results_json(const std::vector<SweepRun>& runs, bool quick, const std::string& command,
-                            int openmp_threads);
+                            int openmp_threads, double load_at_start, double total_seconds);
+
+/// 1-minute load average (-1 if unknown): above the core count, timings are inflated.
+double load_average();
+
+/// "PASS" or "SHORT" and the target as text, e.g. "0.31 ms < 0.5 ms".
+std::string target_text(const Target& t);
 
 /// Writes docs/BENCHMARKS.md: the figures table, per-sweep notes and plots (copied from
 /// plot_dir to docs/bench/), and the command that reproduces them.

@@ -1,6 +1,7 @@
 #include "sweep.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace shore::bench {
@@ -45,6 +46,20 @@ void SweepResult::figure(const std::string& key, double value, const std::string
 void SweepResult::plot(PlotSpec spec) { plots_.push_back(std::move(spec)); }
 
 void SweepResult::note(std::string text) { notes_.push_back(std::move(text)); }
+
+bool Target::pass() const {
+  if (!std::isfinite(value)) return false;
+  if (op == "<") return value < threshold;
+  if (op == "<=") return value <= threshold;
+  if (op == ">") return value > threshold;
+  return value >= threshold;
+}
+
+void SweepResult::target(Target t) {
+  if (t.op != "<" && t.op != "<=" && t.op != ">" && t.op != ">=")
+    throw std::invalid_argument("target " + t.key + ": op must be <, <=, > or >=, got " + t.op);
+  targets_.push_back(std::move(t));
+}
 
 const std::vector<Sweep>& sweeps() { return registry(); }
 

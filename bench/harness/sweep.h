@@ -52,6 +52,17 @@ struct Table {
   [[nodiscard]] std::size_t column(const std::string& name) const;
 };
 
+/// A performance target: value op threshold, printed PASS or SHORT (never hidden).
+struct Target {
+  std::string key;     ///< the figure it checks ("plugin.wheel_ms_per_substep")
+  std::string what;    ///< one line: "one towed wheel, 1 cm sand, 1/240 s"
+  double value = 0.0;  ///< measured (NaN: not measured, counts as SHORT)
+  std::string op;      ///< "<", "<=", ">" or ">="
+  double threshold = 0.0;
+  std::string unit;
+  [[nodiscard]] bool pass() const;
+};
+
 /// One PNG plot (<out>/<name>.png): y against x, one curve per distinct value of series.
 struct PlotSpec {
   std::string name;  ///< file stem, [a-z0-9_]+
@@ -77,6 +88,8 @@ class SweepResult {
   void plot(PlotSpec spec);
   /// A sentence for docs/BENCHMARKS.md (what was measured, conditions).
   void note(std::string text);
+  /// A target the report states as PASS or SHORT; throws std::invalid_argument on a bad op.
+  void target(Target t);
 
   [[nodiscard]] const std::vector<Table>& tables() const noexcept { return tables_; }
   [[nodiscard]] const std::vector<PlotSpec>& plots() const noexcept { return plots_; }
@@ -85,6 +98,7 @@ class SweepResult {
     return figure_list_;
   }
   [[nodiscard]] const std::vector<std::string>& notes() const noexcept { return notes_; }
+  [[nodiscard]] const std::vector<Target>& targets() const noexcept { return targets_; }
 
  private:
   std::vector<Table> tables_;
@@ -92,6 +106,7 @@ class SweepResult {
   nlohmann::json figures_ = nlohmann::json::object();
   std::vector<std::pair<std::string, std::string>> figure_list_;  // key, unit (in order)
   std::vector<std::string> notes_;
+  std::vector<Target> targets_;
 };
 
 struct SweepContext {

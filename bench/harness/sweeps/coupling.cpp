@@ -1,0 +1,234 @@
+// coupling: what the Bullet plugin costs per substep, and how right it is. Water: bodies
+// floating in a pool (shore::cases::run_pool) against Archimedes' draft, across water
+// resolution and substep. Soil: the plugin's own time for one towed wheel (envelope, soil
+// step, tile update separately) and the four-wheel vehicle's real-time factor.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "shore/cases/soil_cases.h"
+#include "shore/cases/vehicle_case.h"
+#include "shore/cases/water_cases.h"
+#include "sweep.h"
+#include "sweep_util.h"
+
+namespace shore::bench {
+namespace {
+
+constexpr double kPoolSide = 3.2;  // m
+constexpr double kStandardCell = 0.05, kStandardSubstep = 1.0 / 240;
+
+struct FloatMethod {
+  std::string name;
+  std::string key;  // figure key stem
+  cases::FloaterShape shape;
+  bool vertical_only;
+};
+
+cases::Floater floater_of(const FloatMethod& m) {
+  cases::Floater f;
+  f.shape = m.shape;
+  f.density_ratio = 0.5;
+  if (m.shape == cases::FloaterShape::box) {
+    f.size = btVector3(0.3f, 0.3f, 0.2f);
+    f.position = btVector3(0.013f, -0.021f, 0.1f);  // bottom on the surface, off the nodes
+  } else {
+    f.size = btVector3(0.3f, 0.3f, 0.3f);
+    f.position = btVector3(0.013f, -0.021f, 0.15f);
+  }
+  return f;
+}
+
+void floating_sweep(const SweepContext& ctx, SweepResult& out) {
+  Table& t =
+      out.table("coupling_floating", {"curve", "method", "varied", "cell_m", "nodes", "substep_s", "ms_per_substep",
+                                      "coupling_ms_per_substep", "water_ms_per_substep", "s_wall_per_s_sim", "draft_m",
+                                      "reference_m", "error_pct", "abs_error_pct"});
+  const std::vector<FloatMethod> methods = {
+      {"box, vertical-only water", "box_vertical", cases::FloaterShape::box, true},
+      {"box, 3-D water", "box_3d", cases::FloaterShape::box, false},
+      {"sphere, vertical-only water", "sphere_vertical", cases::FloaterShape::sphere, true}};
+  const std::vector<double> cells =
+      ctx.quick ? std::vector<double>{0.1, 0.05, 0.025} : std::vector<double>{0.1, 0.05, 0.025, 0.0125};
+  const std::vector<double> substeps = ctx.quick
+                                           ? std::vector<double>{1.0 / 60, 1.0 / 240, 1.0 / 480}
+                                           : std::vector<double>{1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480, 1.0 / 960};
+  for (const FloatMethod& m : methods) {
+    const bool swept = m.shape == cases::FloaterShape::box || !ctx.quick;
+    for (const CrossPoint& p : cross(cells, substeps, kStandardCell, kStandardSubstep)) {
+      if (!swept && !(same(p.cell, kStandardCell) && same(p.substep, kStandardSubstep))) continue;
+      ctx.progress(m.name + ", " + cell_label(p.cell) + ", " + substep_label(p.substep));
+      cases::PoolRun run;
+      run.pool.nodes = static_cast<int>(std::lround(kPoolSide / p.cell)) + 1;
+      run.pool.cell = p.cell;
+      run.pool.damping_time = 1.0;
+      run.pool.vertical_only = m.vertical_only;
+      run.pool.substep = p.substep;
+      run.pool.threads = 1;
+      run.seconds = 5.0;
+      run.record_every = 1000000;
+      const cases::Floater f = floater_of(m);
+      run.floaters = {f};
+      const cases::PoolResult r = cases::run_pool(run);
+      const double reference = cases::archimedes_draft(f);
+      const double draft = r.final_draft.empty() ? NAN : r.final_draft[0];
+      const double e = r.nan_count ? NAN : error_pct(draft, reference);
+      const double n = double(std::max<std::int64_t>(r.substeps, 1));
+      auto row = [&](const std::string& curve, const char* varied) {
+        return std::vector<Cell>{curve,
+                                 m.name,
+                                 varied,
+                                 p.cell,
+                                 double(run.pool.nodes),
+                                 p.substep,
+                                 1e3 * r.wall_seconds / n,
+                                 1e3 * r.coupling_seconds / n,
+                                 1e3 * r.water_seconds / n,
+                                 r.wall_seconds / run.seconds,
+                                 draft,
+                                 reference,
+                                 e,
+                                 std::abs(e)};
+      };
+      if (p.on_cell_axis) t.add(row(m.name + " vs water cell", "cell"));
+      if (p.on_substep_axis && swept) t.add(row(m.name + " vs substep", "substep"));
+      if (same(p.cell, kStandardCell) && same(p.substep, kStandardSubstep)) {
+        out.figure("coupling." + m.key + "_draft_error_pct", e, "% vs Archimedes (5 cm water, 1/240 s)");
+        out.figure("plugin.water_" + m.key + "_coupling_ms_per_substep", 1e3 * r.coupling_seconds / n,
+                   "ms (buoyancy + displacement, 65 x 65 nodes, 1/240 s)");
+        out.figure("plugin.water_" + m.key + "_water_ms_per_substep", 1e3 * r.water_seconds / n,
+                   "ms (the surface's own steps, 65 x 65 nodes)");
+      }
+    }
+  }
+  out.plot({.name = "coupling_floating_time_vs_error",
+            .title = "Floating bodies (density 0.5) in a 3.2 m pool: cost against draft error (Archimedes)",
+            .table = "coupling_floating",
+            .x = "abs_error_pct",
+            .y = "s_wall_per_s_sim",
+            .series = "curve",
+            .x_label = "|draft error|, % of Archimedes",
+            .y_label = "wall seconds per simulated second (Bullet + water + coupling)"});
+  out.plot({.name = "coupling_floating_plugin_time_vs_error",
+            .title = "Floating bodies: coupling time per substep against draft error",
+            .table = "coupling_floating",
+            .x = "abs_error_pct",
+            .y = "coupling_ms_per_substep",
+            .series = "curve",
+            .x_label = "|draft error|, % of Archimedes",
+            .y_label = "coupling ms per substep (buoyancy + displacement)"});
+  out.note(
+      "Floating: a 0.3 x 0.3 x 0.2 m box and a D 0.3 m sphere at half the water's density, released with their "
+      "bottom on the surface of a 3.2 m square pool (0.5 m deep, damping time 1 s, walls vertical-only), 5 s "
+      "simulated; draft = mean over the last second of the far-field level minus the body's lowest point, against "
+      "Archimedes (box: 0.1 m; sphere: 0.15 m). Water cell swept at 1/240 s, substep at 5 cm; one thread. "
+      "coupling_ms is Shore's buoyancy and displacement work, water_ms the surface's own steps.");
+}
+
+/// Seconds of each part of Shore's work, and substeps, over a run.
+struct PluginTimes {
+  double plugin = 0, envelope = 0, terrain = 0, push = 0, whole = 0;
+  double substeps = 0;
+  explicit PluginTimes(const cases::RunStats& s)
+      : plugin(s.plugin_seconds),
+        envelope(s.envelope_seconds),
+        terrain(s.terrain_seconds),
+        push(s.push_seconds),
+        whole(s.wall_seconds),
+        substeps(double(s.substeps)) {}
+};
+
+void wheel_plugin_time(const SweepContext& ctx, SweepResult& out) {
+  // run_wheel times the whole run: 2 s of load ramp and 0.5 s of settling with the wheel
+  // held, then the tow. The held phase is run again alone (the same code path, the same
+  // substeps) and subtracted, which leaves the towing phase.
+  cases::WheelCase c;
+  c.run.material = terrain::Material::sand();
+  c.run.cell = 0.01;
+  c.run.substep = 1.0 / 240;
+  c.run.threads = 1;
+  c.towed = true;
+  ctx.progress("towed wheel, 1 cm sand, 1/240 s (plugin time)");
+  const cases::WheelResult towed = cases::run_wheel(c);
+  c.towed = false;
+  ctx.progress("the same wheel held (load ramp and settling only), to subtract");
+  const cases::WheelResult held = cases::run_wheel(c);
+  const PluginTimes all(towed.stats), pre(held.stats);
+  const double n = std::max(1.0, all.substeps - pre.substeps);
+  auto per_substep = [&](double PluginTimes::*part) { return 1e3 * (all.*part - pre.*part) / n; };
+  const double plugin = per_substep(&PluginTimes::plugin), envelope = per_substep(&PluginTimes::envelope),
+               soil = per_substep(&PluginTimes::terrain), push = per_substep(&PluginTimes::push),
+               whole = per_substep(&PluginTimes::whole);
+  Table& t = out.table("coupling_wheel_plugin", {"part", "tow_ms_per_substep", "whole_run_ms_per_substep"});
+  auto whole_run = [&](double seconds) { return 1e3 * seconds / std::max(1.0, all.substeps); };
+  t.add({"plugin total", plugin, whole_run(all.plugin)});
+  t.add({"envelope", envelope, whole_run(all.envelope)});
+  t.add({"terrain step", soil, whole_run(all.terrain)});
+  t.add({"tile push + cover", push, whole_run(all.push)});
+  t.add({"reaction (rest of plugin)", plugin - envelope - soil - push,
+         whole_run(all.plugin - all.envelope - all.terrain - all.push)});
+  t.add({"whole step (Bullet + plugin)", whole, whole_run(all.whole)});
+  out.figure("plugin.wheel_ms_per_substep", plugin,
+             "ms (Shore's own time while towing, one wheel, 1 cm sand, 1/240 s, 1 thread)");
+  out.figure("plugin.wheel_envelope_ms_per_substep", envelope, "ms (towing)");
+  out.figure("plugin.wheel_terrain_ms_per_substep", soil, "ms (towing)");
+  out.figure("plugin.wheel_push_ms_per_substep", push, "ms (towing)");
+  out.figure("plugin.wheel_whole_step_ms_per_substep", whole, "ms (towing, Bullet + Shore)");
+  out.figure("plugin.wheel_ms_per_substep_whole_run", whole_run(all.plugin), "ms (ramp, settling and tow averaged)");
+  out.figure("plugin.wheel_rolling_sinkage_error_pct", error_pct(towed.sinkage, towed.reference_sinkage),
+             "% vs Bekker rolling (sand preset, alpha 0.3: rim included)");
+  out.target({.key = "plugin.wheel_ms_per_substep",
+              .what = "plugin time, one towed wheel on 1 cm sand at 1/240 s",
+              .value = plugin,
+              .op = "<",
+              .threshold = 0.5,
+              .unit = "ms/substep"});
+  out.note(
+      "Plugin time: one towed wheel (D 0.8 m, b 0.3 m, 4 kN) on 1 cm dry sand (alpha 0.3) at 1/240 s, one "
+      "thread: 2 s of load ramp and 0.5 s of settling with the wheel held, then 2 m towed at 1 m/s. The towing "
+      "phase's time is the whole run's minus that of the held phase run alone (the same substeps): Shore's own "
+      "time per substep (envelope rasterization, soil step, tile cover and push, reaction) and the whole "
+      "stepSimulation. The whole-run average is listed beside it.");
+}
+
+void vehicle(const SweepContext& ctx, SweepResult& out) {
+  ctx.progress("vehicle, 2 cm sand and mud, 1/240 s");
+  cases::VehicleCase c;  // 2 cm soil, 1/240 s, 6 s
+  c.threads = 1;
+  const cases::VehicleResult r = cases::run_vehicle(c);
+  Table& t = out.table("coupling_vehicle", {"substep_s", "cell_m", "sim_s", "wall_s", "realtime_factor",
+                                            "plugin_ms_per_substep", "ms_per_substep", "distance_m", "speed_sand_m_s",
+                                            "speed_mud_m_s", "max_sinkage_m", "fallthrough"});
+  t.add({c.substep, c.cell, r.sim_seconds, r.stats.wall_seconds, r.realtime_factor(), r.stats.plugin_ms_per_substep(),
+         r.stats.ms_per_substep(), r.distance, r.mean_speed_sand, r.mean_speed_mud, r.max_sinkage,
+         double(r.fallthrough_count)});
+  out.figure("plugin.vehicle_realtime_factor", r.realtime_factor(),
+             "x real time (4 wheels, 2 cm sand + mud, 240 substeps/s, 1 thread)");
+  out.figure("plugin.vehicle_plugin_ms_per_substep", r.stats.plugin_ms_per_substep(), "ms");
+  out.target({.key = "plugin.vehicle_realtime_factor",
+              .what = "four-wheel vehicle over sand and mud, 240 substeps/s",
+              .value = r.realtime_factor(),
+              .op = ">=",
+              .threshold = 5.0,
+              .unit = "x real time"});
+  out.note(
+      "Vehicle: chassis 400 kg on four motorised cylinder wheels (D 0.6 m) driving from rigid ground over 3 tiles "
+      "of sand and 3 of mud at 2 cm, 240 substeps per second, 6 s simulated, one thread; real-time factor = "
+      "simulated / wall seconds of the whole stepSimulation.");
+}
+
+void run(const SweepContext& ctx, SweepResult& out) {
+  wheel_plugin_time(ctx, out);
+  vehicle(ctx, out);
+  floating_sweep(ctx, out);
+}
+
+const SweepRegistrar kRegistered{Sweep{
+    .name = "coupling",
+    .description = "Bullet plugin: floating draft vs Archimedes across water cell and substep; wheel and vehicle cost",
+    .run = run,
+}};
+
+}  // namespace
+}  // namespace shore::bench
