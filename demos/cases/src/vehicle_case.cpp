@@ -28,7 +28,7 @@ std::shared_ptr<terrain::Terrain> make_soil(const VehicleCase& c, const terrain:
 }
 }  // namespace
 
-VehicleResult run_vehicle(const VehicleCase& c) {
+VehicleResult run_vehicle(const VehicleCase& c, const VehicleFrameCallback& on_substep) {
   VehicleResult out;
   const double tile = kTileCells * c.cell;
   out.sand_x0 = 0.0;
@@ -100,6 +100,16 @@ VehicleResult run_vehicle(const VehicleCase& c) {
     } else if (x >= out.sand_x1 && x < out.mud_x1) {
       mud_time += c.substep;
       mud_dist += x - x_before;
+    }
+    if (on_substep) {
+      VehicleFrame f;
+      f.substep = k + 1;
+      f.substeps = steps;
+      f.time = double(k + 1) * c.substep;
+      f.chassis = chassis;
+      for (int w = 0; w < 4; ++w) f.wheels[w] = wheels[w];
+      f.soils = &out.soils;
+      on_substep(f);
     }
   }
   out.sim_seconds = double(steps) * c.substep;
