@@ -7,6 +7,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -31,6 +33,7 @@ constexpr double kSphereDiameter = 0.2;    // m, the reference sphere
 constexpr double kReferenceHeight = 1.0;   // m, drop height of the reference sphere
 constexpr double kSpacingX = 0.6;          // m between shapes
 constexpr double kSpacingY = 0.7;          // m between drop heights
+const double kShift = std::getenv("SHIFT") ? std::atof(std::getenv("SHIFT")) : 0.0;
 constexpr std::array<double, 3> kHeights = {0.5, 1.0, 2.0};  // m, lowest body point above the surface
 
 enum class Shape { sphere, box, capsule, cylinder, cone, hull, compound };
@@ -142,17 +145,20 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   for (std::size_t row = 0; row < heights.size(); ++row)
     for (std::size_t col = 0; col < kShapes.size(); ++col) {
       const Shape s = kShapes[col];
+      if (const char* oc = std::getenv("ONLY_COLS"); oc && std::string(oc).find(char('0' + col)) == std::string::npos) continue;
       std::unique_ptr<btCollisionShape> shape = make_shape(s, parts);
       btTransform pose(release_rotation(s));
       btVector3 lo, hi;
       shape->getAabb(pose, lo, hi);
-      const btVector3 at(btScalar(double(col) * kSpacingX), btScalar(double(row) * kSpacingY),
+      const btVector3 at(btScalar(double(col) * kSpacingX + kShift), btScalar(double(row) * kSpacingY + kShift),
                          btScalar(heights[row] - double(lo.z())));
       btRigidBody* body = world.add_body(std::move(shape), kMass, at, release_rotation(s));
       body->setActivationState(DISABLE_DEACTIVATION);  // hashes must not depend on sleeping heuristics
-      ground.add_body(body);
       drops.push_back({s, heights[row], body});
     }
+  std::vector<btRigidBody*> dynamic;
+  for (const Drop& d : drops) dynamic.push_back(d.body);
+  add_bodies(ground, dynamic, bullet::TerrainCouplingSettings{}.soil_filter_bit);
   std::vector<const btRigidBody*> bodies;
   std::vector<const btCollisionObject*> objects;
   for (const Drop& d : drops) {
@@ -188,6 +194,15 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
       ++next_frame;
     }
     progress.update(double(k) / n);
+    if (const char* dbg = std::getenv("DBG_BODY"); dbg && k % 6 == 0) {
+      const btRigidBody* b = drops[std::size_t(std::atoi(dbg))].body;
+      btVector3 lo, hi;
+      b->getCollisionShape()->getAabb(b->getWorldTransform(), lo, hi);
+      std::fprintf(stderr, "t %.3f z %.4f low %.4f vz %.3f vx %.3f vy %.3f yields %ld active %d\n", k * o.substep,
+                   double(b->getCenterOfMassPosition().z()), double(lo.z()), double(b->getLinearVelocity().z()),
+                   double(b->getLinearVelocity().x()), double(b->getLinearVelocity().y()), long(ground.stats().yields),
+                   ground.stats().active_columns);
+    }
   }
 
   // Results.

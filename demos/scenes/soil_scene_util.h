@@ -62,6 +62,14 @@ Image oblique_frame(const HeightGrid& heights, const HeightGrid& baseline, const
                     double exaggeration, int min_pixels, const std::string& title, double deformation_scale = 0.0,
                     double elevation_deg = 35.0, bool legend = false);
 
+/// Registers dynamic bodies with a soil coupling. Works around a pair-cache problem of
+/// TerrainCoupling::add_body: it clears the soil filter bit from the body's collision mask
+/// but keeps any broadphase pair the body already has with a soil tile (cleanProxyFromPairs
+/// keeps the pair), so a body that overlapped a tile before add_body (a tile created by an
+/// earlier add_body, or the body added to the world next to existing tiles) keeps Bullet's
+/// rigid contact with it. Clearing the bit on every body first means no such pair is made.
+void add_bodies(bullet::TerrainCoupling& coupling, const std::vector<btRigidBody*>& bodies, int soil_filter_bit);
+
 /// "t = 1.25 s".
 std::string time_label(double t);
 

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -113,7 +115,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   Bicycle bike = build(world, ground->height(0.0, 0.0) + noise.amplitude);
   const std::vector<const btRigidBody*> bodies = {bike.frame, bike.wheels[0], bike.wheels[1]};
   const std::vector<const btCollisionObject*> objects = {bike.frame, bike.wheels[0], bike.wheels[1]};
-  for (btRigidBody* body : {bike.frame, bike.wheels[0], bike.wheels[1]}) coupling.add_body(body);
+  add_bodies(coupling, {bike.frame, bike.wheels[0], bike.wheels[1]}, bullet::TerrainCouplingSettings{}.soil_filter_bit);
 
   const std::vector<Patch> patches = {{&soil, {}}};
   const HeightGrid frame = grid_over(-1.0, -1.0, o.smoke ? 2.5 : 6.0, 1.0, cell);
@@ -158,6 +160,10 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
       ++next_frame;
     }
     progress.update(double(k) / n);
+    if (std::getenv("SHORE_DBG") && k % 24 == 0) {
+      const auto& st = coupling.stats();
+      std::fprintf(stderr, "t %.2f dt %.2f ms env %.2f ter %.2f push %.2f react %.2f active %d passes %d yields %ld lean %.2f v %.2f zf %.3f zw %.3f %.3f\n", k * o.substep, 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1e3*st.envelope_seconds, 1e3*st.terrain_seconds, 1e3*st.push_seconds, 1e3*st.reaction_seconds, st.active_columns, st.erosion_passes, (long)st.yields, lean_of(bike), hub_speed(bike), bike.frame->getCenterOfMassPosition().z(), bike.wheels[0]->getCenterOfMassPosition().z(), bike.wheels[1]->getCenterOfMassPosition().z());
+    }
   }
 
   // The rut: how far the ground under each recorded rim bottom lies below the untouched
@@ -177,6 +183,12 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     const btVector3 c = b->getCenterOfMassPosition();
     if (c.z() < soil.bedrock(soil.column_i(c.x()), soil.column_j(c.y()))) ++fallthrough;
   }
+  if (std::getenv("SHORE_DBG"))
+    for (int j = 0; j < sinkage.ny; ++j)
+      for (int i = 0; i < sinkage.nx; ++i)
+        if (sinkage.at(i, j) > 0.05)
+          std::fprintf(stderr, "sink %.3f at %.2f %.2f h %.4f base %.4f\n", sinkage.at(i, j), sinkage.x(i), sinkage.y(j),
+                       heights.at(i, j), baseline.at(i, j));
   StateHash hash;
   hash.add(soil.state_hash());
   hash_bodies(hash, bodies);

@@ -70,7 +70,10 @@ VehicleResult run_vehicle(const VehicleCase& c, const VehicleFrameCallback& on_s
     wheels[k]->setFriction(1.0f);
     hinges.push_back(std::make_unique<btHingeConstraint>(*chassis, *wheels[k], mounts[k], btVector3(0, 0, 0),
                                                          btVector3(0, 1, 0), btVector3(0, 1, 0)));
-    hinges.back()->enableAngularMotor(true, btScalar(c.target_speed / kWheelRadius),
+    // Bullet's hinge motor drives the velocity of body A (chassis) relative to body B (wheel)
+    // about the axis; the wheel rolls forward (+x) spinning at +v/R about +y relative to the
+    // chassis, so the target is -v/R.
+    hinges.back()->enableAngularMotor(true, btScalar(-c.target_speed / kWheelRadius),
                                       btScalar(kMotorTorque * c.substep));
     world.world().addConstraint(hinges.back().get(), true);
     sand.add_body(wheels[k]);
