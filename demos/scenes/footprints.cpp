@@ -105,14 +105,13 @@ struct Walker {
       if (t >= strike_time(k) && t < strike_time(k) + kStance) return stance(k, t - strike_time(k));
     int next = f;
     while (next < prints && t >= strike_time(next)) next += 2;
-    if (next >= prints) {  // after its last print: hold the lift-off pose
-      const int last = next - 2;
-      return stance(last, kStance);
-    }
-    // Swing from the lift-off of the print before (virtual before the first) to the next landing.
+    // Swing from the lift-off of the print before (virtual before the first) to the next
+    // landing; after its last print the foot swings on and stops, level, above where the
+    // next print would be.
     const SagittalPose from = lift_off_before(next);
-    const SagittalPose to = stance(next, 0.0);
+    const SagittalPose to = next < prints ? stance(next, 0.0) : SagittalPose{print_x(next), sole_z(next) + 0.15, 0.0};
     const double t0 = strike_time(next) - 2 * kStepTime + kStance, t1 = strike_time(next);
+    if (t >= t1) return to;
     const double s = smooth((t - t0) / (t1 - t0));
     const double arc = 0.06 * std::sin(std::numbers::pi * std::clamp((t - t0) / (t1 - t0), 0.0, 1.0));
     return {from.x + s * (to.x - from.x), from.z + s * (to.z - from.z) + arc, from.pitch + s * (to.pitch - from.pitch)};
@@ -189,7 +188,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   noise.amplitude = 0.004;
   noise.octaves = 2;
   const auto ground = std::make_shared<terrain::LatticeNoise>(noise);
-  const int prints = o.smoke ? 2 : 6;
+  const int prints = o.smoke ? 1 : 6;
 
   cases::BulletWorld world;
   std::vector<Strip> strips(kMaterials.size());
@@ -239,12 +238,12 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
                                      strips.back().y1 - cell, cell);
   const HeightGrid baseline = sample(patches, frame, Field::base);
 
-  // The close-up and filmstrip follow one heel-to-toe roll (print 1, or 0 in smoke runs)
+  // The close-up and filmstrip follow one heel-to-toe roll (print 2, or 0 in smoke runs)
   // in the --material strip.
   const auto chosen = static_cast<std::size_t>(
       std::find(kMaterials.begin(), kMaterials.end(), o.material) - kMaterials.begin());
   const Strip& focus = strips[std::min(chosen, strips.size() - 1)];
-  const int focus_print = std::min(1, prints - 1);
+  const int focus_print = std::min(2, prints - 1);
   const double fx = focus.walker.print_x(focus_print), fy = focus.walker.foot_y(focus_print % 2);
   const HeightGrid close_frame = grid_over(fx - 0.35, fy - 0.16, fx + 0.35, fy + 0.16, cell);
   const HeightGrid close_base = sample(patches, close_frame, Field::base);
@@ -267,7 +266,8 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     if (o.write_files && next_film < film_frames &&
         t >= film_t0 + (film_t1 - film_t0) * next_film / (film_frames - 1) - 1e-9) {
       const BodyEnvelopes env = body_envelopes(objects, close_frame);
-      film.push_back(oblique_frame(sample(patches, close_frame, Field::height), close_base, &env, 1.0, 320, "", 0.04,
+      film.push_back(oblique_frame(sample(patches, close_frame, Field::height), close_base, &env, 1.0,
+                                   o.smoke ? 160 : 320, "", 0.04,
                                    30.0));
       labels.push_back(time_label(t));
       ++next_film;
@@ -339,18 +339,18 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
             "geometry: a kinematic sole's imprint in a material with neither rim nor slump");
 
   if (o.write_files) {
-    const BodyEnvelopes env = body_envelopes(objects, frame);
     ReliefStyle top;
     top.baseline = &baseline;
+    top.min_pixels = o.smoke ? 240 : 640;
     top.title = "footprints: sand (bottom), mud, snow (top)";
     r.files.push_back(write_png(o.file("top.png"), render_relief(heights, top)));
     r.files.push_back(write_png(o.file("view.png"),
-                                oblique_frame(heights, baseline, &env, 1.5, 960,
+                                oblique_frame(heights, baseline, nullptr, 1.5, o.smoke ? 240 : 1100,
                                               "footprints in sand (front), mud and snow (back), heights x1.5", 0.0,
                                               40.0, true)));
     const HeightGrid close_now = sample(patches, close_frame, Field::height);
     r.files.push_back(write_png(o.file("closeup.png"),
-                                oblique_frame(close_now, close_base, nullptr, 1.0, 640,
+                                oblique_frame(close_now, close_base, nullptr, 1.0, o.smoke ? 240 : 640,
                                               "one footprint in " + focus.material, 0.04, 35.0, true)));
     r.files.push_back(write_png(o.file("filmstrip.png"), filmstrip(film, labels, 3)));
     r.files.push_back(write_obj(o.file("ground.obj"), heights));
@@ -367,7 +367,7 @@ const SceneRegistrar kRegistered{Scene{
         "the materials' appearance parameters differ: sand slumps to its angle of repose with a low rim, mud keeps "
         "steep walls and a high rim, snow compacts with vertical walls and no rim. --material picks the strip of the "
         "close-up and of the heel-to-toe filmstrip; all three strips always run.",
-    .defaults = {.seconds = 3.0, .substep = 1.0 / 240.0, .material = "sand", .cell = 0.01, .smoke_seconds = 1.1},
+    .defaults = {.seconds = 3.0, .substep = 1.0 / 240.0, .material = "sand", .cell = 0.01, .smoke_seconds = 0.65},
     .metric_help =
         {
             {"volume_drift_rel", "largest volume drift of the three soils (must be < 1e-6)"},

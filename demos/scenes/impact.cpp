@@ -7,8 +7,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -31,9 +29,10 @@ using namespace soil_scene;
 constexpr double kMass = 10.0;             // kg, every body
 constexpr double kSphereDiameter = 0.2;    // m, the reference sphere
 constexpr double kReferenceHeight = 1.0;   // m, drop height of the reference sphere
-constexpr double kSpacingX = 0.6;          // m between shapes
+constexpr double kSpacingX = 0.7;          // m between shapes
 constexpr double kSpacingY = 0.7;          // m between drop heights
-const double kShift = std::getenv("SHIFT") ? std::atof(std::getenv("SHIFT")) : 0.0;
+constexpr double kSmokeRelease = 0.02;     // m, release height of smoke runs
+constexpr double kGravity = 9.81;          // m/s^2, BulletWorld's default
 constexpr std::array<double, 3> kHeights = {0.5, 1.0, 2.0};  // m, lowest body point above the surface
 
 enum class Shape { sphere, box, capsule, cylinder, cone, hull, compound };
@@ -106,16 +105,17 @@ std::unique_ptr<btCollisionShape> make_shape(Shape s, std::vector<std::unique_pt
   return nullptr;
 }
 
-/// How each shape is held when released: tilted so most land on an edge or a side.
+/// How each shape is held when released: the box, cylinder and rock tilted to land on an
+/// edge; the long shapes nearly level, so they settle in their craters instead of tipping.
 btQuaternion release_rotation(Shape s) {
   switch (s) {
     case Shape::sphere: return btQuaternion::getIdentity();
     case Shape::box: return btQuaternion(btVector3(1, btScalar(0.5), 0).normalized(), btScalar(0.45));
-    case Shape::capsule: return btQuaternion(btVector3(1, 0, 0), btScalar(0.6));
+    case Shape::capsule: return btQuaternion(btVector3(0, 1, 0), btScalar(1.45));  // nearly lying, axis along x
     case Shape::cylinder: return btQuaternion(btVector3(0, 1, 0), btScalar(0.25));
     case Shape::cone: return btQuaternion::getIdentity();  // base down, apex up
     case Shape::hull: return btQuaternion(btVector3(1, 1, 0).normalized(), btScalar(0.5));
-    case Shape::compound: return btQuaternion(btVector3(0, 1, 0), btScalar(0.3));
+    case Shape::compound: return btQuaternion(btVector3(0, 1, 0), btScalar(0.1));
   }
   return btQuaternion::getIdentity();
 }
@@ -145,14 +145,17 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   for (std::size_t row = 0; row < heights.size(); ++row)
     for (std::size_t col = 0; col < kShapes.size(); ++col) {
       const Shape s = kShapes[col];
-      if (const char* oc = std::getenv("ONLY_COLS"); oc && std::string(oc).find(char('0' + col)) == std::string::npos) continue;
       std::unique_ptr<btCollisionShape> shape = make_shape(s, parts);
       btTransform pose(release_rotation(s));
       btVector3 lo, hi;
       shape->getAabb(pose, lo, hi);
-      const btVector3 at(btScalar(double(col) * kSpacingX + kShift), btScalar(double(row) * kSpacingY + kShift),
-                         btScalar(heights[row] - double(lo.z())));
+      // Smoke runs skip the free fall: released 2 cm above the surface with the speed a fall
+      // from the full height gives there (the same energy at first contact).
+      const double release = o.smoke ? std::min(kSmokeRelease, heights[row]) : heights[row];
+      const btVector3 at(btScalar(double(col) * kSpacingX), btScalar(double(row) * kSpacingY),
+                         btScalar(release - double(lo.z())));
       btRigidBody* body = world.add_body(std::move(shape), kMass, at, release_rotation(s));
+      body->setLinearVelocity(btVector3(0, 0, btScalar(-std::sqrt(2.0 * kGravity * (heights[row] - release)))));
       body->setActivationState(DISABLE_DEACTIVATION);  // hashes must not depend on sleeping heuristics
       drops.push_back({s, heights[row], body});
     }
@@ -179,7 +182,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   auto capture = [&](int k) {
     if (!o.write_files) return;
     const BodyEnvelopes env = body_envelopes(objects, frame);
-    film.push_back(oblique_frame(sample(patches, frame, Field::height), baseline, &env, 2.0, 320, ""));
+    film.push_back(oblique_frame(sample(patches, frame, Field::height), baseline, &env, 2.0, o.smoke ? 160 : 400, ""));
     labels.push_back(time_label(k * o.substep));
   };
   capture(0);
@@ -194,15 +197,6 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
       ++next_frame;
     }
     progress.update(double(k) / n);
-    if (const char* dbg = std::getenv("DBG_BODY"); dbg && k % 6 == 0) {
-      const btRigidBody* b = drops[std::size_t(std::atoi(dbg))].body;
-      btVector3 lo, hi;
-      b->getCollisionShape()->getAabb(b->getWorldTransform(), lo, hi);
-      std::fprintf(stderr, "t %.3f z %.4f low %.4f vz %.3f vx %.3f vy %.3f yields %ld active %d\n", k * o.substep,
-                   double(b->getCenterOfMassPosition().z()), double(lo.z()), double(b->getLinearVelocity().z()),
-                   double(b->getLinearVelocity().x()), double(b->getLinearVelocity().y()), long(ground.stats().yields),
-                   ground.stats().active_columns);
-    }
   }
 
   // Results.
@@ -226,6 +220,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   r.metrics["fallthrough_count"] = fallthrough;
   r.metrics["volume_drift_rel"] = volume_drift_rel(soil);
   r.metrics["max_sinkage_m"] = max_of(sinkage);
+  r.metrics["deepest_m"] = max_lowering(baseline, heights_now);
   nlohmann::json depths = nlohmann::json::object();
   double sphere_depth = 0.0;
   for (const Drop& d : drops) {
@@ -251,6 +246,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   if (o.write_files) {
     const BodyEnvelopes env = body_envelopes(objects, frame);
     ReliefStyle top;
+    top.min_pixels = o.smoke ? 240 : 800;
     top.baseline = &baseline;
     top.bodies = &env.top;
     top.body_bottoms = &env.bottom;
@@ -261,7 +257,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     bare.title = "impact (" + o.material + "): craters, bodies removed";
     r.files.push_back(write_png(o.file("craters.png"), render_relief(heights_now, bare)));
     r.files.push_back(write_png(
-        o.file("view.png"), oblique_frame(heights_now, baseline, &env, 2.0, 720,
+        o.file("view.png"), oblique_frame(heights_now, baseline, &env, 2.0, o.smoke ? 240 : 1100,
                                           "impact in " + o.material + " at " + time_label(n * o.substep) +
                                               " (heights x2)",
                                           0.0, 35.0, true)));
@@ -279,13 +275,15 @@ const SceneRegistrar kRegistered{Scene{
         "front to back). Each leaves a crater shaped like the part it landed on, deeper for higher drops; the rim is "
         "the displaced share alpha of the material. The 0.2 m sphere dropped from 1 m is checked against the energy "
         "balance of Bekker's law.",
-    .defaults = {.seconds = 1.5, .substep = 1.0 / 240.0, .material = "sand", .cell = 0.02, .smoke_seconds = 0.75},
+    .defaults = {.seconds = 1.5, .substep = 1.0 / 240.0, .material = "sand", .cell = 0.02, .smoke_seconds = 0.3},
     .metric_help =
         {
             {"bodies", "number of bodies dropped"},
             {"fallthrough_count", "bodies that ended below bedrock or were lifted back by the coupling (must be 0)"},
             {"volume_drift_rel", "|ground + compacted + airborne - edited| / moved volume (must be < 1e-6)"},
-            {"max_sinkage_m", "largest plastic sinkage of any soil column, m"},
+            {"max_sinkage_m", "largest plastic sinkage of any soil column (accumulates where slumping refills a "
+                              "pressed column), m"},
+            {"deepest_m", "largest lowering of the ground below the untouched surface, m"},
             {"lowest_point_depth_m", "per body: its lowest point below the original surface at the end, m"},
             {"sphere_crater_depth_m", "bottom of the 10 kg, 0.2 m sphere dropped from 1 m below the original surface, m"},
             {"sphere_crater_reference_m", "the energy-balance depth of that sphere (Bekker, pure compaction), m"},

@@ -82,6 +82,13 @@ double volume_drift_rel(const terrain::Terrain& soil) {
   return drift / (moved > 0.0 ? moved : 1e-12);
 }
 
+double max_lowering(const HeightGrid& baseline, const HeightGrid& heights) {
+  double m = 0.0;
+  for (std::size_t k = 0; k < heights.z.size() && k < baseline.z.size(); ++k)
+    if (std::isfinite(heights.z[k]) && std::isfinite(baseline.z[k])) m = std::max(m, baseline.z[k] - heights.z[k]);
+  return m;
+}
+
 double max_of(const HeightGrid& g) {
   double m = 0.0;
   bool any = false;

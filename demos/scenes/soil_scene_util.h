@@ -49,6 +49,9 @@ BodyEnvelopes body_envelopes(const std::vector<const btCollisionObject*>& bodies
 /// over 1e-12 if nothing moved.
 double volume_drift_rel(const terrain::Terrain& soil);
 
+/// Largest baseline - heights (how far the ground was lowered), m; 0 if nowhere lowered.
+double max_lowering(const HeightGrid& baseline, const HeightGrid& heights);
+
 /// Largest value of a grid (NaN ignored); 0 for an empty grid.
 double max_of(const HeightGrid& g);
 

@@ -6,8 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -18,6 +16,7 @@
 #include "shore/demo/mesh.h"
 #include "shore/demo/render.h"
 #include "shore/demo/scene.h"
+#include "shore/terrain/bekker.h"
 #include "shore/terrain/height_source.h"
 #include "shore/terrain/material.h"
 #include "shore/terrain/terrain.h"
@@ -35,7 +34,7 @@ constexpr double kWheelMass = 2.0;     // kg
 constexpr double kFrameMass = 6.0;     // kg
 constexpr double kAxle = 0.52;         // m, half the wheelbase
 constexpr double kFrameAbove = 0.30;   // m, frame centre above the axles
-constexpr double kLean = 0.04;         // rad, initial lean to the left (+y)
+constexpr double kLean = 0.01;         // rad, initial lean to the right (-y)
 constexpr double kFallenLean = 0.5;    // rad: rolling has ended once the frame leans this far
 constexpr double kLyingLean = 1.0;     // rad: the bicycle has fallen over if it ends leaning this far
 
@@ -118,7 +117,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   add_bodies(coupling, {bike.frame, bike.wheels[0], bike.wheels[1]}, bullet::TerrainCouplingSettings{}.soil_filter_bit);
 
   const std::vector<Patch> patches = {{&soil, {}}};
-  const HeightGrid frame = grid_over(-1.0, -1.0, o.smoke ? 2.5 : 6.0, 1.0, cell);
+  const HeightGrid frame = grid_over(-1.0, -1.0, o.smoke ? 2.0 : 7.0, 1.0, cell);
   const HeightGrid baseline = sample(patches, frame, Field::base);
   const int n = o.substeps();
   const int frames = o.smoke ? 3 : 6;
@@ -127,7 +126,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   auto capture = [&](int k) {
     if (!o.write_files) return;
     const BodyEnvelopes env = body_envelopes(objects, frame);
-    film.push_back(oblique_frame(sample(patches, frame, Field::height), baseline, &env, 2.0, 400, ""));
+    film.push_back(oblique_frame(sample(patches, frame, Field::height), baseline, &env, 2.0, o.smoke ? 160 : 480, ""));
     labels.push_back(time_label(k * o.substep));
   };
   capture(0);
@@ -160,10 +159,6 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
       ++next_frame;
     }
     progress.update(double(k) / n);
-    if (std::getenv("SHORE_DBG") && k % 24 == 0) {
-      const auto& st = coupling.stats();
-      std::fprintf(stderr, "t %.2f dt %.2f ms env %.2f ter %.2f push %.2f react %.2f active %d passes %d yields %ld lean %.2f v %.2f zf %.3f zw %.3f %.3f\n", k * o.substep, 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1e3*st.envelope_seconds, 1e3*st.terrain_seconds, 1e3*st.push_seconds, 1e3*st.reaction_seconds, st.active_columns, st.erosion_passes, (long)st.yields, lean_of(bike), hub_speed(bike), bike.frame->getCenterOfMassPosition().z(), bike.wheels[0]->getCenterOfMassPosition().z(), bike.wheels[1]->getCenterOfMassPosition().z());
-    }
   }
 
   // The rut: how far the ground under each recorded rim bottom lies below the untouched
@@ -183,12 +178,6 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     const btVector3 c = b->getCenterOfMassPosition();
     if (c.z() < soil.bedrock(soil.column_i(c.x()), soil.column_j(c.y()))) ++fallthrough;
   }
-  if (std::getenv("SHORE_DBG"))
-    for (int j = 0; j < sinkage.ny; ++j)
-      for (int i = 0; i < sinkage.nx; ++i)
-        if (sinkage.at(i, j) > 0.05)
-          std::fprintf(stderr, "sink %.3f at %.2f %.2f h %.4f base %.4f\n", sinkage.at(i, j), sinkage.x(i), sinkage.y(j),
-                       heights.at(i, j), baseline.at(i, j));
   StateHash hash;
   hash.add(soil.state_hash());
   hash_bodies(hash, bodies);
@@ -206,6 +195,17 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
       t_fall >= 0.0 ? x_fall : static_cast<double>(bike.frame->getCenterOfMassPosition().x());
   r.metrics["final_lean_rad"] = lean_of(bike);
   r.metrics["fell_over"] = lean_of(bike) > kLyingLean;
+  // Bekker's rolling sinkage of a rigid wheel under its share of the weight (the frame's
+  // centre lies midway between the axles). The rear tyre runs in the front tyre's rut and
+  // sinks little further; sand slumps back into the rut and pushes a share alpha of it
+  // into the rims, so the rut left behind is shallower than the rolling sinkage.
+  const double wheel_load = (0.5 * kFrameMass + kWheelMass) * 9.81;
+  const double bekker_rut = terrain::bekker::wheel_sinkage_rolling(ts.material, wheel_load, 2 * kWheelRadius, kTyreWidth);
+  r.metrics["bekker_rolling_sinkage_m"] = bekker_rut;
+  add_check(r.metrics, "rut_depth_m", rut_n > 0 ? rut_sum / rut_n : 0.0, bekker_rut, 0.5 * bekker_rut,
+            "Bekker's rolling sinkage of a rigid wheel, z0 = (3 W / ((3 - n)(k_c + b k_phi) sqrt(D)))^(2/(2n+1)); "
+            "+-50 %: refill by slumping, the rim share alpha, a tyre only a few cells wide");
+  r.metrics["deepest_m"] = max_lowering(baseline, heights);
   r.metrics["volume_drift_rel"] = volume_drift_rel(soil);
   r.metrics["max_sinkage_m"] = max_of(sinkage);
   r.metrics["fallthrough_count"] = fallthrough;
@@ -216,10 +216,11 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     top.baseline = &baseline;
     top.bodies = &env.top;
     top.body_bottoms = &env.bottom;
+    top.min_pixels = o.smoke ? 240 : 1000;
     top.title = "tracks in " + o.material + ": rut, then the fall";
     r.files.push_back(write_png(o.file("top.png"), render_relief(heights, top)));
     r.files.push_back(write_png(o.file("view.png"),
-                                oblique_frame(heights, baseline, &env, 2.0, 960,
+                                oblique_frame(heights, baseline, &env, 2.0, o.smoke ? 240 : 1200,
                                               "bicycle in " + o.material + " at " + time_label(n * o.substep) +
                                                   " (heights x2)",
                                               0.0, 40.0, true)));
@@ -237,7 +238,7 @@ const SceneRegistrar kRegistered{Scene{
         "3 m/s across the soil with a slight lean, after Sumner et al.'s bicycle tracks and crash. The tyres cut a "
         "rut, compaction resistance slows the bicycle, and with nothing steering it the lean grows until it falls "
         "over and the frame and wheels slap prints beside the rut.",
-    .defaults = {.seconds = 3.0, .substep = 1.0 / 240.0, .material = "sand", .cell = 0.01, .smoke_seconds = 0.5},
+    .defaults = {.seconds = 3.5, .substep = 1.0 / 240.0, .material = "sand", .cell = 0.01, .smoke_seconds = 0.4},
     .metric_help =
         {
             {"rut_depth_m", "mean depth of the ground below the untouched surface under the rim's path while rolling, m"},
@@ -250,7 +251,10 @@ const SceneRegistrar kRegistered{Scene{
             {"final_lean_rad", "frame lean at the end, rad"},
             {"fell_over", "the frame ends leaning more than 1 rad"},
             {"volume_drift_rel", "|ground + compacted + airborne - edited| / moved volume (must be < 1e-6)"},
-            {"max_sinkage_m", "largest plastic sinkage of any soil column, m"},
+            {"bekker_rolling_sinkage_m", "Bekker's rolling sinkage of one wheel under its share of the weight, m"},
+            {"deepest_m", "largest lowering of the ground below the untouched surface, m"},
+            {"max_sinkage_m", "largest plastic sinkage of any soil column (accumulates where slumping refills a "
+                              "pressed column), m"},
             {"fallthrough_count", "bodies below bedrock at the end or lifted back by the coupling (must be 0)"},
         },
     .run = run,

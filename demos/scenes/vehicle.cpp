@@ -45,7 +45,11 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   }
   const double tile = 64 * c.cell;  // the case's tiles are 64 cells
   const double sand_x0 = 0.0, sand_x1 = c.sand_tiles * tile, mud_x1 = sand_x1 + c.mud_tiles * tile;
-  const HeightGrid frame = grid_over(sand_x0 - 0.6, -kHalfWidth, mud_x1 + 0.6, kHalfWidth, c.cell);
+  // From the start on rigid ground to past the mud, where a 6 s drive ends.
+  const HeightGrid frame =
+      grid_over(c.start_x - 1.2, -kHalfWidth, o.smoke ? mud_x1 + 0.4 : mud_x1 + 2.8, kHalfWidth, c.cell);
+  // A close view across the sand-mud edge.
+  const HeightGrid edge = grid_over(sand_x1 - 1.2, -kHalfWidth, sand_x1 + 1.2, kHalfWidth, c.cell);
   const HeightGrid baseline(frame.nx, frame.ny, frame.cell, frame.x0, frame.y0, 0.0);  // every ground starts at 0
 
   const int frames = o.smoke ? 3 : 6;
@@ -65,7 +69,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     const HeightGrid heights = sample(patches_of(*f.soils, sand_x0, sand_x1, mud_x1), frame, Field::height);
     if (film_frame) {
       const BodyEnvelopes env = body_envelopes(objects_of(f), frame);
-      film.push_back(oblique_frame(heights, baseline, &env, 3.0, 360, ""));
+      film.push_back(oblique_frame(heights, baseline, &env, 2.0, o.smoke ? 160 : 480, ""));
       labels.push_back(time_label(f.time));
       ++next_frame;
     }
@@ -93,6 +97,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   r.metrics["volume_drift_rel_sand"] = drift_sand;
   r.metrics["volume_drift_rel_mud"] = drift_mud;
   r.metrics["max_sinkage_m"] = max_of(sinkage);
+  r.metrics["deepest_m"] = max_lowering(baseline, final_heights);
   r.metrics["mean_speed_sand_mps"] = res.mean_speed_sand;
   r.metrics["mean_speed_mud_mps"] = res.mean_speed_mud;
   r.metrics["target_speed_mps"] = c.target_speed;
@@ -105,14 +110,18 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     top.baseline = &baseline;
     top.bodies = &final_bodies.top;
     top.body_bottoms = &final_bodies.bottom;
-    top.title = "vehicle: rigid | sand | mud | rigid, ruts coloured by deformation";
+    top.min_pixels = o.smoke ? 240 : 1200;
+    top.title = "vehicle: rigid | sand | mud | rigid, ground coloured by deformation";
     r.files.push_back(write_png(o.file("top.png"), render_relief(final_heights, top)));
     r.files.push_back(write_png(o.file("view.png"),
-                                oblique_frame(final_heights, baseline, &final_bodies, 3.0, 960,
-                                              "vehicle across sand then mud (heights x3)", 0.0, 40.0, true)));
-    r.files.push_back(write_png(o.file("ruts.png"), oblique_frame(final_heights, baseline, nullptr, 3.0, 960,
-                                                                  "ruts in sand (left) and mud (right), heights x3",
-                                                                  0.0, 40.0, true)));
+                                oblique_frame(final_heights, baseline, &final_bodies, 2.0, o.smoke ? 240 : 1400,
+                                              "vehicle across sand then mud (heights x2)", 0.0, 40.0, true)));
+    const HeightGrid edge_heights = sample(patches, edge, Field::height);
+    const HeightGrid edge_base(edge.nx, edge.ny, edge.cell, edge.x0, edge.y0, 0.0);
+    r.files.push_back(write_png(o.file("ruts.png"), oblique_frame(edge_heights, edge_base, nullptr, 2.0,
+                                                                  o.smoke ? 240 : 900,
+                                                                  "ruts: sand (left) to mud (right), heights x2", 0.0,
+                                                                  45.0, true)));
     r.files.push_back(write_png(o.file("filmstrip.png"), filmstrip(film, labels, 3)));
     r.files.push_back(write_obj(o.file("ground.obj"), final_heights));
   }
@@ -134,6 +143,7 @@ const SceneRegistrar kRegistered{Scene{
             {"volume_drift_rel_sand", "|ground + compacted - edited| / moved volume of the sand"},
             {"volume_drift_rel_mud", "the same for the mud"},
             {"max_sinkage_m", "largest plastic sinkage in either soil, m"},
+            {"deepest_m", "largest lowering of the ground below the untouched surface, m"},
             {"mean_speed_sand_mps", "chassis speed averaged over its time above the sand, m/s"},
             {"mean_speed_mud_mps", "chassis speed averaged over its time above the mud, m/s"},
             {"target_speed_mps", "speed the wheel motors aim for, m/s"},
