@@ -237,11 +237,13 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   r.metrics["sphere_crater_depth_m"] = sphere_depth;
   r.metrics["sphere_crater_reference_m"] = reference;
   // The reference is the pure-compaction energy balance; the presets push a share alpha of
-  // the displaced soil into a rim instead, which the plugin tests measured to leave craters
-  // 3-6 % shallower; the 2 cm grid and the substep add ~2 %. Hence 10 %.
-  add_check(r.metrics, "sphere_crater_depth_m", sphere_depth, reference, 0.10 * reference,
+  // the displaced soil into a rim instead, which leaves shallower craters: measured here
+  // about 4 % for sand (alpha 0.3), 9 % for mud (0.41), none for snow (0); the 2 cm grid and
+  // the substep add about 2 % either way. Hence a tolerance of 3 % + alpha / 4.
+  const double tolerance = (0.03 + 0.25 * material.alpha) * reference;
+  add_check(r.metrics, "sphere_crater_depth_m", sphere_depth, reference, tolerance,
             "energy balance of Bekker's law, m g (H + z) = plastic work (shore::cases::sphere_drop_reference_depth); "
-            "10 %: rim share alpha (3-6 % shallower) plus grid and substep");
+            "tolerance 3 % + alpha/4: the rim share alpha makes craters shallower, plus grid and substep");
 
   if (o.write_files) {
     const BodyEnvelopes env = body_envelopes(objects, frame);
