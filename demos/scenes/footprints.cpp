@@ -32,17 +32,17 @@ using namespace soil_scene;
 const std::array<std::string, 3> kMaterials = {"sand", "mud", "snow"};  // strips from south to north
 
 // ---- the gait -----------------------------------------------------------------------------
-constexpr double kFootLength = 0.26;  // m
-constexpr double kFootWidth = 0.10;   // m
-constexpr double kFootHeight = 0.08;  // m (the box's vertical side)
-constexpr double kStepLength = 0.40;  // m between successive prints (left, right, left, ...)
-constexpr double kStepWidth = 0.09;   // m, each foot's offset from the walking line
-constexpr double kSoleDepth = 0.03;   // m, how far the sole is pressed below the surface
-constexpr double kFirstPrintX = 0.35; // m
-constexpr double kStart = 0.10;       // s, first heel strike begins
-constexpr double kStepTime = 0.45;    // s between successive heel strikes
-constexpr double kHeelUp = 0.30;      // rad, toe-up pitch at heel strike
-constexpr double kToeDown = 0.50;     // rad, heel-up pitch at the end of the roll onto the toe
+constexpr double kFootLength = 0.26;   // m
+constexpr double kFootWidth = 0.10;    // m
+constexpr double kFootHeight = 0.08;   // m (the box's vertical side)
+constexpr double kStepLength = 0.40;   // m between successive prints (left, right, left, ...)
+constexpr double kStepWidth = 0.09;    // m, each foot's offset from the walking line
+constexpr double kSoleDepth = 0.03;    // m, how far the sole is pressed below the surface
+constexpr double kFirstPrintX = 0.35;  // m
+constexpr double kStart = 0.10;        // s, first heel strike begins
+constexpr double kStepTime = 0.45;     // s between successive heel strikes
+constexpr double kHeelUp = 0.30;       // rad, toe-up pitch at heel strike
+constexpr double kToeDown = 0.50;      // rad, heel-up pitch at the end of the roll onto the toe
 
 // Stance phases, s: land on the heel, roll flat about the heel, stand flat, roll onto the
 // toe, lift the toe. Their sum is longer than kStepTime: both feet are down for a moment.
@@ -138,8 +138,7 @@ struct Walker {
 
 /// Connected (8-neighbour) groups of columns lowered more than `depth` below the baseline,
 /// counting only groups of at least min_columns columns, within rows [j0, j1).
-int count_prints(const HeightGrid& heights, const HeightGrid& baseline, int j0, int j1, double depth,
-                 int min_columns) {
+int count_prints(const HeightGrid& heights, const HeightGrid& baseline, int j0, int j1, double depth, int min_columns) {
   std::vector<char> seen(heights.z.size(), 0);
   std::vector<std::pair<int, int>> stack;
   auto low = [&](int i, int j) { return heights.at(i, j) < baseline.at(i, j) - depth; };
@@ -211,10 +210,10 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     st.walker = Walker{0.5 * (st.y0 + st.y1), prints, ground.get()};
     for (int f = 0; f < 2; ++f) {
       const btTransform pose = st.walker.transform(f, 0.0);
-      btRigidBody* foot = world.add_body(
-          std::make_unique<btBoxShape>(
-              btVector3(btScalar(kFootLength / 2), btScalar(kFootWidth / 2), btScalar(kFootHeight / 2))),
-          0.0, pose.getOrigin(), pose.getRotation());
+      btRigidBody* foot =
+          world.add_body(std::make_unique<btBoxShape>(
+                             btVector3(btScalar(kFootLength / 2), btScalar(kFootWidth / 2), btScalar(kFootHeight / 2))),
+                         0.0, pose.getOrigin(), pose.getRotation());
       // Kinematic: moved by its motion state every substep, it imprints the soil geometrically.
       foot->setCollisionFlags((foot->getCollisionFlags() & ~btCollisionObject::CF_STATIC_OBJECT) |
                               btCollisionObject::CF_KINEMATIC_OBJECT);
@@ -234,14 +233,14 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     patches.push_back({st.soil.get(), {-1e30, st.y0, 1e30, st.y1}});
   }
 
-  const HeightGrid frame = grid_over(0.0, 0.0, strips[0].walker.print_x(prints - 1) + 0.35,
-                                     strips.back().y1 - cell, cell);
+  const HeightGrid frame =
+      grid_over(0.0, 0.0, strips[0].walker.print_x(prints - 1) + 0.35, strips.back().y1 - cell, cell);
   const HeightGrid baseline = sample(patches, frame, Field::base);
 
   // The close-up and filmstrip follow one heel-to-toe roll (print 2, or 0 in smoke runs)
   // in the --material strip.
-  const auto chosen = static_cast<std::size_t>(
-      std::find(kMaterials.begin(), kMaterials.end(), o.material) - kMaterials.begin());
+  const auto chosen =
+      static_cast<std::size_t>(std::find(kMaterials.begin(), kMaterials.end(), o.material) - kMaterials.begin());
   const Strip& focus = strips[std::min(chosen, strips.size() - 1)];
   const int focus_print = std::min(2, prints - 1);
   const double fx = focus.walker.print_x(focus_print), fy = focus.walker.foot_y(focus_print % 2);
@@ -258,8 +257,8 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   for (int k = 1; k <= n; ++k) {
     const double t = k * o.substep;
     for (Strip& st : strips)
-      for (int f = 0; f < 2; ++f) st.feet[static_cast<std::size_t>(f)]->getMotionState()->setWorldTransform(
-          st.walker.transform(f, t));
+      for (int f = 0; f < 2; ++f)
+        st.feet[static_cast<std::size_t>(f)]->getMotionState()->setWorldTransform(st.walker.transform(f, t));
     const auto t0 = std::chrono::steady_clock::now();
     world.step(o.substep);
     wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -267,8 +266,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
         t >= film_t0 + (film_t1 - film_t0) * next_film / (film_frames - 1) - 1e-9) {
       const BodyEnvelopes env = body_envelopes(objects, close_frame);
       film.push_back(oblique_frame(sample(patches, close_frame, Field::height), close_base, &env, 1.0,
-                                   o.smoke ? 160 : 320, "", 0.04,
-                                   30.0));
+                                   o.smoke ? 160 : 320, "", 0.04, 30.0));
       labels.push_back(time_label(t));
       ++next_film;
     }
@@ -344,14 +342,14 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     top.min_pixels = o.smoke ? 240 : 640;
     top.title = "footprints: sand (bottom), mud, snow (top)";
     r.files.push_back(write_png(o.file("top.png"), render_relief(heights, top)));
-    r.files.push_back(write_png(o.file("view.png"),
-                                oblique_frame(heights, baseline, nullptr, 1.5, o.smoke ? 240 : 1100,
-                                              "footprints in sand (front), mud and snow (back), heights x1.5", 0.0,
-                                              40.0, true)));
+    r.files.push_back(
+        write_png(o.file("view.png"),
+                  oblique_frame(heights, baseline, nullptr, 1.5, o.smoke ? 240 : 1100,
+                                "footprints in sand (front), mud and snow (back), heights x1.5", 0.0, 40.0, true)));
     const HeightGrid close_now = sample(patches, close_frame, Field::height);
-    r.files.push_back(write_png(o.file("closeup.png"),
-                                oblique_frame(close_now, close_base, nullptr, 1.0, o.smoke ? 240 : 640,
-                                              "one footprint in " + focus.material, 0.04, 35.0, true)));
+    r.files.push_back(
+        write_png(o.file("closeup.png"), oblique_frame(close_now, close_base, nullptr, 1.0, o.smoke ? 240 : 640,
+                                                       "one footprint in " + focus.material, 0.04, 35.0, true)));
     r.files.push_back(write_png(o.file("filmstrip.png"), filmstrip(film, labels, 3)));
     r.files.push_back(write_obj(o.file("ground.obj"), heights));
   }

@@ -26,13 +26,13 @@ namespace {
 
 using namespace soil_scene;
 
-constexpr double kMass = 10.0;             // kg, every body
-constexpr double kSphereDiameter = 0.2;    // m, the reference sphere
-constexpr double kReferenceHeight = 1.0;   // m, drop height of the reference sphere
-constexpr double kSpacingX = 0.7;          // m between shapes
-constexpr double kSpacingY = 0.7;          // m between drop heights
-constexpr double kSmokeRelease = 0.02;     // m, release height of smoke runs
-constexpr double kGravity = 9.81;          // m/s^2, BulletWorld's default
+constexpr double kMass = 10.0;                               // kg, every body
+constexpr double kSphereDiameter = 0.2;                      // m, the reference sphere
+constexpr double kReferenceHeight = 1.0;                     // m, drop height of the reference sphere
+constexpr double kSpacingX = 0.7;                            // m between shapes
+constexpr double kSpacingY = 0.7;                            // m between drop heights
+constexpr double kSmokeRelease = 0.02;                       // m, release height of smoke runs
+constexpr double kGravity = 9.81;                            // m/s^2, BulletWorld's default
 constexpr std::array<double, 3> kHeights = {0.5, 1.0, 2.0};  // m, lowest body point above the surface
 
 enum class Shape { sphere, box, capsule, cylinder, cone, hull, compound };
@@ -41,13 +41,20 @@ constexpr std::array<Shape, 7> kShapes = {Shape::sphere, Shape::box,  Shape::cap
 
 const char* shape_name(Shape s) {
   switch (s) {
-    case Shape::sphere: return "sphere";
-    case Shape::box: return "box";
-    case Shape::capsule: return "capsule";
-    case Shape::cylinder: return "cylinder";
-    case Shape::cone: return "cone";
-    case Shape::hull: return "convex hull";
-    case Shape::compound: return "compound";
+    case Shape::sphere:
+      return "sphere";
+    case Shape::box:
+      return "box";
+    case Shape::capsule:
+      return "capsule";
+    case Shape::cylinder:
+      return "cylinder";
+    case Shape::cone:
+      return "cone";
+    case Shape::hull:
+      return "convex hull";
+    case Shape::compound:
+      return "compound";
   }
   return "?";
 }
@@ -86,9 +93,12 @@ std::unique_ptr<btCollisionShape> make_dumbbell(std::vector<std::unique_ptr<btCo
 
 std::unique_ptr<btCollisionShape> make_shape(Shape s, std::vector<std::unique_ptr<btCollisionShape>>& parts) {
   switch (s) {
-    case Shape::sphere: return std::make_unique<btSphereShape>(btScalar(kSphereDiameter / 2));
-    case Shape::box: return std::make_unique<btBoxShape>(btVector3(btScalar(0.1), btScalar(0.08), btScalar(0.06)));
-    case Shape::capsule: return std::make_unique<btCapsuleShapeZ>(btScalar(0.06), btScalar(0.2));
+    case Shape::sphere:
+      return std::make_unique<btSphereShape>(btScalar(kSphereDiameter / 2));
+    case Shape::box:
+      return std::make_unique<btBoxShape>(btVector3(btScalar(0.1), btScalar(0.08), btScalar(0.06)));
+    case Shape::capsule:
+      return std::make_unique<btCapsuleShapeZ>(btScalar(0.06), btScalar(0.2));
     case Shape::cylinder: {
       auto c = std::make_unique<btCylinderShapeZ>(btVector3(btScalar(0.09), btScalar(0.09), btScalar(0.08)));
       c->setMargin(btScalar(0.01));
@@ -99,8 +109,10 @@ std::unique_ptr<btCollisionShape> make_shape(Shape s, std::vector<std::unique_pt
       c->setMargin(btScalar(0.005));
       return c;
     }
-    case Shape::hull: return make_rock();
-    case Shape::compound: return make_dumbbell(parts);
+    case Shape::hull:
+      return make_rock();
+    case Shape::compound:
+      return make_dumbbell(parts);
   }
   return nullptr;
 }
@@ -109,13 +121,20 @@ std::unique_ptr<btCollisionShape> make_shape(Shape s, std::vector<std::unique_pt
 /// edge; the long shapes nearly level, so they settle in their craters instead of tipping.
 btQuaternion release_rotation(Shape s) {
   switch (s) {
-    case Shape::sphere: return btQuaternion::getIdentity();
-    case Shape::box: return btQuaternion(btVector3(1, btScalar(0.5), 0).normalized(), btScalar(0.45));
-    case Shape::capsule: return btQuaternion(btVector3(0, 1, 0), btScalar(1.45));  // nearly lying, axis along x
-    case Shape::cylinder: return btQuaternion(btVector3(0, 1, 0), btScalar(0.25));
-    case Shape::cone: return btQuaternion::getIdentity();  // base down, apex up
-    case Shape::hull: return btQuaternion(btVector3(1, 1, 0).normalized(), btScalar(0.5));
-    case Shape::compound: return btQuaternion(btVector3(0, 1, 0), btScalar(0.1));
+    case Shape::sphere:
+      return btQuaternion::getIdentity();
+    case Shape::box:
+      return btQuaternion(btVector3(1, btScalar(0.5), 0).normalized(), btScalar(0.45));
+    case Shape::capsule:
+      return btQuaternion(btVector3(0, 1, 0), btScalar(1.45));  // nearly lying, axis along x
+    case Shape::cylinder:
+      return btQuaternion(btVector3(0, 1, 0), btScalar(0.25));
+    case Shape::cone:
+      return btQuaternion::getIdentity();  // base down, apex up
+    case Shape::hull:
+      return btQuaternion(btVector3(1, 1, 0).normalized(), btScalar(0.5));
+    case Shape::compound:
+      return btQuaternion(btVector3(0, 1, 0), btScalar(0.1));
   }
   return btQuaternion::getIdentity();
 }
@@ -169,9 +188,8 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     objects.push_back(d.body);
   }
 
-  const HeightGrid frame =
-      grid_over(-0.4, -0.4, double(kShapes.size() - 1) * kSpacingX + 0.4, double(heights.size() - 1) * kSpacingY + 0.4,
-                o.cell);
+  const HeightGrid frame = grid_over(-0.4, -0.4, double(kShapes.size() - 1) * kSpacingX + 0.4,
+                                     double(heights.size() - 1) * kSpacingY + 0.4, o.cell);
   const std::vector<Patch> patches = {{&soil, {}}};
   const HeightGrid baseline = sample(patches, frame, Field::base);
 
@@ -232,8 +250,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
       sphere_depth = -(static_cast<double>(d.body->getCenterOfMassPosition().z()) - kSphereDiameter / 2);
   }
   r.metrics["lowest_point_depth_m"] = depths;
-  const double reference =
-      cases::sphere_drop_reference_depth(material, kSphereDiameter, kMass, kReferenceHeight);
+  const double reference = cases::sphere_drop_reference_depth(material, kSphereDiameter, kMass, kReferenceHeight);
   r.metrics["sphere_crater_depth_m"] = sphere_depth;
   r.metrics["sphere_crater_reference_m"] = reference;
   // The reference is the pure-compaction energy balance; the presets push a share alpha of
@@ -258,11 +275,11 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     bare.bodies = bare.body_bottoms = nullptr;
     bare.title = "impact (" + o.material + "): craters, bodies removed";
     r.files.push_back(write_png(o.file("craters.png"), render_relief(heights_now, bare)));
-    r.files.push_back(write_png(
-        o.file("view.png"), oblique_frame(heights_now, baseline, &env, 2.0, o.smoke ? 240 : 1100,
-                                          "impact in " + o.material + " at " + time_label(n * o.substep) +
-                                              " (heights x2)",
-                                          0.0, 35.0, true)));
+    r.files.push_back(
+        write_png(o.file("view.png"),
+                  oblique_frame(heights_now, baseline, &env, 2.0, o.smoke ? 240 : 1100,
+                                "impact in " + o.material + " at " + time_label(n * o.substep) + " (heights x2)", 0.0,
+                                35.0, true)));
     r.files.push_back(write_png(o.file("filmstrip.png"), filmstrip(film, labels, 3)));
     r.files.push_back(write_obj(o.file("ground.obj"), heights_now));
   }
@@ -283,11 +300,13 @@ const SceneRegistrar kRegistered{Scene{
             {"bodies", "number of bodies dropped"},
             {"fallthrough_count", "bodies that ended below bedrock or were lifted back by the coupling (must be 0)"},
             {"volume_drift_rel", "|ground + compacted + airborne - edited| / moved volume (must be < 1e-6)"},
-            {"max_sinkage_m", "largest plastic sinkage of any soil column (accumulates where slumping refills a "
-                              "pressed column), m"},
+            {"max_sinkage_m",
+             "largest plastic sinkage of any soil column (accumulates where slumping refills a "
+             "pressed column), m"},
             {"deepest_m", "largest lowering of the ground below the untouched surface, m"},
             {"lowest_point_depth_m", "per body: its lowest point below the original surface at the end, m"},
-            {"sphere_crater_depth_m", "bottom of the 10 kg, 0.2 m sphere dropped from 1 m below the original surface, m"},
+            {"sphere_crater_depth_m",
+             "bottom of the 10 kg, 0.2 m sphere dropped from 1 m below the original surface, m"},
             {"sphere_crater_reference_m", "the energy-balance depth of that sphere (Bekker, pure compaction), m"},
         },
     .run = run,

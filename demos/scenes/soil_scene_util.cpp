@@ -62,7 +62,8 @@ BodyEnvelopes body_envelopes(const std::vector<const btCollisionObject*>& bodies
   bullet::EnvelopeRasterizer rasterizer(grid, options);
   EnvelopeRaster raster;
   raster.resize(0, 0, frame.nx, frame.ny, true);
-  for (const btCollisionObject* b : bodies) rasterizer.accumulate(*b->getCollisionShape(), b->getWorldTransform(), raster);
+  for (const btCollisionObject* b : bodies)
+    rasterizer.accumulate(*b->getCollisionShape(), b->getWorldTransform(), raster);
   BodyEnvelopes out{frame, frame};
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (int j = 0; j < frame.ny; ++j)

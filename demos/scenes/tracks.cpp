@@ -63,9 +63,9 @@ Bicycle build(cases::BulletWorld& world, double ground_z) {
     b.wheels[static_cast<std::size_t>(w)] = world.add_body(std::move(shape), kWheelMass, placed(x, z_axle), lean);
     btRigidBody* wheel = b.wheels[static_cast<std::size_t>(w)];
     wheel->setFriction(btScalar(1.0));
-    b.hinges.push_back(std::make_unique<btHingeConstraint>(
-        *b.frame, *wheel, btVector3(btScalar(x), 0, btScalar(-kFrameAbove)), btVector3(0, 0, 0), btVector3(0, 1, 0),
-        btVector3(0, 1, 0)));
+    b.hinges.push_back(std::make_unique<btHingeConstraint>(*b.frame, *wheel,
+                                                           btVector3(btScalar(x), 0, btScalar(-kFrameAbove)),
+                                                           btVector3(0, 0, 0), btVector3(0, 1, 0), btVector3(0, 1, 0)));
     world.world().addConstraint(b.hinges.back().get(), true);  // no collision between frame and wheels
   }
   for (btRigidBody* body : {b.frame, b.wheels[0], b.wheels[1]}) {
@@ -184,7 +184,8 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
 
   SceneResult r;
   r.state_hash = hash.value();
-  r.metrics = common_metrics("tracks", o, n, wall, r.state_hash, non_finite_bodies(bodies) + heights.non_finite_count());
+  r.metrics =
+      common_metrics("tracks", o, n, wall, r.state_hash, non_finite_bodies(bodies) + heights.non_finite_count());
   r.metrics["rut_depth_m"] = rut_n > 0 ? rut_sum / rut_n : 0.0;
   r.metrics["rut_samples"] = rut_n;
   r.metrics["launch_speed_mps"] = kSpeed;
@@ -216,11 +217,10 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     top.min_pixels = o.smoke ? 240 : 1000;
     top.title = "tracks in " + o.material + ": rut, then the fall";
     r.files.push_back(write_png(o.file("top.png"), render_relief(heights, top)));
-    r.files.push_back(write_png(o.file("view.png"),
-                                oblique_frame(heights, baseline, &env, 2.0, o.smoke ? 240 : 1200,
-                                              "bicycle in " + o.material + " at " + time_label(n * o.substep) +
-                                                  " (heights x2)",
-                                              0.0, 40.0, true)));
+    r.files.push_back(write_png(o.file("view.png"), oblique_frame(heights, baseline, &env, 2.0, o.smoke ? 240 : 1200,
+                                                                  "bicycle in " + o.material + " at " +
+                                                                      time_label(n * o.substep) + " (heights x2)",
+                                                                  0.0, 40.0, true)));
     r.files.push_back(write_png(o.file("filmstrip.png"), filmstrip(film, labels, 3)));
     r.files.push_back(write_obj(o.file("ground.obj"), heights));
   }
@@ -238,7 +238,8 @@ const SceneRegistrar kRegistered{Scene{
     .defaults = {.seconds = 3.5, .substep = 1.0 / 240.0, .material = "sand", .cell = 0.01, .smoke_seconds = 0.4},
     .metric_help =
         {
-            {"rut_depth_m", "mean depth of the ground below the untouched surface under the rim's path while rolling, m"},
+            {"rut_depth_m",
+             "mean depth of the ground below the untouched surface under the rim's path while rolling, m"},
             {"rut_samples", "points of the rim path the rut depth averages"},
             {"launch_speed_mps", "speed at launch, m/s"},
             {"speed_end_of_rolling_mps", "mean hub speed when the frame's lean first passed 0.5 rad, m/s"},
@@ -250,8 +251,9 @@ const SceneRegistrar kRegistered{Scene{
             {"volume_drift_rel", "|ground + compacted + airborne - edited| / moved volume (must be < 1e-6)"},
             {"bekker_rolling_sinkage_m", "Bekker's rolling sinkage of one wheel under its share of the weight, m"},
             {"deepest_m", "largest lowering of the ground below the untouched surface, m"},
-            {"max_sinkage_m", "largest plastic sinkage of any soil column (accumulates where slumping refills a "
-                              "pressed column), m"},
+            {"max_sinkage_m",
+             "largest plastic sinkage of any soil column (accumulates where slumping refills a "
+             "pressed column), m"},
             {"fallthrough_count", "bodies below bedrock at the end or lifted back by the coupling (must be 0)"},
         },
     .run = run,

@@ -62,9 +62,8 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   auto on_substep = [&](const cases::VehicleFrame& f) {
     progress.update(double(f.substep) / double(f.substeps));
     const bool last = f.substep == f.substeps;
-    const bool film_frame =
-        o.write_files && next_frame < frames &&
-        f.substep >= std::lround(double(f.substeps) * double(next_frame) / double(frames - 1));
+    const bool film_frame = o.write_files && next_frame < frames &&
+                            f.substep >= std::lround(double(f.substeps) * double(next_frame) / double(frames - 1));
     if (!last && !film_frame) return;
     const HeightGrid heights = sample(patches_of(*f.soils, sand_x0, sand_x1, mud_x1), frame, Field::height);
     if (film_frame) {
@@ -113,15 +112,14 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     top.min_pixels = o.smoke ? 240 : 1200;
     top.title = "vehicle: rigid | sand | mud | rigid, ground coloured by deformation";
     r.files.push_back(write_png(o.file("top.png"), render_relief(final_heights, top)));
-    r.files.push_back(write_png(o.file("view.png"),
-                                oblique_frame(final_heights, baseline, &final_bodies, 2.0, o.smoke ? 240 : 1400,
-                                              "vehicle across sand then mud (heights x2)", 0.0, 40.0, true)));
+    r.files.push_back(
+        write_png(o.file("view.png"), oblique_frame(final_heights, baseline, &final_bodies, 2.0, o.smoke ? 240 : 1400,
+                                                    "vehicle across sand then mud (heights x2)", 0.0, 40.0, true)));
     const HeightGrid edge_heights = sample(patches, edge, Field::height);
     const HeightGrid edge_base(edge.nx, edge.ny, edge.cell, edge.x0, edge.y0, 0.0);
-    r.files.push_back(write_png(o.file("ruts.png"), oblique_frame(edge_heights, edge_base, nullptr, 2.0,
-                                                                  o.smoke ? 240 : 900,
-                                                                  "ruts: sand (left) to mud (right), heights x2", 0.0,
-                                                                  45.0, true)));
+    r.files.push_back(
+        write_png(o.file("ruts.png"), oblique_frame(edge_heights, edge_base, nullptr, 2.0, o.smoke ? 240 : 900,
+                                                    "ruts: sand (left) to mud (right), heights x2", 0.0, 45.0, true)));
     r.files.push_back(write_png(o.file("filmstrip.png"), filmstrip(film, labels, 3)));
     r.files.push_back(write_obj(o.file("ground.obj"), final_heights));
   }

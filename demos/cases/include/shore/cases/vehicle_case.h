@@ -45,9 +45,9 @@ struct VehicleResult {
 
 /// The world after one substep, for callers that draw or record the run.
 struct VehicleFrame {
-  std::int64_t substep = 0;  ///< substeps done so far (1 after the first)
-  std::int64_t substeps = 0; ///< substeps of the whole run
-  double time = 0.0;         ///< s simulated so far
+  std::int64_t substep = 0;   ///< substeps done so far (1 after the first)
+  std::int64_t substeps = 0;  ///< substeps of the whole run
+  double time = 0.0;          ///< s simulated so far
   const btRigidBody* chassis = nullptr;
   std::array<const btRigidBody*, 4> wheels{};
   const std::vector<std::shared_ptr<terrain::Terrain>>* soils = nullptr;  ///< sand, mud
