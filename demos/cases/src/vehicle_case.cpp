@@ -28,7 +28,7 @@ std::shared_ptr<terrain::Terrain> make_soil(const VehicleCase& c, const terrain:
 }
 }  // namespace
 
-VehicleResult run_vehicle(const VehicleCase& c) {
+VehicleResult run_vehicle(const VehicleCase& c, const VehicleFrameCallback& on_substep) {
   VehicleResult out;
   const double tile = kTileCells * c.cell;
   out.sand_x0 = 0.0;
@@ -40,9 +40,8 @@ VehicleResult run_vehicle(const VehicleCase& c) {
   const double half_y = 5.0;
   world.add_body(std::make_unique<btBoxShape>(btVector3(10, btScalar(half_y), 1)), 0.0, btVector3(-10, 0, -1))
       ->setFriction(0.9f);
-  world
-      .add_body(std::make_unique<btBoxShape>(btVector3(10, btScalar(half_y), 1)), 0.0,
-                btVector3(btScalar(out.mud_x1 + 10), 0, -1))
+  world.add_body(std::make_unique<btBoxShape>(btVector3(10, btScalar(half_y), 1)), 0.0,
+                 btVector3(btScalar(out.mud_x1 + 10), 0, -1))
       ->setFriction(0.9f);
 
   out.soils = {make_soil(c, terrain::Material::sand()), make_soil(c, terrain::Material::mud())};
@@ -63,15 +62,17 @@ VehicleResult run_vehicle(const VehicleCase& c) {
                                            btVector3(-0.75f, 0.65f, -0.25f), btVector3(-0.75f, -0.65f, -0.25f)};
   for (int k = 0; k < 4; ++k) {
     const btVector3 at = chassis->getCenterOfMassPosition() + mounts[k];
-    wheels[k] = world.add_body(std::make_unique<btCylinderShape>(btVector3(
-                                   btScalar(kWheelRadius), btScalar(kWheelWidth / 2), btScalar(kWheelRadius))),
+    wheels[k] = world.add_body(std::make_unique<btCylinderShape>(btVector3(btScalar(kWheelRadius),
+                                                                           btScalar(kWheelWidth / 2),
+                                                                           btScalar(kWheelRadius))),
                                kWheelMass, at);
     wheels[k]->setActivationState(DISABLE_DEACTIVATION);
     wheels[k]->setFriction(1.0f);
     hinges.push_back(std::make_unique<btHingeConstraint>(*chassis, *wheels[k], mounts[k], btVector3(0, 0, 0),
                                                          btVector3(0, 1, 0), btVector3(0, 1, 0)));
-    // Bullet drives body A relative to B about the hinge axis: a negative target rolls the
-    // wheels forward (+x) for an axis along +y.
+    // Bullet's hinge motor drives the velocity of body A (chassis) relative to body B (wheel)
+    // about the axis; the wheel rolls forward (+x) spinning at +v/R about +y relative to the
+    // chassis, so the target is -v/R.
     hinges.back()->enableAngularMotor(true, btScalar(-c.target_speed / kWheelRadius),
                                       btScalar(kMotorTorque * c.substep));
     world.world().addConstraint(hinges.back().get(), true);
@@ -102,6 +103,16 @@ VehicleResult run_vehicle(const VehicleCase& c) {
     } else if (x >= out.sand_x1 && x < out.mud_x1) {
       mud_time += c.substep;
       mud_dist += x - x_before;
+    }
+    if (on_substep) {
+      VehicleFrame f;
+      f.substep = k + 1;
+      f.substeps = steps;
+      f.time = double(k + 1) * c.substep;
+      f.chassis = chassis;
+      for (int w = 0; w < 4; ++w) f.wheels[w] = wheels[w];
+      f.soils = &out.soils;
+      on_substep(f);
     }
   }
   out.sim_seconds = double(steps) * c.substep;

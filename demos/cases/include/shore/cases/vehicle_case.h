@@ -3,12 +3,16 @@
 // rigid ground across sand, then mud, then rigid ground again. Each soil is its own
 // Terrain in its own region (x in [0, sand_length) sand, then mud_length of mud).
 
+#include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
 #include "shore/cases/soil_cases.h"
 #include "shore/terrain/terrain.h"
+
+class btRigidBody;
 
 namespace shore::cases {
 
@@ -39,6 +43,19 @@ struct VehicleResult {
   }
 };
 
-VehicleResult run_vehicle(const VehicleCase& c);
+/// The world after one substep, for callers that draw or record the run.
+struct VehicleFrame {
+  std::int64_t substep = 0;   ///< substeps done so far (1 after the first)
+  std::int64_t substeps = 0;  ///< substeps of the whole run
+  double time = 0.0;          ///< s simulated so far
+  const btRigidBody* chassis = nullptr;
+  std::array<const btRigidBody*, 4> wheels{};
+  const std::vector<std::shared_ptr<terrain::Terrain>>* soils = nullptr;  ///< sand, mud
+};
+/// Called after every substep; it must not change the bodies or the soils.
+using VehicleFrameCallback = std::function<void(const VehicleFrame&)>;
+
+/// Runs the case; on_substep (optional) sees the world after every substep.
+VehicleResult run_vehicle(const VehicleCase& c, const VehicleFrameCallback& on_substep = {});
 
 }  // namespace shore::cases
