@@ -16,6 +16,8 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
 namespace {
+constexpr double kRestSpeed = 1e-3;  // m/s: slower than this, a body the soil holds is at rest
+constexpr double kRestSpin = 1e-2;   // rad/s
 using coupling_detail::Clock;
 using coupling_detail::seconds_since;
 
@@ -76,7 +78,9 @@ void TerrainCoupling::add_body(btRigidBody* body, BodySoilSettings body_settings
       throw InvalidSetting("bullet.TerrainCoupling.add_body(body)", "not in the world",
                            "add the body to the dynamics world before add_body");
     proxy->m_collisionFilterMask &= ~settings_.soil_filter_bit;
-    world_.getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(proxy, world_.getDispatcher());
+    // Drop existing pairs (with tiles made for earlier bodies) so no rigid contact survives.
+    world_.getBroadphase()->getOverlappingPairCache()->removeOverlappingPairsContainingProxy(proxy,
+                                                                                             world_.getDispatcher());
   }
   if (body_is_sane(*body) && body_settings.deform) {
     try {
@@ -312,12 +316,17 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
       continue;
     }
     const btVector3 v = body.getLinearVelocity();
+    bool moved = true;
     if (!body.isStaticOrKinematicObject() && body.isActive() && !rigid_) {
       t0 = Clock::now();
-      react(b, h);  // reads the envelope of the previous substep
+      const bool yielded = react(b, h);  // reads the envelope of the previous substep
       stats_.reaction_seconds += seconds_since(t0);
+      // A body the soil holds at rest presses nothing new: imprinting it again would only
+      // re-press soil that erosion slid back under its sides, inflating sinkage forever.
+      moved = yielded || b.envelope.lower.empty() || body.getLinearVelocity().length() > kRestSpeed ||
+              body.getAngularVelocity().length() > kRestSpin;
     }
-    if (!body.isActive()) continue;
+    if (!body.isActive() || !moved) continue;
     t0 = Clock::now();
     try {
       rasterize(b);                    // at the (corrected) pose: this substep's imprint, next substep's bearing

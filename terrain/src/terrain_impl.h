@@ -82,6 +82,7 @@ struct Scratch {
   bool parallel = false;
   int threads = 1;
   std::vector<double> ht, ht_orig, sink, bed;
+  std::vector<double> ht_pressed;  // heights right after collision (deposits are what came after)
   std::vector<double> e_plain, e_star, e_coll, e_true;
   std::vector<double> disp, carry, q, out, cap;
   std::vector<unsigned char> flags, mask;
@@ -128,6 +129,7 @@ struct Terrain::Impl {
   void contour_map(Scratch& sc) const;
   double displace(Scratch& sc) const;
   int erode(Scratch& sc, bool to_rest) const;
+  void loosen_deposits(Scratch& sc) const;
   [[nodiscard]] std::vector<ColumnRect> active_regions(std::span<const Imprint> imprints) const;
   StepReport run_region(const ColumnRect& region, std::span<const Imprint> imprints);
 
