@@ -28,11 +28,16 @@ std::unique_ptr<btCollisionShape> random_shape(std::mt19937& rng) {
   std::uniform_real_distribution<double> size(0.05, 0.25);
   auto s = [&] { return btScalar(size(rng)); };
   switch (rng() % 7) {
-    case 0: return std::make_unique<btSphereShape>(s());
-    case 1: return std::make_unique<btBoxShape>(btVector3(s(), s(), s()));
-    case 2: return std::make_unique<btCapsuleShapeZ>(s(), s());
-    case 3: return std::make_unique<btCylinderShapeZ>(btVector3(s(), s(), s()));
-    case 4: return std::make_unique<btConeShapeZ>(s(), 2 * s());
+    case 0:
+      return std::make_unique<btSphereShape>(s());
+    case 1:
+      return std::make_unique<btBoxShape>(btVector3(s(), s(), s()));
+    case 2:
+      return std::make_unique<btCapsuleShapeZ>(s(), s());
+    case 3:
+      return std::make_unique<btCylinderShapeZ>(btVector3(s(), s(), s()));
+    case 4:
+      return std::make_unique<btConeShapeZ>(s(), 2 * s());
     case 5: {
       auto hull = std::make_unique<btConvexHullShape>();
       for (int k = 0; k < 12; ++k) hull->addPoint(btVector3(s() - 0.15f, s() - 0.15f, s() - 0.15f));
@@ -150,8 +155,8 @@ TEST(SoilRobustness, BodyWithNaNPoseIsSkippedAndCounted) {
   BulletWorld world;
   bullet::TerrainCoupling ground(world.world(), soil);
   btRigidBody* good = world.add_body(std::make_unique<btSphereShape>(0.1f), 5.0, btVector3(0, 0, 0.3f));
-  btRigidBody* bad = world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 5.0,
-                                    btVector3(2, 2, 0.3f));
+  btRigidBody* bad =
+      world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 5.0, btVector3(2, 2, 0.3f));
   ground.add_body(good);
   ground.add_body(bad);
   bad->setLinearVelocity(btVector3(0, 0, std::numeric_limits<btScalar>::quiet_NaN()));

@@ -40,8 +40,9 @@ VehicleResult run_vehicle(const VehicleCase& c, const VehicleFrameCallback& on_s
   const double half_y = 5.0;
   world.add_body(std::make_unique<btBoxShape>(btVector3(10, btScalar(half_y), 1)), 0.0, btVector3(-10, 0, -1))
       ->setFriction(0.9f);
-  world.add_body(std::make_unique<btBoxShape>(btVector3(10, btScalar(half_y), 1)), 0.0,
-                 btVector3(btScalar(out.mud_x1 + 10), 0, -1))
+  world
+      .add_body(std::make_unique<btBoxShape>(btVector3(10, btScalar(half_y), 1)), 0.0,
+                btVector3(btScalar(out.mud_x1 + 10), 0, -1))
       ->setFriction(0.9f);
 
   out.soils = {make_soil(c, terrain::Material::sand()), make_soil(c, terrain::Material::mud())};
@@ -62,9 +63,8 @@ VehicleResult run_vehicle(const VehicleCase& c, const VehicleFrameCallback& on_s
                                            btVector3(-0.75f, 0.65f, -0.25f), btVector3(-0.75f, -0.65f, -0.25f)};
   for (int k = 0; k < 4; ++k) {
     const btVector3 at = chassis->getCenterOfMassPosition() + mounts[k];
-    wheels[k] = world.add_body(std::make_unique<btCylinderShape>(btVector3(btScalar(kWheelRadius),
-                                                                           btScalar(kWheelWidth / 2),
-                                                                           btScalar(kWheelRadius))),
+    wheels[k] = world.add_body(std::make_unique<btCylinderShape>(btVector3(
+                                   btScalar(kWheelRadius), btScalar(kWheelWidth / 2), btScalar(kWheelRadius))),
                                kWheelMass, at);
     wheels[k]->setActivationState(DISABLE_DEACTIVATION);
     wheels[k]->setFriction(1.0f);

@@ -143,8 +143,8 @@ class Terrain {
   [[nodiscard]] double column_y(std::int64_t j) const;
 
   // ---- state of one column ----
-  [[nodiscard]] double height(std::int64_t i, std::int64_t j) const;       ///< collision surface, m
-  [[nodiscard]] double sinkage(std::int64_t i, std::int64_t j) const;      ///< plastic sinkage, m, >= 0
+  [[nodiscard]] double height(std::int64_t i, std::int64_t j) const;   ///< collision surface, m
+  [[nodiscard]] double sinkage(std::int64_t i, std::int64_t j) const;  ///< plastic sinkage, m, >= 0
   /// Heights of a rectangle of columns, row-major (out.size() == nx * ny): the bulk form of
   /// height(), one tile lookup per run of columns. Throws InvalidSetting on a size mismatch.
   void heights(const ColumnRect& rect, std::span<double> out) const;
