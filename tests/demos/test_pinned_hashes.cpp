@@ -48,6 +48,10 @@ TEST_P(PinnedHash, SmokeRunStateHashMatchesThePinnedValue) {
   const SceneOptions opt = resolve(scene, o);
   const SceneResult r = run_scene(scene, opt, ProgressMode::quiet);
   const nlohmann::json& want = pinned[name][precision];
+#ifdef SHORE_SANITIZED_BUILD
+  GTEST_SKIP() << "sanitizer builds vectorize the 3-D water kernel differently (other float rounding); "
+                  "the pins hold for the ordinary float and double builds";
+#endif
   EXPECT_EQ(want["substeps"].get<int>(), opt.substeps())
       << "the scene's smoke settings changed; re-pin with:\n  " << pin_command(name);
   EXPECT_EQ(want["state_hash"].get<std::string>(), shore::to_hex(r.state_hash))
