@@ -180,7 +180,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     }
   std::vector<btRigidBody*> dynamic;
   for (const Drop& d : drops) dynamic.push_back(d.body);
-  add_bodies(ground, dynamic, bullet::TerrainCouplingSettings{}.soil_filter_bit);
+  for (btRigidBody* b : dynamic) ground.add_body(b);
   std::vector<const btRigidBody*> bodies;
   std::vector<const btCollisionObject*> objects;
   for (const Drop& d : drops) {
@@ -194,26 +194,20 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   const HeightGrid baseline = sample(patches, frame, Field::base);
 
   const int n = o.substeps();
-  const int frames = o.smoke ? 3 : 6;
-  std::vector<Image> film;
-  std::vector<std::string> labels;
+  FilmSchedule film(n, o.smoke);
   auto capture = [&](int k) {
-    if (!o.write_files) return;
+    if (!o.write_files || !film.due(k)) return;
     const BodyEnvelopes env = body_envelopes(objects, frame);
-    film.push_back(oblique_frame(sample(patches, frame, Field::height), baseline, &env, 2.0, o.smoke ? 160 : 400, ""));
-    labels.push_back(time_label(k * o.substep));
+    film.add(oblique_frame(sample(patches, frame, Field::height), baseline, &env, 2.0, o.smoke ? 160 : 400, ""),
+             k * o.substep);
   };
   capture(0);
-  int next_frame = 1;
   double wall = 0.0;
   for (int k = 1; k <= n; ++k) {
     const auto t0 = std::chrono::steady_clock::now();
     world.step(o.substep);
     wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (next_frame < frames && k == static_cast<int>(std::lround(double(n) * next_frame / (frames - 1)))) {
-      capture(k);
-      ++next_frame;
-    }
+    capture(k);
     progress.update(double(k) / n);
   }
 
@@ -280,7 +274,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
                   oblique_frame(heights_now, baseline, &env, 2.0, o.smoke ? 240 : 1100,
                                 "impact in " + o.material + " at " + time_label(n * o.substep) + " (heights x2)", 0.0,
                                 35.0, true)));
-    r.files.push_back(write_png(o.file("filmstrip.png"), filmstrip(film, labels, 3)));
+    r.files.push_back(write_png(o.file("filmstrip.png"), filmstrip(film.images, film.labels, 3)));
     r.files.push_back(write_obj(o.file("ground.obj"), heights_now));
   }
   return r;

@@ -138,12 +138,6 @@ Image oblique_frame(const HeightGrid& heights, const HeightGrid& baseline, const
   return render_oblique(heights, style, elevation_deg);
 }
 
-void add_bodies(bullet::TerrainCoupling& coupling, const std::vector<btRigidBody*>& bodies, int soil_filter_bit) {
-  for (btRigidBody* b : bodies)
-    if (b->getBroadphaseHandle() != nullptr) b->getBroadphaseHandle()->m_collisionFilterMask &= ~soil_filter_bit;
-  for (btRigidBody* b : bodies) coupling.add_body(b);
-}
-
 std::string time_label(double t) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "t = %.2f s", t);

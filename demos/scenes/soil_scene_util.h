@@ -1,4 +1,7 @@
 #pragma once
+
+#include <cmath>
+#include <utility>
 // Helpers shared by the soil scenes (footprints, tracks, vehicle, impact): soil grids as
 // pictures, bodies drawn over them, the volume and sinkage metrics, state hashes.
 
@@ -65,16 +68,29 @@ Image oblique_frame(const HeightGrid& heights, const HeightGrid& baseline, const
                     double exaggeration, int min_pixels, const std::string& title, double deformation_scale = 0.0,
                     double elevation_deg = 35.0, bool legend = false);
 
-/// Registers dynamic bodies with a soil coupling. Works around a pair-cache problem of
-/// TerrainCoupling::add_body: it clears the soil filter bit from the body's collision mask
-/// but keeps any broadphase pair the body already has with a soil tile (cleanProxyFromPairs
-/// keeps the pair), so a body that overlapped a tile before add_body (a tile created by an
-/// earlier add_body, or the body added to the world next to existing tiles) keeps Bullet's
-/// rigid contact with it. Clearing the bit on every body first means no such pair is made.
-void add_bodies(bullet::TerrainCoupling& coupling, const std::vector<btRigidBody*>& bodies, int soil_filter_bit);
-
 /// "t = 1.25 s".
 std::string time_label(double t);
+
+/// Frames of a run spread evenly over its substeps (3 in smoke runs, 6 otherwise), each
+/// labelled with its time: the filmstrip of a scene.
+struct FilmSchedule {
+  int substeps = 1;
+  int frames = 6;
+  int next = 0;  ///< index of the next frame to take
+  std::vector<Image> images;
+  std::vector<std::string> labels;
+
+  FilmSchedule(int run_substeps, bool smoke) : substeps(run_substeps), frames(smoke ? 3 : 6) {}
+  /// True if substep k (0: the start) is when the next frame is due.
+  [[nodiscard]] bool due(int k) const {
+    return next < frames && k == static_cast<int>(std::lround(double(substeps) * next / (frames - 1)));
+  }
+  void add(Image image, double t) {
+    images.push_back(std::move(image));
+    labels.push_back(time_label(t));
+    ++next;
+  }
+};
 
 /// Angle (rad) between a body's local axis `axis` (0 x, 1 y, 2 z) and the world vertical.
 double tilt_from_vertical(const btRigidBody& body, int axis);

@@ -114,23 +114,20 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   Bicycle bike = build(world, ground->height(0.0, 0.0) + noise.amplitude);
   const std::vector<const btRigidBody*> bodies = {bike.frame, bike.wheels[0], bike.wheels[1]};
   const std::vector<const btCollisionObject*> objects = {bike.frame, bike.wheels[0], bike.wheels[1]};
-  add_bodies(coupling, {bike.frame, bike.wheels[0], bike.wheels[1]}, bullet::TerrainCouplingSettings{}.soil_filter_bit);
+  for (btRigidBody* b : {bike.frame, bike.wheels[0], bike.wheels[1]}) coupling.add_body(b);
 
   const std::vector<Patch> patches = {{&soil, {}}};
   const HeightGrid frame = grid_over(-1.0, -1.0, o.smoke ? 2.0 : 7.0, 1.0, cell);
   const HeightGrid baseline = sample(patches, frame, Field::base);
   const int n = o.substeps();
-  const int frames = o.smoke ? 3 : 6;
-  std::vector<Image> film;
-  std::vector<std::string> labels;
+  FilmSchedule film(n, o.smoke);
   auto capture = [&](int k) {
-    if (!o.write_files) return;
+    if (!o.write_files || !film.due(k)) return;
     const BodyEnvelopes env = body_envelopes(objects, frame);
-    film.push_back(oblique_frame(sample(patches, frame, Field::height), baseline, &env, 2.0, o.smoke ? 160 : 480, ""));
-    labels.push_back(time_label(k * o.substep));
+    film.add(oblique_frame(sample(patches, frame, Field::height), baseline, &env, 2.0, o.smoke ? 160 : 480, ""),
+             k * o.substep);
   };
   capture(0);
-  int next_frame = 1;
 
   double wall = 0.0, v_end_rolling = kSpeed, t_fall = -1.0, x_fall = 0.0;
   std::vector<btVector3> contacts;  // rim bottoms along the path while rolling, >= one cell apart
@@ -154,10 +151,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
         }
       }
     }
-    if (next_frame < frames && k == static_cast<int>(std::lround(double(n) * next_frame / (frames - 1)))) {
-      capture(k);
-      ++next_frame;
-    }
+    capture(k);
     progress.update(double(k) / n);
   }
 
@@ -221,7 +215,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
                                                                   "bicycle in " + o.material + " at " +
                                                                       time_label(n * o.substep) + " (heights x2)",
                                                                   0.0, 40.0, true)));
-    r.files.push_back(write_png(o.file("filmstrip.png"), filmstrip(film, labels, 3)));
+    r.files.push_back(write_png(o.file("filmstrip.png"), filmstrip(film.images, film.labels, 3)));
     r.files.push_back(write_obj(o.file("ground.obj"), heights));
   }
   for (auto& h : bike.hinges) world.world().removeConstraint(h.get());

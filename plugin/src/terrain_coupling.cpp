@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include <BulletCollision/BroadphaseCollision/btDispatcher.h>
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
@@ -78,9 +80,7 @@ void TerrainCoupling::add_body(btRigidBody* body, BodySoilSettings body_settings
       throw InvalidSetting("bullet.TerrainCoupling.add_body(body)", "not in the world",
                            "add the body to the dynamics world before add_body");
     proxy->m_collisionFilterMask &= ~settings_.soil_filter_bit;
-    // Drop existing pairs (with tiles made for earlier bodies) so no rigid contact survives.
-    world_.getBroadphase()->getOverlappingPairCache()->removeOverlappingPairsContainingProxy(proxy,
-                                                                                             world_.getDispatcher());
+    drop_tile_pairs(proxy);
   }
   if (body_is_sane(*body) && body_settings.deform) {
     try {
@@ -125,6 +125,22 @@ void TerrainCoupling::cover_bodies(double substep) {
   } else {
     for (const Body& b : bodies_) cover(*b.body);
   }
+}
+
+void TerrainCoupling::drop_tile_pairs(btBroadphaseProxy* proxy) {
+  // Pairs the body already has with soil tiles (made for earlier bodies) would keep Bullet's
+  // rigid contact alive; its pairs with other bodies stay.
+  btOverlappingPairCache* cache = world_.getBroadphase()->getOverlappingPairCache();
+  btBroadphasePairArray& pairs = cache->getOverlappingPairArray();
+  std::vector<std::pair<btBroadphaseProxy*, btBroadphaseProxy*>> doomed;
+  for (int k = 0; k < pairs.size(); ++k) {
+    btBroadphaseProxy* a = pairs[k].m_pProxy0;
+    btBroadphaseProxy* b = pairs[k].m_pProxy1;
+    if (a != proxy && b != proxy) continue;
+    const btBroadphaseProxy* other = a == proxy ? b : a;
+    if (tiles_.is_tile(static_cast<const btCollisionObject*>(other->m_clientObject))) doomed.emplace_back(a, b);
+  }
+  for (const auto& [a, b] : doomed) cache->removeOverlappingPair(a, b, world_.getDispatcher());
 }
 
 bool TerrainCoupling::overlaps_region(const btRigidBody& body) const {

@@ -125,6 +125,7 @@ class TerrainCoupling : public btActionInterface {
   void cover_bodies(double substep);
   void rasterize(Body& b);
   [[nodiscard]] bool overlaps_region(const btRigidBody& body) const;
+  void drop_tile_pairs(btBroadphaseProxy* proxy);
   void clip_to_region(EnvelopeRaster& env) const;
   /// The momentum rule for one dynamic body; returns true if the soil yielded.
   bool react(Body& b, double substep);
