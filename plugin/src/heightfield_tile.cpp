@@ -50,6 +50,26 @@ bool HeightfieldTile::set_height(int i, int j, double h) {
   return clamped == h;
 }
 
+HeightfieldTile::RowWrite HeightfieldTile::set_row(int i0, int j, std::span<const double> h, double max_rise) {
+  RowWrite out;
+  float* row = heights_.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(settings_.columns) +
+               static_cast<std::size_t>(i0);
+  const double lo = settings_.min_height, hi = settings_.max_height;
+  for (std::size_t k = 0; k < h.size(); ++k) {
+    double next = h[k];
+    const double now = row[k];
+    if (next > now + max_rise) {
+      next = now + max_rise;
+      if (out.first_held < 0) out.first_held = static_cast<int>(k);
+      out.last_held = static_cast<int>(k);
+    }
+    const double clamped = std::clamp(next, lo, hi);
+    out.clamped += clamped != next;
+    row[k] = static_cast<float>(clamped);
+  }
+  return out;
+}
+
 double HeightfieldTile::height(int i, int j) const {
   return heights_[static_cast<std::size_t>(j) * static_cast<std::size_t>(settings_.columns) +
                   static_cast<std::size_t>(i)];

@@ -112,45 +112,50 @@ int TerrainTiles::ensure_cover(double x0, double y0, double x1, double y1) {
   return created;
 }
 
+void TerrainTiles::Tile::mark_lagging(int a0, int b0, int a1, int b1) {
+  if (!lagging) {
+    lagging = true;
+    lag_a0 = a0, lag_b0 = b0, lag_a1 = a1, lag_b1 = b1;
+    return;
+  }
+  lag_a0 = std::min(lag_a0, a0), lag_b0 = std::min(lag_b0, b0);
+  lag_a1 = std::max(lag_a1, a1), lag_b1 = std::max(lag_b1, b1);
+}
+
 std::int64_t TerrainTiles::copy_rect(Tile& tile, std::int64_t ci0, std::int64_t cj0, std::int64_t ci1,
                                      std::int64_t cj1) {
   const int T = settings_.tile_cells;
   const std::int64_t a0 = std::max<std::int64_t>(ci0 - tile.i0, 0), a1 = std::min<std::int64_t>(ci1 - tile.i0, T);
   const std::int64_t b0 = std::max<std::int64_t>(cj0 - tile.j0, 0), b1 = std::min<std::int64_t>(cj1 - tile.j0, T);
-  const double cap = settings_.max_rise_per_substep;
   if (a0 > a1 || b0 > b1) return 0;
   const terrain::ColumnRect rect{tile.i0 + a0, tile.j0 + b0, int(a1 - a0 + 1), int(b1 - b0 + 1)};
-  scratch_.resize(static_cast<std::size_t>(rect.nx) * static_cast<std::size_t>(rect.ny));
+  const auto width = static_cast<std::size_t>(rect.nx);
+  scratch_.resize(width * static_cast<std::size_t>(rect.ny));
   soil_.heights(rect, scratch_);
-  std::int64_t written = 0;
-  for (std::int64_t b = b0; b <= b1; ++b)
-    for (std::int64_t a = a0; a <= a1; ++a) {
-      const int ia = static_cast<int>(a), ib = static_cast<int>(b);
-      const double target = scratch_[static_cast<std::size_t>(b - b0) * static_cast<std::size_t>(rect.nx) +
-                                     static_cast<std::size_t>(a - a0)];
-      const double now = tile.field->height(ia, ib);
-      double next = target;
-      if (target > now + cap) {  // raised ground may not jump over a body
-        next = now + cap;
-        tile.lagging = true;
-      }
-      if (!tile.field->set_height(ia, ib, next)) ++clamped_;
-      ++written;
-    }
-  return written;
+  for (int b = 0; b < rect.ny; ++b) {
+    // Raised ground may not jump over a body: it rises at most max_rise_per_substep.
+    const HeightfieldTile::RowWrite w =
+        tile.field->set_row(int(a0), int(b0) + b, std::span<const double>(scratch_).subspan(b * width, width),
+                            settings_.max_rise_per_substep);
+    clamped_ += w.clamped;
+    if (w.first_held >= 0) tile.mark_lagging(int(a0) + w.first_held, int(b0) + b, int(a0) + w.last_held, int(b0) + b);
+  }
+  return static_cast<std::int64_t>(scratch_.size());
 }
 
 std::int64_t TerrainTiles::push(std::span<const terrain::ColumnRect> changed) {
   const int T = settings_.tile_cells;
   const double cell = soil_.settings().cell;
   std::int64_t written = 0;
-  // Tiles still catching up with a capped rise: copy them whole.
+  // Vertices still catching up with a capped rise.
   for (auto& [k, tile] : tiles_)
     if (tile.lagging) {
       tile.lagging = false;
-      written += copy_rect(tile, tile.i0, tile.j0, tile.i0 + T, tile.j0 + T);
-      drop_stale_contacts(soil_.column_x(tile.i0), soil_.column_y(tile.j0), soil_.column_x(tile.i0 + T),
-                          soil_.column_y(tile.j0 + T));
+      const std::int64_t i0 = tile.i0 + tile.lag_a0, j0 = tile.j0 + tile.lag_b0;
+      const std::int64_t i1 = tile.i0 + tile.lag_a1, j1 = tile.j0 + tile.lag_b1;
+      written += copy_rect(tile, i0, j0, i1, j1);
+      drop_stale_contacts(soil_.column_x(i0) - cell, soil_.column_y(j0) - cell, soil_.column_x(i1) + cell,
+                          soil_.column_y(j1) + cell);
     }
   for (const terrain::ColumnRect& r : changed) {
     if (r.nx <= 0 || r.ny <= 0) continue;

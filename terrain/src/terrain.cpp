@@ -14,6 +14,7 @@
 #include <numbers>
 #include <string>
 #include <unordered_map>
+#include <utility>
 
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
@@ -54,6 +55,8 @@ void TerrainSettings::validate() const {
   c.finite("base_height", base_height);
   c.at_least("max_erosion_passes", max_erosion_passes, 0);
   c.at_least("active_margin", active_margin, 1);
+  if (!(active_reach > 0.0))  // +infinity allowed: every covered column widens the region
+    throw InvalidSetting(c.name("active_reach"), detail::to_text(active_reach), "must be > 0 (+infinity allowed)");
   c.non_negative("contact_tolerance", contact_tolerance);
   c.at_least("threads", threads, 0);
   c.at_least("parallel_min_columns", parallel_min_columns, 0);
@@ -624,6 +627,8 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
     givers.clear();
     ++passes;
   }
+  // Stopped by the cap, not by rest: what moved last carries on next step.
+  sc.still_flowing = passes == s.max_erosion_passes && passes > 0 ? changed.bounds() : std::array<int, 4>{0, 0, 0, 0};
   return passes;
 }
 
@@ -659,6 +664,8 @@ StepReport Terrain::Impl::run_region(const ColumnRect& region, std::span<const I
   report.erosion_passes = erode(sc, false);
   loosen_deposits(sc);
   scatter(sc);
+  if (const auto& f = sc.still_flowing; f[2] > 0)
+    unsettled.push_back({sc.si0 + f[0], sc.sj0 + f[1], f[2], f[3]});
   report.active_columns = region.nx * region.ny;
   report.contact_columns = contacts;
   report.displaced_volume = displaced * cell_area;
@@ -687,19 +694,6 @@ void check_envelope(const EnvelopeRaster* env, const std::string& name) {
   }
 }
 
-// Bounding box of the columns an envelope covers; nx = 0 if none.
-ColumnRect covered_box(const EnvelopeRaster& env) {
-  int x0 = env.nx, y0 = env.ny, x1 = -1, y1 = -1;
-  for (int y = 0; y < env.ny; ++y)
-    for (int x = 0; x < env.nx; ++x)
-      if (env.lower[static_cast<std::size_t>(y) * env.nx + x] < kInf) {
-        x0 = std::min(x0, x), x1 = std::max(x1, x);
-        y0 = std::min(y0, y), y1 = std::max(y1, y);
-      }
-  if (x1 < 0) return {};
-  return {env.i0 + x0, env.j0 + y0, x1 - x0 + 1, y1 - y0 + 1};
-}
-
 struct Box {
   std::int64_t i0, j0, i1, j1;        // inclusive
   bool touches(const Box& o) const {  // overlapping or adjacent (their halos would overlap)
@@ -709,17 +703,41 @@ struct Box {
 
 }  // namespace
 
-// The active regions of a step: each imprint's covered box enlarged by active_margin;
-// boxes that touch are merged. Sorted, so the processing order never depends on the
-// order of the imprints.
-std::vector<ColumnRect> Terrain::Impl::active_regions(std::span<const Imprint> imprints) const {
+// Bounding box of the columns an imprint covers within active_reach of the soil top; nx =
+// 0 if none. Columns the body overhangs by more than that can neither be pressed this step
+// nor catch soil that would reach the body, so they need no work.
+ColumnRect Terrain::Impl::reach_box(const Imprint& im) {
+  const EnvelopeRaster& env = *im.envelope;
+  const bool all = std::isinf(s.active_reach);
+  if (!all) {
+    reach_heights.resize(env.lower.size());
+    read_rect({env.i0, env.j0, env.nx, env.ny}, reach_heights, false);
+  }
+  int x0 = env.nx, y0 = env.ny, x1 = -1, y1 = -1;
+  for (int y = 0; y < env.ny; ++y)
+    for (int x = 0; x < env.nx; ++x) {
+      const std::size_t k = static_cast<std::size_t>(y) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(x);
+      const double lower = env.lower[k];
+      if (lower == kInf || (!all && lower - im.offset > reach_heights[k] + s.active_reach)) continue;
+      x0 = std::min(x0, x), x1 = std::max(x1, x);
+      y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  if (x1 < 0) return {};
+  return {env.i0 + x0, env.j0 + y0, x1 - x0 + 1, y1 - y0 + 1};
+}
+
+// The active regions of a step: each imprint's reach box and each box of columns still
+// flowing after the last step, enlarged by active_margin; boxes that touch are merged. Sorted, so the processing order never depends on the order of
+// the imprints.
+std::vector<ColumnRect> Terrain::Impl::active_regions(std::span<const Imprint> imprints,
+                                                      std::span<const ColumnRect> carried) {
   std::vector<Box> boxes;
   const std::int64_t m = s.active_margin;
-  for (const Imprint& im : imprints) {
-    const ColumnRect r = covered_box(*im.envelope);
-    if (r.nx == 0) continue;
-    boxes.push_back({r.i0 - m, r.j0 - m, r.i0 + r.nx - 1 + m, r.j0 + r.ny - 1 + m});
-  }
+  auto add = [&](const ColumnRect& r) {
+    if (r.nx > 0 && r.ny > 0) boxes.push_back({r.i0 - m, r.j0 - m, r.i0 + r.nx - 1 + m, r.j0 + r.ny - 1 + m});
+  };
+  for (const Imprint& im : imprints) add(reach_box(im));
+  for (const ColumnRect& r : carried) add(r);
   for (bool merged = true; merged;) {
     merged = false;
     for (std::size_t a = 0; a < boxes.size() && !merged; ++a)
@@ -773,20 +791,23 @@ void Terrain::read_rect(const ColumnRect& r, std::span<double> out, bool base) c
   if (r.nx < 0 || r.ny < 0 || out.size() != static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny))
     throw InvalidSetting("terrain.Terrain.heights(out).size", detail::to_text(out.size()),
                          "must be nx * ny of the rectangle");
-  const std::int64_t n = impl_->n;
+  impl_->read_rect(r, out, base);
+}
+
+void Terrain::Impl::read_rect(const ColumnRect& r, std::span<double> out, bool base) const {
   std::size_t k = 0;
   for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
     for (std::int64_t i = r.i0; i < r.i0 + r.nx;) {
       // One lookup per run of columns inside one tile; the local index then steps by one.
-      const TileKey key = impl_->key_of(i, j);
+      const TileKey key = key_of(i, j);
       const std::int64_t run_end = std::min<std::int64_t>(r.i0 + r.nx, (key.tx + 1) * n);
-      const Tile* t = impl_->find(key);
+      const Tile* t = find(key);
       if (t) {
         const std::vector<double>& field = base ? t->base : t->height;
-        std::size_t local = impl_->local(i, j);
-        for (; i < run_end; ++i) out[k++] = field[local++];
+        std::size_t at = local(i, j);
+        for (; i < run_end; ++i) out[k++] = field[at++];
       } else {
-        for (; i < run_end; ++i) out[k++] = impl_->base_at(i, j);
+        for (; i < run_end; ++i) out[k++] = base_at(i, j);
       }
     }
 }
@@ -829,7 +850,8 @@ StepReport Terrain::step(std::span<const Imprint> imprints) {
     c.finite("vz", imprints[b].vz);
   }
   if (impl_->s.material.rigid) return {};
-  const std::vector<ColumnRect> regions = impl_->active_regions(imprints);
+  const std::vector<ColumnRect> carried = std::exchange(impl_->unsettled, {});
+  const std::vector<ColumnRect> regions = impl_->active_regions(imprints, carried);
   StepReport total;
   for (const ColumnRect& r : regions) {
     const StepReport part = impl_->run_region(r, imprints);

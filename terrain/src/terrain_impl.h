@@ -1,6 +1,7 @@
 #pragma once
 // Private: the storage behind shore::terrain::Terrain (tiles, scratch, bookkeeping).
 
+#include <array>
 #include <algorithm>
 #include <bit>
 #include <compare>
@@ -66,6 +67,17 @@ struct ColumnBits {
   void add(const ColumnBits& other) {
     for (std::size_t k = 0; k < bits.size(); ++k) bits[k] |= other.bits[k];
   }
+  /// Bounding box of the set columns (x0, y0, width, height); width 0 if none.
+  [[nodiscard]] std::array<int, 4> bounds() const {
+    int x0 = w, y0 = h, x1 = -1, y1 = -1;
+    for (int y = 0; y < h; ++y)
+      for_each_in_row(y, [&](int x) {
+        x0 = std::min(x0, x), x1 = std::max(x1, x);
+        y0 = std::min(y0, y), y1 = y;
+      });
+    if (x1 < 0) return {0, 0, 0, 0};
+    return {x0, y0, x1 - x0 + 1, y1 - y0 + 1};
+  }
   /// Calls fn(x) for every set column of row y, left to right.
   template <class Fn>
   void for_each_in_row(int y, Fn&& fn) const {
@@ -83,6 +95,9 @@ struct Scratch {
   int threads = 1;
   std::vector<double> ht, ht_orig, sink, bed;
   std::vector<double> ht_pressed;  // heights right after collision (deposits are what came after)
+  /// Set by erode when it stopped at max_erosion_passes with soil still flowing: the columns
+  /// that moved in its last pass (scratch coordinates), to carry on with next step.
+  std::array<int, 4> still_flowing{0, 0, 0, 0};
   std::vector<double> e_plain, e_star, e_coll, e_true;
   std::vector<double> disp, carry, q, out, cap;
   std::vector<unsigned char> flags, mask;
@@ -109,6 +124,10 @@ struct Terrain::Impl {
   double edited = 0.0;     ///< m^3 added by set_height
   std::vector<TileKey> dirty_keys;
   Scratch scratch;
+  std::vector<double> reach_heights;  ///< soil tops under one imprint (reach_box)
+  /// Columns whose erosion stopped at max_erosion_passes with soil still flowing: the next
+  /// step carries on there, with or without a body (erosion is rate-limited, not cut off).
+  std::vector<ColumnRect> unsettled;
 
   [[nodiscard]] double base_at(std::int64_t i, std::int64_t j) const;
   [[nodiscard]] const Tile* find(TileKey key) const;
@@ -130,7 +149,10 @@ struct Terrain::Impl {
   double displace(Scratch& sc) const;
   int erode(Scratch& sc, bool to_rest) const;
   void loosen_deposits(Scratch& sc) const;
-  [[nodiscard]] std::vector<ColumnRect> active_regions(std::span<const Imprint> imprints) const;
+  void read_rect(const ColumnRect& r, std::span<double> out, bool base) const;  ///< out sized nx * ny
+  [[nodiscard]] ColumnRect reach_box(const Imprint& im);
+  [[nodiscard]] std::vector<ColumnRect> active_regions(std::span<const Imprint> imprints,
+                                                       std::span<const ColumnRect> carried);
   StepReport run_region(const ColumnRect& region, std::span<const Imprint> imprints);
 
   struct BearingColumn {

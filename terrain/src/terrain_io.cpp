@@ -3,10 +3,13 @@
 //   "SHORETRN" (8 bytes), u32 version, u32 byte-order mark 0x01020304
 //   settings: f64 cell, origin_x, origin_y; i32 tile_columns; f64 base_height;
 //             i32 max_erosion_passes, active_margin; f64 contact_tolerance; i32 threads,
-//             parallel_min_columns
+//             parallel_min_columns; f64 active_reach (version 2 on; version 1 files
+//             load with the default)
 //   material: u32 name length, name bytes; f64 theta_stop, sigma, theta_in, theta_out,
 //             alpha, bekker_n, bekker_kc, bekker_kphi, friction, soil_depth; u8 rigid
-//   f64 compacted, edited; u64 tile count
+//   f64 compacted, edited
+//   (version 2 on) u64 count of regions still eroding; per region i64 i0, j0; i32 nx, ny
+//   u64 tile count
 //   per tile (in key order): i64 tx, ty; f64[n*n] height, sinkage, base
 //   u64 FNV-1a of every byte before it
 // Numbers are stored in the writing machine's byte order; the mark rejects the other one.
@@ -26,7 +29,8 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'T', 'R', 'N'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kOldestVersion = 1;
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
 
 class Writer {
@@ -104,6 +108,7 @@ void Terrain::save(const std::filesystem::path& file) const {
   w.put(s.contact_tolerance);
   w.put(static_cast<std::int32_t>(s.threads));
   w.put(static_cast<std::int32_t>(s.parallel_min_columns));
+  w.put(s.active_reach);
   w.put(static_cast<std::uint32_t>(m.name.size()));
   for (char c : m.name) w.put(c);
   for (double v : {m.theta_stop, m.sigma, m.theta_in, m.theta_out, m.alpha, m.bekker_n, m.bekker_kc, m.bekker_kphi,
@@ -111,6 +116,9 @@ void Terrain::save(const std::filesystem::path& file) const {
     w.put(v);
   w.put(static_cast<std::uint8_t>(m.rigid ? 1 : 0));
   w.put(im.compacted), w.put(im.edited);
+  w.put(static_cast<std::uint64_t>(im.unsettled.size()));
+  for (const ColumnRect& r : im.unsettled)
+    w.put(r.i0), w.put(r.j0), w.put(static_cast<std::int32_t>(r.nx)), w.put(static_cast<std::int32_t>(r.ny));
   const std::vector<TileKey> keys = im.sorted_keys();
   w.put(static_cast<std::uint64_t>(keys.size()));
   for (const TileKey& key : keys) {
@@ -158,8 +166,9 @@ Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const H
   Reader hr(bytes, body, name);
   for (std::size_t k = 0; k < sizeof kMagic; ++k) hr.get<char>("magic");
   const auto version = hr.get<std::uint32_t>("version");
-  if (version != kVersion)
-    hr.fail("unsupported version " + std::to_string(version) + " (this build reads " + std::to_string(kVersion) + ")");
+  if (version < kOldestVersion || version > kVersion)
+    hr.fail("unsupported version " + std::to_string(version) + " (this build reads " + std::to_string(kOldestVersion) +
+            " to " + std::to_string(kVersion) + ")");
   if (hr.get<std::uint32_t>("byte-order mark") != kByteOrderMark)
     hr.fail("written on a machine with the other byte order");
   std::uint64_t stored_sum = 0;
@@ -177,6 +186,7 @@ Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const H
   s.contact_tolerance = hr.get<double>("settings");
   s.threads = hr.get<std::int32_t>("settings");
   s.parallel_min_columns = hr.get<std::int32_t>("settings");
+  if (version >= 2) s.active_reach = hr.get<double>("settings");
   const auto name_size = hr.get<std::uint32_t>("material");
   if (name_size > 4096) hr.fail("material name of " + std::to_string(name_size) + " bytes (corrupt)");
   Material& m = s.material;
@@ -197,6 +207,20 @@ Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const H
   im.compacted = hr.get<double>("volume bookkeeping");
   im.edited = hr.get<double>("volume bookkeeping");
   if (!std::isfinite(im.compacted) || !std::isfinite(im.edited)) hr.fail("volume bookkeeping is not finite");
+  if (version >= 2) {
+    const auto regions = hr.get<std::uint64_t>("eroding regions");
+    if (regions > hr.remaining() / 24) hr.fail("eroding region count " + std::to_string(regions) + " (corrupt)");
+    for (std::uint64_t k = 0; k < regions; ++k) {
+      ColumnRect r;
+      r.i0 = hr.get<std::int64_t>("eroding regions");
+      r.j0 = hr.get<std::int64_t>("eroding regions");
+      r.nx = hr.get<std::int32_t>("eroding regions");
+      r.ny = hr.get<std::int32_t>("eroding regions");
+      if (r.nx <= 0 || r.ny <= 0 || static_cast<std::int64_t>(r.nx) * r.ny > (std::int64_t{1} << 26))
+        hr.fail("eroding region of " + std::to_string(r.nx) + " x " + std::to_string(r.ny) + " columns (corrupt)");
+      im.unsettled.push_back(r);
+    }
+  }
   const auto count = hr.get<std::uint64_t>("tile count");
   const std::size_t columns = static_cast<std::size_t>(s.tile_columns) * s.tile_columns;
   const std::size_t tile_bytes = 2 * sizeof(std::int64_t) + 3 * columns * sizeof(double);

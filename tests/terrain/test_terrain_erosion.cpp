@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "shore/core/envelope.h"
 #include "shore/terrain/terrain.h"
 
 using namespace shore::terrain;
@@ -66,4 +67,40 @@ TEST(Erosion, SnowHoldsItsShape) {
   const std::uint64_t h = t.state_hash();
   EXPECT_EQ(t.relax({-10, -10, 20, 20}).erosion_passes, 0);
   EXPECT_EQ(t.state_hash(), h);
+}
+
+// The pass cap limits the flow rate, it does not freeze slopes: a sphere pressed once
+// into sand with a low cap leaves a rim that keeps eroding in later steps without any
+// body, until it rests at the repose angle; then steps cost nothing.
+TEST(Erosion, ErosionStoppedByTheCapCarriesOnWithoutABody) {
+  TerrainSettings s;
+  s.material = Material::sand();
+  s.material.alpha = 1.0;  // everything into the rim
+  s.max_erosion_passes = 2;
+  Terrain t(s);
+  const double r = 0.1, z = 0.05;
+  shore::EnvelopeRaster env;
+  env.resize(-12, -12, 25, 25, false);
+  for (std::int64_t j = -12; j <= 12; ++j)
+    for (std::int64_t i = -12; i <= 12; ++i) {
+      const double d2 = t.column_x(i) * t.column_x(i) + t.column_y(j) * t.column_y(j);
+      if (d2 < r * r) env.lower[env.index(i, j)] = -z + r - std::sqrt(r * r - d2);
+    }
+  const Imprint im{&env};
+  ASSERT_EQ(t.step({&im, 1}).erosion_passes, 2);  // stopped by the cap
+  const double volume = t.volume().ground;
+  EXPECT_GT(steepest_slope(t, -14, 14), s.material.theta_out + 0.1);
+  int steps = 0;
+  StepReport report;
+  do {
+    report = t.step({});
+    ++steps;
+  } while (report.active_columns > 0 && steps < 2000);
+  ASSERT_LT(steps, 2000);
+  EXPECT_GT(steps, 2);
+  const double one_degree = std::numbers::pi / 180;
+  // Outside the crater (under the sphere, contact columns were held at their pressed depth).
+  EXPECT_LE(steepest_slope(t, -30, 30), s.material.theta_stop + one_degree);
+  EXPECT_NEAR(t.volume().ground, volume, 1e-12);
+  EXPECT_EQ(t.step({}).active_columns, 0);
 }

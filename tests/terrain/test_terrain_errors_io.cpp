@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "shore/core/error.h"
+#include "shore/core/hash.h"
 #include "shore/terrain/terrain.h"
 #include "terrain_fixtures.h"
 
@@ -53,9 +54,10 @@ std::vector<unsigned char> read_bytes(const std::filesystem::path& p) {
 }
 
 // A terrain with some history: a sphere pressed into sand.
-Terrain pressed_sand() {
+Terrain pressed_sand(double active_reach = TerrainSettings{}.active_reach) {
   TerrainSettings s;
   s.material = Material::sand();
+  s.active_reach = active_reach;
   s.tile_columns = 16;
   Terrain t(s);
   for (int k = 1; k <= 5; ++k) {
@@ -132,6 +134,8 @@ TEST(Errors, SettingsNameTheField) {
   EXPECT_TRUE(mentions(bad([](auto& s) { s.max_erosion_passes = -1; }), "max_erosion_passes"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.active_margin = 0; }), "active_margin"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.contact_tolerance = -1e-3; }), "contact_tolerance"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.active_reach = 0.0; }), "active_reach = 0"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.active_reach = kNaN; }), "active_reach"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.threads = -2; }), "threads"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.parallel_min_columns = -1; }), "parallel_min_columns"));
   EXPECT_TRUE(mentions(bad([](auto&) {}), "(no exception)"));
@@ -188,6 +192,41 @@ TEST(Files, SaveLoadRoundTripIsBitExactAndContinuesIdentically) {
     t->step({&im, 1});
   }
   EXPECT_EQ(b.state_hash(), a.state_hash());
+  std::filesystem::remove(file);
+}
+
+TEST(Files, VersionOneStatesLoadWithTheDefaultReach) {
+  // Version 1 had no active_reach (8 bytes after parallel_min_columns, at byte 76).
+  Terrain a = pressed_sand(0.25);
+  const auto file = temp_file("v2.state");
+  a.save(file);
+  std::vector<unsigned char> bytes = read_bytes(file);
+  constexpr std::size_t kReachAt = 76;
+  double stored = 0.0;
+  std::memcpy(&stored, bytes.data() + kReachAt, sizeof stored);
+  ASSERT_EQ(stored, 0.25);
+  bytes.erase(bytes.begin() + kReachAt, bytes.begin() + kReachAt + 8);
+  // Version 1 had no list of regions still eroding either: after the material ("sand")
+  // and the volume bookkeeping, a u64 count and 24 bytes per region.
+  const std::size_t regions_at = kReachAt + 4 + 4 + 10 * 8 + 1 + 2 * 8;
+  std::uint64_t regions = 0;
+  std::memcpy(&regions, bytes.data() + regions_at, sizeof regions);
+  ASSERT_LT(regions, 100U);
+  const auto first = bytes.begin() + static_cast<std::ptrdiff_t>(regions_at);
+  bytes.erase(first, first + static_cast<std::ptrdiff_t>(8 + 24 * regions));
+  bytes[8] = 1;  // version, little-endian u32
+  bytes.resize(bytes.size() - 8);
+  shore::StateHash sum;
+  sum.add_bytes(bytes.data(), bytes.size());
+  const std::uint64_t checksum = sum.value();
+  bytes.insert(bytes.end(), reinterpret_cast<const unsigned char*>(&checksum),
+               reinterpret_cast<const unsigned char*>(&checksum) + sizeof checksum);
+  write_bytes(file, bytes);
+  const Terrain b = Terrain::load(file);
+  EXPECT_EQ(b.state_hash(), a.state_hash());
+  EXPECT_EQ(b.settings().active_reach, TerrainSettings{}.active_reach);
+  EXPECT_EQ(b.settings().parallel_min_columns, a.settings().parallel_min_columns);
+  EXPECT_EQ(b.settings().material.name, "sand");
   std::filesystem::remove(file);
 }
 

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include "shore/terrain/terrain.h"
@@ -145,4 +147,39 @@ TEST(Imprint, ChangedRectanglesCoverExactlyTheChangedColumns) {
     EXPECT_LE(r.ny, 16);
   }
   EXPECT_TRUE(t.take_changed().empty());  // nothing changed since
+}
+
+// A large sphere pressed shallowly covers a wide window but touches a small patch: the
+// active region follows the columns within active_reach of the soil (plus active_margin),
+// and for pure compaction that changes no column at all.
+TEST(Imprint, ActiveRegionFollowsTheSoilNotTheWholeBody) {
+  const double r = 0.5, z = 0.01;
+  auto press = [&](double reach) {
+    TerrainSettings s = snow_settings(0.0);
+    s.active_reach = reach;
+    Terrain t(s);
+    const shore::EnvelopeRaster env = sphere_envelope(t, 0.0, 0.0, -z + r, r);
+    const Imprint im{&env};
+    const StepReport report = t.step({&im, 1});
+    return std::pair{report.active_columns, t.state_hash()};
+  };
+  const auto [all_columns, all_hash] = press(std::numeric_limits<double>::infinity());
+  const double reach = 0.03, cell = TerrainSettings{}.cell;
+  const auto [near_columns, near_hash] = press(reach);
+  // Columns within the reach lie inside radius sqrt(2 r (z + reach)) of the bottom point.
+  const int margin = TerrainSettings{}.active_margin;
+  const int across = 2 * static_cast<int>(std::ceil(std::sqrt(2 * r * (z + reach)) / cell)) + 1 + 2 * margin;
+  EXPECT_LE(near_columns, across * across);
+  EXPECT_GE(all_columns, 100 * 100);  // the whole 1 m window
+  EXPECT_EQ(near_hash, all_hash);
+}
+
+TEST(Imprint, BodyHighAboveTheSoilCostsNothingWithAFiniteReach) {
+  TerrainSettings s = snow_settings(0.0);
+  s.active_reach = 0.03;
+  Terrain t(s);
+  const shore::EnvelopeRaster env = sphere_envelope(t, 0.0, 0.0, 0.5, 0.1);  // bottom 0.4 m up
+  const Imprint im{&env};
+  EXPECT_EQ(t.step({&im, 1}).active_columns, 0);
+  EXPECT_EQ(t.tile_count(), 0U);
 }

@@ -23,6 +23,7 @@ terrain::TerrainSettings soil_settings(const SoilRun& run) {
   s.material = run.material;
   s.threads = run.threads;
   s.max_erosion_passes = run.max_erosion_passes;
+  s.active_reach = run.active_reach;
   return s;
 }
 

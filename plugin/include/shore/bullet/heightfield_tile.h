@@ -11,6 +11,7 @@
 // Column (i, j) of the tile is at world (origin_x + i * cell, origin_y + j * cell).
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <BulletCollision/CollisionDispatch/btCollisionObject.h>
@@ -44,6 +45,16 @@ class HeightfieldTile {
   /// had to clamp.
   bool set_height(int i, int j, double h);
   [[nodiscard]] double height(int i, int j) const;
+
+  /// What set_row did.
+  struct RowWrite {
+    int clamped = 0;      ///< vertices clamped to [min, max]
+    int first_held = -1;  ///< first index into h held back by max_rise (-1: none)
+    int last_held = -1;   ///< last such index
+  };
+  /// Sets vertices (i0 + k, j), k < h.size(), to h[k] (clamped to [min, max]), except that
+  /// none rises more than max_rise above its current height.
+  RowWrite set_row(int i0, int j, std::span<const double> h, double max_rise);
   [[nodiscard]] int columns() const noexcept { return settings_.columns; }
   [[nodiscard]] const HeightfieldTileSettings& settings() const noexcept { return settings_; }
 

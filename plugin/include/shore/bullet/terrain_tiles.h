@@ -64,7 +64,9 @@ class TerrainTiles {
   struct Tile {
     std::unique_ptr<HeightfieldTile> field;
     std::int64_t i0 = 0, j0 = 0;  // first column
-    bool lagging = false;         // a capped rise left it below the soil
+    bool lagging = false;         // a capped rise left some vertices below the soil
+    int lag_a0 = 0, lag_b0 = 0, lag_a1 = -1, lag_b1 = -1;  // those vertices' bounding box (tile-local)
+    void mark_lagging(int a0, int b0, int a1, int b1);
   };
   static std::uint64_t key(std::int64_t tx, std::int64_t ty) noexcept;
   Tile& create(std::int64_t tx, std::int64_t ty);

@@ -15,7 +15,7 @@
 //   inflate bearing capacity, and reloading to the same pressure sinks no further.
 //
 // One step (Terrain::step), over the active region only (each imprint's covered columns
-// enlarged by active_margin; touching regions merge), gathered into dense arrays with a
+// within active_reach of the soil, enlarged by active_margin; touching regions merge), gathered into dense arrays with a
 // one-column halo and scattered back:
 // 1. Collision: a column whose top lies above the collision surface (the offset envelope,
 //    or its star-lowered version) is pushed down to it, never below bedrock; a column is
@@ -34,13 +34,16 @@
 //    body (they neither give nor receive); a column under a body but not touching it
 //    receives at most the room up to the collision surface. Passes repeat while material
 //    moves and some moving pair is steeper than theta_stop, at most max_erosion_passes.
-//    Only the region's columns give; the halo only receives.
+//    Only the region's columns give; the halo only receives. Erosion stopped by the pass
+//    cap while soil still flows carries on over those columns in the next step, with or
+//    without a body there: the cap limits the flow rate, it does not freeze slopes.
 // Spray particles are not simulated: VolumeTotals::airborne stays 0.
 // Every pass is Jacobi-style with fixed reduction order: results are bit-identical for
 // any thread count.
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <span>
 #include <vector>
@@ -60,8 +63,15 @@ struct TerrainSettings {
   /// Untouched ground. Null: flat at base_height.
   std::shared_ptr<const HeightSource> base;
   double base_height = 0.0;         ///< m, flat ground level when base is null, finite
-  int max_erosion_passes = 64;      ///< erosion pass cap per step, >= 0
+  int max_erosion_passes = 8;       ///< erosion pass cap per step, >= 0 (a rate limit: deep ruts flow every step)
   int active_margin = 4;            ///< columns added around each imprint window for displacement and erosion, >= 1
+  /// m: an imprint column whose (offset) envelope lies more than this above the soil top
+  /// does not widen the step's active region (a rolling wheel's footprint is mostly air
+  /// above its rut). Inside the region such columns still count as under the body.
+  /// > 0; +infinity (default): every covered column counts. A finite reach (0.03 m) halves
+  /// a towed wheel's soil time, but slopes beside a footprint are no longer eroded once the
+  /// body lifts more than the reach away (mud footprints keep rims twice as high).
+  double active_reach = std::numeric_limits<double>::infinity();
   double contact_tolerance = 1e-4;  ///< m: a column counts as touched when the envelope is within this of its top, >= 0
   int threads = 0;                  ///< OpenMP threads, 0 = runtime default; results never depend on it, >= 0
   /// Active regions with fewer columns (halo included) run on one thread: for small
