@@ -664,8 +664,7 @@ StepReport Terrain::Impl::run_region(const ColumnRect& region, std::span<const I
   report.erosion_passes = erode(sc, false);
   loosen_deposits(sc);
   scatter(sc);
-  if (const auto& f = sc.still_flowing; f[2] > 0)
-    unsettled.push_back({sc.si0 + f[0], sc.sj0 + f[1], f[2], f[3]});
+  if (const auto& f = sc.still_flowing; f[2] > 0) unsettled.push_back({sc.si0 + f[0], sc.sj0 + f[1], f[2], f[3]});
   report.active_columns = region.nx * region.ny;
   report.contact_columns = contacts;
   report.displaced_volume = displaced * cell_area;
@@ -716,7 +715,8 @@ ColumnRect Terrain::Impl::reach_box(const Imprint& im) {
   int x0 = env.nx, y0 = env.ny, x1 = -1, y1 = -1;
   for (int y = 0; y < env.ny; ++y)
     for (int x = 0; x < env.nx; ++x) {
-      const std::size_t k = static_cast<std::size_t>(y) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(x);
+      const std::size_t k =
+          static_cast<std::size_t>(y) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(x);
       const double lower = env.lower[k];
       if (lower == kInf || (!all && lower - im.offset > reach_heights[k] + s.active_reach)) continue;
       x0 = std::min(x0, x), x1 = std::max(x1, x);
@@ -727,8 +727,8 @@ ColumnRect Terrain::Impl::reach_box(const Imprint& im) {
 }
 
 // The active regions of a step: each imprint's reach box and each box of columns still
-// flowing after the last step, enlarged by active_margin; boxes that touch are merged. Sorted, so the processing order never depends on the order of
-// the imprints.
+// flowing after the last step, enlarged by active_margin; boxes that touch are merged. Sorted, so the processing order
+// never depends on the order of the imprints.
 std::vector<ColumnRect> Terrain::Impl::active_regions(std::span<const Imprint> imprints,
                                                       std::span<const ColumnRect> carried) {
   std::vector<Box> boxes;

@@ -1,8 +1,8 @@
 #pragma once
 // Private: the storage behind shore::terrain::Terrain (tiles, scratch, bookkeeping).
 
-#include <array>
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <compare>
 #include <cstdint>

@@ -61,8 +61,8 @@ TEST(TerrainTiles, LoweredGroundDropsStaleContactsAndWakesTheBody) {
   cases::BulletWorld world(9.81);
   bullet::TerrainTiles tiles(world.world(), soil, {});
   tiles.ensure_cover(-0.5, -0.5, 0.5, 0.5);
-  btRigidBody* box = world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 5.0,
-                                    btVector3(0, 0, btScalar(0.1)));
+  btRigidBody* box =
+      world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 5.0, btVector3(0, 0, btScalar(0.1)));
   for (int k = 0; k < 600 && box->isActive(); ++k) world.step(1.0 / 240);
   ASSERT_FALSE(box->isActive()) << "the box should have gone to sleep on flat ground";
   const double rest = box->getCenterOfMassPosition().z();

@@ -63,8 +63,8 @@ class TerrainTiles {
   static constexpr int kTileTag = 0x5e0e71;  // user index 2 of every tile object
   struct Tile {
     std::unique_ptr<HeightfieldTile> field;
-    std::int64_t i0 = 0, j0 = 0;  // first column
-    bool lagging = false;         // a capped rise left some vertices below the soil
+    std::int64_t i0 = 0, j0 = 0;                           // first column
+    bool lagging = false;                                  // a capped rise left some vertices below the soil
     int lag_a0 = 0, lag_b0 = 0, lag_a1 = -1, lag_b1 = -1;  // those vertices' bounding box (tile-local)
     void mark_lagging(int a0, int b0, int a1, int b1);
   };

@@ -15,8 +15,8 @@
 //   inflate bearing capacity, and reloading to the same pressure sinks no further.
 //
 // One step (Terrain::step), over the active region only (each imprint's covered columns
-// within active_reach of the soil, enlarged by active_margin; touching regions merge), gathered into dense arrays with a
-// one-column halo and scattered back:
+// within active_reach of the soil, enlarged by active_margin; touching regions merge), gathered into dense arrays with
+// a one-column halo and scattered back:
 // 1. Collision: a column whose top lies above the collision surface (the offset envelope,
 //    or its star-lowered version) is pushed down to it, never below bedrock; a column is
 //    in contact when the surface lies within contact_tolerance of its top. Sinkage grows
@@ -62,9 +62,9 @@ struct TerrainSettings {
   Material material = Material::sand();
   /// Untouched ground. Null: flat at base_height.
   std::shared_ptr<const HeightSource> base;
-  double base_height = 0.0;         ///< m, flat ground level when base is null, finite
-  int max_erosion_passes = 8;       ///< erosion pass cap per step, >= 0 (a rate limit: deep ruts flow every step)
-  int active_margin = 4;            ///< columns added around each imprint window for displacement and erosion, >= 1
+  double base_height = 0.0;    ///< m, flat ground level when base is null, finite
+  int max_erosion_passes = 8;  ///< erosion pass cap per step, >= 0 (a rate limit: deep ruts flow every step)
+  int active_margin = 4;       ///< columns added around each imprint window for displacement and erosion, >= 1
   /// m: an imprint column whose (offset) envelope lies more than this above the soil top
   /// does not widen the step's active region (a rolling wheel's footprint is mostly air
   /// above its rut). Inside the region such columns still count as under the body.

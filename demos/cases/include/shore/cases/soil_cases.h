@@ -18,7 +18,7 @@ struct SoilRun {
   double substep = 1.0 / 240;                                              ///< s, Bullet's fixed substep
   int threads = 1;                                                         ///< OpenMP threads of the soil
   int max_erosion_passes = terrain::TerrainSettings{}.max_erosion_passes;  ///< erosion pass cap per substep
-  double active_reach = terrain::TerrainSettings{}.active_reach;            ///< m, see TerrainSettings
+  double active_reach = terrain::TerrainSettings{}.active_reach;           ///< m, see TerrainSettings
 };
 
 /// Results common to every case.
