@@ -46,6 +46,12 @@ int SceneOptions::substeps() const { return std::max(1, static_cast<int>(std::lr
 
 const std::vector<Scene>& scenes() { return registry(); }
 
+std::vector<std::string> scene_names() {
+  std::vector<std::string> names;
+  for (const Scene& s : registry()) names.push_back(s.name);
+  return names;
+}
+
 const Scene* find_scene(std::string_view name) {
   for (const Scene& s : registry())
     if (s.name == name) return &s;

@@ -196,10 +196,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
   const int n = o.substeps();
   FilmSchedule film(n, o.smoke);
   auto capture = [&](int k) {
-    if (!o.write_files || !film.due(k)) return;
-    const BodyEnvelopes env = body_envelopes(objects, frame);
-    film.add(oblique_frame(sample(patches, frame, Field::height), baseline, &env, 2.0, o.smoke ? 160 : 400, ""),
-             k * o.substep);
+    if (o.write_files) film.capture_soil(k, k * o.substep, patches, frame, baseline, objects, o.smoke ? 160 : 400);
   };
   capture(0);
   double wall = 0.0;

@@ -144,6 +144,14 @@ std::string time_label(double t) {
   return buf;
 }
 
+void FilmSchedule::capture_soil(int k, double t, const std::vector<Patch>& patches, const HeightGrid& frame,
+                                const HeightGrid& baseline, const std::vector<const btCollisionObject*>& bodies,
+                                int min_pixels) {
+  if (!due(k)) return;
+  const BodyEnvelopes env = body_envelopes(bodies, frame);
+  add(oblique_frame(sample(patches, frame, Field::height), baseline, &env, 2.0, min_pixels, ""), t);
+}
+
 double tilt_from_vertical(const btRigidBody& body, int axis) {
   const btVector3 a = body.getWorldTransform().getBasis().getColumn(axis);
   return std::acos(std::clamp(static_cast<double>(a.z()), -1.0, 1.0));

@@ -90,6 +90,10 @@ struct FilmSchedule {
     labels.push_back(time_label(t));
     ++next;
   }
+  /// If substep k's frame is due, adds the oblique relief of the patches over `frame`
+  /// (heights exaggerated 2x, coloured by lowering from `baseline`) with the bodies drawn.
+  void capture_soil(int k, double t, const std::vector<Patch>& patches, const HeightGrid& frame,
+                    const HeightGrid& baseline, const std::vector<const btCollisionObject*>& bodies, int min_pixels);
 };
 
 /// Angle (rad) between a body's local axis `axis` (0 x, 1 y, 2 z) and the world vertical.

@@ -135,6 +135,20 @@ bool newton_to_surface(const Dist& dist, V3 o, V3 d, double margin, double s, do
   return false;
 }
 
+/// Narrows [lo, hi], the line's interval through a sharp solid that contains the rounded
+/// one, to the rounded solid: Newton from lo up to the entry and (upper envelope wanted)
+/// from hi down to the exit. False if the line misses the rounded solid.
+template <class Dist>
+bool round_interval(const Dist& core_distance, V3 o, V3 d, double margin, bool upper, double& lo, double& hi) noexcept {
+  double entry = 0;
+  if (!newton_to_surface(core_distance, o, d, margin, lo, hi, +1.0, entry)) return false;
+  double exit = entry;
+  if (upper && !newton_to_surface(core_distance, o, d, margin, hi, entry, -1.0, exit)) exit = entry;
+  lo = entry;
+  hi = exit;
+  return true;
+}
+
 /// Frame whose local z is the shape's axis `up` (the other two axes are the radial ones).
 Frame with_axis_as_z(const Frame& f, int up) noexcept {
   const int p = (up + 1) % 3;
@@ -253,13 +267,7 @@ void draw_rounded_cylinder(Canvas& cv, const Frame& f, int up, double r, double 
     if (!cylinder_interval(d.x * d.x + d.y * d.y, o.x * d.x + o.y * d.y, o.x * o.x + o.y * o.y - r * r, o.z, d.z, h, lo,
                            hi))
       return false;
-    double entry = 0;
-    if (!newton_to_surface(core_distance, o, d, margin, lo, hi, +1.0, entry)) return false;
-    double exit = entry;
-    if (upper && !newton_to_surface(core_distance, o, d, margin, hi, entry, -1.0, exit)) exit = entry;
-    lo = entry;
-    hi = exit;
-    return true;
+    return round_interval(core_distance, o, d, margin, upper, lo, hi);
   });
 }
 
@@ -305,14 +313,7 @@ void draw_cone(Canvas& cv, const Frame& f, int up, double radius, double height,
   };
   const bool upper = cv.upper();
   for_each_local_column(cv, g, ext, [&](V3 o, V3 d, double& lo, double& hi) {
-    if (!cone_interval(o, d, apex, base, k, lo, hi)) return false;
-    double entry = 0;
-    if (!newton_to_surface(core_distance, o, d, margin, lo, hi, +1.0, entry)) return false;
-    double exit = entry;
-    if (upper && !newton_to_surface(core_distance, o, d, margin, hi, entry, -1.0, exit)) exit = entry;
-    lo = entry;
-    hi = exit;
-    return true;
+    return cone_interval(o, d, apex, base, k, lo, hi) && round_interval(core_distance, o, d, margin, upper, lo, hi);
   });
 }
 

@@ -27,10 +27,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Largest active region (columns, halo included) one step may gather: 64 M columns is
-// ~4 GB of scratch. A body that big is a setup error, reported before any state changes.
-constexpr std::int64_t kMaxRegionColumns = std::int64_t{1} << 26;
-
 std::int64_t floor_div(std::int64_t a, std::int64_t b) {
   const std::int64_t q = a / b;
   return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
@@ -628,7 +624,11 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
     ++passes;
   }
   // Stopped by the cap, not by rest: what moved last carries on next step.
-  sc.still_flowing = passes == s.max_erosion_passes && passes > 0 ? changed.bounds() : std::array<int, 4>{0, 0, 0, 0};
+  sc.still_flowing = {};
+  if (passes == s.max_erosion_passes && passes > 0) {
+    sc.still_flowing = changed.bounds();
+    sc.still_flowing.i0 += sc.si0, sc.still_flowing.j0 += sc.sj0;
+  }
   return passes;
 }
 
@@ -664,7 +664,7 @@ StepReport Terrain::Impl::run_region(const ColumnRect& region, std::span<const I
   report.erosion_passes = erode(sc, false);
   loosen_deposits(sc);
   scatter(sc);
-  if (const auto& f = sc.still_flowing; f[2] > 0) unsettled.push_back({sc.si0 + f[0], sc.sj0 + f[1], f[2], f[3]});
+  if (sc.still_flowing.nx > 0) unsettled.push_back(sc.still_flowing);
   report.active_columns = region.nx * region.ny;
   report.contact_columns = contacts;
   report.displaced_volume = displaced * cell_area;
@@ -727,8 +727,8 @@ ColumnRect Terrain::Impl::reach_box(const Imprint& im) {
 }
 
 // The active regions of a step: each imprint's reach box and each box of columns still
-// flowing after the last step, enlarged by active_margin; boxes that touch are merged. Sorted, so the processing order
-// never depends on the order of the imprints.
+// flowing after the last step, enlarged by active_margin; boxes that touch are merged.
+// Sorted, so the processing order never depends on the order of the imprints.
 std::vector<ColumnRect> Terrain::Impl::active_regions(std::span<const Imprint> imprints,
                                                       std::span<const ColumnRect> carried) {
   std::vector<Box> boxes;

@@ -2,7 +2,6 @@
 // Private: the storage behind shore::terrain::Terrain (tiles, scratch, bookkeeping).
 
 #include <algorithm>
-#include <array>
 #include <bit>
 #include <compare>
 #include <cstdint>
@@ -44,6 +43,10 @@ struct Tile {
 enum : unsigned char { kInterior = 1, kCovered = 2, kContact = 4 };
 
 /// One bit per column of a w x h scratch, row by row; bits past a row's end stay clear.
+// Largest active region (columns, halo included) one step may gather: 64 M columns is
+// ~4 GB of scratch. A body that big is a setup error, reported before any state changes.
+inline constexpr std::int64_t kMaxRegionColumns = std::int64_t{1} << 26;
+
 struct ColumnBits {
   int w = 0, h = 0, words = 0;  ///< words: 64-bit words per row
   std::vector<std::uint64_t> bits;
@@ -67,15 +70,15 @@ struct ColumnBits {
   void add(const ColumnBits& other) {
     for (std::size_t k = 0; k < bits.size(); ++k) bits[k] |= other.bits[k];
   }
-  /// Bounding box of the set columns (x0, y0, width, height); width 0 if none.
-  [[nodiscard]] std::array<int, 4> bounds() const {
+  /// Bounding box of the set columns, in this set's coordinates; nx = 0 if none.
+  [[nodiscard]] ColumnRect bounds() const {
     int x0 = w, y0 = h, x1 = -1, y1 = -1;
     for (int y = 0; y < h; ++y)
       for_each_in_row(y, [&](int x) {
         x0 = std::min(x0, x), x1 = std::max(x1, x);
         y0 = std::min(y0, y), y1 = y;
       });
-    if (x1 < 0) return {0, 0, 0, 0};
+    if (x1 < 0) return {};
     return {x0, y0, x1 - x0 + 1, y1 - y0 + 1};
   }
   /// Calls fn(x) for every set column of row y, left to right.
@@ -96,8 +99,8 @@ struct Scratch {
   std::vector<double> ht, ht_orig, sink, bed;
   std::vector<double> ht_pressed;  // heights right after collision (deposits are what came after)
   /// Set by erode when it stopped at max_erosion_passes with soil still flowing: the columns
-  /// that moved in its last pass (scratch coordinates), to carry on with next step.
-  std::array<int, 4> still_flowing{0, 0, 0, 0};
+  /// that moved in its last pass (global columns), to carry on with next step; else nx = 0.
+  ColumnRect still_flowing;
   std::vector<double> e_plain, e_star, e_coll, e_true;
   std::vector<double> disp, carry, q, out, cap;
   std::vector<unsigned char> flags, mask;

@@ -216,7 +216,7 @@ Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const H
       r.j0 = hr.get<std::int64_t>("eroding regions");
       r.nx = hr.get<std::int32_t>("eroding regions");
       r.ny = hr.get<std::int32_t>("eroding regions");
-      if (r.nx <= 0 || r.ny <= 0 || static_cast<std::int64_t>(r.nx) * r.ny > (std::int64_t{1} << 26))
+      if (r.nx <= 0 || r.ny <= 0 || static_cast<std::int64_t>(r.nx) * r.ny > kMaxRegionColumns)
         hr.fail("eroding region of " + std::to_string(r.nx) + " x " + std::to_string(r.ny) + " columns (corrupt)");
       im.unsettled.push_back(r);
     }

@@ -17,12 +17,6 @@ using namespace shore::demo;
 
 namespace {
 
-std::vector<std::string> scene_names() {
-  std::vector<std::string> names;
-  for (const Scene& s : scenes()) names.push_back(s.name);
-  return names;
-}
-
 std::string pin_command(const std::string& scene) {
   return std::string(SHORE_DEMO_EXE) + " pin --update " + SHORE_PINNED_HASHES_FILE + " --scene " + scene;
 }

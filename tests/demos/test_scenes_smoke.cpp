@@ -17,12 +17,6 @@ using namespace shore::demo;
 
 namespace {
 
-std::vector<std::string> scene_names() {
-  std::vector<std::string> names;
-  for (const Scene& s : scenes()) names.push_back(s.name);
-  return names;
-}
-
 SceneResult smoke_run(const std::string& name, int threads, bool write_files) {
   Overrides o;
   o.out_root = fs::path(testing::TempDir()) / "shore_demo_smoke";

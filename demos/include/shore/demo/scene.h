@@ -85,6 +85,8 @@ struct Scene {
 
 /// Every registered scene, sorted by name.
 const std::vector<Scene>& scenes();
+/// Their names, in the same order.
+std::vector<std::string> scene_names();
 /// The scene called name, or nullptr.
 const Scene* find_scene(std::string_view name);
 

@@ -15,8 +15,8 @@
 //   inflate bearing capacity, and reloading to the same pressure sinks no further.
 //
 // One step (Terrain::step), over the active region only (each imprint's covered columns
-// within active_reach of the soil, enlarged by active_margin; touching regions merge), gathered into dense arrays with
-// a one-column halo and scattered back:
+// within active_reach of the soil, enlarged by active_margin; touching regions merge),
+// gathered into dense arrays with a one-column halo and scattered back:
 // 1. Collision: a column whose top lies above the collision surface (the offset envelope,
 //    or its star-lowered version) is pushed down to it, never below bedrock; a column is
 //    in contact when the surface lies within contact_tolerance of its top. Sinkage grows
