@@ -342,7 +342,16 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
       moved = yielded || b.envelope.lower.empty() || body.getLinearVelocity().length() > kRestSpeed ||
               body.getAngularVelocity().length() > kRestSpin;
     }
-    if (!body.isActive() || !moved) continue;
+    if (!body.isActive() || !moved) {
+      // At rest its last envelope holds the soil it touches: slopes still eroding next to
+      // it cannot slide under it. It presses nothing and activates no soil by itself.
+      if (!b.envelope.lower.empty()) {
+        terrain::Imprint hold{&b.envelope};
+        hold.hold = true;
+        imprints_.push_back(hold);
+      }
+      continue;
+    }
     t0 = Clock::now();
     try {
       rasterize(b);                    // at the (corrected) pose: this substep's imprint, next substep's bearing

@@ -146,7 +146,8 @@ void Scratch::resize(std::int64_t i0, std::int64_t j0, int width, int height) {
   // Every stage writes these before it reads them (gather, rasterize, collide, erode), so
   // they are only sized here, not cleared: clearing 14 arrays each step cost more than
   // the rest of a small step's bookkeeping.
-  for (auto* v : {&ht, &ht_orig, &sink, &bed, &e_plain, &e_star, &e_coll, &e_true, &disp, &carry, &q, &out, &cap})
+  for (auto* v :
+       {&ht, &ht_orig, &sink, &bed, &e_plain, &e_star, &e_coll, &e_true, &e_hold, &disp, &carry, &q, &out, &cap})
     v->resize(size);
   flags.assign(size, 0);  // the halo's flags stay 0: it is neither interior nor covered
   mask.resize(size);
@@ -226,18 +227,20 @@ void dilate(const ColumnBits& from, ColumnBits& to) {
 }  // namespace
 
 // Rasterizes the imprints into the region: e_plain / e_star hold the lowest (offset)
-// envelope of plain and star imprints; e_true the lowest of both (soil state); e_coll
-// the collision surface (star imprints lowered to their lowest point within +-1 column).
+// envelope of plain and star pressing imprints; e_true the lowest of both (soil state);
+// e_coll the collision surface (star imprints lowered to their lowest point within +-1
+// column); e_hold the lowest envelope of holding imprints (they press nothing).
 void Terrain::Impl::rasterize(Scratch& sc, std::span<const Imprint> imprints) const {
   std::fill(sc.e_plain.begin(), sc.e_plain.end(), kInf);
   std::fill(sc.e_star.begin(), sc.e_star.end(), kInf);
+  std::fill(sc.e_hold.begin(), sc.e_hold.end(), kInf);
   bool any_star = false;
   for (const Imprint& im : imprints) {
     const EnvelopeRaster& env = *im.envelope;
     const std::int64_t x0 = std::max(env.i0, sc.si0), x1 = std::min(env.i0 + env.nx, sc.si0 + sc.w);
     const std::int64_t y0 = std::max(env.j0, sc.sj0), y1 = std::min(env.j0 + env.ny, sc.sj0 + sc.h);
-    std::vector<double>& dst = im.star ? sc.e_star : sc.e_plain;
-    any_star = any_star || im.star;
+    std::vector<double>& dst = im.hold ? sc.e_hold : im.star ? sc.e_star : sc.e_plain;
+    any_star = any_star || (im.star && !im.hold);
     for (std::int64_t j = y0; j < y1; ++j)
       for (std::int64_t i = x0; i < x1; ++i) {
         const double lower = env.lower[env.index(i, j)];
@@ -277,9 +280,13 @@ void Terrain::Impl::rasterize(Scratch& sc, std::span<const Imprint> imprints) co
 
 // Collision: push every column whose top lies above the collision surface down to it
 // (never below bedrock). Sinkage grows by how far the TRUE envelope pressed the column
-// below its previous top, so a star imprint does not stiffen the soil.
+// below its previous top, so a star imprint does not stiffen the soil. A holding envelope
+// touching a column makes it a contact column without pressing it. A column counts as
+// under a body only within active_reach of the envelope above it. Afterwards e_coll is the
+// lowest body surface of either kind (erosion fills covered columns up to it at most).
 double Terrain::Impl::collide(Scratch& sc, int& contact_count) const {
   const double tol = s.contact_tolerance;
+  const double reach = s.active_reach;
   std::vector<double> row_volume(static_cast<std::size_t>(sc.h), 0.0);
   std::vector<int> row_contacts(static_cast<std::size_t>(sc.h), 0);
   for_rows(1, sc.h - 1, sc.parallel, sc.threads, [&](int y) {
@@ -289,12 +296,16 @@ double Terrain::Impl::collide(Scratch& sc, int& contact_count) const {
       const std::size_t k = sc.at(x, y);
       sc.disp[k] = 0.0;
       sc.flags[k] = kInterior;
-      const double e = sc.e_coll[k];
-      if (e == kInf) continue;
-      sc.flags[k] |= kCovered;
+      const double e = sc.e_coll[k], held = sc.e_hold[k];
+      const double body = std::min(e, held);
+      if (body == kInf) continue;
+      sc.e_coll[k] = body;
       const double top = sc.ht[k];
-      if (!(e <= top + tol)) continue;
+      const bool touching = body <= top + tol;
+      if (touching || body - top <= reach) sc.flags[k] |= kCovered;
+      if (!touching) continue;
       sc.flags[k] |= kContact;
+      if (!(e <= top + tol)) continue;  // held, not pressed
       ++contacts;
       const double target = std::max(e, sc.bed[k]);
       if (target < top) {
@@ -470,9 +481,9 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   cand = givable;
   givers.reset(w, h), changed.reset(w, h), near.reset(w, h);
   std::vector<unsigned char>& row_flow = sc.row_flow;
-  std::vector<unsigned char>& row_steep = sc.row_steep;
+  std::vector<RowSpan>& row_steep = sc.row_steep;
   row_flow.assign(static_cast<std::size_t>(h), 0);
-  row_steep.assign(static_cast<std::size_t>(h), 0);
+  row_steep.assign(static_cast<std::size_t>(h), RowSpan{});
 
   int passes = 0;
   while (passes < s.max_erosion_passes) {
@@ -513,7 +524,8 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
     });
     for_rows(0, h, sc.parallel, sc.threads, [&](int y) {
       std::uint64_t* giver_row = givers.row(y);
-      bool flow = false, steep = false;
+      bool flow = false;
+      RowSpan steep;
       cand.for_each_in_row(y, [&](int x) {
         const std::size_t k = sc.at(x, y);
         const double h0 = sc.ht[k];
@@ -556,7 +568,7 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
         sc.out[k] = total;
         giver_row[x >> 6] |= std::uint64_t{1} << (x & 63);
         flow = true;
-        steep = steep || steep_here;
+        if (steep_here) steep.add(x);
       });
       row_flow[static_cast<std::size_t>(y)] = flow;  // only this row's task writes it
       row_steep[static_cast<std::size_t>(y)] = steep;
@@ -564,7 +576,7 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
     bool flow = false, steep = false;
     for (int y = 0; y < h; ++y) {
       flow = flow || row_flow[static_cast<std::size_t>(y)];
-      steep = steep || row_steep[static_cast<std::size_t>(y)];
+      steep = steep || !row_steep[static_cast<std::size_t>(y)].empty();
     }
     if (!flow) break;
     if (passes > 0 && !steep && !to_rest) break;
@@ -623,11 +635,19 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
     givers.clear();
     ++passes;
   }
-  // Stopped by the cap, not by rest: what moved last carries on next step.
+  // Stopped by the cap, not by rest: the givers that were still too steep in the last pass
+  // carry on next step. Creep on slopes already within the stop tolerance is not carried:
+  // without the cap, the same rule would have stopped it.
   sc.still_flowing = {};
   if (passes == s.max_erosion_passes && passes > 0) {
-    sc.still_flowing = changed.bounds();
-    sc.still_flowing.i0 += sc.si0, sc.still_flowing.j0 += sc.sj0;
+    int x0 = w, y0 = h, x1 = -1, y1 = -1;
+    for (int y = 0; y < h; ++y) {
+      const RowSpan r = row_steep[static_cast<std::size_t>(y)];
+      if (r.empty()) continue;
+      x0 = std::min(x0, r.x0), x1 = std::max(x1, r.x1);
+      y0 = std::min(y0, y), y1 = y;
+    }
+    if (x1 >= 0) sc.still_flowing = {sc.si0 + x0, sc.sj0 + y0, x1 - x0 + 1, y1 - y0 + 1};
   }
   return passes;
 }
@@ -726,17 +746,17 @@ ColumnRect Terrain::Impl::reach_box(const Imprint& im) {
   return {env.i0 + x0, env.j0 + y0, x1 - x0 + 1, y1 - y0 + 1};
 }
 
-// The active regions of a step: each imprint's reach box and each box of columns still
-// flowing after the last step, enlarged by active_margin; boxes that touch are merged.
-// Sorted, so the processing order never depends on the order of the imprints.
-std::vector<ColumnRect> Terrain::Impl::active_regions(std::span<const Imprint> imprints,
-                                                      std::span<const ColumnRect> carried) {
+// The active regions of a step: the pressing imprints' reach boxes and the boxes carried
+// from the last step, enlarged by active_margin; boxes that touch are merged. Sorted, so
+// the processing order never depends on the order of the imprints.
+std::vector<ColumnRect> Terrain::Impl::active_regions(std::span<const ColumnRect> reached,
+                                                      std::span<const ColumnRect> carried) const {
   std::vector<Box> boxes;
   const std::int64_t m = s.active_margin;
   auto add = [&](const ColumnRect& r) {
     if (r.nx > 0 && r.ny > 0) boxes.push_back({r.i0 - m, r.j0 - m, r.i0 + r.nx - 1 + m, r.j0 + r.ny - 1 + m});
   };
-  for (const Imprint& im : imprints) add(reach_box(im));
+  for (const ColumnRect& r : reached) add(r);
   for (const ColumnRect& r : carried) add(r);
   for (bool merged = true; merged;) {
     merged = false;
@@ -850,8 +870,12 @@ StepReport Terrain::step(std::span<const Imprint> imprints) {
     c.finite("vz", imprints[b].vz);
   }
   if (impl_->s.material.rigid) return {};
+  std::vector<ColumnRect> reached;
+  for (const Imprint& im : imprints)
+    if (!im.hold)
+      if (const ColumnRect r = impl_->reach_box(im); r.nx > 0) reached.push_back(r);
   const std::vector<ColumnRect> carried = std::exchange(impl_->unsettled, {});
-  const std::vector<ColumnRect> regions = impl_->active_regions(imprints, carried);
+  const std::vector<ColumnRect> regions = impl_->active_regions(reached, carried);
   StepReport total;
   for (const ColumnRect& r : regions) {
     const StepReport part = impl_->run_region(r, imprints);
@@ -861,6 +885,9 @@ StepReport Terrain::step(std::span<const Imprint> imprints) {
     total.displaced_volume += part.displaced_volume;
     total.compacted_volume += part.compacted_volume;
   }
+  // What the bodies reached this step is eroded once more next step: where a body has
+  // lifted or moved away, slopes it held at theta_in relax toward theta_out.
+  impl_->unsettled.insert(impl_->unsettled.end(), reached.begin(), reached.end());
   return total;
 }
 
@@ -1072,7 +1099,7 @@ std::size_t Scratch::bytes() const {
   const std::size_t bit_words = givable.bits.capacity() + overhang.bits.capacity() + cand.bits.capacity() +
                                 changed.bits.capacity() + givers.bits.capacity() + near.bits.capacity() +
                                 recap.bits.capacity();
-  return (13 * sizeof(double) + 3 + sizeof(int)) * ht.capacity() + bit_words * sizeof(std::uint64_t);
+  return (15 * sizeof(double) + 3 + sizeof(int)) * ht.capacity() + bit_words * sizeof(std::uint64_t);
 }
 
 }  // namespace shore::terrain

@@ -90,6 +90,18 @@ struct ColumnBits {
   }
 };
 
+/// Columns x0..x1 (inclusive) of one row; empty while x1 < x0.
+struct RowSpan {
+  int x0 = 0, x1 = -1;
+  [[nodiscard]] bool empty() const { return x1 < x0; }
+  void add(int x) {
+    if (empty())
+      x0 = x1 = x;
+    else
+      x0 = std::min(x0, x), x1 = std::max(x1, x);
+  }
+};
+
 /// The active region plus a one-column halo, gathered into dense arrays.
 struct Scratch {
   std::int64_t si0 = 0, sj0 = 0;  ///< global column of scratch (0, 0)
@@ -98,15 +110,17 @@ struct Scratch {
   int threads = 1;
   std::vector<double> ht, ht_orig, sink, bed;
   std::vector<double> ht_pressed;  // heights right after collision (deposits are what came after)
-  /// Set by erode when it stopped at max_erosion_passes with soil still flowing: the columns
-  /// that moved in its last pass (global columns), to carry on with next step; else nx = 0.
+  /// Set by erode when it stopped at max_erosion_passes with slopes still too steep: the
+  /// bounding box of the givers of its last pass that had such a pair (global columns), to
+  /// carry on with next step; else nx = 0.
   ColumnRect still_flowing;
-  std::vector<double> e_plain, e_star, e_coll, e_true;
+  std::vector<double> e_plain, e_star, e_coll, e_true, e_hold;
   std::vector<double> disp, carry, q, out, cap;
   std::vector<unsigned char> flags, mask;
   std::vector<unsigned char> cover;                                  ///< erosion: 1 where the column lies under a body
   ColumnBits givable, overhang, cand, changed, givers, near, recap;  ///< erosion column sets
-  std::vector<unsigned char> row_flow, row_steep;
+  std::vector<unsigned char> row_flow;
+  std::vector<RowSpan> row_steep;  ///< erosion: per row, the givers with a pair still too steep
   std::vector<int> contour;
 
   void resize(std::int64_t i0, std::int64_t j0, int width, int height);
@@ -128,8 +142,9 @@ struct Terrain::Impl {
   std::vector<TileKey> dirty_keys;
   Scratch scratch;
   std::vector<double> reach_heights;  ///< soil tops under one imprint (reach_box)
-  /// Columns whose erosion stopped at max_erosion_passes with soil still flowing: the next
-  /// step carries on there, with or without a body (erosion is rate-limited, not cut off).
+  /// Boxes the next step erodes with or without a body there: slopes the pass cap left too
+  /// steep (erosion is rate-limited, not cut off), and the columns the pressing imprints
+  /// reached (a body that leaves them no longer holds their slopes).
   std::vector<ColumnRect> unsettled;
 
   [[nodiscard]] double base_at(std::int64_t i, std::int64_t j) const;
@@ -154,8 +169,8 @@ struct Terrain::Impl {
   void loosen_deposits(Scratch& sc) const;
   void read_rect(const ColumnRect& r, std::span<double> out, bool base) const;  ///< out sized nx * ny
   [[nodiscard]] ColumnRect reach_box(const Imprint& im);
-  [[nodiscard]] std::vector<ColumnRect> active_regions(std::span<const Imprint> imprints,
-                                                       std::span<const ColumnRect> carried);
+  [[nodiscard]] std::vector<ColumnRect> active_regions(std::span<const ColumnRect> reached,
+                                                       std::span<const ColumnRect> carried) const;
   StepReport run_region(const ColumnRect& region, std::span<const Imprint> imprints);
 
   struct BearingColumn {

@@ -4,7 +4,7 @@
 //   settings: f64 cell, origin_x, origin_y; i32 tile_columns; f64 base_height;
 //             i32 max_erosion_passes, active_margin; f64 contact_tolerance; i32 threads,
 //             parallel_min_columns; f64 active_reach (version 2 on; version 1 files
-//             load with the default)
+//             load with +infinity, the behaviour they were stepped with)
 //   material: u32 name length, name bytes; f64 theta_stop, sigma, theta_in, theta_out,
 //             alpha, bekker_n, bekker_kc, bekker_kphi, friction, soil_depth; u8 rigid
 //   f64 compacted, edited
@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <system_error>
 
@@ -186,7 +187,8 @@ Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const H
   s.contact_tolerance = hr.get<double>("settings");
   s.threads = hr.get<std::int32_t>("settings");
   s.parallel_min_columns = hr.get<std::int32_t>("settings");
-  if (version >= 2) s.active_reach = hr.get<double>("settings");
+  // Version 1 states were stepped with every covered column active and under the body.
+  s.active_reach = version >= 2 ? hr.get<double>("settings") : std::numeric_limits<double>::infinity();
   const auto name_size = hr.get<std::uint32_t>("material");
   if (name_size > 4096) hr.fail("material name of " + std::to_string(name_size) + " bytes (corrupt)");
   Material& m = s.material;
@@ -211,14 +213,14 @@ Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const H
     const auto regions = hr.get<std::uint64_t>("eroding regions");
     if (regions > hr.remaining() / 24) hr.fail("eroding region count " + std::to_string(regions) + " (corrupt)");
     for (std::uint64_t k = 0; k < regions; ++k) {
-      ColumnRect r;
-      r.i0 = hr.get<std::int64_t>("eroding regions");
-      r.j0 = hr.get<std::int64_t>("eroding regions");
-      r.nx = hr.get<std::int32_t>("eroding regions");
-      r.ny = hr.get<std::int32_t>("eroding regions");
-      if (r.nx <= 0 || r.ny <= 0 || static_cast<std::int64_t>(r.nx) * r.ny > kMaxRegionColumns)
-        hr.fail("eroding region of " + std::to_string(r.nx) + " x " + std::to_string(r.ny) + " columns (corrupt)");
-      im.unsettled.push_back(r);
+      ColumnRect box;
+      box.i0 = hr.get<std::int64_t>("eroding regions");
+      box.j0 = hr.get<std::int64_t>("eroding regions");
+      box.nx = hr.get<std::int32_t>("eroding regions");
+      box.ny = hr.get<std::int32_t>("eroding regions");
+      if (box.nx <= 0 || box.ny <= 0 || static_cast<std::int64_t>(box.nx) * box.ny > kMaxRegionColumns)
+        hr.fail("eroding region of " + std::to_string(box.nx) + " x " + std::to_string(box.ny) + " columns (corrupt)");
+      im.unsettled.push_back(box);
     }
   }
   const auto count = hr.get<std::uint64_t>("tile count");

@@ -137,6 +137,33 @@ TEST(SoilRobustness, SleepingBodyWakesWhenTheGroundUnderItIsLowered) {
   EXPECT_LT(ball->getCenterOfMassPosition().z(), 0.0) << "it should have fallen into the pit";
 }
 
+// A body at rest is still imprinted, holding without pressing: its print's rim, left
+// eroding by a one-pass cap, slumps outward but never slides in under the body.
+TEST(SoilRobustness, ABodyAtRestKeepsErodingSoilOutOfItsPrint) {
+  terrain::TerrainSettings s = soil_of("mud");
+  s.max_erosion_passes = 1;
+  terrain::Terrain soil(s);
+  BulletWorld world;
+  bullet::TerrainCoupling ground(world.world(), soil);
+  btRigidBody* box =
+      world.add_body(std::make_unique<btBoxShape>(btVector3(0.2f, 0.2f, 0.1f)), 200.0, btVector3(0, 0, 0.2f));
+  ground.add_body(box);
+  int steps = 0;
+  while (steps < 2400 && (box->isActive() || ground.stats().active_columns > 0)) {
+    world.step(1.0 / 240);
+    ++steps;
+  }
+  ASSERT_LT(steps, 2400) << "the box never came to rest, or the soil never settled";
+  btVector3 lo, hi;
+  box->getCollisionShape()->getAabb(box->getWorldTransform(), lo, hi);
+  ASSERT_LT(lo.z(), -0.01) << "the box should have sunk into the mud";
+  double highest = -1.0;  // soil under the box, away from its edges
+  for (std::int64_t j = soil.column_j(-0.18); j <= soil.column_j(0.18); ++j)
+    for (std::int64_t i = soil.column_i(-0.18); i <= soil.column_i(0.18); ++i)
+      highest = std::max(highest, soil.height(i, j));
+  EXPECT_LE(highest, double(lo.z()) + 2e-3);
+}
+
 TEST(SoilRobustness, SameResultWhateverTheThreadCount) {
   std::uint64_t first = 0;
   for (int threads : {1, 2, 4}) {

@@ -3,12 +3,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <span>
 
 #include "shore/core/envelope.h"
 #include "shore/terrain/terrain.h"
+#include "terrain_fixtures.h"
 
 using namespace shore::terrain;
+using shore::terrain::testing::box_envelope;
 
 namespace {
 
@@ -103,4 +107,101 @@ TEST(Erosion, ErosionStoppedByTheCapCarriesOnWithoutABody) {
   EXPECT_LE(steepest_slope(t, -30, 30), s.material.theta_stop + one_degree);
   EXPECT_NEAR(t.volume().ground, volume, 1e-12);
   EXPECT_EQ(t.step({}).active_columns, 0);
+}
+
+namespace {
+
+// Mud (theta_in 90 degrees, theta_out and theta_stop 63) with a 10 x 10 column box pressed
+// 3 cm in: vertical walls where the print meets its rim.
+struct PressedMud {
+  Terrain t;
+  shore::EnvelopeRaster box = box_envelope(-5, -5, 10, 10, -0.03);
+  double volume = 0.0;
+  explicit PressedMud(TerrainSettings s) : t((s.material = Material::mud(), s)) {
+    const Imprint press{&box};
+    t.step({&press, 1});
+    volume = t.volume().ground;
+  }
+  /// Steps until nothing is active (at most 500 steps); returns the steps taken.
+  int settle(std::span<const Imprint> imprints) {
+    int steps = 0;
+    while (t.step(imprints).active_columns > 0 && steps < 500) ++steps;
+    return steps;
+  }
+};
+
+constexpr double kOneDegree = std::numbers::pi / 180;
+
+}  // namespace
+
+// A body that has lifted away supports no soil: once it is more than active_reach above
+// its print, the print's vertical walls slump to the repose angle (theta_out). With an
+// infinite reach the hovering body would hold them vertical forever.
+TEST(Erosion, ALiftedBodyNoLongerHoldsItsPrintsWalls) {
+  for (const double reach : {TerrainSettings{}.active_reach, std::numeric_limits<double>::infinity()}) {
+    SCOPED_TRACE(reach);
+    TerrainSettings s;
+    s.active_reach = reach;
+    s.max_erosion_passes = 64;  // the rim settles while the body presses: nothing is carried
+    PressedMud mud(s);
+    ASSERT_GT(steepest_slope(mud.t, -10, 10), 80 * kOneDegree);
+    const shore::EnvelopeRaster lifted = box_envelope(-5, -5, 10, 10, 0.4);
+    const Imprint hover{&lifted};
+    for (int k = 0; k < 100; ++k) mud.t.step({&hover, 1});
+    if (std::isinf(reach)) {
+      EXPECT_GT(steepest_slope(mud.t, -10, 10), 80 * kOneDegree);
+    } else {
+      EXPECT_LE(steepest_slope(mud.t, -10, 10), mud.t.settings().material.theta_out + kOneDegree);
+      EXPECT_LT(mud.settle({&hover, 1}), 500);
+    }
+    EXPECT_NEAR(mud.t.volume().ground, mud.volume, 1e-12);
+  }
+}
+
+// A body taken away altogether leaves its print to erode: the step after it goes erodes
+// what it reached as open ground, and the walls slump to the repose angle.
+TEST(Erosion, ARemovedBodyLeavesItsPrintToErode) {
+  TerrainSettings s;
+  s.max_erosion_passes = 64;  // the rim settles while the body presses: nothing is carried
+  PressedMud mud(s);
+  const int steps = mud.settle({});
+  EXPECT_GT(steps, 0);
+  EXPECT_LT(steps, 500);
+  EXPECT_LE(steepest_slope(mud.t, -10, 10), mud.t.settings().material.theta_out + kOneDegree);
+  EXPECT_NEAR(mud.t.volume().ground, mud.volume, 1e-12);
+}
+
+// A body at rest is imprinted as holding: it presses nothing and starts no work...
+TEST(Erosion, AHoldingImprintPressesNothingAndStartsNoWork) {
+  Terrain t{TerrainSettings{}};
+  const shore::EnvelopeRaster box = box_envelope(-5, -5, 10, 10, -0.03);
+  Imprint hold{&box};
+  hold.hold = true;
+  const std::uint64_t before = t.state_hash();
+  EXPECT_EQ(t.step({&hold, 1}).active_columns, 0);
+  EXPECT_EQ(t.state_hash(), before);
+}
+
+// ...but where slopes next to it still erode, it keeps the soil out of its print: the
+// columns it touches neither give nor receive. Without it the rim slides into the print.
+TEST(Erosion, AHoldingImprintKeepsSlidingSoilOutOfItsPrint) {
+  TerrainSettings s;
+  s.max_erosion_passes = 1;  // the rim keeps eroding for many steps
+  for (const bool held : {true, false}) {
+    SCOPED_TRACE(held);
+    PressedMud mud(s);
+    Imprint hold{&mud.box};
+    hold.hold = true;
+    const int steps = held ? mud.settle({&hold, 1}) : mud.settle({});
+    EXPECT_GT(steps, 1);
+    EXPECT_LT(steps, 500);
+    double highest = -1.0;
+    for (std::int64_t j = -5; j < 5; ++j)
+      for (std::int64_t i = -5; i < 5; ++i) highest = std::max(highest, mud.t.height(i, j));
+    if (held)
+      EXPECT_EQ(highest, -0.03);
+    else
+      EXPECT_GT(highest, -0.03 + 1e-3);
+    EXPECT_NEAR(mud.t.volume().ground, mud.volume, 1e-12);
+  }
 }

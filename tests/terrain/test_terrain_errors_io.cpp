@@ -195,7 +195,7 @@ TEST(Files, SaveLoadRoundTripIsBitExactAndContinuesIdentically) {
   std::filesystem::remove(file);
 }
 
-TEST(Files, VersionOneStatesLoadWithTheDefaultReach) {
+TEST(Files, VersionOneStatesLoadWithAnInfiniteReach) {
   // Version 1 had no active_reach (8 bytes after parallel_min_columns, at byte 76).
   Terrain a = pressed_sand(0.25);
   const auto file = temp_file("v2.state");
@@ -224,7 +224,8 @@ TEST(Files, VersionOneStatesLoadWithTheDefaultReach) {
   write_bytes(file, bytes);
   const Terrain b = Terrain::load(file);
   EXPECT_EQ(b.state_hash(), a.state_hash());
-  EXPECT_EQ(b.settings().active_reach, TerrainSettings{}.active_reach);
+  // Version 1 states were stepped with every covered column under the body.
+  EXPECT_EQ(b.settings().active_reach, std::numeric_limits<double>::infinity());
   EXPECT_EQ(b.settings().parallel_min_columns, a.settings().parallel_min_columns);
   EXPECT_EQ(b.settings().material.name, "sand");
   std::filesystem::remove(file);

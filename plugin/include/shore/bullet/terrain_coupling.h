@@ -25,7 +25,9 @@
 // design kept Bullet's rigid contact and replaced its impulses afterwards; Bullet's
 // friction, solved together with rigid-ground normals, then tilted sinking plates until
 // they fell through, which is why Shore owns the contact. Rigid materials keep Bullet's
-// contact unchanged. Kinematic bodies imprint geometrically.
+// contact unchanged. Kinematic bodies imprint geometrically. A body at rest (asleep, or
+// held still by the soil) presses nothing new; its last envelope is passed as a holding
+// imprint, so slopes still eroding beside it cannot slide in under it.
 
 #include <cstdint>
 #include <memory>

@@ -14,9 +14,10 @@
 //   level by the true envelope. Bekker's law reads sinkage, so a star imprint does not
 //   inflate bearing capacity, and reloading to the same pressure sinks no further.
 //
-// One step (Terrain::step), over the active region only (each imprint's covered columns
-// within active_reach of the soil, enlarged by active_margin; touching regions merge),
-// gathered into dense arrays with a one-column halo and scattered back:
+// One step (Terrain::step), over the active region only (each pressing imprint's covered
+// columns within active_reach of the soil, the same from the last step, and slopes left
+// too steep by the pass cap, enlarged by active_margin; touching regions merge), gathered
+// into dense arrays with a one-column halo and scattered back:
 // 1. Collision: a column whose top lies above the collision surface (the offset envelope,
 //    or its star-lowered version) is pushed down to it, never below bedrock; a column is
 //    in contact when the surface lies within contact_tolerance of its top. Sinkage grows
@@ -28,15 +29,16 @@
 //    the contact area; 1 - alpha is compacted (VolumeTotals::compacted).
 // 4. Erosion (Jacobi passes): a pair of 8-neighbours is too steep when the height
 //    difference exceeds dist * tan(theta), theta = theta_in toward a column lying under a
-//    body (its envelope covers the column) and theta_out otherwise. A column moves sigma
+//    body (its envelope covers the column within active_reach) and theta_out otherwise. A column moves sigma
 //    times the average excess over the limit, shared equally among its too-steep downhill
 //    neighbours, never more than it holds above bedrock. Contact columns are held by the
 //    body (they neither give nor receive); a column under a body but not touching it
 //    receives at most the room up to the collision surface. Passes repeat while material
 //    moves and some moving pair is steeper than theta_stop, at most max_erosion_passes.
 //    Only the region's columns give; the halo only receives. Erosion stopped by the pass
-//    cap while soil still flows carries on over those columns in the next step, with or
-//    without a body there: the cap limits the flow rate, it does not freeze slopes.
+//    cap while slopes are still steeper than theta_stop carries on over those columns in
+//    the next step, with or without a body there: the cap limits the flow rate, it does
+//    not freeze slopes.
 // Spray particles are not simulated: VolumeTotals::airborne stays 0.
 // Every pass is Jacobi-style with fixed reduction order: results are bit-identical for
 // any thread count.
@@ -65,13 +67,13 @@ struct TerrainSettings {
   double base_height = 0.0;    ///< m, flat ground level when base is null, finite
   int max_erosion_passes = 8;  ///< erosion pass cap per step, >= 0 (a rate limit: deep ruts flow every step)
   int active_margin = 4;       ///< columns added around each imprint window for displacement and erosion, >= 1
-  /// m: an imprint column whose (offset) envelope lies more than this above the soil top
-  /// does not widen the step's active region (a rolling wheel's footprint is mostly air
-  /// above its rut). Inside the region such columns still count as under the body.
-  /// > 0; +infinity (default): every covered column counts. A finite reach (0.03 m) halves
-  /// a towed wheel's soil time, but slopes beside a footprint are no longer eroded once the
-  /// body lifts more than the reach away (mud footprints keep rims twice as high).
-  double active_reach = std::numeric_limits<double>::infinity();
+  /// m: how far above the soil top a body still counts as over a column. A column whose
+  /// (offset) envelope lies higher neither widens the step's active region (a rolling
+  /// wheel's footprint is mostly air above its rut) nor holds its slopes at theta_in (a
+  /// body 10 cm up supports no soil). Where a pressing imprint reached last step is eroded
+  /// once more, so a lifted foot's print relaxes to theta_out. > 0; +infinity: every
+  /// covered column counts, however high the body.
+  double active_reach = 0.03;
   double contact_tolerance = 1e-4;  ///< m: a column counts as touched when the envelope is within this of its top, >= 0
   int threads = 0;                  ///< OpenMP threads, 0 = runtime default; results never depend on it, >= 0
   /// Active regions with fewer columns (halo included) run on one thread: for small
@@ -92,6 +94,10 @@ struct Imprint {
   /// (soil state) is still taken from the true envelope.
   bool star = false;
   double vx = 0.0, vy = 0.0, vz = 0.0;  ///< body velocity at the imprint, m/s (spray particles)
+  /// A body at rest: its envelope holds the soil it touches (erosion treats the columns as
+  /// under a body, and never fills them above it) but presses nothing, and makes no active
+  /// region of its own; it only matters where other bodies or unsettled slopes work.
+  bool hold = false;
 };
 
 /// Force one contact column can carry at its sinkage.
