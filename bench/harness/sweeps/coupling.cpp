@@ -148,13 +148,25 @@ void wheel_plugin_time(const SweepContext& ctx, SweepResult& out) {
   c.run.cell = 0.01;
   c.run.substep = 1.0 / 240;
   c.run.threads = 1;
-  c.towed = true;
-  ctx.progress("towed wheel, 1 cm sand, 1/240 s (plugin time)");
-  const cases::WheelResult towed = cases::run_wheel(c);
-  c.towed = false;
-  ctx.progress("the same wheel held (load ramp and settling only), to subtract");
-  const cases::WheelResult held = cases::run_wheel(c);
-  const PluginTimes all(towed.stats), pre(held.stats);
+  // Three towed/held pairs; the pair with the median plugin time is reported, so one
+  // burst of load on a shared machine does not decide the figure.
+  struct Pair {
+    cases::WheelResult towed, held;
+    double plugin = 0;
+  };
+  std::vector<Pair> pairs(3);
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    c.towed = true;
+    ctx.progress("towed wheel, 1 cm sand, 1/240 s (plugin time), run " + std::to_string(k + 1) + " of 3");
+    pairs[k].towed = cases::run_wheel(c);
+    c.towed = false;
+    ctx.progress("the same wheel held (load ramp and settling only), to subtract");
+    pairs[k].held = cases::run_wheel(c);
+    pairs[k].plugin = pairs[k].towed.stats.plugin_seconds - pairs[k].held.stats.plugin_seconds;
+  }
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.plugin < b.plugin; });
+  const cases::WheelResult& towed = pairs[1].towed;
+  const PluginTimes all(towed.stats), pre(pairs[1].held.stats);
   const double n = std::max(1.0, all.substeps - pre.substeps);
   auto per_substep = [&](double PluginTimes::*part) { return 1e3 * (all.*part - pre.*part) / n; };
   const double plugin = per_substep(&PluginTimes::plugin), envelope = per_substep(&PluginTimes::envelope),
@@ -189,7 +201,8 @@ void wheel_plugin_time(const SweepContext& ctx, SweepResult& out) {
       "thread: 2 s of load ramp and 0.5 s of settling with the wheel held, then 2 m towed at 1 m/s. The towing "
       "phase's time is the whole run's minus that of the held phase run alone (the same substeps): Shore's own "
       "time per substep (envelope rasterization, soil step, tile cover and push, reaction) and the whole "
-      "stepSimulation. The whole-run average is listed beside it.");
+      "stepSimulation. The whole-run average is listed beside it. Three towed/held pairs are run; the one with "
+      "the median plugin time is reported.");
 }
 
 void vehicle(const SweepContext& ctx, SweepResult& out) {
