@@ -411,7 +411,11 @@ double Terrain::Impl::displace(Scratch& sc) const {
 // - only interior columns give; the one-column halo around the region only receives;
 // - passes repeat while material moves and (unless to_rest) some moving pair is steeper
 //   than theta_stop, up to max_erosion_passes (tolerances below); a pair whose flow is
-//   capped by the body above the lower column does not count (the body holds that slope).
+//   capped by the body above the lower column does not count (the body holds that slope);
+// - after the first pass (unless to_rest), only columns within two of a giver that still
+//   had such a steep pair in the last pass give: elsewhere every slope is within the stop
+//   tolerance and erosion has ended there, as it would in a region of its own. So a slope
+//   does not creep on because a steep pair somewhere else shares its active region.
 //
 // Work per pass follows the columns that changed. A giver's flow depends only on its own
 // height and its neighbours' heights and caps (a cap under a body depends on that
@@ -478,6 +482,9 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   ColumnBits& givers = sc.givers;
   ColumnBits& near = sc.near;
   ColumnBits& recap = sc.recap;
+  ColumnBits& steep_givers = sc.steep_givers;
+  ColumnBits& live = sc.live;
+  steep_givers.reset(w, h);
   cand = givable;
   givers.reset(w, h), changed.reset(w, h), near.reset(w, h);
   std::vector<unsigned char>& row_flow = sc.row_flow;
@@ -499,6 +506,12 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
       near.add(changed);
       dilate(near, cand);
       cand.keep(givable);
+      if (!to_rest) {  // creep far from the last pass's steep pairs has ended
+        dilate(steep_givers, live);
+        dilate(live, steep_givers);
+        cand.keep(steep_givers);
+      }
+      steep_givers.clear();
     }
     // (a) From the old heights: the cap each column under a body puts on what one
     // neighbour may give it, then each giver's share per too-steep neighbour.
@@ -524,6 +537,7 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
     });
     for_rows(0, h, sc.parallel, sc.threads, [&](int y) {
       std::uint64_t* giver_row = givers.row(y);
+      std::uint64_t* steep_row = steep_givers.row(y);
       bool flow = false;
       RowSpan steep;
       cand.for_each_in_row(y, [&](int x) {
@@ -568,7 +582,10 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
         sc.out[k] = total;
         giver_row[x >> 6] |= std::uint64_t{1} << (x & 63);
         flow = true;
-        if (steep_here) steep.add(x);
+        if (steep_here) {
+          steep.add(x);
+          steep_row[x >> 6] |= std::uint64_t{1} << (x & 63);
+        }
       });
       row_flow[static_cast<std::size_t>(y)] = flow;  // only this row's task writes it
       row_steep[static_cast<std::size_t>(y)] = steep;
@@ -1098,7 +1115,7 @@ std::size_t Terrain::memory_bytes() const {
 std::size_t Scratch::bytes() const {
   const std::size_t bit_words = givable.bits.capacity() + overhang.bits.capacity() + cand.bits.capacity() +
                                 changed.bits.capacity() + givers.bits.capacity() + near.bits.capacity() +
-                                recap.bits.capacity();
+                                recap.bits.capacity() + steep_givers.bits.capacity() + live.bits.capacity();
   return (15 * sizeof(double) + 3 + sizeof(int)) * ht.capacity() + bit_words * sizeof(std::uint64_t);
 }
 

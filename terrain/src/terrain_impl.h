@@ -117,8 +117,8 @@ struct Scratch {
   std::vector<double> e_plain, e_star, e_coll, e_true, e_hold;
   std::vector<double> disp, carry, q, out, cap;
   std::vector<unsigned char> flags, mask;
-  std::vector<unsigned char> cover;                                  ///< erosion: 1 where the column lies under a body
-  ColumnBits givable, overhang, cand, changed, givers, near, recap;  ///< erosion column sets
+  std::vector<unsigned char> cover;  ///< erosion: 1 where the column lies under a body
+  ColumnBits givable, overhang, cand, changed, givers, near, recap, steep_givers, live;  ///< erosion column sets
   std::vector<unsigned char> row_flow;
   std::vector<RowSpan> row_steep;  ///< erosion: per row, the givers with a pair still too steep
   std::vector<int> contour;

@@ -205,3 +205,36 @@ TEST(Erosion, AHoldingImprintKeepsSlidingSoilOutOfItsPrint) {
     EXPECT_NEAR(mud.t.volume().ground, mud.volume, 1e-12);
   }
 }
+
+// Erosion ends where slopes are within the stop tolerance, whatever else shares the active
+// region: a 35 degree sand cone (between theta_out and theta_stop) erodes for one pass and
+// stops, bit for bit the same whether or not a steep 70 degree cone 30 columns away keeps
+// the region's passes going.
+TEST(Erosion, ASlopeStopsCreepingWhateverElseSharesItsRegion) {
+  TerrainSettings s;
+  s.active_margin = 20;  // one region around the rod below holds both cones
+  auto cone = [](Terrain& t, std::int64_t ci, std::int64_t cj, double degrees) {
+    const double r = 0.08, tan_slope = std::tan(degrees * std::numbers::pi / 180);
+    for (std::int64_t j = cj - 9; j <= cj + 9; ++j)
+      for (std::int64_t i = ci - 9; i <= ci + 9; ++i) {
+        const double d = std::hypot(t.column_x(i - ci), t.column_y(j - cj));
+        if (d < r) t.set_height(i, j, (r - d) * tan_slope);
+      }
+  };
+  // A thin rod 2 cm above the flat ground along row 0, within active_reach: it makes the
+  // region and presses nothing.
+  shore::EnvelopeRaster rod;
+  rod.resize(-40, 0, 81, 1, false);
+  for (double& v : rod.lower) v = 0.02;
+  const Imprint hover{&rod};
+  Terrain alone(s), shared(s);
+  cone(alone, 25, 10, 35);
+  cone(shared, 25, 10, 35);
+  cone(shared, -25, 10, 70);
+  const double apex = alone.height(25, 10);
+  ASSERT_EQ(alone.step({&hover, 1}).erosion_passes, 1);
+  EXPECT_LT(alone.height(25, 10), apex);  // the cone did erode
+  ASSERT_EQ(shared.step({&hover, 1}).erosion_passes, s.max_erosion_passes);
+  for (std::int64_t j = 0; j <= 20; ++j)
+    for (std::int64_t i = 14; i <= 36; ++i) EXPECT_EQ(shared.height(i, j), alone.height(i, j)) << i << ", " << j;
+}

@@ -34,7 +34,9 @@
 //    neighbours, never more than it holds above bedrock. Contact columns are held by the
 //    body (they neither give nor receive); a column under a body but not touching it
 //    receives at most the room up to the collision surface. Passes repeat while material
-//    moves and some moving pair is steeper than theta_stop, at most max_erosion_passes.
+//    moves and some moving pair is steeper than theta_stop, at most max_erosion_passes;
+//    after the first pass only columns within two of such a pair give (elsewhere erosion
+//    has ended, whatever else shares the region).
 //    Only the region's columns give; the halo only receives. Erosion stopped by the pass
 //    cap while slopes are still steeper than theta_stop carries on over those columns in
 //    the next step, with or without a body there: the cap limits the flow rate, it does
