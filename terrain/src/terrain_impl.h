@@ -70,17 +70,6 @@ struct ColumnBits {
   void add(const ColumnBits& other) {
     for (std::size_t k = 0; k < bits.size(); ++k) bits[k] |= other.bits[k];
   }
-  /// Bounding box of the set columns, in this set's coordinates; nx = 0 if none.
-  [[nodiscard]] ColumnRect bounds() const {
-    int x0 = w, y0 = h, x1 = -1, y1 = -1;
-    for (int y = 0; y < h; ++y)
-      for_each_in_row(y, [&](int x) {
-        x0 = std::min(x0, x), x1 = std::max(x1, x);
-        y0 = std::min(y0, y), y1 = y;
-      });
-    if (x1 < 0) return {};
-    return {x0, y0, x1 - x0 + 1, y1 - y0 + 1};
-  }
   /// Calls fn(x) for every set column of row y, left to right.
   template <class Fn>
   void for_each_in_row(int y, Fn&& fn) const {
