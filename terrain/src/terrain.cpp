@@ -330,10 +330,48 @@ double Terrain::Impl::collide(Scratch& sc, int& contact_count) const {
 // Contour map: 8-connected (chessboard) distance, in columns, from each contact column to
 // the nearest column not in contact; 0 outside the contact area. Two raster sweeps give the
 // exact chessboard distance.
+//
+// Displaced soil must come out from under the body: a pocket of columns under the body
+// that no column in the open can reach through columns out of contact (a gap in the
+// contact patch) counts as contact here, so it is passed over, not filled. Otherwise such
+// a one-column gap collected the displaced soil of the whole patch around it, rose tens
+// of centimetres into the body in one step and was pressed back down the next, its
+// recorded sinkage growing by as much each time.
 void Terrain::Impl::contour_map(Scratch& sc) const {
   const int big = sc.w + sc.h;
-  for (std::size_t k = 0; k < sc.contour.size(); ++k) sc.contour[k] = (sc.flags[k] & kContact) ? big : 0;
-  // Only contact columns relax, and they are interior: their neighbours exist.
+  // Columns out of contact that soil can reach from the open (8-connected): every column
+  // not under a body, then by flood fill the columns under a body but out of contact
+  // (interior, so their neighbours exist) next to one already reached.
+  std::vector<unsigned char>& open = sc.open;
+  std::vector<std::size_t>& stack = sc.fill_stack;
+  const std::size_t size = sc.flags.size();
+  open.resize(size);
+  for (std::size_t k = 0; k < size; ++k) open[k] = (sc.flags[k] & (kCovered | kContact)) ? 0 : 1;
+  std::size_t off[8];  // neighbour offsets (wrap-around safe: size_t arithmetic modulo 2^64)
+  for (int d = 0; d < 8; ++d) off[d] = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(kDy[d]) * sc.w + kDx[d]);
+  auto pocket = [&](std::size_t k) { return !open[k] && (sc.flags[k] & (kCovered | kContact)) == kCovered; };
+  stack.clear();
+  for (std::size_t k = 0; k < size; ++k) {
+    if (!pocket(k)) continue;
+    for (int d = 0; d < 8; ++d)
+      if (open[k + off[d]]) {
+        stack.push_back(k);
+        break;
+      }
+  }
+  for (std::size_t k : stack) open[k] = 1;
+  while (!stack.empty()) {
+    const std::size_t k = stack.back();
+    stack.pop_back();
+    for (int d = 0; d < 8; ++d) {
+      const std::size_t nk = k + off[d];
+      if (!pocket(nk)) continue;
+      open[nk] = 1;
+      stack.push_back(nk);
+    }
+  }
+  for (std::size_t k = 0; k < sc.contour.size(); ++k) sc.contour[k] = open[k] ? 0 : big;
+  // Only contact columns and pockets relax, and they are interior: their neighbours exist.
   int* c = sc.contour.data();
   const std::ptrdiff_t w = sc.w;
   for (int y = 1; y < sc.h - 1; ++y)
@@ -1116,7 +1154,8 @@ std::size_t Scratch::bytes() const {
   const std::size_t bit_words = givable.bits.capacity() + overhang.bits.capacity() + cand.bits.capacity() +
                                 changed.bits.capacity() + givers.bits.capacity() + near.bits.capacity() +
                                 recap.bits.capacity() + steep_givers.bits.capacity() + live.bits.capacity();
-  return (15 * sizeof(double) + 3 + sizeof(int)) * ht.capacity() + bit_words * sizeof(std::uint64_t);
+  return (15 * sizeof(double) + 4 + sizeof(int)) * ht.capacity() + bit_words * sizeof(std::uint64_t) +
+         fill_stack.capacity() * sizeof(std::size_t);
 }
 
 }  // namespace shore::terrain

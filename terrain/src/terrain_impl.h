@@ -111,6 +111,8 @@ struct Scratch {
   std::vector<unsigned char> row_flow;
   std::vector<RowSpan> row_steep;  ///< erosion: per row, the givers with a pair still too steep
   std::vector<int> contour;
+  std::vector<unsigned char> open;      ///< contour map: out of contact and reachable from the open
+  std::vector<std::size_t> fill_stack;  ///< contour map: flood fill work list
 
   void resize(std::int64_t i0, std::int64_t j0, int width, int height);
   [[nodiscard]] std::size_t at(int x, int y) const noexcept {

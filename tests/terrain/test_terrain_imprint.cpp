@@ -183,3 +183,24 @@ TEST(Imprint, BodyHighAboveTheSoilCostsNothingWithAFiniteReach) {
   EXPECT_EQ(t.step({&im, 1}).active_columns, 0);
   EXPECT_EQ(t.tile_count(), 0U);
 }
+
+// Displaced soil comes out from under the body: a column the body overhangs inside its
+// contact patch (a 1 cm gap in its sole) is passed over, not filled. It used to collect
+// the displaced soil of the whole patch around it and rise into the body.
+TEST(Imprint, DisplacedSoilIsNotPiledIntoAGapInTheContactPatch) {
+  Terrain t(snow_settings(1.0));  // everything displaced, nothing slumps
+  shore::EnvelopeRaster sole = box_envelope(-5, -5, 11, 11, -0.02);
+  sole.lower[sole.index(0, 0)] = 0.01;  // the gap: 1 cm above the ground, within active_reach
+  const Imprint im{&sole};
+  t.step({&im, 1});
+  EXPECT_EQ(t.height(0, 0), 0.0);
+  // All 120 pressed columns' soil lies in the ring around the sole.
+  const GroundChange g = ground_change(t, -10, -10, 21, 21);
+  const double cell2 = t.settings().cell * t.settings().cell;
+  EXPECT_NEAR(g.lowered, 120 * 0.02 * cell2, 1e-12);
+  EXPECT_NEAR(g.raised, g.lowered, 1e-12);
+  double inside = 0.0;
+  for (std::int64_t j = -5; j <= 5; ++j)
+    for (std::int64_t i = -5; i <= 5; ++i) inside = std::max(inside, t.height(i, j));
+  EXPECT_LE(inside, 0.0);
+}
