@@ -526,9 +526,7 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   cand = givable;
   givers.reset(w, h), changed.reset(w, h), near.reset(w, h);
   std::vector<unsigned char>& row_flow = sc.row_flow;
-  std::vector<RowSpan>& row_steep = sc.row_steep;
   row_flow.assign(static_cast<std::size_t>(h), 0);
-  row_steep.assign(static_cast<std::size_t>(h), RowSpan{});
 
   int passes = 0;
   while (passes < s.max_erosion_passes) {
@@ -577,7 +575,6 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
       std::uint64_t* giver_row = givers.row(y);
       std::uint64_t* steep_row = steep_givers.row(y);
       bool flow = false;
-      RowSpan steep;
       cand.for_each_in_row(y, [&](int x) {
         const std::size_t k = sc.at(x, y);
         const double h0 = sc.ht[k];
@@ -620,19 +617,13 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
         sc.out[k] = total;
         giver_row[x >> 6] |= std::uint64_t{1} << (x & 63);
         flow = true;
-        if (steep_here) {
-          steep.add(x);
-          steep_row[x >> 6] |= std::uint64_t{1} << (x & 63);
-        }
+        if (steep_here) steep_row[x >> 6] |= std::uint64_t{1} << (x & 63);
       });
       row_flow[static_cast<std::size_t>(y)] = flow;  // only this row's task writes it
-      row_steep[static_cast<std::size_t>(y)] = steep;
     });
-    bool flow = false, steep = false;
-    for (int y = 0; y < h; ++y) {
-      flow = flow || row_flow[static_cast<std::size_t>(y)];
-      steep = steep || !row_steep[static_cast<std::size_t>(y)].empty();
-    }
+    bool flow = false;
+    for (int y = 0; y < h; ++y) flow = flow || row_flow[static_cast<std::size_t>(y)];
+    const bool steep = steep_givers.any();
     if (!flow) break;
     if (passes > 0 && !steep && !to_rest) break;
     // (b) Every giver and receiver takes what it gave off and gathers what its neighbours
@@ -695,14 +686,8 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   // without the cap, the same rule would have stopped it.
   sc.still_flowing = {};
   if (passes == s.max_erosion_passes && passes > 0) {
-    int x0 = w, y0 = h, x1 = -1, y1 = -1;
-    for (int y = 0; y < h; ++y) {
-      const RowSpan r = row_steep[static_cast<std::size_t>(y)];
-      if (r.empty()) continue;
-      x0 = std::min(x0, r.x0), x1 = std::max(x1, r.x1);
-      y0 = std::min(y0, y), y1 = y;
-    }
-    if (x1 >= 0) sc.still_flowing = {sc.si0 + x0, sc.sj0 + y0, x1 - x0 + 1, y1 - y0 + 1};
+    sc.still_flowing = steep_givers.bounds();
+    sc.still_flowing.i0 += sc.si0, sc.still_flowing.j0 += sc.sj0;
   }
   return passes;
 }

@@ -70,24 +70,26 @@ struct ColumnBits {
   void add(const ColumnBits& other) {
     for (std::size_t k = 0; k < bits.size(); ++k) bits[k] |= other.bits[k];
   }
+  [[nodiscard]] bool any() const {
+    return std::any_of(bits.begin(), bits.end(), [](std::uint64_t b) { return b != 0; });
+  }
+  /// Bounding box of the set columns, in this set's coordinates; nx = 0 if none.
+  [[nodiscard]] ColumnRect bounds() const {
+    int x0 = w, y0 = h, x1 = -1, y1 = -1;
+    for (int y = 0; y < h; ++y)
+      for_each_in_row(y, [&](int x) {
+        x0 = std::min(x0, x), x1 = std::max(x1, x);
+        y0 = std::min(y0, y), y1 = y;
+      });
+    if (x1 < 0) return {};
+    return {x0, y0, x1 - x0 + 1, y1 - y0 + 1};
+  }
   /// Calls fn(x) for every set column of row y, left to right.
   template <class Fn>
   void for_each_in_row(int y, Fn&& fn) const {
     const std::uint64_t* r = row(y);
     for (int i = 0; i < words; ++i)
       for (std::uint64_t word = r[i]; word != 0; word &= word - 1) fn(i * 64 + std::countr_zero(word));
-  }
-};
-
-/// Columns x0..x1 (inclusive) of one row; empty while x1 < x0.
-struct RowSpan {
-  int x0 = 0, x1 = -1;
-  [[nodiscard]] bool empty() const { return x1 < x0; }
-  void add(int x) {
-    if (empty())
-      x0 = x1 = x;
-    else
-      x0 = std::min(x0, x), x1 = std::max(x1, x);
   }
 };
 
@@ -109,7 +111,6 @@ struct Scratch {
   std::vector<unsigned char> cover;  ///< erosion: 1 where the column lies under a body
   ColumnBits givable, overhang, cand, changed, givers, near, recap, steep_givers, live;  ///< erosion column sets
   std::vector<unsigned char> row_flow;
-  std::vector<RowSpan> row_steep;  ///< erosion: per row, the givers with a pair still too steep
   std::vector<int> contour;
   std::vector<unsigned char> open;      ///< contour map: out of contact and reachable from the open
   std::vector<std::size_t> fill_stack;  ///< contour map: flood fill work list
