@@ -26,30 +26,40 @@ int pixels_per_cell(int nx, int ny, int min_pixels) {
 
 bool finite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
-/// Which pixels of a (w x h, row 0 = south) grid the bodies cover.
-std::vector<std::uint8_t> body_cover(const std::vector<const btRigidBody*>& bodies, double x0, double y0, double pixel,
-                                     int w, int h) {
-  std::vector<std::uint8_t> cover(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0);
-  bullet::EnvelopeOptions options;
-  options.include_margin = false;
-  const bullet::EnvelopeGrid grid{x0, y0, pixel};
+/// Calls fn(i, j, raster, k) for every pixel (i, j) of a w x h grid that a finite body's
+/// envelope covers; k indexes that body's raster. A body whose envelope cannot be drawn (far
+/// outside the picture) is skipped: there is nothing to draw.
+template <class Fn>
+void for_each_covered_pixel(const std::vector<const btRigidBody*>& bodies, const bullet::EnvelopeGrid& grid,
+                            const bullet::EnvelopeOptions& options, std::int64_t w, std::int64_t h, Fn&& fn) {
   EnvelopeRaster raster;
   for (const btRigidBody* b : bodies) {
     if (non_finite_state(*b) != 0) continue;
     try {
       bullet::rasterize_envelope(*b->getCollisionShape(), b->getWorldTransform(), grid, options, raster);
     } catch (const std::exception&) {
-      continue;  // a body far outside the picture: nothing to draw
+      continue;
     }
     for (int jj = 0; jj < raster.ny; ++jj)
       for (int ii = 0; ii < raster.nx; ++ii) {
         const std::int64_t i = raster.i0 + ii, j = raster.j0 + jj;
-        if (i < 0 || j < 0 || i >= w || j >= h) continue;
-        if (raster.covers(static_cast<std::size_t>(jj) * static_cast<std::size_t>(raster.nx) +
-                          static_cast<std::size_t>(ii)))
-          cover[static_cast<std::size_t>(j) * static_cast<std::size_t>(w) + static_cast<std::size_t>(i)] = 1;
+        const std::size_t k =
+            static_cast<std::size_t>(jj) * static_cast<std::size_t>(raster.nx) + static_cast<std::size_t>(ii);
+        if (i < 0 || j < 0 || i >= w || j >= h || !raster.covers(k)) continue;
+        fn(static_cast<int>(i), static_cast<int>(j), raster, k);
       }
   }
+}
+
+/// Which pixels of a (w x h, row 0 = south) grid the bodies cover.
+std::vector<std::uint8_t> body_cover(const std::vector<const btRigidBody*>& bodies, double x0, double y0, double pixel,
+                                     int w, int h) {
+  std::vector<std::uint8_t> cover(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0);
+  bullet::EnvelopeOptions options;
+  options.include_margin = false;
+  for_each_covered_pixel(bodies, {x0, y0, pixel}, options, w, h, [&](int i, int j, const EnvelopeRaster&, std::size_t) {
+    cover[static_cast<std::size_t>(j) * static_cast<std::size_t>(w) + static_cast<std::size_t>(i)] = 1;
+  });
   return cover;
 }
 
@@ -112,27 +122,13 @@ BodyEnvelopes body_envelopes(const std::vector<const btRigidBody*>& bodies, cons
   bullet::EnvelopeOptions options;
   options.upper = true;
   options.include_margin = false;
-  const bullet::EnvelopeGrid grid{like.x0, like.y0, like.cell};
-  EnvelopeRaster raster;
-  for (const btRigidBody* b : bodies) {
-    if (non_finite_state(*b) != 0) continue;
-    try {
-      bullet::rasterize_envelope(*b->getCollisionShape(), b->getWorldTransform(), grid, options, raster);
-    } catch (const std::exception&) {
-      continue;
-    }
-    for (int jj = 0; jj < raster.ny; ++jj)
-      for (int ii = 0; ii < raster.nx; ++ii) {
-        const std::int64_t i = raster.i0 + ii, j = raster.j0 + jj;
-        const std::size_t k =
-            static_cast<std::size_t>(jj) * static_cast<std::size_t>(raster.nx) + static_cast<std::size_t>(ii);
-        if (i < 0 || j < 0 || i >= like.nx || j >= like.ny || !raster.covers(k)) continue;
-        double& top = e.top.at(static_cast<int>(i), static_cast<int>(j));
-        double& bottom = e.bottom.at(static_cast<int>(i), static_cast<int>(j));
-        top = std::isfinite(top) ? std::max(top, raster.upper[k]) : raster.upper[k];
-        bottom = std::isfinite(bottom) ? std::min(bottom, raster.lower[k]) : raster.lower[k];
-      }
-  }
+  for_each_covered_pixel(bodies, {like.x0, like.y0, like.cell}, options, like.nx, like.ny,
+                         [&](int i, int j, const EnvelopeRaster& raster, std::size_t k) {
+                           double& top = e.top.at(i, j);
+                           double& bottom = e.bottom.at(i, j);
+                           top = std::isfinite(top) ? std::max(top, raster.upper[k]) : raster.upper[k];
+                           bottom = std::isfinite(bottom) ? std::min(bottom, raster.lower[k]) : raster.lower[k];
+                         });
   return e;
 }
 
