@@ -2,7 +2,7 @@
 # Installs the Debian packages Shore needs, only those missing. Usage:
 #   scripts/install-deps.sh [build|bench]   (bench adds the plotting tool)
 set -euo pipefail
-pkgs=(g++ make cmake ninja-build pkg-config libbullet-dev libeigen3-dev libgtest-dev libgmock-dev
+pkgs=(g++ binutils make cmake ninja-build pkg-config libbullet-dev libeigen3-dev libgtest-dev libgmock-dev
       libbenchmark-dev libcli11-dev nlohmann-json3-dev libstb-dev)
 if [[ "${1:-build}" == bench ]]; then pkgs+=(gnuplot-nox); fi
 

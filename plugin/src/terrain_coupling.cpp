@@ -269,7 +269,7 @@ void TerrainCoupling::apply_friction(btRigidBody& body, const btVector3& arm, do
   if (!(std::abs(det) > 0.0)) return;
   double px = -(k[1][1] * u.x() - k[0][1] * u.y()) / det;
   double py = -(-k[1][0] * u.x() + k[0][0] * u.y()) / det;
-  const double size = std::hypot(px, py);
+  const double size = std::sqrt(px * px + py * py);
   if (size > limit) {  // sliding: kinetic friction against the slip
     px *= limit / size;
     py *= limit / size;

@@ -3,26 +3,28 @@
 #include <algorithm>
 #include <cmath>
 
+#include "shore/core/det_math.h"
+
 namespace shore::terrain::bekker {
 
 double pressure(const Material& m, double b, double z) {
   if (z <= 0.0) return 0.0;
-  return (m.bekker_kc / b + m.bekker_kphi) * std::pow(z, m.bekker_n);
+  return (m.bekker_kc / b + m.bekker_kphi) * det::pow(z, m.bekker_n);
 }
 
 double plate_sinkage(const Material& m, double b, double p) {
   if (p <= 0.0) return 0.0;
-  return std::pow(p / (m.bekker_kc / b + m.bekker_kphi), 1.0 / m.bekker_n);
+  return det::pow(p / (m.bekker_kc / b + m.bekker_kphi), 1.0 / m.bekker_n);
 }
 
 double plate_sinkage_released(const Material& m, double b, double p) {
-  return std::pow(m.bekker_n + 1.0, 1.0 / m.bekker_n) * plate_sinkage(m, b, p);
+  return det::pow(m.bekker_n + 1.0, 1.0 / m.bekker_n) * plate_sinkage(m, b, p);
 }
 
 double wheel_sinkage_rolling(const Material& m, double W, double D, double b) {
   const double n = m.bekker_n;
   const double base = 3.0 * W / ((3.0 - n) * (m.bekker_kc + b * m.bekker_kphi) * std::sqrt(D));
-  return std::pow(base, 2.0 / (2.0 * n + 1.0));
+  return det::pow(base, 2.0 / (2.0 * n + 1.0));
 }
 
 namespace {
@@ -54,7 +56,7 @@ double wheel_sinkage_static(const Material& m, double W, double D, double b) {
 
 double wheel_compaction_resistance(const Material& m, double z0, double b) {
   const double n = m.bekker_n;
-  return (m.bekker_kc + b * m.bekker_kphi) * std::pow(z0, n + 1.0) / (n + 1.0);
+  return (m.bekker_kc + b * m.bekker_kphi) * det::pow(z0, n + 1.0) / (n + 1.0);
 }
 
 }  // namespace shore::terrain::bekker

@@ -16,6 +16,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "shore/core/det_math.h"
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
 #include "shore/terrain/bekker.h"
@@ -476,9 +477,9 @@ int Terrain::Impl::erode(Scratch& sc, bool to_rest) const {
   double thr[8][2], steep_limit[8][2], give_in[8];
   for (int d = 0; d < 8; ++d) {
     const double dist = d < 4 ? s.cell : diag;
-    thr[d][0] = dist * std::tan(m.theta_out);
-    thr[d][1] = dist * std::tan(m.theta_in);
-    const double stop = dist * std::tan(m.theta_stop);
+    thr[d][0] = dist * det::tan(m.theta_out);
+    thr[d][1] = dist * det::tan(m.theta_in);
+    const double stop = dist * det::tan(m.theta_stop);
     for (int c = 0; c < 2; ++c) steep_limit[d][c] = std::max(thr[d][c], stop) + stop_tolerance;
     give_in[d] = thr[d][1] + eps;
   }

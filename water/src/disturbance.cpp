@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "shore/core/det_math.h"
 #include "shore/core/error.h"
 
 namespace shore::water {
@@ -56,10 +57,10 @@ double axis_weight(const Disturbance& d, double offset, double half) {
   const double sigma = d.radius;
   if (d.shape == Disturbance::Shape::point) {
     const double s = offset / sigma;
-    return std::exp(-0.5 * s * s);
+    return det::exp(-0.5 * s * s);
   }
   const double k = 1.0 / (std::sqrt(2.0) * sigma);
-  return 0.5 * (std::erf((offset + half) * k) - std::erf((offset - half) * k));
+  return 0.5 * (det::erf((offset + half) * k) - det::erf((offset - half) * k));
 }
 }  // namespace
 

@@ -57,15 +57,16 @@ struct Extremes {
 /// Floats of scratch per thread the kernels need for a row of nx nodes.
 std::size_t workspace_floats_per_thread(int nx);
 
-// One substep in place. workspace: threads * workspace_floats_per_thread(nx) floats.
-// step_3d returns the measures of the positions it started from and the largest relative
-// velocity of a spring's ends it ended with.
-Extremes step_3d(const Grid& g, const Coefficients& k, int threads, float* workspace);
-void step_vertical(const Grid& g, const Coefficients& k, int threads, float* workspace);
-Extremes measure_3d(const Grid& g, const Coefficients& k, int threads);
+// One substep in place, with the AVX2 variant if avx2 (only where avx2_available()), else
+// the generic one. workspace: threads * workspace_floats_per_thread(nx) floats. step_3d
+// returns the measures of the positions it started from and the largest relative velocity
+// of a spring's ends it ended with.
+Extremes step_3d(bool avx2, const Grid& g, const Coefficients& k, int threads, float* workspace);
+void step_vertical(bool avx2, const Grid& g, const Coefficients& k, int threads, float* workspace);
+Extremes measure_3d(bool avx2, const Grid& g, const Coefficients& k, int threads);
 
-/// Whether the AVX2 variant runs on this CPU.
-bool uses_avx2();
+/// Whether this build has the AVX2 variant and this CPU can run it (AVX2 and FMA).
+bool avx2_available();
 
 namespace avx2 {
 Extremes step_3d(const Grid& g, const Coefficients& k, int threads, float* workspace);

@@ -51,6 +51,8 @@ void for_each_spring(int nx, int ny, Fn&& fn) {
 
 Surface::Surface(const SurfaceSettings& settings) : settings_(settings) {
   settings_.validate();
+  avx2_ = settings_.kernel == KernelChoice::avx2 ||
+          (settings_.kernel == KernelChoice::automatic && kernel::avx2_available());
   const std::size_t n = node_count();
   const bool full = settings_.mode == SurfaceMode::full_3d;
   const std::size_t fields = full ? 6 : 2;
@@ -79,7 +81,9 @@ void Surface::set_threads(int threads) {
   threads_ = threads;
 }
 
-const char* Surface::fast_kernel_isa() { return kernel::uses_avx2() ? "avx2" : "generic"; }
+const char* Surface::fast_kernel_isa() { return kernel::avx2_available() ? "avx2" : "generic"; }
+
+bool Surface::kernel_available(KernelChoice choice) { return choice != KernelChoice::avx2 || kernel::avx2_available(); }
 
 // ---- stepping ------------------------------------------------------------------------------
 
@@ -151,7 +155,8 @@ double Surface::omega_bound() const {
   if (!deformation_) {
     const kernel::Grid g = make_grid(nx(), ny(), ux_, uy_, uz_, vx_, vy_, vz_, constraints_);
     const kernel::Coefficients k = make_coefficients(settings_, 1.0);
-    deformation_ = deformation_of(kernel::measure_3d(g, k, resolve_threads(threads_, node_count())), k, 0.0, 0.0);
+    deformation_ =
+        deformation_of(kernel::measure_3d(avx2_, g, k, resolve_threads(threads_, node_count())), k, 0.0, 0.0);
   }
   return omega_bound_3d(p, deformation_->max_tension, deformation_->max_sin);
 }
@@ -202,7 +207,7 @@ void Surface::step_substep(double dt) {
   const kernel::Grid g = make_grid(nx(), ny(), ux_, uy_, uz_, vx_, vy_, vz_, constraints_);
   const kernel::Coefficients k = make_coefficients(settings_, dt);
   if (settings_.mode == SurfaceMode::full_3d) {
-    const kernel::Extremes e = kernel::step_3d(g, k, threads, workspace_.data());
+    const kernel::Extremes e = kernel::step_3d(avx2_, g, k, threads, workspace_.data());
     // Measured on the positions the substep started from; then every spring vector moved by
     // (v_b - v_a) dt with the new velocities: at most r dt for an axis spring, 2 r dt for a
     // diagonal (r the largest axis relative speed), plus a hair for rounding.
@@ -210,7 +215,7 @@ void Surface::step_substep(double dt) {
         std::sqrt(static_cast<double>(from_bits(e.relative))) * dt * (1.0 + 1e-6) + 1e-7 * settings_.lattice.spacing;
     deformation_ = deformation_of(e, k, slack, 2.0 * slack);
   } else {
-    kernel::step_vertical(g, k, threads, workspace_.data());
+    kernel::step_vertical(avx2_, g, k, threads, workspace_.data());
   }
 }
 

@@ -1,5 +1,7 @@
 #include "shore/water/surface_settings.h"
 
+#include "shore/water/surface.h"
+
 #include "shore/core/error.h"
 
 namespace shore::water {
@@ -23,6 +25,11 @@ void SurfaceSettings::validate() const {
   c.finite("rest_height", rest_height);
   c.positive("density", density);
   c.at_least("threads", threads, 0);
+  c.in_closed("kernel", static_cast<int>(kernel), 0, 2);
+  if (kernel == KernelChoice::avx2 && !Surface::kernel_available(KernelChoice::avx2))
+    throw InvalidSetting(c.name("kernel"), "avx2",
+                         "needs a build with the AVX2 kernel (SHORE_WATER_NO_AVX2=OFF, x86-64) and a CPU with AVX2 "
+                         "and FMA; use automatic or generic here");
   lattice.validate();
   guard.validate();
 }

@@ -93,8 +93,12 @@ class Surface {
   /// Threads for step() (0: OpenMP's default, at most one per 16384 nodes). Results do not
   /// depend on it.
   void set_threads(int threads);
-  /// "avx2" or "generic": the fast kernel's instruction set on this CPU.
+  /// "avx2" or "generic": the kernel KernelChoice::automatic picks on this CPU.
   [[nodiscard]] static const char* fast_kernel_isa();
+  /// Whether this build and CPU can run the kernel (automatic and generic always can).
+  [[nodiscard]] static bool kernel_available(KernelChoice kernel);
+  /// "avx2" or "generic": the kernel this surface steps with (SurfaceSettings::kernel).
+  [[nodiscard]] const char* kernel_isa() const noexcept { return avx2_ ? "avx2" : "generic"; }
   /// The guard's current bound on the highest lattice frequency (rad/s) from the present
   /// deformation.
   [[nodiscard]] double omega_bound() const;
@@ -189,6 +193,7 @@ class Surface {
 
   SurfaceSettings settings_;
   int threads_ = 0;
+  bool avx2_ = false;  // the step kernel: the AVX2 variant, or the generic one
   /// The float state lives in one buffer, each field staggered by a few cache lines so that
   /// same-index elements of different fields do not share cache sets (power-of-two grids).
   std::vector<float> storage_;

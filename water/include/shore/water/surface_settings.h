@@ -37,6 +37,14 @@ enum class SurfaceMode : std::uint8_t {
   vertical_only,
 };
 
+/// Which compiled step kernel runs. Both give the same bits in the default build
+/// (SHORE_CROSS_PLATFORM_DETERMINISTIC); forcing one is for tests and benchmarks.
+enum class KernelChoice : std::uint8_t {
+  automatic,  ///< AVX2 + FMA where the build has that variant and the CPU runs it, else generic
+  generic,    ///< the baseline-instruction-set variant
+  avx2,       ///< the AVX2 + FMA variant: invalid where it is not available
+};
+
 /// Stability guard: each step(dt) is split into enough substeps that the bound on the
 /// highest lattice frequency times the substep stays inside the stable range.
 struct GuardSettings {
@@ -64,6 +72,7 @@ struct SurfaceSettings {
   int threads = 0;  ///< OpenMP threads for the step, >= 0 (0: OpenMP's default, at most one
                     ///< per 16384 nodes). Results do not depend on it.
   GuardSettings guard;
+  KernelChoice kernel = KernelChoice::automatic;
 
   /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
   void validate() const;
