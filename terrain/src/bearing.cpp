@@ -15,16 +15,14 @@ namespace shore::terrain {
 std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s, const EnvelopeRaster& env,
                                            bool only_touching, double offset) {
   const double depth = s.material.soil_depth, tol = s.contact_tolerance;
-  // One slot per window column, filled tile by tile; uncovered slots keep lower = +inf.
-  std::vector<BearingColumn> columns(env.lower.size(), BearingColumn{0, 0, 0.0, 0.0, 0.0, kInf});
+  std::vector<BearingColumn> columns;
   store.for_each_run({env.i0, env.j0, env.nx, env.ny}, [&](const Tile* t, const TileRun& run) {
-    const std::size_t first = static_cast<std::size_t>(run.y) * static_cast<std::size_t>(env.nx) + run.x;
+    const double* lower = env.lower.data() + static_cast<std::size_t>(run.y) * env.nx + run.x;
     const std::int64_t i0 = env.i0 + run.x, j = env.j0 + run.y;
     for (int r = 0; r < run.count; ++r) {
-      const double e = env.lower[first + r];
+      const double e = lower[r];
       if (e == kInf) continue;
-      BearingColumn& c = columns[first + r];
-      c = {i0 + r, j, 0, 0, 0, e};
+      BearingColumn c{i0 + r, j, 0, 0, 0, e};
       if (t) {
         const std::size_t k = run.local + static_cast<std::size_t>(r);
         c.top = t->height[k], c.sink = t->sinkage[k], c.bed = t->base[k] - depth;
@@ -32,10 +30,9 @@ std::vector<BearingColumn> bearing_columns(const TileStore& store, const Terrain
         const double b = store.base_at(i0 + r, j);
         c.top = b, c.sink = 0.0, c.bed = b - depth;
       }
+      if (only_touching && !(e - offset <= c.top + tol)) continue;
+      columns.push_back(c);
     }
-  });
-  std::erase_if(columns, [&](const BearingColumn& c) {
-    return c.lower == kInf || (only_touching && !(c.lower - offset <= c.top + tol));
   });
   return columns;
 }

@@ -75,8 +75,8 @@ class TileStore {
   [[nodiscard]] std::size_t size() const noexcept { return tiles_.size(); }
   [[nodiscard]] std::vector<TileKey> sorted_keys() const;
 
-  /// Calls fn(tile, run) for every run of the rectangle, tile by tile (one lookup each) and
-  /// row by row within a tile; tile is null where the columns have no tile yet.
+  /// Calls fn(tile, run) for every run of the rectangle, row by row and left to right,
+  /// looking each tile up once; tile is null where the columns have no tile yet.
   template <class Fn>
   void for_each_run(const ColumnRect& r, Fn&& fn) const {
     walk(
@@ -86,7 +86,7 @@ class TileStore {
   template <class Fn>
   void for_each_run_creating(const ColumnRect& r, Fn&& fn) {
     walk(
-        r, [this](TileKey key) -> Tile& { return tile(key); }, fn);
+        r, [this](TileKey key) { return &tile(key); }, [&](Tile* t, const TileRun& run) { fn(*t, run); });
   }
   /// Heights (base: untouched ground) of a rectangle, row-major into out (nx * ny).
   void read(const ColumnRect& r, std::span<double> out, bool base) const;
@@ -102,30 +102,32 @@ class TileStore {
   [[nodiscard]] std::size_t bytes() const;  ///< heap memory: tiles, hash table, change list
 
  private:
+  // One band of tiles at a time: its tiles are looked up first (in x order), then its rows
+  // are walked run by run.
   template <class Lookup, class Fn>
   void walk(const ColumnRect& r, Lookup&& lookup, Fn&& fn) const {
     if (r.nx <= 0 || r.ny <= 0) return;
     const std::int64_t n = n_;
     const std::int64_t tx0 = floor_div(r.i0, n), tx1 = floor_div(r.i0 + r.nx - 1, n);
     const std::int64_t ty0 = floor_div(r.j0, n), ty1 = floor_div(r.j0 + r.ny - 1, n);
-    for (std::int64_t ty = ty0; ty <= ty1; ++ty)
-      for (std::int64_t tx = tx0; tx <= tx1; ++tx) {
-        const TileKey key{tx, ty};
-        auto&& t = lookup(key);
-        const std::int64_t ci0 = std::max(r.i0, tx * n), ci1 = std::min(r.i0 + r.nx, (tx + 1) * n);
-        const std::int64_t cj0 = std::max(r.j0, ty * n), cj1 = std::min(r.j0 + r.ny, (ty + 1) * n);
-        for (std::int64_t j = cj0; j < cj1; ++j) {
+    std::vector<decltype(lookup(TileKey{}))> band(static_cast<std::size_t>(tx1 - tx0 + 1));
+    for (std::int64_t ty = ty0; ty <= ty1; ++ty) {
+      for (std::int64_t tx = tx0; tx <= tx1; ++tx) band[static_cast<std::size_t>(tx - tx0)] = lookup(TileKey{tx, ty});
+      const std::int64_t cj0 = std::max(r.j0, ty * n), cj1 = std::min(r.j0 + r.ny, (ty + 1) * n);
+      for (std::int64_t j = cj0; j < cj1; ++j)
+        for (std::int64_t tx = tx0; tx <= tx1; ++tx) {
+          const std::int64_t ci0 = std::max(r.i0, tx * n), ci1 = std::min(r.i0 + r.nx, (tx + 1) * n);
           const int li = static_cast<int>(ci0 - tx * n), lj = static_cast<int>(j - ty * n);
-          const TileRun run{key,
+          const TileRun run{TileKey{tx, ty},
                             li,
                             lj,
                             static_cast<std::size_t>(lj) * static_cast<std::size_t>(n) + static_cast<std::size_t>(li),
                             static_cast<int>(ci0 - r.i0),
                             static_cast<int>(j - r.j0),
                             static_cast<int>(ci1 - ci0)};
-          fn(t, run);
+          fn(band[static_cast<std::size_t>(tx - tx0)], run);
         }
-      }
+    }
   }
 
   int n_ = 64;

@@ -42,6 +42,13 @@ std::vector<unsigned char> flags_with(const Region& r, int x0, int y0, int x1, i
   return flags;
 }
 
+// The contour map of a contact patch [x0, x1] x [y0, y1] of r.
+ContourStage contour_of_patch(const Region& r, int x0, int y0, int x1, int y1) {
+  ContourStage contour;
+  contour.run(r, flags_with(r, x0, y0, x1, y1, kCovered | kContact));
+  return contour;
+}
+
 int chessboard_to_outside(int x, int y, int x0, int y0, int x1, int y1) {
   return std::min({x - x0, x1 - x, y - y0, y1 - y}) + 1;
 }
@@ -50,9 +57,7 @@ int chessboard_to_outside(int x, int y, int x0, int y0, int x1, int y1) {
 
 TEST(ContourStage, ChessboardDistanceToTheEdgeOfAContactPatch) {
   const Region r = flat_region(11, 11);
-  const auto flags = flags_with(r, 2, 3, 8, 7, kCovered | kContact);  // 7 x 5 columns
-  ContourStage contour;
-  contour.run(r, flags);
+  const ContourStage contour = contour_of_patch(r, 2, 3, 8, 7);  // 7 x 5 columns
   for (int y = 0; y < r.h; ++y)
     for (int x = 0; x < r.w; ++x) {
       const bool inside = x >= 2 && x <= 8 && y >= 3 && y <= 7;
@@ -75,9 +80,7 @@ TEST(ContourStage, AGapInThePatchCountsAsContactButAnOpenEdgeDoesNot) {
 
 TEST(DisplaceStage, OneColumnSpreadsItsShareEvenlyOnItsRing) {
   Region r = flat_region(5, 5);
-  const auto flags = flags_with(r, 2, 2, 2, 2, kCovered | kContact);
-  ContourStage contour;
-  contour.run(r, flags);
+  const ContourStage contour = contour_of_patch(r, 2, 2, 2, 2);
   std::vector<double> displaced(r.size(), 0.0);
   displaced[r.at(2, 2)] = 1.0;
   DisplaceStage displace;
@@ -92,9 +95,7 @@ TEST(DisplaceStage, OneColumnSpreadsItsShareEvenlyOnItsRing) {
 
 TEST(DisplaceStage, ConservesVolumeAndLandsOnTheFirstRingOnly) {
   Region r = flat_region(13, 13);
-  const auto flags = flags_with(r, 3, 3, 9, 8, kCovered | kContact);
-  ContourStage contour;
-  contour.run(r, flags);
+  const ContourStage contour = contour_of_patch(r, 3, 3, 9, 8);
   std::vector<double> displaced(r.size(), 0.0);
   double pressed = 0.0;
   for (int y = 3; y <= 8; ++y)
