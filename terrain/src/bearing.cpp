@@ -4,13 +4,16 @@
 #include <cmath>
 #include <limits>
 
-#include "region.h"
 #include "shore/core/error.h"
 #include "shore/terrain/bekker.h"
 #include "terrain_impl.h"
 #include "validation.h"
 
 namespace shore::terrain {
+
+namespace {
+constexpr double kCarriesAnything = std::numeric_limits<double>::infinity();
+}  // namespace
 
 std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s, const EnvelopeRaster& env,
                                            bool only_touching, double offset) {
@@ -21,7 +24,7 @@ std::vector<BearingColumn> bearing_columns(const TileStore& store, const Terrain
     const std::int64_t i0 = env.i0 + run.x, j = env.j0 + run.y;
     for (int r = 0; r < run.count; ++r) {
       const double e = lower[r];
-      if (e == kInf) continue;
+      if (e == EnvelopeRaster::kNoLower) continue;  // not covered
       BearingColumn c{i0 + r, j, 0, 0, 0, e};
       if (t) {
         const std::size_t k = run.local + static_cast<std::size_t>(r);
@@ -62,7 +65,7 @@ Bearing capacity(std::span<const BearingColumn> columns, const TerrainSettings& 
     if (!(e <= c.top + tol)) continue;
     double force;
     if (rigid || e <= c.bed || c.top <= c.bed)
-      force = kInf;
+      force = kCarriesAnything;
     else
       force = bekker::pressure(s.material, b, c.sink + std::max(0.0, c.top - e)) * cell_area;
     out.capacity += force;

@@ -12,7 +12,7 @@ namespace shore::terrain {
 void ImprintStage::rasterize(const Region& region, std::span<const Imprint> imprints) {
   const std::size_t size = region.size();
   // Written in full before they are read (disp_ for every interior column, the only ones
-  // read), so they are only sized: clearing them each step cost more than the rest of a
+  // read), so they are only sized: clearing them each step costs more than the rest of a
   // small step's bookkeeping.
   for (auto* v : {&true_, &coll_, &star_low_, &disp_}) v->resize(size);
   plain_.assign(size, kInf);
