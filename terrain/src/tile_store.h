@@ -79,14 +79,14 @@ class TileStore {
   /// looking each tile up once; tile is null where the columns have no tile yet.
   template <class Fn>
   void for_each_run(const ColumnRect& r, Fn&& fn) const {
-    walk(
-        r, [this](TileKey key) { return find(key); }, fn);
+    const auto lookup = [this](TileKey key) { return find(key); };
+    walk(r, lookup, fn);
   }
   /// The same, creating the tiles the rectangle touches: fn(Tile&, run).
   template <class Fn>
   void for_each_run_creating(const ColumnRect& r, Fn&& fn) {
-    walk(
-        r, [this](TileKey key) { return &tile(key); }, [&](Tile* t, const TileRun& run) { fn(*t, run); });
+    const auto lookup = [this](TileKey key) { return &tile(key); };
+    walk(r, lookup, [&](Tile* t, const TileRun& run) { fn(*t, run); });
   }
   /// Heights (base: untouched ground) of a rectangle, row-major into out (nx * ny).
   void read(const ColumnRect& r, std::span<double> out, bool base) const;
@@ -118,13 +118,9 @@ class TileStore {
         for (std::int64_t tx = tx0; tx <= tx1; ++tx) {
           const std::int64_t ci0 = std::max(r.i0, tx * n), ci1 = std::min(r.i0 + r.nx, (tx + 1) * n);
           const int li = static_cast<int>(ci0 - tx * n), lj = static_cast<int>(j - ty * n);
-          const TileRun run{TileKey{tx, ty},
-                            li,
-                            lj,
-                            static_cast<std::size_t>(lj) * static_cast<std::size_t>(n) + static_cast<std::size_t>(li),
-                            static_cast<int>(ci0 - r.i0),
-                            static_cast<int>(j - r.j0),
-                            static_cast<int>(ci1 - ci0)};
+          const std::size_t local = static_cast<std::size_t>(lj) * static_cast<std::size_t>(n) + li;
+          const int x = static_cast<int>(ci0 - r.i0), y = static_cast<int>(j - r.j0);
+          const TileRun run{{tx, ty}, li, lj, local, x, y, static_cast<int>(ci1 - ci0)};
           fn(band[static_cast<std::size_t>(tx - tx0)], run);
         }
     }
