@@ -21,6 +21,7 @@
 #include <string>
 #include <system_error>
 
+#include "region.h"
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
 #include "terrain_impl.h"
@@ -92,16 +93,8 @@ std::uint64_t checksum(const unsigned char* data, std::size_t size) {
   return h.value();
 }
 
-}  // namespace
-
-void Terrain::save(const std::filesystem::path& file) const {
-  const Impl& im = *impl_;
-  const TerrainSettings& s = im.s;
+void write_settings(Writer& w, const TerrainSettings& s) {
   const Material& m = s.material;
-  Writer w;
-  for (char c : kMagic) w.put(c);
-  w.put(kVersion);
-  w.put(kByteOrderMark);
   w.put(s.cell), w.put(s.origin_x), w.put(s.origin_y);
   w.put(static_cast<std::int32_t>(s.tile_columns));
   w.put(s.base_height);
@@ -116,26 +109,16 @@ void Terrain::save(const std::filesystem::path& file) const {
                    m.friction, m.soil_depth})
     w.put(v);
   w.put(static_cast<std::uint8_t>(m.rigid ? 1 : 0));
-  w.put(im.compacted), w.put(im.edited);
-  w.put(static_cast<std::uint64_t>(im.unsettled.size()));
-  for (const ColumnRect& r : im.unsettled)
-    w.put(r.i0), w.put(r.j0), w.put(static_cast<std::int32_t>(r.nx)), w.put(static_cast<std::int32_t>(r.ny));
-  const std::vector<TileKey> keys = im.sorted_keys();
-  w.put(static_cast<std::uint64_t>(keys.size()));
-  for (const TileKey& key : keys) {
-    const Tile& t = *im.tiles.at(key);
-    w.put(key.tx), w.put(key.ty);
-    w.put_doubles(t.height), w.put_doubles(t.sinkage), w.put_doubles(t.base);
-  }
-  w.put(checksum(w.bytes.data(), w.bytes.size()));
+}
 
-  // Write beside the target, then rename: a reader never sees a half-written state.
+// Write beside the target, then rename: a reader never sees a half-written state.
+void write_file(const std::filesystem::path& file, const std::vector<unsigned char>& bytes) {
   std::filesystem::path temp = file;
   temp += ".tmp";
   {
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
     if (!out) throw FileError("terrain state " + file.string() + ": cannot open " + temp.string() + " for writing");
-    out.write(reinterpret_cast<const char*>(w.bytes.data()), static_cast<std::streamsize>(w.bytes.size()));
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     out.flush();
     if (!out) {
       std::error_code ignored;
@@ -152,21 +135,25 @@ void Terrain::save(const std::filesystem::path& file) const {
   }
 }
 
-Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const HeightSource> base) {
-  const std::string name = file.string();
+std::vector<unsigned char> read_file(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError("terrain state " + name + ": cannot open for reading");
+  if (!in) throw FileError("terrain state " + file.string() + ": cannot open for reading");
   std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw FileError("terrain state " + name + ": read failed");
+  if (in.bad()) throw FileError("terrain state " + file.string() + ": read failed");
+  return bytes;
+}
 
-  Reader r(bytes, bytes.size(), name);
+// Checks the magic, version, byte order and checksum. Returns a reader of what lies between
+// the header and the checksum, and sets version.
+Reader open_body(const std::vector<unsigned char>& bytes, const std::string& name, std::uint32_t& version) {
+  const Reader r(bytes, bytes.size(), name);
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     r.fail("not a Shore terrain state (magic \"SHORETRN\" missing)");
   if (bytes.size() < sizeof kMagic + 8 + 8) r.fail("truncated (file ends inside the header)");
   const std::size_t body = bytes.size() - sizeof(std::uint64_t);
   Reader hr(bytes, body, name);
   for (std::size_t k = 0; k < sizeof kMagic; ++k) hr.get<char>("magic");
-  const auto version = hr.get<std::uint32_t>("version");
+  version = hr.get<std::uint32_t>("version");
   if (version < kOldestVersion || version > kVersion)
     hr.fail("unsupported version " + std::to_string(version) + " (this build reads " + std::to_string(kOldestVersion) +
             " to " + std::to_string(kVersion) + ")");
@@ -175,7 +162,10 @@ Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const H
   std::uint64_t stored_sum = 0;
   std::memcpy(&stored_sum, bytes.data() + body, sizeof stored_sum);
   if (stored_sum != checksum(bytes.data(), body)) hr.fail("checksum mismatch (file truncated or corrupt)");
+  return hr;
+}
 
+TerrainSettings read_settings(Reader& hr, std::uint32_t version, std::shared_ptr<const HeightSource> base) {
   TerrainSettings s;
   s.cell = hr.get<double>("settings");
   s.origin_x = hr.get<double>("settings");
@@ -203,28 +193,29 @@ Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const H
   } catch (const InvalidSetting& e) {
     hr.fail(std::string("invalid settings: ") + e.what());
   }
+  return s;
+}
 
-  Terrain t(s);
-  Impl& im = *t.impl_;
-  im.compacted = hr.get<double>("volume bookkeeping");
-  im.edited = hr.get<double>("volume bookkeeping");
-  if (!std::isfinite(im.compacted) || !std::isfinite(im.edited)) hr.fail("volume bookkeeping is not finite");
-  if (version >= 2) {
-    const auto regions = hr.get<std::uint64_t>("eroding regions");
-    if (regions > hr.remaining() / 24) hr.fail("eroding region count " + std::to_string(regions) + " (corrupt)");
-    for (std::uint64_t k = 0; k < regions; ++k) {
-      ColumnRect box;
-      box.i0 = hr.get<std::int64_t>("eroding regions");
-      box.j0 = hr.get<std::int64_t>("eroding regions");
-      box.nx = hr.get<std::int32_t>("eroding regions");
-      box.ny = hr.get<std::int32_t>("eroding regions");
-      if (box.nx <= 0 || box.ny <= 0 || static_cast<std::int64_t>(box.nx) * box.ny > kMaxRegionColumns)
-        hr.fail("eroding region of " + std::to_string(box.nx) + " x " + std::to_string(box.ny) + " columns (corrupt)");
-      im.unsettled.push_back(box);
-    }
+std::vector<ColumnRect> read_unsettled(Reader& hr) {
+  std::vector<ColumnRect> boxes;
+  const auto regions = hr.get<std::uint64_t>("eroding regions");
+  if (regions > hr.remaining() / 24) hr.fail("eroding region count " + std::to_string(regions) + " (corrupt)");
+  for (std::uint64_t k = 0; k < regions; ++k) {
+    ColumnRect box;
+    box.i0 = hr.get<std::int64_t>("eroding regions");
+    box.j0 = hr.get<std::int64_t>("eroding regions");
+    box.nx = hr.get<std::int32_t>("eroding regions");
+    box.ny = hr.get<std::int32_t>("eroding regions");
+    if (box.nx <= 0 || box.ny <= 0 || static_cast<std::int64_t>(box.nx) * box.ny > kMaxRegionColumns)
+      hr.fail("eroding region of " + std::to_string(box.nx) + " x " + std::to_string(box.ny) + " columns (corrupt)");
+    boxes.push_back(box);
   }
+  return boxes;
+}
+
+void read_tiles(Reader& hr, int n, TileStore& store) {
   const auto count = hr.get<std::uint64_t>("tile count");
-  const std::size_t columns = static_cast<std::size_t>(s.tile_columns) * s.tile_columns;
+  const std::size_t columns = static_cast<std::size_t>(n) * n;
   const std::size_t tile_bytes = 2 * sizeof(std::int64_t) + 3 * columns * sizeof(double);
   if (count > hr.remaining() / tile_bytes || count * tile_bytes != hr.remaining())
     hr.fail("tile count " + std::to_string(count) + " does not match the file size");
@@ -232,18 +223,54 @@ Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const H
     TileKey key;
     key.tx = hr.get<std::int64_t>("tile");
     key.ty = hr.get<std::int64_t>("tile");
-    auto tile = std::make_unique<Tile>(s.tile_columns);
+    auto tile = std::make_unique<Tile>(n);
     hr.get_doubles(tile->height, "tile");
     hr.get_doubles(tile->sinkage, "tile");
     hr.get_doubles(tile->base, "tile");
     for (std::size_t c = 0; c < columns; ++c)
       if (!std::isfinite(tile->height[c]) || !std::isfinite(tile->sinkage[c]) || !std::isfinite(tile->base[c]))
         hr.fail("tile (" + std::to_string(key.tx) + ", " + std::to_string(key.ty) + ") holds a non-finite value");
-    tile->mark_dirty(0, 0, s.tile_columns - 1, s.tile_columns - 1);
-    if (!im.tiles.emplace(key, std::move(tile)).second)
+    if (!store.adopt(key, std::move(tile)))
       hr.fail("tile (" + std::to_string(key.tx) + ", " + std::to_string(key.ty) + ") appears twice");
-    im.dirty_keys.push_back(key);
   }
+}
+
+}  // namespace
+
+void Terrain::save(const std::filesystem::path& file) const {
+  const Impl& im = *impl_;
+  Writer w;
+  for (char c : kMagic) w.put(c);
+  w.put(kVersion);
+  w.put(kByteOrderMark);
+  write_settings(w, im.s);
+  w.put(im.compacted), w.put(im.edited);
+  w.put(static_cast<std::uint64_t>(im.unsettled.size()));
+  for (const ColumnRect& r : im.unsettled)
+    w.put(r.i0), w.put(r.j0), w.put(static_cast<std::int32_t>(r.nx)), w.put(static_cast<std::int32_t>(r.ny));
+  const std::vector<TileKey> keys = im.tiles.sorted_keys();
+  w.put(static_cast<std::uint64_t>(keys.size()));
+  for (const TileKey& key : keys) {
+    const Tile& t = *im.tiles.find(key);
+    w.put(key.tx), w.put(key.ty);
+    w.put_doubles(t.height), w.put_doubles(t.sinkage), w.put_doubles(t.base);
+  }
+  w.put(checksum(w.bytes.data(), w.bytes.size()));
+  write_file(file, w.bytes);
+}
+
+Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const HeightSource> base) {
+  const std::string name = file.string();
+  const std::vector<unsigned char> bytes = read_file(file);
+  std::uint32_t version = 0;
+  Reader hr = open_body(bytes, name, version);
+  Terrain t(read_settings(hr, version, std::move(base)));
+  Impl& im = *t.impl_;
+  im.compacted = hr.get<double>("volume bookkeeping");
+  im.edited = hr.get<double>("volume bookkeeping");
+  if (!std::isfinite(im.compacted) || !std::isfinite(im.edited)) hr.fail("volume bookkeeping is not finite");
+  if (version >= 2) im.unsettled = read_unsettled(hr);
+  read_tiles(hr, im.s.tile_columns, im.tiles);
   return t;
 }
 

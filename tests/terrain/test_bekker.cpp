@@ -1,5 +1,5 @@
-// The closed forms against the reference values of DESIGN.md section 5, which were
-// computed independently (by hand and with a separate integration).
+// The closed forms against reference values worked out independently: by hand (shown next
+// to each check) and with a separate integration.
 #include <gtest/gtest.h>
 
 #include <cmath>

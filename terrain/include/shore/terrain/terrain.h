@@ -1,49 +1,18 @@
 #pragma once
-// The deformable ground: a sparse grid of vertical soil columns (Sumner, O'Brien &
-// Hodgins 1998) with Bekker's bearing law (DESIGN.md section 3).
+// The deformable ground: a grid of vertical soil columns that bodies press into, that
+// carries them by Bekker's pressure-sinkage law and whose slopes slump (Sumner, O'Brien &
+// Hodgins 1998).
 //
-// Grid: column (i, j) stands at world (origin_x + i cell, origin_y + j cell) (see
-// shore/core/envelope.h). Storage is in square tiles created on first write, so a
-// 1 km field costs nothing until touched; reads of untouched columns come from the base
-// height source.
+// Column (i, j) stands at world (origin_x + i cell, origin_y + j cell) (see
+// shore/core/envelope.h). Storage is created on first write, so a large field costs nothing
+// until touched; untouched columns read the base height source. Each column keeps its
+// height (the collision surface bodies feel) and its sinkage (how far the true envelope
+// has pressed it; bearing reads it, so reloading to the same pressure sinks no further).
 //
-// Two per-column quantities are kept apart:
-// - height: the collision surface bodies feel (may be lowered further by the
-//   conservative "star" imprint);
-// - sinkage: the soil state, how far the column has been pressed below its uncompacted
-//   level by the true envelope. Bekker's law reads sinkage, so a star imprint does not
-//   inflate bearing capacity, and reloading to the same pressure sinks no further.
-//
-// One step (Terrain::step), over the active region only (each pressing imprint's covered
-// columns within active_reach of the soil, the same from the last step, and slopes left
-// too steep by the pass cap, enlarged by active_margin; touching regions merge), gathered
-// into dense arrays with a one-column halo and scattered back:
-// 1. Collision: a column whose top lies above the collision surface (the offset envelope,
-//    or its star-lowered version) is pushed down to it, never below bedrock; a column is
-//    in contact when the surface lies within contact_tolerance of its top. Sinkage grows
-//    by how far the TRUE offset envelope pressed the column below its previous top.
-// 2. Contour map: chessboard (8-connected) distance in columns from each contact column
-//    to the nearest column not in contact.
-// 3. Displacement: alpha of each column's pushed-down height is carried to the neighbours
-//    with lower contour values, split equally, until it lands on the first ring outside
-//    the contact area; 1 - alpha is compacted (VolumeTotals::compacted).
-// 4. Erosion (Jacobi passes): a pair of 8-neighbours is too steep when the height
-//    difference exceeds dist * tan(theta), theta = theta_in toward a column lying under a
-//    body (its envelope covers the column within active_reach) and theta_out otherwise. A column moves sigma
-//    times the average excess over the limit, shared equally among its too-steep downhill
-//    neighbours, never more than it holds above bedrock. Contact columns are held by the
-//    body (they neither give nor receive); a column under a body but not touching it
-//    receives at most the room up to the collision surface. Passes repeat while material
-//    moves and some moving pair is steeper than theta_stop, at most max_erosion_passes;
-//    after the first pass only columns within two of such a pair give (elsewhere erosion
-//    has ended, whatever else shares the region).
-//    Only the region's columns give; the halo only receives. Erosion stopped by the pass
-//    cap while slopes are still steeper than theta_stop carries on over those columns in
-//    the next step, with or without a body there: the cap limits the flow rate, it does
-//    not freeze slopes.
-// Spray particles are not simulated: VolumeTotals::airborne stays 0.
-// Every pass is Jacobi-style with fixed reduction order: results are bit-identical for
-// any thread count.
+// Per substep, step() takes every body's lower envelope (an Imprint) and presses, displaces
+// and erodes the soil near them; bearing() says what the soil under an envelope carries,
+// bearing_offset() how far it sinks under a load. Results are bit-identical for any thread
+// count. docs/terrain.md describes the pipeline stage by stage.
 
 #include <cstdint>
 #include <filesystem>

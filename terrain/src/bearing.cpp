@@ -1,0 +1,133 @@
+#include "bearing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "shore/core/error.h"
+#include "shore/terrain/bekker.h"
+#include "terrain_impl.h"
+#include "validation.h"
+
+namespace shore::terrain {
+
+namespace {
+constexpr double kCarriesAnything = std::numeric_limits<double>::infinity();
+}  // namespace
+
+std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s, const EnvelopeRaster& env,
+                                           bool only_touching, double offset) {
+  const double depth = s.material.soil_depth, tol = s.contact_tolerance;
+  std::vector<BearingColumn> columns;
+  store.for_each_run({env.i0, env.j0, env.nx, env.ny}, [&](const Tile* t, const TileRun& run) {
+    const double* lower = env.lower.data() + static_cast<std::size_t>(run.y) * env.nx + run.x;
+    const std::int64_t i0 = env.i0 + run.x, j = env.j0 + run.y;
+    for (int r = 0; r < run.count; ++r) {
+      const double e = lower[r];
+      if (e == EnvelopeRaster::kNoLower) continue;  // not covered
+      BearingColumn c{i0 + r, j, 0, 0, 0, e};
+      if (t) {
+        const std::size_t k = run.local + static_cast<std::size_t>(r);
+        c.top = t->height[k], c.sink = t->sinkage[k], c.bed = t->base[k] - depth;
+      } else {
+        const double b = store.base_at(i0 + r, j);
+        c.top = b, c.sink = 0.0, c.bed = b - depth;
+      }
+      if (only_touching && !(e - offset <= c.top + tol)) continue;
+      columns.push_back(c);
+    }
+  });
+  return columns;
+}
+
+// A column touches when the envelope is within contact_tolerance of its top; its sinkage if
+// pressed to the envelope is its plastic sinkage plus how far the envelope lies below its
+// top. b is the smaller side of the touching columns' bounding box (each column counts as
+// one cell wide). A touched column at bedrock carries anything.
+Bearing capacity(std::span<const BearingColumn> columns, const TerrainSettings& s, double offset, bool with_columns) {
+  Bearing out;
+  const double tol = s.contact_tolerance;
+  std::int64_t i0 = std::numeric_limits<std::int64_t>::max(), j0 = i0;
+  std::int64_t i1 = std::numeric_limits<std::int64_t>::min(), j1 = i1;
+  for (const BearingColumn& c : columns) {
+    if (!(c.lower - offset <= c.top + tol)) continue;
+    ++out.contact_columns;
+    i0 = std::min(i0, c.i), i1 = std::max(i1, c.i), j0 = std::min(j0, c.j), j1 = std::max(j1, c.j);
+  }
+  if (out.contact_columns == 0) return out;
+  const double b = static_cast<double>(std::min(i1 - i0 + 1, j1 - j0 + 1)) * s.cell;
+  out.patch_width = b;
+  const bool rigid = s.material.rigid;
+  const double cell_area = s.cell * s.cell;
+  if (with_columns) out.columns.reserve(static_cast<std::size_t>(out.contact_columns));
+  for (const BearingColumn& c : columns) {
+    const double e = c.lower - offset;
+    if (!(e <= c.top + tol)) continue;
+    double force;
+    if (rigid || e <= c.bed || c.top <= c.bed)
+      force = kCarriesAnything;
+    else
+      force = bekker::pressure(s.material, b, c.sink + std::max(0.0, c.top - e)) * cell_area;
+    out.capacity += force;
+    if (with_columns) out.columns.push_back({c.i, c.j, force});
+  }
+  return out;
+}
+
+// Capacity grows with the offset (more columns touch, each sinks further), so a bracket
+// [lo, hi] with capacity(lo) < load <= capacity(hi) is narrowed by regula falsi (Illinois
+// variant), falling back to bisection, until it is 1e-7 m wide; the upper end is returned
+// so the soil carries at least the load.
+double offset_for_load(std::span<const BearingColumn> columns, const TerrainSettings& s, double load) {
+  if (columns.empty()) return 0.0;  // the body covers no column: nothing to sink into
+  auto f = [&](double o) { return capacity(columns, s, o, false).capacity - load; };
+  double f_lo = f(0.0);
+  if (f_lo >= 0.0) return 0.0;
+  // Every covered column at bedrock bears anything: that offset closes the bracket.
+  double limit = 0.0;
+  for (const auto& c : columns) limit = std::max(limit, c.lower - c.bed);
+  double lo = 0.0, hi = std::min(1e-3, limit), f_hi = f(hi);
+  while (f_hi < 0.0 && hi < limit) {
+    lo = hi, f_lo = f_hi;
+    hi = std::min(2.0 * hi, limit);
+    f_hi = f(hi);
+  }
+  if (f_hi < 0.0) return limit;  // unreachable (bedrock carries anything); kept as a guard
+  constexpr double kTolerance = 1e-7;
+  int side = 0;
+  for (int it = 0; it < 200 && hi - lo > kTolerance; ++it) {
+    double mid = 0.5 * (lo + hi);
+    if (std::isfinite(f_hi)) {
+      const double secant = lo - f_lo * (hi - lo) / (f_hi - f_lo);
+      if (secant > lo && secant < hi) mid = secant;
+    }
+    // Keep the step from crawling when one end stalls.
+    mid = std::clamp(mid, lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo));
+    const double f_mid = f(mid);
+    if (f_mid < 0.0) {
+      lo = mid, f_lo = f_mid;
+      if (side == -1) f_hi *= 0.5;
+      side = -1;
+    } else {
+      hi = mid, f_hi = f_mid;
+      if (side == 1) f_lo *= 0.5;
+      side = 1;
+    }
+  }
+  return hi;
+}
+
+Bearing Terrain::bearing(const EnvelopeRaster& envelope, double offset) const {
+  check_envelope(&envelope, "terrain.Terrain.bearing.envelope");
+  Check{"terrain.Terrain.bearing"}.non_negative("offset", offset);
+  const std::vector<BearingColumn> columns = bearing_columns(impl_->tiles, impl_->s, envelope, true, offset);
+  return capacity(columns, impl_->s, offset, true);
+}
+
+double Terrain::bearing_offset(const EnvelopeRaster& envelope, double load) const {
+  check_envelope(&envelope, "terrain.Terrain.bearing_offset.envelope");
+  Check{"terrain.Terrain.bearing_offset"}.non_negative("load", load);
+  return offset_for_load(bearing_columns(impl_->tiles, impl_->s, envelope, false, 0.0), impl_->s, load);
+}
+
+}  // namespace shore::terrain

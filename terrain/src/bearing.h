@@ -1,0 +1,34 @@
+#pragma once
+// Private: what the soil under an envelope can bear (Bekker's law on the columns it
+// touches), and the offset at which it bears a load.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "shore/core/envelope.h"
+#include "shore/terrain/terrain.h"
+#include "tile_store.h"
+
+namespace shore::terrain {
+
+/// One column an envelope covers, with its soil state.
+struct BearingColumn {
+  std::int64_t i = 0, j = 0;
+  double top = 0.0;    ///< m, column top
+  double sink = 0.0;   ///< m, plastic sinkage
+  double bed = 0.0;    ///< m, bedrock
+  double lower = 0.0;  ///< m, the envelope above it
+};
+
+/// The columns the envelope covers, in window order. With only_touching, only those the
+/// envelope lowered by `offset` touches (bearing at one offset needs no others). Reads only.
+[[nodiscard]] std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s,
+                                                         const EnvelopeRaster& env, bool only_touching, double offset);
+/// Bekker capacity of the columns the envelope, lowered by offset, touches (Terrain::bearing).
+[[nodiscard]] Bearing capacity(std::span<const BearingColumn> columns, const TerrainSettings& s, double offset,
+                               bool with_columns);
+/// The offset at which the capacity equals load (Terrain::bearing_offset).
+[[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, const TerrainSettings& s, double load);
+
+}  // namespace shore::terrain

@@ -1,0 +1,46 @@
+#pragma once
+// Private: one step's work on one active region, stage after stage:
+//   gather      the region plus a one-column halo, from the tiles   (region.h)
+//   imprint     rasterize the envelopes, collide                     (stage_imprint.h)
+//   contour     distance from each contact column to open soil       (stage_contour.h)
+//   displace    carry the displaced soil down the contour levels     (stage_displace.h)
+//   erode       Jacobi passes on too-steep slopes                    (stage_erode.h)
+//   loosen      soil laid on a column lowers its recorded sinkage
+//   scatter     back into the tiles, marking what changed            (region.h)
+// Each stage owns its scratch arrays and reads the others' results by const reference.
+
+#include <cstddef>
+#include <span>
+
+#include "region.h"
+#include "shore/terrain/terrain.h"
+#include "stage_contour.h"
+#include "stage_displace.h"
+#include "stage_erode.h"
+#include "stage_imprint.h"
+#include "tile_store.h"
+
+namespace shore::terrain {
+
+class Pipeline {
+ public:
+  /// One step over `region` (halo excluded) for all imprints.
+  StepReport run(TileStore& store, const TerrainSettings& s, const ColumnRect& region,
+                 std::span<const Imprint> imprints);
+  /// Erosion alone, to rest, over `region` (Terrain::relax).
+  StepReport relax(TileStore& store, const TerrainSettings& s, const ColumnRect& region);
+  /// After run or relax: the slopes the pass cap left too steep (ErodeStage::still_flowing).
+  [[nodiscard]] const ColumnRect& still_flowing() const { return erode_.still_flowing(); }
+  [[nodiscard]] std::size_t bytes() const;
+
+ private:
+  void gather(TileStore& store, const TerrainSettings& s, const ColumnRect& region);
+
+  Region region_;
+  ImprintStage imprint_;
+  ContourStage contour_;
+  DisplaceStage displace_;
+  ErodeStage erode_;
+};
+
+}  // namespace shore::terrain

@@ -1,0 +1,46 @@
+#include "region.h"
+
+#include <cstring>
+
+#include "capacity_bytes.h"
+
+namespace shore::terrain {
+
+void Region::prepare(const ColumnRect& with_halo, int thread_count, int parallel_min_columns) {
+  si0 = with_halo.i0, sj0 = with_halo.j0, w = with_halo.nx, h = with_halo.ny;
+  threads = thread_count;
+  parallel = threads > 1 && static_cast<std::int64_t>(w) * h >= parallel_min_columns;
+}
+
+void Region::gather(TileStore& store, double soil_depth) {
+  // Sized, not cleared: gather writes every column.
+  for (auto* v : {&ht, &sink, &bed}) v->resize(size());
+  store.for_each_run_creating({si0, sj0, w, h}, [&](Tile& t, const TileRun& run) {
+    const std::size_t src = run.local;
+    const std::size_t dst = at(run.x, run.y);
+    std::memcpy(&ht[dst], &t.height[src], sizeof(double) * run.count);
+    std::memcpy(&sink[dst], &t.sinkage[src], sizeof(double) * run.count);
+    for (int k = 0; k < run.count; ++k) bed[dst + k] = t.base[src + k] - soil_depth;
+  });
+  ht_orig = ht;
+}
+
+void Region::scatter(TileStore& store) const {
+  store.for_each_run_creating({si0, sj0, w, h}, [&](Tile& t, const TileRun& run) {
+    const std::size_t src = at(run.x, run.y);
+    const std::size_t dst = run.local;
+    int first = -1, last = -1;
+    for (int k = 0; k < run.count; ++k)
+      if (ht[src + k] != ht_orig[src + k]) {
+        if (first < 0) first = k;
+        last = k;
+      }
+    std::memcpy(&t.height[dst], &ht[src], sizeof(double) * run.count);
+    std::memcpy(&t.sinkage[dst], &sink[src], sizeof(double) * run.count);
+    if (first >= 0) store.mark_changed(run.key, t, run.li + first, run.lj, run.li + last, run.lj);
+  });
+}
+
+std::size_t Region::bytes() const { return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed); }
+
+}  // namespace shore::terrain

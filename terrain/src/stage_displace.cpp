@@ -1,0 +1,60 @@
+#include "stage_displace.h"
+
+#include <algorithm>
+
+#include "capacity_bytes.h"
+#include "neighbours.h"
+
+namespace shore::terrain {
+
+// Counting sort of the contact columns (level > 0) by level, highest first; within a level
+// in index order.
+void DisplaceStage::sort_by_level(std::span<const int> levels, int top_level) {
+  count_.assign(static_cast<std::size_t>(top_level) + 2, 0);
+  for (int c : levels)
+    if (c > 0) ++count_[static_cast<std::size_t>(top_level - c) + 1];
+  for (std::size_t l = 1; l < count_.size(); ++l) count_[l] += count_[l - 1];
+  order_.resize(static_cast<std::size_t>(count_.back()));
+  for (std::size_t k = 0; k < levels.size(); ++k)
+    if (levels[k] > 0) order_[static_cast<std::size_t>(count_[static_cast<std::size_t>(top_level - levels[k])]++)] = k;
+}
+
+double DisplaceStage::run(Region& region, std::span<const int> levels, std::span<const double> displaced,
+                          double alpha) {
+  int top_level = 0;
+  for (int c : levels) top_level = std::max(top_level, c);
+  if (top_level == 0) return 0.0;
+  sort_by_level(levels, top_level);
+  carry_.resize(levels.size());  // only the contact columns' entries are used, each set below
+
+  const auto off = neighbour_offsets(region.w);
+  double kept = 0.0;
+  for (std::size_t k : order_) carry_[k] = 0.0;
+  for (std::size_t k : order_) {
+    const double moved = alpha * displaced[k];
+    kept += displaced[k] - moved;
+    carry_[k] += moved;
+  }
+  for (std::size_t k : order_) {
+    const double carry = carry_[k];
+    if (carry == 0.0) continue;
+    const int level = levels[k];
+    int lower = 0;
+    for (int d = 0; d < 8; ++d)  // contact columns are interior: neighbours exist
+      if (levels[k + off[d]] < level) ++lower;
+    const double share = carry / lower;
+    for (int d = 0; d < 8; ++d) {
+      const std::size_t nk = k + off[d];
+      if (levels[nk] >= level) continue;
+      if (levels[nk] == 0)
+        region.ht[nk] += share;
+      else
+        carry_[nk] += share;
+    }
+  }
+  return kept;
+}
+
+std::size_t DisplaceStage::bytes() const { return capacity_bytes(count_, order_, carry_); }
+
+}  // namespace shore::terrain

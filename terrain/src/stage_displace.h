@@ -1,0 +1,31 @@
+#pragma once
+// Private: displacement, the third stage of a step. The share alpha of each contact
+// column's displaced height is carried outward, split equally among the neighbours with a
+// lower contour level, level by level, until it lands on the first ring outside the contact
+// area (level 0), which rises. The rest (1 - alpha) is compacted.
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "region.h"
+
+namespace shore::terrain {
+
+class DisplaceStage {
+ public:
+  /// Moves the displaced soil (ImprintStage::displaced) down the contour levels
+  /// (ContourStage::levels) onto region.ht. Returns the compacted height, m (sum over
+  /// columns). Serial in a fixed order: cheap, it visits contact columns only.
+  double run(Region& region, std::span<const int> levels, std::span<const double> displaced, double alpha);
+  [[nodiscard]] std::size_t bytes() const;
+
+ private:
+  void sort_by_level(std::span<const int> levels, int top_level);
+
+  std::vector<int> count_;          ///< counting sort: columns per level
+  std::vector<std::size_t> order_;  ///< contact columns, highest level first
+  std::vector<double> carry_;       ///< soil on its way through each contact column
+};
+
+}  // namespace shore::terrain

@@ -1,0 +1,110 @@
+#pragma once
+// Private: erosion, the last stage of a step and the whole of Terrain::relax (Sumner et al.
+// eq. 1-2). Jacobi passes: each pass computes every column's flow from the heights as the
+// pass found them, then applies all of it, so threads never change the result.
+//
+// Choices where the paper leaves room:
+// - a pair is too steep when h_ij - h_kl exceeds dist * tan(theta) (theta_in if column kl
+//   lies under a body, theta_out otherwise); the column moves sigma times the average
+//   EXCESS over that limit, shared equally among its too-steep downhill neighbours, so
+//   slopes settle at the threshold instead of below it;
+// - contact columns are held by the body: they neither give nor receive;
+// - a column under a body but not touching it (the body overhangs) receives at most the
+//   room between its top and the collision surface, split over this pass's givers;
+// - no column gives more than it holds above bedrock;
+// - only interior columns give; the one-column halo around the region only receives;
+// - passes repeat while material moves and (unless to_rest) some moving pair is steeper
+//   than theta_stop, up to max_erosion_passes (tolerances in ErosionLimits); a pair whose
+//   flow is capped by the body above the lower column does not count (the body holds that
+//   slope);
+// - after the first pass (unless to_rest), only columns within two of a giver that still
+//   had such a steep pair in the last pass give: elsewhere every slope is within the stop
+//   tolerance and erosion has ended there, as it would in a region of its own. So a slope
+//   does not creep on because a steep pair somewhere else shares its active region.
+//
+// Work per pass follows the columns that changed. A giver's flow depends only on its own
+// height and its neighbours' heights and caps (a cap under a body depends on that column's
+// neighbours too), so after the first pass only columns whose inputs changed in the last
+// pass are evaluated; any other gives exactly what it gave before: nothing.
+//
+// One pass, part by part:
+// - planning (stage_erode_plan.cpp): the limits, who may give, which columns the pass
+//   visits, when passes stop and what carries over to the next step;
+// - caps (stage_erode_caps.cpp): what each column under a body may receive per giver;
+// - shares (stage_erode_shares.cpp): what each giver gives each too-steep neighbour;
+// - flow (stage_erode_flow.cpp): every giver and receiver updates its height.
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "column_bits.h"
+#include "region.h"
+#include "shore/terrain/terrain.h"
+
+namespace shore::terrain {
+
+/// The slope limits of an erosion, from the settings. Per direction d (kDx, kDy) and kind
+/// of lower column c ([0] in the open: theta_out, [1] under a body: theta_in).
+struct ErosionLimits {
+  double eps = 0.0;               ///< m: smaller moves are ignored
+  double thr[8][2] = {};          ///< m: the height difference a pair may keep
+  double steep_limit[8][2] = {};  ///< m: what a moving pair must exceed to count as steep
+  double give_in[8] = {};         ///< m: what a giver must exceed toward a column under a body
+  /// m: a column less than this above (least_give_in: below) all its neighbours can neither
+  /// give nor be given to, so most columns are dismissed without the pair tests.
+  double least_give = 0.0, least_give_in = 0.0;
+  double sigma = 0.0;  ///< share of the excess that moves per pass
+
+  [[nodiscard]] static ErosionLimits from(const TerrainSettings& s);
+};
+
+class ErodeStage {
+ public:
+  /// Runs the passes on region.ht. flags: ImprintStage::flags; body: the body surface above
+  /// each column (ImprintStage::body). to_rest: run until nothing moves (theta_stop
+  /// ignored). Returns the number of passes that moved soil.
+  int run(Region& region, std::span<const unsigned char> flags, std::span<const double> body, const TerrainSettings& s,
+          bool to_rest);
+  /// Set by run when it stopped at max_erosion_passes with slopes still too steep: the
+  /// bounding box of the last pass's givers that had such a pair (global columns), to carry
+  /// on with next step; else nx = 0.
+  [[nodiscard]] const ColumnRect& still_flowing() const { return still_flowing_; }
+  [[nodiscard]] std::size_t bytes() const;
+
+ private:
+  // planning
+  void assign_roles(const Region& region, std::span<const unsigned char> flags);
+  void plan_pass(int pass, bool to_rest);
+  void find_still_flowing(const Region& region, int passes, int max_passes);
+  // caps
+  void compute_caps(const Region& region, std::span<const unsigned char> flags, std::span<const double> body);
+  // shares
+  bool compute_shares(const Region& region);
+  // flow
+  void mark_receivers(const Region& region);
+  void move_soil(Region& region);
+  void clear_givers(const Region& region);
+
+  ErosionLimits lim_;
+  // Per column.
+  std::vector<double> q_;                ///< a giver's share per too-steep neighbour, m
+  std::vector<double> out_;              ///< what a giver gives in all, m
+  std::vector<double> cap_;              ///< the most one neighbour may give it: 0 in contact, +inf in the open
+  std::vector<unsigned char> mask_;      ///< a giver's too-steep directions (bit d)
+  std::vector<unsigned char> cover_;     ///< 1 under a body: selects the limit toward it
+  std::vector<unsigned char> row_flow_;  ///< per row: something flows this pass
+  // Column sets.
+  ColumnBits givable_;       ///< may give: interior, not in contact
+  ColumnBits overhang_;      ///< under a body, not in contact: capped
+  ColumnBits cand_;          ///< evaluated this pass
+  ColumnBits changed_;       ///< height changed in the last pass
+  ColumnBits givers_;        ///< give this pass
+  ColumnBits near_;          ///< givers and their receivers (and, planning, what changed)
+  ColumnBits recap_;         ///< caps to recompute this pass
+  ColumnBits steep_givers_;  ///< givers with a pair steeper than theta_stop
+  ColumnBits live_;          ///< planning scratch: steep givers grown by one
+  ColumnRect still_flowing_;
+};
+
+}  // namespace shore::terrain

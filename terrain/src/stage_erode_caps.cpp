@@ -1,0 +1,39 @@
+// Erosion caps: a column under a body but not touching it may receive only the room up to
+// the body, split over the columns that will give to it this pass (the same test the
+// givers make), so it fills in one pass instead of creeping up on the body.
+
+#include <algorithm>
+
+#include "neighbours.h"
+#include "stage_erode.h"
+#include "stage_imprint.h"
+
+namespace shore::terrain {
+
+void ErodeStage::compute_caps(const Region& region, std::span<const unsigned char> flags,
+                              std::span<const double> body) {
+  const int w = region.w;
+  const auto off = neighbour_offsets(w);
+  const double eps = lim_.eps, least_give_in = lim_.least_give_in;
+  double give_in[8];
+  std::copy(std::begin(lim_.give_in), std::end(lim_.give_in), give_in);
+  region.for_rows(0, region.h, [&](int y) {
+    recap_.for_each_in_row(y, [&](int x) {
+      const std::size_t k = region.at(x, y);
+      const double hk = region.ht[k];
+      const double room = body[k] - hk;
+      int count = 0;
+      const double highest = neighbour_extreme(&region.ht[k], w, [](double a, double b) { return std::max(a, b); });
+      if (room > eps && highest - hk > least_give_in)
+#pragma GCC unroll 8
+        for (int d = 0; d < 8; ++d) {
+          const std::size_t nk = k + off[d];
+          if ((flags[nk] & (kInterior | kContact)) != kInterior) continue;
+          if (region.ht[nk] - hk > give_in[d]) ++count;
+        }
+      cap_[k] = count > 0 ? room / count : 0.0;
+    });
+  });
+}
+
+}  // namespace shore::terrain

@@ -1,0 +1,136 @@
+// Erosion planning: the limits, who may give, which columns each pass visits, when passes
+// stop and what carries over to the next step.
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "capacity_bytes.h"
+#include "shore/core/det_math.h"
+#include "stage_erode.h"
+#include "stage_imprint.h"
+
+namespace shore::terrain {
+
+ErosionLimits ErosionLimits::from(const TerrainSettings& s) {
+  const Material& m = s.material;
+  ErosionLimits lim;
+  const double diag = std::numbers::sqrt2 * s.cell;
+  // Moves of less than 1e-3 cell are ignored, so a relaxing slope comes to rest (within
+  // 0.06 degrees of its threshold at most) in a finite number of passes.
+  lim.eps = 1e-3 * s.cell;
+  // A moving pair counts as steeper than theta_stop only when it exceeds both theta_stop and
+  // its own threshold by 5 % of a cell. Every preset has theta_stop equal to theta_in or
+  // theta_out, and the excess over a threshold only decays geometrically, so without the
+  // margin the last creeping pair would keep the passes going to the cap.
+  const double stop_tolerance = 5e-2 * s.cell;
+  for (int d = 0; d < 8; ++d) {
+    const double dist = d < 4 ? s.cell : diag;
+    lim.thr[d][0] = dist * det::tan(m.theta_out);
+    lim.thr[d][1] = dist * det::tan(m.theta_in);
+    const double stop = dist * det::tan(m.theta_stop);
+    for (int c = 0; c < 2; ++c) lim.steep_limit[d][c] = std::max(lim.thr[d][c], stop) + stop_tolerance;
+    lim.give_in[d] = lim.thr[d][1] + lim.eps;
+  }
+  lim.least_give = kInf, lim.least_give_in = kInf;
+  for (int d = 0; d < 8; ++d) {
+    lim.least_give = std::min({lim.least_give, lim.thr[d][0] + lim.eps, lim.thr[d][1] + lim.eps});
+    lim.least_give_in = std::min(lim.least_give_in, lim.give_in[d]);
+  }
+  lim.sigma = m.sigma;
+  return lim;
+}
+
+int ErodeStage::run(Region& region, std::span<const unsigned char> flags, std::span<const double> body,
+                    const TerrainSettings& s, bool to_rest) {
+  lim_ = ErosionLimits::from(s);
+  assign_roles(region, flags);
+  int passes = 0;
+  while (passes < s.max_erosion_passes) {
+    plan_pass(passes, to_rest);
+    // From the old heights: the caps, then each giver's shares.
+    compute_caps(region, flags, body);
+    const bool flow = compute_shares(region);
+    const bool steep = steep_givers_.any();
+    if (!flow) break;
+    if (passes > 0 && !steep && !to_rest) break;
+    // Every giver and receiver takes what it gave off and gathers what it was given.
+    mark_receivers(region);
+    move_soil(region);
+    clear_givers(region);
+    ++passes;
+  }
+  find_still_flowing(region, passes, s.max_erosion_passes);
+  return passes;
+}
+
+// Fixed for the whole erosion: who may give, and the caps of columns not under a body.
+void ErodeStage::assign_roles(const Region& region, std::span<const unsigned char> flags) {
+  const int w = region.w, h = region.h;
+  const std::size_t size = region.size();
+  // q_ is written for every giver before a receiver reads it; the rest is set below.
+  for (auto* v : {&q_, &out_, &cap_}) v->resize(size);
+  mask_.resize(size);
+  cover_.resize(size);
+  givable_.reset(w, h), overhang_.reset(w, h);
+  for (int y = 0; y < h; ++y) {
+    std::uint64_t* give_row = givable_.row(y);
+    std::uint64_t* over_row = overhang_.row(y);
+    for (int x = 0; x < w; ++x) {
+      const std::size_t k = region.at(x, y);
+      const unsigned char f = flags[k];
+      mask_[k] = 0;
+      out_[k] = 0.0;
+      cover_[k] = (f & kCovered) ? 1 : 0;
+      cap_[k] = (f & kContact) ? 0.0 : kInf;  // under a body: set each pass
+      // covered columns are interior (see ImprintStage::collide)
+      if ((f & (kCovered | kContact)) == kCovered) over_row[x >> 6] |= ColumnBits::bit(x);
+      if ((f & (kInterior | kContact)) == kInterior) give_row[x >> 6] |= ColumnBits::bit(x);
+    }
+  }
+  steep_givers_.reset(w, h);
+  cand_ = givable_;
+  givers_.reset(w, h), changed_.reset(w, h), near_.reset(w, h);
+  row_flow_.assign(static_cast<std::size_t>(h), 0);
+}
+
+// Caps to (re)compute: a cap depends only on the heights around its column, so after the
+// first pass only those next to a changed column. Candidates: the columns whose flow may
+// differ from the last pass, next to a changed column or to a changed cap.
+void ErodeStage::plan_pass(int pass, bool to_rest) {
+  if (pass == 0) {
+    recap_ = overhang_;
+    return;
+  }
+  dilate(changed_, recap_);
+  recap_.keep(overhang_);
+  near_ = recap_;
+  near_.add(changed_);
+  dilate(near_, cand_);
+  cand_.keep(givable_);
+  if (!to_rest) {  // creep far from the last pass's steep pairs has ended
+    dilate(steep_givers_, live_);
+    dilate(live_, steep_givers_);
+    cand_.keep(steep_givers_);
+  }
+  steep_givers_.clear();
+}
+
+// Stopped by the cap, not by rest: the givers that were still too steep in the last pass
+// carry on next step. Creep on slopes already within the stop tolerance is not carried:
+// without the cap, the same rule would have stopped it.
+void ErodeStage::find_still_flowing(const Region& region, int passes, int max_passes) {
+  still_flowing_ = {};
+  if (passes == max_passes && passes > 0) {
+    still_flowing_ = steep_givers_.bounds();
+    still_flowing_.i0 += region.si0, still_flowing_.j0 += region.sj0;
+  }
+}
+
+std::size_t ErodeStage::bytes() const {
+  return capacity_bytes(q_, out_, cap_, mask_, cover_, row_flow_) + givable_.bytes() + overhang_.bytes() +
+         cand_.bytes() + changed_.bytes() + givers_.bytes() + near_.bytes() + recap_.bytes() + steep_givers_.bytes() +
+         live_.bytes();
+}
+
+}  // namespace shore::terrain

@@ -1,0 +1,74 @@
+// Erosion shares: from the heights as the pass found them, what each candidate gives each
+// of its too-steep downhill neighbours.
+
+#include <algorithm>
+
+#include "neighbours.h"
+#include "stage_erode.h"
+
+namespace shore::terrain {
+
+// A pair is too steep when the drop exceeds its limit by more than eps; the giver moves
+// sigma times the average excess, split equally among those neighbours and never more than
+// it holds above bedrock, and only what the receivers' caps let through. Sets q_, mask_,
+// out_, givers_ and steep_givers_; returns whether anything flows.
+bool ErodeStage::compute_shares(const Region& region) {
+  const int w = region.w, h = region.h;
+  const auto off = neighbour_offsets(w);
+  const ErosionLimits lim = lim_;
+  region.for_rows(0, h, [&](int y) {
+    std::uint64_t* giver_row = givers_.row(y);
+    std::uint64_t* steep_row = steep_givers_.row(y);
+    bool flow = false;
+    cand_.for_each_in_row(y, [&](int x) {
+      const std::size_t k = region.at(x, y);
+      const double h0 = region.ht[k];
+      const double lowest = neighbour_extreme(&region.ht[k], w, [](double a, double b) { return std::min(a, b); });
+      if (!(h0 - lowest > lim.least_give)) return;
+      double excess_sum = 0.0;
+      int count = 0;
+      unsigned mk = 0, steep_mk = 0;
+#pragma GCC unroll 8
+      for (int d = 0; d < 8; ++d) {
+        const std::size_t nk = k + off[d];  // interior: neighbours exist
+        if (cap_[nk] == 0.0) continue;
+        const double diff = h0 - region.ht[nk];
+        const int c = cover_[nk];
+        const double t = lim.thr[d][c];
+        if (!(diff > t + lim.eps)) continue;
+        excess_sum += diff - t;
+        ++count;
+        mk |= 1u << d;
+        if (diff > lim.steep_limit[d][c]) steep_mk |= 1u << d;
+      }
+      if (count == 0) return;
+      double share = lim.sigma * (excess_sum / count) / count;
+      share = std::min(share, std::max(0.0, h0 - region.bed[k]) / count);
+      if (!(share > 0.0)) return;
+      double total = 0.0;
+      bool steep_here = false;
+#pragma GCC unroll 8
+      for (int d = 0; d < 8; ++d) {
+        if (!(mk & (1u << d))) continue;
+        const double cap = cap_[k + off[d]];
+        total += std::min(share, cap);
+        // A pair whose flow the body caps (the column under it is full) stays steep: the
+        // body holds that slope, erosion cannot relax it.
+        steep_here = steep_here || ((steep_mk & (1u << d)) && cap >= share);
+      }
+      if (!(total > 0.0)) return;
+      q_[k] = share;
+      mask_[k] = static_cast<unsigned char>(mk);
+      out_[k] = total;
+      giver_row[x >> 6] |= ColumnBits::bit(x);
+      flow = true;
+      if (steep_here) steep_row[x >> 6] |= ColumnBits::bit(x);
+    });
+    row_flow_[static_cast<std::size_t>(y)] = flow;  // only this row's task writes it
+  });
+  bool flow = false;
+  for (int y = 0; y < h; ++y) flow = flow || row_flow_[static_cast<std::size_t>(y)];
+  return flow;
+}
+
+}  // namespace shore::terrain

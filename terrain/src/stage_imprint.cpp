@@ -1,0 +1,127 @@
+#include "stage_imprint.h"
+
+#include <algorithm>
+
+#include "capacity_bytes.h"
+
+namespace shore::terrain {
+
+// plain_ / star_ hold the lowest (offset) envelope of plain and star pressing imprints;
+// true_ the lowest of both (soil state); coll_ the collision surface (star imprints lowered
+// to their lowest point within +-1 column); hold_ the lowest envelope of holding imprints.
+void ImprintStage::rasterize(const Region& region, std::span<const Imprint> imprints) {
+  const std::size_t size = region.size();
+  // Written in full before they are read (disp_ for every interior column, the only ones
+  // read), so they are only sized: clearing them each step costs more than the rest of a
+  // small step's bookkeeping.
+  for (auto* v : {&true_, &coll_, &star_low_, &disp_}) v->resize(size);
+  plain_.assign(size, kInf);
+  star_.assign(size, kInf);
+  hold_.assign(size, kInf);
+  flags_.assign(size, 0);  // the halo's flags stay 0: it is neither interior nor covered
+  bool any_star = false;
+  for (const Imprint& im : imprints) {
+    const EnvelopeRaster& env = *im.envelope;
+    const std::int64_t x0 = std::max(env.i0, region.si0), x1 = std::min(env.i0 + env.nx, region.si0 + region.w);
+    const std::int64_t y0 = std::max(env.j0, region.sj0), y1 = std::min(env.j0 + env.ny, region.sj0 + region.h);
+    std::vector<double>& dst = im.hold ? hold_ : im.star ? star_ : plain_;
+    any_star = any_star || (im.star && !im.hold);
+    for (std::int64_t j = y0; j < y1; ++j)
+      for (std::int64_t i = x0; i < x1; ++i) {
+        const double lower = env.lower[env.index(i, j)];
+        if (lower == kInf) continue;
+        double& e = dst[region.at(static_cast<int>(i - region.si0), static_cast<int>(j - region.sj0))];
+        e = std::min(e, lower - im.offset);
+      }
+  }
+  for (std::size_t k = 0; k < size; ++k) true_[k] = std::min(plain_[k], star_[k]);
+  if (any_star)
+    lower_star_neighbourhoods(region);
+  else
+    coll_ = true_;
+}
+
+// Lowest star envelope over each 3 x 3 neighbourhood (clipped to the region): the minimum
+// along x, then along y, then the plain envelope.
+void ImprintStage::lower_star_neighbourhoods(const Region& region) {
+  const int w = region.w, h = region.h;
+  for (int y = 0; y < h; ++y) {
+    const double* e = &star_[region.at(0, y)];
+    double* row = &star_low_[region.at(0, y)];
+    for (int x = 0; x < w; ++x) {
+      double lowest = e[x];
+      if (x > 0) lowest = std::min(lowest, e[x - 1]);
+      if (x + 1 < w) lowest = std::min(lowest, e[x + 1]);
+      row[x] = lowest;
+    }
+  }
+  for (int y = 0; y < h; ++y) {
+    const double* mid = &star_low_[region.at(0, y)];
+    const double* up = y > 0 ? &star_low_[region.at(0, y - 1)] : mid;
+    const double* down = y + 1 < h ? &star_low_[region.at(0, y + 1)] : mid;
+    const double* plain = &plain_[region.at(0, y)];
+    double* out = &coll_[region.at(0, y)];
+    for (int x = 0; x < w; ++x) out[x] = std::min(plain[x], std::min(mid[x], std::min(up[x], down[x])));
+  }
+}
+
+// A column whose top lies above the collision surface is pushed down to it (never below
+// bedrock). Sinkage grows by how far the TRUE envelope pressed the column below its
+// previous top, so a star imprint does not stiffen the soil. A holding envelope touching a
+// column makes it a contact column without pressing it. A column counts as under a body
+// only within active_reach of the envelope above it. Afterwards coll_ is the lowest body
+// surface of either kind (erosion fills covered columns up to it at most).
+ImprintStage::Collision ImprintStage::collide(Region& region, const TerrainSettings& s) {
+  const double tol = s.contact_tolerance;
+  const double reach = s.active_reach;
+  row_volume_.assign(static_cast<std::size_t>(region.h), 0.0);
+  row_contacts_.assign(static_cast<std::size_t>(region.h), 0);
+  region.for_rows(1, region.h - 1, [&](int y) {
+    double vol = 0.0;
+    int contacts = 0;
+    for (int x = 1; x < region.w - 1; ++x) {
+      const std::size_t k = region.at(x, y);
+      disp_[k] = 0.0;
+      flags_[k] = kInterior;
+      const double e = coll_[k], held = hold_[k];
+      const double body = std::min(e, held);
+      if (body == kInf) continue;
+      coll_[k] = body;
+      const double top = region.ht[k];
+      const bool touching = body <= top + tol;
+      if (touching || body - top <= reach) flags_[k] |= kCovered;
+      if (!touching) continue;
+      flags_[k] |= kContact;
+      if (!(e <= top + tol)) continue;  // held, not pressed
+      ++contacts;
+      const double target = std::max(e, region.bed[k]);
+      if (target < top) {
+        disp_[k] = top - target;
+        region.ht[k] = target;
+        vol += top - target;
+      }
+      if (true_[k] < top) region.sink[k] += top - std::max(true_[k], region.bed[k]);
+    }
+    row_volume_[static_cast<std::size_t>(y)] = vol;
+    row_contacts_[static_cast<std::size_t>(y)] = contacts;
+  });
+  Collision out;  // fixed summation order: rows top to bottom
+  for (int y = 0; y < region.h; ++y) {
+    out.displaced += row_volume_[static_cast<std::size_t>(y)];
+    out.contacts += row_contacts_[static_cast<std::size_t>(y)];
+  }
+  return out;
+}
+
+void ImprintStage::no_bodies(const Region& region) {
+  coll_.assign(region.size(), kInf);
+  flags_.assign(region.size(), 0);
+  for (int y = 1; y < region.h - 1; ++y)
+    for (int x = 1; x < region.w - 1; ++x) flags_[region.at(x, y)] = kInterior;
+}
+
+std::size_t ImprintStage::bytes() const {
+  return capacity_bytes(plain_, star_, star_low_, true_, coll_, hold_, disp_, flags_, row_volume_, row_contacts_);
+}
+
+}  // namespace shore::terrain

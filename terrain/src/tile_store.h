@@ -1,0 +1,136 @@
+#pragma once
+// Private: the soil grid's storage. Columns live in square tiles of n x n, created on first
+// write, so a large field costs nothing until touched; a column without a tile is the
+// untouched base ground.
+
+#include <algorithm>
+#include <compare>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "shore/terrain/height_source.h"
+#include "shore/terrain/terrain.h"
+
+namespace shore::terrain {
+
+/// a / b rounded toward -infinity (b > 0).
+[[nodiscard]] inline std::int64_t floor_div(std::int64_t a, std::int64_t b) {
+  const std::int64_t q = a / b;
+  return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
+}
+
+struct TileKey {
+  std::int64_t tx = 0, ty = 0;
+  friend bool operator==(const TileKey&, const TileKey&) = default;
+  friend auto operator<=>(const TileKey&, const TileKey&) = default;
+};
+
+struct TileKeyHash {
+  std::size_t operator()(const TileKey& k) const noexcept {
+    std::uint64_t h = static_cast<std::uint64_t>(k.tx) * 0x9e3779b97f4a7c15ull;
+    h ^= static_cast<std::uint64_t>(k.ty) + 0x632be59bd9b4e019ull + (h << 6) + (h >> 2);
+    return static_cast<std::size_t>(h ^ (h >> 29));
+  }
+};
+
+/// n^2 columns, row-major (local index = lj * n + li).
+struct Tile {
+  explicit Tile(int n);
+  std::vector<double> height;   ///< collision surface, m
+  std::vector<double> sinkage;  ///< plastic sinkage, m
+  std::vector<double> base;     ///< untouched ground, sampled once at creation, m
+  /// Columns whose height changed since the last take_changed (local, inclusive).
+  bool dirty = false;
+  int di0 = 0, dj0 = 0, di1 = 0, dj1 = 0;
+  void mark_dirty(int li0, int lj0, int li1, int lj1);
+  [[nodiscard]] std::size_t bytes() const;  ///< this tile and its arrays
+};
+
+/// One row of a rectangle's columns that lies in one tile.
+struct TileRun {
+  TileKey key;
+  int li = 0, lj = 0;     ///< the run's first column in the tile
+  std::size_t local = 0;  ///< its tile-local index, lj * n + li
+  int x = 0, y = 0;       ///< the run's first column, relative to the rectangle's corner
+  int count = 0;          ///< columns in the run, > 0
+};
+
+class TileStore {
+ public:
+  explicit TileStore(const TerrainSettings& s);
+
+  [[nodiscard]] int n() const noexcept { return n_; }
+  /// Untouched ground at a column: the base source, or flat at base_height.
+  [[nodiscard]] double base_at(std::int64_t i, std::int64_t j) const;
+  [[nodiscard]] TileKey key_of(std::int64_t i, std::int64_t j) const { return {floor_div(i, n_), floor_div(j, n_)}; }
+  [[nodiscard]] std::size_t local(std::int64_t i, std::int64_t j) const {
+    return static_cast<std::size_t>((j - floor_div(j, n_) * n_) * n_ + (i - floor_div(i, n_) * n_));
+  }
+  [[nodiscard]] const Tile* find(TileKey key) const;
+  Tile& tile(TileKey key);  ///< creates the tile (from the base ground) on first use
+  [[nodiscard]] std::size_t size() const noexcept { return tiles_.size(); }
+  [[nodiscard]] std::vector<TileKey> sorted_keys() const;
+
+  /// Calls fn(tile, run) for every run of the rectangle, row by row and left to right,
+  /// looking each tile up once; tile is null where the columns have no tile yet.
+  template <class Fn>
+  void for_each_run(const ColumnRect& r, Fn&& fn) const {
+    const auto lookup = [this](TileKey key) { return find(key); };
+    walk(r, lookup, fn);
+  }
+  /// The same, creating the tiles the rectangle touches: fn(Tile&, run).
+  template <class Fn>
+  void for_each_run_creating(const ColumnRect& r, Fn&& fn) {
+    const auto lookup = [this](TileKey key) { return &tile(key); };
+    walk(r, lookup, [&](Tile* t, const TileRun& run) { fn(*t, run); });
+  }
+  /// Heights (base: untouched ground) of a rectangle, row-major into out (nx * ny).
+  void read(const ColumnRect& r, std::span<double> out, bool base) const;
+
+  /// Records that columns [li0, li1] x [lj0, lj1] of the tile changed height.
+  void mark_changed(TileKey key, Tile& t, int li0, int lj0, int li1, int lj1);
+  /// The changed columns since the last call: one rectangle per tile, in key order.
+  std::vector<ColumnRect> take_changed();
+  /// Adds a tile built elsewhere (a loaded state), reported whole by take_changed. False
+  /// (and the tile dropped) if the key is taken.
+  bool adopt(TileKey key, std::unique_ptr<Tile> t);
+
+  [[nodiscard]] std::size_t bytes() const;  ///< heap memory: tiles, hash table, change list
+
+ private:
+  // One band of tiles at a time: its tiles are looked up first (in x order), then its rows
+  // are walked run by run.
+  template <class Lookup, class Fn>
+  void walk(const ColumnRect& r, Lookup&& lookup, Fn&& fn) const {
+    if (r.nx <= 0 || r.ny <= 0) return;
+    const std::int64_t n = n_;
+    const std::int64_t tx0 = floor_div(r.i0, n), tx1 = floor_div(r.i0 + r.nx - 1, n);
+    const std::int64_t ty0 = floor_div(r.j0, n), ty1 = floor_div(r.j0 + r.ny - 1, n);
+    std::vector<decltype(lookup(TileKey{}))> band(static_cast<std::size_t>(tx1 - tx0 + 1));
+    for (std::int64_t ty = ty0; ty <= ty1; ++ty) {
+      for (std::int64_t tx = tx0; tx <= tx1; ++tx) band[static_cast<std::size_t>(tx - tx0)] = lookup(TileKey{tx, ty});
+      const std::int64_t cj0 = std::max(r.j0, ty * n), cj1 = std::min(r.j0 + r.ny, (ty + 1) * n);
+      for (std::int64_t j = cj0; j < cj1; ++j)
+        for (std::int64_t tx = tx0; tx <= tx1; ++tx) {
+          const std::int64_t ci0 = std::max(r.i0, tx * n), ci1 = std::min(r.i0 + r.nx, (tx + 1) * n);
+          const int li = static_cast<int>(ci0 - tx * n), lj = static_cast<int>(j - ty * n);
+          const std::size_t local = static_cast<std::size_t>(lj) * static_cast<std::size_t>(n) + li;
+          const int x = static_cast<int>(ci0 - r.i0), y = static_cast<int>(j - r.j0);
+          const TileRun run{{tx, ty}, li, lj, local, x, y, static_cast<int>(ci1 - ci0)};
+          fn(band[static_cast<std::size_t>(tx - tx0)], run);
+        }
+    }
+  }
+
+  int n_ = 64;
+  double cell_ = 0.01, origin_x_ = 0.0, origin_y_ = 0.0, base_height_ = 0.0;
+  std::shared_ptr<const HeightSource> base_;
+  std::unordered_map<TileKey, std::unique_ptr<Tile>, TileKeyHash> tiles_;
+  std::vector<TileKey> dirty_keys_;
+};
+
+}  // namespace shore::terrain

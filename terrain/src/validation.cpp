@@ -1,0 +1,68 @@
+#include "validation.h"
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "region.h"
+#include "shore/core/error.h"
+
+namespace shore::terrain {
+
+void TerrainSettings::validate() const {
+  const Check c{"terrain.TerrainSettings"};
+  c.positive("cell", cell);
+  c.finite("origin_x", origin_x);
+  c.finite("origin_y", origin_y);
+  if (!(tile_columns >= 4 && tile_columns <= 1024))
+    throw InvalidSetting(c.name("tile_columns"), detail::to_text(tile_columns), "must be in [4, 1024]");
+  material.validate();
+  c.finite("base_height", base_height);
+  c.at_least("max_erosion_passes", max_erosion_passes, 0);
+  c.at_least("active_margin", active_margin, 1);
+  if (!(active_reach > 0.0))  // +infinity allowed: every covered column widens the region
+    throw InvalidSetting(c.name("active_reach"), detail::to_text(active_reach), "must be > 0 (+infinity allowed)");
+  c.non_negative("contact_tolerance", contact_tolerance);
+  c.at_least("threads", threads, 0);
+  c.at_least("parallel_min_columns", parallel_min_columns, 0);
+}
+
+void check_envelope(const EnvelopeRaster* env, const std::string& name) {
+  if (env == nullptr) throw InvalidSetting(name, "null", "must point to an EnvelopeRaster");
+  if (env->nx < 0 || env->ny < 0)
+    throw InvalidSetting(name + ".nx/ny", detail::to_text(env->nx) + " x " + detail::to_text(env->ny), "must be >= 0");
+  const std::size_t expected = static_cast<std::size_t>(env->nx) * static_cast<std::size_t>(env->ny);
+  if (env->lower.size() != expected)
+    throw InvalidSetting(name + ".lower.size()", detail::to_text(env->lower.size()),
+                         "must equal nx * ny = " + detail::to_text(expected));
+  for (std::size_t k = 0; k < expected; ++k) {
+    const double v = env->lower[k];
+    if (std::isnan(v) || v == -std::numeric_limits<double>::infinity())
+      throw InvalidSetting(name + ".lower[" + std::to_string(k) + "]", detail::to_text(v),
+                           "must be finite, or +inf where the body does not cover the column");
+  }
+}
+
+void check_imprints(std::span<const Imprint> imprints) {
+  for (std::size_t b = 0; b < imprints.size(); ++b) {
+    const std::string name = "terrain.Imprint[" + std::to_string(b) + "]";
+    check_envelope(imprints[b].envelope, name + ".envelope");
+    const Check c{name};
+    c.non_negative("offset", imprints[b].offset);
+    c.finite("vx", imprints[b].vx);
+    c.finite("vy", imprints[b].vy);
+    c.finite("vz", imprints[b].vz);
+  }
+}
+
+void check_relax_region(const ColumnRect& region) {
+  const Check c{"terrain.Terrain.relax.region"};
+  c.at_least("nx", region.nx, 0);
+  c.at_least("ny", region.ny, 0);
+  if (static_cast<std::int64_t>(region.nx + 2) * (region.ny + 2) > kMaxRegionColumns)
+    throw InvalidSetting(c.name("nx * ny"), detail::to_text(static_cast<std::int64_t>(region.nx) * region.ny),
+                         "must be at most " + detail::to_text(kMaxRegionColumns));
+}
+
+}  // namespace shore::terrain

@@ -1,0 +1,20 @@
+#pragma once
+// Private: the checks of what a caller passes in. Each throws shore::InvalidSetting naming
+// the field, the value and the allowed range, before any state changes.
+
+#include <span>
+#include <string>
+
+#include "shore/core/envelope.h"
+#include "shore/terrain/terrain.h"
+
+namespace shore::terrain {
+
+/// Not null, nx * ny values, none NaN or -inf.
+void check_envelope(const EnvelopeRaster* env, const std::string& name);
+/// Every imprint of a step: its envelope, offset and velocity.
+void check_imprints(std::span<const Imprint> imprints);
+/// A rectangle for Terrain::relax: not negative, not larger than one region may be.
+void check_relax_region(const ColumnRect& region);
+
+}  // namespace shore::terrain
