@@ -21,6 +21,13 @@ void Material::validate() const {
   if (!(bekker_kc + bekker_kphi > 0.0))
     throw InvalidSetting(c.name("bekker_kc + bekker_kphi"), detail::to_text(bekker_kc + bekker_kphi),
                          "must be > 0 (the soil must bear something)");
+  c.non_negative("cohesion", cohesion);
+  if (!(friction_angle >= 0.0 && friction_angle < half_pi))
+    throw InvalidSetting(c.name("friction_angle"), detail::to_text(friction_angle), "must be in [0, pi/2) rad");
+  c.positive("shear_modulus", shear_modulus);
+  if (!(remould_ratio >= 0.0 && remould_ratio < 1.0))
+    throw InvalidSetting(c.name("remould_ratio"), detail::to_text(remould_ratio), "must be in [0, 1)");
+  c.positive("remould_length", remould_length);
   c.non_negative("friction", friction);
   c.positive("soil_depth", soil_depth);
 }
@@ -38,6 +45,9 @@ Material Material::mud() {
   m.bekker_n = 0.7;
   m.bekker_kc = 16.03e3;
   m.bekker_kphi = 1262.53e3;
+  m.cohesion = 2.07e3;
+  m.friction_angle = 10.0 * std::numbers::pi / 180.0;
+  m.shear_modulus = 0.01;
   m.friction = 0.4;
   return m;
 }
@@ -53,6 +63,9 @@ Material Material::snow() {
   m.bekker_n = 1.6;
   m.bekker_kc = 4.37e3;
   m.bekker_kphi = 196.72e3;
+  m.cohesion = 1.03e3;
+  m.friction_angle = 19.7 * std::numbers::pi / 180.0;
+  m.shear_modulus = 0.025;
   m.friction = 0.2;
   return m;
 }

@@ -9,14 +9,17 @@ namespace shore::terrain {
 namespace {
 
 // Soil that displacement or erosion lays onto a column is loose: it lowers the column's
-// recorded compaction by its height (never below zero). Pressing it back down then adds the
-// same amount again, so a body resting in a crater whose walls keep slumping under it does
-// not pump its sinkage up without end (0.55 m of recorded sinkage under a 0.15 m crater
-// without this rule). A freshly pressed column keeps its full sinkage.
+// recorded sinkage by its height, below zero if need be (negative sinkage is loose soil on
+// top of the firm level). Loose soil bears nothing: pressing it back down only brings the
+// sinkage back to where it was, so
+// - a body resting in a crater whose walls keep slumping under it does not pump its sinkage
+//   up without end (0.55 m of recorded sinkage under a 0.15 m crater without this rule);
+// - soil a rolling wheel pushes ahead of itself and then presses again does not hold the
+//   wheel up: how deep a body sinks follows Bekker's law whatever share alpha goes to the rim.
 void loosen_deposits(Region& region) {
   for (std::size_t k = 0; k < region.ht.size(); ++k) {
     const double deposit = region.ht[k] - region.ht_pressed[k];
-    if (deposit > 0.0) region.sink[k] = std::max(0.0, region.sink[k] - deposit);
+    if (deposit > 0.0) region.sink[k] -= deposit;
   }
 }
 

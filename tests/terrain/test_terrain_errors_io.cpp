@@ -206,9 +206,12 @@ TEST(Files, VersionOneStatesLoadWithAnInfiniteReach) {
   std::memcpy(&stored, bytes.data() + kReachAt, sizeof stored);
   ASSERT_EQ(stored, 0.25);
   bytes.erase(bytes.begin() + kReachAt, bytes.begin() + kReachAt + 8);
-  // Version 1 had no list of regions still eroding either: after the material ("sand")
-  // and the volume bookkeeping, a u64 count and 24 bytes per region.
-  const std::size_t regions_at = kReachAt + 4 + 4 + 10 * 8 + 1 + 2 * 8;
+  // Nor the material's shear fields (5 f64 after its rigid flag, version 3 on).
+  const std::size_t material_end = kReachAt + 4 + 4 + 10 * 8 + 1;
+  bytes.erase(bytes.begin() + material_end, bytes.begin() + material_end + 5 * 8);
+  // Nor a list of regions still eroding: after the volume bookkeeping, a u64 count and 24
+  // bytes per region.
+  const std::size_t regions_at = material_end + 2 * 8;
   std::uint64_t regions = 0;
   std::memcpy(&regions, bytes.data() + regions_at, sizeof regions);
   ASSERT_LT(regions, 100U);

@@ -1,8 +1,10 @@
 #pragma once
-// Soil materials: the appearance parameters of Sumner, O'Brien & Hodgins (1998, Table 1)
-// plus Bekker's pressure-sinkage parameters (Wong, Theory of Ground Vehicles), friction
-// and soil depth. Angles in radians, lengths in metres, pressures in Pa.
+// Soil materials: the appearance parameters of Sumner, O'Brien & Hodgins (1998, Table 1),
+// Bekker's pressure-sinkage and Janosi-Hanamoto's shear parameters (Wong, Theory of Ground
+// Vehicles, ch. 2), the loss of bearing in sheared soil, and soil depth. Angles in
+// radians, lengths in metres, pressures in Pa.
 
+#include <numbers>
 #include <string>
 
 namespace shore::terrain {
@@ -22,18 +24,35 @@ struct Material {
   double bekker_kc = 0.99e3;       ///< cohesive modulus, N/m^(n+1), >= 0
   double bekker_kphi = 1528.43e3;  ///< frictional modulus, N/m^(n+2), >= 0 (k_c + k_phi > 0)
 
-  double friction = 0.6;    ///< Coulomb friction coefficient body-soil, >= 0
+  // ---- shear (Janosi-Hanamoto: tau = (c + sigma tan phi)(1 - exp(-j / K))) ----
+  double cohesion = 1.04e3;                                 ///< c, Pa, >= 0
+  double friction_angle = 28.0 * std::numbers::pi / 180.0;  ///< phi, rad, [0, pi/2)
+  double shear_modulus = 0.01;  ///< K, m, > 0: shear displacement at which 63 % of the strength acts
+  /// Sheared soil bears less: Bekker's pressure is multiplied by
+  /// 1 - remould_ratio (1 - exp(-j / remould_length)), j the shear displacement. This is
+  /// what makes a slipping wheel dig in (slip sinkage). Calibrated for dry sand against
+  /// Wong and Reece's driven-wheel model (docs/terrain.md); [0, 1).
+  double remould_ratio = 0.68;
+  double remould_length = 0.03;  ///< m, > 0
+
+  /// Bullet friction coefficient of rigid ground, and of soft ground for bodies Shore does
+  /// not couple (they collide with the heightfield tiles through Bullet). Coupled bodies
+  /// feel the shear law above instead. >= 0.
+  double friction = 0.6;
   double soil_depth = 1.0;  ///< m, > 0: deformable soil above bedrock
   bool rigid = false;       ///< true: the ground never deforms (rock, asphalt)
 
   /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
   void validate() const;
 
-  /// Dry sand (Wong): n 1.1, k_c 0.99 kN/m^2.1, k_phi 1528.43 kN/m^3.1.
+  /// Dry sand (Wong): n 1.1, k_c 0.99 kN/m^2.1, k_phi 1528.43 kN/m^3.1; c 1.04 kPa,
+  /// phi 28 degrees, K 1 cm.
   static Material sand();
-  /// Clayey soil, 55 % moisture (Wong): n 0.7, k_c 16.03, k_phi 1262.53.
+  /// Clayey soil, 55 % moisture (Wong): n 0.7, k_c 16.03, k_phi 1262.53; c 2.07 kPa,
+  /// phi 10 degrees; K 1 cm (a typical value; Wong gives none for this soil).
   static Material mud();
-  /// Snow, U.S. (Wong): n 1.6, k_c 4.37, k_phi 196.72.
+  /// Snow, U.S. (Wong): n 1.6, k_c 4.37, k_phi 196.72; c 1.03 kPa, phi 19.7 degrees;
+  /// K 2.5 cm (a typical value for fresh snow).
   static Material snow();
   /// Ground that does not deform.
   static Material rigid_ground();

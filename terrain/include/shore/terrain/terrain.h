@@ -7,10 +7,12 @@
 // shore/core/envelope.h). Storage is created on first write, so a large field costs nothing
 // until touched; untouched columns read the base height source. Each column keeps its
 // height (the collision surface bodies feel) and its sinkage (how far the true envelope
-// has pressed it; bearing reads it, so reloading to the same pressure sinks no further).
+// has pressed it; bearing reads it, so reloading to the same pressure sinks no further;
+// negative where loose soil was laid on top, which bears nothing until pressed back down).
 //
 // Per substep, step() takes every body's lower envelope (an Imprint) and presses, displaces
-// and erodes the soil near them; bearing() says what the soil under an envelope carries,
+// and erodes the soil near them; contact() says where and how hard the soil can push on a
+// body (shore/terrain/contact.h), bearing() what the soil under an envelope carries,
 // bearing_offset() how far it sinks under a load. Results are bit-identical for any thread
 // count. docs/terrain.md describes the pipeline stage by stage.
 
@@ -22,6 +24,7 @@
 #include <vector>
 
 #include "shore/core/envelope.h"
+#include "shore/terrain/contact.h"
 #include "shore/terrain/height_source.h"
 #include "shore/terrain/material.h"
 
@@ -131,7 +134,10 @@ class Terrain {
 
   // ---- state of one column ----
   [[nodiscard]] double height(std::int64_t i, std::int64_t j) const;   ///< collision surface, m
-  [[nodiscard]] double sinkage(std::int64_t i, std::int64_t j) const;  ///< plastic sinkage, m, >= 0
+  /// Plastic sinkage, m: how far the column's firm soil has been pressed below its
+  /// uncompacted level; negative by the height of loose soil that displacement or erosion
+  /// laid on it (loose soil bears nothing until pressed back to the firm level).
+  [[nodiscard]] double sinkage(std::int64_t i, std::int64_t j) const;
   /// Heights of a rectangle of columns, row-major (out.size() == nx * ny): the bulk form of
   /// height(), one tile lookup per run of columns. Throws InvalidSetting on a size mismatch.
   void heights(const ColumnRect& rect, std::span<double> out) const;
@@ -158,6 +164,13 @@ class Terrain {
   /// bearing(envelope, result).capacity >= load. Columns pressed to bedrock carry anything,
   /// so the result never exceeds the depth to bedrock.
   [[nodiscard]] double bearing_offset(const EnvelopeRaster& envelope, double load) const;
+  /// The soil's side of a body's contact (shore/terrain/contact.h) into `out`.
+  /// shear_displacement: the shear displacement j (m) of every raster column, in the
+  /// raster's layout, or empty (all 0). probe: the body's underside at any point, for
+  /// sub-cell coverage at the footprint's edges; null: whole columns. Reads only. Throws
+  /// InvalidSetting on a bad envelope or a shear_displacement of the wrong size.
+  void contact(const EnvelopeRaster& envelope, std::span<const double> shear_displacement, const SurfaceProbe* probe,
+               ContactPatch& out) const;
   /// One step of the pipeline for all imprints together: collision, contour map,
   /// displacement, erosion, over the active region only. Throws InvalidSetting (grid
   /// untouched) if an envelope holds NaN or -inf, its size does not match nx * ny, an

@@ -1,0 +1,64 @@
+#pragma once
+// The soil's half of a body's contact: where, in which direction and how hard the soil can
+// push on a body lying on or moving through it, for an engine's contact solver (Shore's
+// Bullet coupling solves it; see docs/terrain.md, "Soil contact").
+//
+// Bottom elements: every column the body's underside touches (lies within
+// contact_tolerance of the column's top). The soil pushes at the body's surface above the
+// column, along the normal of the underside (from the envelope's slopes), on the body's
+// area over the column: the whole cell, or, at the edges of the footprint and when a
+// SurfaceProbe is given, only the part the body covers. At most it pushes with Bekker's
+// yield pressure at the column's sinkage if pressed to the body (its plastic sinkage plus
+// how far the body lies below its top), times shear::remoulding(j) of the column's shear
+// displacement j. Sheared along the surface, the column resists with Janosi-Hanamoto's
+// stress (shore/terrain/shear.h), which the solver applies.
+//
+// Wall elements: where soil beside the footprint stands above the body's underside (the
+// sides of a rut, a crater or the body's own sinkage hole), it pushes horizontally on the
+// body's side. At most with the plastic work of pressing that soil down to the body's
+// depth per unit of sideways travel: k z^(n+1) / (n + 1) per unit length of wall, z its
+// height above the underside, k = k_c / b + k_phi (Bekker's compaction resistance, turned
+// sideways). Walls carry no shear.
+
+#include <cstdint>
+#include <vector>
+
+namespace shore::terrain {
+
+/// The body's underside at any point, for sub-cell coverage at the edges of its footprint.
+class SurfaceProbe {
+ public:
+  virtual ~SurfaceProbe() = default;
+  /// Lowest point of the body on the vertical line through world (x, y), m; +infinity
+  /// where the line misses the body.
+  [[nodiscard]] virtual double lower_at(double x, double y) const = 0;
+};
+
+/// One place where the soil can push on the body.
+struct ContactElement {
+  double x = 0.0, y = 0.0, z = 0.0;     ///< m, world point the soil pushes at
+  double nx = 0.0, ny = 0.0, nz = 1.0;  ///< unit normal, from the soil into the body
+  double area = 0.0;                    ///< m^2 the soil pushes on
+  double pressure = 0.0;                ///< Pa, the most it can push with; +infinity on bedrock
+  std::int64_t i = 0, j = 0;            ///< the soil column
+  /// Index into the envelope raster of the column whose shear displacement this element
+  /// reads and moves (a fringe element shares its covered neighbour's); -1 for walls.
+  std::int32_t raster_index = -1;
+  bool wall = false;  ///< the side of a rut or crater (horizontal normal, no shear)
+};
+
+/// The soil's side of one body's contact.
+struct ContactPatch {
+  std::vector<ContactElement> elements;  ///< bottom elements in raster order, then walls
+  double patch_width = 0.0;              ///< m, Bekker's b: the smaller extent of the touching area
+  double area = 0.0;                     ///< m^2 of the bottom elements
+  int touching_columns = 0;              ///< covered columns the underside touches
+
+  void clear() {
+    elements.clear();
+    patch_width = area = 0.0;
+    touching_columns = 0;
+  }
+};
+
+}  // namespace shore::terrain

@@ -1,0 +1,288 @@
+// The soil's half of a body's contact (shore/terrain/contact.h): bottom elements with
+// sub-cell coverage at the footprint's edges, and walls where soil stands beside the body.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "shore/core/det_math.h"
+#include "shore/core/error.h"
+#include "shore/terrain/bekker.h"
+#include "shore/terrain/shear.h"
+#include "terrain_impl.h"
+#include "validation.h"
+
+namespace shore::terrain {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Bisections of the footprint's edge between a covered and an uncovered column centre: the
+// edge to 1/64 of a cell, so a plate's area does not depend on where its edges fall.
+constexpr int kEdgeBisections = 6;
+// The four axis directions: +x, -x, +y, -y.
+constexpr int kSx[4] = {1, -1, 0, 0};
+constexpr int kSy[4] = {0, 0, 1, -1};
+
+/// Soil state of a rectangle of columns, row-major.
+struct SoilWindow {
+  ColumnRect r;
+  std::vector<double> top, sink, bed;
+
+  [[nodiscard]] bool inside(std::int64_t i, std::int64_t j) const {
+    return i >= r.i0 && j >= r.j0 && i < r.i0 + r.nx && j < r.j0 + r.ny;
+  }
+  [[nodiscard]] std::size_t at(std::int64_t i, std::int64_t j) const {
+    return static_cast<std::size_t>((j - r.j0) * r.nx + (i - r.i0));
+  }
+};
+
+void read_soil(const TileStore& store, double soil_depth, const ColumnRect& r, SoilWindow& out) {
+  out.r = r;
+  const std::size_t size = static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny);
+  out.top.resize(size), out.sink.resize(size), out.bed.resize(size);
+  store.for_each_run(r, [&](const Tile* t, const TileRun& run) {
+    const std::size_t dst = static_cast<std::size_t>(run.y) * static_cast<std::size_t>(r.nx) + run.x;
+    for (int k = 0; k < run.count; ++k) {
+      if (t) {
+        out.top[dst + k] = t->height[run.local + k];
+        out.sink[dst + k] = t->sinkage[run.local + k];
+        out.bed[dst + k] = t->base[run.local + k] - soil_depth;
+      } else {
+        const double b = store.base_at(r.i0 + run.x + k, r.j0 + run.y);
+        out.top[dst + k] = b, out.sink[dst + k] = 0.0, out.bed[dst + k] = b - soil_depth;
+      }
+    }
+  });
+}
+
+/// Where the footprint's edge lies between the centre of a covered column (t = 0) and the
+/// centre of its uncovered neighbour (t = 1), by bisection with the probe; half way without.
+double edge_position(const SurfaceProbe* probe, double x, double y, double dx, double dy) {
+  if (probe == nullptr) return 0.5;
+  double inside = 0.0, outside = 1.0;
+  for (int b = 0; b < kEdgeBisections; ++b) {
+    const double mid = 0.5 * (inside + outside);
+    (probe->lower_at(x + mid * dx, y + mid * dy) < kInf ? inside : outside) = mid;
+  }
+  return 0.5 * (inside + outside);
+}
+
+/// The body's area over an uncovered column whose cell its footprint enters.
+struct Fringe {
+  std::int64_t i, j;
+  double share;        ///< of the cell
+  double cx, cy;       ///< centroid of the covered part, m
+  std::size_t source;  ///< raster index of the covered neighbour
+};
+
+class PatchBuilder {
+ public:
+  PatchBuilder(const TerrainSettings& s, const EnvelopeRaster& env, std::span<const double> shear,
+               const SurfaceProbe* probe, const SoilWindow& soil, ContactPatch& out)
+      : s_(s), env_(env), shear_(shear), probe_(probe), soil_(soil), out_(out) {}
+
+  void build() {
+    cover_footprint();
+    out_.patch_width = patch_width();
+    add_bottom_elements();
+    add_fringe_elements();
+    add_walls();
+  }
+
+ private:
+  [[nodiscard]] bool covered(std::int64_t i, std::int64_t j) const {
+    return env_.contains(i, j) && env_.lower[env_.index(i, j)] < kInf;
+  }
+  [[nodiscard]] double column_x(std::int64_t i) const { return s_.origin_x + static_cast<double>(i) * s_.cell; }
+  [[nodiscard]] double column_y(std::int64_t j) const { return s_.origin_y + static_cast<double>(j) * s_.cell; }
+  [[nodiscard]] bool touches(double lower, std::size_t soil_index) const {
+    return lower <= soil_.top[soil_index] + s_.contact_tolerance;
+  }
+  [[nodiscard]] double shear_at(std::size_t raster_index) const { return shear_.empty() ? 0.0 : shear_[raster_index]; }
+
+  // Touching columns, with the share of their cell the body covers along x and y: whole
+  // inside the footprint, less where its edge runs through the cell; the part of an edge
+  // that reaches into an uncovered neighbour's cell becomes a fringe.
+  void cover_footprint() {
+    const std::size_t size = env_.lower.size();
+    fx_.assign(size, 1.0), fy_.assign(size, 1.0), loss_lo_x_.assign(size, 0.0), loss_lo_y_.assign(size, 0.0);
+    touching_.assign(size, 0);
+    for (int y = 0; y < env_.ny; ++y)
+      for (int x = 0; x < env_.nx; ++x) {
+        const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
+        const double e = env_.lower[k];
+        const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
+        if (!(e < kInf) || !touches(e, soil_.at(i, j))) continue;
+        touching_[k] = 1;
+        ++out_.touching_columns;
+        for (int d = 0; d < 4; ++d) cover_edge(k, i, j, d);
+      }
+  }
+
+  void cover_edge(std::size_t k, std::int64_t i, std::int64_t j, int d) {
+    if (covered(i + kSx[d], j + kSy[d])) return;
+    const double t = edge_position(probe_, column_x(i), column_y(j), kSx[d] * s_.cell, kSy[d] * s_.cell);
+    const double loss = std::max(0.0, 0.5 - t), gain = std::max(0.0, t - 0.5);
+    const bool along_x = kSx[d] != 0;
+    (along_x ? fx_ : fy_)[k] -= loss;
+    if (kSx[d] < 0) loss_lo_x_[k] = loss;
+    if (kSy[d] < 0) loss_lo_y_[k] = loss;
+    if (gain <= 0.0) return;
+    // The covered strip of the neighbour's cell: from its near side, gain of a cell wide.
+    const double near = 0.5 * s_.cell * (1.0 - gain);  // centroid, back from the neighbour's centre
+    const double cx = column_x(i + kSx[d]) - kSx[d] * near, cy = column_y(j + kSy[d]) - kSy[d] * near;
+    fringe_.push_back({i + kSx[d], j + kSy[d], gain, cx, cy, k});
+  }
+
+  // Bekker's b: the smaller extent of the touching area, its widest row against its
+  // tallest column (exact for a rectangle whatever its edges' offsets).
+  double patch_width() const {
+    std::vector<double> row(static_cast<std::size_t>(env_.ny), 0.0), col(static_cast<std::size_t>(env_.nx), 0.0);
+    for (int y = 0; y < env_.ny; ++y)
+      for (int x = 0; x < env_.nx; ++x) {
+        const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
+        if (!touching_[k]) continue;
+        row[static_cast<std::size_t>(y)] += fx_[k];
+        col[static_cast<std::size_t>(x)] += fy_[k];
+      }
+    for (const Fringe& f : fringe_) {
+      const auto x = static_cast<std::size_t>(f.source % static_cast<std::size_t>(env_.nx));
+      const auto y = static_cast<std::size_t>(f.source / static_cast<std::size_t>(env_.nx));
+      (f.j == env_.j0 + static_cast<std::int64_t>(y) ? row[y] : col[x]) += f.share;
+    }
+    const double widest = *std::max_element(row.begin(), row.end());
+    const double tallest = *std::max_element(col.begin(), col.end());
+    return std::max(std::min(widest, tallest), 1.0) * s_.cell;
+  }
+
+  /// Bekker's yield pressure of a column pressed to `lower`, remoulded by its shear.
+  [[nodiscard]] double yield_pressure(std::size_t soil_index, double lower, double j) const {
+    const double top = soil_.top[soil_index], bed = soil_.bed[soil_index];
+    if (s_.material.rigid || lower <= bed || top <= bed) return kInf;
+    const double z = soil_.sink[soil_index] + std::max(0.0, top - lower);
+    return bekker::pressure(s_.material, out_.patch_width, z) * shear::remoulding(s_.material, j);
+  }
+
+  /// Unit normal of the underside at raster column (x, y): its slopes from the covered
+  /// neighbours (one-sided at the footprint's edge).
+  void underside_normal(int x, int y, ContactElement& el) const {
+    const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
+    const double e = env_.lower[env_.index(i, j)];
+    auto slope = [&](int sx, int sy) {
+      const bool up = covered(i + sx, j + sy), down = covered(i - sx, j - sy);
+      const double eu = up ? env_.lower[env_.index(i + sx, j + sy)] : e;
+      const double ed = down ? env_.lower[env_.index(i - sx, j - sy)] : e;
+      const int span = (up ? 1 : 0) + (down ? 1 : 0);
+      return span == 0 ? 0.0 : (eu - ed) / (span * s_.cell);
+    };
+    const double gx = slope(1, 0), gy = slope(0, 1);
+    const double norm = std::sqrt(gx * gx + gy * gy + 1.0);
+    el.nx = -gx / norm, el.ny = -gy / norm, el.nz = 1.0 / norm;
+  }
+
+  void add_bottom_elements() {
+    const double cell_area = s_.cell * s_.cell;
+    for (int y = 0; y < env_.ny; ++y)
+      for (int x = 0; x < env_.nx; ++x) {
+        const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
+        if (!touching_[k]) continue;
+        const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
+        ContactElement el;
+        el.i = i, el.j = j;
+        el.raster_index = static_cast<std::int32_t>(k);
+        el.area = std::max(0.0, fx_[k]) * std::max(0.0, fy_[k]) * cell_area;
+        // Centroid of the covered part of the cell.
+        el.x = column_x(i) + 0.5 * s_.cell * (loss_lo_x_[k] - (1.0 - fx_[k] - loss_lo_x_[k]));
+        el.y = column_y(j) + 0.5 * s_.cell * (loss_lo_y_[k] - (1.0 - fy_[k] - loss_lo_y_[k]));
+        el.z = env_.lower[k];
+        underside_normal(x, y, el);
+        el.pressure = yield_pressure(soil_.at(i, j), el.z, shear_at(k));
+        out_.area += el.area;
+        out_.elements.push_back(el);
+      }
+  }
+
+  void add_fringe_elements() {
+    const double cell_area = s_.cell * s_.cell;
+    for (const Fringe& f : fringe_) {
+      const double lower = env_.lower[f.source];
+      if (!soil_.inside(f.i, f.j) || !touches(lower, soil_.at(f.i, f.j))) continue;
+      const auto sx = static_cast<int>(f.source % static_cast<std::size_t>(env_.nx));
+      const auto sy = static_cast<int>(f.source / static_cast<std::size_t>(env_.nx));
+      ContactElement el;
+      el.i = f.i, el.j = f.j;
+      el.raster_index = static_cast<std::int32_t>(f.source);
+      // Across the edge the strip is as wide as the covered neighbour's cell.
+      const double across = f.j == env_.j0 + sy ? fy_[f.source] : fx_[f.source];
+      el.area = f.share * std::max(0.0, across) * cell_area;
+      el.x = f.cx, el.y = f.cy, el.z = lower;
+      underside_normal(sx, sy, el);
+      el.pressure = yield_pressure(soil_.at(f.i, f.j), lower, shear_at(f.source));
+      out_.area += el.area;
+      out_.elements.push_back(el);
+    }
+  }
+
+  // Soil beside the footprint standing above the underside pushes on the body's side.
+  void add_walls() {
+    const Material& m = s_.material;
+    const double k_modulus = m.bekker_kc / out_.patch_width + m.bekker_kphi;
+    for (int y = 0; y < env_.ny; ++y)
+      for (int x = 0; x < env_.nx; ++x) {
+        const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
+        const double e = env_.lower[k];
+        if (!(e < kInf)) continue;
+        const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
+        for (int d = 0; d < 4; ++d) {
+          const std::int64_t ui = i + kSx[d], uj = j + kSy[d];
+          if (covered(ui, uj) || !soil_.inside(ui, uj)) continue;
+          const std::size_t u = soil_.at(ui, uj);
+          const double height = soil_.top[u] - e;
+          if (!(height > s_.contact_tolerance)) continue;
+          ContactElement el;
+          el.i = ui, el.j = uj;
+          el.wall = true;
+          el.nx = -kSx[d], el.ny = -kSy[d], el.nz = 0.0;
+          el.area = s_.cell * height;
+          el.pressure =
+              (m.rigid || soil_.bed[u] > e) ? kInf : k_modulus * det::pow(height, m.bekker_n) / (m.bekker_n + 1.0);
+          el.x = column_x(i) + 0.5 * kSx[d] * s_.cell;
+          el.y = column_y(j) + 0.5 * kSy[d] * s_.cell;
+          el.z = e + 0.5 * height;
+          out_.elements.push_back(el);
+        }
+      }
+  }
+
+  const TerrainSettings& s_;
+  const EnvelopeRaster& env_;
+  std::span<const double> shear_;
+  const SurfaceProbe* probe_;
+  const SoilWindow& soil_;
+  ContactPatch& out_;
+  std::vector<double> fx_, fy_, loss_lo_x_, loss_lo_y_;
+  std::vector<unsigned char> touching_;
+  std::vector<Fringe> fringe_;
+};
+
+}  // namespace
+
+void Terrain::contact(const EnvelopeRaster& envelope, std::span<const double> shear_displacement,
+                      const SurfaceProbe* probe, ContactPatch& out) const {
+  check_envelope(&envelope, "terrain.Terrain.contact.envelope");
+  if (!shear_displacement.empty() && shear_displacement.size() != envelope.lower.size())
+    throw InvalidSetting("terrain.Terrain.contact.shear_displacement.size()",
+                         detail::to_text(shear_displacement.size()),
+                         "must be 0 or the envelope's nx * ny = " + detail::to_text(envelope.lower.size()));
+  out.clear();
+  if (envelope.nx == 0 || envelope.ny == 0) return;
+  SoilWindow soil;  // the window and a one-column ring (fringes and walls lie there)
+  read_soil(impl_->tiles, impl_->s.material.soil_depth,
+            {envelope.i0 - 1, envelope.j0 - 1, envelope.nx + 2, envelope.ny + 2}, soil);
+  PatchBuilder(impl_->s, envelope, shear_displacement, probe, soil, out).build();
+}
+
+}  // namespace shore::terrain
