@@ -142,7 +142,7 @@ void envelope_vs_rays(const SweepContext& ctx, SweepResult& out) {
             .x_label = "columns the body covers (wheel, box, hull, sphere)",
             .y_label = "microseconds per body and substep"});
   out.note(
-      "Envelope vs rays (bench/plugin/envelope_cases.h): the lowest point of a body over every column of its "
+      "Envelope vs rays (bench/bullet/envelope_cases.h): the lowest point of a body over every column of its "
       "window at 1 cm, by Shore's rasterizer or one vertical ray per column (through a btCollisionWorld holding "
       "the body, or rayTestSingle straight at the shape), interleaved, medians. The rasterized envelope is exact "
       "for these shapes; ray_vs_envelope_mean_abs_mm is the single-precision ray test's departure from it.");

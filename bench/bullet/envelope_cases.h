@@ -1,6 +1,6 @@
 #pragma once
 // Envelope rasterization against per-column ray casting, on the same columns: the cases
-// shared by shore_plugin_bench and the shore-bench report.
+// shared by shore_bullet_bench and the shore-bench report.
 //
 // Ray casting is what a column-based terrain does without envelopes: one vertical ray per
 // column, either through a btCollisionWorld holding the body (rayTest: broadphase, then the

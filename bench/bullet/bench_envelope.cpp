@@ -2,7 +2,7 @@
 // (1 cm grid): wheel, sphere, box, convex hull. Each benchmark iteration runs all three
 // methods once, interleaved, and reports their times and the speedup as counters.
 //
-//   shore_plugin_bench --benchmark_filter=EnvelopeVsRays
+//   shore_bullet_bench --benchmark_filter=EnvelopeVsRays
 #include <benchmark/benchmark.h>
 
 #include "envelope_cases.h"
