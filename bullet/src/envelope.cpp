@@ -211,25 +211,34 @@ void checked_aabb(const btCollisionShape& shape, const btTransform& pose, V3& mn
 
 namespace envelope_detail {
 
-Frame to_frame(const btTransform& pose) {
+Frame frame_of(const btTransform& pose) noexcept {
   Frame f;
   const btMatrix3x3& b = pose.getBasis();
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) {
-      f.r[r][c] = static_cast<double>(b[r][c]);
-      check_finite("pose.basis", f.r[r][c]);
-    }
+    for (int c = 0; c < 3; ++c) f.r[r][c] = static_cast<double>(b[r][c]);
   f.t = to_v3(pose.getOrigin());
-  check_finite("pose.origin.x", f.t.x);
-  check_finite("pose.origin.y", f.t.y);
-  check_finite("pose.origin.z", f.t.z);
+  return f;
+}
+
+double basis_deviation(const Frame& f) noexcept {
   double worst = 0;
   for (int a = 0; a < 3; ++a)
     for (int c = 0; c < 3; ++c) {
       const double d = dot(f.axis(a), f.axis(c)) - (a == c ? 1.0 : 0.0);
       worst = std::max(worst, std::abs(d));
     }
-  if (!(worst <= 1e-3))
+  return worst;
+}
+
+Frame to_frame(const btTransform& pose) {
+  const Frame f = frame_of(pose);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) check_finite("pose.basis", f.r[r][c]);
+  check_finite("pose.origin.x", f.t.x);
+  check_finite("pose.origin.y", f.t.y);
+  check_finite("pose.origin.z", f.t.z);
+  const double worst = basis_deviation(f);
+  if (!(worst <= kMaxBasisDeviation))
     throw InvalidSetting("bullet.envelope pose.basis", "deviation from orthonormal " + detail::to_text(worst),
                          "must be a rotation (deviation <= 1e-3)");
   return f;
@@ -327,6 +336,43 @@ int EnvelopeRasterizer::accumulate(const btCollisionShape& shape, const btTransf
   ShapeDrawer(cv, *cache_).draw(shape, pose, 0);
   inout = std::move(scratch);
   return count_covered(inout);
+}
+
+double check_rasterizable(const btCollisionShape& shape, double cell, const EnvelopeOptions& options) {
+  options.validate();
+  Check{"bullet.envelope"}.positive("cell", cell);
+  btVector3 centre;
+  btScalar radius = 0;
+  shape.getBoundingSphere(centre, radius);
+  const double reach = static_cast<double>(centre.length()) + static_cast<double>(radius);
+  if (!std::isfinite(reach))
+    throw InvalidSetting(std::string("bullet.envelope bounding sphere of shape ") + shape.getName(),
+                         detail::to_text(reach), "must be finite");
+  // Any rotation keeps the shape's AABB inside its bounding sphere: at most this many columns.
+  const double span = 2.0 * reach / cell + 3.0;
+  if (span * span > static_cast<double>(options.max_columns))
+    throw InvalidSetting(std::string("bullet.envelope window of shape ") + shape.getName(),
+                         detail::to_text(span * span) + " columns at its widest orientation",
+                         "must be <= EnvelopeOptions.max_columns (" + detail::to_text(options.max_columns) + ")");
+  // One rasterization at rest checks every part's type and sizes; a grid as coarse as the
+  // shape keeps it a few columns.
+  EnvelopeRasterizer coarse(EnvelopeGrid{0.0, 0.0, std::max(reach, 1e-3)}, options);
+  EnvelopeRaster scratch;
+  coarse.rasterize(shape, btTransform::getIdentity(), scratch);
+  return reach;
+}
+
+bool pose_rasterizable(const btTransform& pose, double reach, const EnvelopeGrid& grid) noexcept {
+  const Frame f = envelope_detail::frame_of(pose);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(f.r[r][c])) return false;
+  if (!std::isfinite(f.t.x) || !std::isfinite(f.t.y) || !std::isfinite(f.t.z)) return false;
+  if (!(envelope_detail::basis_deviation(f) <= kMaxBasisDeviation)) return false;
+  // The first and last column index of the window, as window_of() computes them.
+  const double di = (std::abs(f.t.x - grid.origin_x) + reach) / grid.cell + 1.0;
+  const double dj = (std::abs(f.t.y - grid.origin_y) + reach) / grid.cell + 1.0;
+  return di <= kMaxIndex && dj <= kMaxIndex;
 }
 
 int rasterize_envelope(const btCollisionShape& shape, const btTransform& pose, const EnvelopeGrid& grid,

@@ -55,7 +55,11 @@ struct Frame {
   [[nodiscard]] V3 axis(int k) const noexcept { return {r[0][k], r[1][k], r[2][k]}; }
 };
 
-/// Converts and checks a Bullet pose: finite, and its basis a rotation (to 1e-3).
+/// Converts a Bullet pose, unchecked.
+Frame frame_of(const btTransform& pose) noexcept;
+/// Largest |a_i . a_j - delta_ij| over the basis columns: 0 for a rotation (NaN if not finite).
+double basis_deviation(const Frame& f) noexcept;
+/// Converts and checks a Bullet pose: finite, and its basis a rotation (kMaxBasisDeviation).
 Frame to_frame(const btTransform& pose);
 
 /// Where primitives draw: the output raster, its grid and the options.

@@ -18,14 +18,9 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
 namespace {
-constexpr double kRestSpeed = 1e-3;  // m/s: slower than this, a body the soil holds is at rest
-constexpr double kRestSpin = 1e-2;   // rad/s
 using coupling_detail::Clock;
 using coupling_detail::seconds_since;
 
-}  // namespace
-
-namespace {
 /// The body's true shape, without Bullet's collision margin: Shore, not Bullet, makes the
 /// contact of added bodies with soft soil (and a sharp cylinder rasterizes in closed form).
 EnvelopeOptions nominal_solid() {
@@ -35,11 +30,19 @@ EnvelopeOptions nominal_solid() {
 }
 }  // namespace
 
+void BodySoilSettings::validate() const {
+  const Check c{"bullet.BodySoilSettings"};
+  c.in_left_open("ccd_motion_share", ccd_motion_share, 0.0, 1.0);
+  c.in_left_open("ccd_sphere_share", ccd_sphere_share, 0.0, 1.0);
+}
+
 void TerrainCouplingSettings::validate() const {
   tiles.validate();
   const Check c{"bullet.TerrainCouplingSettings"};
   c.positive("cover_margin", cover_margin);
   c.positive("max_speed", max_speed);
+  c.positive("rest_speed", rest_speed);
+  c.positive("rest_spin", rest_spin);
 }
 
 TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrain& soil,
@@ -51,8 +54,7 @@ TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrai
       rasterizer_(EnvelopeGrid{soil.settings().origin_x, soil.settings().origin_y, soil.settings().cell},
                   nominal_solid()) {
   settings_.validate();
-  const Region& r = settings_.region;
-  tiles_.set_region(r.x0, r.y0, r.x1, r.y1);
+  tiles_.set_region(settings_.region);
   rigid_ = soil.settings().material.rigid;
   tiles_.set_collision_group(rigid_ ? int(btBroadphaseProxy::StaticFilter) : settings_.soil_filter_bit);
   world_.addAction(this);
@@ -62,16 +64,20 @@ TerrainCoupling::~TerrainCoupling() { world_.removeAction(this); }
 
 void TerrainCoupling::add_body(btRigidBody* body, BodySoilSettings body_settings) {
   if (body == nullptr) throw InvalidSetting("bullet.TerrainCoupling.add_body(body)", "null", "must be a rigid body");
-  remove_body(body);
+  body_settings.validate();
   Body b;
   b.body = body;
   b.settings = body_settings;
+  if (body_settings.deform)  // once: then rasterizing it never fails for a sane pose
+    b.reach = check_rasterizable(*body->getCollisionShape(), rasterizer_.grid().cell, rasterizer_.options());
+  remove_body(body);
   if (body_settings.enable_ccd && !body->isStaticOrKinematicObject()) {
     btVector3 lo, hi;
     body->getCollisionShape()->getAabb(btTransform::getIdentity(), lo, hi);
-    const btScalar half = (hi - lo).minAxis() == 0 ? (hi - lo).x() : (hi - lo)[(hi - lo).minAxis()];
-    body->setCcdMotionThreshold(btScalar(0.25) * half);
-    body->setCcdSweptSphereRadius(btScalar(0.2) * half);
+    const btVector3 size = hi - lo;
+    const btScalar thinnest = size[size.minAxis()];
+    body->setCcdMotionThreshold(btScalar(body_settings.ccd_motion_share) * thinnest);
+    body->setCcdSweptSphereRadius(btScalar(body_settings.ccd_sphere_share) * thinnest);
   }
   if (!rigid_ && !body->isStaticOrKinematicObject() && body_settings.deform) {
     // Shore owns this body's contact with soft soil: Bullet must not collide it with the tiles.
@@ -82,13 +88,7 @@ void TerrainCoupling::add_body(btRigidBody* body, BodySoilSettings body_settings
     proxy->m_collisionFilterMask &= ~settings_.soil_filter_bit;
     drop_tile_pairs(proxy);
   }
-  if (body_is_sane(*body) && body_settings.deform) {
-    try {
-      rasterize(b);
-    } catch (const InvalidSetting&) {
-      b.envelope.lower.clear();
-    }
-  }
+  if (body_is_sane(*body) && body_settings.deform && can_rasterize(b)) rasterize(b);
   bodies_.push_back(std::move(b));
   if (body_is_sane(*body)) {
     btVector3 lo, hi;
@@ -107,6 +107,10 @@ void TerrainCoupling::remove_body(btRigidBody* body) {
 
 bool TerrainCoupling::body_is_sane(const btRigidBody& body) const {
   return coupling_detail::body_is_sane(body, settings_.max_speed);
+}
+
+bool TerrainCoupling::can_rasterize(const Body& b) const {
+  return pose_rasterizable(b.body->getWorldTransform(), b.reach, rasterizer_.grid());
 }
 
 void TerrainCoupling::cover_bodies(double substep) {
@@ -158,7 +162,7 @@ void TerrainCoupling::rasterize(Body& b) {
 
 void TerrainCoupling::clip_to_region(EnvelopeRaster& env) const {
   const Region& r = settings_.region;
-  if (r.x0 <= -1e29 && r.y0 <= -1e29 && r.x1 >= 1e29 && r.y1 >= 1e29) return;
+  if (r.everywhere()) return;
   for (int b = 0; b < env.ny; ++b)
     for (int a = 0; a < env.nx; ++a)
       if (!r.contains(soil_.column_x(env.i0 + a), soil_.column_y(env.j0 + b)))
@@ -339,8 +343,8 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
       stats_.reaction_seconds += seconds_since(t0);
       // A body the soil holds at rest presses nothing new: imprinting it again would only
       // re-press soil that erosion slid back under its sides, inflating sinkage forever.
-      moved = yielded || b.envelope.lower.empty() || body.getLinearVelocity().length() > kRestSpeed ||
-              body.getAngularVelocity().length() > kRestSpin;
+      moved = yielded || b.envelope.lower.empty() || body.getLinearVelocity().length() > settings_.rest_speed ||
+              body.getAngularVelocity().length() > settings_.rest_spin;
     }
     if (!body.isActive() || !moved) {
       // At rest its last envelope holds the soil it touches: slopes still eroding next to
@@ -352,14 +356,13 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
       }
       continue;
     }
-    t0 = Clock::now();
-    try {
-      rasterize(b);                    // at the (corrected) pose: this substep's imprint, next substep's bearing
-    } catch (const InvalidSetting&) {  // e.g. an absurdly large shape: skip it, never poison the grid
+    if (!can_rasterize(b)) {  // a pose the envelope cannot take (not a rotation, say): skip, never poison the grid
       ++stats_.skipped_bodies;
       b.envelope.lower.clear();
       continue;
     }
+    t0 = Clock::now();
+    rasterize(b);  // at the (corrected) pose: this substep's imprint, next substep's bearing
     stats_.envelope_seconds += seconds_since(t0);
     if (!body.isStaticOrKinematicObject() && !rigid_) keep_above_bedrock(b);
     imprints_.push_back(terrain::Imprint{&b.envelope, 0.0, false, v.x(), v.y(), v.z()});

@@ -21,8 +21,6 @@ std::int64_t floor_div(std::int64_t a, std::int64_t b) {
 
 void TerrainTilesSettings::validate() const {
   const Check c{"bullet.TerrainTilesSettings"};
-  if (tile_cells < 4 || tile_cells > 1024)
-    throw InvalidSetting(c.name("tile_cells"), detail::to_text(tile_cells), "must be in [4, 1024]");
   c.positive("headroom", headroom);
   c.positive("max_rise_per_substep", max_rise_per_substep);
 }
@@ -51,7 +49,7 @@ void TerrainTiles::set_friction(double friction) {
 }
 
 TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
-  const int T = settings_.tile_cells;
+  const int T = soil_.settings().tile_columns;
   Tile tile;
   tile.i0 = tx * T;
   tile.j0 = ty * T;
@@ -79,22 +77,15 @@ TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
   return tiles_.emplace(key(tx, ty), std::move(tile)).first->second;
 }
 
-void TerrainTiles::set_region(double x0, double y0, double x1, double y1) {
-  region_[0] = x0;
-  region_[1] = y0;
-  region_[2] = x1;
-  region_[3] = y1;
-}
-
 int TerrainTiles::ensure_cover(double x0, double y0, double x1, double y1) {
-  const int T = settings_.tile_cells;
+  const int T = soil_.settings().tile_columns;
   // Tiles whose span lies strictly inside the region's edges (a tile touching the region
   // only along its border belongs to the neighbour).
   const double eps = 1e-6 * soil_.settings().cell;
-  x0 = std::max(x0, region_[0] + eps);
-  y0 = std::max(y0, region_[1] + eps);
-  x1 = std::min(x1, region_[2] - eps);
-  y1 = std::min(y1, region_[3] - eps);
+  x0 = std::max(x0, region_.x0 + eps);
+  y0 = std::max(y0, region_.y0 + eps);
+  x1 = std::min(x1, region_.x1 - eps);
+  y1 = std::min(y1, region_.y1 - eps);
   if (x0 > x1 || y0 > y1) return 0;
   const terrain::TerrainSettings& s = soil_.settings();
   auto tile_of = [&](double w, double origin) {
@@ -124,7 +115,7 @@ void TerrainTiles::Tile::mark_lagging(int a0, int b0, int a1, int b1) {
 
 std::int64_t TerrainTiles::copy_rect(Tile& tile, std::int64_t ci0, std::int64_t cj0, std::int64_t ci1,
                                      std::int64_t cj1) {
-  const int T = settings_.tile_cells;
+  const int T = soil_.settings().tile_columns;
   const std::int64_t a0 = std::max<std::int64_t>(ci0 - tile.i0, 0), a1 = std::min<std::int64_t>(ci1 - tile.i0, T);
   const std::int64_t b0 = std::max<std::int64_t>(cj0 - tile.j0, 0), b1 = std::min<std::int64_t>(cj1 - tile.j0, T);
   if (a0 > a1 || b0 > b1) return 0;
@@ -144,7 +135,7 @@ std::int64_t TerrainTiles::copy_rect(Tile& tile, std::int64_t ci0, std::int64_t 
 }
 
 std::int64_t TerrainTiles::push(std::span<const terrain::ColumnRect> changed) {
-  const int T = settings_.tile_cells;
+  const int T = soil_.settings().tile_columns;
   const double cell = soil_.settings().cell;
   std::int64_t written = 0;
   // Vertices still catching up with a capped rise.

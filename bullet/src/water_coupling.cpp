@@ -94,13 +94,21 @@ void WaterCoupling::rasterize(const btRigidBody& body, Sampled& out) const {
                      EnvelopeGrid{out.origin_x, out.origin_y, sample_cell_}, with_upper(), out.raster);
 }
 
+bool WaterCoupling::can_rasterize(const Body& b) const {
+  const btVector3 com = b.body->getCenterOfMassPosition();
+  return pose_rasterizable(b.body->getWorldTransform(), b.reach,
+                           EnvelopeGrid{com.x() + 0.5 * sample_cell_, com.y() + 0.5 * sample_cell_, sample_cell_});
+}
+
 void WaterCoupling::add_body(btRigidBody* body, bool disturb) {
   if (body == nullptr) throw InvalidSetting("bullet.WaterCoupling.add_body(body)", "null", "must be a rigid body");
-  remove_body(body);
   Body b;
   b.body = body;
   b.disturb = disturb;
-  if (body_is_sane(*body)) rasterize(*body, b.previous);  // tracking starts at this pose
+  // Once: then rasterizing it never fails for a sane pose.
+  b.reach = check_rasterizable(*body->getCollisionShape(), sample_cell_, with_upper());
+  remove_body(body);
+  if (body_is_sane(*body) && can_rasterize(b)) rasterize(*body, b.previous);  // tracking starts at this pose
   bodies_.push_back(std::move(b));
 }
 
@@ -186,16 +194,11 @@ void WaterCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   const auto t0 = Clock::now();
   for (Body& b : bodies_) {
     btRigidBody& body = *b.body;
-    if (!body_is_sane(body)) {
+    if (!body_is_sane(body) || !can_rasterize(b)) {  // never poison the water
       ++stats_.skipped_bodies;
       continue;
     }
-    try {
-      rasterize(body, b.current);
-    } catch (const InvalidSetting&) {  // e.g. an absurdly large shape: skip it, never poison the water
-      ++stats_.skipped_bodies;
-      continue;
-    }
+    rasterize(body, b.current);
     const double mass = body.getInvMass() > 0 ? 1.0 / body.getInvMass() : 0.0;
     if (mass > 0.0) {
       const WaterImpulse w = water_impulse(b.current.raster, b.current.origin_x, b.current.origin_y, sample_cell_,

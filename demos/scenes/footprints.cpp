@@ -204,8 +204,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
     ts.threads = o.threads;
     st.soil = std::make_unique<terrain::Terrain>(ts);
     bullet::TerrainCouplingSettings cs;
-    cs.tiles.tile_cells = tile_cells;
-    cs.region = {-1e30, st.y0, 1e30, st.y1};
+    cs.region = {-bullet::Region::kUnbounded, st.y0, bullet::Region::kUnbounded, st.y1};
     st.coupling = std::make_unique<bullet::TerrainCoupling>(world.world(), *st.soil, cs);
     st.walker = Walker{0.5 * (st.y0 + st.y1), prints, ground.get()};
     for (int f = 0; f < 2; ++f) {
@@ -230,7 +229,7 @@ SceneResult run(const SceneOptions& o, Progress& progress) {
       bodies.push_back(f);
       objects.push_back(f);
     }
-    patches.push_back({st.soil.get(), {-1e30, st.y0, 1e30, st.y1}});
+    patches.push_back({st.soil.get(), {-bullet::Region::kUnbounded, st.y0, bullet::Region::kUnbounded, st.y1}});
   }
 
   const HeightGrid frame =

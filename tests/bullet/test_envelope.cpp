@@ -17,6 +17,7 @@
 #include <limits>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "shore/bullet/envelope.h"
@@ -661,6 +662,50 @@ TEST(Envelope, BadInputRaisesInvalidSetting) {
   btScalar radii[2] = {btScalar(0.1), btScalar(0.1)};
   btMultiSphereShape unsupported(centres, radii, 2);
   EXPECT_THROW(rasterize_envelope(unsupported, pose, grid_of(0.01), opt, out), shore::InvalidSetting);
+}
+
+// check_rasterizable refuses, once, what rasterizing would refuse at some pose;
+// pose_rasterizable is the cheap test for each pose after that.
+TEST(Envelope, ShapesAreCheckedOnceAndPosesCheaply) {
+  const EnvelopeOptions opt;
+  btSphereShape ball(btScalar(0.2));
+  const double reach = check_rasterizable(ball, 0.01, opt);
+  EXPECT_GE(reach, 0.2);
+  EXPECT_LE(reach, 0.2 * std::sqrt(3.0) + 1e-6);  // the bounding sphere of its box
+  btBoxShape huge(btVector3(btScalar(1e5), btScalar(1e5), btScalar(1)));
+  EXPECT_THROW((void)check_rasterizable(huge, 0.01, opt), shore::InvalidSetting);
+  // A box whose window is small lying flat but too large once turned.
+  btBoxShape slab(btVector3(btScalar(9.0), btScalar(0.01), btScalar(0.01)));
+  EnvelopeOptions tight;
+  tight.max_columns = 20000;  // lying along x it covers about 1800 x 5 columns
+  EXPECT_THROW((void)check_rasterizable(slab, 0.01, tight), shore::InvalidSetting);
+  btVector3 centres[1] = {btVector3(0, 0, 0)};
+  btScalar radii[1] = {btScalar(0.1)};
+  btMultiSphereShape unsupported(centres, radii, 1);
+  btCompoundShape compound;
+  compound.addChildShape(btTransform::getIdentity(), &ball);
+  compound.addChildShape(btTransform::getIdentity(), &unsupported);
+  try {
+    (void)check_rasterizable(compound, 0.01, opt);
+    ADD_FAILURE() << "an unsupported child shape must be refused";
+  } catch (const shore::InvalidSetting& e) {
+    EXPECT_NE(std::string(e.what()).find("MultiSphere"), std::string::npos) << e.what();
+  }
+
+  btTransform pose = btTransform::getIdentity();
+  EXPECT_TRUE(pose_rasterizable(pose, reach, grid_of(0.01)));
+  pose.getBasis()[0][0] = btScalar(2);  // not a rotation
+  EXPECT_FALSE(pose_rasterizable(pose, reach, grid_of(0.01)));
+  pose.setIdentity();
+  pose.getBasis()[1][2] = std::numeric_limits<btScalar>::quiet_NaN();
+  EXPECT_FALSE(pose_rasterizable(pose, reach, grid_of(0.01)));
+  pose.setIdentity();
+  pose.setOrigin(btVector3(btScalar(1e30), 0, 0));
+  EXPECT_FALSE(pose_rasterizable(pose, reach, grid_of(0.01)));
+  pose.setOrigin(btVector3(btScalar(123.4), btScalar(-56.7), btScalar(8.9)));
+  ASSERT_TRUE(pose_rasterizable(pose, reach, grid_of(0.01)));
+  EnvelopeRaster out;
+  EXPECT_NO_THROW(rasterize_envelope(ball, pose, grid_of(0.01), opt, out));
 }
 
 TEST(Envelope, FailedAccumulateLeavesRasterUntouched) {

@@ -6,10 +6,13 @@
 #include <limits>
 #include <random>
 
+#include <BulletCollision/CollisionShapes/btMultiSphereShape.h>
+
 #include "shore/bullet/heightfield_tile.h"
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/cases/bullet_world.h"
 #include "shore/cases/soil_cases.h"
+#include "shore/core/error.h"
 #include "shore/terrain/terrain.h"
 
 using namespace shore;
@@ -192,4 +195,41 @@ TEST(SoilRobustness, BodyWithNaNPoseIsSkippedAndCounted) {
   for (std::int64_t j = -20; j <= 20; ++j)
     for (std::int64_t i = -20; i <= 20; ++i) ASSERT_TRUE(std::isfinite(soil.height(i, j)));
   EXPECT_TRUE(std::isfinite(good->getCenterOfMassPosition().z()));
+}
+
+// A shape the soil cannot take is refused once, by add_body, with an error naming it; a
+// body whose pose turns invalid later is skipped and counted, and stepSimulation goes on.
+TEST(SoilRobustness, BadShapesAreRefusedAtAddBodyAndBadPosesSkippedPerSubstep) {
+  terrain::Terrain soil(soil_of("sand"));
+  BulletWorld world;
+  bullet::TerrainCoupling ground(world.world(), soil);
+  btVector3 centres[1] = {btVector3(0, 0, 0)};
+  btScalar radii[1] = {btScalar(0.1)};
+  btRigidBody* blob = world.add_body(std::make_unique<btMultiSphereShape>(centres, radii, 1), 5.0, btVector3(0, 0, 1));
+  EXPECT_THROW(ground.add_body(blob), shore::InvalidSetting);
+  EXPECT_NO_THROW(ground.add_body(blob, {.deform = false}));  // it only feels the ground: no envelope needed
+
+  // A kinematic body takes its pose from its motion state as it is, sheared or not.
+  btRigidBody* box =
+      world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 0.0, btVector3(1, 1, 0.3f));
+  box->setCollisionFlags(box->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+  box->setActivationState(DISABLE_DEACTIVATION);
+  ground.add_body(box);
+  btTransform sheared = box->getWorldTransform();
+  sheared.getBasis()[0][1] = btScalar(0.5);  // not a rotation
+  box->getMotionState()->setWorldTransform(sheared);
+  EXPECT_NO_THROW(for (int s = 0; s < 4; ++s) world.step(1.0 / 240));
+  EXPECT_GT(ground.stats().skipped_bodies, 0);
+}
+
+TEST(SoilRobustness, CouplingSettingsAreValidated) {
+  terrain::Terrain soil(soil_of("sand"));
+  BulletWorld world;
+  bullet::TerrainCouplingSettings s;
+  s.rest_speed = 0.0;
+  EXPECT_THROW(bullet::TerrainCoupling(world.world(), soil, s), shore::InvalidSetting);
+  bullet::TerrainCoupling ground(world.world(), soil);
+  btRigidBody* ball = world.add_body(std::make_unique<btSphereShape>(0.1f), 1.0, btVector3(0, 0, 0.3f));
+  EXPECT_THROW(ground.add_body(ball, {.ccd_motion_share = 0.0}), shore::InvalidSetting);
+  EXPECT_THROW(ground.add_body(ball, {.ccd_sphere_share = 1.5}), shore::InvalidSetting);
 }

@@ -31,10 +31,11 @@ double bullet_ground(btCollisionWorld& world, double x, double y) {
 }  // namespace
 
 TEST(TerrainTiles, RaisedGroundRisesAtMostTheCapPerPushThenCatchesUp) {
-  terrain::Terrain soil(flat_sand());
+  terrain::TerrainSettings s = flat_sand();
+  s.tile_columns = 32;  // the tiles take the soil's tile size
+  terrain::Terrain soil(s);
   cases::BulletWorld world(9.81);
   bullet::TerrainTilesSettings ts;
-  ts.tile_cells = 32;
   ts.max_rise_per_substep = 0.002;
   bullet::TerrainTiles tiles(world.world(), soil, ts);
   ASSERT_EQ(tiles.ensure_cover(0.1, 0.1, 0.5, 0.5), 1);

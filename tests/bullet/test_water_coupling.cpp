@@ -5,9 +5,12 @@
 #include <cmath>
 #include <numbers>
 
+#include <BulletCollision/CollisionShapes/btMultiSphereShape.h>
+
 #include "shore/bullet/water_coupling.h"
 #include "shore/cases/bullet_world.h"
 #include "shore/cases/water_cases.h"
+#include "shore/core/error.h"
 #include "shore/terrain/terrain.h"
 
 using namespace shore::cases;
@@ -224,4 +227,29 @@ TEST(WaterCoupling, ShorelineIsFixedWhereTheGroundRisesAboveTheWater) {
     }
   EXPECT_EQ(fixed, expected);
   EXPECT_GT(fixed, 0);
+}
+
+// As for the soil: a shape the water cannot take is refused by add_body; a broken pose later
+// is skipped and counted inside stepSimulation.
+TEST(WaterCoupling, BadShapesAreRefusedAtAddBodyAndBadPosesSkippedPerSubstep) {
+  shore::water::PhysicalParameters phys;
+  shore::water::SurfaceSettings ws = shore::water::SurfaceSettings::physical(phys, 32, 32);
+  shore::water::Surface surface(ws);
+  shore::cases::BulletWorld world;
+  shore::bullet::WaterCoupling coupling(world.world(), surface);
+  btVector3 centres[1] = {btVector3(0, 0, 0)};
+  btScalar radii[1] = {btScalar(0.1)};
+  btRigidBody* blob = world.add_body(std::make_unique<btMultiSphereShape>(centres, radii, 1), 5.0, btVector3(0, 0, 1));
+  EXPECT_THROW(coupling.add_body(blob), shore::InvalidSetting);
+  // A kinematic body takes its pose from its motion state as it is, sheared or not.
+  btRigidBody* box =
+      world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 0.0, btVector3(0.5f, 0.5f, 0.3f));
+  box->setCollisionFlags(box->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+  box->setActivationState(DISABLE_DEACTIVATION);
+  coupling.add_body(box);
+  btTransform sheared = box->getWorldTransform();
+  sheared.getBasis()[0][1] = btScalar(0.5);  // not a rotation
+  box->getMotionState()->setWorldTransform(sheared);
+  EXPECT_NO_THROW(for (int s = 0; s < 4; ++s) world.step(1.0 / 240));
+  EXPECT_GT(coupling.stats().skipped_bodies, 0);
 }

@@ -47,7 +47,6 @@ VehicleResult run_vehicle(const VehicleCase& c, const VehicleFrameCallback& on_s
 
   out.soils = {make_soil(c, terrain::Material::sand()), make_soil(c, terrain::Material::mud())};
   bullet::TerrainCouplingSettings sand_settings, mud_settings;
-  sand_settings.tiles.tile_cells = mud_settings.tiles.tile_cells = kTileCells;
   sand_settings.region = {out.sand_x0, -half_y, out.sand_x1, half_y};
   mud_settings.region = {out.sand_x1, -half_y, out.mud_x1, half_y};
   bullet::TerrainCoupling sand(world.world(), *out.soils[0], sand_settings);

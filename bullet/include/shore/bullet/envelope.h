@@ -117,6 +117,22 @@ class EnvelopeRasterizer {
   std::unique_ptr<Cache> cache_;
 };
 
+/// Largest deviation of a pose's basis from orthonormal that rasterization accepts.
+inline constexpr double kMaxBasisDeviation = 1e-3;
+
+/// Checks, once, that `shape` can be rasterized with `options` on a grid of `cell` metres at
+/// any pose: every part is a supported shape type with valid sizes, and no orientation
+/// gives it a window of more than options.max_columns columns. Returns the shape's reach:
+/// the radius of a sphere about its local origin that holds it, margin included (m).
+/// Throws InvalidSetting naming the part and the problem.
+double check_rasterizable(const btCollisionShape& shape, double cell, const EnvelopeOptions& options);
+
+/// The cheap test before each rasterization of a shape that passed check_rasterizable with
+/// this `reach`: true if `pose` is finite, its basis a rotation (kMaxBasisDeviation) and
+/// the shape's columns on `grid` within the index range. When it holds, rasterizing the
+/// shape at `pose` on `grid` does not throw.
+[[nodiscard]] bool pose_rasterizable(const btTransform& pose, double reach, const EnvelopeGrid& grid) noexcept;
+
 /// One-shot form of EnvelopeRasterizer::rasterize (no cache kept between calls).
 int rasterize_envelope(const btCollisionShape& shape, const btTransform& pose, const EnvelopeGrid& grid,
                        const EnvelopeOptions& options, EnvelopeRaster& out);

@@ -10,24 +10,22 @@
 //   ground.add_body(wheel);                                // this body deforms the soil
 //   world.stepSimulation(1.0 / 60, 8, 1.0 / 240);
 //
-// Soil reaction: Shore owns the normal contact of added bodies with soft soil (DESIGN.md,
-// "loads, impacts and Bullet's contact", last row: exact at every substep). Bullet does
-// not collide these bodies with the soft tiles (a broadphase filter bit); every substep,
-// after Bullet's solve and integration, the downward momentum p = -m v_z the soil must
-// absorb is compared with what it can: S h, S the Bekker bearing capacity of the columns
-// under the body where it stood at the start of the substep. The soil's impulse
-// min(p, S h) is applied per column in proportion to each column's bearing (not through
-// the centre), with Coulomb friction (the material's) at the patch's bearing centre; the
-// pose is re-integrated with the corrected velocity, and the soil is imprinted with the
-// body's envelope at that pose. If p > S h the soil yields and the body sinks on. Load
-// is never J / h (craters would grow like 1/h). Columns on bedrock carry anything; a body
-// driven below bedrock in one substep is lifted back (counted as a rescue). The first
-// design kept Bullet's rigid contact and replaced its impulses afterwards; Bullet's
-// friction, solved together with rigid-ground normals, then tilted sinking plates until
-// they fell through, which is why Shore owns the contact. Rigid materials keep Bullet's
-// contact unchanged. Kinematic bodies imprint geometrically. A body at rest (asleep, or
-// held still by the soil) presses nothing new; its last envelope is passed as a holding
-// imprint, so slopes still eroding beside it cannot slide in under it.
+// What Shore does with added bodies:
+// - Soft soil: Shore, not Bullet, makes their normal contact with the ground (Bullet does
+//   not collide them with the soil tiles: see soil_filter_bit). Each substep the body's
+//   downward momentum is compared with what the columns under it can bear in one substep
+//   (Bekker's bearing capacity times the substep); the soil's impulse, with Coulomb
+//   friction, is applied where the columns bear, and the soil is pressed where the body
+//   went. If the body carries more than the soil bears, the soil yields and the body sinks.
+//   Craters do not depend on the substep. Columns on bedrock bear anything.
+// - Rigid materials (Material::rigid): Bullet's ordinary heightfield contact.
+// - Kinematic bodies press the soil geometrically; bodies at rest press nothing new but
+//   keep eroding soil out from under them.
+// - A body driven below bedrock in one substep is lifted back (counted in stats().rescues).
+// - add_body() checks the body's shape once (InvalidSetting if it cannot be rasterized);
+//   a body with a broken pose (non-finite, not a rotation) or faster than max_speed is
+//   skipped for that substep and counted in stats().skipped_bodies.
+// Bodies that are not added collide with the soil's tiles through Bullet as with rigid ground.
 
 #include <cstdint>
 #include <memory>
@@ -51,22 +49,26 @@ inline namespace SHORE_BULLET_ABI {
 struct BodySoilSettings {
   bool deform = true;      ///< the body presses the soil (false: it only feels the ground)
   bool enable_ccd = true;  ///< turn on Bullet's continuous collision for fast impacts
-};
-
-/// A world-space rectangle (m). Default: everywhere.
-struct Region {
-  double x0 = -1e30, y0 = -1e30, x1 = 1e30, y1 = 1e30;
-  [[nodiscard]] bool contains(double x, double y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+  /// With enable_ccd: Bullet's CCD motion threshold and swept-sphere radius, as shares of
+  /// the thinnest side of the body's bounding box; each in (0, 1].
+  double ccd_motion_share = 0.25;
+  double ccd_sphere_share = 0.2;
+  void validate() const;
 };
 
 struct TerrainCouplingSettings {
   TerrainTilesSettings tiles;
   /// Where this soil is. Several Terrain objects (say sand, then mud) can lie side by side,
-  /// each with its own coupling and region; put region edges on tile edges
-  /// (multiples of tiles.tile_cells * cell from the soil's origin) so tiles meet exactly.
+  /// each with its own coupling and region; put region edges on tile edges (multiples of
+  /// the soil's tile_columns * cell from its origin) so tiles meet exactly.
   Region region;
   double cover_margin = 0.25;  ///< m kept covered by tiles around every dynamic body's AABB, > 0
   double max_speed = 500.0;    ///< m/s: a body faster than this (or with a non-finite pose) is skipped and counted
+  /// A body the soil holds that moves slower than rest_speed and turns slower than
+  /// rest_spin is at rest: it presses nothing new (pressing again would only re-press soil
+  /// that slid back beside it). Both > 0.
+  double rest_speed = 1e-3;  ///< m/s
+  double rest_spin = 1e-2;   ///< rad/s
   /// Every dynamic body in the world gets ground under it (tiles), not only added ones.
   bool cover_all_bodies = true;
   /// Lift a body whose lowest point fell below bedrock back onto the surface (counted).
@@ -82,7 +84,7 @@ struct TerrainCouplingSettings {
 /// Counters and timings of the last substep and totals since creation.
 struct TerrainCouplingStats {
   std::int64_t substeps = 0;
-  std::int64_t skipped_bodies = 0;   ///< bodies skipped for a non-finite pose or absurd speed (total)
+  std::int64_t skipped_bodies = 0;   ///< body-substeps skipped for a broken pose or an absurd speed (total)
   std::int64_t yields = 0;           ///< body-substeps in which the soil yielded (total)
   std::int64_t rescues = 0;          ///< bodies lifted back above bedrock (total)
   std::int64_t vertices_pushed = 0;  ///< heightfield vertices written (total)
@@ -106,7 +108,8 @@ class TerrainCoupling : public btActionInterface {
   TerrainCoupling& operator=(const TerrainCoupling&) = delete;
 
   /// The body presses the soil (dynamic: by the momentum rule; kinematic: geometrically).
-  /// Tiles under it are created at once.
+  /// Tiles under it are created at once. Throws InvalidSetting for a null body, a dynamic
+  /// body not yet in the world, or (with deform) a shape that cannot be rasterized.
   void add_body(btRigidBody* body, BodySoilSettings body_settings = {});
   void remove_body(btRigidBody* body);
 
@@ -122,8 +125,11 @@ class TerrainCoupling : public btActionInterface {
     btRigidBody* body = nullptr;
     BodySoilSettings settings;
     EnvelopeRaster envelope;  // reused buffer
+    double reach = 0.0;       // m, from check_rasterizable
   };
   bool body_is_sane(const btRigidBody& body) const;
+  /// The cheap per-substep test that rasterizing the body at its pose cannot fail.
+  bool can_rasterize(const Body& b) const;
   void cover_bodies(double substep);
   void rasterize(Body& b);
   [[nodiscard]] bool overlaps_region(const btRigidBody& body) const;

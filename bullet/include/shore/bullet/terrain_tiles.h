@@ -2,8 +2,9 @@
 // The Bullet side of the deformable ground: btHeightfieldTerrainShape tiles created on
 // demand around bodies and kept equal to the soil heights.
 //
-// Tile (tx, ty) holds vertices for columns [tx T, tx T + T] x [ty T, ty T + T] (T =
-// tile_cells): neighbouring tiles share their edge vertices, so there is no seam.
+// Tile (tx, ty) holds vertices for columns [tx T, tx T + T] x [ty T, ty T + T] (T, the
+// tile size, is the soil's TerrainSettings::tile_columns): neighbouring tiles share their
+// edge vertices, so there is no seam.
 // Each substep the changed columns are copied into the tiles' float buffers in place;
 // contact points whose terrain-side point lies in a changed cell are removed (Bullet
 // refreshes cached points from their local positions, so a body would otherwise hover
@@ -25,8 +26,19 @@
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
+/// A world-space rectangle (m), x in [x0, x1) and y in [y0, y1). Default: everywhere.
+struct Region {
+  static constexpr double kUnbounded = 1e30;  ///< m: an edge this far out is no edge
+  double x0 = -kUnbounded, y0 = -kUnbounded, x1 = kUnbounded, y1 = kUnbounded;
+  [[nodiscard]] bool contains(double x, double y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+  /// True if no edge is set (the default): nothing is outside.
+  [[nodiscard]] bool everywhere() const {
+    return x0 <= -kUnbounded && y0 <= -kUnbounded && x1 >= kUnbounded && y1 >= kUnbounded;
+  }
+};
+
+/// The tile size is the soil's: one tile per TerrainSettings::tile_columns columns a side.
 struct TerrainTilesSettings {
-  int tile_cells = 64;                  ///< cells per tile side (vertices = tile_cells + 1), in [4, 1024]
   double headroom = 0.5;                ///< m a tile can hold above its highest untouched ground (rims), > 0
   double max_rise_per_substep = 0.002;  ///< m, > 0: cap on how far ground may rise in one substep
   void validate() const;
@@ -42,8 +54,8 @@ class TerrainTiles {
   /// Creates the tiles (if missing) that cover the world box [x0, x1] x [y0, y1], limited
   /// to tiles that overlap the allowed region (set_region). Returns how many were created.
   int ensure_cover(double x0, double y0, double x1, double y1);
-  /// Only tiles overlapping this world box are ever created (default: everywhere).
-  void set_region(double x0, double y0, double x1, double y1);
+  /// Only tiles overlapping this region are ever created (default: everywhere).
+  void set_region(const Region& region) { region_ = region; }
 
   /// Copies the given changed columns (and any tile still catching up) from the soil into
   /// the tiles, removes stale contact points there and wakes the bodies. Returns the
@@ -79,7 +91,7 @@ class TerrainTiles {
   double friction_;
   std::unordered_map<std::uint64_t, Tile> tiles_;
   std::int64_t clamped_ = 0;
-  double region_[4] = {-1e30, -1e30, 1e30, 1e30};
+  Region region_;
   int group_ = btBroadphaseProxy::StaticFilter;
   std::vector<double> scratch_;  // heights of the rectangle being copied
 };

@@ -10,16 +10,18 @@
 // at the centre of buoyancy, plus linear and quadratic drag per sample against the
 // water's vertical velocity; applied as impulses each substep (buoyancy.h).
 //
-// Body to water: the smoothed swept displacement (DESIGN.md section 4, measured against
-// three other mechanisms). The node heights form a surface that passes through bodies
-// (the body hides it). Each substep, for every node, ds = s(new pose) - s(old pose) is
-// the change of the body's submerged length in that node's cell, both taken at the
-// current water height; ds is smoothed twice with a volume-conserving [1 2 1]/4 kernel
-// and gain * ds is added to the same nodes' heights. Using the swept change rather than
-// the total keeps the water's own motion from feeding back into itself (it self-excites
-// otherwise); tracking starts from the pose at add_body, so the first substep does not
-// dump the whole submerged volume. A body sliding sideways still makes a wake: it
-// submerges new cells ahead and leaves cells behind.
+// Body to water: the swept displacement. The node heights form a surface that passes
+// through bodies (the body hides it). Each substep, for every node, ds = s(new pose) -
+// s(old pose) is the change of the body's submerged length in that node's cell, both
+// taken at the current water height; ds is smoothed with a volume-conserving [1 2 1]/4
+// kernel (smoothing_passes) and displacement_gain * ds is added to the same nodes'
+// heights. The swept change, not the total, keeps the water's own motion from feeding
+// back into itself; tracking starts from the pose at add_body, so the first substep does
+// not dump the whole submerged volume. A body sliding sideways makes a wake.
+//
+// add_body() checks the body's shape once (InvalidSetting if it cannot be rasterized); a
+// body with a broken pose or faster than max_speed is skipped for that substep and
+// counted in stats().skipped_bodies.
 
 #include <cstdint>
 #include <vector>
@@ -67,6 +69,7 @@ class WaterCoupling : public btActionInterface {
   WaterCoupling& operator=(const WaterCoupling&) = delete;
 
   /// The body floats and disturbs the water. disturb = false: it floats without making waves.
+  /// Throws InvalidSetting for a null body or a shape that cannot be rasterized.
   void add_body(btRigidBody* body, bool disturb = true);
   void remove_body(btRigidBody* body);
 
@@ -96,8 +99,11 @@ class WaterCoupling : public btActionInterface {
     Sampled previous;  // envelopes at the last substep's pose
     Sampled current;
     double submerged = 0.0;
+    double reach = 0.0;  // m, from check_rasterizable
   };
   bool body_is_sane(const btRigidBody& body) const;
+  /// The cheap per-substep test that rasterizing the body at its pose cannot fail.
+  bool can_rasterize(const Body& b) const;
   void rasterize(const btRigidBody& body, Sampled& out) const;
   void displace(Body& b);
 
