@@ -5,18 +5,18 @@
 //   shore_bullet_bench --benchmark_filter=EnvelopeVsRays
 #include <benchmark/benchmark.h>
 
-#include "envelope_cases.h"
+#include "shore/scenes/envelope_cases.h"
 
 namespace {
 
 void BM_EnvelopeVsRays(benchmark::State& state) {
-  const auto cases = shore::bench::standard_envelope_cases();
+  const auto cases = shore::scenes::standard_envelope_cases();
   const auto& c = cases.at(std::size_t(state.range(0)));
   state.SetLabel(c.name);
   double env = 0, world = 0, single = 0;
-  shore::bench::EnvelopeCaseResult last;
+  shore::scenes::EnvelopeCaseResult last;
   for (auto _ : state) {
-    last = shore::bench::run_envelope_case(c, 0.01, 1);
+    last = shore::scenes::run_envelope_case(c, 0.01, 1);
     env += last.envelope_us;
     world += last.ray_world_us;
     single += last.ray_single_us;

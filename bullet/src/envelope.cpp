@@ -338,13 +338,17 @@ int EnvelopeRasterizer::accumulate(const btCollisionShape& shape, const btTransf
   return count_covered(inout);
 }
 
-double check_rasterizable(const btCollisionShape& shape, double cell, const EnvelopeOptions& options) {
-  options.validate();
-  Check{"bullet.envelope"}.positive("cell", cell);
+double shape_reach(const btCollisionShape& shape) {
   btVector3 centre;
   btScalar radius = 0;
   shape.getBoundingSphere(centre, radius);
-  const double reach = static_cast<double>(centre.length()) + static_cast<double>(radius);
+  return static_cast<double>(centre.length()) + static_cast<double>(radius);
+}
+
+double check_rasterizable(const btCollisionShape& shape, double cell, const EnvelopeOptions& options) {
+  options.validate();
+  Check{"bullet.envelope"}.positive("cell", cell);
+  const double reach = shape_reach(shape);
   if (!std::isfinite(reach))
     throw InvalidSetting(std::string("bullet.envelope bounding sphere of shape ") + shape.getName(),
                          detail::to_text(reach), "must be finite");

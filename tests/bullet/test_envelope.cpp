@@ -130,11 +130,7 @@ Comparison compare(const btCollisionShape& shape, const btTransform& pose, const
   opt.upper = upper;
   opt.include_margin = include_margin;
   EnvelopeRasterizer rz(grid, opt);
-  ColumnWindow w = rz.window_of(shape, pose);
-  w.i0 -= 2;
-  w.j0 -= 2;
-  w.nx += 4;
-  w.ny += 4;
+  const ColumnWindow w = rz.window_of(shape, pose).grown(2);
   EnvelopeRaster out;
   Comparison c;
   c.covered = rz.rasterize(shape, pose, w, out);

@@ -120,11 +120,7 @@ RayStats compare_with_rays(const btCollisionShape& shape, const btTransform& pos
   EnvelopeOptions opt;
   opt.upper = true;
   EnvelopeRasterizer rz(grid, opt);
-  ColumnWindow w = rz.window_of(shape, pose);
-  w.i0 -= 1;
-  w.j0 -= 1;
-  w.nx += 2;
-  w.ny += 2;
+  const ColumnWindow w = rz.window_of(shape, pose).grown(1);
   EnvelopeRaster out;
   RayStats st;
   rz.rasterize(shape, pose, w, out);

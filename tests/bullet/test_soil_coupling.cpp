@@ -1,13 +1,13 @@
 // Bodies on deformable soil through Bullet, against Bekker's closed forms and the energy
-// balance of the column model (DESIGN.md section 5; cases in demos/cases).
+// balance of the column model (the cases and their references: scenes/include/shore/scenes/soil_cases.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "shore/cases/soil_cases.h"
+#include "shore/scenes/soil_cases.h"
 #include "shore/terrain/bekker.h"
 
-using namespace shore::cases;
+using namespace shore::scenes;
 using shore::terrain::Material;
 
 namespace {

@@ -6,17 +6,16 @@
 #include <limits>
 #include <random>
 
-#include <BulletCollision/CollisionShapes/btMultiSphereShape.h>
-
+#include "bad_bodies.h"
 #include "shore/bullet/heightfield_tile.h"
 #include "shore/bullet/terrain_coupling.h"
-#include "shore/cases/bullet_world.h"
-#include "shore/cases/soil_cases.h"
 #include "shore/core/error.h"
+#include "shore/scenes/soil_cases.h"
+#include "shore/scenes/world.h"
 #include "shore/terrain/terrain.h"
 
 using namespace shore;
-using shore::cases::BulletWorld;
+using shore::scenes::World;
 
 namespace {
 terrain::TerrainSettings soil_of(const char* material, double cell = 0.02) {
@@ -68,7 +67,7 @@ TEST(SoilRobustness, NothingFallsThrough) {
   for (const char* material : {"sand", "mud", "snow"})
     for (int batch = 0; batch < 14 && drops < 1000; ++batch) {
       terrain::Terrain soil(soil_of(material, 0.04));  // 4 cm columns: bodies are 10-50 cm
-      BulletWorld world;
+      World world;
       bullet::TerrainCoupling ground(world.world(), soil);
       std::vector<btRigidBody*> bodies;
       std::uniform_real_distribution<double> speed(0.0, 50.0), angle(-3.14, 3.14), lateral(-2.0, 2.0);
@@ -96,7 +95,7 @@ TEST(SoilRobustness, NothingFallsThrough) {
 // plain Bullet heightfield.
 TEST(SoilRobustness, RigidGroundBehavesLikeAPlainHeightfield) {
   auto rest_height = [](bool shore_ground) {
-    BulletWorld world;
+    World world;
     std::unique_ptr<terrain::Terrain> soil;
     std::unique_ptr<bullet::TerrainCoupling> ground;
     std::unique_ptr<bullet::HeightfieldTile> plain;
@@ -124,7 +123,7 @@ TEST(SoilRobustness, RigidGroundBehavesLikeAPlainHeightfield) {
 
 TEST(SoilRobustness, SleepingBodyWakesWhenTheGroundUnderItIsLowered) {
   terrain::Terrain soil(soil_of("sand"));
-  BulletWorld world;
+  World world;
   bullet::TerrainCoupling ground(world.world(), soil);
   // Resting on rigid-like ground: give the soil a bedrock right at the surface first.
   btRigidBody* ball = world.add_body(std::make_unique<btSphereShape>(0.1f), 1.0, btVector3(0.5f, 0.5f, 0.1f));
@@ -146,7 +145,7 @@ TEST(SoilRobustness, ABodyAtRestKeepsErodingSoilOutOfItsPrint) {
   terrain::TerrainSettings s = soil_of("mud");
   s.max_erosion_passes = 1;
   terrain::Terrain soil(s);
-  BulletWorld world;
+  World world;
   bullet::TerrainCoupling ground(world.world(), soil);
   btRigidBody* box =
       world.add_body(std::make_unique<btBoxShape>(btVector3(0.2f, 0.2f, 0.1f)), 200.0, btVector3(0, 0, 0.2f));
@@ -170,11 +169,11 @@ TEST(SoilRobustness, ABodyAtRestKeepsErodingSoilOutOfItsPrint) {
 TEST(SoilRobustness, SameResultWhateverTheThreadCount) {
   std::uint64_t first = 0;
   for (int threads : {1, 2, 4}) {
-    cases::SphereDropCase c;
+    scenes::SphereDropCase c;
     c.run.threads = threads;
     c.run.cell = 0.01;
     c.seconds = 1000.0 / 240;
-    const auto r = cases::run_sphere_drop(c);
+    const auto r = scenes::run_sphere_drop(c);
     if (threads == 1) first = r.stats.state_hash;
     EXPECT_EQ(r.stats.state_hash, first) << threads << " threads";
   }
@@ -182,7 +181,7 @@ TEST(SoilRobustness, SameResultWhateverTheThreadCount) {
 
 TEST(SoilRobustness, BodyWithNaNPoseIsSkippedAndCounted) {
   terrain::Terrain soil(soil_of("sand"));
-  BulletWorld world;
+  World world;
   bullet::TerrainCoupling ground(world.world(), soil);
   btRigidBody* good = world.add_body(std::make_unique<btSphereShape>(0.1f), 5.0, btVector3(0, 0, 0.3f));
   btRigidBody* bad =
@@ -201,30 +200,16 @@ TEST(SoilRobustness, BodyWithNaNPoseIsSkippedAndCounted) {
 // body whose pose turns invalid later is skipped and counted, and stepSimulation goes on.
 TEST(SoilRobustness, BadShapesAreRefusedAtAddBodyAndBadPosesSkippedPerSubstep) {
   terrain::Terrain soil(soil_of("sand"));
-  BulletWorld world;
+  World world;
   bullet::TerrainCoupling ground(world.world(), soil);
-  btVector3 centres[1] = {btVector3(0, 0, 0)};
-  btScalar radii[1] = {btScalar(0.1)};
-  btRigidBody* blob = world.add_body(std::make_unique<btMultiSphereShape>(centres, radii, 1), 5.0, btVector3(0, 0, 1));
-  EXPECT_THROW(ground.add_body(blob), shore::InvalidSetting);
-  EXPECT_NO_THROW(ground.add_body(blob, {.deform = false}));  // it only feels the ground: no envelope needed
-
-  // A kinematic body takes its pose from its motion state as it is, sheared or not.
-  btRigidBody* box =
-      world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 0.0, btVector3(1, 1, 0.3f));
-  box->setCollisionFlags(box->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
-  box->setActivationState(DISABLE_DEACTIVATION);
-  ground.add_body(box);
-  btTransform sheared = box->getWorldTransform();
-  sheared.getBasis()[0][1] = btScalar(0.5);  // not a rotation
-  box->getMotionState()->setWorldTransform(sheared);
-  EXPECT_NO_THROW(for (int s = 0; s < 4; ++s) world.step(1.0 / 240));
-  EXPECT_GT(ground.stats().skipped_bodies, 0);
+  expect_bad_bodies_refused_or_skipped(world, ground, btVector3(1, 1, 0.3f));
+  // A body that only feels the ground needs no envelope.
+  EXPECT_NO_THROW(ground.add_body(add_unsupported_body(world), {.deform = false}));
 }
 
 TEST(SoilRobustness, CouplingSettingsAreValidated) {
   terrain::Terrain soil(soil_of("sand"));
-  BulletWorld world;
+  World world;
   bullet::TerrainCouplingSettings s;
   s.rest_speed = 0.0;
   EXPECT_THROW(bullet::TerrainCoupling(world.world(), soil, s), shore::InvalidSetting);

@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "shore/bullet/terrain_tiles.h"
-#include "shore/cases/bullet_world.h"
+#include "shore/scenes/world.h"
 #include "shore/terrain/terrain.h"
 
 using namespace shore;
@@ -34,7 +34,7 @@ TEST(TerrainTiles, RaisedGroundRisesAtMostTheCapPerPushThenCatchesUp) {
   terrain::TerrainSettings s = flat_sand();
   s.tile_columns = 32;  // the tiles take the soil's tile size
   terrain::Terrain soil(s);
-  cases::BulletWorld world(9.81);
+  scenes::World world(9.81);
   bullet::TerrainTilesSettings ts;
   ts.max_rise_per_substep = 0.002;
   bullet::TerrainTiles tiles(world.world(), soil, ts);
@@ -59,7 +59,7 @@ TEST(TerrainTiles, RaisedGroundRisesAtMostTheCapPerPushThenCatchesUp) {
 
 TEST(TerrainTiles, LoweredGroundDropsStaleContactsAndWakesTheBody) {
   terrain::Terrain soil(flat_sand());
-  cases::BulletWorld world(9.81);
+  scenes::World world(9.81);
   bullet::TerrainTiles tiles(world.world(), soil, {});
   tiles.ensure_cover(-0.5, -0.5, 0.5, 0.5);
   btRigidBody* box =

@@ -1,19 +1,17 @@
 // Bodies in spring-mass water through Bullet, against Archimedes and hydrostatics
-// (DESIGN.md section 5; cases in demos/cases/water_cases).
+// (the cases and their references: scenes/include/shore/scenes/pool_cases.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include <BulletCollision/CollisionShapes/btMultiSphereShape.h>
-
+#include "bad_bodies.h"
 #include "shore/bullet/water_coupling.h"
-#include "shore/cases/bullet_world.h"
-#include "shore/cases/water_cases.h"
-#include "shore/core/error.h"
+#include "shore/scenes/pool_cases.h"
+#include "shore/scenes/world.h"
 #include "shore/terrain/terrain.h"
 
-using namespace shore::cases;
+using namespace shore::scenes;
 
 namespace {
 double rel(double value, double reference) { return std::abs(value - reference) / std::abs(reference); }
@@ -213,7 +211,7 @@ TEST(WaterCoupling, ShorelineIsFixedWhereTheGroundRisesAboveTheWater) {
   ws.mode = shore::water::SurfaceMode::vertical_only;
   ws.boundary = shore::water::Boundary::vertical_only;
   shore::water::Surface surface(ws);
-  shore::cases::BulletWorld world;
+  shore::scenes::World world;
   shore::bullet::WaterCoupling coupling(world.world(), surface);
   const int fixed = coupling.fix_shoreline(ground);
   int expected = 0;
@@ -235,21 +233,7 @@ TEST(WaterCoupling, BadShapesAreRefusedAtAddBodyAndBadPosesSkippedPerSubstep) {
   shore::water::PhysicalParameters phys;
   shore::water::SurfaceSettings ws = shore::water::SurfaceSettings::physical(phys, 32, 32);
   shore::water::Surface surface(ws);
-  shore::cases::BulletWorld world;
+  shore::scenes::World world;
   shore::bullet::WaterCoupling coupling(world.world(), surface);
-  btVector3 centres[1] = {btVector3(0, 0, 0)};
-  btScalar radii[1] = {btScalar(0.1)};
-  btRigidBody* blob = world.add_body(std::make_unique<btMultiSphereShape>(centres, radii, 1), 5.0, btVector3(0, 0, 1));
-  EXPECT_THROW(coupling.add_body(blob), shore::InvalidSetting);
-  // A kinematic body takes its pose from its motion state as it is, sheared or not.
-  btRigidBody* box =
-      world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 0.0, btVector3(0.5f, 0.5f, 0.3f));
-  box->setCollisionFlags(box->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
-  box->setActivationState(DISABLE_DEACTIVATION);
-  coupling.add_body(box);
-  btTransform sheared = box->getWorldTransform();
-  sheared.getBasis()[0][1] = btScalar(0.5);  // not a rotation
-  box->getMotionState()->setWorldTransform(sheared);
-  EXPECT_NO_THROW(for (int s = 0; s < 4; ++s) world.step(1.0 / 240));
-  EXPECT_GT(coupling.stats().skipped_bodies, 0);
+  expect_bad_bodies_refused_or_skipped(world, coupling, btVector3(0.5f, 0.5f, 0.3f));
 }

@@ -67,6 +67,10 @@ struct ColumnWindow {
   std::int64_t j0 = 0;
   int nx = 0;  ///< >= 0
   int ny = 0;  ///< >= 0
+  /// The window with `columns` more on every side.
+  [[nodiscard]] ColumnWindow grown(int columns) const {
+    return {i0 - columns, j0 - columns, nx + 2 * columns, ny + 2 * columns};
+  }
 };
 
 /// Rasterizes shapes on one grid with one set of options. Keeps the triangulated hull of
@@ -120,10 +124,13 @@ class EnvelopeRasterizer {
 /// Largest deviation of a pose's basis from orthonormal that rasterization accepts.
 inline constexpr double kMaxBasisDeviation = 1e-3;
 
+/// The shape's reach: the radius of a sphere about its local origin that holds it, margin
+/// included (m; not finite for a broken shape).
+[[nodiscard]] double shape_reach(const btCollisionShape& shape);
+
 /// Checks, once, that `shape` can be rasterized with `options` on a grid of `cell` metres at
 /// any pose: every part is a supported shape type with valid sizes, and no orientation
-/// gives it a window of more than options.max_columns columns. Returns the shape's reach:
-/// the radius of a sphere about its local origin that holds it, margin included (m).
+/// gives it a window of more than options.max_columns columns. Returns shape_reach().
 /// Throws InvalidSetting naming the part and the problem.
 double check_rasterizable(const btCollisionShape& shape, double cell, const EnvelopeOptions& options);
 
