@@ -19,6 +19,7 @@
 #include "shore/scenes/render.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/scene.h"
+#include "shore/scenes/soil_view.h"
 #include "shore/scenes/water_view.h"
 #include "shore/scenes/world.h"
 #include "shore/terrain/terrain.h"
@@ -68,13 +69,11 @@ Floater box_floater() {
 }
 
 terrain::TerrainSettings sand_settings(const SceneOptions& o, double cell) {
-  terrain::TerrainSettings s;
+  terrain::TerrainSettings s = soil_settings(o);
   s.cell = cell;
   s.origin_x = kX0;
   s.origin_y = kY0;
-  s.material = terrain::Material::preset(o.material);
   s.base = std::make_shared<SlopedSand>();
-  s.threads = o.threads;
   return s;
 }
 

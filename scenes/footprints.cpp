@@ -194,12 +194,11 @@ class Footprints final : public Scene {
       st.material = kMaterials[s];
       st.y0 = double(s) * strip_width;
       st.y1 = st.y0 + strip_width;
-      terrain::TerrainSettings ts;
+      terrain::TerrainSettings ts = soil_settings(o);
       ts.cell = cell_;
       ts.tile_columns = tile_cells;
       ts.material = terrain::Material::preset(st.material);
       ts.base = ground_;
-      ts.threads = o.threads;
       st.soil = std::make_unique<terrain::Terrain>(ts);
       bullet::TerrainCouplingSettings cs;
       cs.region = st.region();

@@ -142,14 +142,6 @@ struct Drop {
   btRigidBody* body;
 };
 
-terrain::TerrainSettings soil_settings(const SceneOptions& o) {
-  terrain::TerrainSettings s;
-  s.cell = o.cell;
-  s.material = terrain::Material::preset(o.material);
-  s.threads = o.threads;
-  return s;
-}
-
 class Impact final : public Scene {
  public:
   explicit Impact(const SceneOptions& o)

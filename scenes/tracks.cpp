@@ -91,12 +91,10 @@ double hub_speed(const Bicycle& b) {
 /// Lean of the frame: angle between its up axis and the vertical.
 double lean_of(const Bicycle& b) { return tilt_from_vertical(*b.frame, 2); }
 
-terrain::TerrainSettings soil_settings(const SceneOptions& o, std::shared_ptr<const terrain::HeightSource> base) {
-  terrain::TerrainSettings ts;
-  ts.cell = o.cell;  // the 7 cm tyre needs fine cells, smoke runs too
-  ts.material = terrain::Material::preset(o.material);
+/// The soil of the options (the 7 cm tyre needs fine cells, smoke runs too) on a base.
+terrain::TerrainSettings bumpy_soil(const SceneOptions& o, std::shared_ptr<const terrain::HeightSource> base) {
+  terrain::TerrainSettings ts = soil_settings(o);
   ts.base = std::move(base);
-  ts.threads = o.threads;
   return ts;
 }
 
@@ -106,7 +104,7 @@ class Tracks final : public Scene {
       : o_(o),
         ground_height_(std::make_shared<terrain::LatticeNoise>(
             terrain::LatticeNoiseSettings{.seed = 11, .spacing = 0.4, .amplitude = 0.003, .octaves = 2})),
-        soil_(soil_settings(o, ground_height_)),
+        soil_(bumpy_soil(o, ground_height_)),
         coupling_(world_.world(), soil_),
         bike_(build(world_, ground_height_->height(0.0, 0.0) + ground_height_->settings().amplitude)),
         bodies_{bike_.frame, bike_.wheels[0], bike_.wheels[1]},

@@ -33,10 +33,8 @@ constexpr double kHalfY = 5.0;          // m, half width of the ground and of th
 constexpr double kHalfWidth = 1.1;      // m, half width of the pictured strip (wheels at +-0.65 m)
 
 terrain::TerrainSettings strip_soil(const SceneOptions& o, const terrain::Material& m) {
-  terrain::TerrainSettings s;
-  s.cell = o.cell;
+  terrain::TerrainSettings s = soil_settings(o);
   s.material = m;
-  s.threads = o.threads;
   s.tile_columns = kTileCells;
   return s;
 }

@@ -341,8 +341,9 @@ Image filmstrip(const std::vector<Image>& frames, const std::vector<std::string>
   return out;
 }
 
-Image relief_frame(const HeightGrid& heights, const HeightGrid* baseline, const BodyEnvelopes* bodies, int min_pixels,
-                   const std::string& title) {
+namespace {
+ReliefStyle frame_style(const HeightGrid* baseline, const BodyEnvelopes* bodies, int min_pixels,
+                        const std::string& title) {
   ReliefStyle style;
   style.baseline = baseline;
   if (bodies != nullptr) {
@@ -351,22 +352,21 @@ Image relief_frame(const HeightGrid& heights, const HeightGrid* baseline, const 
   }
   style.min_pixels = min_pixels;
   style.title = title;
-  return render_relief(heights, style);
+  return style;
+}
+}  // namespace
+
+Image relief_frame(const HeightGrid& heights, const HeightGrid* baseline, const BodyEnvelopes* bodies, int min_pixels,
+                   const std::string& title) {
+  return render_relief(heights, frame_style(baseline, bodies, min_pixels, title));
 }
 
 Image oblique_frame(const HeightGrid& heights, const HeightGrid& baseline, const BodyEnvelopes* bodies,
                     double exaggeration, int min_pixels, const std::string& title, double deformation_scale,
                     double elevation_deg, bool legend) {
-  ReliefStyle style;
-  style.baseline = &baseline;
+  ReliefStyle style = frame_style(&baseline, bodies, min_pixels, title);
   style.deformation_scale = deformation_scale;
-  if (bodies != nullptr) {
-    style.bodies = &bodies->top;
-    style.body_bottoms = &bodies->bottom;
-  }
   style.exaggeration = exaggeration;
-  style.min_pixels = min_pixels;
-  style.title = title;
   style.legend = legend;
   return render_oblique(heights, style, elevation_deg);
 }

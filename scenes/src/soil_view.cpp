@@ -7,6 +7,14 @@
 
 namespace shore::scenes {
 
+terrain::TerrainSettings soil_settings(const SceneOptions& o) {
+  terrain::TerrainSettings s;
+  s.cell = o.cell;
+  s.material = terrain::Material::preset(o.material);
+  s.threads = o.threads;
+  return s;
+}
+
 HeightGrid grid_over(double x0, double y0, double x1, double y1, double cell) {
   const auto i0 = static_cast<std::int64_t>(std::floor(x0 / cell));
   const auto j0 = static_cast<std::int64_t>(std::floor(y0 / cell));

@@ -1,4 +1,4 @@
-// Every registered scene, run briefly (its smoke settings): the metrics it reports must be
+// Every scene of the catalog, run briefly (its smoke settings): the metrics it reports must be
 // complete, finite and pass the scene's outside-reference checks; its files must exist.
 #include <gtest/gtest.h>
 

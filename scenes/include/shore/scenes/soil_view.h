@@ -11,6 +11,7 @@
 #include "shore/scenes/envelopes.h"
 #include "shore/scenes/height_grid.h"
 #include "shore/scenes/image.h"
+#include "shore/scenes/scene.h"
 #include "shore/terrain/terrain.h"
 
 namespace shore::scenes {
@@ -27,6 +28,10 @@ enum class Field {
   base,     ///< untouched ground, m
   sinkage,  ///< plastic sinkage, m
 };
+
+/// The soil a scene's options ask for: their cell, material preset and threads (the rest
+/// TerrainSettings' defaults).
+terrain::TerrainSettings soil_settings(const SceneOptions& options);
 
 /// An empty grid (zeros) whose columns coincide with the soil columns (origin 0, spacing
 /// cell) and cover the world rectangle [x0, x1] x [y0, y1].
