@@ -222,9 +222,7 @@ class Impact final : public Scene {
         "tolerance 3 % + alpha/4: the rim share alpha makes craters shallower, plus grid and substep");
   }
 
-  [[nodiscard]] std::vector<int> film_substeps() const override {
-    return evenly_spread(o_.substeps(), o_.smoke ? 3 : 6);
-  }
+  [[nodiscard]] std::vector<int> film_substeps() const override { return evenly_spread_film(o_.substeps(), o_.smoke); }
   Image film_frame() override { return soil_film_frame(patches_, frame_, baseline_, bodies_, o_.smoke ? 160 : 400); }
 
   void draw(Drawing& out) const override {

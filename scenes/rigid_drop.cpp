@@ -22,7 +22,6 @@ constexpr double kExtent = 1.28;                                       // m, sid
 constexpr double kPlateau = 0.30;                                      // m, radius of the flat centre the box lands on
 constexpr double kDropHeight = 0.45;                                   // m, box centre above the plateau at the start
 constexpr double kMass = 10.0;                                         // kg
-constexpr int kFrames = 6;                                             // filmstrip frames (3 in smoke runs)
 const btVector3 kHalf(btScalar(0.15), btScalar(0.15), btScalar(0.1));  // m, box half extents
 
 double smoothstep(double t) {
@@ -99,9 +98,7 @@ class RigidDrop final : public Scene {
     add_check(m, "rest_gap_m", rest_gap, 0.0, 0.005, "rigid contact: a box at rest touches the ground");
   }
 
-  [[nodiscard]] std::vector<int> film_substeps() const override {
-    return evenly_spread(o_.substeps(), o_.smoke ? 3 : kFrames);
-  }
+  [[nodiscard]] std::vector<int> film_substeps() const override { return evenly_spread_film(o_.substeps(), o_.smoke); }
   Image film_frame() override { return picture(240, "", false, false); }
 
   void draw(Drawing& out) const override {

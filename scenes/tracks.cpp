@@ -182,9 +182,7 @@ class Tracks final : public Scene {
     m["fallthrough_count"] = fallthrough;
   }
 
-  [[nodiscard]] std::vector<int> film_substeps() const override {
-    return evenly_spread(o_.substeps(), o_.smoke ? 3 : 6);
-  }
+  [[nodiscard]] std::vector<int> film_substeps() const override { return evenly_spread_film(o_.substeps(), o_.smoke); }
   Image film_frame() override { return soil_film_frame(patches_, frame_, baseline_, bodies_, o_.smoke ? 160 : 480); }
 
   void draw(Drawing& out) const override {

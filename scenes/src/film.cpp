@@ -19,6 +19,8 @@ std::vector<int> evenly_spread(int substeps, int frames) {
   return at;
 }
 
+std::vector<int> evenly_spread_film(int substeps, bool smoke) { return evenly_spread(substeps, smoke ? 3 : 6); }
+
 std::vector<int> at_fractions(int substeps, std::span<const double> fractions, int first) {
   std::vector<int> at;
   for (double f : fractions) at.push_back(std::clamp(static_cast<int>(std::lround(f * substeps)), first, substeps));

@@ -14,6 +14,9 @@ std::string time_label(double seconds);
 /// for q = 0 .. frames - 1, the first at 0 (before the first substep), the last at the end.
 std::vector<int> evenly_spread(int substeps, int frames);
 
+/// The usual filmstrip of a run of `substeps`: 3 frames spread evenly in smoke runs, 6 otherwise.
+std::vector<int> evenly_spread_film(int substeps, bool smoke);
+
 /// The substep nearest each fraction of a run of `substeps`, clamped to [first, substeps].
 std::vector<int> at_fractions(int substeps, std::span<const double> fractions, int first);
 
