@@ -187,8 +187,8 @@ class Footprints final : public Scene {
         ground_(std::make_shared<terrain::LatticeNoise>(
             terrain::LatticeNoiseSettings{.seed = 5, .spacing = 0.3, .amplitude = 0.004, .octaves = 2})),
         strips_(kMaterials.size()) {
-    const int tile_cells = std::clamp(static_cast<int>(std::lround(0.64 / cell_)), 4, 1024);
-    const double strip_width = tile_cells * cell_;  // strips meet on tile edges
+    const int tile_columns = std::clamp(static_cast<int>(std::lround(0.64 / cell_)), 4, 1024);
+    const double strip_width = tile_columns * cell_;  // strips meet on tile edges
     for (std::size_t s = 0; s < strips_.size(); ++s) {
       Strip& st = strips_[s];
       st.material = kMaterials[s];
@@ -196,7 +196,7 @@ class Footprints final : public Scene {
       st.y1 = st.y0 + strip_width;
       terrain::TerrainSettings ts = soil_settings(o);
       ts.cell = cell_;
-      ts.tile_columns = tile_cells;
+      ts.tile_columns = tile_columns;
       ts.material = terrain::Material::preset(st.material);
       ts.base = ground_;
       st.soil = std::make_unique<terrain::Terrain>(ts);
