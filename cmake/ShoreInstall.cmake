@@ -9,10 +9,9 @@ install(TARGETS shore_core shore_terrain shore_water shore_bullet
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-foreach(_dir core terrain water)
+foreach(_dir core terrain water bullet)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${_dir}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endforeach()
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/plugin/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 
 set(SHORE_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/Shore)
 install(EXPORT ShoreTargets NAMESPACE shore:: DESTINATION ${SHORE_CMAKE_DIR})

@@ -11,11 +11,11 @@
 #include <nlohmann/json.hpp>
 
 #include "shore/core/hash.h"
-#include "shore/demo/report.h"
-#include "shore/demo/scene.h"
+#include "shore/scenes/report.h"
+#include "shore/scenes/runner.h"
 
 namespace fs = std::filesystem;
-using namespace shore::demo;
+using namespace shore::scenes;
 
 namespace {
 
@@ -39,7 +39,7 @@ void add_common_options(CLI::App& app, Cli& cli) {
       ->capture_default_str();
 }
 
-std::string scene_help(const Scene& s) {
+std::string scene_help(const SceneType& s) {
   char buf[200];
   std::snprintf(buf, sizeof buf, "\n\ndefaults: --seconds %g --substep %g --material %s --cell %g (smoke: %g s)",
                 s.defaults.seconds, s.defaults.substep, s.defaults.material.c_str(), s.defaults.cell,
@@ -48,10 +48,10 @@ std::string scene_help(const Scene& s) {
 }
 
 /// Runs the scenes; returns the number that failed.
-int run_scenes(const std::vector<const Scene*>& list, const Cli& cli) {
+int run_scenes(const std::vector<const SceneType*>& list, const Cli& cli) {
   int failed = 0;
   const ProgressMode mode = parse_progress_mode(cli.progress);
-  for (const Scene* s : list) {
+  for (const SceneType* s : list) {
     std::fprintf(stderr, "shore-demo: %s ...\n", s->name.c_str());
     try {
       const SceneResult r = run_scene(*s, resolve(*s, cli.overrides), mode);
@@ -72,9 +72,9 @@ int run_scenes(const std::vector<const Scene*>& list, const Cli& cli) {
 }
 
 /// Smoke-run state hashes of the chosen scenes (one thread, no files), keyed by name.
-nlohmann::json current_hashes(const std::vector<const Scene*>& list) {
+nlohmann::json current_hashes(const std::vector<const SceneType*>& list) {
   nlohmann::json out = nlohmann::json::object();
-  for (const Scene* s : list) {
+  for (const SceneType* s : list) {
     Overrides o;
     o.smoke = true;
     o.threads = 1;
@@ -90,11 +90,11 @@ nlohmann::json current_hashes(const std::vector<const Scene*>& list) {
 }
 
 int pin(const std::string& file, bool update, const std::vector<std::string>& names) {
-  std::vector<const Scene*> list;
+  std::vector<const SceneType*> list;
   if (names.empty())
-    for (const Scene& s : scenes()) list.push_back(&s);
+    for (const SceneType& s : scenes()) list.push_back(&s);
   for (const auto& n : names) {
-    const Scene* s = find_scene(n);
+    const SceneType* s = find_scene(n);
     if (!s) {
       std::fprintf(stderr, "shore-demo pin: no scene called %s\n", n.c_str());
       return 2;
@@ -118,8 +118,8 @@ int pin(const std::string& file, bool update, const std::vector<std::string>& na
   if (update) {
     pinned["_about"] =
         "State hash of each demo scene after its smoke run (fixed substeps, one thread), per btScalar precision. "
-        "Checked by tests/demos (ctest -L demos). Update on purpose with: "
-        "build/release/demos/shore-demo pin --update tests/demos/pinned_hashes.json "
+        "Checked by tests/scenes (ctest -L scenes). Update on purpose with: "
+        "build/release/demos/shore-demo pin --update tests/scenes/pinned_hashes.json "
         "(and build/double/demos/shore-demo pin --update ... for double).";
     const std::string tmp = file + ".tmp";
     std::ofstream(tmp) << pinned.dump(2) << '\n';
@@ -139,14 +139,14 @@ int main(int argc, char** argv) {
   app.require_subcommand(1, 1);
   Cli cli;
   add_common_options(app, cli);
-  std::vector<std::pair<const Scene*, CLI::App*>> subs;
-  for (const Scene& s : scenes()) subs.emplace_back(&s, app.add_subcommand(s.name, scene_help(s)));
+  std::vector<std::pair<const SceneType*, CLI::App*>> subs;
+  for (const SceneType& s : scenes()) subs.emplace_back(&s, app.add_subcommand(s.name, scene_help(s)));
   CLI::App* all = app.add_subcommand("all", "run every scene in turn");
   CLI::App* list = app.add_subcommand("list", "list the scenes and their defaults");
 
   CLI::App* pin_cmd = app.add_subcommand(
       "pin", "print each scene's smoke-run state hash and compare it with a pinned-hash file; --update writes it");
-  std::string pin_file = "tests/demos/pinned_hashes.json";
+  std::string pin_file = "tests/scenes/pinned_hashes.json";
   bool pin_update = false;
   std::vector<std::string> pin_scenes;
   pin_cmd->add_option("file", pin_file, "pinned-hash file")->capture_default_str();
@@ -161,13 +161,13 @@ int main(int argc, char** argv) {
 
   try {
     if (list->parsed()) {
-      for (const Scene& s : scenes()) std::printf("%s\n  %s\n\n", s.name.c_str(), scene_help(s).c_str());
+      for (const SceneType& s : scenes()) std::printf("%s\n  %s\n\n", s.name.c_str(), scene_help(s).c_str());
       return 0;
     }
     if (pin_cmd->parsed()) return pin(pin_file, pin_update, pin_scenes);
-    std::vector<const Scene*> chosen;
+    std::vector<const SceneType*> chosen;
     if (all->parsed())
-      for (const Scene& s : scenes()) chosen.push_back(&s);
+      for (const SceneType& s : scenes()) chosen.push_back(&s);
     for (auto& [scene, sub] : subs)
       if (sub->parsed()) chosen.push_back(scene);
     return run_scenes(chosen, cli) == 0 ? 0 : 1;

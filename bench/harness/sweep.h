@@ -1,8 +1,8 @@
 #pragma once
 // shore-bench sweeps: speed against error, one file per module in bench/harness/sweeps/.
 //
-// Adding a sweep = adding one file bench/harness/sweeps/<module>.cpp (globbed; re-run
-// cmake configure). In it:
+// Adding a sweep = adding one file bench/harness/sweeps/<module>.cpp, listed in
+// bench/harness/CMakeLists.txt. In it:
 //
 //   #include "sweep.h"
 //   namespace shore::bench {
@@ -24,10 +24,11 @@
 //
 // Conventions: column names and figure keys carry their unit (ms_per_substep, error_m,
 // triad_gbps_1t) or the figure gets an adjacent "<key>_unit"; "error" means the distance to
-// an outside reference (DESIGN.md section 5), never to the code itself; compare methods
+// an outside reference (Bekker's closed forms, Archimedes, exact volumes, the continuum:
+// the reference cases of scenes/ name theirs), never to the code itself; compare methods
 // side by side in one run (the machine is shared and noisy); keep --quick runs short (the
-// whole quick suite must stay under 5 minutes on 2 cores). Scenes of demos/ can be run
-// from a sweep with shore::demo::run_scene (write_files = false).
+// whole quick suite must stay under 5 minutes on 2 cores). The scenes of scenes/ can be run
+// from a sweep with shore::scenes::run_scene (write_files = false).
 
 #include <functional>
 #include <string>

@@ -3,19 +3,19 @@
 // parallel_min_columns is lowered: the "split" rows force it).
 #include <benchmark/benchmark.h>
 
-#include "terrain_cases.h"
+#include "shore/scenes/terrain_step_cases.h"
 
 namespace {
 
-using shore::terrain::bench::TerrainCase;
+using shore::scenes::TerrainCase;
 
 void BM_TerrainStep(benchmark::State& state) {
   const auto c = static_cast<TerrainCase>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
   const bool split = state.range(2) != 0;
-  shore::terrain::bench::TerrainCaseResult r;
+  shore::scenes::TerrainCaseResult r;
   for (auto _ : state) {
-    r = shore::terrain::bench::run_terrain_case(c, threads, c == TerrainCase::towed_wheel ? 100 : 400, split);
+    r = shore::scenes::run_terrain_case(c, threads, c == TerrainCase::towed_wheel ? 100 : 400, split);
     state.SetIterationTime(r.ms_per_step * 1e-3);
   }
   state.SetLabel(std::string(r.name) + (split ? " split" : ""));

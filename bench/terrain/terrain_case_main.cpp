@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "terrain_cases.h"
+#include "shore/scenes/terrain_step_cases.h"
 
-namespace tb = shore::terrain::bench;
+namespace tb = shore::scenes;
 
 namespace {
 

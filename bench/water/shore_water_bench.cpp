@@ -9,27 +9,18 @@
 #include <string>
 #include <vector>
 
+#include "shore/scenes/water_kernel_cases.h"
 #include "shore/water/reference_surface.h"
 #include "shore/water/surface.h"
-#include "water_cases.h"
 
 using namespace shore::water;
-using namespace shore::water::bench;
+using namespace shore::scenes;
 
 namespace {
 
 std::vector<double> g_bandwidth(3, 0.0);  // bytes/s by threads
 
-SurfaceSettings settings_for(Variant v, int n, int threads) {
-  SurfaceSettings s;
-  s.nx = s.ny = n;
-  s.threads = threads;
-  s.mode = (v == Variant::vertical_only || v == Variant::reference_vertical) ? SurfaceMode::vertical_only
-                                                                             : SurfaceMode::full_3d;
-  return s;
-}
-
-void set_counters(benchmark::State& state, Variant v, int n, int threads) {
+void set_counters(benchmark::State& state, KernelVariant v, int n, int threads) {
   const double nodes = static_cast<double>(n) * n * static_cast<double>(state.iterations());
   state.counters["node_steps/s"] = benchmark::Counter(nodes, benchmark::Counter::kIsRate);
   // Time the floor would take over the time taken: the fraction of the memory floor reached.
@@ -37,17 +28,17 @@ void set_counters(benchmark::State& state, Variant v, int n, int threads) {
   state.counters["of_floor"] = benchmark::Counter(floor_seconds, benchmark::Counter::kIsRate);
 }
 
-void bm_surface(benchmark::State& state, Variant v) {
+void bm_surface(benchmark::State& state, KernelVariant v) {
   const int n = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));
-  Surface surf(settings_for(v, n, threads));
+  Surface surf(kernel_case_settings(v, n, threads));
   surf.disturb(Disturbance::point_height(0.5 * (n - 1), 0.5 * (n - 1), 3.0, 1.0));
   for (auto _ : state) benchmark::DoNotOptimize(surf.step(0.3));
   set_counters(state, v, n, threads);
 }
 
-void bm_reference(benchmark::State& state, Variant v) {
+void bm_reference(benchmark::State& state, KernelVariant v) {
   const int n = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));
-  ReferenceSurface surf(settings_for(v, n, 1));
+  ReferenceSurface surf(kernel_case_settings(v, n, 1));
   surf.disturb(Disturbance::point_height(0.5 * (n - 1), 0.5 * (n - 1), 3.0, 1.0));
   for (auto _ : state) surf.step(0.3);
   set_counters(state, v, n, threads);
@@ -73,11 +64,15 @@ void register_all() {
   for (int threads : {1, 2}) {
     for (int n : sizes) {
       const auto args = std::vector<int64_t>{n, threads};
-      benchmark::RegisterBenchmark("fast_3d", bm_surface, Variant::fast_3d)->Args(args)->UseRealTime();
-      benchmark::RegisterBenchmark("vertical_only", bm_surface, Variant::vertical_only)->Args(args)->UseRealTime();
+      benchmark::RegisterBenchmark("fast_3d", bm_surface, KernelVariant::fast_3d)->Args(args)->UseRealTime();
+      benchmark::RegisterBenchmark("vertical_only", bm_surface, KernelVariant::vertical_only)
+          ->Args(args)
+          ->UseRealTime();
       if (threads == 1) {
-        benchmark::RegisterBenchmark("reference_3d", bm_reference, Variant::reference_3d)->Args(args)->UseRealTime();
-        benchmark::RegisterBenchmark("reference_vertical", bm_reference, Variant::reference_vertical)
+        benchmark::RegisterBenchmark("reference_3d", bm_reference, KernelVariant::reference_3d)
+            ->Args(args)
+            ->UseRealTime();
+        benchmark::RegisterBenchmark("reference_vertical", bm_reference, KernelVariant::reference_vertical)
             ->Args(args)
             ->UseRealTime();
       }
@@ -100,8 +95,8 @@ int main(int argc, char** argv) {
     }
   }
   if (report) {
-    const Report r = run_report({64, 256, 1024, 2048}, {1, 2}, 0.5);
-    std::fputs(format_report(r).c_str(), stdout);
+    const KernelReport r = run_kernel_report({64, 256, 1024, 2048}, {1, 2}, 0.5);
+    std::fputs(format_kernel_report(r).c_str(), stdout);
     return 0;
   }
   for (int t = 1; t <= 2; ++t) g_bandwidth[static_cast<std::size_t>(t)] = triad_bandwidth(std::size_t{1} << 25, t, 0.3);

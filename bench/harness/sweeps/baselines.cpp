@@ -1,6 +1,6 @@
 // baseline: the yardsticks Shore is compared with, each measured side by side in this run.
-// - Plain Bullet on a rigid heightfield: a rigid wheel (D 0.8 m, b 0.3 m, 4 kN: DESIGN.md's
-//   wheel case) and a box towed at 1 m/s over a flat 1 cm tile, the demo scene rigid_drop,
+// - Plain Bullet on a rigid heightfield: a rigid wheel (D 0.8 m, b 0.3 m, 4 kN: the wheel
+//   case of scenes/soil_cases.h) and a box towed at 1 m/s over a flat 1 cm tile, the scene rigid_drop,
 //   and the same wheel towed over deformable sand (the cost of deformation). "Error" is the
 //   height error of rigid contact: on flat rigid ground the axle should stay at exactly R
 //   and the box's underside at exactly 0.
@@ -16,19 +16,21 @@
 #include <string>
 #include <vector>
 
-#include "envelope_cases.h"
 #include "measure.h"
-#include "shore/cases/soil_cases.h"
-#include "shore/demo/rigid_world.h"
-#include "shore/demo/scene.h"
+#include "shore/scenes/envelope_cases.h"
+#include "shore/scenes/rigid_ground.h"
+#include "shore/scenes/runner.h"
+#include "shore/scenes/soil_cases.h"
+#include "shore/scenes/terrain_step_cases.h"
+#include "shore/scenes/water_kernel_cases.h"
+#include "shore/scenes/world.h"
 #include "sweep.h"
-#include "terrain_cases.h"
-#include "water_cases.h"
+#include "sweep_util.h"
 
 namespace shore::bench {
 namespace {
 
-constexpr double kCell = 0.01;     // m, tile spacing (DESIGN.md's default grid)
+constexpr double kCell = 0.01;     // m, tile spacing (the soil's default cell)
 constexpr int kColumns = 257;      // 2.56 m tile
 constexpr double kTowSpeed = 1.0;  // m/s
 constexpr double kTurnX = 0.9;     // m, the tow reverses beyond +-kTurnX (stays on the tile)
@@ -42,17 +44,15 @@ enum class Body { wheel, box };
 class TowedBody {
  public:
   TowedBody(Body kind, double substep)
-      : kind_(kind), h_(substep), world_(settings(), [](double, double) { return 0.0; }) {
-    btTransform pose;
-    pose.setIdentity();
+      : kind_(kind), h_(substep), ground_(world_, settings(), [](double, double) { return 0.0; }) {
     if (kind == Body::wheel) {
-      pose.setOrigin(btVector3(btScalar(-0.5), 0, btScalar(kWheelRadius)));
-      body_ = &world_.add_cylinder(kWheelRadius, kWheelHalfWidth, kWheelLoad / kGravity, pose);
+      const btVector3 half{btScalar(kWheelRadius), btScalar(kWheelHalfWidth), btScalar(kWheelRadius)};
+      body_ = world_.add_body(std::make_unique<btCylinderShape>(half), kWheelLoad / kGravity,
+                              btVector3(btScalar(-0.5), 0, btScalar(kWheelRadius)));
       body_->setAngularVelocity(btVector3(0, btScalar(kTowSpeed / kWheelRadius), 0));
       rest_ = kWheelRadius;
     } else {
-      pose.setOrigin(btVector3(btScalar(-0.5), 0, kBoxHalf.z()));
-      body_ = &world_.add_box(kBoxHalf, 10.0, pose);
+      body_ = world_.add_body(std::make_unique<btBoxShape>(kBoxHalf), 10.0, btVector3(btScalar(-0.5), 0, kBoxHalf.z()));
       rest_ = kBoxHalf.z();
     }
     body_->setActivationState(DISABLE_DEACTIVATION);
@@ -86,7 +86,8 @@ class TowedBody {
   }
   Body kind_;
   double h_;
-  demo::RigidWorld world_;
+  scenes::World world_;
+  scenes::RigidGround ground_;
   btRigidBody* body_ = nullptr;
   double rest_ = 0.0;
   double direction_ = 1.0;
@@ -94,22 +95,16 @@ class TowedBody {
   long error_count_ = 0;
 };
 
-std::string substep_label(double h) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "1/%.0f s", 1.0 / h);
-  return buf;
-}
-
 /// Envelope rasterization against per-column ray casting on the same columns (1 cm).
 void envelope_vs_rays(const SweepContext& ctx, SweepResult& out) {
   ctx.progress("envelope vs ray casting, 1 cm, 4 shapes");
-  const std::vector<EnvelopeCaseResult> cases = run_envelope_cases(0.01, ctx.quick ? 5 : 15);
+  const std::vector<scenes::EnvelopeCaseResult> cases = scenes::run_envelope_cases(0.01, ctx.quick ? 5 : 15);
   Table& t = out.table("baseline_envelope_vs_rays", {"case", "columns", "covered", "envelope_us", "ray_world_us",
                                                      "ray_single_us", "speedup_vs_world_ray", "speedup_vs_single_ray",
                                                      "ray_vs_envelope_mean_abs_mm", "coverage_mismatch"});
   Table& l = out.table("baseline_envelope_methods", {"method", "case", "covered_columns", "us_per_body"});
   double log_sum = 0.0, worst = 1e300, log_single = 0.0;
-  for (const EnvelopeCaseResult& r : cases) {
+  for (const scenes::EnvelopeCaseResult& r : cases) {
     t.add({r.name, double(r.columns), double(r.covered), r.envelope_us, r.ray_world_us, r.ray_single_us,
            r.speedup_world, r.speedup_single, r.mean_abs_diff_mm, double(r.coverage_mismatch)});
     l.add({"envelope rasterization", r.name, double(r.covered), r.envelope_us});
@@ -142,7 +137,8 @@ void envelope_vs_rays(const SweepContext& ctx, SweepResult& out) {
             .x_label = "columns the body covers (wheel, box, hull, sphere)",
             .y_label = "microseconds per body and substep"});
   out.note(
-      "Envelope vs rays (bench/plugin/envelope_cases.h): the lowest point of a body over every column of its "
+      "Envelope vs rays (scenes/include/shore/scenes/envelope_cases.h): the lowest point of a body over every column "
+      "of its "
       "window at 1 cm, by Shore's rasterizer or one vertical ray per column (through a btCollisionWorld holding "
       "the body, or rayTestSingle straight at the shape), interleaved, medians. The rasterized envelope is exact "
       "for these shapes; ray_vs_envelope_mean_abs_mm is the single-precision ray test's departure from it.");
@@ -150,24 +146,27 @@ void envelope_vs_rays(const SweepContext& ctx, SweepResult& out) {
 
 /// The fast water kernel against the reference kernel, the memory floor, and 1 vs 2 threads.
 void water_kernels(const SweepContext& ctx, SweepResult& out) {
-  namespace wb = water::bench;
+  namespace wb = scenes;
   const double min_s = ctx.quick ? 0.2 : 0.6;
   Table& t = out.table("baseline_water_kernels", {"variant", "nodes_per_side", "threads", "ms_per_step",
                                                   "node_steps_per_s", "floor_node_steps_per_s", "fraction_of_floor"});
   ctx.progress("triad bandwidth (float arrays of 128 MB), 1 and 2 threads");
   const double bw[3] = {0.0, wb::triad_bandwidth(std::size_t{1} << 25, 1, min_s),
                         wb::triad_bandwidth(std::size_t{1} << 25, 2, min_s)};
-  auto add = [&](const wb::Throughput& r) {
+  auto add = [&](const wb::KernelThroughput& r) {
     const double floor = wb::floor_node_steps_per_second(r.variant, bw[r.threads]);
-    t.add({wb::variant_name(r.variant), double(r.n), double(r.threads), r.seconds_per_step * 1e3,
+    t.add({wb::kernel_variant_name(r.variant), double(r.n), double(r.threads), r.seconds_per_step * 1e3,
            r.node_steps_per_second, floor, r.node_steps_per_second / floor});
     return r;
   };
   ctx.progress("water 256^2: fast vs reference kernels, 1 thread");
-  const wb::Throughput fast256 = add(wb::measure_throughput(wb::Variant::fast_3d, 256, 1, min_s));
-  const wb::Throughput ref256 = add(wb::measure_throughput(wb::Variant::reference_3d, 256, 1, min_s));
-  const wb::Throughput vfast256 = add(wb::measure_throughput(wb::Variant::vertical_only, 256, 1, min_s));
-  const wb::Throughput vref256 = add(wb::measure_throughput(wb::Variant::reference_vertical, 256, 1, min_s));
+  const wb::KernelThroughput fast256 = add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 256, 1, min_s));
+  const wb::KernelThroughput ref256 =
+      add(wb::measure_kernel_throughput(wb::KernelVariant::reference_3d, 256, 1, min_s));
+  const wb::KernelThroughput vfast256 =
+      add(wb::measure_kernel_throughput(wb::KernelVariant::vertical_only, 256, 1, min_s));
+  const wb::KernelThroughput vref256 =
+      add(wb::measure_kernel_throughput(wb::KernelVariant::reference_vertical, 256, 1, min_s));
   const double speedup = fast256.node_steps_per_second / ref256.node_steps_per_second;
   out.figure("water.fast_vs_reference_256", speedup, "x (3-D, 256 x 256, 1 thread, same run)");
   out.figure("water.fast_vs_reference_256_vertical", vfast256.node_steps_per_second / vref256.node_steps_per_second,
@@ -182,9 +181,9 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
   ctx.progress("water 2048^2: fast kernels against the memory floor, 1 and 2 threads");
   double fraction[3] = {0, 0, 0};
   for (int threads : {1, 2}) {
-    const wb::Throughput r = add(wb::measure_throughput(wb::Variant::fast_3d, 2048, threads, min_s));
+    const wb::KernelThroughput r = add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 2048, threads, min_s));
     fraction[threads] = r.node_steps_per_second / wb::floor_node_steps_per_second(r.variant, bw[threads]);
-    add(wb::measure_throughput(wb::Variant::vertical_only, 2048, threads, min_s));
+    add(wb::measure_kernel_throughput(wb::KernelVariant::vertical_only, 2048, threads, min_s));
   }
   const int headline_threads = std::clamp(ctx.max_threads, 1, 2);
   out.figure("water.memory_floor_ratio_2048", fraction[headline_threads],
@@ -202,12 +201,13 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
               .unit = "of floor"});
 
   ctx.progress("water 1024^2: 1 vs 2 threads");
-  const wb::Throughput one = add(wb::measure_throughput(wb::Variant::fast_3d, 1024, 1, min_s));
-  const wb::Throughput two = add(wb::measure_throughput(wb::Variant::fast_3d, 1024, 2, min_s));
+  const wb::KernelThroughput one = add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 1024, 1, min_s));
+  const wb::KernelThroughput two = add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 1024, 2, min_s));
   out.figure("baseline.water_1024_2t_vs_1t_speedup", two.node_steps_per_second / one.node_steps_per_second,
              "x (fast 3-D, 1024 x 1024)");
   out.note(
-      "Water kernels (bench/water/water_cases.h): the paper's 8-spring lattice stepped at dt 0.3 with a "
+      "Water kernels (scenes/include/shore/scenes/water_kernel_cases.h): the paper's 8-spring lattice stepped at dt "
+      "0.3 with a "
       "disturbance in the middle; fast = Shore's fused SIMD kernel with its stability guard, reference = the plain "
       "loops of the same algorithm (ReferenceSurface). Floor = float triad bandwidth / bytes a node-step must move "
       "(49 B in 3-D, 17 B vertical-only), measured with the same thread count in this run. The triad is counted "
@@ -219,7 +219,7 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
 
 /// Threads: the soil step alone (region split even when small) at 1 and 2 threads.
 void soil_threads(const SweepContext& ctx, SweepResult& out) {
-  namespace tb = terrain::bench;
+  namespace tb = scenes;
   Table& t = out.table("baseline_threads_soil", {"case", "threads", "ms_per_substep", "active_columns"});
   const int steps = ctx.quick ? 200 : 600;
   double ms[3] = {0, 0, 0};
@@ -232,7 +232,9 @@ void soil_threads(const SweepContext& ctx, SweepResult& out) {
   out.figure("baseline.soil_wheel_2t_vs_1t_speedup", ms[1] / ms[2],
              "x (Terrain::step, wheel at 1 cm, region split forced)");
   out.note(
-      "Threads: results are bit-identical for any thread count (DESIGN.md section 7); the speed-up is what a second "
+      "Threads: results are bit-identical for any thread count (the tests check it: "
+      "SoilRobustness.SameResultWhateverTheThreadCount, SceneSmoke.StateIsBitIdenticalForOneAndTwoThreads); "
+      "the speed-up is what a second "
       "core buys on this shared machine. A wheel's active region (about 2,000 columns) normally stays on one "
       "thread (parallel_min_columns 16384): here the split is forced to show its cost.");
 }
@@ -240,12 +242,12 @@ void soil_threads(const SweepContext& ctx, SweepResult& out) {
 /// The rigid towed wheel against the same wheel towed over deformable sand.
 void deformation_cost(const SweepContext& ctx, SweepResult& out, double rigid_ms) {
   ctx.progress("towed wheel on deformable sand, 1 cm, 1/240 s");
-  cases::WheelCase c;
+  scenes::WheelCase c;
   c.run.cell = 0.01;
   c.run.substep = 1.0 / 240;
   c.run.threads = 1;
   c.towed = true;
-  const cases::WheelResult r = cases::run_wheel(c);
+  const scenes::WheelResult r = scenes::run_wheel(c);
   Table& t = out.table("baseline_deformation_cost", {"ground", "ms_per_substep", "s_wall_per_s_sim"});
   t.add({"rigid heightfield (Bullet contact)", rigid_ms, rigid_ms * 240e-3});
   t.add({"deformable sand (Shore contact)", r.stats.ms_per_substep(), r.stats.ms_per_substep() * 240e-3});
@@ -254,7 +256,7 @@ void deformation_cost(const SweepContext& ctx, SweepResult& out, double rigid_ms
   out.note(
       "Cost of deformation: the same wheel (D 0.8 m, b 0.3 m, 4 kN) at 1 cm and 1/240 s, on the rigid heightfield "
       "above (Bullet's cylinder-triangle contact, towed back and forth) and on deformable sand through the plugin "
-      "(shore::cases::run_wheel: load ramp, settling, 2 m towed; Shore owns the soil contact, so Bullet has no "
+      "(shore::scenes::run_wheel: load ramp, settling, 2 m towed; Shore owns the soil contact, so Bullet has no "
       "contact to solve). Whole stepSimulation time per substep, one thread.");
 }
 
@@ -282,16 +284,16 @@ void run(const SweepContext& ctx, SweepResult& out) {
       if (std::abs(h - 1.0 / 240) < 1e-12) (kind == Body::wheel ? wheel_240 : box_240) = ms;
     }
   }
-  // The demo scene, reused: a box dropped onto a rippled rigid tile (simulation loop only).
-  if (const demo::Scene* scene = demo::find_scene("rigid_drop")) {
+  // The scene, reused: a box dropped onto a rippled rigid tile (simulation loop only).
+  if (const scenes::SceneType* scene = scenes::find_scene("rigid_drop")) {
     for (double h : substeps) {
       ctx.progress("rigid_drop scene, substep " + substep_label(h));
-      demo::Overrides o;
+      scenes::Overrides o;
       o.smoke = true;
       o.threads = 1;
       o.write_files = false;
       o.substep = h;
-      const demo::SceneResult r = demo::run_scene(*scene, demo::resolve(*scene, o), demo::ProgressMode::quiet);
+      const scenes::SceneResult r = scenes::run_scene(*scene, scenes::resolve(*scene, o), scenes::ProgressMode::quiet);
       const double ms = r.metrics["wall_seconds"].get<double>() / r.metrics["substeps"].get<double>() * 1e3;
       t.add({"rigid_drop_scene", h, ms, ms * 1e-3 / h, std::abs(r.metrics["rest_gap_m"].get<double>())});
     }

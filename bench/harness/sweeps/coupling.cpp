@@ -1,15 +1,16 @@
 // coupling: what the Bullet plugin costs per substep, and how right it is. Water: bodies
-// floating in a pool (shore::cases::run_pool) against Archimedes' draft, across water
+// floating in a pool (shore::scenes::run_pool) against Archimedes' draft, across water
 // resolution and substep. Soil: the plugin's own time for one towed wheel (envelope, soil
-// step, tile update separately) and the four-wheel vehicle's real-time factor.
+// step, tile update separately) and the four-wheel vehicle's real-time factor (the vehicle
+// scene).
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
-#include "shore/cases/soil_cases.h"
-#include "shore/cases/vehicle_case.h"
-#include "shore/cases/water_cases.h"
+#include "shore/scenes/pool_cases.h"
+#include "shore/scenes/runner.h"
+#include "shore/scenes/soil_cases.h"
 #include "sweep.h"
 #include "sweep_util.h"
 
@@ -22,15 +23,15 @@ constexpr double kStandardCell = 0.05, kStandardSubstep = 1.0 / 240;
 struct FloatMethod {
   std::string name;
   std::string key;  // figure key stem
-  cases::FloaterShape shape;
+  scenes::FloaterShape shape;
   bool vertical_only;
 };
 
-cases::Floater floater_of(const FloatMethod& m) {
-  cases::Floater f;
+scenes::Floater floater_of(const FloatMethod& m) {
+  scenes::Floater f;
   f.shape = m.shape;
   f.density_ratio = 0.5;
-  if (m.shape == cases::FloaterShape::box) {
+  if (m.shape == scenes::FloaterShape::box) {
     f.size = btVector3(0.3f, 0.3f, 0.2f);
     f.position = btVector3(0.013f, -0.021f, 0.1f);  // bottom on the surface, off the nodes
   } else {
@@ -46,20 +47,20 @@ void floating_sweep(const SweepContext& ctx, SweepResult& out) {
                                       "coupling_ms_per_substep", "water_ms_per_substep", "s_wall_per_s_sim", "draft_m",
                                       "reference_m", "error_pct", "abs_error_pct"});
   const std::vector<FloatMethod> methods = {
-      {"box, vertical-only water", "box_vertical", cases::FloaterShape::box, true},
-      {"box, 3-D water", "box_3d", cases::FloaterShape::box, false},
-      {"sphere, vertical-only water", "sphere_vertical", cases::FloaterShape::sphere, true}};
+      {"box, vertical-only water", "box_vertical", scenes::FloaterShape::box, true},
+      {"box, 3-D water", "box_3d", scenes::FloaterShape::box, false},
+      {"sphere, vertical-only water", "sphere_vertical", scenes::FloaterShape::sphere, true}};
   const std::vector<double> cells =
       ctx.quick ? std::vector<double>{0.1, 0.05, 0.025} : std::vector<double>{0.1, 0.05, 0.025, 0.0125};
   const std::vector<double> substeps = ctx.quick
                                            ? std::vector<double>{1.0 / 60, 1.0 / 240, 1.0 / 480}
                                            : std::vector<double>{1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480, 1.0 / 960};
   for (const FloatMethod& m : methods) {
-    const bool swept = m.shape == cases::FloaterShape::box || !ctx.quick;
+    const bool swept = m.shape == scenes::FloaterShape::box || !ctx.quick;
     for (const CrossPoint& p : cross(cells, substeps, kStandardCell, kStandardSubstep)) {
       if (!swept && !(same(p.cell, kStandardCell) && same(p.substep, kStandardSubstep))) continue;
       ctx.progress(m.name + ", " + cell_label(p.cell) + ", " + substep_label(p.substep));
-      cases::PoolRun run;
+      scenes::PoolRun run;
       run.pool.nodes = static_cast<int>(std::lround(kPoolSide / p.cell)) + 1;
       run.pool.cell = p.cell;
       run.pool.damping_time = 1.0;
@@ -68,10 +69,10 @@ void floating_sweep(const SweepContext& ctx, SweepResult& out) {
       run.pool.threads = 1;
       run.seconds = 5.0;
       run.record_every = 1000000;
-      const cases::Floater f = floater_of(m);
+      const scenes::Floater f = floater_of(m);
       run.floaters = {f};
-      const cases::PoolResult r = cases::run_pool(run);
-      const double reference = cases::archimedes_draft(f);
+      const scenes::PoolResult r = scenes::run_pool(run);
+      const double reference = scenes::archimedes_draft(f);
       const double draft = r.final_draft.empty() ? NAN : r.final_draft[0];
       const double e = r.nan_count ? NAN : error_pct(draft, reference);
       const double n = double(std::max<std::int64_t>(r.substeps, 1));
@@ -130,7 +131,7 @@ void floating_sweep(const SweepContext& ctx, SweepResult& out) {
 struct PluginTimes {
   double plugin = 0, envelope = 0, terrain = 0, push = 0, whole = 0;
   double substeps = 0;
-  explicit PluginTimes(const cases::RunStats& s)
+  explicit PluginTimes(const scenes::RunStats& s)
       : plugin(s.plugin_seconds),
         envelope(s.envelope_seconds),
         terrain(s.terrain_seconds),
@@ -143,7 +144,7 @@ void wheel_plugin_time(const SweepContext& ctx, SweepResult& out) {
   // run_wheel times the whole run: 2 s of load ramp and 0.5 s of settling with the wheel
   // held, then the tow. The held phase is run again alone (the same code path, the same
   // substeps) and subtracted, which leaves the towing phase.
-  cases::WheelCase c;
+  scenes::WheelCase c;
   c.run.material = terrain::Material::sand();
   c.run.cell = 0.01;
   c.run.substep = 1.0 / 240;
@@ -151,21 +152,21 @@ void wheel_plugin_time(const SweepContext& ctx, SweepResult& out) {
   // Three towed/held pairs; the pair with the median plugin time is reported, so one
   // burst of load on a shared machine does not decide the figure.
   struct Pair {
-    cases::WheelResult towed, held;
+    scenes::WheelResult towed, held;
     double plugin = 0;
   };
   std::vector<Pair> pairs(3);
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     c.towed = true;
     ctx.progress("towed wheel, 1 cm sand, 1/240 s (plugin time), run " + std::to_string(k + 1) + " of 3");
-    pairs[k].towed = cases::run_wheel(c);
+    pairs[k].towed = scenes::run_wheel(c);
     c.towed = false;
     ctx.progress("the same wheel held (load ramp and settling only), to subtract");
-    pairs[k].held = cases::run_wheel(c);
+    pairs[k].held = scenes::run_wheel(c);
     pairs[k].plugin = pairs[k].towed.stats.plugin_seconds - pairs[k].held.stats.plugin_seconds;
   }
   std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.plugin < b.plugin; });
-  const cases::WheelResult& towed = pairs[1].towed;
+  const scenes::WheelResult& towed = pairs[1].towed;
   const PluginTimes all(towed.stats), pre(pairs[1].held.stats);
   const double n = std::max(1.0, all.substeps - pre.substeps);
   auto per_substep = [&](double PluginTimes::*part) { return 1e3 * (all.*part - pre.*part) / n; };
@@ -207,28 +208,34 @@ void wheel_plugin_time(const SweepContext& ctx, SweepResult& out) {
 
 void vehicle(const SweepContext& ctx, SweepResult& out) {
   ctx.progress("vehicle, 2 cm sand and mud, 1/240 s");
-  cases::VehicleCase c;  // 2 cm soil, 1/240 s, 6 s
-  c.threads = 1;
-  const cases::VehicleResult r = cases::run_vehicle(c);
+  const scenes::SceneType& scene = *scenes::find_scene("vehicle");
+  scenes::Overrides o;  // the scene's defaults: 2 cm soil, 1/240 s, 6 s
+  o.threads = 1;
+  o.write_files = false;
+  const scenes::SceneOptions options = scenes::resolve(scene, o);
+  const nlohmann::json m = scenes::run_scene(scene, options, scenes::ProgressMode::quiet).metrics;
+  const double realtime = m["realtime_factor"].get<double>(), plugin_ms = m["plugin_ms_per_substep"].get<double>();
+  const double wall = m["wall_seconds"].get<double>();
   Table& t = out.table("coupling_vehicle", {"substep_s", "cell_m", "sim_s", "wall_s", "realtime_factor",
                                             "plugin_ms_per_substep", "ms_per_substep", "distance_m", "speed_sand_m_s",
                                             "speed_mud_m_s", "max_sinkage_m", "fallthrough"});
-  t.add({c.substep, c.cell, r.sim_seconds, r.stats.wall_seconds, r.realtime_factor(), r.stats.plugin_ms_per_substep(),
-         r.stats.ms_per_substep(), r.distance, r.mean_speed_sand, r.mean_speed_mud, r.max_sinkage,
-         double(r.fallthrough_count)});
-  out.figure("plugin.vehicle_realtime_factor", r.realtime_factor(),
+  t.add({options.substep, options.cell, m["sim_seconds"].get<double>(), wall, realtime, plugin_ms,
+         1e3 * wall / m["substeps"].get<double>(), m["distance_m"].get<double>(),
+         m["mean_speed_sand_mps"].get<double>(), m["mean_speed_mud_mps"].get<double>(),
+         m["max_sinkage_m"].get<double>(), m["fallthrough_count"].get<double>()});
+  out.figure("plugin.vehicle_realtime_factor", realtime,
              "x real time (4 wheels, 2 cm sand + mud, 240 substeps/s, 1 thread)");
-  out.figure("plugin.vehicle_plugin_ms_per_substep", r.stats.plugin_ms_per_substep(), "ms");
+  out.figure("plugin.vehicle_plugin_ms_per_substep", plugin_ms, "ms");
   out.target({.key = "plugin.vehicle_realtime_factor",
               .what = "four-wheel vehicle over sand and mud, 240 substeps/s",
-              .value = r.realtime_factor(),
+              .value = realtime,
               .op = ">=",
               .threshold = 5.0,
               .unit = "x real time"});
   out.note(
-      "Vehicle: chassis 400 kg on four motorised cylinder wheels (D 0.6 m) driving from rigid ground over 3 tiles "
-      "of sand and 3 of mud at 2 cm, 240 substeps per second, 6 s simulated, one thread; real-time factor = "
-      "simulated / wall seconds of the whole stepSimulation.");
+      "Vehicle (the vehicle scene): chassis 400 kg on four motorised cylinder wheels (D 0.6 m) driving from rigid "
+      "ground over 3 tiles of sand and 3 of mud at 2 cm, 240 substeps per second, 6 s simulated, one thread; "
+      "real-time factor = simulated / wall seconds of the whole stepSimulation.");
 }
 
 void run(const SweepContext& ctx, SweepResult& out) {

@@ -5,21 +5,21 @@
 #include <string>
 #include <vector>
 
-#include "shore/cases/water_cases.h"
+#include "shore/scenes/pool_cases.h"
 #include "sweep.h"
 
 namespace shore::bench {
 namespace {
 
-cases::PoolRun floaters_run(int count, bool quick) {
-  cases::PoolRun run;
+scenes::PoolRun floaters_run(int count, bool quick) {
+  scenes::PoolRun run;
   run.pool.nodes = 256;  // 12.8 m at 5 cm
   run.pool.damping_time = 1.0;
   run.seconds = quick ? 1.5 : 3.0;
   run.record_every = 1000000;  // no per-substep records: only the timings and the drafts
   const int side = int(std::ceil(std::sqrt(double(count))));
   for (int k = 0; k < count; ++k) {
-    cases::Floater f;
+    scenes::Floater f;
     f.size = btVector3(0.3f, 0.3f, 0.2f);
     f.density_ratio = 0.5;
     // Spread over the pool, resting at their Archimedes level, off the water nodes.
@@ -35,11 +35,11 @@ void run(const SweepContext& ctx, SweepResult& out) {
       out.table("floaters_256", {"boxes", "coupling_ms_per_substep", "water_ms_per_substep", "draft_error_rel_max"});
   for (int count : {1, 16, 64}) {
     ctx.progress(std::to_string(count) + " floating boxes on 256 x 256 water");
-    const cases::PoolRun pool_run = floaters_run(count, ctx.quick);
-    const cases::PoolResult r = cases::run_pool(pool_run);
+    const scenes::PoolRun pool_run = floaters_run(count, ctx.quick);
+    const scenes::PoolResult r = scenes::run_pool(pool_run);
     double worst = 0.0;
     for (std::size_t n = 0; n < r.final_draft.size(); ++n) {
-      const double ref = cases::archimedes_draft(pool_run.floaters[n]);
+      const double ref = scenes::archimedes_draft(pool_run.floaters[n]);
       worst = std::max(worst, std::abs(r.final_draft[n] - ref) / ref);
     }
     const double coupling_ms = 1e3 * r.coupling_seconds / double(r.substeps);

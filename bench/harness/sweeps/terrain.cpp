@@ -1,8 +1,8 @@
 // terrain: the soil's speed against its error. Every case runs through Bullet and the
-// plugin (shore::cases) and is compared with a reference outside the code (DESIGN.md
-// section 5): Bekker's plate and wheel sinkages, the cap and prism volumes of an imprint,
-// the energy balance of a dropped sphere. Cell size is swept at the standard substep
-// (1/240 s) and the substep at the standard cell (1 cm).
+// plugin (shore::scenes, soil_cases.h) and is compared with a reference outside the code:
+// Bekker's plate and wheel sinkages (shore/terrain/bekker.h), the cap and prism volumes of
+// an imprint, the energy balance of a dropped sphere (sphere_drop_reference_depth). Cell size is swept at the standard
+// substep (1/240 s) and the substep at the standard cell (1 cm).
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -13,11 +13,11 @@
 #include <btBulletDynamicsCommon.h>
 
 #include "shore/bullet/terrain_coupling.h"
-#include "shore/cases/bullet_world.h"
-#include "shore/cases/soil_cases.h"
+#include "shore/scenes/soil_cases.h"
+#include "shore/scenes/terrain_step_cases.h"
+#include "shore/scenes/world.h"
 #include "sweep.h"
 #include "sweep_util.h"
-#include "terrain_cases.h"
 
 namespace shore::bench {
 namespace {
@@ -40,8 +40,8 @@ void add_rows(Table& t, const std::string& method, const CrossPoint& p, MakeRow&
   if (p.on_substep_axis) t.add(row(method + " vs substep", "substep"));
 }
 
-cases::SoilRun soil_run(const terrain::Material& m, const CrossPoint& p) {
-  cases::SoilRun r;
+scenes::SoilRun soil_run(const terrain::Material& m, const CrossPoint& p) {
+  scenes::SoilRun r;
   r.material = m;
   r.cell = p.cell;
   r.substep = p.substep;
@@ -61,11 +61,11 @@ void plate_sweep(const SweepContext& ctx, SweepResult& out) {
     const std::string method = ramped ? "plate ramped 2 s" : "plate released";
     for (const CrossPoint& p : cross(a.cells, a.substeps, kStandardCell, kStandardSubstep)) {
       ctx.progress(method + ", " + where(p));
-      cases::PlateCase c;
+      scenes::PlateCase c;
       c.run = soil_run(terrain::Material::sand(), p);
       c.ramp_seconds = ramped ? 2.0 : 0.0;
       c.settle_seconds = ramped ? 0.5 : 1.0;
-      const cases::PlateResult r = cases::run_plate(c);
+      const scenes::PlateResult r = scenes::run_plate(c);
       const double e = error_pct(r.sinkage, r.reference);
       add_rows(t, method, p, [&](const std::string& curve, const char* varied) {
         return std::vector<Cell>{curve,
@@ -126,10 +126,10 @@ void wheel_sweep(const SweepContext& ctx, SweepResult& out) {
   for (const WheelMethod& m : methods) {
     for (const CrossPoint& p : cross(a.cells, a.substeps, kStandardCell, kStandardSubstep)) {
       ctx.progress(m.name + ", " + where(p));
-      cases::WheelCase c;
+      scenes::WheelCase c;
       c.run = soil_run(m.material, p);
       c.towed = m.towed;
-      const cases::WheelResult r = cases::run_wheel(c);
+      const scenes::WheelResult r = scenes::run_wheel(c);
       const double e = error_pct(r.sinkage, r.reference_sinkage);
       const double re = m.towed ? error_pct(r.resistance, r.reference_resistance) : NAN;
       const double n = double(std::max<std::int64_t>(r.stats.substeps, 1));
@@ -206,7 +206,7 @@ ImprintRun press_kinematic(std::unique_ptr<btCollisionShape> shape, double botto
   s.material.alpha = 0.0;
   s.threads = 1;
   terrain::Terrain soil(s);
-  cases::BulletWorld world;
+  scenes::World world;
   bullet::TerrainCoupling ground(world.world(), soil);
   // Off the column lattice by a fraction of a cell, so no edge passes exactly through columns.
   const double x0 = 0.0031, y0 = 0.0017;
@@ -282,9 +282,9 @@ void sphere_drop_sweep(const SweepContext& ctx, SweepResult& out) {
                                         "s_wall_per_s_sim", "depth_m", "reference_m", "error_pct", "abs_error_pct"});
   for (double h : axes(ctx).substeps) {
     ctx.progress("sphere drop, " + substep_label(h));
-    cases::SphereDropCase c;
+    scenes::SphereDropCase c;
     c.run = soil_run(terrain::Material::sand(), {kStandardCell, h});
-    const cases::SphereDropResult r = cases::run_sphere_drop(c);
+    const scenes::SphereDropResult r = scenes::run_sphere_drop(c);
     const double e = error_pct(r.depth, r.reference);
     t.add({"sphere drop, 1 cm sand", kStandardCell, h, r.stats.ms_per_substep(), r.stats.plugin_ms_per_substep(),
            r.stats.ms_per_substep() * 1e-3 / h, r.depth, r.reference, e, std::abs(e)});
@@ -302,7 +302,7 @@ void sphere_drop_sweep(const SweepContext& ctx, SweepResult& out) {
   out.note(
       "Sphere drop: D 0.2 m, 10 kg, released 1 m above dry sand at 1 cm, 1.5 s simulated; the reference is the "
       "depth at which m g (height + z) equals the plastic work of Bekker columns under a spherical cap "
-      "(shore::cases::sphere_drop_reference_depth, quadrature independent of the column model).");
+      "(shore::scenes::sphere_drop_reference_depth, quadrature independent of the column model).");
 }
 
 // ---- terrain step alone ---------------------------------------------------------------
@@ -310,12 +310,12 @@ void step_alone(const SweepContext& ctx, SweepResult& out) {
   Table& t = out.table("terrain_step_alone", {"case", "threads", "ms_per_substep", "bearing_ms_per_substep",
                                               "active_columns", "erosion_passes", "columns_per_s"});
   const int steps = ctx.quick ? 200 : 600;
-  for (const auto c : {terrain::bench::TerrainCase::wheel, terrain::bench::TerrainCase::footprint}) {
-    ctx.progress(std::string("terrain step alone, ") + terrain::bench::case_name(c));
-    const terrain::bench::TerrainCaseResult r = terrain::bench::run_terrain_case(c, 1, steps);
+  for (const auto c : {scenes::TerrainCase::wheel, scenes::TerrainCase::footprint}) {
+    ctx.progress(std::string("terrain step alone, ") + scenes::terrain_case_name(c));
+    const scenes::TerrainCaseResult r = scenes::run_terrain_case(c, 1, steps);
     t.add(
         {r.name, 1.0, r.ms_per_step, r.bearing_ms_per_step, r.active_columns, r.erosion_passes, r.columns_per_second});
-    if (c == terrain::bench::TerrainCase::wheel) {
+    if (c == scenes::TerrainCase::wheel) {
       out.figure("terrain.wheel_ms_per_substep", r.ms_per_step, "ms (Terrain::step alone, wheel at 1 cm, 1 thread)");
       out.figure("terrain.wheel_active_columns", r.active_columns, "columns per substep");
     } else {
@@ -323,7 +323,8 @@ void step_alone(const SweepContext& ctx, SweepResult& out) {
     }
   }
   out.note(
-      "Terrain step alone (bench/terrain/terrain_cases.h): Terrain::step with a prescribed envelope, no Bullet: a "
+      "Terrain step alone (scenes/include/shore/scenes/terrain_step_cases.h): Terrain::step with a prescribed "
+      "envelope, no Bullet: a "
       "D 0.8 m, b 0.2 m wheel rolling 3 cm deep at 1 m/s and a boot footprint, 1 cm dry sand, 1/240 s, one thread.");
 }
 

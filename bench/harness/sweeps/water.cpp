@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "shore/scenes/water_kernel_cases.h"
 #include "shore/water/surface.h"
 #include "sweep.h"
 #include "sweep_util.h"
-#include "water_cases.h"
 
 namespace shore::bench {
 namespace {
@@ -173,7 +173,7 @@ void run(const SweepContext& ctx, SweepResult& out) {
     }
   }
   ctx.progress("paper grid");
-  const double paper_ms = 1e3 * water::bench::paper_grid_seconds_per_step(1, ctx.quick ? 0.3 : 1.0);
+  const double paper_ms = 1e3 * scenes::paper_grid_seconds_per_step(1, ctx.quick ? 0.3 : 1.0);
   out.figure("water.paper_grid_ms_per_step", paper_ms, "ms (50 x 50, dt 0.4, 3-D, 1 thread; paper: 4.8 ms)");
 
   out.plot({.name = "water_modes_time_vs_error",

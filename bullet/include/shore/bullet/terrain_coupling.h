@@ -1,0 +1,162 @@
+#pragma once
+// Two-way coupling of Bullet rigid bodies with the deformable soil.
+//
+// Add it to an existing btDiscreteDynamicsWorld; it is a btActionInterface, so its work
+// runs inside every internal substep of stepSimulation(dt, maxSubSteps, fixedStep), after
+// the solver and integration and before the next substep's collision detection:
+//
+//   shore::terrain::Terrain soil(settings);
+//   shore::bullet::TerrainCoupling ground(world, soil);   // adds itself to the world
+//   ground.add_body(wheel);                                // this body deforms the soil
+//   world.stepSimulation(1.0 / 60, 8, 1.0 / 240);
+//
+// What Shore does with added bodies:
+// - Soft soil: Shore, not Bullet, makes their normal contact with the ground (Bullet does
+//   not collide them with the soil tiles: see soil_filter_bit). Each substep the body's
+//   downward momentum is compared with what the columns under it can bear in one substep
+//   (Bekker's bearing capacity times the substep); the soil's impulse, with Coulomb
+//   friction, is applied where the columns bear, and the soil is pressed where the body
+//   went. If the body carries more than the soil bears, the soil yields and the body sinks.
+//   Craters do not depend on the substep. Columns on bedrock bear anything.
+// - Rigid materials (Material::rigid): Bullet's ordinary heightfield contact.
+// - Kinematic bodies press the soil geometrically; bodies at rest press nothing new but
+//   keep eroding soil out from under them.
+// - A body driven below bedrock in one substep is lifted back (counted in stats().rescues).
+// - add_body() checks the body's shape once (InvalidSetting if it cannot be rasterized);
+//   a body with a broken pose (non-finite, not a rotation) or faster than max_speed is
+//   skipped for that substep and counted in stats().skipped_bodies.
+// Bodies that are not added collide with the soil's tiles through Bullet as with rigid ground.
+
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include <BulletDynamics/Dynamics/btActionInterface.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+
+#include "shore/bullet/config.h"
+#include "shore/bullet/envelope.h"
+#include "shore/bullet/terrain_tiles.h"
+#include "shore/core/envelope.h"
+#include "shore/terrain/terrain.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+
+/// Per-body choices.
+struct BodySoilSettings {
+  bool deform = true;      ///< the body presses the soil (false: it only feels the ground)
+  bool enable_ccd = true;  ///< turn on Bullet's continuous collision for fast impacts
+  /// With enable_ccd: Bullet's CCD motion threshold and swept-sphere radius, as shares of
+  /// the thinnest side of the body's bounding box; each in (0, 1].
+  double ccd_motion_share = 0.25;
+  double ccd_sphere_share = 0.2;
+  void validate() const;
+};
+
+struct TerrainCouplingSettings {
+  TerrainTilesSettings tiles;
+  /// Where this soil is. Several Terrain objects (say sand, then mud) can lie side by side,
+  /// each with its own coupling and region; put region edges on tile edges (multiples of
+  /// the soil's tile_columns * cell from its origin) so tiles meet exactly.
+  Region region;
+  double cover_margin = 0.25;  ///< m kept covered by tiles around every dynamic body's AABB, > 0
+  double max_speed = 500.0;    ///< m/s: a body faster than this (or with a non-finite pose) is skipped and counted
+  /// A body the soil holds that moves slower than rest_speed and turns slower than
+  /// rest_spin is at rest: it presses nothing new (pressing again would only re-press soil
+  /// that slid back beside it). Both > 0.
+  double rest_speed = 1e-3;  ///< m/s
+  double rest_spin = 1e-2;   ///< rad/s
+  /// Every dynamic body in the world gets ground under it (tiles), not only added ones.
+  bool cover_all_bodies = true;
+  /// Lift a body whose lowest point fell below bedrock back onto the surface (counted).
+  bool rescue_fallthrough = true;
+  /// Broadphase filter bit of soft-soil tiles. Shore owns the normal contact of added
+  /// bodies with soft soil, so this bit is cleared from their collision mask (and restored
+  /// by remove_body); other bodies collide with the tiles through Bullet as with rigid
+  /// ground. Pick a bit your own filters do not use. Rigid materials use StaticFilter.
+  int soil_filter_bit = 1 << 13;
+  void validate() const;
+};
+
+/// Counters and timings of the last substep and totals since creation.
+struct TerrainCouplingStats {
+  std::int64_t substeps = 0;
+  std::int64_t skipped_bodies = 0;   ///< body-substeps skipped for a broken pose or an absurd speed (total)
+  std::int64_t yields = 0;           ///< body-substeps in which the soil yielded (total)
+  std::int64_t rescues = 0;          ///< bodies lifted back above bedrock (total)
+  std::int64_t vertices_pushed = 0;  ///< heightfield vertices written (total)
+  double plastic_work = 0.0;         ///< J: soil impulse times the body's downward travel while yielding (total)
+  // last substep, seconds of wall time
+  double envelope_seconds = 0.0;
+  double terrain_seconds = 0.0;
+  double push_seconds = 0.0;
+  double reaction_seconds = 0.0;
+  int active_columns = 0;
+  int erosion_passes = 0;
+};
+
+class TerrainCoupling : public btActionInterface {
+ public:
+  /// Adds itself to world (world.addAction) and removes itself when destroyed. The soil
+  /// and world must outlive it.
+  TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrain& soil, TerrainCouplingSettings settings = {});
+  ~TerrainCoupling() override;
+  TerrainCoupling(const TerrainCoupling&) = delete;
+  TerrainCoupling& operator=(const TerrainCoupling&) = delete;
+
+  /// The body presses the soil (dynamic: by the momentum rule; kinematic: geometrically).
+  /// Tiles under it are created at once. Throws InvalidSetting for a null body, a dynamic
+  /// body not yet in the world, or (with deform) a shape that cannot be rasterized.
+  void add_body(btRigidBody* body, BodySoilSettings body_settings = {});
+  void remove_body(btRigidBody* body);
+
+  void updateAction(btCollisionWorld* world, btScalar substep) override;
+  void debugDraw(btIDebugDraw*) override {}
+
+  [[nodiscard]] const TerrainCouplingStats& stats() const noexcept { return stats_; }
+  [[nodiscard]] TerrainTiles& tiles() noexcept { return tiles_; }
+  [[nodiscard]] terrain::Terrain& soil() noexcept { return soil_; }
+
+ private:
+  struct Body {
+    btRigidBody* body = nullptr;
+    BodySoilSettings settings;
+    EnvelopeRaster envelope;  // reused buffer
+    double reach = 0.0;       // m, from check_rasterizable
+  };
+  bool body_is_sane(const btRigidBody& body) const;
+  /// The cheap per-substep test that rasterizing the body at its pose cannot fail.
+  bool can_rasterize(const Body& b) const;
+  void cover_bodies(double substep);
+  void rasterize(Body& b);
+  [[nodiscard]] bool overlaps_region(const btRigidBody& body) const;
+  void drop_tile_pairs(btBroadphaseProxy* proxy);
+  void clip_to_region(EnvelopeRaster& env) const;
+  /// The momentum rule for one dynamic body; returns true if the soil yielded.
+  bool react(Body& b, double substep);
+  /// The soil's vertical impulse, at the bearing-weighted centre of the contact columns
+  /// (equivalent to one impulse per column); returns that centre.
+  btVector3 apply_soil_impulse(Body& b, const terrain::Bearing& bearing, double impulse, const btVector3& com);
+  void apply_friction(btRigidBody& body, const btVector3& arm, double normal_impulse);
+  void rescue_fallen_bodies();
+  void keep_above_bedrock(Body& b);
+  void wake_bodies_over(const std::vector<terrain::ColumnRect>& changed);
+
+  std::vector<double> base_scratch_;  // untouched ground under an envelope
+
+  btDiscreteDynamicsWorld& world_;
+  terrain::Terrain& soil_;
+  TerrainCouplingSettings settings_;
+  TerrainTiles tiles_;
+  EnvelopeRasterizer rasterizer_;
+  std::vector<Body> bodies_;
+  std::vector<terrain::Imprint> imprints_;
+  TerrainCouplingStats stats_;
+  bool rigid_ = false;
+};
+
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet

@@ -1,0 +1,100 @@
+#pragma once
+// The Bullet side of the deformable ground: btHeightfieldTerrainShape tiles created on
+// demand around bodies and kept equal to the soil heights.
+//
+// Tile (tx, ty) holds vertices for columns [tx T, tx T + T] x [ty T, ty T + T] (T, the
+// tile size, is the soil's TerrainSettings::tile_columns): neighbouring tiles share their
+// edge vertices, so there is no seam.
+// Each substep the changed columns are copied into the tiles' float buffers in place;
+// contact points whose terrain-side point lies in a changed cell are removed (Bullet
+// refreshes cached points from their local positions, so a body would otherwise hover
+// over lowered ground) and the bodies there are woken. A rise is capped per substep so
+// raised ground (a rim) cannot jump over a body; the tile catches up on later substeps.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
+
+#include "shore/bullet/config.h"
+#include "shore/bullet/heightfield_tile.h"
+#include "shore/terrain/terrain.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+
+/// A world-space rectangle (m), x in [x0, x1) and y in [y0, y1). Default: everywhere.
+struct Region {
+  static constexpr double kUnbounded = 1e30;  ///< m: an edge this far out is no edge
+  double x0 = -kUnbounded, y0 = -kUnbounded, x1 = kUnbounded, y1 = kUnbounded;
+  [[nodiscard]] bool contains(double x, double y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+  /// True if no edge is set (the default): nothing is outside.
+  [[nodiscard]] bool everywhere() const {
+    return x0 <= -kUnbounded && y0 <= -kUnbounded && x1 >= kUnbounded && y1 >= kUnbounded;
+  }
+};
+
+/// The tile size is the soil's: one tile per TerrainSettings::tile_columns columns a side.
+struct TerrainTilesSettings {
+  double headroom = 0.5;                ///< m a tile can hold above its highest untouched ground (rims), > 0
+  double max_rise_per_substep = 0.002;  ///< m, > 0: cap on how far ground may rise in one substep
+  void validate() const;
+};
+
+class TerrainTiles {
+ public:
+  TerrainTiles(btCollisionWorld& world, const terrain::Terrain& soil, const TerrainTilesSettings& settings);
+  ~TerrainTiles();
+  TerrainTiles(const TerrainTiles&) = delete;
+  TerrainTiles& operator=(const TerrainTiles&) = delete;
+
+  /// Creates the tiles (if missing) that cover the world box [x0, x1] x [y0, y1], limited
+  /// to tiles that overlap the allowed region (set_region). Returns how many were created.
+  int ensure_cover(double x0, double y0, double x1, double y1);
+  /// Only tiles overlapping this region are ever created (default: everywhere).
+  void set_region(const Region& region) { region_ = region; }
+
+  /// Copies the given changed columns (and any tile still catching up) from the soil into
+  /// the tiles, removes stale contact points there and wakes the bodies. Returns the
+  /// number of vertices written.
+  std::int64_t push(std::span<const terrain::ColumnRect> changed);
+
+  [[nodiscard]] bool is_tile(const btCollisionObject* object) const noexcept;
+  [[nodiscard]] std::size_t count() const noexcept { return tiles_.size(); }
+  /// Vertices clamped to a tile's height range so far (should stay 0; raise headroom if not).
+  [[nodiscard]] std::int64_t clamped_vertices() const noexcept { return clamped_; }
+  /// Broadphase group of tiles created from now on (default StaticFilter).
+  void set_collision_group(int group) { group_ = group; }
+  /// Sets the friction of every tile, present and future.
+  void set_friction(double friction);
+
+ private:
+  static constexpr int kTileTag = 0x5e0e71;  // user index 2 of every tile object
+  struct Tile {
+    std::unique_ptr<HeightfieldTile> field;
+    std::int64_t i0 = 0, j0 = 0;                           // first column
+    bool lagging = false;                                  // a capped rise left some vertices below the soil
+    int lag_a0 = 0, lag_b0 = 0, lag_a1 = -1, lag_b1 = -1;  // those vertices' bounding box (tile-local)
+    void mark_lagging(int a0, int b0, int a1, int b1);
+  };
+  static std::uint64_t key(std::int64_t tx, std::int64_t ty) noexcept;
+  Tile& create(std::int64_t tx, std::int64_t ty);
+  std::int64_t copy_rect(Tile& tile, std::int64_t ci0, std::int64_t cj0, std::int64_t ci1, std::int64_t cj1);
+  void drop_stale_contacts(double x0, double y0, double x1, double y1);
+
+  btCollisionWorld& world_;
+  const terrain::Terrain& soil_;
+  TerrainTilesSettings settings_;
+  double friction_;
+  std::unordered_map<std::uint64_t, Tile> tiles_;
+  std::int64_t clamped_ = 0;
+  Region region_;
+  int group_ = btBroadphaseProxy::StaticFilter;
+  std::vector<double> scratch_;  // heights of the rectangle being copied
+};
+
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet

@@ -1,0 +1,193 @@
+#include "shore/bullet/terrain_tiles.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <BulletCollision/BroadphaseCollision/btDispatcher.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+
+#include "shore/core/error.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+
+namespace {
+std::int64_t floor_div(std::int64_t a, std::int64_t b) {
+  const std::int64_t q = a / b;
+  return (a % b != 0 && (a < 0) != (b < 0)) ? q - 1 : q;
+}
+}  // namespace
+
+void TerrainTilesSettings::validate() const {
+  const Check c{"bullet.TerrainTilesSettings"};
+  c.positive("headroom", headroom);
+  c.positive("max_rise_per_substep", max_rise_per_substep);
+}
+
+TerrainTiles::TerrainTiles(btCollisionWorld& world, const terrain::Terrain& soil, const TerrainTilesSettings& settings)
+    : world_(world), soil_(soil), settings_(settings), friction_(soil.settings().material.friction) {
+  settings_.validate();
+}
+
+TerrainTiles::~TerrainTiles() {
+  for (auto& [k, tile] : tiles_) world_.removeCollisionObject(tile.field->object());
+}
+
+std::uint64_t TerrainTiles::key(std::int64_t tx, std::int64_t ty) noexcept {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(tx)) << 32) | static_cast<std::uint32_t>(ty);
+}
+
+bool TerrainTiles::is_tile(const btCollisionObject* object) const noexcept {
+  // Tiles are tagged through their user index (cheaper than a lookup).
+  return object != nullptr && object->getUserIndex2() == kTileTag;
+}
+
+void TerrainTiles::set_friction(double friction) {
+  friction_ = friction;
+  for (auto& [k, tile] : tiles_) tile.field->object()->setFriction(btScalar(friction));
+}
+
+TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
+  const int T = soil_.settings().tile_columns;
+  Tile tile;
+  tile.i0 = tx * T;
+  tile.j0 = ty * T;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int b = 0; b <= T; ++b)
+    for (int a = 0; a <= T; ++a) {
+      lo = std::min(lo, soil_.bedrock(tile.i0 + a, tile.j0 + b));
+      hi = std::max(hi, std::max(soil_.base_height(tile.i0 + a, tile.j0 + b), soil_.height(tile.i0 + a, tile.j0 + b)));
+    }
+  HeightfieldTileSettings hs;
+  hs.columns = T + 1;
+  hs.cell = soil_.settings().cell;
+  hs.origin_x = soil_.column_x(tile.i0);
+  hs.origin_y = soil_.column_y(tile.j0);
+  hs.min_height = lo - 0.01;
+  hs.max_height = hi + settings_.headroom;
+  hs.initial_height = hi;
+  hs.friction = friction_;
+  tile.field = std::make_unique<HeightfieldTile>(hs);
+  for (int b = 0; b <= T; ++b)
+    for (int a = 0; a <= T; ++a) tile.field->set_height(a, b, soil_.height(tile.i0 + a, tile.j0 + b));
+  tile.field->object()->setUserIndex2(kTileTag);
+  world_.addCollisionObject(tile.field->object(), group_,
+                            btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
+  return tiles_.emplace(key(tx, ty), std::move(tile)).first->second;
+}
+
+int TerrainTiles::ensure_cover(double x0, double y0, double x1, double y1) {
+  const int T = soil_.settings().tile_columns;
+  // Tiles whose span lies strictly inside the region's edges (a tile touching the region
+  // only along its border belongs to the neighbour).
+  const double eps = 1e-6 * soil_.settings().cell;
+  x0 = std::max(x0, region_.x0 + eps);
+  y0 = std::max(y0, region_.y0 + eps);
+  x1 = std::min(x1, region_.x1 - eps);
+  y1 = std::min(y1, region_.y1 - eps);
+  if (x0 > x1 || y0 > y1) return 0;
+  const terrain::TerrainSettings& s = soil_.settings();
+  auto tile_of = [&](double w, double origin) {
+    return static_cast<std::int64_t>(std::floor((w - origin) / (s.cell * T)));
+  };
+  const std::int64_t tx0 = tile_of(x0, s.origin_x), tx1 = tile_of(x1, s.origin_x);
+  const std::int64_t ty0 = tile_of(y0, s.origin_y), ty1 = tile_of(y1, s.origin_y);
+  int created = 0;
+  for (std::int64_t ty = ty0; ty <= ty1; ++ty)
+    for (std::int64_t tx = tx0; tx <= tx1; ++tx)
+      if (!tiles_.contains(key(tx, ty))) {
+        create(tx, ty);
+        ++created;
+      }
+  return created;
+}
+
+void TerrainTiles::Tile::mark_lagging(int a0, int b0, int a1, int b1) {
+  if (!lagging) {
+    lagging = true;
+    lag_a0 = a0, lag_b0 = b0, lag_a1 = a1, lag_b1 = b1;
+    return;
+  }
+  lag_a0 = std::min(lag_a0, a0), lag_b0 = std::min(lag_b0, b0);
+  lag_a1 = std::max(lag_a1, a1), lag_b1 = std::max(lag_b1, b1);
+}
+
+std::int64_t TerrainTiles::copy_rect(Tile& tile, std::int64_t ci0, std::int64_t cj0, std::int64_t ci1,
+                                     std::int64_t cj1) {
+  const int T = soil_.settings().tile_columns;
+  const std::int64_t a0 = std::max<std::int64_t>(ci0 - tile.i0, 0), a1 = std::min<std::int64_t>(ci1 - tile.i0, T);
+  const std::int64_t b0 = std::max<std::int64_t>(cj0 - tile.j0, 0), b1 = std::min<std::int64_t>(cj1 - tile.j0, T);
+  if (a0 > a1 || b0 > b1) return 0;
+  const terrain::ColumnRect rect{tile.i0 + a0, tile.j0 + b0, int(a1 - a0 + 1), int(b1 - b0 + 1)};
+  const auto width = static_cast<std::size_t>(rect.nx);
+  scratch_.resize(width * static_cast<std::size_t>(rect.ny));
+  soil_.heights(rect, scratch_);
+  for (int b = 0; b < rect.ny; ++b) {
+    // Raised ground may not jump over a body: it rises at most max_rise_per_substep.
+    const HeightfieldTile::RowWrite w =
+        tile.field->set_row(int(a0), int(b0) + b, std::span<const double>(scratch_).subspan(b * width, width),
+                            settings_.max_rise_per_substep);
+    clamped_ += w.clamped;
+    if (w.first_held >= 0) tile.mark_lagging(int(a0) + w.first_held, int(b0) + b, int(a0) + w.last_held, int(b0) + b);
+  }
+  return static_cast<std::int64_t>(scratch_.size());
+}
+
+std::int64_t TerrainTiles::push(std::span<const terrain::ColumnRect> changed) {
+  const int T = soil_.settings().tile_columns;
+  const double cell = soil_.settings().cell;
+  std::int64_t written = 0;
+  // Vertices still catching up with a capped rise.
+  for (auto& [k, tile] : tiles_)
+    if (tile.lagging) {
+      tile.lagging = false;
+      const std::int64_t i0 = tile.i0 + tile.lag_a0, j0 = tile.j0 + tile.lag_b0;
+      const std::int64_t i1 = tile.i0 + tile.lag_a1, j1 = tile.j0 + tile.lag_b1;
+      written += copy_rect(tile, i0, j0, i1, j1);
+      drop_stale_contacts(soil_.column_x(i0) - cell, soil_.column_y(j0) - cell, soil_.column_x(i1) + cell,
+                          soil_.column_y(j1) + cell);
+    }
+  for (const terrain::ColumnRect& r : changed) {
+    if (r.nx <= 0 || r.ny <= 0) continue;
+    const std::int64_t ci1 = r.i0 + r.nx - 1, cj1 = r.j0 + r.ny - 1;
+    // Every tile holding a vertex of the rectangle (shared edges belong to two tiles).
+    for (std::int64_t ty = floor_div(r.j0 - 1, T); ty <= floor_div(cj1, T); ++ty)
+      for (std::int64_t tx = floor_div(r.i0 - 1, T); tx <= floor_div(ci1, T); ++tx) {
+        auto it = tiles_.find(key(tx, ty));
+        if (it == tiles_.end()) continue;
+        Tile& tile = it->second;
+        if (r.i0 > tile.i0 + T || ci1 < tile.i0 || r.j0 > tile.j0 + T || cj1 < tile.j0) continue;
+        written += copy_rect(tile, r.i0, r.j0, ci1, cj1);
+      }
+    drop_stale_contacts(soil_.column_x(r.i0) - cell, soil_.column_y(r.j0) - cell, soil_.column_x(ci1) + cell,
+                        soil_.column_y(cj1) + cell);
+  }
+  return written;
+}
+
+void TerrainTiles::drop_stale_contacts(double x0, double y0, double x1, double y1) {
+  btDispatcher* dispatcher = world_.getDispatcher();
+  const int n = dispatcher->getNumManifolds();
+  for (int m = 0; m < n; ++m) {
+    btPersistentManifold* manifold = dispatcher->getManifoldByIndexInternal(m);
+    const bool tile_is_0 = is_tile(manifold->getBody0());
+    if (!tile_is_0 && !is_tile(manifold->getBody1())) continue;
+    bool removed = false;
+    for (int p = manifold->getNumContacts() - 1; p >= 0; --p) {
+      const btManifoldPoint& pt = manifold->getContactPoint(p);
+      const btVector3& on_tile = tile_is_0 ? pt.m_positionWorldOnA : pt.m_positionWorldOnB;
+      if (on_tile.x() >= x0 && on_tile.x() <= x1 && on_tile.y() >= y0 && on_tile.y() <= y1) {
+        manifold->removeContactPoint(p);
+        removed = true;
+      }
+    }
+    if (removed) {
+      auto* body = const_cast<btCollisionObject*>(tile_is_0 ? manifold->getBody1() : manifold->getBody0());
+      body->activate(true);
+    }
+  }
+}
+
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet

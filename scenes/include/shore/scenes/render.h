@@ -1,0 +1,61 @@
+#pragma once
+// Pictures of height grids: shaded relief (top view) coloured by deformation or height, an
+// oblique 3-D view, a water-surface view, filmstrips of several frames, and the scenes'
+// relief and oblique frames with bodies drawn.
+
+#include <string>
+#include <vector>
+
+#include "shore/scenes/envelopes.h"
+#include "shore/scenes/height_grid.h"
+#include "shore/scenes/image.h"
+
+namespace shore::scenes {
+
+/// Lambertian hillshade in [0, 1] of each column: light from azimuth (degrees clockwise
+/// from +y, "north") and altitude (degrees above the horizon); heights multiplied by
+/// exaggeration. Central differences inside, one-sided at the edges.
+std::vector<double> hillshade(const HeightGrid& grid, double azimuth_deg = 315.0, double altitude_deg = 45.0,
+                              double exaggeration = 1.0);
+
+struct ReliefStyle {
+  /// If set (same size as the heights), colour by heights - baseline with the diverging
+  /// map (blue lowered, red raised, neutral untouched); otherwise colour by height.
+  const HeightGrid* baseline = nullptr;
+  double deformation_scale = 0.0;  ///< m mapped to full colour; 0: the largest |change|
+  /// Optional upper envelope of bodies (NaN where none, same grid as the heights): drawn
+  /// solid in the oblique view, tinted with an outline in the top view.
+  const HeightGrid* bodies = nullptr;
+  /// Optional lower envelope of the same bodies; without it bodies reach down to the ground.
+  const HeightGrid* body_bottoms = nullptr;
+  double exaggeration = 1.0;  ///< vertical exaggeration of the shading and of the oblique view
+  int min_pixels = 480;       ///< the longer image side is at least this (grids are upsampled)
+  std::string title;          ///< printed above the picture (empty: none)
+  bool legend = true;         ///< colour bar with its range under the picture
+};
+
+/// Top view: shaded relief coloured by deformation (or height), north up.
+Image render_relief(const HeightGrid& heights, const ReliefStyle& style = {});
+
+/// Oblique orthographic view from the south, looking down at elevation_deg.
+Image render_oblique(const HeightGrid& heights, const ReliefStyle& style = {}, double elevation_deg = 35.0);
+
+/// Top view of a water surface: colour by height relative to rest_level (scale: metres
+/// to full colour; 0 = the largest |deviation|), with shading.
+Image render_water(const HeightGrid& surface, double rest_level, double scale = 0.0, const std::string& title = {},
+                   int min_pixels = 480);
+
+/// Frames side by side in rows of `columns`, each with its label underneath.
+Image filmstrip(const std::vector<Image>& frames, const std::vector<std::string>& labels, int columns = 3);
+
+/// The top view of one moment: relief coloured by deformation from `baseline` (by height
+/// without one), bodies tinted and outlined (if given), with a legend.
+Image relief_frame(const HeightGrid& heights, const HeightGrid* baseline, const BodyEnvelopes* bodies, int min_pixels,
+                   const std::string& title);
+
+/// The oblique picture of one moment: relief coloured by deformation, bodies drawn.
+Image oblique_frame(const HeightGrid& heights, const HeightGrid& baseline, const BodyEnvelopes* bodies,
+                    double exaggeration, int min_pixels, const std::string& title, double deformation_scale = 0.0,
+                    double elevation_deg = 35.0, bool legend = false);
+
+}  // namespace shore::scenes

@@ -1,0 +1,58 @@
+#pragma once
+// Runs a scene: the loop over its substeps, their timing, the filmstrip, the state hash,
+// the common metrics and metrics.json. shore-demo, the scene tests and shore-bench all
+// run scenes through here.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "shore/scenes/progress.h"
+#include "shore/scenes/scene.h"
+
+namespace shore::scenes {
+
+/// Command-line overrides; unset fields take the scene's defaults.
+struct Overrides {
+  std::filesystem::path out_root = "out";
+  int threads = 0;       ///< 0: OpenMP's default
+  double seconds = 0;    ///< 0: scene default (or its smoke_seconds with smoke)
+  double substep = 0;    ///< 0: scene default
+  std::string material;  ///< empty: scene default
+  double cell = 0;       ///< 0: scene default
+  bool smoke = false;
+  bool write_files = true;
+};
+
+/// The scene's defaults with the overrides applied; out_dir = out_root / scene.name.
+SceneOptions resolve(const SceneType& scene, const Overrides& overrides);
+
+/// What a run produced: the common metrics (common_metric_help) plus the scene's own, the
+/// files written (metrics.json last) and the state hash of the end of the run.
+struct SceneResult {
+  nlohmann::json metrics = nlohmann::json::object();
+  std::vector<std::filesystem::path> files;
+  std::uint64_t state_hash = 0;
+};
+
+/// Runs a scene: validates options, creates out_dir, sets the OpenMP thread count, creates
+/// the scene and steps it options.substeps() times (timing the steps alone), takes the
+/// filmstrip, hashes the final state, fills the metrics, and with write_files draws the
+/// scene and writes out_dir/metrics.json. Scene errors propagate.
+SceneResult run_scene(const SceneType& scene, const SceneOptions& options, ProgressMode progress);
+
+/// Names of the common metrics, in report order, with their meaning.
+const std::vector<MetricHelp>& common_metric_help();
+
+/// "float" or "double": the btScalar precision this build uses (hashes differ by it).
+std::string precision_name();
+
+/// Adds an outside-reference check to metrics["checks"]; the scene tests assert
+/// |value - reference| <= tolerance for each. source names where the reference comes from.
+void add_check(nlohmann::json& metrics, const std::string& name, double value, double reference, double tolerance,
+               const std::string& source);
+
+}  // namespace shore::scenes

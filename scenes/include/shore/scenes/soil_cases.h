@@ -1,0 +1,104 @@
+#pragma once
+// Reference cases of bodies on deformable soil, each with its outside reference (Bekker's
+// closed forms, the energy balance of the column model): a plate, a wheel pressed or
+// towed, a sphere dropped. Written once; used by the shore::bullet tests, the benchmarks
+// (speed against error) and the impact scene.
+
+#include <cstdint>
+#include <string>
+
+#include "shore/bullet/terrain_coupling.h"
+#include "shore/terrain/material.h"
+#include "shore/terrain/terrain.h"
+
+namespace shore::scenes {
+
+/// Common knobs of every soil case.
+struct SoilRun {
+  terrain::Material material = terrain::Material::sand();
+  double cell = 0.01;                                                      ///< m, soil column spacing
+  double substep = 1.0 / 240;                                              ///< s, Bullet's fixed substep
+  int threads = 1;                                                         ///< OpenMP threads of the soil
+  int max_erosion_passes = terrain::TerrainSettings{}.max_erosion_passes;  ///< erosion pass cap per substep
+  double active_reach = terrain::TerrainSettings{}.active_reach;           ///< m, see TerrainSettings
+};
+
+/// Results common to every case.
+struct RunStats {
+  std::int64_t substeps = 0;
+  double wall_seconds = 0.0;    ///< whole simulation (Bullet + Shore)
+  double plugin_seconds = 0.0;  ///< Shore's share (envelopes, soil, push back, reaction)
+  double envelope_seconds = 0.0;
+  double terrain_seconds = 0.0;
+  double push_seconds = 0.0;
+  std::uint64_t state_hash = 0;  ///< state_hash (state.h) of the soil and the body at the end
+  std::int64_t rescues = 0;      ///< bodies lifted back above bedrock (should stay 0)
+  /// Adds one substep of a soil coupling's timings (once per coupling and substep).
+  void add_coupling_times(const bullet::TerrainCouplingStats& coupling);
+  [[nodiscard]] double ms_per_substep() const { return substeps ? 1e3 * wall_seconds / double(substeps) : 0.0; }
+  [[nodiscard]] double plugin_ms_per_substep() const {
+    return substeps ? 1e3 * plugin_seconds / double(substeps) : 0.0;
+  }
+};
+
+// ---- a square plate (box) under a uniform pressure --------------------------------------
+struct PlateCase {
+  SoilRun run;
+  double width = 0.3;         ///< m, square footprint side
+  double pressure = 50e3;     ///< Pa, weight / footprint
+  double ramp_seconds = 0.0;  ///< s: weight ramped in linearly over this time; 0 = released at rest
+  double settle_seconds = 1.0;
+};
+struct PlateResult {
+  double sinkage = 0.0;    ///< m, final depth of the plate's bottom below the original surface
+  double reference = 0.0;  ///< m, Bekker: quasi-static if ramped, (n+1)^(1/n) times that if released
+  RunStats stats;
+};
+PlateResult run_plate(const PlateCase& c);
+
+// ---- a rigid wheel, pressed statically or towed -----------------------------------------
+struct WheelCase {
+  SoilRun run;
+  double diameter = 0.8;  ///< m
+  double width = 0.3;     ///< m
+  double load = 4000.0;   ///< N (the wheel's weight)
+  bool towed = false;     ///< false: load ramped in slowly with the wheel held still
+  double speed = 1.0;     ///< m/s, towing speed
+  double distance = 2.0;  ///< m towed
+  double ramp_seconds = 2.0;
+};
+struct WheelResult {
+  double sinkage = 0.0;               ///< m: static, final depth; towed, mean depth over the second half of the run
+  double resistance = 0.0;            ///< N, mean towing force over the second half (towed only)
+  double rut_depth = 0.0;             ///< m, mean depth of the soil along the track's centre line behind the wheel
+  double reference_sinkage = 0.0;     ///< m, Bekker: static both-halves integral or rolling formula
+  double reference_resistance = 0.0;  ///< N, Bekker compaction resistance (towed)
+  RunStats stats;
+};
+WheelResult run_wheel(const WheelCase& c);
+
+// ---- a sphere dropped into the soil -------------------------------------------------------
+struct SphereDropCase {
+  SoilRun run;
+  double diameter = 0.2;  ///< m
+  double mass = 10.0;     ///< kg
+  double height = 1.0;    ///< m, drop height of the sphere's bottom above the surface
+  double seconds = 1.5;   ///< s simulated
+};
+struct SphereDropResult {
+  double depth = 0.0;         ///< m, final depth of the sphere's bottom below the original surface
+  double reference = 0.0;     ///< m, energy balance of the column model (sphere_drop_reference_depth)
+  double energy_lost = 0.0;   ///< J, m g (height + depth)
+  double plastic_work = 0.0;  ///< J, sum over soil columns of cell^2 * integral of p_yield dz
+  RunStats stats;
+};
+SphereDropResult run_sphere_drop(const SphereDropCase& c);
+
+/// Depth z at which a sphere dropped from `height` comes to rest in rigid-plastic Bekker
+/// soil: m g (height + z) = integral over the crater of (k_c/b + k_phi) z_c^(n+1)/(n+1) dA,
+/// with z_c the local depth of the spherical cap and b the crater's diameter. Solved by
+/// quadrature and bisection, independently of the column model.
+double sphere_drop_reference_depth(const terrain::Material& m, double diameter, double mass, double height,
+                                   double gravity = 9.81);
+
+}  // namespace shore::scenes

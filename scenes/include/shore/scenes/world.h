@@ -1,0 +1,51 @@
+#pragma once
+// A Bullet dynamics world (Z up) that owns its parts, its bodies, their shapes and
+// constraints: the one world owner of every scene, reference case and test.
+
+#include <memory>
+#include <vector>
+
+#include <btBulletDynamicsCommon.h>
+
+namespace shore::scenes {
+
+class World {
+ public:
+  explicit World(double gravity = 9.81);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  [[nodiscard]] btDiscreteDynamicsWorld& world() noexcept { return *world_; }
+  [[nodiscard]] const btDiscreteDynamicsWorld& world() const noexcept { return *world_; }
+
+  /// A rigid body owned by this world, with its shape (mass 0: static; kinematic bodies
+  /// are static ones flagged CF_KINEMATIC_OBJECT).
+  btRigidBody* add_body(std::unique_ptr<btCollisionShape> shape, double mass, const btVector3& position,
+                        const btQuaternion& rotation = btQuaternion::getIdentity());
+  /// Keeps a shape alive as long as the world (the children of a compound shape).
+  btCollisionShape* keep(std::unique_ptr<btCollisionShape> shape);
+  /// Adds a constraint owned by this world; true: the two bodies do not collide.
+  btTypedConstraint* add_constraint(std::unique_ptr<btTypedConstraint> constraint,
+                                    bool disable_collisions_between_linked_bodies);
+
+  /// One fixed substep h (one internal step).
+  void step(double h) { world_->stepSimulation(btScalar(h), 1, btScalar(h)); }
+
+  /// The bodies added, in order.
+  [[nodiscard]] const std::vector<btRigidBody*>& bodies() const noexcept { return body_list_; }
+
+ private:
+  std::unique_ptr<btDefaultCollisionConfiguration> config_;
+  std::unique_ptr<btCollisionDispatcher> dispatcher_;
+  std::unique_ptr<btDbvtBroadphase> broadphase_;
+  std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
+  std::unique_ptr<btDiscreteDynamicsWorld> world_;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes_;
+  std::vector<std::unique_ptr<btDefaultMotionState>> motions_;
+  std::vector<std::unique_ptr<btRigidBody>> bodies_;
+  std::vector<btRigidBody*> body_list_;
+  std::vector<std::unique_ptr<btTypedConstraint>> constraints_;
+};
+
+}  // namespace shore::scenes

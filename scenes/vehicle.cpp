@@ -1,0 +1,228 @@
+// vehicle: a four-wheel vehicle (a 400 kg chassis on four motorised 0.6 m wheels) drives
+// from rigid ground across a sand strip, then a mud strip, then rigid ground again. Two
+// Terrain objects lie side by side, each with its own coupling and region. The pictures
+// show both soils' ruts: sand slumps into wide, shallow ruts with low rims, mud keeps steep
+// walls and higher rims. The benchmark runs this scene for the vehicle's real-time factor.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "shore/bullet/terrain_coupling.h"
+#include "shore/scenes/film.h"
+#include "shore/scenes/render.h"
+#include "shore/scenes/runner.h"
+#include "shore/scenes/scene.h"
+#include "shore/scenes/soil_cases.h"
+#include "shore/scenes/soil_view.h"
+#include "shore/scenes/world.h"
+#include "shore/terrain/terrain.h"
+
+namespace shore::scenes {
+namespace {
+
+constexpr double kGravity = 9.81;
+constexpr int kTileCells = 64;  // soil tile size; the strips are whole tiles long
+constexpr double kWheelRadius = 0.3, kWheelWidth = 0.25, kWheelMass = 25.0;
+constexpr double kChassisMass = 400.0;
+constexpr double kMotorTorque = 600.0;  // N m per wheel
+constexpr double kTargetSpeed = 2.0;    // m/s the wheel motors aim for
+constexpr double kHalfY = 5.0;          // m, half width of the ground and of the soil strips
+constexpr double kHalfWidth = 1.1;      // m, half width of the pictured strip (wheels at +-0.65 m)
+
+terrain::TerrainSettings strip_soil(const SceneOptions& o, const terrain::Material& m) {
+  terrain::TerrainSettings s = soil_settings(o);
+  s.material = m;
+  s.tile_columns = kTileCells;
+  return s;
+}
+
+double tile_length(const SceneOptions& o) { return kTileCells * o.cell; }  // m
+int strip_tiles(const SceneOptions& o) { return o.smoke ? 1 : 3; }         // tiles per strip
+
+bullet::TerrainCouplingSettings strip_coupling(double x0, double x1) {
+  bullet::TerrainCouplingSettings s;
+  s.region = {x0, -kHalfY, x1, kHalfY};
+  return s;
+}
+
+class Vehicle final : public Scene {
+ public:
+  explicit Vehicle(const SceneOptions& o)
+      : o_(o),
+        start_x_(o.smoke ? -1.2 : -2.0),  // smoke runs: a short drive over one tile of each soil
+        sand_x1_(strip_tiles(o) * tile_length(o)),
+        mud_x1_(sand_x1_ + strip_tiles(o) * tile_length(o)),
+        sand_(strip_soil(o, terrain::Material::sand())),
+        mud_(strip_soil(o, terrain::Material::mud())),
+        patches_{{&sand_, {0.0, -kHalfY, sand_x1_, kHalfY}}, {&mud_, {sand_x1_, -kHalfY, mud_x1_, kHalfY}}},
+        // From the start on rigid ground to past the mud, where a 6 s drive ends.
+        frame_(grid_over(start_x_ - 1.2, -kHalfWidth, o.smoke ? mud_x1_ + 0.4 : mud_x1_ + 2.8, kHalfWidth, o.cell)),
+        baseline_(frame_.nx, frame_.ny, frame_.cell, frame_.x0, frame_.y0, 0.0) {  // every ground starts at 0
+    // Rigid ground before and after the soft strips: static boxes with their top at z = 0.
+    world_.add_body(std::make_unique<btBoxShape>(btVector3(10, btScalar(kHalfY), 1)), 0.0, btVector3(-10, 0, -1))
+        ->setFriction(0.9f);
+    world_
+        .add_body(std::make_unique<btBoxShape>(btVector3(10, btScalar(kHalfY), 1)), 0.0,
+                  btVector3(btScalar(mud_x1_ + 10), 0, -1))
+        ->setFriction(0.9f);
+    sand_coupling_ = std::make_unique<bullet::TerrainCoupling>(world_.world(), sand_, strip_coupling(0.0, sand_x1_));
+    mud_coupling_ = std::make_unique<bullet::TerrainCoupling>(world_.world(), mud_, strip_coupling(sand_x1_, mud_x1_));
+
+    const double z0 = kWheelRadius + 0.02;
+    chassis_ = world_.add_body(std::make_unique<btBoxShape>(btVector3(1.0f, 0.5f, 0.15f)), kChassisMass,
+                               btVector3(btScalar(start_x_), 0, btScalar(z0 + 0.25)));
+    chassis_->setActivationState(DISABLE_DEACTIVATION);
+    bodies_.push_back(chassis_);
+    const std::array<btVector3, 4> mounts = {btVector3(0.75f, 0.65f, -0.25f), btVector3(0.75f, -0.65f, -0.25f),
+                                             btVector3(-0.75f, 0.65f, -0.25f), btVector3(-0.75f, -0.65f, -0.25f)};
+    for (const btVector3& mount : mounts) {
+      const btVector3 at = chassis_->getCenterOfMassPosition() + mount;
+      btRigidBody* wheel =
+          world_.add_body(std::make_unique<btCylinderShape>(
+                              btVector3(btScalar(kWheelRadius), btScalar(kWheelWidth / 2), btScalar(kWheelRadius))),
+                          kWheelMass, at);
+      wheel->setActivationState(DISABLE_DEACTIVATION);
+      wheel->setFriction(1.0f);
+      auto hinge = std::make_unique<btHingeConstraint>(*chassis_, *wheel, mount, btVector3(0, 0, 0), btVector3(0, 1, 0),
+                                                       btVector3(0, 1, 0));
+      // Bullet's hinge motor drives the velocity of body A (chassis) relative to body B
+      // (wheel) about the axis; the wheel rolls forward (+x) spinning at +v/R about +y
+      // relative to the chassis, so the target is -v/R.
+      hinge->enableAngularMotor(true, btScalar(-kTargetSpeed / kWheelRadius), btScalar(kMotorTorque * o.substep));
+      world_.add_constraint(std::move(hinge), true);
+      sand_coupling_->add_body(wheel);
+      mud_coupling_->add_body(wheel);
+      bodies_.push_back(wheel);
+    }
+    x_ = chassis_->getCenterOfMassPosition().x();
+  }
+
+  void step() override { world_.step(o_.substep); }
+
+  void observe() override {
+    ++times_.substeps;
+    times_.add_coupling_times(sand_coupling_->stats());
+    times_.add_coupling_times(mud_coupling_->stats());
+    const double x = chassis_->getCenterOfMassPosition().x();
+    if (x >= 0.0 && x < sand_x1_) {
+      sand_time_ += o_.substep;
+      sand_dist_ += x - x_;
+    } else if (x >= sand_x1_ && x < mud_x1_) {
+      mud_time_ += o_.substep;
+      mud_dist_ += x - x_;
+    }
+    x_ = x;
+  }
+
+  [[nodiscard]] SceneState state() const override {
+    return {.soils = {&sand_, &mud_},
+            .bodies = bodies_,
+            .soil_heights = {sample(patches_, frame_, Field::height)},
+            .layout = HashLayout::positions};
+  }
+
+  void measure(nlohmann::json& m) const override {
+    const HeightGrid heights = sample(patches_, frame_, Field::height);
+    const HeightGrid sinkage = sample(patches_, frame_, Field::sinkage);
+    const std::int64_t rescues = sand_coupling_->stats().rescues + mud_coupling_->stats().rescues;
+    long fallthrough = static_cast<long>(rescues);
+    for (const btRigidBody* b : bodies_)
+      if (b->getWorldTransform().getOrigin().z() < -1.0) ++fallthrough;  // below any bedrock of this scene
+    const double drift_sand = volume_drift_rel(sand_), drift_mud = volume_drift_rel(mud_);
+    m["fallthrough_count"] = fallthrough;
+    m["volume_drift_rel"] = std::max(drift_sand, drift_mud);
+    m["volume_drift_rel_sand"] = drift_sand;
+    m["volume_drift_rel_mud"] = drift_mud;
+    m["max_sinkage_m"] = max_of(sinkage);
+    m["deepest_m"] = max_lowering(baseline_, heights);
+    m["mean_speed_sand_mps"] = sand_time_ > 0 ? sand_dist_ / sand_time_ : 0.0;
+    m["mean_speed_mud_mps"] = mud_time_ > 0 ? mud_dist_ / mud_time_ : 0.0;
+    m["target_speed_mps"] = kTargetSpeed;
+    m["distance_m"] = chassis_->getCenterOfMassPosition().x() - start_x_;
+    m["plugin_ms_per_substep"] = times_.plugin_ms_per_substep();
+    m["note"] = "the vehicle always crosses sand then mud; --material does not apply";
+  }
+
+  /// Frame q at the first substep (1, 2, ...) after the one before it that reaches
+  /// round(n q / (frames - 1)).
+  [[nodiscard]] std::vector<int> film_substeps() const override {
+    const int frames = o_.smoke ? 3 : 6, n = o_.substeps();
+    std::vector<int> at;
+    int k = 1;
+    for (int q = 0; q < frames; ++q, ++k) {
+      while (k <= n && k < std::lround(double(n) * double(q) / double(frames - 1))) ++k;
+      if (k > n) break;
+      at.push_back(k);
+    }
+    return at;
+  }
+
+  Image film_frame() override { return soil_film_frame(patches_, frame_, baseline_, bodies_, o_.smoke ? 160 : 480); }
+
+  void draw(Drawing& out) const override {
+    const HeightGrid heights = sample(patches_, frame_, Field::height);
+    const BodyEnvelopes bodies = body_envelopes(bodies_, frame_);
+    out.png("top.png", relief_frame(heights, &baseline_, &bodies, o_.smoke ? 240 : 1200,
+                                    "vehicle: rigid | sand | mud | rigid, ground coloured by deformation"));
+    out.png("view.png", oblique_frame(heights, baseline_, &bodies, 2.0, o_.smoke ? 240 : 1400,
+                                      "vehicle across sand then mud (heights x2)", 0.0, 40.0, true));
+    // A close view across the sand-mud edge.
+    const HeightGrid edge = grid_over(sand_x1_ - 1.2, -kHalfWidth, sand_x1_ + 1.2, kHalfWidth, o_.cell);
+    const HeightGrid edge_base(edge.nx, edge.ny, edge.cell, edge.x0, edge.y0, 0.0);
+    out.png("ruts.png",
+            oblique_frame(sample(patches_, edge, Field::height), edge_base, nullptr, 2.0, o_.smoke ? 240 : 900,
+                          "ruts: sand (left) to mud (right), heights x2", 0.0, 45.0, true));
+    out.filmstrip();
+    out.obj("ground.obj", heights);
+  }
+
+ private:
+  SceneOptions o_;
+  double start_x_, sand_x1_, mud_x1_;  // m: the chassis centre at the start; strip edges (sand from x = 0)
+  World world_;
+  terrain::Terrain sand_, mud_;
+  std::unique_ptr<bullet::TerrainCoupling> sand_coupling_, mud_coupling_;  // after the soils and the world
+  std::vector<Patch> patches_;
+  HeightGrid frame_, baseline_;
+  btRigidBody* chassis_ = nullptr;
+  std::vector<const btRigidBody*> bodies_;  // chassis, then the wheels
+  RunStats times_;                          // Shore's share of the substeps (both soils)
+  double x_ = 0.0;                          // chassis x after the last substep
+  double sand_time_ = 0, sand_dist_ = 0, mud_time_ = 0, mud_dist_ = 0;
+};
+
+}  // namespace
+
+SceneType vehicle_scene() {
+  return {
+      .name = "vehicle",
+      .description =
+          "A four-wheel vehicle (400 kg chassis, four 0.6 m wheels on hinge motors aiming at 2 m/s) drives from rigid "
+          "ground across a strip of sand, then a strip of mud, then rigid ground: two Terrain objects side by side, "
+          "each "
+          "with its own coupling and region. Look at the ruts: sand slumps to its angle of repose (wide, shallow ruts, "
+          "low rims), mud keeps steep walls and pushes more soil into the rims. The vehicle slows on both soils.",
+      .defaults = {.seconds = 6.0, .substep = 1.0 / 240.0, .material = "sand", .cell = 0.02, .smoke_seconds = 1.0},
+      .metric_help =
+          {
+              {"fallthrough_count", "wheels below bedrock at the end or lifted back by the coupling (must be 0)"},
+              {"volume_drift_rel", "largest of the two soils' volume drift (must be < 1e-6)"},
+              {"volume_drift_rel_sand", "|ground + compacted - edited| / moved volume of the sand"},
+              {"volume_drift_rel_mud", "the same for the mud"},
+              {"max_sinkage_m", "largest plastic sinkage in either soil, m"},
+              {"deepest_m", "largest lowering of the ground below the untouched surface, m"},
+              {"mean_speed_sand_mps", "chassis speed averaged over its time above the sand, m/s"},
+              {"mean_speed_mud_mps", "chassis speed averaged over its time above the mud, m/s"},
+              {"target_speed_mps", "speed the wheel motors aim for, m/s"},
+              {"distance_m", "distance the chassis travelled, m"},
+              {"plugin_ms_per_substep", "Shore's share of a substep (both soils), ms"},
+              {"note", "what --material means here"},
+          },
+      .create = make_scene<Vehicle>,
+  };
+}
+
+}  // namespace shore::scenes

@@ -1,0 +1,99 @@
+// Bodies on deformable soil through Bullet, against Bekker's closed forms and the energy
+// balance of the column model (the cases and their references: scenes/include/shore/scenes/soil_cases.h).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "shore/scenes/soil_cases.h"
+#include "shore/terrain/bekker.h"
+
+using namespace shore::scenes;
+using shore::terrain::Material;
+
+namespace {
+double rel(double value, double reference) { return std::abs(value - reference) / reference; }
+
+/// Bekker's closed forms and the impact energy balance describe pure compaction: the
+/// soil under a body is compressed, none is pushed aside. The presets push a share alpha
+/// into a rim (Sumner's appearance model); rim soil that erodes back under the body is
+/// pressed again, which makes craters 3-6 % shallower and rolling ruts ~20 % shallower
+/// (measured, see the benchmark). The comparisons with the closed forms therefore use
+/// the same soil with alpha = 0.
+Material compacting(Material m) {
+  m.alpha = 0.0;
+  return m;
+}
+}  // namespace
+
+// Weight ramped in over 5 s: the rigid-plastic plate follows Bekker's quasi-static curve,
+// lagging slightly (45.1 mm against the 44.56 mm limit).
+TEST(SoilCoupling, PlateOnDrySandSlowLoadMatchesBekker) {
+  PlateCase c;
+  c.ramp_seconds = 5.0;
+  const PlateResult r = run_plate(c);
+  EXPECT_LT(rel(r.sinkage, 0.0451), 0.05) << "sinkage " << r.sinkage << " m";
+  EXPECT_GT(r.sinkage, r.reference) << "cannot sink less than the quasi-static limit";
+}
+
+// Released at rest, a rigid-plastic plate overshoots to (n+1)^(1/n) times Bekker's value.
+TEST(SoilCoupling, PlateReleasedAtRestOvershootsByTheRigidPlasticFactor) {
+  PlateCase c;
+  const PlateResult r = run_plate(c);
+  EXPECT_NEAR(r.reference, 0.08746, 1e-4);
+  EXPECT_LT(rel(r.sinkage, r.reference), 0.05) << "sinkage " << r.sinkage << " ref " << r.reference;
+}
+
+struct PlateLoad {
+  const char* material;
+  double pressure;
+};
+class PlateMaterials : public ::testing::TestWithParam<PlateLoad> {};
+
+TEST_P(PlateMaterials, ReleasedPlateAgainstTheFormula) {
+  PlateCase c;
+  c.run.material = Material::preset(GetParam().material);
+  c.pressure = GetParam().pressure;
+  const PlateResult r = run_plate(c);
+  EXPECT_LT(rel(r.sinkage, r.reference), 0.05)
+      << GetParam().material << " at " << c.pressure << " Pa: " << r.sinkage << " vs " << r.reference;
+}
+INSTANTIATE_TEST_SUITE_P(Loads, PlateMaterials,
+                         ::testing::Values(PlateLoad{"sand", 20e3}, PlateLoad{"sand", 80e3}, PlateLoad{"mud", 20e3},
+                                           PlateLoad{"mud", 50e3}, PlateLoad{"snow", 5e3}, PlateLoad{"snow", 10e3}));
+
+TEST(SoilCoupling, WheelPressedStaticallyBearsOnBothHalves) {
+  WheelCase c;
+  const WheelResult r = run_wheel(c);
+  EXPECT_NEAR(r.reference_sinkage, 0.0475, 2e-4);
+  EXPECT_LT(rel(r.sinkage, r.reference_sinkage), 0.10) << "sinkage " << r.sinkage;
+}
+
+TEST(SoilCoupling, TowedWheelBearsOnTheFrontHalfAndLeavesARut) {
+  WheelCase c;
+  c.towed = true;
+  c.run.material = compacting(Material::sand());
+  const WheelResult r = run_wheel(c);
+  EXPECT_NEAR(r.reference_sinkage, 0.0736, 2e-4);
+  EXPECT_LT(rel(r.sinkage, r.reference_sinkage), 0.10) << "rolling sinkage " << r.sinkage;
+  EXPECT_GT(r.resistance, r.reference_resistance / 1.5) << "resistance " << r.resistance;
+  EXPECT_LT(r.resistance, r.reference_resistance * 1.5) << "resistance " << r.resistance;
+  EXPECT_GT(r.rut_depth, 0.5 * r.sinkage) << "rut " << r.rut_depth;
+}
+
+// A sphere (D 0.2 m, 10 kg) dropped from 1 m: crater depth from the energy balance, the
+// same whatever the substep, and the plastic work accounts for the energy lost.
+TEST(SoilCoupling, ImpactCraterDoesNotDependOnTheSubstep) {
+  SphereDropCase c;
+  c.run.material = compacting(Material::sand());
+  EXPECT_NEAR(sphere_drop_reference_depth(c.run.material, c.diameter, c.mass, c.height), 0.1075, 3e-4);
+  c.run.substep = 1.0 / 120;
+  const SphereDropResult coarse = run_sphere_drop(c);
+  c.run.substep = 1.0 / 960;
+  const SphereDropResult fine = run_sphere_drop(c);
+  for (const auto* r : {&coarse, &fine}) {
+    EXPECT_LT(rel(r->depth, r->reference), 0.05) << "depth " << r->depth << " ref " << r->reference;
+    EXPECT_LT(rel(r->plastic_work, r->energy_lost), 0.10) << "work " << r->plastic_work << " lost " << r->energy_lost;
+    EXPECT_EQ(r->stats.rescues, 0);
+  }
+  EXPECT_LT(rel(coarse.depth, fine.depth), 0.05) << coarse.depth << " vs " << fine.depth;
+}

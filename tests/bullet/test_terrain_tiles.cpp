@@ -1,0 +1,82 @@
+// TerrainTiles: the Bullet heightfield copies of the soil. Raised ground rises at most
+// max_rise_per_substep per push and then catches up (only the held-back vertices are
+// rewritten); lowered ground drops Bullet's stale contact points there and wakes the body.
+#include <gtest/gtest.h>
+
+#include <btBulletDynamicsCommon.h>
+
+#include <cmath>
+#include <memory>
+
+#include "shore/bullet/terrain_tiles.h"
+#include "shore/scenes/world.h"
+#include "shore/terrain/terrain.h"
+
+using namespace shore;
+
+namespace {
+terrain::TerrainSettings flat_sand() {
+  terrain::TerrainSettings s;
+  s.cell = 0.02;
+  return s;
+}
+
+/// World height Bullet sees at (x, y): a ray straight down onto the tiles.
+double bullet_ground(btCollisionWorld& world, double x, double y) {
+  const btVector3 from(btScalar(x), btScalar(y), btScalar(2)), to(btScalar(x), btScalar(y), btScalar(-2));
+  btCollisionWorld::ClosestRayResultCallback hit(from, to);
+  world.rayTest(from, to, hit);
+  return hit.hasHit() ? double(hit.m_hitPointWorld.z()) : std::nan("");
+}
+}  // namespace
+
+TEST(TerrainTiles, RaisedGroundRisesAtMostTheCapPerPushThenCatchesUp) {
+  terrain::TerrainSettings s = flat_sand();
+  s.tile_columns = 32;  // the tiles take the soil's tile size
+  terrain::Terrain soil(s);
+  scenes::World world(9.81);
+  bullet::TerrainTilesSettings ts;
+  ts.max_rise_per_substep = 0.002;
+  bullet::TerrainTiles tiles(world.world(), soil, ts);
+  ASSERT_EQ(tiles.ensure_cover(0.1, 0.1, 0.5, 0.5), 1);
+  // An outside edit raises a 3 x 3 patch by 9 mm.
+  for (std::int64_t j = 10; j < 13; ++j)
+    for (std::int64_t i = 10; i < 13; ++i) soil.set_height(i, j, 0.009);
+  const double x = soil.column_x(11), y = soil.column_y(11);
+  const double rises[] = {0.002, 0.004, 0.006, 0.008, 0.009, 0.009};
+  std::int64_t written = tiles.push(soil.take_changed());
+  EXPECT_EQ(written, 9);
+  for (double expected : rises) {
+    EXPECT_NEAR(bullet_ground(world.world(), x, y), expected, 1e-5);
+    EXPECT_NEAR(bullet_ground(world.world(), soil.column_x(14), y), 0.0, 1e-6);  // untouched
+    written = tiles.push({});
+    // Only the held-back vertices are copied again, never the whole tile (33 x 33).
+    EXPECT_LE(written, 9);
+  }
+  EXPECT_EQ(written, 0);  // caught up: nothing left to copy
+  EXPECT_EQ(tiles.clamped_vertices(), 0);
+}
+
+TEST(TerrainTiles, LoweredGroundDropsStaleContactsAndWakesTheBody) {
+  terrain::Terrain soil(flat_sand());
+  scenes::World world(9.81);
+  bullet::TerrainTiles tiles(world.world(), soil, {});
+  tiles.ensure_cover(-0.5, -0.5, 0.5, 0.5);
+  btRigidBody* box =
+      world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 5.0, btVector3(0, 0, btScalar(0.1)));
+  for (int k = 0; k < 600 && box->isActive(); ++k) world.step(1.0 / 240);
+  ASSERT_FALSE(box->isActive()) << "the box should have gone to sleep on flat ground";
+  const double rest = box->getCenterOfMassPosition().z();
+  // The soil under the box drops by 5 cm.
+  for (std::int64_t j = -8; j <= 8; ++j)
+    for (std::int64_t i = -8; i <= 8; ++i) soil.set_height(i, j, -0.05);
+  tiles.push(soil.take_changed());
+  EXPECT_TRUE(box->isActive());
+  int stale = 0;
+  btDispatcher* dispatcher = world.world().getDispatcher();
+  for (int m = 0; m < dispatcher->getNumManifolds(); ++m)
+    stale += dispatcher->getManifoldByIndexInternal(m)->getNumContacts();
+  EXPECT_EQ(stale, 0);
+  for (int k = 0; k < 240; ++k) world.step(1.0 / 240);
+  EXPECT_NEAR(box->getCenterOfMassPosition().z(), rest - 0.05, 0.005);
+}

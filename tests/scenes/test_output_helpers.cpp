@@ -1,0 +1,275 @@
+// The scenes' output helpers against outside references: Lambert's law for the hillshade,
+// plane geometry for the mesh export, stb's own PNG reader for the PNG writer, Bullet's
+// ray test for the ground height, box geometry for the body envelopes.
+#include <gtest/gtest.h>
+
+#include <stb_image.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "shore/core/error.h"
+#include "shore/scenes/envelopes.h"
+#include "shore/scenes/height_grid.h"
+#include "shore/scenes/image.h"
+#include "shore/scenes/mesh.h"
+#include "shore/scenes/render.h"
+#include "shore/scenes/report.h"
+#include "shore/scenes/rigid_ground.h"
+#include "shore/scenes/runner.h"
+#include "shore/scenes/world.h"
+
+namespace fs = std::filesystem;
+using namespace shore::scenes;
+
+namespace {
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = fs::path(testing::TempDir()) / ("shore_scene_helpers_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+HeightGrid plane(int nx, int ny, double cell, double a, double b, double c) {
+  HeightGrid g(nx, ny, cell, -0.3, 0.2);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) g.at(i, j) = a * g.x(i) + b * g.y(j) + c;
+  return g;
+}
+
+TEST(HeightGrid, BilinearSampleOfAPlaneIsExact) {
+  const HeightGrid g = plane(5, 4, 0.1, 0.3, -0.7, 0.05);
+  for (double x : {-0.3, -0.21, 0.0, 0.1})
+    for (double y : {0.2, 0.26, 0.45})
+      EXPECT_NEAR(g.sample_world(x, y), 0.3 * x - 0.7 * y + 0.05, 1e-12) << x << ", " << y;
+}
+
+TEST(HeightGrid, RejectsBadSizes) {
+  EXPECT_THROW(HeightGrid(0, 3, 0.1, 0, 0), shore::InvalidSetting);
+  EXPECT_THROW(HeightGrid(3, 3, -0.1, 0, 0), shore::InvalidSetting);
+}
+
+TEST(Hillshade, PlaneFollowsLambertsLaw) {
+  // z = s x: unit normal (-s, 0, 1) / sqrt(1 + s^2); light from azimuth az, altitude alt.
+  const double az = 315.0, alt = 45.0;
+  const double l_x = std::sin(az * std::numbers::pi / 180) * std::cos(alt * std::numbers::pi / 180);
+  const double l_z = std::sin(alt * std::numbers::pi / 180);
+  for (double s : {-0.8, -0.2, 0.0, 0.5}) {
+    const std::vector<double> h = hillshade(plane(6, 6, 0.05, s, 0.0, 0.0), az, alt);
+    const double expected = std::max(0.0, (-s * l_x + l_z) / std::sqrt(1 + s * s));
+    for (double v : h) EXPECT_NEAR(v, expected, 1e-12) << "slope " << s;
+  }
+}
+
+TEST(Colours, DivergingMapIsBlueForLoweredRedForRaisedNeutralForUntouched) {
+  const Rgb low = diverging_colour(-1.0), mid = diverging_colour(0.0), high = diverging_colour(1.0);
+  EXPECT_GT(low.b, low.r + 80);
+  EXPECT_GT(high.r, high.b + 80);
+  EXPECT_LT(std::abs(mid.r - mid.b), 40);
+  EXPECT_EQ(diverging_colour(-5.0), low);  // clamped
+}
+
+TEST(Png, RoundTripsThroughStbReader) {
+  Image img(7, 5, {10, 20, 30});
+  img.put(3, 2, {250, 0, 128});
+  draw_text(img, 0, 0, "A", {1, 2, 3}, 1);
+  const fs::path p = write_png(temp_dir("png") / "x.png", img);
+  int w = 0, h = 0, n = 0;
+  unsigned char* data = stbi_load(p.c_str(), &w, &h, &n, 3);
+  ASSERT_NE(data, nullptr);
+  ASSERT_EQ(w, 7);
+  ASSERT_EQ(h, 5);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const unsigned char* px = data + 3 * (y * w + x);
+      EXPECT_EQ(Rgb(px[0], px[1], px[2]), img.at(x, y)) << x << ", " << y;
+    }
+  stbi_image_free(data);
+  EXPECT_FALSE(fs::exists(p.string() + ".tmp"));
+}
+
+TEST(Png, UnwritablePathThrowsFileError) {
+  EXPECT_THROW(write_png("/nonexistent-dir/x.png", Image(2, 2)), shore::FileError);
+}
+
+struct ObjMesh {
+  std::vector<std::array<double, 3>> v;
+  std::vector<std::array<int, 3>> f;
+};
+ObjMesh read_obj(const fs::path& p) {
+  ObjMesh m;
+  std::ifstream in(p);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    std::string tag;
+    s >> tag;
+    if (tag == "v") {
+      std::array<double, 3> v{};
+      s >> v[0] >> v[1] >> v[2];
+      m.v.push_back(v);
+    } else if (tag == "f") {
+      std::array<int, 3> f{};
+      s >> f[0] >> f[1] >> f[2];
+      m.f.push_back({f[0] - 1, f[1] - 1, f[2] - 1});
+    }
+  }
+  return m;
+}
+
+TEST(Mesh, ObjOfAPlaneHasItsAreaAndUpwardNormals) {
+  const double a = 0.4, b = -0.25, cell = 0.05;
+  const int nx = 9, ny = 6;
+  const ObjMesh m = read_obj(write_obj(temp_dir("obj") / "g.obj", plane(nx, ny, cell, a, b, 0.1)));
+  ASSERT_EQ(m.v.size(), static_cast<std::size_t>(nx * ny));
+  ASSERT_EQ(m.f.size(), static_cast<std::size_t>(2 * (nx - 1) * (ny - 1)));
+  double area = 0.0;
+  for (const auto& f : m.f) {
+    const auto &p = m.v[f[0]], &q = m.v[f[1]], &r = m.v[f[2]];
+    const double ux = q[0] - p[0], uy = q[1] - p[1], uz = q[2] - p[2];
+    const double vx = r[0] - p[0], vy = r[1] - p[1], vz = r[2] - p[2];
+    const double nx_ = uy * vz - uz * vy, ny_ = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+    EXPECT_GT(nz, 0.0);  // counter-clockwise seen from above
+    area += 0.5 * std::sqrt(nx_ * nx_ + ny_ * ny_ + nz * nz);
+  }
+  const double expected = std::sqrt(1 + a * a + b * b) * (nx - 1) * cell * (ny - 1) * cell;
+  EXPECT_NEAR(area, expected, 1e-6 * expected);
+}
+
+TEST(Mesh, NanVertexDropsTheSixTrianglesAroundIt) {
+  HeightGrid g = plane(5, 5, 0.1, 0, 0, 0);
+  g.at(2, 2) = std::nan("");
+  const ObjMesh m = read_obj(write_obj(temp_dir("nan") / "g.obj", g));
+  EXPECT_EQ(m.f.size(), static_cast<std::size_t>(2 * 4 * 4 - 6));
+}
+
+TEST(Mesh, PlyHeaderCountsMatchItsBinaryBody) {
+  const int nx = 4, ny = 3;
+  const fs::path p = write_ply(temp_dir("ply") / "g.ply", plane(nx, ny, 0.1, 0.1, 0.2, 0.0));
+  std::ifstream in(p, std::ios::binary);
+  std::string line, header;
+  while (std::getline(in, line)) {
+    header += line + "\n";
+    if (line == "end_header") break;
+  }
+  EXPECT_NE(header.find("element vertex 12"), std::string::npos);
+  EXPECT_NE(header.find("element face 12"), std::string::npos);
+  EXPECT_EQ(fs::file_size(p), header.size() + 12u * 12u + 12u * 13u);
+}
+
+TEST(Render, PicturesHaveTheRequestedResolutionAndLegend) {
+  const HeightGrid g = plane(33, 17, 0.01, 0.1, 0.0, 0.0);
+  HeightGrid base = g;
+  base.at(10, 10) += 0.002;  // one column lowered by 2 mm
+  ReliefStyle style;
+  style.baseline = &base;
+  style.min_pixels = 256;
+  const Image top = render_relief(g, style);
+  EXPECT_GE(top.width(), 256);
+  const Image view = render_oblique(g, style);
+  EXPECT_GE(view.width(), 256);
+  const Image water = render_water(g, 0.0);
+  EXPECT_GE(water.width(), 256);
+  const Image strip = filmstrip({top, view}, {"a", "b"}, 2);
+  EXPECT_GE(strip.width(), top.width() + view.width());
+}
+
+TEST(RigidGround, HeightMatchesBulletsTrianglesUnderARay) {
+  shore::bullet::HeightfieldTileSettings s;
+  s.columns = 9;
+  s.cell = 0.1;
+  s.origin_x = -0.4;
+  s.origin_y = -0.4;
+  World w;
+  RigidGround ground(w, s, [](double x, double y) { return 0.2 * std::sin(7 * x) * std::cos(5 * y) + 0.05 * x; });
+  w.world().updateAabbs();
+  for (double x : {-0.33, -0.07, 0.012, 0.25})
+    for (double y : {-0.31, 0.04, 0.17, 0.33}) {
+      const btVector3 from(btScalar(x), btScalar(y), btScalar(0.9)), to(btScalar(x), btScalar(y), btScalar(-0.9));
+      btCollisionWorld::ClosestRayResultCallback hit(from, to);
+      w.world().rayTest(from, to, hit);
+      ASSERT_TRUE(hit.hasHit());
+      EXPECT_NEAR(ground.height_at(x, y), hit.m_hitPointWorld.z(), 1e-5) << x << ", " << y;
+    }
+}
+
+TEST(BodyEnvelopes, ABoxsEnvelopesAreItsFacesInsideItsFootprint) {
+  World w;
+  const double hx = 0.1, hz = 0.05;
+  const btRigidBody* box =
+      w.add_body(std::make_unique<btBoxShape>(btVector3(btScalar(hx), btScalar(hx), btScalar(hz))), 1.0,
+                 btVector3(0, 0, btScalar(0.5)), btQuaternion(btVector3(0, 0, 1), btScalar(std::numbers::pi / 4)));
+  const HeightGrid frame(41, 41, 0.02, -0.4, -0.4);  // the box's diamond footprint inside
+  const std::vector<const btRigidBody*> bodies = {box};
+  const BodyEnvelopes e = body_envelopes(bodies, frame);
+  for (int j = 0; j < frame.ny; ++j)
+    for (int i = 0; i < frame.nx; ++i) {
+      const double x = e.top.x(i), y = e.top.y(j);
+      const double l1 = std::abs(x) + std::abs(y);
+      if (l1 < hx * std::numbers::sqrt2 - 1e-6) {
+        EXPECT_NEAR(e.top.at(i, j), 0.5 + hz, 1e-6);
+        EXPECT_NEAR(e.bottom.at(i, j), 0.5 - hz, 1e-6);
+      } else if (l1 > hx * std::numbers::sqrt2 + 1e-6) {
+        EXPECT_TRUE(std::isnan(e.top.at(i, j))) << x << ", " << y;
+      }
+    }
+}
+
+TEST(SceneOptions, ValidateRejectsOutOfRangeSettings) {
+  SceneOptions o;
+  EXPECT_NO_THROW(o.validate());
+  auto bad = [](auto change) {
+    SceneOptions x;
+    change(x);
+    EXPECT_THROW(x.validate(), shore::InvalidSetting);
+  };
+  bad([](SceneOptions& x) { x.threads = 0; });
+  bad([](SceneOptions& x) { x.seconds = -1; });
+  bad([](SceneOptions& x) { x.substep = std::nan(""); });
+  bad([](SceneOptions& x) { x.cell = 0; });
+  bad([](SceneOptions& x) { x.material = "gravel"; });
+}
+
+TEST(SceneOptions, OverridesReplaceDefaultsAndSmokeUsesSmokeSeconds) {
+  SceneType s;
+  s.name = "x";
+  s.defaults = {.seconds = 3, .substep = 0.01, .material = "mud", .cell = 0.02, .smoke_seconds = 0.5};
+  Overrides o;
+  o.out_root = "root";
+  o.threads = 2;
+  SceneOptions r = resolve(s, o);
+  EXPECT_EQ(r.seconds, 3);
+  EXPECT_EQ(r.material, "mud");
+  EXPECT_EQ(r.out_dir, fs::path("root") / "x");
+  EXPECT_EQ(r.substeps(), 300);
+  o.smoke = true;
+  o.material = "snow";
+  r = resolve(s, o);
+  EXPECT_EQ(r.seconds, 0.5);
+  EXPECT_EQ(r.material, "snow");
+}
+
+TEST(Report, ListsEachSceneFolderWithPicturesAndExplainedMetrics) {
+  const fs::path root = temp_dir("report");
+  fs::create_directories(root / "some_scene");
+  std::ofstream(root / "some_scene" / "metrics.json")
+      << nlohmann::json{{"scene", "some_scene"}, {"nan_count", 0}, {"files", {"a.png", "metrics.json"}}}.dump();
+  std::ifstream in(write_report(root));
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  EXPECT_NE(text.find("## some_scene"), std::string::npos);
+  EXPECT_NE(text.find("](some_scene/a.png)"), std::string::npos);
+  EXPECT_NE(text.find("| nan_count | 0 | non-finite"), std::string::npos);
+}
+
+}  // namespace
