@@ -1,0 +1,260 @@
+#include "soil_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "shore/core/det_math.h"
+#include "shore/terrain/shear.h"
+
+namespace shore::bullet::soil_detail {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr std::int64_t kKeyOffset = std::int64_t{1} << 27;
+
+std::int64_t floor_div(std::int64_t a, std::int64_t b) {
+  const std::int64_t q = a / b;
+  return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
+}
+
+/// Bottom elements are kind 0; walls 1 to 4 by the side they push from.
+int kind_of(const terrain::ContactElement& e) {
+  if (!e.wall) return 0;
+  if (e.nx > 0.5) return 1;
+  if (e.nx < -0.5) return 2;
+  return e.ny > 0.5 ? 3 : 4;
+}
+
+double length(Vec3 a) { return std::sqrt(dot(a, a)); }
+Vec3 normalized(Vec3 a) {
+  const double n = length(a);
+  return n > 0.0 ? a * (1.0 / n) : Vec3{0, 0, 1};
+}
+
+/// Sums of one block's elements while it is being gathered.
+struct Tally {
+  bool used = false;
+  double weight = 0.0, area = 0.0, infinite = 0.0;  // capacity, area, count of bedrock elements
+  Vec3 force, area_normal, infinite_normal;         // sum of w n, A n, n (bedrock)
+  Vec3 weighted_point, area_point, infinite_point;  // sum of w p, A p, p (bedrock)
+  double cohesion = 0.0, weight_mobilised = 0.0, area_mobilised = 0.0;
+
+  void add(const terrain::ContactElement& e, double mobilisation, double c) {
+    used = true;
+    const Vec3 p{e.x, e.y, e.z}, n{e.nx, e.ny, e.nz};
+    area += e.area;
+    area_normal = area_normal + n * e.area;
+    area_point = area_point + p * e.area;
+    area_mobilised += e.area * mobilisation;
+    if (!e.wall) cohesion += c * e.area * mobilisation;
+    if (!(e.pressure < kInf)) {
+      infinite += 1.0;
+      infinite_normal = infinite_normal + n;
+      infinite_point = infinite_point + p;
+      return;
+    }
+    const double w = e.pressure * e.area;
+    weight += w;
+    force = force + n * w;
+    weighted_point = weighted_point + p * w;
+    weight_mobilised += w * mobilisation;
+  }
+
+  [[nodiscard]] Block finish(std::uint64_t key, bool wall) const {
+    Block b;
+    b.key = key;
+    b.wall = wall;
+    b.cohesion = cohesion;
+    if (infinite > 0.0) {  // bedrock bears anything: its elements decide where and which way
+      b.capacity = kInf;
+      b.point = infinite_point * (1.0 / infinite);
+      b.normal = normalized(infinite_normal);
+      b.mobilised = area > 0.0 ? area_mobilised / area : 0.0;
+    } else if (weight > 0.0) {
+      b.capacity = length(force);
+      b.point = weighted_point * (1.0 / weight);
+      b.normal = normalized(force);
+      b.mobilised = weight_mobilised / weight;
+    } else {  // fresh soil: it bears nothing yet; the body's area decides
+      b.capacity = 0.0;
+      b.point = area > 0.0 ? area_point * (1.0 / area) : area_point;
+      b.normal = normalized(area_normal);
+      b.mobilised = area > 0.0 ? area_mobilised / area : 0.0;
+    }
+    return b;
+  }
+};
+
+/// Two unit directions across the normal (a fixed choice, so results are reproducible).
+void friction_directions(Block& b) {
+  const Vec3 n = b.normal;
+  const Vec3 axis = std::fabs(n.x) < 0.57 ? Vec3{1, 0, 0} : (std::fabs(n.y) < 0.57 ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+  b.t1 = normalized(cross(n, axis));
+  b.t2 = cross(n, b.t1);
+}
+
+double effective_mass(const RigidBody& body, Vec3 r, Vec3 u) {
+  const Vec3 ru = cross(r, u);
+  const double k = body.inv_mass + dot(ru, body.apply_inv_inertia(ru));
+  return k > 0.0 ? 1.0 / k : 0.0;
+}
+
+}  // namespace
+
+Vec3 RigidBody::apply_inv_inertia(Vec3 a) const {
+  const auto& m = inv_inertia;
+  return {m[0][0] * a.x + m[0][1] * a.y + m[0][2] * a.z, m[1][0] * a.x + m[1][1] * a.y + m[1][2] * a.z,
+          m[2][0] * a.x + m[2][1] * a.y + m[2][2] * a.z};
+}
+
+void RigidBody::apply_impulse(Vec3 impulse, Vec3 at) {
+  v = v + impulse * inv_mass;
+  w = w + apply_inv_inertia(cross(at - com, impulse));
+}
+
+void gather_blocks(std::span<const terrain::ContactElement> elements, const terrain::Material& m,
+                   std::span<const double> shear_displacement, int block_columns, std::vector<Block>& blocks) {
+  blocks.clear();
+  if (elements.empty()) return;
+  const std::int64_t B = std::max(1, block_columns);
+  std::int64_t bx0 = std::numeric_limits<std::int64_t>::max(), by0 = bx0;
+  std::int64_t bx1 = std::numeric_limits<std::int64_t>::min(), by1 = bx1;
+  for (const terrain::ContactElement& e : elements) {
+    bx0 = std::min(bx0, floor_div(e.i, B)), bx1 = std::max(bx1, floor_div(e.i, B));
+    by0 = std::min(by0, floor_div(e.j, B)), by1 = std::max(by1, floor_div(e.j, B));
+  }
+  const std::int64_t nbx = bx1 - bx0 + 1, nby = by1 - by0 + 1;
+  constexpr int kKinds = 5;
+  std::vector<Tally> tallies(static_cast<std::size_t>(nbx * nby * kKinds));
+  auto slot = [&](std::int64_t bx, std::int64_t by, int kind) {
+    return static_cast<std::size_t>(((by - by0) * nbx + (bx - bx0)) * kKinds + kind);
+  };
+  for (const terrain::ContactElement& e : elements) {
+    const double j = (e.raster_index >= 0 && !shear_displacement.empty())
+                         ? shear_displacement[static_cast<std::size_t>(e.raster_index)]
+                         : 0.0;
+    tallies[slot(floor_div(e.i, B), floor_div(e.j, B), kind_of(e))].add(e, terrain::shear::mobilisation(m, j),
+                                                                        m.cohesion);
+  }
+  // In key order: rows of blocks, then columns, then kind.
+  for (std::int64_t by = by0; by <= by1; ++by)
+    for (std::int64_t bx = bx0; bx <= bx1; ++bx)
+      for (int kind = 0; kind < kKinds; ++kind) {
+        const Tally& t = tallies[slot(bx, by, kind)];
+        if (!t.used) continue;
+        const std::uint64_t key = (static_cast<std::uint64_t>(by + kKeyOffset) << 36) |
+                                  (static_cast<std::uint64_t>(bx + kKeyOffset) << 8) | static_cast<std::uint64_t>(kind);
+        blocks.push_back(t.finish(key, kind != 0));
+        friction_directions(blocks.back());
+      }
+}
+
+void warm_start(std::span<const Block> previous, std::span<Block> blocks) {
+  std::size_t p = 0;
+  for (Block& b : blocks) {
+    while (p < previous.size() && previous[p].key < b.key) ++p;
+    if (p == previous.size()) return;
+    if (previous[p].key != b.key) continue;
+    const Block& o = previous[p];
+    b.normal_impulse = o.normal_impulse;
+    const Vec3 friction = o.t1 * o.t1_impulse + o.t2 * o.t2_impulse;  // re-expressed in this block's directions
+    b.t1_impulse = dot(friction, b.t1);
+    b.t2_impulse = dot(friction, b.t2);
+  }
+}
+
+namespace {
+
+/// The most block b's shear rows may push in one substep, at normal impulse `normal`.
+double friction_limit(const Block& b, double normal, double tan_phi, double h) {
+  return b.cohesion * h + tan_phi * b.mobilised * normal;
+}
+
+void clamp_warm_start(RigidBody& body, std::span<Block> blocks, double tan_phi, double h) {
+  for (Block& b : blocks) {
+    b.normal_impulse = std::clamp(b.normal_impulse, 0.0, b.capacity * h);
+    if (b.wall) b.t1_impulse = b.t2_impulse = 0.0;
+    const double limit = friction_limit(b, b.normal_impulse, tan_phi, h);
+    const double size = std::sqrt(b.t1_impulse * b.t1_impulse + b.t2_impulse * b.t2_impulse);
+    if (size > limit) {
+      const double scale = limit > 0.0 ? limit / size : 0.0;
+      b.t1_impulse *= scale, b.t2_impulse *= scale;
+    }
+    body.apply_impulse(b.normal * b.normal_impulse + b.t1 * b.t1_impulse + b.t2 * b.t2_impulse, b.point);
+  }
+}
+
+void sweep(RigidBody& body, std::span<Block> blocks, double tan_phi, double h) {
+  for (Block& b : blocks) {
+    const double u = dot(body.point_velocity(b.point), b.normal);
+    const double next = std::clamp(b.normal_impulse - u * b.mass_n, 0.0, b.capacity * h);
+    body.apply_impulse(b.normal * (next - b.normal_impulse), b.point);
+    b.normal_impulse = next;
+  }
+  for (Block& b : blocks) {
+    if (b.wall) continue;
+    const Vec3 pv = body.point_velocity(b.point);
+    double n1 = b.t1_impulse - dot(pv, b.t1) * b.mass_t1;
+    double n2 = b.t2_impulse - dot(pv, b.t2) * b.mass_t2;
+    const double limit = friction_limit(b, b.normal_impulse, tan_phi, h);
+    const double size = std::sqrt(n1 * n1 + n2 * n2);
+    if (size > limit) {
+      const double scale = limit > 0.0 ? limit / size : 0.0;
+      n1 *= scale, n2 *= scale;
+    }
+    body.apply_impulse(b.t1 * (n1 - b.t1_impulse) + b.t2 * (n2 - b.t2_impulse), b.point);
+    b.t1_impulse = n1, b.t2_impulse = n2;
+  }
+}
+
+}  // namespace
+
+SolveResult solve(RigidBody& body, std::span<Block> blocks, const terrain::Material& m, double h,
+                  const SolverSettings& settings) {
+  SolveResult out;
+  if (blocks.empty()) return out;
+  const double tan_phi = det::tan(m.friction_angle);
+  struct Before {
+    double n, t1, t2;
+  };
+  std::vector<Before> before(blocks.size());
+  for (std::size_t k = 0; k < blocks.size(); ++k) {
+    Block& b = blocks[k];
+    const Vec3 r = b.point - body.com;
+    b.mass_n = effective_mass(body, r, b.normal);
+    b.mass_t1 = effective_mass(body, r, b.t1);
+    b.mass_t2 = effective_mass(body, r, b.t2);
+    const Vec3 pv = body.point_velocity(b.point);
+    before[k] = {dot(pv, b.normal), dot(pv, b.t1), dot(pv, b.t2)};
+  }
+  clamp_warm_start(body, blocks, tan_phi, h);
+  for (int it = 0; it < settings.iterations; ++it) sweep(body, blocks, tan_phi, h);
+
+  // Work on the soil: -sum of impulse x mean velocity along it over the substep, which is
+  // exactly the kinetic energy the body lost to these impulses.
+  for (std::size_t k = 0; k < blocks.size(); ++k) {
+    const Block& b = blocks[k];
+    const Vec3 pv = body.point_velocity(b.point);
+    const double un = dot(pv, b.normal), u1 = dot(pv, b.t1), u2 = dot(pv, b.t2);
+    out.work -= 0.5 * (b.normal_impulse * (before[k].n + un) + b.t1_impulse * (before[k].t1 + u1) +
+                       b.t2_impulse * (before[k].t2 + u2));
+    const Vec3 impulse = b.normal * b.normal_impulse + b.t1 * b.t1_impulse + b.t2 * b.t2_impulse;
+    out.impulse = out.impulse + impulse;
+    out.angular_impulse = out.angular_impulse + cross(b.point - body.com, impulse);
+    const bool at_capacity = b.normal_impulse >= b.capacity * h * (1.0 - 1e-9);
+    if (at_capacity && un < -1e-6) out.yielded = true;
+    if (un < -1e-4) out.stuck = false;
+    if (!b.wall) {
+      const double limit = friction_limit(b, b.normal_impulse, tan_phi, h);
+      const double slip = std::sqrt(u1 * u1 + u2 * u2);
+      if (slip > 1e-4 && std::sqrt(b.t1_impulse * b.t1_impulse + b.t2_impulse * b.t2_impulse) >= limit * (1 - 1e-9))
+        out.stuck = false;
+    }
+  }
+  if (out.yielded) out.stuck = false;
+  return out;
+}
+
+}  // namespace shore::bullet::soil_detail

@@ -1,0 +1,83 @@
+#pragma once
+// Internal: the soil's impulses on one rigid body in one substep.
+//
+// The soil's contact elements (terrain::Terrain::contact) are gathered into blocks of
+// block_columns x block_columns columns (walls apart, by side). Each block is one contact
+// row along its capacity-weighted normal, bounded by what its columns can push in one
+// substep (capacity x h), plus two friction rows bounded by Janosi-Hanamoto's shear
+// strength of its columns at the block's normal impulse. Projected Gauss-Seidel over the
+// rows in a fixed order, warm-started from the last substep, finds impulses that stop the
+// body's approach and slip where the soil can, and yield where it cannot: the soil never
+// pulls and never reverses an approach. The same rule with one block is the momentum rule
+// Shore used before (p = -m v_z against S h).
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "shore/terrain/contact.h"
+#include "shore/terrain/material.h"
+
+namespace shore::bullet::soil_detail {
+
+struct Vec3 {
+  double x = 0, y = 0, z = 0;
+};
+inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3 operator*(Vec3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+inline double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+
+/// The body as the solver sees it: world frame, double precision.
+struct RigidBody {
+  Vec3 v, w;               ///< linear and angular velocity
+  Vec3 com;                ///< centre of mass
+  double inv_mass = 0.0;   ///< 1 / kg
+  double inv_inertia[3][3] = {};  ///< world inverse inertia tensor
+
+  [[nodiscard]] Vec3 apply_inv_inertia(Vec3 a) const;
+  [[nodiscard]] Vec3 point_velocity(Vec3 p) const { return v + cross(w, p - com); }
+  void apply_impulse(Vec3 impulse, Vec3 at);
+};
+
+/// One block of contact elements.
+struct Block {
+  std::uint64_t key = 0;     ///< (block x, block y, kind): fixed solve order, warm start
+  Vec3 point, normal;        ///< where and along which direction it pushes
+  double capacity = 0.0;     ///< N, the most it pushes (+infinity on bedrock)
+  double cohesion = 0.0;     ///< N, sum of c A (1 - exp(-j / K)) over its bottom elements
+  double mobilised = 0.0;    ///< capacity-weighted mean of 1 - exp(-j / K)
+  bool wall = false;
+  // Solve state.
+  Vec3 t1, t2;                                    ///< friction directions
+  double normal_impulse = 0.0, t1_impulse = 0.0, t2_impulse = 0.0;  ///< N s
+  double mass_n = 0.0, mass_t1 = 0.0, mass_t2 = 0.0;               ///< effective masses, kg
+};
+
+struct SolverSettings {
+  int block_columns = 4;  ///< columns per block side
+  int iterations = 12;    ///< PGS sweeps over the rows
+};
+
+/// What the solve did.
+struct SolveResult {
+  Vec3 impulse;            ///< N s, total on the body
+  Vec3 angular_impulse;    ///< N m s about the centre of mass
+  double work = 0.0;       ///< J done on the soil (the body's kinetic energy lost to it)
+  bool yielded = false;    ///< some block pushed its most and the body still approaches it
+  bool stuck = true;       ///< every block holds: no approach, no slip beyond its strength
+};
+
+/// Gathers contact elements into blocks, sorted by key.
+void gather_blocks(std::span<const terrain::ContactElement> elements, const terrain::Material& m,
+                   std::span<const double> shear_displacement, int block_columns, std::vector<Block>& blocks);
+
+/// Warm start: the impulses the same blocks ended the last substep with (both sorted by key).
+void warm_start(std::span<const Block> previous, std::span<Block> blocks);
+
+/// Solves the substep's soil impulses on the body (velocities updated in place).
+SolveResult solve(RigidBody& body, std::span<Block> blocks, const terrain::Material& m, double h,
+                  const SolverSettings& settings);
+
+}  // namespace shore::bullet::soil_detail
