@@ -31,6 +31,7 @@ struct EnvelopeRasterizer::Cache {
     HullMesh hull;
   };
   std::unordered_map<const btCollisionShape*, Entry> hulls;
+  EnvelopeRaster point;  ///< lower_at's one-column raster
 };
 
 namespace {
@@ -320,6 +321,17 @@ void EnvelopeRasterizer::draw_fresh(const btCollisionShape& shape, const btTrans
     out.resize(out.i0, out.j0, 0, 0, false);  // never leave a half-drawn raster behind
     throw;
   }
+}
+
+double EnvelopeRasterizer::lower_at(const btCollisionShape& shape, const btTransform& pose, double x, double y) {
+  EnvelopeRaster& r = cache_->point;
+  r.resize(0, 0, 1, 1, false);
+  const EnvelopeGrid at{x, y, grid_.cell};  // column (0, 0) of this grid stands at (x, y)
+  EnvelopeOptions lower_only = options_;
+  lower_only.upper = false;
+  Canvas cv(r, at, lower_only);
+  ShapeDrawer(cv, *cache_).draw(shape, pose, 0);
+  return r.lower[0];
 }
 
 int EnvelopeRasterizer::accumulate(const btCollisionShape& shape, const btTransform& pose, EnvelopeRaster& inout) {

@@ -27,10 +27,19 @@ terrain::TerrainSettings soil_settings(const SoilRun& run) {
   return s;
 }
 
+bullet::TerrainCouplingSettings coupling_settings(const SoilRun& run) {
+  bullet::TerrainCouplingSettings s;
+  s.contact = run.contact;
+  return s;
+}
+
 /// One soil, a world and their coupling: what every soil case runs on.
 struct SoilRig {
   explicit SoilRig(const SoilRun& run)
-      : soil(soil_settings(run)), world(kGravity), ground(world.world(), soil), h(run.substep) {}
+      : soil(soil_settings(run)),
+        world(kGravity),
+        ground(world.world(), soil, coupling_settings(run)),
+        h(run.substep) {}
 
   /// A body that never sleeps, pressing the soil.
   btRigidBody* add(std::unique_ptr<btCollisionShape> shape, double mass, const btVector3& at) {
@@ -52,6 +61,8 @@ struct SoilRig {
   void finish(RunStats& stats, const btRigidBody& body) const {
     stats.state_hash = state_hash({.soils = {&soil}, .bodies = {&body}});
     stats.rescues = ground.stats().rescues;
+    stats.soil_work = ground.stats().plastic_work;
+    stats.shear_work = ground.stats().shear_work;
   }
 
   terrain::Terrain soil;
@@ -135,7 +146,7 @@ WheelResult run_wheel(const WheelCase& c) {
   wheel->setLinearVelocity(btVector3(btScalar(c.speed), 0, 0));
   wheel->setAngularVelocity(btVector3(0, btScalar(c.speed / R), 0));
   const auto tow_steps = static_cast<std::int64_t>(std::lround(c.distance / c.speed / h));
-  double depth_sum = 0.0, impulse_sum = 0.0;
+  double depth_sum = 0.0, impulse_sum = 0.0, slip_sum = 0.0;
   std::int64_t samples = 0;
   for (std::int64_t k = 0; k < tow_steps; ++k) {
     // Towing impulse that restores the speed lost in the previous substep.
@@ -145,11 +156,14 @@ WheelResult run_wheel(const WheelCase& c) {
     if (k >= tow_steps / 2) {
       depth_sum += -(wheel->getCenterOfMassPosition().z() - R);
       impulse_sum += pull;
+      const double rim = double(wheel->getAngularVelocity().y()) * R;
+      slip_sum += rim != 0.0 ? 1.0 - double(wheel->getLinearVelocity().x()) / rim : 0.0;
       ++samples;
     }
   }
   out.sinkage = depth_sum / double(std::max<std::int64_t>(samples, 1));
   out.resistance = impulse_sum / (double(std::max<std::int64_t>(samples, 1)) * h);
+  out.slip = slip_sum / double(std::max<std::int64_t>(samples, 1));
   // The rut: soil depth along the centre line over the middle of the track.
   const double x_end = wheel->getCenterOfMassPosition().x();
   double rut = 0.0;
@@ -163,6 +177,53 @@ WheelResult run_wheel(const WheelCase& c) {
   out.reference_sinkage = terrain::bekker::wheel_sinkage_rolling(c.run.material, c.load, c.diameter, c.width);
   out.reference_resistance =
       terrain::bekker::wheel_compaction_resistance(c.run.material, out.reference_sinkage, c.width);
+  rig.finish(out.stats, *wheel);
+  return out;
+}
+
+DrivenWheelResult run_driven_wheel(const DrivenWheelCase& c) {
+  DrivenWheelResult out;
+  SoilRig rig(c.run);
+  const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
+  btRigidBody* wheel =
+      rig.add(std::make_unique<btCylinderShape>(btVector3(btScalar(R), btScalar(c.width / 2), btScalar(R))), mass,
+              btVector3(0, btScalar(0.5 * c.run.cell), btScalar(R)));
+  // Press: the load ramps in with the wheel held still.
+  wheel->setLinearFactor(btVector3(0, 0, 1));
+  wheel->setAngularFactor(btVector3(0, 0, 0));
+  const auto ramp_steps = static_cast<std::int64_t>(std::lround(c.ramp_seconds / h));
+  for (std::int64_t k = 0; k < ramp_steps; ++k) {
+    const double t = double(k) * h;
+    wheel->applyCentralForce(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - t / c.ramp_seconds))));
+    rig.advance(out.stats);
+  }
+  // Drive: omega and the carrier's speed held at the start of every substep. The wheel's
+  // inertia about its axle is made huge, so the soil's torque cannot slow it within a
+  // substep either: omega is what the rig imposes, the driving torque what the soil takes.
+  wheel->setLinearFactor(btVector3(1, 0, 1));
+  wheel->setAngularFactor(btVector3(0, 1, 0));
+  const btVector3 inertia = wheel->getLocalInertia();
+  wheel->setMassProps(btScalar(mass), btVector3(inertia.x(), inertia.y() * btScalar(1e6), inertia.z()));
+  wheel->updateInertiaTensor();
+  const double omega = c.rim_speed / R, v = (1.0 - c.slip) * c.rim_speed;
+  const auto drive_steps = static_cast<std::int64_t>(std::lround(c.distance / v / h));
+  double depth = 0.0, pull = 0.0, torque = 0.0, resistance = 0.0;
+  std::int64_t samples = 0;
+  for (std::int64_t k = 0; k < drive_steps; ++k) {
+    const btVector3 u = wheel->getLinearVelocity();
+    wheel->setLinearVelocity(btVector3(btScalar(v), 0, u.z()));
+    wheel->setAngularVelocity(btVector3(0, btScalar(omega), 0));
+    rig.advance(out.stats);
+    if (k < drive_steps / 2) continue;
+    const bullet::SoilForce f = rig.ground.soil_force(wheel);
+    depth += -(wheel->getCenterOfMassPosition().z() - R);
+    pull += f.force.x();
+    resistance -= f.normal_force.x();
+    torque -= f.torque.y();
+    ++samples;
+  }
+  const double n = double(std::max<std::int64_t>(samples, 1));
+  out.sinkage = depth / n, out.drawbar_pull = pull / n, out.torque = torque / n, out.resistance = resistance / n;
   rig.finish(out.stats, *wheel);
   return out;
 }

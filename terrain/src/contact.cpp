@@ -23,6 +23,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // edge to 1/64 of a cell, so a plate's area does not depend on where its edges fall.
 constexpr int kEdgeBisections = 6;
 // The four axis directions: +x, -x, +y, -y.
+constexpr double kMaxSlope = 20.0;
 constexpr int kSx[4] = {1, -1, 0, 0};
 constexpr int kSy[4] = {0, 0, 1, -1};
 
@@ -178,7 +179,10 @@ class PatchBuilder {
       const int span = (up ? 1 : 0) + (down ? 1 : 0);
       return span == 0 ? 0.0 : (eu - ed) / (span * s_.cell);
     };
-    const double gx = slope(1, 0), gy = slope(0, 1);
+    // Slopes beyond 20 (87 degrees, the sides of a ball or a wheel seen from above) are
+    // capped: the plan area over the normal's vertical share stays finite.
+    const double gx = std::clamp(slope(1, 0), -kMaxSlope, kMaxSlope),
+                 gy = std::clamp(slope(0, 1), -kMaxSlope, kMaxSlope);
     const double norm = std::sqrt(gx * gx + gy * gy + 1.0);
     el.nx = -gx / norm, el.ny = -gy / norm, el.nz = 1.0 / norm;
   }
@@ -193,14 +197,16 @@ class PatchBuilder {
         ContactElement el;
         el.i = i, el.j = j;
         el.raster_index = static_cast<std::int32_t>(k);
-        el.area = std::max(0.0, fx_[k]) * std::max(0.0, fy_[k]) * cell_area;
+        underside_normal(x, y, el);
+        // The body's surface over the covered part of the cell: the plan area over the
+        // normal's vertical share, so the soil's push has Bekker's vertical component.
+        el.area = std::max(0.0, fx_[k]) * std::max(0.0, fy_[k]) * cell_area / el.nz;
         // Centroid of the covered part of the cell.
         el.x = column_x(i) + 0.5 * s_.cell * (loss_lo_x_[k] - (1.0 - fx_[k] - loss_lo_x_[k]));
         el.y = column_y(j) + 0.5 * s_.cell * (loss_lo_y_[k] - (1.0 - fy_[k] - loss_lo_y_[k]));
         el.z = env_.lower[k];
-        underside_normal(x, y, el);
         el.pressure = yield_pressure(soil_.at(i, j), el.z, shear_at(k));
-        out_.area += el.area;
+        out_.area += el.area * el.nz;
         out_.elements.push_back(el);
       }
   }
@@ -217,11 +223,11 @@ class PatchBuilder {
       el.raster_index = static_cast<std::int32_t>(f.source);
       // Across the edge the strip is as wide as the covered neighbour's cell.
       const double across = f.j == env_.j0 + sy ? fy_[f.source] : fx_[f.source];
-      el.area = f.share * std::max(0.0, across) * cell_area;
       el.x = f.cx, el.y = f.cy, el.z = lower;
       underside_normal(sx, sy, el);
+      el.area = f.share * std::max(0.0, across) * cell_area / el.nz;
       el.pressure = yield_pressure(soil_.at(f.i, f.j), lower, shear_at(f.source));
-      out_.area += el.area;
+      out_.area += el.area * el.nz;
       out_.elements.push_back(el);
     }
   }
@@ -270,19 +276,18 @@ class PatchBuilder {
 
 }  // namespace
 
-void Terrain::contact(const EnvelopeRaster& envelope, std::span<const double> shear_displacement,
-                      const SurfaceProbe* probe, ContactPatch& out) const {
+void Terrain::contact(const EnvelopeRaster& envelope, std::span<const double> drag, const SurfaceProbe* probe,
+                      ContactPatch& out) const {
   check_envelope(&envelope, "terrain.Terrain.contact.envelope");
-  if (!shear_displacement.empty() && shear_displacement.size() != envelope.lower.size())
-    throw InvalidSetting("terrain.Terrain.contact.shear_displacement.size()",
-                         detail::to_text(shear_displacement.size()),
+  if (!drag.empty() && drag.size() != envelope.lower.size())
+    throw InvalidSetting("terrain.Terrain.contact.drag.size()", detail::to_text(drag.size()),
                          "must be 0 or the envelope's nx * ny = " + detail::to_text(envelope.lower.size()));
   out.clear();
   if (envelope.nx == 0 || envelope.ny == 0) return;
   SoilWindow soil;  // the window and a one-column ring (fringes and walls lie there)
   read_soil(impl_->tiles, impl_->s.material.soil_depth,
             {envelope.i0 - 1, envelope.j0 - 1, envelope.nx + 2, envelope.ny + 2}, soil);
-  PatchBuilder(impl_->s, envelope, shear_displacement, probe, soil, out).build();
+  PatchBuilder(impl_->s, envelope, drag, probe, soil, out).build();
 }
 
 }  // namespace shore::terrain

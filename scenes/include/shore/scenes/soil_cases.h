@@ -21,6 +21,7 @@ struct SoilRun {
   int threads = 1;                                                         ///< OpenMP threads of the soil
   int max_erosion_passes = terrain::TerrainSettings{}.max_erosion_passes;  ///< erosion pass cap per substep
   double active_reach = terrain::TerrainSettings{}.active_reach;           ///< m, see TerrainSettings
+  bullet::SoilContactSettings contact;                                     ///< how the soil's push is solved
 };
 
 /// Results common to every case.
@@ -33,6 +34,8 @@ struct RunStats {
   double push_seconds = 0.0;
   std::uint64_t state_hash = 0;  ///< state_hash (state.h) of the soil and the body at the end
   std::int64_t rescues = 0;      ///< bodies lifted back above bedrock (should stay 0)
+  double soil_work = 0.0;        ///< J the body did on the soil (TerrainCouplingStats::plastic_work)
+  double shear_work = 0.0;       ///< J of it by shear
   /// Adds one substep of a soil coupling's timings (once per coupling and substep).
   void add_coupling_times(const bullet::TerrainCouplingStats& coupling);
   [[nodiscard]] double ms_per_substep() const { return substeps ? 1e3 * wall_seconds / double(substeps) : 0.0; }
@@ -71,11 +74,34 @@ struct WheelResult {
   double sinkage = 0.0;               ///< m: static, final depth; towed, mean depth over the second half of the run
   double resistance = 0.0;            ///< N, mean towing force over the second half (towed only)
   double rut_depth = 0.0;             ///< m, mean depth of the soil along the track's centre line behind the wheel
+  double slip = 0.0;                  ///< mean 1 - v / (omega R) over the second half (towed: negative, a skid)
   double reference_sinkage = 0.0;     ///< m, Bekker: static both-halves integral or rolling formula
   double reference_resistance = 0.0;  ///< N, Bekker compaction resistance (towed)
   RunStats stats;
 };
 WheelResult run_wheel(const WheelCase& c);
+
+// ---- a driven rigid wheel at a fixed slip (the Wong-Reece rig) ----------------------------
+/// The wheel spins at a fixed omega and its carrier moves at a fixed v = (1 - slip) omega r,
+/// free to move vertically; the soil's push on it gives drawbar pull and driving torque.
+struct DrivenWheelCase {
+  SoilRun run;                ///< default material: dry sand (Wong), c 1.04 kPa, phi 28 deg, K 1 cm
+  double diameter = 0.6;      ///< m
+  double width = 0.15;        ///< m
+  double load = 1000.0;       ///< N (the wheel's weight)
+  double slip = 0.2;          ///< i = 1 - v / (omega r), in [0, 1)
+  double rim_speed = 1.0;     ///< m/s, omega r
+  double distance = 1.2;      ///< m travelled by the carrier
+  double ramp_seconds = 1.0;  ///< the load ramps in with the wheel held still first
+};
+struct DrivenWheelResult {
+  double sinkage = 0.0;       ///< m, mean depth of the wheel's bottom below the original surface (second half)
+  double drawbar_pull = 0.0;  ///< N, mean horizontal push of the soil on the wheel, forward positive (second half)
+  double torque = 0.0;        ///< N m, mean driving torque that keeps omega (second half)
+  double resistance = 0.0;    ///< N, mean backward push of the soil's normal stresses (compaction, second half)
+  RunStats stats;
+};
+DrivenWheelResult run_driven_wheel(const DrivenWheelCase& c);
 
 // ---- a sphere dropped into the soil -------------------------------------------------------
 struct SphereDropCase {

@@ -133,7 +133,7 @@ class Terrain {
   [[nodiscard]] double column_y(std::int64_t j) const;
 
   // ---- state of one column ----
-  [[nodiscard]] double height(std::int64_t i, std::int64_t j) const;   ///< collision surface, m
+  [[nodiscard]] double height(std::int64_t i, std::int64_t j) const;  ///< collision surface, m
   /// Plastic sinkage, m: how far the column's firm soil has been pressed below its
   /// uncompacted level; negative by the height of loose soil that displacement or erosion
   /// laid on it (loose soil bears nothing until pressed back to the firm level).
@@ -165,11 +165,12 @@ class Terrain {
   /// so the result never exceeds the depth to bedrock.
   [[nodiscard]] double bearing_offset(const EnvelopeRaster& envelope, double load) const;
   /// The soil's side of a body's contact (shore/terrain/contact.h) into `out`.
-  /// shear_displacement: the shear displacement j (m) of every raster column, in the
-  /// raster's layout, or empty (all 0). probe: the body's underside at any point, for
-  /// sub-cell coverage at the footprint's edges; null: whole columns. Reads only. Throws
-  /// InvalidSetting on a bad envelope or a shear_displacement of the wrong size.
-  void contact(const EnvelopeRaster& envelope, std::span<const double> shear_displacement, const SurfaceProbe* probe,
+  /// drag: how far (m) the body has dragged the soil at each raster column horizontally
+  /// while in contact (remoulding it: shear::remoulding), in the raster's layout, or empty
+  /// (all 0). probe: the body's underside at any point, for sub-cell coverage at the
+  /// footprint's edges; null: whole columns. Reads only. Throws InvalidSetting on a bad
+  /// envelope or a drag of the wrong size.
+  void contact(const EnvelopeRaster& envelope, std::span<const double> drag, const SurfaceProbe* probe,
                ContactPatch& out) const;
   /// One step of the pipeline for all imprints together: collision, contour map,
   /// displacement, erosion, over the active region only. Throws InvalidSetting (grid
