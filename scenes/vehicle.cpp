@@ -12,6 +12,7 @@
 
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/scenes/film.h"
+#include "shore/scenes/four_wheeler.h"
 #include "shore/scenes/render.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/scene.h"
@@ -25,12 +26,10 @@ namespace {
 
 constexpr double kGravity = 9.81;
 constexpr int kTileCells = 64;  // soil tile size; the strips are whole tiles long
-constexpr double kWheelRadius = 0.3, kWheelWidth = 0.25, kWheelMass = 25.0;
-constexpr double kChassisMass = 400.0;
-constexpr double kMotorTorque = 600.0;  // N m per wheel
-constexpr double kTargetSpeed = 2.0;    // m/s the wheel motors aim for
-constexpr double kHalfY = 5.0;          // m, half width of the ground and of the soil strips
-constexpr double kHalfWidth = 1.1;      // m, half width of the pictured strip (wheels at +-0.65 m)
+constexpr double kWheelRadius = FourWheelerSettings{}.wheel_radius;
+constexpr double kTargetSpeed = 2.0;  // m/s the wheel motors aim for
+constexpr double kHalfY = 5.0;        // m, half width of the ground and of the soil strips
+constexpr double kHalfWidth = 1.1;    // m, half width of the pictured strip (wheels at +-0.65 m)
 
 terrain::TerrainSettings strip_soil(const SceneOptions& o, const terrain::Material& m) {
   terrain::TerrainSettings s = soil_settings(o);
@@ -72,31 +71,14 @@ class Vehicle final : public Scene {
     mud_coupling_ = std::make_unique<bullet::TerrainCoupling>(world_.world(), mud_, strip_coupling(sand_x1_, mud_x1_));
 
     const double z0 = kWheelRadius + 0.02;
-    chassis_ = world_.add_body(std::make_unique<btBoxShape>(btVector3(1.0f, 0.5f, 0.15f)), kChassisMass,
-                               btVector3(btScalar(start_x_), 0, btScalar(z0 + 0.25)));
-    chassis_->setActivationState(DISABLE_DEACTIVATION);
+    FourWheelerSettings car;
+    car.target_speed = kTargetSpeed;
+    bullet::TerrainCoupling* const couplings[] = {sand_coupling_.get(), mud_coupling_.get()};
+    const FourWheeler v = build_four_wheeler(world_, car, btVector3(btScalar(start_x_), 0, btScalar(z0 + 0.25)),
+                                             btQuaternion::getIdentity(), o.substep, couplings);
+    chassis_ = v.chassis;
     bodies_.push_back(chassis_);
-    const std::array<btVector3, 4> mounts = {btVector3(0.75f, 0.65f, -0.25f), btVector3(0.75f, -0.65f, -0.25f),
-                                             btVector3(-0.75f, 0.65f, -0.25f), btVector3(-0.75f, -0.65f, -0.25f)};
-    for (const btVector3& mount : mounts) {
-      const btVector3 at = chassis_->getCenterOfMassPosition() + mount;
-      btRigidBody* wheel =
-          world_.add_body(std::make_unique<btCylinderShape>(
-                              btVector3(btScalar(kWheelRadius), btScalar(kWheelWidth / 2), btScalar(kWheelRadius))),
-                          kWheelMass, at);
-      wheel->setActivationState(DISABLE_DEACTIVATION);
-      wheel->setFriction(1.0f);
-      auto hinge = std::make_unique<btHingeConstraint>(*chassis_, *wheel, mount, btVector3(0, 0, 0), btVector3(0, 1, 0),
-                                                       btVector3(0, 1, 0));
-      // Bullet's hinge motor drives the velocity of body A (chassis) relative to body B
-      // (wheel) about the axis; the wheel rolls forward (+x) spinning at +v/R about +y
-      // relative to the chassis, so the target is -v/R.
-      hinge->enableAngularMotor(true, btScalar(-kTargetSpeed / kWheelRadius), btScalar(kMotorTorque * o.substep));
-      world_.add_constraint(std::move(hinge), true);
-      sand_coupling_->add_body(wheel);
-      mud_coupling_->add_body(wheel);
-      bodies_.push_back(wheel);
-    }
+    for (btRigidBody* wheel : v.wheels) bodies_.push_back(wheel);
     x_ = chassis_->getCenterOfMassPosition().x();
   }
 

@@ -32,9 +32,9 @@ int kind_of(const terrain::ContactElement& e) {
 double length(Vec3 a) { return std::sqrt(dot(a, a)); }
 
 /// Share of the shear strength acting at shear displacement j: Janosi-Hanamoto's
-/// mobilisation, in soil remoulded by the same shear (it loses strength as it loses bearing).
+/// mobilisation, in soil remoulded by the same shear.
 double mobilisation(const terrain::Material& m, double j) {
-  return terrain::shear::mobilisation(m, j) * terrain::shear::remoulding(m, j);
+  return terrain::shear::mobilisation(m, j) * terrain::shear::strength_remoulding(m, j);
 }
 Vec3 normalized(Vec3 a) {
   const double n = length(a);

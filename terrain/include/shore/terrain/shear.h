@@ -15,8 +15,12 @@ double mobilisation(const Material& m, double j);
 /// Shear stress (Janosi-Hanamoto): (c + sigma tan phi)(1 - exp(-|j| / K)).
 double stress(const Material& m, double sigma, double j);
 
-/// Share of Bekker's yield pressure and of the shear strength left in soil sheared by j:
+/// Share of Bekker's yield pressure left in soil sheared by j:
 /// 1 - remould_ratio (1 - exp(-|j| / remould_length)).
 double remoulding(const Material& m, double j);
+
+/// Share of the shear strength left in soil sheared by j:
+/// 1 - remould_shear_ratio (1 - exp(-|j| / remould_length)).
+double strength_remoulding(const Material& m, double j);
 
 }  // namespace shore::terrain::shear
