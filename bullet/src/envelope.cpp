@@ -45,9 +45,9 @@ void check_finite(const char* field, double v) { Check{"bullet.envelope"}.finite
 
 /// Checks a dimension of a shape: finite and >= 0 (> 0 if `strict`).
 void check_size(const btCollisionShape& shape, const char* what, double v, bool strict = false) {
-  const std::string field = std::string("shape ") + shape.getName() + " " + what;
-  if (!std::isfinite(v) || v < 0 || (strict && v == 0))
-    throw InvalidSetting(field, detail::to_text(v), strict ? "must be finite and > 0" : "must be finite and >= 0");
+  if (std::isfinite(v) && v >= 0 && !(strict && v == 0)) return;  // the common case builds no message
+  throw InvalidSetting(std::string("shape ") + shape.getName() + " " + what, detail::to_text(v),
+                       strict ? "must be finite and > 0" : "must be finite and >= 0");
 }
 
 double shape_margin(const btCollisionShape& shape, bool include) {

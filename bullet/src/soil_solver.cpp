@@ -230,18 +230,15 @@ SolveResult solve(RigidBody& body, const RigidBody& start, std::span<Block> bloc
   SolveResult out;
   if (blocks.empty()) return out;
   const double tan_phi = det::tan(m.friction_angle);
-  struct Before {
-    double n, t1, t2;
-  };
-  std::vector<Before> before(blocks.size());
-  for (std::size_t k = 0; k < blocks.size(); ++k) {
-    Block& b = blocks[k];
-    const Vec3 r = b.point - body.com;
-    b.mass_n = effective_mass(body, r, b.normal);
-    b.mass_t1 = effective_mass(body, r, b.t1);
-    b.mass_t2 = effective_mass(body, r, b.t2);
+  for (Block& b : blocks) {
+    if (!settings.keep_masses) {
+      const Vec3 r = b.point - body.com;
+      b.mass_n = effective_mass(body, r, b.normal);
+      b.mass_t1 = effective_mass(body, r, b.t1);
+      b.mass_t2 = effective_mass(body, r, b.t2);
+    }
     const Vec3 pv = start.point_velocity(b.point);
-    before[k] = {dot(pv, b.normal), dot(pv, b.t1), dot(pv, b.t2)};
+    b.start_n = dot(pv, b.normal), b.start_t1 = dot(pv, b.t1), b.start_t2 = dot(pv, b.t2);
   }
   clamp_warm_start(body, blocks, tan_phi, h);
   for (int it = 0; it < settings.iterations; ++it) sweep(body, blocks, tan_phi, h, it % 2 == 1);
@@ -250,16 +247,15 @@ SolveResult solve(RigidBody& body, const RigidBody& start, std::span<Block> bloc
   // the start of the substep (before the engine's forces) to its end. It is the kinetic
   // energy the soil takes, exact for any substep whether the soil yields or holds an impact,
   // and zero for a body at rest (the gravity kick it cancels carried no real energy).
-  for (std::size_t k = 0; k < blocks.size(); ++k) {
-    const Block& b = blocks[k];
+  for (const Block& b : blocks) {
     const Vec3 pv = body.point_velocity(b.point);
     const double un = dot(pv, b.normal), u1 = dot(pv, b.t1), u2 = dot(pv, b.t2);
     const bool at_capacity = b.normal_impulse >= b.capacity * h * (1.0 - 1e-9);
     const double limit = b.wall ? 0.0 : friction_limit(b, b.normal_impulse, tan_phi, h);
     const double friction = std::sqrt(b.t1_impulse * b.t1_impulse + b.t2_impulse * b.t2_impulse);
     const bool sliding = !b.wall && friction >= limit * (1.0 - 1e-9) && friction > 0.0;
-    const double pressing = -0.5 * b.normal_impulse * (before[k].n + un);
-    const double shear = -0.5 * (b.t1_impulse * (before[k].t1 + u1) + b.t2_impulse * (before[k].t2 + u2));
+    const double pressing = -0.5 * b.normal_impulse * (b.start_n + un);
+    const double shear = -0.5 * (b.t1_impulse * (b.start_t1 + u1) + b.t2_impulse * (b.start_t2 + u2));
     out.work += pressing + shear;
     out.shear_work += shear;
     const Vec3 impulse = b.normal * b.normal_impulse + b.t1 * b.t1_impulse + b.t2 * b.t2_impulse;

@@ -56,11 +56,15 @@ struct Block {
   Vec3 t1, t2;                                                      ///< friction directions
   double normal_impulse = 0.0, t1_impulse = 0.0, t2_impulse = 0.0;  ///< N s
   double mass_n = 0.0, mass_t1 = 0.0, mass_t2 = 0.0;                ///< effective masses, kg
+  double start_n = 0.0, start_t1 = 0.0, start_t2 = 0.0;  ///< the rows' velocities at the substep's start
 };
 
 struct SolverSettings {
   int block_columns = 4;  ///< columns per block side
   int iterations = 12;    ///< PGS sweeps over the rows
+  /// The blocks' effective masses are still right (the body has not moved since they were
+  /// computed: a body at rest re-solving its kept contact).
+  bool keep_masses = false;
 };
 
 /// What the solve did.

@@ -128,6 +128,7 @@ void SoilContactSettings::validate() const {
   const Check c{"bullet.SoilContactSettings"};
   c.in_closed("block_columns", block_columns, 1, 64);
   c.in_closed("iterations", iterations, 1, 1000);
+  c.in_closed("resting_iterations", resting_iterations, 1, 1000);
 }
 
 void BodySoilSettings::validate() const {
@@ -271,6 +272,17 @@ void TerrainCoupling::rasterize(Body& b) {
   b.contact->resting = false;
 }
 
+bool TerrainCoupling::drifted(const Body& b) const {
+  // A tenth of a millimetre, a milliradian: well below what a column of soil resolves.
+  const btTransform& now = b.body->getWorldTransform();
+  const btTransform& then = b.envelope_pose;
+  if ((now.getOrigin() - then.getOrigin()).length() > btScalar(1e-4)) return true;
+  const btMatrix3x3 turn = now.getBasis() * then.getBasis().transpose();
+  return std::abs(double(turn[0][1] - turn[1][0])) + std::abs(double(turn[0][2] - turn[2][0])) +
+             std::abs(double(turn[1][2] - turn[2][1])) >
+         2e-3;
+}
+
 SoilForce TerrainCoupling::soil_force(const btRigidBody* body) const {
   for (const Body& b : bodies_)
     if (b.body == body) return b.contact->last;
@@ -323,22 +335,61 @@ void TerrainCoupling::advance_shear(Body& b, const soil_detail::RigidBody& rb, d
   c.update_lengths();
 }
 
+// A body at rest needs from the soil what it needed last substep: the same impulse cancels
+// the same forces. If that leaves it moving slower than rest_speed and rest_spin, the soil
+// holds it still (the little that is left over, it takes too) and nothing else is solved:
+// a few dozen operations. If not (something pushed it), its kept contact is solved.
+bool TerrainCoupling::hold_at_rest(Body& b, double h) {
+  btRigidBody& body = *b.body;
+  BodyContact& c = *b.contact;
+  const btVector3 v0 = body.getLinearVelocity(), w0 = body.getAngularVelocity();
+  const btVector3 v = v0 + c.last.force * btScalar(h * body.getInvMass());
+  const btVector3 w = w0 + body.getInvInertiaTensorWorld() * (c.last.torque * btScalar(h));
+  if (v.length() > btScalar(settings_.rest_speed) || w.length() > btScalar(settings_.rest_spin)) return false;
+  // The soil's whole impulse this substep is the one that stops the body: m (0 - v0) and
+  // I (0 - w0). More than last substep's (a load growing) is for the solve to bound by what
+  // the soil bears.
+  const btMatrix3x3 inertia = body.getInvInertiaTensorWorld().inverse();
+  const btVector3 force = -v0 * btScalar(1.0 / (h * body.getInvMass()));
+  if (force.length() > c.last.force.length() * btScalar(1.0 + 1e-6)) return false;
+  c.last.force = force;
+  c.last.torque = inertia * (-w0) * btScalar(1.0 / h);
+  body.setLinearVelocity(btVector3(0, 0, 0));
+  body.setAngularVelocity(btVector3(0, 0, 0));
+  btTransform corrected;
+  btTransformUtil::integrateTransform(body.getCenterOfMassTransform(), -v0, -w0, btScalar(h), corrected);
+  body.setCenterOfMassTransform(corrected);
+  return true;
+}
+
 bool TerrainCoupling::react(Body& b, double h) {
   btRigidBody& body = *b.body;
   BodyContact& c = *b.contact;
+  if (body.getInvMass() <= 0.0 || b.envelope.lower.empty()) {
+    c.last = {};
+    return false;
+  }
+  if (c.resting && hold_at_rest(b, h)) {
+    ++stats_.resting_bodies;
+    return false;
+  }
   c.last = {};
-  if (body.getInvMass() <= 0.0 || b.envelope.lower.empty()) return false;
   // The soil where the body stood at the start of this substep (the envelope kept from the
   // end of the previous one): Bullet has since applied gravity and integrated freely, since
   // it does not collide this body with soft tiles. A body at rest keeps its last contact.
-  if (!c.resting) gather_contact(b);
+  if (c.resting)
+    ++stats_.resting_bodies;
+  else
+    gather_contact(b);
   if (c.blocks.empty()) return false;
 
   soil_detail::RigidBody rb = solver_body(body);
   soil_detail::RigidBody start = rb;
   if (c.has_end) start.v = to_vec(c.v_end), start.w = to_vec(c.w_end);
   const btVector3 v0 = body.getLinearVelocity(), w0 = body.getAngularVelocity();
-  const soil_detail::SolverSettings solver{settings_.contact.block_columns, settings_.contact.iterations};
+  const soil_detail::SolverSettings solver{
+      settings_.contact.block_columns, c.resting ? settings_.contact.resting_iterations : settings_.contact.iterations,
+      c.resting};
   const soil_detail::SolveResult r = soil_detail::solve(rb, start, c.blocks, soil_.settings().material, h, solver);
   body.setLinearVelocity(to_bt(rb.v));
   body.setAngularVelocity(to_bt(rb.w));
@@ -424,6 +475,7 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   const double h = substep;
   ++stats_.substeps;
   stats_.envelope_seconds = stats_.terrain_seconds = stats_.push_seconds = stats_.reaction_seconds = 0.0;
+  stats_.resting_bodies = 0;
   auto t0 = Clock::now();
   cover_bodies(h);
   stats_.push_seconds += seconds_since(t0);
@@ -444,12 +496,13 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
     bool moved = true;
     if (!body.isStaticOrKinematicObject() && body.isActive() && !rigid_) {
       t0 = Clock::now();
-      const bool yielded = react(b, h);  // reads the envelope of the previous substep
+      react(b, h);  // reads the envelope of the previous substep
       stats_.reaction_seconds += seconds_since(t0);
       // A body the soil holds at rest presses nothing new: imprinting it again would only
-      // re-press soil that erosion slid back under its sides, inflating sinkage forever.
-      moved = yielded || b.envelope.lower.empty() || body.getLinearVelocity().length() > settings_.rest_speed ||
-              body.getAngularVelocity().length() > settings_.rest_spin;
+      // re-press soil that erosion slid back under its sides, inflating sinkage forever. One
+      // that creeps away from where it was imprinted is imprinted again.
+      moved = b.envelope.lower.empty() || body.getLinearVelocity().length() > settings_.rest_speed ||
+              body.getAngularVelocity().length() > settings_.rest_spin || drifted(b);
     }
     if (!body.isActive() || !moved) {
       // At rest its last envelope holds the soil it touches: slopes still eroding next to

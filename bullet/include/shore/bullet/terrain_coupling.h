@@ -68,6 +68,9 @@ struct SoilContactSettings {
   int block_columns = 4;
   /// Projected Gauss-Seidel sweeps over the blocks per substep, warm-started, in [1, 1000].
   int iterations = 12;
+  /// Sweeps for a body at rest, whose contact is kept from the last substep and whose solve
+  /// starts from last substep's impulses (they already hold it), in [1, 1000].
+  int resting_iterations = 2;
   /// Sub-cell coverage at the edges of a footprint: a body covering part of a column bears
   /// on that part only, so sinkage does not depend on where its edges fall.
   bool sub_cell_coverage = true;
@@ -118,6 +121,7 @@ struct TerrainCouplingStats {
   double reaction_seconds = 0.0;
   int active_columns = 0;
   int erosion_passes = 0;
+  int resting_bodies = 0;  ///< bodies at rest that kept their contact this substep (cheap)
 };
 
 /// The soil's push on one body in the last substep (zero if it had no contact).
@@ -178,9 +182,13 @@ class TerrainCoupling : public btActionInterface {
   /// The soil's push on one dynamic body (shore/terrain/contact.h); returns true if the
   /// soil yielded somewhere.
   bool react(Body& b, double substep);
+  /// A body at rest held by last substep's soil impulse; false if that no longer holds it.
+  bool hold_at_rest(Body& b, double substep);
   /// Builds the body's contact blocks from the soil at its envelope.
   void gather_contact(Body& b);
   void advance_shear(Body& b, const soil_detail::RigidBody& rb, double h);
+  /// True if the body has moved away from the pose its envelope was made at.
+  [[nodiscard]] bool drifted(const Body& b) const;
   void rescue_fallen_bodies();
   void keep_above_bedrock(Body& b);
   void wake_bodies_over(const std::vector<terrain::ColumnRect>& changed);
