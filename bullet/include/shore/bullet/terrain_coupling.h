@@ -114,9 +114,15 @@ class TerrainCoupling : public btActionInterface {
   void remove_body(btRigidBody* body);
 
   void updateAction(btCollisionWorld* world, btScalar substep) override;
-  void debugDraw(btIDebugDraw*) override {}
+  /// Contact columns, soil reaction vectors and tile outlines, as the drawer's debug mode
+  /// bits ask (shore/bullet/debug_draw.h).
+  void debugDraw(btIDebugDraw* drawer) override;
 
   [[nodiscard]] const TerrainCouplingStats& stats() const noexcept { return stats_; }
+  [[nodiscard]] const TerrainCouplingSettings& settings() const noexcept { return settings_; }
+  /// The added bodies, in the order added.
+  [[nodiscard]] std::vector<btRigidBody*> bodies() const;
+  [[nodiscard]] btDiscreteDynamicsWorld& world() const noexcept { return world_; }
   [[nodiscard]] TerrainTiles& tiles() noexcept { return tiles_; }
   [[nodiscard]] terrain::Terrain& soil() noexcept { return soil_; }
 

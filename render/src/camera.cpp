@@ -1,0 +1,87 @@
+#include "shore/render/camera.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+
+namespace shore::render {
+namespace {
+double radians(double deg) { return deg * std::numbers::pi / 180.0; }
+}  // namespace
+
+Eigen::Vector3d OrbitCamera::eye() const {
+  const double yaw = radians(yaw_deg), pitch = radians(pitch_deg);
+  return target + distance * Eigen::Vector3d(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
+                                             std::sin(pitch));
+}
+
+Eigen::Matrix4f OrbitCamera::view() const {
+  const Eigen::Vector3d e = eye();
+  const Eigen::Vector3d f = (target - e).normalized();
+  Eigen::Vector3d s = f.cross(Eigen::Vector3d::UnitZ());
+  if (s.norm() < 1e-9) s = Eigen::Vector3d::UnitX();
+  s.normalize();
+  const Eigen::Vector3d u = s.cross(f);
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.block<1, 3>(0, 0) = s.transpose();
+  m.block<1, 3>(1, 0) = u.transpose();
+  m.block<1, 3>(2, 0) = -f.transpose();
+  m(0, 3) = -s.dot(e);
+  m(1, 3) = -u.dot(e);
+  m(2, 3) = f.dot(e);
+  return m.cast<float>();
+}
+
+Eigen::Matrix4f OrbitCamera::projection(double aspect) const {
+  const double n = std::max(distance * 0.01, 1e-3), f = distance * 50.0 + 50.0;
+  const double t = 1.0 / std::tan(radians(fov_deg) / 2.0);
+  Eigen::Matrix4d p = Eigen::Matrix4d::Zero();
+  p(0, 0) = t / aspect;
+  p(1, 1) = t;
+  p(2, 2) = (f + n) / (n - f);
+  p(2, 3) = 2.0 * f * n / (n - f);
+  p(3, 2) = -1.0;
+  return p.cast<float>();
+}
+
+Eigen::Vector3d OrbitCamera::ray(double ndc_x, double ndc_y, double aspect) const {
+  const Eigen::Vector3d e = eye();
+  const Eigen::Vector3d f = (target - e).normalized();
+  Eigen::Vector3d s = f.cross(Eigen::Vector3d::UnitZ());
+  if (s.norm() < 1e-9) s = Eigen::Vector3d::UnitX();
+  s.normalize();
+  const Eigen::Vector3d u = s.cross(f);
+  const double t = std::tan(radians(fov_deg) / 2.0);
+  return (f + s * (ndc_x * t * aspect) + u * (ndc_y * t)).normalized();
+}
+
+void OrbitCamera::orbit(double dx, double dy) {
+  yaw_deg -= 0.3 * dx;
+  pitch_deg = std::clamp(pitch_deg + 0.3 * dy, -89.0, 89.0);
+}
+
+void OrbitCamera::pan(double dx, double dy, double height) {
+  const Eigen::Vector3d e = eye();
+  const Eigen::Vector3d f = (target - e).normalized();
+  Eigen::Vector3d s = f.cross(Eigen::Vector3d::UnitZ());
+  if (s.norm() < 1e-9) s = Eigen::Vector3d::UnitX();
+  s.normalize();
+  const Eigen::Vector3d u = s.cross(f);
+  const double metres_per_pixel = 2.0 * distance * std::tan(radians(fov_deg) / 2.0) / std::max(height, 1.0);
+  target += (-dx * s + dy * u) * metres_per_pixel;
+}
+
+void OrbitCamera::zoom(double steps) { distance = std::clamp(distance * std::pow(0.9, steps), 0.05, 1e4); }
+
+OrbitCamera OrbitCamera::framing(const scenes::Bounds& b, double z) {
+  OrbitCamera c;
+  c.target = {0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1), z};
+  const double w = b.x1 - b.x0, h = b.y1 - b.y0;
+  // Far enough that the longer side fits the view's width with a little margin.
+  c.distance = std::max(0.9 * std::max(w, 1.6 * h) / (2.0 * std::tan(radians(c.fov_deg) / 2.0)) / 1.6, 0.5);
+  return c;
+}
+
+}  // namespace shore::render

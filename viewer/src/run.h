@@ -1,0 +1,27 @@
+#pragma once
+// The two ways shore-viewer runs: in a GLFW window with the Dear ImGui panels, or headless
+// (EGL, no display) for scripted frames and benchmarks.
+
+#include <filesystem>
+#include <string>
+
+namespace shore::viewer {
+
+struct RunOptions {
+  std::string scene = "vehicle";
+  int frames = 0;                    ///< 0: until the window closes (headless: 1)
+  std::filesystem::path script;      ///< scripted input (empty: none)
+  std::filesystem::path screenshot;  ///< the last frame's 3-D view as PNG (empty: none)
+  std::filesystem::path report;      ///< JSON: frame times, bytes uploaded, where the bodies are on screen
+  int width = 1280, height = 720;    ///< pixels of the 3-D view
+  bool smoke = false;                ///< the scene's smoke settings (small grids)
+  bool headless = false;             ///< EGL instead of a window
+  bool shadows = true;
+  int samples = 4;
+};
+
+/// Each returns the process exit code.
+int run_window(const RunOptions& options);
+int run_headless(const RunOptions& options);
+
+}  // namespace shore::viewer
