@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   app.add_option("--frames", o.frames, "exit after this many frames (0: when the window closes)")->check(CLI::NonNegativeNumber);
   app.add_option("--script", o.script, "scripted input, one action per line (docs/VIEWER.md)")->check(CLI::ExistingFile);
   app.add_option("--screenshot", o.screenshot, "write the last frame's 3-D view (no panels) as PNG");
+  app.add_option("--window-shot", o.window_shot, "write the last frame's whole window, panels included, as PNG");
   app.add_option("--report", o.report, "write frame times, bytes uploaded and body pixels as JSON");
   app.add_option("--width", o.width, "pixels")->check(CLI::Range(16, 8192))->capture_default_str();
   app.add_option("--height", o.height, "pixels")->check(CLI::Range(16, 8192))->capture_default_str();

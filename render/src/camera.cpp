@@ -75,12 +75,27 @@ void OrbitCamera::pan(double dx, double dy, double height) {
 
 void OrbitCamera::zoom(double steps) { distance = std::clamp(distance * std::pow(0.9, steps), 0.05, 1e4); }
 
-OrbitCamera OrbitCamera::framing(const scenes::Bounds& b, double z) {
+OrbitCamera OrbitCamera::framing(const scenes::Bounds& b, double z, double aspect) {
   OrbitCamera c;
   c.target = {0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1), z};
-  const double w = b.x1 - b.x0, h = b.y1 - b.y0;
-  // Far enough that the longer side fits the view's width with a little margin.
-  c.distance = std::max(0.9 * std::max(w, 1.6 * h) / (2.0 * std::tan(radians(c.fov_deg) / 2.0)) / 1.6, 0.5);
+  // The nearest eye (bisection on the distance) from which the four corners of the bounds
+  // lie inside the view with a small margin.
+  auto fits = [&](double d) {
+    c.distance = d;
+    const Eigen::Matrix4f m = c.projection(aspect) * c.view();
+    for (const double x : {b.x0, b.x1})
+      for (const double y : {b.y0, b.y1}) {
+        const Eigen::Vector4f p = m * Eigen::Vector4f(float(x), float(y), float(z), 1.0f);
+        if (p.w() <= 0 || std::abs(p.x() / p.w()) > 0.94 || std::abs(p.y() / p.w()) > 0.9) return false;
+      }
+    return true;
+  };
+  double lo = 0.05, hi = 1e4;
+  for (int k = 0; k < 60; ++k) {
+    const double mid = std::sqrt(lo * hi);
+    (fits(mid) ? hi : lo) = mid;
+  }
+  c.distance = hi;
   return c;
 }
 

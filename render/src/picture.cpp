@@ -60,7 +60,8 @@ scenes::Image scene_picture(scenes::Scene& scene, const PictureOptions& options)
     throw std::invalid_argument("render::scene_picture: the scene has no contents to draw");
   Headless& h = headless();
   h.renderer.set_contents(contents);
-  const OrbitCamera camera = options.camera.value_or(OrbitCamera::framing(contents.bounds));
+  const OrbitCamera camera = options.camera.value_or(
+      OrbitCamera::framing(contents.bounds, 0.0, double(std::max(options.width, 16)) / std::max(options.height, 16)));
   scenes::Image out = contents_picture(h.renderer, contents, camera, options);
   h.renderer.clear();  // the scene may go now
   return out;

@@ -26,8 +26,10 @@ vec3 lit(vec3 albedo, vec3 n, vec4 lp) {
 }
 vec3 sky_colour(vec3 dir) {
   float e = dir.z;
-  vec3 horizon = vec3(0.80, 0.86, 0.92), zenith = vec3(0.30, 0.50, 0.80), ground = vec3(0.55, 0.55, 0.52);
-  return e >= 0.0 ? mix(horizon, zenith, smoothstep(0.0, 0.7, e)) : mix(horizon, ground, smoothstep(0.0, 0.2, -e));
+  // Below the horizon a pale haze, darkening slowly: the pictures look down on the scene, so
+  // most of their background is this, and it must not read as ground.
+  vec3 horizon = vec3(0.80, 0.86, 0.92), zenith = vec3(0.30, 0.50, 0.80), haze = vec3(0.66, 0.71, 0.76);
+  return e >= 0.0 ? mix(horizon, zenith, smoothstep(0.0, 0.7, e)) : mix(horizon, haze, smoothstep(0.0, 0.8, -e));
 }
 )";
 

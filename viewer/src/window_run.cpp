@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <epoxy/gl.h>
 // GLFW after the loader's header; it must not include its own GL header.
@@ -16,6 +17,7 @@
 #include "report.h"
 #include "run.h"
 #include "session.h"
+#include "shore/scenes/image.h"
 
 namespace shore::viewer {
 namespace {
@@ -48,6 +50,21 @@ void handle_mouse(GLFWwindow* w, Session& s, Mouse& m, int width, int height) {
     }
   }
   m = {x, y, left, right, middle};
+}
+
+/// The window's back buffer (the 3-D view and the panels) as PNG.
+void write_back_buffer(const std::filesystem::path& file, int w, int h) {
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  scenes::Image im(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::uint8_t* p = &rgba[(static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) + x) * 4];
+      im.at(x, y) = {p[0], p[1], p[2]};
+    }
+  scenes::write_png(file, im);
 }
 
 double scroll_steps = 0.0;
@@ -106,6 +123,8 @@ int run_window(const RunOptions& o) {
       ImGui::Render();
       glViewport(0, 0, w, h);
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      const bool last = o.frames > 0 && f + 1 == o.frames;
+      if (last && !o.window_shot.empty()) write_back_buffer(o.window_shot, w, h);
       glfwSwapBuffers(window);
       report.frame(session, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }

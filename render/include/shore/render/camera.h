@@ -27,8 +27,9 @@ struct OrbitCamera {
   /// Scroll steps: each brings the eye 10 % closer (negative: farther).
   void zoom(double steps);
 
-  /// A camera that frames the bounds (their centre at height z, seen from the south-south-east).
-  static OrbitCamera framing(const scenes::Bounds& bounds, double z = 0.0);
+  /// The camera at the default yaw and pitch nearest to the bounds (at height z) that
+  /// shows all of them in a view of this aspect (width / height).
+  static OrbitCamera framing(const scenes::Bounds& bounds, double z = 0.0, double aspect = 16.0 / 9.0);
 };
 
 }  // namespace shore::render
