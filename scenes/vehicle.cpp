@@ -163,11 +163,12 @@ class Vehicle final : public Scene {
   Image film_frame() override { return soil_film_frame(patches_, frame_, baseline_, bodies_, o_.smoke ? 160 : 480); }
 
   SceneContents contents() override {
-    return {.world = &world_,
-            .soils = {{&sand_, sand_coupling_.get(), patches_[0].region}, {&mud_, mud_coupling_.get(), patches_[1].region}},
-            .bounds = {start_x_ - 1.2, -2.0, mud_x1_ + 1.5, 2.0},
-            .focus = chassis_,
-            .drive = [this](double forward, double turn) { drive(forward, turn); }};
+    return {
+        .world = &world_,
+        .soils = {{&sand_, sand_coupling_.get(), patches_[0].region}, {&mud_, mud_coupling_.get(), patches_[1].region}},
+        .bounds = {start_x_ - 1.2, -2.0, mud_x1_ + 1.5, 2.0},
+        .focus = chassis_,
+        .drive = [this](double forward, double turn) { drive(forward, turn); }};
   }
 
   void draw(Drawing& out) const override {

@@ -12,8 +12,10 @@ int main(int argc, char** argv) {
   shore::viewer::RunOptions o;
   CLI::App app{"shore-viewer: watch and play with Shore's scenes (docs/VIEWER.md)"};
   app.add_option("--scene", o.scene, "scene to open")->capture_default_str();
-  app.add_option("--frames", o.frames, "exit after this many frames (0: when the window closes)")->check(CLI::NonNegativeNumber);
-  app.add_option("--script", o.script, "scripted input, one action per line (docs/VIEWER.md)")->check(CLI::ExistingFile);
+  app.add_option("--frames", o.frames, "exit after this many frames (0: when the window closes)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--script", o.script, "scripted input, one action per line (docs/VIEWER.md)")
+      ->check(CLI::ExistingFile);
   app.add_option("--screenshot", o.screenshot, "write the last frame's 3-D view (no panels) as PNG");
   app.add_option("--window-shot", o.window_shot, "write the last frame's whole window, panels included, as PNG");
   app.add_option("--report", o.report, "write frame times, bytes uploaded and body pixels as JSON");

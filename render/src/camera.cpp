@@ -13,8 +13,8 @@ double radians(double deg) { return deg * std::numbers::pi / 180.0; }
 
 Eigen::Vector3d OrbitCamera::eye() const {
   const double yaw = radians(yaw_deg), pitch = radians(pitch_deg);
-  return target + distance * Eigen::Vector3d(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
-                                             std::sin(pitch));
+  return target +
+         distance * Eigen::Vector3d(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch));
 }
 
 Eigen::Matrix4f OrbitCamera::view() const {

@@ -159,7 +159,8 @@ void Layers::sync_water(WaterLayer& layer, FrameStats& stats) {
   layer.scale_height = layer.scale_velocity = layer.steepest = 0.0;
   for (int j = 0; j < s.ny(); ++j)
     for (int i = 0; i < s.nx(); ++i) {
-      const std::size_t k = static_cast<std::size_t>(j) * static_cast<std::size_t>(s.nx()) + static_cast<std::size_t>(i);
+      const std::size_t k =
+          static_cast<std::size_t>(j) * static_cast<std::size_t>(s.nx()) + static_cast<std::size_t>(i);
       const double h = s.height(i, j), v = s.vertical_velocity(i, j);
       rg[2 * k] = float(h);
       rg[2 * k + 1] = float(v);
@@ -193,7 +194,8 @@ void Layers::sync(FrameStats& stats) {
 void Layers::prepare(const RenderSettings& settings, FrameStats& stats) {
   settings_ = settings;
   double g = 0.0, w = 0.0, steep = 0.0;
-  for (const auto& s : soils_) g = std::max(g, settings.ground == GroundColour::sinkage ? s->max_sinkage : s->max_delta);
+  for (const auto& s : soils_)
+    g = std::max(g, settings.ground == GroundColour::sinkage ? s->max_sinkage : s->max_delta);
   for (const auto& s : waters_) {
     w = std::max(w, settings.water == WaterColour::velocity ? s->scale_velocity : s->scale_height);
     steep = std::max(steep, s->steepest);

@@ -214,8 +214,8 @@ void Renderer::Impl::draw_lines(const Mat4& view_proj, const LineBatch& batch) {
   stats.lines = static_cast<std::int64_t>(batch.line_count());
 }
 
-void Renderer::Impl::colour_pass(const OrbitCamera& camera, double aspect, const Mat4& light,
-                                 const RenderSettings& s, const LineBatch* batch) {
+void Renderer::Impl::colour_pass(const OrbitCamera& camera, double aspect, const Mat4& light, const RenderSettings& s,
+                                 const LineBatch* batch) {
   const Mat4 view_proj = camera.projection(aspect) * camera.view();
   glBindFramebuffer(GL_FRAMEBUFFER, msaa_fbo.get());
   glViewport(0, 0, width, height);

@@ -96,7 +96,6 @@ HeightGrid resample_body(const HeightGrid& g, const HeightGrid& like) {
   return r;
 }
 
-
 void min_max(const HeightGrid& g, double& lo, double& hi) {
   for (double v : g.z)
     if (std::isfinite(v)) {
@@ -163,7 +162,8 @@ Field make_field(const HeightGrid& heights, const ReliefStyle& style) {
 /// Adds a title strip above and the field's legend below a picture.
 Image frame_picture(const Image& picture, const std::string& title, const Field* field) {
   if (field == nullptr) return framed_picture(picture, title, nullptr);
-  const Legend legend{field->diverging ? Legend::Map::diverging : Legend::Map::height, field->legend_low, field->legend_mid, field->legend_high};
+  const Legend legend{field->diverging ? Legend::Map::diverging : Legend::Map::height, field->legend_low,
+                      field->legend_mid, field->legend_high};
   return framed_picture(picture, title, &legend);
 }
 
@@ -183,7 +183,8 @@ std::string format_length(double metres, bool signed_value) {
 }
 
 Legend deformation_legend(double scale) {
-  return {Legend::Map::diverging, format_length(-scale, true) + " lowered", "0", "raised " + format_length(scale, true)};
+  return {Legend::Map::diverging, format_length(-scale, true) + " lowered", "0",
+          "raised " + format_length(scale, true)};
 }
 
 namespace {

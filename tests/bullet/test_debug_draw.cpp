@@ -108,8 +108,9 @@ TEST(DebugDraw, BuoyancyCentreIsUnderTheFloatingBoxAndItsForceHoldsItsWeight) {
   shore::water::Surface pond(ss);
   shore::bullet::WaterCoupling coupling(world.world(), pond);
   const double side = 0.3, h = 0.1, ratio = 0.5;
-  btRigidBody* box = world.add_body(std::make_unique<btBoxShape>(btVector3(btScalar(side / 2), btScalar(side / 2), btScalar(h / 2))),
-                                    1000.0 * ratio * side * side * h, btVector3(0.1f, 0.05f, 0.0f));
+  btRigidBody* box =
+      world.add_body(std::make_unique<btBoxShape>(btVector3(btScalar(side / 2), btScalar(side / 2), btScalar(h / 2))),
+                     1000.0 * ratio * side * side * h, btVector3(0.1f, 0.05f, 0.0f));
   coupling.add_body(box);
   for (int k = 0; k < 480; ++k) world.step(1.0 / 240.0);
 

@@ -30,9 +30,7 @@ std::unique_ptr<shore::scenes::Scene> smoke_scene(const char* name, int substeps
   return scene;
 }
 
-double colour_distance(Rgb a, Rgb b) {
-  return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b);
-}
+double colour_distance(Rgb a, Rgb b) { return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b); }
 
 /// Distinct colours among the picture's pixels (coarsely binned): a blank picture has 1.
 int distinct_colours(const Image& im, int y0, int y1) {

@@ -25,7 +25,7 @@ void colour_bar(const Session& s) {
   const float w = ImGui::GetContentRegionAvail().x, h = 12.0f;
   for (int k = 0; k < 64; ++k) {
     const double t = k / 63.0;
-    const scenes::Rgb c = height_map ? scenes::height_colour(t)
+    const scenes::Rgb c = height_map  ? scenes::height_colour(t)
                           : water_map ? scenes::water_colour(2 * t - 1)
                                       : scenes::diverging_colour(2 * t - 1);
     d->AddRectFilled({p.x + w * k / 64, p.y}, {p.x + w * (k + 1) / 64 + 1, p.y + h}, IM_COL32(c.r, c.g, c.b, 255));
@@ -156,7 +156,8 @@ void Panels::tools_panel(Session& s) {
   if (ImGui::Button("save terrain")) {
     try {
       const auto files = s.save_soils("shore-viewer-soil");
-      message_ = files.empty() ? "no soil in this scene" : "wrote " + files.front().string() + (files.size() > 1 ? " ..." : "");
+      message_ = files.empty() ? "no soil in this scene"
+                               : "wrote " + files.front().string() + (files.size() > 1 ? " ..." : "");
     } catch (const std::exception& e) {
       message_ = e.what();
     }

@@ -39,7 +39,8 @@ void RunReport::write(const std::filesystem::path& file, const Session& s, int w
   j["frame_ms_median"] = median(frame_ms_);
   j["draw_ms_median"] = median(draw_ms_);
   // The first frame uploads every column; the steady state is what the later frames cost.
-  const std::vector<double> later(soil_bytes_.begin() + std::min<std::size_t>(1, soil_bytes_.size()), soil_bytes_.end());
+  const std::vector<double> later(soil_bytes_.begin() + std::min<std::size_t>(1, soil_bytes_.size()),
+                                  soil_bytes_.end());
   j["soil_bytes_first_frame"] = soil_bytes_.empty() ? 0.0 : soil_bytes_.front();
   j["soil_bytes_per_frame_mean"] = mean(later);
   j["soil_bytes_per_frame_max"] = later.empty() ? 0.0 : *std::max_element(later.begin(), later.end());

@@ -9,14 +9,14 @@ namespace shore::viewer {
 
 struct RunOptions {
   std::string scene = "vehicle";
-  int frames = 0;                    ///< 0: until the window closes (headless: 1)
-  std::filesystem::path script;      ///< scripted input (empty: none)
-  std::filesystem::path screenshot;  ///< the last frame's 3-D view as PNG (empty: none)
+  int frames = 0;                     ///< 0: until the window closes (headless: 1)
+  std::filesystem::path script;       ///< scripted input (empty: none)
+  std::filesystem::path screenshot;   ///< the last frame's 3-D view as PNG (empty: none)
   std::filesystem::path window_shot;  ///< the last frame's whole window, panels included (window only)
-  std::filesystem::path report;      ///< JSON: frame times, bytes uploaded, where the bodies are on screen
-  int width = 1280, height = 720;    ///< pixels of the 3-D view
-  bool smoke = false;                ///< the scene's smoke settings (small grids)
-  bool headless = false;             ///< EGL instead of a window
+  std::filesystem::path report;       ///< JSON: frame times, bytes uploaded, where the bodies are on screen
+  int width = 1280, height = 720;     ///< pixels of the 3-D view
+  bool smoke = false;                 ///< the scene's smoke settings (small grids)
+  bool headless = false;              ///< EGL instead of a window
   bool shadows = true;
   int samples = 4;
 };

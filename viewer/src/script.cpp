@@ -12,9 +12,9 @@ namespace {
 
 /// Words each verb takes.
 const std::map<std::string, std::size_t>& arity() {
-  static const std::map<std::string, std::size_t> a{{"key", 2},  {"drop", 3},   {"click", 3},   {"pause", 0},
-                                                    {"play", 0}, {"step", 0},   {"ground", 1},  {"water", 1},
-                                                    {"overlay", 2}};
+  static const std::map<std::string, std::size_t> a{{"key", 2},    {"drop", 3},  {"click", 3},
+                                                    {"pause", 0},  {"play", 0},  {"step", 0},
+                                                    {"ground", 1}, {"water", 1}, {"overlay", 2}};
   return a;
 }
 
@@ -43,7 +43,8 @@ std::vector<ScriptAction> read_script(const std::filesystem::path& file) {
                            "play, step, ground MODE, water MODE, overlay NAME on|off");
     out.push_back(a);
   }
-  std::stable_sort(out.begin(), out.end(), [](const ScriptAction& a, const ScriptAction& b) { return a.frame < b.frame; });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const ScriptAction& a, const ScriptAction& b) { return a.frame < b.frame; });
   return out;
 }
 

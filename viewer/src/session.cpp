@@ -142,8 +142,8 @@ void Session::drop(const std::string& shape, double x, double y) {
       renderer_ ? renderer_->pick(Eigen::Vector3d(x, y, 50.0), Eigen::Vector3d(0, 0, -1)) : std::nullopt;
   const double z = (hit ? hit->z() : 0.0) + 1.0 + drop_size;
   const double mass = drop_density * volume_of(shape, drop_size);
-  btRigidBody* body = contents_.world->add_body(make_shape(shape, drop_size), mass,
-                                                btVector3(btScalar(x), btScalar(y), btScalar(z)));
+  btRigidBody* body =
+      contents_.world->add_body(make_shape(shape, drop_size), mass, btVector3(btScalar(x), btScalar(y), btScalar(z)));
   body->setActivationState(DISABLE_DEACTIVATION);
   for (const scenes::SoilContents& s : contents_.soils)
     if (s.coupling != nullptr) s.coupling->add_body(body);
@@ -201,8 +201,8 @@ std::size_t Session::soil_memory_bytes() const {
 }
 
 Eigen::Vector2d Session::project(const Eigen::Vector3d& p, int width, int height) const {
-  const Eigen::Vector4f c =
-      camera.projection(double(width) / height) * camera.view() * Eigen::Vector4f(float(p.x()), float(p.y()), float(p.z()), 1.0f);
+  const Eigen::Vector4f c = camera.projection(double(width) / height) * camera.view() *
+                            Eigen::Vector4f(float(p.x()), float(p.y()), float(p.z()), 1.0f);
   if (c.w() <= 0) return {-1, -1};
   return {(c.x() / c.w() * 0.5 + 0.5) * width, (0.5 - c.y() / c.w() * 0.5) * height};
 }
@@ -211,11 +211,16 @@ void Session::apply(const ScriptAction& a) {
   auto on = [&](const std::string& w) { return w == "on" || w == "press"; };
   if (a.verb == "key") {
     const double v = on(a.args[1]) ? 1.0 : 0.0;
-    if (a.args[0] == "up") forward = v;
-    else if (a.args[0] == "down") forward = -v;
-    else if (a.args[0] == "left") turn = v;
-    else if (a.args[0] == "right") turn = -v;
-    else throw InvalidSetting("viewer.script line " + std::to_string(a.line), a.args[0], "up, down, left or right");
+    if (a.args[0] == "up")
+      forward = v;
+    else if (a.args[0] == "down")
+      forward = -v;
+    else if (a.args[0] == "left")
+      turn = v;
+    else if (a.args[0] == "right")
+      turn = -v;
+    else
+      throw InvalidSetting("viewer.script line " + std::to_string(a.line), a.args[0], "up, down, left or right");
   } else if (a.verb == "drop") {
     drop(a.args[0], std::stod(a.args[1]), std::stod(a.args[2]));
   } else if (a.verb == "click") {
@@ -241,12 +246,19 @@ void Session::apply(const ScriptAction& a) {
   } else if (a.verb == "overlay") {
     const bool v = on(a.args[1]);
     const std::string& n = a.args[0];
-    if (n == "contacts") overlays.contacts = v;
-    else if (n == "reactions") overlays.reactions = v;
-    else if (n == "buoyancy") overlays.buoyancy = v;
-    else if (n == "tiles") overlays.tiles = v;
-    else if (n == "soil_tiles") overlays.soil_tiles = v;
-    else throw InvalidSetting("viewer.script line " + std::to_string(a.line), n, "contacts, reactions, buoyancy, tiles, soil_tiles");
+    if (n == "contacts")
+      overlays.contacts = v;
+    else if (n == "reactions")
+      overlays.reactions = v;
+    else if (n == "buoyancy")
+      overlays.buoyancy = v;
+    else if (n == "tiles")
+      overlays.tiles = v;
+    else if (n == "soil_tiles")
+      overlays.soil_tiles = v;
+    else
+      throw InvalidSetting("viewer.script line " + std::to_string(a.line), n,
+                           "contacts, reactions, buoyancy, tiles, soil_tiles");
   }
 }
 

@@ -41,9 +41,12 @@ void handle_mouse(GLFWwindow* w, Session& s, Mouse& m, int width, int height) {
   const bool right = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
   const bool middle = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
   if (!ImGui::GetIO().WantCaptureMouse) {
-    const bool ctrl = glfwGetKey(w, GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS;
-    if (left && !m.left && ctrl) s.click(s.drop_shape, x, y, width, height);
-    else if (left && m.left && !ctrl) s.camera.orbit(x - m.x, y - m.y);
+    const bool ctrl =
+        glfwGetKey(w, GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS;
+    if (left && !m.left && ctrl)
+      s.click(s.drop_shape, x, y, width, height);
+    else if (left && m.left && !ctrl)
+      s.camera.orbit(x - m.x, y - m.y);
     if ((right && m.right) || (middle && m.middle)) {
       s.camera.pan(x - m.x, y - m.y, height);
       s.follow = false;

@@ -74,25 +74,25 @@ FrameFigures viewer_frames(render::Renderer& r, const std::string& name, int fra
 void run(const SweepContext& ctx, SweepResult& out) {
   std::string gl;
   {
-  render::HeadlessContext context;
-  gl = context.description();
-  render::Renderer renderer;
-  const int frames = ctx.quick ? 20 : 90;
-  Table& t = out.table("viewer_frames", {"scene", "render_ms_per_frame", "frame_ms", "soil_bytes_per_frame",
-                                         "whole_soil_bytes"});
-  for (const char* name : {"vehicle", "pond"}) {
-    ctx.progress(std::string(name) + ": " + std::to_string(frames) + " frames at 1280 x 720");
-    // The vehicle starts 2 m before the sand at up to 2 m/s: 2 s brings its front wheels onto it.
-    const FrameFigures f = viewer_frames(renderer, name, frames, std::string(name) == "vehicle" ? 2.0 : 0.5);
-    t.add({std::string(name), f.render_ms, f.frame_ms, f.bytes_per_frame, f.whole_bytes});
-    out.figure(std::string("viewer.") + name + "_render_ms_per_frame", f.render_ms, "ms");
-    out.figure(std::string("viewer.") + name + "_frame_ms", f.frame_ms, "ms");
-    if (f.whole_bytes > 0) {
-      out.figure(std::string("viewer.") + name + "_soil_bytes_per_frame", f.bytes_per_frame, "B");
-      out.figure(std::string("viewer.") + name + "_whole_soil_bytes", f.whole_bytes, "B");
-      out.figure(std::string("viewer.") + name + "_upload_share", f.bytes_per_frame / f.whole_bytes, "1");
+    render::HeadlessContext context;
+    gl = context.description();
+    render::Renderer renderer;
+    const int frames = ctx.quick ? 20 : 90;
+    Table& t = out.table("viewer_frames",
+                         {"scene", "render_ms_per_frame", "frame_ms", "soil_bytes_per_frame", "whole_soil_bytes"});
+    for (const char* name : {"vehicle", "pond"}) {
+      ctx.progress(std::string(name) + ": " + std::to_string(frames) + " frames at 1280 x 720");
+      // The vehicle starts 2 m before the sand at up to 2 m/s: 2 s brings its front wheels onto it.
+      const FrameFigures f = viewer_frames(renderer, name, frames, std::string(name) == "vehicle" ? 2.0 : 0.5);
+      t.add({std::string(name), f.render_ms, f.frame_ms, f.bytes_per_frame, f.whole_bytes});
+      out.figure(std::string("viewer.") + name + "_render_ms_per_frame", f.render_ms, "ms");
+      out.figure(std::string("viewer.") + name + "_frame_ms", f.frame_ms, "ms");
+      if (f.whole_bytes > 0) {
+        out.figure(std::string("viewer.") + name + "_soil_bytes_per_frame", f.bytes_per_frame, "B");
+        out.figure(std::string("viewer.") + name + "_whole_soil_bytes", f.whole_bytes, "B");
+        out.figure(std::string("viewer.") + name + "_upload_share", f.bytes_per_frame / f.whole_bytes, "1");
+      }
     }
-  }
   }  // the context goes before scene_picture makes its own
   // One headless picture of the vehicle scene at its start (its own context, as shore-demo makes it).
   ctx.progress("headless pictures");
@@ -106,15 +106,17 @@ void run(const SweepContext& ctx, SweepResult& out) {
   }
   out.figure("viewer.picture_first_ms", ms.front(), "ms");
   out.figure("viewer.picture_ms", median(std::vector<double>(ms.begin() + 1, ms.end())), "ms");
-  out.note("viewer: " + gl + ", headless; a frame is 1/60 s of the scene (its substeps) then "
+  out.note("viewer: " + gl +
+           ", headless; a frame is 1/60 s of the scene (its substeps) then "
            "the renderer's sync and draw at 1280 x 720 with 4x MSAA and a 2048^2 shadow map; soil bytes are "
            "what the changed-column uploads sent, against uploading every drawn column; the first picture "
            "includes the EGL context and shader compilation.");
 }
 
-const SweepRegistrar kRegistered{{.name = "viewer",
-                                  .description = "OpenGL renderer on llvmpipe: frame time, soil upload, headless picture",
-                                  .run = run}};
+const SweepRegistrar kRegistered{
+    {.name = "viewer",
+     .description = "OpenGL renderer on llvmpipe: frame time, soil upload, headless picture",
+     .run = run}};
 
 }  // namespace
 }  // namespace shore::bench

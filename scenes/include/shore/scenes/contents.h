@@ -47,8 +47,8 @@ struct SceneContents {
   World* world = nullptr;  ///< null: the scene has nothing to show live
   std::vector<SoilContents> soils;
   std::vector<WaterContents> waters;
-  Bounds bounds;                      ///< where the scene happens: soils are drawn inside it, the camera frames it
-  const btRigidBody* focus = nullptr; ///< what the camera follows (null: the bounds' centre)
+  Bounds bounds;                       ///< where the scene happens: soils are drawn inside it, the camera frames it
+  const btRigidBody* focus = nullptr;  ///< what the camera follows (null: the bounds' centre)
   /// Drives the scene's vehicle: forward and turn in [-1, 1] (0, 0: the scene's own
   /// script). Empty: nothing to drive.
   std::function<void(double forward, double turn)> drive;

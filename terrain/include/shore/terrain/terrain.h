@@ -138,7 +138,7 @@ class Terrain {
   [[nodiscard]] double column_y(std::int64_t j) const;
 
   // ---- state of one column ----
-  [[nodiscard]] double height(std::int64_t i, std::int64_t j) const;   ///< collision surface, m
+  [[nodiscard]] double height(std::int64_t i, std::int64_t j) const;  ///< collision surface, m
   /// Plastic sinkage, m: how far the column's firm soil has been pressed below its
   /// uncompacted level; negative by the height of loose soil that displacement or erosion
   /// laid on it (loose soil bears nothing until pressed back to the firm level).
