@@ -6,6 +6,7 @@
 
 #include <BulletCollision/CollisionDispatch/btCollisionObject.h>
 
+#include "coupling_util.h"
 #include "shore/bullet/debug_draw.h"
 #include "shore/bullet/envelope.h"
 #include "shore/bullet/terrain_coupling.h"
@@ -98,12 +99,7 @@ void draw_tile_outline(btIDebugDraw& d, const terrain::Terrain& soil, const btCo
 
 }  // namespace
 
-std::vector<btRigidBody*> TerrainCoupling::bodies() const {
-  std::vector<btRigidBody*> out;
-  out.reserve(bodies_.size());
-  for (const Body& b : bodies_) out.push_back(b.body);
-  return out;
-}
+std::vector<btRigidBody*> TerrainCoupling::bodies() const { return coupling_detail::body_pointers(bodies_); }
 
 void TerrainCoupling::debugDraw(btIDebugDraw* drawer) {
   if (drawer == nullptr) return;

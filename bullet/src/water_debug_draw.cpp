@@ -2,6 +2,7 @@
 // drawn from what the coupling exposes (its bodies, surface, settings).
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
+#include "coupling_util.h"
 #include "shore/bullet/buoyancy.h"
 #include "shore/bullet/debug_draw.h"
 #include "shore/bullet/envelope.h"
@@ -43,12 +44,7 @@ void draw_outline(btIDebugDraw& d, const water::Surface& s) {
 
 }  // namespace
 
-std::vector<btRigidBody*> WaterCoupling::bodies() const {
-  std::vector<btRigidBody*> out;
-  out.reserve(bodies_.size());
-  for (const Body& b : bodies_) out.push_back(b.body);
-  return out;
-}
+std::vector<btRigidBody*> WaterCoupling::bodies() const { return coupling_detail::body_pointers(bodies_); }
 
 void WaterCoupling::debugDraw(btIDebugDraw* drawer) {
   if (drawer == nullptr) return;

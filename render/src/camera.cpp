@@ -9,7 +9,32 @@
 namespace shore::render {
 namespace {
 double radians(double deg) { return deg * std::numbers::pi / 180.0; }
+
+/// The view's forward, side (right) and up directions looking from eye to target (Z up;
+/// straight down, the side is +x).
+struct Axes {
+  Eigen::Vector3d forward, side, up;
+};
+Axes axes(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
+  const Eigen::Vector3d f = (target - eye).normalized();
+  Eigen::Vector3d s = f.cross(Eigen::Vector3d::UnitZ());
+  if (s.norm() < 1e-9) s = Eigen::Vector3d::UnitX();
+  s.normalize();
+  return {f, s, s.cross(f)};
+}
 }  // namespace
+
+Eigen::Matrix4f look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
+  const Axes a = axes(eye, target);
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.block<1, 3>(0, 0) = a.side.transpose();
+  m.block<1, 3>(1, 0) = a.up.transpose();
+  m.block<1, 3>(2, 0) = -a.forward.transpose();
+  m(0, 3) = -a.side.dot(eye);
+  m(1, 3) = -a.up.dot(eye);
+  m(2, 3) = a.forward.dot(eye);
+  return m.cast<float>();
+}
 
 Eigen::Vector3d OrbitCamera::eye() const {
   const double yaw = radians(yaw_deg), pitch = radians(pitch_deg);
@@ -17,22 +42,7 @@ Eigen::Vector3d OrbitCamera::eye() const {
          distance * Eigen::Vector3d(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch));
 }
 
-Eigen::Matrix4f OrbitCamera::view() const {
-  const Eigen::Vector3d e = eye();
-  const Eigen::Vector3d f = (target - e).normalized();
-  Eigen::Vector3d s = f.cross(Eigen::Vector3d::UnitZ());
-  if (s.norm() < 1e-9) s = Eigen::Vector3d::UnitX();
-  s.normalize();
-  const Eigen::Vector3d u = s.cross(f);
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  m.block<1, 3>(0, 0) = s.transpose();
-  m.block<1, 3>(1, 0) = u.transpose();
-  m.block<1, 3>(2, 0) = -f.transpose();
-  m(0, 3) = -s.dot(e);
-  m(1, 3) = -u.dot(e);
-  m(2, 3) = f.dot(e);
-  return m.cast<float>();
-}
+Eigen::Matrix4f OrbitCamera::view() const { return look_at(eye(), target); }
 
 Eigen::Matrix4f OrbitCamera::projection(double aspect) const {
   const double n = std::max(distance * 0.01, 1e-3), f = distance * 50.0 + 50.0;
@@ -47,14 +57,9 @@ Eigen::Matrix4f OrbitCamera::projection(double aspect) const {
 }
 
 Eigen::Vector3d OrbitCamera::ray(double ndc_x, double ndc_y, double aspect) const {
-  const Eigen::Vector3d e = eye();
-  const Eigen::Vector3d f = (target - e).normalized();
-  Eigen::Vector3d s = f.cross(Eigen::Vector3d::UnitZ());
-  if (s.norm() < 1e-9) s = Eigen::Vector3d::UnitX();
-  s.normalize();
-  const Eigen::Vector3d u = s.cross(f);
+  const Axes a = axes(eye(), target);
   const double t = std::tan(radians(fov_deg) / 2.0);
-  return (f + s * (ndc_x * t * aspect) + u * (ndc_y * t)).normalized();
+  return (a.forward + a.side * (ndc_x * t * aspect) + a.up * (ndc_y * t)).normalized();
 }
 
 void OrbitCamera::orbit(double dx, double dy) {
@@ -63,14 +68,9 @@ void OrbitCamera::orbit(double dx, double dy) {
 }
 
 void OrbitCamera::pan(double dx, double dy, double height) {
-  const Eigen::Vector3d e = eye();
-  const Eigen::Vector3d f = (target - e).normalized();
-  Eigen::Vector3d s = f.cross(Eigen::Vector3d::UnitZ());
-  if (s.norm() < 1e-9) s = Eigen::Vector3d::UnitX();
-  s.normalize();
-  const Eigen::Vector3d u = s.cross(f);
+  const Axes a = axes(eye(), target);
   const double metres_per_pixel = 2.0 * distance * std::tan(radians(fov_deg) / 2.0) / std::max(height, 1.0);
-  target += (-dx * s + dy * u) * metres_per_pixel;
+  target += (-dx * a.side + dy * a.up) * metres_per_pixel;
 }
 
 void OrbitCamera::zoom(double steps) { distance = std::clamp(distance * std::pow(0.9, steps), 0.05, 1e4); }

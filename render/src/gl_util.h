@@ -57,30 +57,22 @@ using Framebuffer = Name<delete_framebuffers>;
 using Renderbuffer = Name<delete_renderbuffers>;
 using Program = Name<delete_program>;
 
-inline Buffer make_buffer() {
+/// A new GL name made by a glGen* function (count, names), owned.
+template <class Owner, void (*Generate)(GLsizei, GLuint*)>
+Owner make() {
   GLuint id = 0;
-  glGenBuffers(1, &id);
-  return Buffer(id);
+  Generate(1, &id);
+  return Owner(id);
 }
-inline VertexArray make_vertex_array() {
-  GLuint id = 0;
-  glGenVertexArrays(1, &id);
-  return VertexArray(id);
-}
-inline Texture make_texture() {
-  GLuint id = 0;
-  glGenTextures(1, &id);
-  return Texture(id);
-}
-inline Framebuffer make_framebuffer() {
-  GLuint id = 0;
-  glGenFramebuffers(1, &id);
-  return Framebuffer(id);
-}
-inline Renderbuffer make_renderbuffer() {
-  GLuint id = 0;
-  glGenRenderbuffers(1, &id);
-  return Renderbuffer(id);
-}
+inline void gen_buffers(GLsizei n, GLuint* p) { glGenBuffers(n, p); }
+inline void gen_vertex_arrays(GLsizei n, GLuint* p) { glGenVertexArrays(n, p); }
+inline void gen_textures(GLsizei n, GLuint* p) { glGenTextures(n, p); }
+inline void gen_framebuffers(GLsizei n, GLuint* p) { glGenFramebuffers(n, p); }
+inline void gen_renderbuffers(GLsizei n, GLuint* p) { glGenRenderbuffers(n, p); }
+inline Buffer make_buffer() { return make<Buffer, gen_buffers>(); }
+inline VertexArray make_vertex_array() { return make<VertexArray, gen_vertex_arrays>(); }
+inline Texture make_texture() { return make<Texture, gen_textures>(); }
+inline Framebuffer make_framebuffer() { return make<Framebuffer, gen_framebuffers>(); }
+inline Renderbuffer make_renderbuffer() { return make<Renderbuffer, gen_renderbuffers>(); }
 
 }  // namespace shore::render::gl

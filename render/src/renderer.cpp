@@ -23,21 +23,6 @@ namespace {
 
 constexpr int kShadowSize = 2048;
 
-Mat4 look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
-  const Eigen::Vector3d f = (target - eye).normalized();
-  Eigen::Vector3d s = f.cross(std::abs(f.z()) < 0.99 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY());
-  s.normalize();
-  const Eigen::Vector3d u = s.cross(f);
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  m.block<1, 3>(0, 0) = s.transpose();
-  m.block<1, 3>(1, 0) = u.transpose();
-  m.block<1, 3>(2, 0) = -f.transpose();
-  m(0, 3) = -s.dot(eye);
-  m(1, 3) = -u.dot(eye);
-  m(2, 3) = f.dot(eye);
-  return m.cast<float>();
-}
-
 Mat4 ortho(double r, double n, double f) {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   m(0, 0) = 1.0 / r;
@@ -112,8 +97,10 @@ struct Renderer::Impl {
 };
 
 Renderer::Impl::Impl() {
-  terrain = gl::program(shaders::kFieldVertex, lit_fragment(shaders::kTerrainFragment), "terrain");
-  water = gl::program(shaders::kFieldVertex, lit_fragment(shaders::kWaterFragment), "water");
+  const std::string field_inputs = shaders::kFieldFragmentInputs;
+  terrain =
+      gl::program(shaders::kFieldVertex, lit_fragment((field_inputs + shaders::kTerrainFragment).c_str()), "terrain");
+  water = gl::program(shaders::kFieldVertex, lit_fragment((field_inputs + shaders::kWaterFragment).c_str()), "water");
   mesh = gl::program(shaders::kMeshVertex, lit_fragment(shaders::kMeshFragment), "mesh");
   field_depth = gl::program(shaders::kFieldVertex, shaders::kDepthFragment, "field depth");
   mesh_depth = gl::program(shaders::kMeshVertex, shaders::kDepthFragment, "mesh depth");

@@ -33,6 +33,20 @@ vec3 sky_colour(vec3 dir) {
 }
 )";
 
+/// What the field vertex shader hands the terrain and water fragment shaders, and the
+/// colour maps (rows: 0 diverging, 1 height, 2 water).
+inline constexpr const char* kFieldFragmentInputs = R"(
+in vec3 vPos;
+in vec3 vNormal;
+in float vValue;
+in float vDelta;
+in vec2 vColumn;
+in vec4 vLight;
+out vec4 oColour;
+uniform sampler2D uLut;
+vec3 lut(float row, float t) { return texture(uLut, vec2(clamp(t, 0.0, 1.0) * (255.0 / 256.0) + 0.5 / 256.0, (row + 0.5) / 3.0)).rgb; }
+)";
+
 /// A height field drawn in tiles: cell (a, b) of the tile at uTileOrigin, heights (r) and a
 /// second value (g) in uField, untouched heights in uBase.
 inline constexpr const char* kFieldVertex = R"(
@@ -70,21 +84,12 @@ void main() {
 )";
 
 inline constexpr const char* kTerrainFragment = R"(
-in vec3 vPos;
-in vec3 vNormal;
-in float vValue;
-in float vDelta;
-in vec2 vColumn;
-in vec4 vLight;
-out vec4 oColour;
 uniform int uMode;            // 0 natural, 1 deformation, 2 sinkage, 3 height
 uniform float uScale;
 uniform vec2 uHeightRange;
 uniform vec3 uTint;
 uniform int uTileColumns;     // 0: no tile borders
 uniform ivec2 uFirstColumn;   // global index of texel (0, 0)
-uniform sampler2D uLut;       // rows: 0 diverging, 1 height, 2 water
-vec3 lut(float row, float t) { return texture(uLut, vec2(clamp(t, 0.0, 1.0) * (255.0 / 256.0) + 0.5 / 256.0, (row + 0.5) / 3.0)).rgb; }
 void main() {
   vec3 n = normalize(vNormal);
   vec3 albedo = uTint;
@@ -103,18 +108,9 @@ void main() {
 )";
 
 inline constexpr const char* kWaterFragment = R"(
-in vec3 vPos;
-in vec3 vNormal;
-in float vValue;
-in float vDelta;
-in vec2 vColumn;
-in vec4 vLight;
-out vec4 oColour;
 uniform int uMode;            // 0 natural, 1 height, 2 vertical velocity
 uniform float uScale;
 uniform vec3 uEye;
-uniform sampler2D uLut;
-vec3 lut(float row, float t) { return texture(uLut, vec2(clamp(t, 0.0, 1.0) * (255.0 / 256.0) + 0.5 / 256.0, (row + 0.5) / 3.0)).rgb; }
 void main() {
   vec3 n = normalize(vNormal);
   vec3 v = normalize(uEye - vPos);

@@ -11,11 +11,8 @@ namespace shore::viewer {
 
 int run_headless(const RunOptions& o) {
   render::HeadlessContext context;
-  Session session(o.scene, o.smoke);
-  session.attach_renderer();
-  session.settings.shadows = o.shadows;
-  session.settings.samples = o.samples;
-  if (!o.script.empty()) session.set_script(read_script(o.script));
+  const std::unique_ptr<Session> started = start_session(o);
+  Session& session = *started;
   RunReport report;
   const int frames = o.frames > 0 ? o.frames : 1;
   for (int f = 0; f < frames; ++f) {
@@ -24,8 +21,7 @@ int run_headless(const RunOptions& o) {
     session.draw(o.width, o.height);
     report.frame(session, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
   }
-  if (!o.screenshot.empty()) session.screenshot(o.screenshot);
-  if (!o.report.empty()) report.write(o.report, session, o.width, o.height);
+  finish_run(session, report, o, o.width, o.height);
   std::printf("shore-viewer: %s, %d frames headless (%s)\n", o.scene.c_str(), frames, context.description().c_str());
   return 0;
 }

@@ -3,6 +3,7 @@
 // (EGL, no display) for scripted frames and benchmarks.
 
 #include <filesystem>
+#include <memory>
 #include <string>
 
 namespace shore::viewer {
@@ -20,6 +21,15 @@ struct RunOptions {
   bool shadows = true;
   int samples = 4;
 };
+
+class Session;
+class RunReport;
+
+/// The session both runs start: the scene, the renderer (a GL context must be current),
+/// shadows, samples and the script.
+std::unique_ptr<Session> start_session(const RunOptions& options);
+/// What both runs write at the end: the screenshot and the report (a width x height view).
+void finish_run(const Session& session, const RunReport& report, const RunOptions& options, int width, int height);
 
 /// Each returns the process exit code.
 int run_window(const RunOptions& options);

@@ -97,11 +97,8 @@ int run_window(const RunOptions& o) {
   ImGui_ImplOpenGL3_Init("#version 330 core");
   int code = 0;
   {
-    Session session(o.scene, o.smoke);
-    session.attach_renderer();
-    session.settings.shadows = o.shadows;
-    session.settings.samples = o.samples;
-    if (!o.script.empty()) session.set_script(read_script(o.script));
+    const std::unique_ptr<Session> started = start_session(o);
+    Session& session = *started;
     Panels panels;
     RunReport report;
     Mouse mouse;
@@ -131,12 +128,9 @@ int run_window(const RunOptions& o) {
       glfwSwapBuffers(window);
       report.frame(session, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
-    if (!o.screenshot.empty()) session.screenshot(o.screenshot);
-    if (!o.report.empty()) {
-      int w = 0, h = 0;
-      glfwGetFramebufferSize(window, &w, &h);
-      report.write(o.report, session, w, h);
-    }
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(window, &w, &h);
+    finish_run(session, report, o, w, h);
     std::printf("shore-viewer: %s, %d frames\n", o.scene.c_str(), session.frame());
   }
   ImGui_ImplOpenGL3_Shutdown();

@@ -8,6 +8,9 @@
 
 namespace shore::render {
 
+/// The view matrix of an eye looking at a target (Z up; straight down, +x is to the right).
+Eigen::Matrix4f look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
+
 struct OrbitCamera {
   Eigen::Vector3d target{0.0, 0.0, 0.0};  ///< m, the point looked at
   double yaw_deg = -70.0;                 ///< azimuth of the eye about the target, degrees from +x (counter-clockwise)

@@ -45,13 +45,13 @@ inline Bounds bounds_of(const HeightGrid& g) { return {g.x0, g.y0, g.x(g.nx - 1)
 
 struct SceneContents {
   World* world = nullptr;  ///< null: the scene has nothing to show live
-  std::vector<SoilContents> soils;
-  std::vector<WaterContents> waters;
-  Bounds bounds;                       ///< where the scene happens: soils are drawn inside it, the camera frames it
+  std::vector<SoilContents> soils = {};
+  std::vector<WaterContents> waters = {};
+  Bounds bounds = {};                  ///< where the scene happens: soils are drawn inside it, the camera frames it
   const btRigidBody* focus = nullptr;  ///< what the camera follows (null: the bounds' centre)
   /// Drives the scene's vehicle: forward and turn in [-1, 1] (0, 0: the scene's own
   /// script). Empty: nothing to drive.
-  std::function<void(double forward, double turn)> drive;
+  std::function<void(double forward, double turn)> drive = {};
 };
 
 }  // namespace shore::scenes
