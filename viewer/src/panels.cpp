@@ -68,6 +68,7 @@ void Panels::scene_panel(Session& s) {
       if (ImGui::Selectable(n.c_str(), n == s.scene_name())) {
         s.open(n);
         alpha_ = -1.0f;
+        substep_ = 0;
       }
     ImGui::EndCombo();
   }
@@ -75,9 +76,13 @@ void Panels::scene_panel(Session& s) {
   ImGui::SameLine();
   if (ImGui::Button("step")) s.single_step();
   ImGui::SameLine();
-  if (ImGui::Button("restart")) s.open(s.scene_name());
+  if (ImGui::Button("restart")) s.open(s.scene_name(), s.options().substep);
   float scale = float(s.time_scale);
   if (ImGui::SliderFloat("time scale", &scale, 0.05f, 4.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) s.time_scale = scale;
+  // The substep: the scene restarts with it (the physics of a run depends on it).
+  const double substeps[] = {0.0, 1.0 / 120, 1.0 / 240, 1.0 / 480, 1.0 / 960};
+  const char* substep_names[] = {"scene default", "1/120 s", "1/240 s", "1/480 s", "1/960 s"};
+  if (ImGui::Combo("substep", &substep_, substep_names, 5)) s.open(s.scene_name(), substeps[substep_]);
   ImGui::Text("substep %.3g ms (%d per frame), t = %.2f s", 1e3 * s.options().substep,
               std::max(1, int(s.frame_seconds * s.time_scale / s.options().substep + 0.5)), s.sim_time());
   if (s.contents().drive) ImGui::TextUnformatted("arrow keys drive the vehicle");

@@ -20,6 +20,7 @@ class Panels {
   void tools_panel(Session& s);
   std::string message_;
   int material_ = 0;
+  int substep_ = 0;  // index into the substep choices (0: the scene's default)
   float alpha_ = -1.0f;
   int shots_ = 0;
 };

@@ -41,7 +41,7 @@ Session::~Session() {
   if (renderer_) renderer_->clear();
 }
 
-void Session::open(const std::string& name) {
+void Session::open(const std::string& name, double substep) {
   const scenes::SceneType* type = scenes::find_scene(name);
   if (type == nullptr) throw InvalidSetting("viewer.scene", name, "one of the scenes (shore-demo --help)");
   if (renderer_) renderer_->clear();
@@ -50,6 +50,7 @@ void Session::open(const std::string& name) {
   o.smoke = smoke_;
   o.write_files = false;
   o.threads = 1;
+  o.substep = substep;
   options_ = scenes::resolve(*type, o);
   options_.seconds = 1e6;  // the viewer runs until closed
   scene_ = type->create(options_);

@@ -38,7 +38,8 @@ class Session {
   Session(const std::string& scene, bool smoke);
   ~Session();
 
-  void open(const std::string& scene);
+  /// Opens a scene afresh; substep (s, > 0) overrides the scene's (0: its default).
+  void open(const std::string& scene, double substep = 0.0);
   [[nodiscard]] const std::string& scene_name() const noexcept { return name_; }
   [[nodiscard]] scenes::Scene& scene() { return *scene_; }
   [[nodiscard]] const scenes::SceneContents& contents() const noexcept { return contents_; }
