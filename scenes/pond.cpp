@@ -226,6 +226,11 @@ class Pond final : public Scene {
     return render_water_scene(pond_, overlay_, 0.0, "", o_.smoke ? 160 : 480);
   }
 
+  SceneContents contents() override {
+    const double half = 0.5 * kExtent;
+    return {.world = &world_, .waters = {{&pond_, &coupling_}}, .bounds = {-half, -half, half, half}};
+  }
+
   void draw(Drawing& out) const override {
     out.png("water.png", render_water_scene(pond_, overlay_, 0.0, "pond: water at the end"));
     out.filmstrip();

@@ -79,6 +79,7 @@ class Vehicle final : public Scene {
     chassis_ = v.chassis;
     bodies_.push_back(chassis_);
     for (btRigidBody* wheel : v.wheels) bodies_.push_back(wheel);
+    for (btHingeConstraint* hinge : v.hinges) hinges_.push_back(hinge);
     x_ = chassis_->getCenterOfMassPosition().x();
   }
 
@@ -144,6 +145,15 @@ class Vehicle final : public Scene {
 
   Image film_frame() override { return soil_film_frame(patches_, frame_, baseline_, bodies_, o_.smoke ? 160 : 480); }
 
+  SceneContents contents() override {
+    return {
+        .world = &world_,
+        .soils = {{&sand_, sand_coupling_.get(), patches_[0].region}, {&mud_, mud_coupling_.get(), patches_[1].region}},
+        .bounds = {start_x_ - 1.2, -2.0, mud_x1_ + 1.5, 2.0},
+        .focus = chassis_,
+        .drive = [this](double forward, double turn) { drive(forward, turn); }};
+  }
+
   void draw(Drawing& out) const override {
     const HeightGrid heights = sample(patches_, frame_, Field::height);
     const BodyEnvelopes bodies = body_envelopes(bodies_, frame_);
@@ -162,6 +172,18 @@ class Vehicle final : public Scene {
   }
 
  private:
+  /// Skid steering: each side's wheels aim at (forward -+ turn) times the target speed
+  /// (left wheels first in mounts); (0, 0) restores the scene's own straight drive.
+  void drive(double forward, double turn) {
+    if (forward == 0.0 && turn == 0.0) forward = 1.0;
+    for (std::size_t w = 0; w < hinges_.size(); ++w) {
+      const double side = w % 2 == 0 ? forward - turn : forward + turn;  // mounts alternate left, right
+      hinges_[w]->enableAngularMotor(true, btScalar(-kTargetSpeed * std::clamp(side, -1.5, 1.5) / kWheelRadius),
+                                     btScalar(FourWheelerSettings{}.motor_torque * o_.substep));
+    }
+    chassis_->activate(true);
+  }
+
   SceneOptions o_;
   double start_x_, sand_x1_, mud_x1_;  // m: the chassis centre at the start; strip edges (sand from x = 0)
   World world_;
@@ -170,6 +192,7 @@ class Vehicle final : public Scene {
   std::vector<Patch> patches_;
   HeightGrid frame_, baseline_;
   btRigidBody* chassis_ = nullptr;
+  std::vector<btHingeConstraint*> hinges_;  // wheel motors, in mount order
   std::vector<const btRigidBody*> bodies_;  // chassis, then the wheels
   RunStats times_;                          // Shore's share of the substeps (both soils)
   double x_ = 0.0;                          // chassis x after the last substep

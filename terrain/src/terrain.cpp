@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <span>
+#include <string>
 #include <utility>
 
 #include "capacity_bytes.h"
@@ -37,6 +38,17 @@ Terrain::Terrain(Terrain&&) noexcept = default;
 Terrain& Terrain::operator=(Terrain&&) noexcept = default;
 
 const TerrainSettings& Terrain::settings() const noexcept { return impl_->s; }
+
+void Terrain::set_material(const Material& material) {
+  material.validate();
+  const Material& now = impl_->s.material;
+  if (material.soil_depth != now.soil_depth)
+    throw InvalidSetting("Terrain::set_material.soil_depth", std::to_string(material.soil_depth),
+                         "the present soil_depth (" + std::to_string(now.soil_depth) + " m)");
+  if (material.rigid != now.rigid)
+    throw InvalidSetting("Terrain::set_material.rigid", material.rigid ? "true" : "false", "the present rigid flag");
+  impl_->s.material = material;
+}
 
 // ---- grid geometry -------------------------------------------------------------------
 

@@ -149,11 +149,17 @@ class TerrainCoupling : public btActionInterface {
   void remove_body(btRigidBody* body);
 
   void updateAction(btCollisionWorld* world, btScalar substep) override;
-  void debugDraw(btIDebugDraw*) override {}
+  /// Contact columns, soil reaction vectors and tile outlines, as the drawer's debug mode
+  /// bits ask (shore/bullet/debug_draw.h).
+  void debugDraw(btIDebugDraw* drawer) override;
 
   [[nodiscard]] const TerrainCouplingStats& stats() const noexcept { return stats_; }
   /// The soil's force and torque on an added body in the last substep (zero for others).
   [[nodiscard]] SoilForce soil_force(const btRigidBody* body) const;
+  [[nodiscard]] const TerrainCouplingSettings& settings() const noexcept { return settings_; }
+  /// The added bodies, in the order added.
+  [[nodiscard]] std::vector<btRigidBody*> bodies() const;
+  [[nodiscard]] btDiscreteDynamicsWorld& world() const noexcept { return world_; }
   [[nodiscard]] TerrainTiles& tiles() noexcept { return tiles_; }
   [[nodiscard]] terrain::Terrain& soil() noexcept { return soil_; }
 
