@@ -22,11 +22,13 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Bisections of the footprint's edge between a covered and an uncovered column centre: the
 // edge to 1/64 of a cell (the midpoint of a 1/32 bracket), so a plate's area does not depend on where its edges fall.
 constexpr int kEdgeBisections = 5;
-// The four axis directions: +x, -x, +y, -y.
+// Underside slopes beyond this (87 degrees: the sides of a ball or a wheel seen from above)
+// are capped, so the plan area over the normal's vertical share stays finite.
 constexpr double kMaxSlope = 20.0;
 // One-sided slopes further apart than half the larger plus this meet at an edge, not on a
 // smooth surface (a 0.3 m wheel's slopes at 1 cm differ by 0.03 near its bottom).
 constexpr double kCreaseSlope = 0.1;
+// The four axis directions: +x, -x, +y, -y.
 constexpr int kSx[4] = {1, -1, 0, 0};
 constexpr int kSy[4] = {0, 0, 1, -1};
 
@@ -199,8 +201,6 @@ class PatchBuilder {
         return 0.5 * (s_up + s_down);
       return std::fabs(s_up) < std::fabs(s_down) ? s_up : s_down;
     };
-    // Slopes beyond 20 (87 degrees, the sides of a ball or a wheel seen from above) are
-    // capped: the plan area over the normal's vertical share stays finite.
     const double gx = std::clamp(slope(1, 0), -kMaxSlope, kMaxSlope),
                  gy = std::clamp(slope(0, 1), -kMaxSlope, kMaxSlope);
     const double norm = std::sqrt(gx * gx + gy * gy + 1.0);
