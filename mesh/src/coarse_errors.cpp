@@ -37,8 +37,12 @@ double ChunkedMesh::Impl::coarse_error(const Tri& t) {
 
 double ChunkedMesh::Impl::bound_over(const std::array<Node, 3>& piece, const detail::Interpolant& l, Node origin,
                                      std::int64_t side) {
-  const double i1 = static_cast<double>(std::min(origin.i + side, dom.ni - 1));
-  const double j1 = static_cast<double>(std::min(origin.j + side, dom.nj - 1));
+  const std::int64_t bi1 = std::min(origin.i + side, dom.ni - 1), bj1 = std::min(origin.j + side, dom.nj - 1);
+  if (std::max({piece[0].i, piece[1].i, piece[2].i}) < origin.i ||
+      std::min({piece[0].i, piece[1].i, piece[2].i}) > bi1 ||
+      std::max({piece[0].j, piece[1].j, piece[2].j}) < origin.j || std::min({piece[0].j, piece[1].j, piece[2].j}) > bj1)
+    return 0.0;  // clear of the square
+  const double i1 = static_cast<double>(bi1), j1 = static_cast<double>(bj1);
   std::array<std::array<double, 2>, 9> poly;
   const int n = detail::clip_polygon(piece, static_cast<double>(origin.i), static_cast<double>(origin.j), i1, j1, poly);
   if (n == 0) return 0.0;

@@ -69,6 +69,8 @@ void ChunkedMesh::Impl::collect(const Tri& t, std::map<std::uint64_t, int>& reac
 
 void ChunkedMesh::Impl::fine_leaves(std::uint64_t index, const detail::Signature& sig, std::vector<Tri>& out) const {
   const Node o = chunk_origin(index);
+  const auto found = data.find(index);
+  const std::vector<float>* f = found == data.end() ? nullptr : &found->second.f;
   std::array<Tri, 2> halves;
   const int n = detail::diamond({o.i + C / 2, o.j + C / 2}, S, halves);
   std::vector<Tri> stack;
@@ -93,7 +95,7 @@ void ChunkedMesh::Impl::fine_leaves(std::uint64_t index, const detail::Signature
               d = std::min(d, sig.distance[static_cast<std::size_t>(dx + 1)][static_cast<std::size_t>(dy + 1)]);
           }
       }
-      if (active(fine_f(m, index), d)) {
+      if (active(f ? static_cast<double>((*f)[local(o, m)]) : 0.0, d)) {
         stack.push_back(detail::second_child(t, m));  // first child on top: depth first, first child first
         stack.push_back(detail::first_child(t, m));
         continue;
@@ -213,16 +215,27 @@ Chunk ChunkedMesh::Impl::emit(const ChunkKey& key, const std::vector<Tri>& leave
     const int n = detail::clip_to_domain(t, dom, out);
     for (int k = 0; k < n; ++k) pieces.push_back(out[static_cast<std::size_t>(k)]);
   }
+  // The nodes used, in node key order (row by row).
   std::vector<std::uint64_t> keys;
-  for (const auto& p : pieces)
-    for (const Node& q : p) keys.push_back(node_key(q));
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  const bool fine = key.cells == C;
+  if (fine) {  // a flag per node of the chunk's square beats sorting
+    const Node o{key.i0, key.j0};
+    std::vector<char> used(static_cast<std::size_t>((C + 1) * (C + 1)), 0);
+    for (const auto& p : pieces)
+      for (const Node& q : p) used[local(o, q)] = 1;
+    for (std::int64_t j = 0; j <= C; ++j)
+      for (std::int64_t i = 0; i <= C; ++i)
+        if (used[static_cast<std::size_t>(j * (C + 1) + i)]) keys.push_back(node_key({o.i + i, o.j + j}));
+  } else {
+    for (const auto& p : pieces)
+      for (const Node& q : p) keys.push_back(node_key(q));
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  }
 
   // Positions and normals: from the chunk's block (with its halo) for a fine chunk, from a
   // 3 x 3 read around each node for a coarse one (it has few).
   std::vector<detail::Vec3> pos(keys.size()), nrm(keys.size());
-  const bool fine = key.cells == C;
   for (std::size_t k = 0; k < keys.size(); ++k) {
     const Node q = node_of(keys[k]);
     if (fine) {
@@ -237,7 +250,14 @@ Chunk ChunkedMesh::Impl::emit(const ChunkKey& key, const std::vector<Tri>& leave
     }
   }
   // Pieces touching a hole are dropped, and so are the nodes only they used.
+  std::vector<std::uint32_t> slot;  // fine chunks: node of the square -> position in keys
+  if (fine) {
+    slot.assign(static_cast<std::size_t>((C + 1) * (C + 1)), 0);
+    for (std::size_t k = 0; k < keys.size(); ++k)
+      slot[local({key.i0, key.j0}, node_of(keys[k]))] = static_cast<std::uint32_t>(k);
+  }
   auto index_of = [&](Node q) {
+    if (fine) return static_cast<std::size_t>(slot[local({key.i0, key.j0}, q)]);
     return static_cast<std::size_t>(std::lower_bound(keys.begin(), keys.end(), node_key(q)) - keys.begin());
   };
   std::vector<std::array<std::size_t, 3>> kept;

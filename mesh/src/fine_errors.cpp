@@ -103,20 +103,6 @@ void ChunkedMesh::Impl::summarise(std::uint64_t index) {
   data.at(index).summary = sm;
 }
 
-double ChunkedMesh::Impl::fine_e(Node n) const {
-  double worst = 0.0;
-  const bool on_i = n.i % C == 0, on_j = n.j % C == 0;
-  for (std::int64_t cx = n.i / C - (on_i ? 1 : 0); cx <= n.i / C; ++cx)
-    for (std::int64_t cy = n.j / C - (on_j ? 1 : 0); cy <= n.j / C; ++cy) {
-      if (cx < 0 || cy < 0 || cx * C >= S || cy * C >= S) continue;
-      const auto it = data.find(chunk_index(cx, cy));
-      if (it == data.end()) continue;
-      const std::size_t k = local({cx * C, cy * C}, n);
-      worst = std::max({worst, static_cast<double>(it->second.e[0][k]), static_cast<double>(it->second.e[1][k])});
-    }
-  return worst;
-}
-
 double ChunkedMesh::Impl::fine_f(Node n, std::uint64_t hint) const {
   const Node o = chunk_origin(hint);
   if (n.i >= o.i && n.j >= o.j && n.i <= o.i + C && n.j <= o.j + C) {
@@ -148,14 +134,6 @@ std::vector<std::uint64_t> ChunkedMesh::Impl::saturate_fine(const std::vector<st
   // One vertex: its own error and its children's saturated errors, stored in every chunk
   // that holds it (a vertex on a chunk's side is in both).
   auto saturate = [&](const Neighbourhood& h, Node v) {
-    double f = fine_e(v);
-    std::array<Node, 4> kids;
-    const int k = detail::children(v, S, kids);
-    for (int q = 0; q < k; ++q) {
-      const auto [owner, origin] = h.owner(kids[static_cast<std::size_t>(q)]);
-      if (owner) f = std::max(f, static_cast<double>(owner->f[local(origin, kids[static_cast<std::size_t>(q)])]));
-    }
-    const float value = detail::float_up(f);
     // The chunks whose closed square holds v: this one, and the one across the side v is on.
     std::array<std::pair<int, int>, 2> holders{{{0, 0}, {0, 0}}};
     int count = 1;
@@ -163,6 +141,23 @@ std::vector<std::uint64_t> ChunkedMesh::Impl::saturate_fine(const std::vector<st
     if (v.i == h.origin.i + C) holders[static_cast<std::size_t>(count++)] = {1, 0};
     if (v.j == h.origin.j) holders[static_cast<std::size_t>(count++)] = {0, -1};
     if (v.j == h.origin.j + C) holders[static_cast<std::size_t>(count++)] = {0, 1};
+    // Its own error: the largest of its diamond's triangles, in whichever chunk they lie.
+    double f = 0.0;
+    for (int q = 0; q < count; ++q) {
+      const auto [dx, dy] = holders[static_cast<std::size_t>(q)];
+      const ChunkData* c = h.at[static_cast<std::size_t>(dx + 1)][static_cast<std::size_t>(dy + 1)];
+      if (!c) continue;
+      const std::size_t k = local({h.origin.i + dx * C, h.origin.j + dy * C}, v);
+      f = std::max({f, static_cast<double>(c->e[0][k]), static_cast<double>(c->e[1][k])});
+    }
+    // And its children's saturated errors.
+    std::array<Node, 4> kids;
+    const int nk = detail::children(v, S, kids);
+    for (int q = 0; q < nk; ++q) {
+      const auto [owner, origin] = h.owner(kids[static_cast<std::size_t>(q)]);
+      if (owner) f = std::max(f, static_cast<double>(owner->f[local(origin, kids[static_cast<std::size_t>(q)])]));
+    }
+    const float value = detail::float_up(f);
     for (int q = 0; q < count; ++q) {
       const auto [dx, dy] = holders[static_cast<std::size_t>(q)];
       ChunkData* owner = h.at[static_cast<std::size_t>(dx + 1)][static_cast<std::size_t>(dy + 1)];

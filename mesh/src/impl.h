@@ -179,7 +179,6 @@ struct ChunkedMesh::Impl {
   /// Saturates the fine vertices of these chunks; returns the chunks whose centre changed.
   std::vector<std::uint64_t> saturate_fine(const std::vector<std::uint64_t>& indices);
   [[nodiscard]] double fine_f(Node n, std::uint64_t hint) const;
-  [[nodiscard]] double fine_e(Node n) const;
 
   // ---- coarse errors (coarse_errors.cpp) ----
   void update_coarse(const std::vector<std::uint64_t>& error_dirty, const std::vector<std::uint64_t>& centres);

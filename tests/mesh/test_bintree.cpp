@@ -61,7 +61,9 @@ TEST(Bintree, ClosedFormsMatchTheTreeBuiltBySplitting) {
           bool found = false;
           for (const Tri& t : it->second) found = found || t == d[static_cast<std::size_t>(q)];
           EXPECT_TRUE(found) << "diamond of " << i << "," << j;
-          if (k == 2) EXPECT_EQ(diamond_side(d[static_cast<std::size_t>(q)], n), q);
+          if (k == 2) {
+            EXPECT_EQ(diamond_side(d[static_cast<std::size_t>(q)], n), q);
+          }
         }
         std::array<Node, 4> c;
         const int nc = children(n, root, c);
