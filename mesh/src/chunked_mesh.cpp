@@ -177,19 +177,13 @@ const MeshUpdate& ChunkedMesh::update(Field& field, const Camera* camera) {
   m.apply_changes(rects, error_dirty);
 
   std::vector<std::uint64_t> dirty;
-  std::set<std::uint64_t> around;
+  Impl::RankQueue seeds(64);
   for (const auto& [index, rect] : error_dirty) {
-    m.compute_errors(index, rect);
+    m.compute_errors(index, rect, seeds);
     m.summarise(index);
     dirty.push_back(index);
-    const detail::Node o = m.chunk_origin(index);
-    for (std::int64_t dy = -1; dy <= 1; ++dy)
-      for (std::int64_t dx = -1; dx <= 1; ++dx) {
-        const std::int64_t cx = o.i / m.C + dx, cy = o.j / m.C + dy;
-        if (cx >= 0 && cy >= 0 && cx < m.S / m.C && cy < m.S / m.C) around.insert(m.chunk_index(cx, cy));
-      }
   }
-  const std::vector<std::uint64_t> centres = m.saturate_fine({around.begin(), around.end()});
+  const std::vector<std::uint64_t> centres = m.saturate_fine(seeds);
   m.update_square_boxes(dirty);
   m.update_coarse(dirty, centres);
 

@@ -9,27 +9,7 @@ namespace shore::mesh {
 using detail::ChunkData;
 using detail::Tri;
 
-namespace {
-
-/// A chunk and its eight neighbours (null where not allocated).
-struct Neighbourhood {
-  detail::Node origin;
-  std::int64_t C = 0;
-  std::array<std::array<ChunkData*, 3>, 3> at{};  // [dx + 1][dy + 1]
-
-  /// The chunk holding n (n within one chunk of the centre one): the centre one if n lies
-  /// in its closed square, else the neighbour n lies in.
-  [[nodiscard]] std::pair<ChunkData*, detail::Node> owner(detail::Node n) const {
-    const int dx = n.i < origin.i ? -1 : (n.i > origin.i + C ? 1 : 0);
-    const int dy = n.j < origin.j ? -1 : (n.j > origin.j + C ? 1 : 0);
-    return {at[static_cast<std::size_t>(dx + 1)][static_cast<std::size_t>(dy + 1)],
-            {origin.i + dx * C, origin.j + dy * C}};
-  }
-};
-
-}  // namespace
-
-void ChunkedMesh::Impl::compute_errors(std::uint64_t index, const NodeRect& changed) {
+void ChunkedMesh::Impl::compute_errors(std::uint64_t index, const NodeRect& changed, RankQueue& seeds) {
   const Node o = chunk_origin(index);
   ChunkData& cd = data.at(index);
   const Block& b = chunk_block(index);
@@ -46,8 +26,12 @@ void ChunkedMesh::Impl::compute_errors(std::uint64_t index, const NodeRect& chan
     const std::int64_t j0 = std::min({t.p0.j, t.apex.j, t.p2.j}), j1 = std::max({t.p0.j, t.apex.j, t.p2.j});
     if (i1 < changed.i0 || i0 > ci1 || j1 < changed.j0 || j0 > cj1) continue;
     const Node m = detail::split_vertex(t);
-    const double err = detail::triangle_error(b, t, dom, height_field);
-    cd.e[static_cast<std::size_t>(detail::diamond_side(t, m))][local(o, m)] = detail::float_up(err);
+    const float err = detail::float_up(detail::triangle_error(b, t, dom, height_field));
+    float& slot = cd.e[static_cast<std::size_t>(detail::diamond_side(t, m))][local(o, m)];
+    if (slot != err) {  // its vertex's saturated error may change
+      slot = err;
+      seeds[static_cast<std::size_t>(detail::classify(m, S).rank())].push_back(node_key(m));
+    }
     stack.push_back(detail::first_child(t, m));
     stack.push_back(detail::second_child(t, m));
   }
@@ -114,83 +98,59 @@ double ChunkedMesh::Impl::fine_f(Node n, std::uint64_t hint) const {
   return it == data.end() ? 0.0 : static_cast<double>(it->second.f[local({cx * C, cy * C}, n)]);
 }
 
-std::vector<std::uint64_t> ChunkedMesh::Impl::saturate_fine(const std::vector<std::uint64_t>& indices) {
-  std::vector<Neighbourhood> hoods;
-  for (const std::uint64_t index : indices) {
-    Neighbourhood h;
-    h.origin = chunk_origin(index);
-    h.C = C;
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy) {
-        const std::int64_t cx = h.origin.i / C + dx, cy = h.origin.j / C + dy;
-        if (cx < 0 || cy < 0 || cx * C >= S || cy * C >= S) continue;
-        const auto it = data.find(chunk_index(cx, cy));
-        if (it != data.end()) h.at[static_cast<std::size_t>(dx + 1)][static_cast<std::size_t>(dy + 1)] = &it->second;
-      }
-    hoods.push_back(h);
-  }
-  std::set<ChunkData*> changed;
+std::vector<std::uint64_t> ChunkedMesh::Impl::saturate_fine(RankQueue& queue) {
   std::vector<std::uint64_t> centres;
-  // One vertex: its own error and its children's saturated errors, stored in every chunk
-  // that holds it (a vertex on a chunk's side is in both).
-  auto saturate = [&](const Neighbourhood& h, Node v) {
-    // The chunks whose closed square holds v: this one, and the one across the side v is on.
-    std::array<std::pair<int, int>, 2> holders{{{0, 0}, {0, 0}}};
-    int count = 1;
-    if (v.i == h.origin.i) holders[static_cast<std::size_t>(count++)] = {-1, 0};
-    if (v.i == h.origin.i + C) holders[static_cast<std::size_t>(count++)] = {1, 0};
-    if (v.j == h.origin.j) holders[static_cast<std::size_t>(count++)] = {0, -1};
-    if (v.j == h.origin.j + C) holders[static_cast<std::size_t>(count++)] = {0, 1};
-    // Its own error: the largest of its diamond's triangles, in whichever chunk they lie.
-    double f = 0.0;
-    for (int q = 0; q < count; ++q) {
-      const auto [dx, dy] = holders[static_cast<std::size_t>(q)];
-      const ChunkData* c = h.at[static_cast<std::size_t>(dx + 1)][static_cast<std::size_t>(dy + 1)];
-      if (!c) continue;
-      const std::size_t k = local({h.origin.i + dx * C, h.origin.j + dy * C}, v);
-      f = std::max({f, static_cast<double>(c->e[0][k]), static_cast<double>(c->e[1][k])});
-    }
-    // And its children's saturated errors.
-    std::array<Node, 4> kids;
-    const int nk = detail::children(v, S, kids);
-    for (int q = 0; q < nk; ++q) {
-      const auto [owner, origin] = h.owner(kids[static_cast<std::size_t>(q)]);
-      if (owner) f = std::max(f, static_cast<double>(owner->f[local(origin, kids[static_cast<std::size_t>(q)])]));
-    }
-    const float value = detail::float_up(f);
-    for (int q = 0; q < count; ++q) {
-      const auto [dx, dy] = holders[static_cast<std::size_t>(q)];
-      ChunkData* owner = h.at[static_cast<std::size_t>(dx + 1)][static_cast<std::size_t>(dy + 1)];
-      if (!owner) continue;
-      float& slot = owner->f[local({h.origin.i + dx * C, h.origin.j + dy * C}, v)];
-      if (slot != value) {
-        slot = value;
-        changed.insert(owner);
+  std::set<std::uint64_t> changed;
+  const int top = detail::classify({C / 2, C / 2}, S).rank();  // a chunk's centre
+  for (int r = 0; r <= top; ++r) {
+    std::vector<std::uint64_t>& rank = queue[static_cast<std::size_t>(r)];
+    std::sort(rank.begin(), rank.end());
+    rank.erase(std::unique(rank.begin(), rank.end()), rank.end());
+    for (const std::uint64_t key : rank) {
+      const Node v = node_of(key);
+      // The chunks whose closed square holds v: one, or two for a vertex on a chunk's side.
+      std::array<std::uint64_t, 2> holders{};
+      int count = 0;
+      const std::int64_t cx = std::min(v.i / C, S / C - 1), cy = std::min(v.j / C, S / C - 1);
+      holders[static_cast<std::size_t>(count++)] = chunk_index(cx, cy);
+      if (v.i % C == 0 && v.i > 0 && v.i < S) holders[static_cast<std::size_t>(count++)] = chunk_index(cx - 1, cy);
+      if (v.j % C == 0 && v.j > 0 && v.j < S) holders[static_cast<std::size_t>(count++)] = chunk_index(cx, cy - 1);
+      double f = 0.0;  // its own error, in whichever chunk its diamond's triangles lie ...
+      for (int q = 0; q < count; ++q) {
+        const auto it = data.find(holders[static_cast<std::size_t>(q)]);
+        if (it == data.end()) continue;
+        const std::size_t k = local(chunk_origin(it->first), v);
+        f = std::max({f, static_cast<double>(it->second.e[0][k]), static_cast<double>(it->second.e[1][k])});
       }
+      std::array<Node, 4> kids;  // ... and its children's saturated errors
+      const int nk = detail::children(v, S, kids);
+      for (int q = 0; q < nk; ++q) f = std::max(f, fine_f(kids[static_cast<std::size_t>(q)], holders[0]));
+      const float value = detail::float_up(f);
+      bool moved = false;
+      for (int q = 0; q < count; ++q) {
+        const auto it = data.find(holders[static_cast<std::size_t>(q)]);
+        if (it == data.end()) continue;
+        float& slot = it->second.f[local(chunk_origin(it->first), v)];
+        if (slot == value) continue;
+        slot = value;
+        moved = true;
+        changed.insert(it->first);
+      }
+      if (!moved) continue;
+      if (r == top) {  // a chunk's centre: its parents are coarse
+        centres.push_back(holders[0]);
+        continue;
+      }
+      std::array<Node, 2> ps;
+      const int np = detail::parents(v, S, ps);
+      for (int q = 0; q < np; ++q)
+        queue[static_cast<std::size_t>(detail::classify(ps[static_cast<std::size_t>(q)], S).rank())].push_back(
+            node_key(ps[static_cast<std::size_t>(q)]));
     }
-  };
-  std::vector<float> centre_before;
-  for (const Neighbourhood& h : hoods)
-    centre_before.push_back(h.at[1][1]->f[local(h.origin, {h.origin.i + C / 2, h.origin.j + C / 2})]);
-  for (std::int64_t t = 1; t <= C / 2; t *= 2) {
-    for (const Neighbourhood& h : hoods) {  // edges of half-length t
-      for (std::int64_t b = 0; b <= C / (2 * t); ++b)
-        for (std::int64_t a = 0; a < C / (2 * t); ++a) {
-          saturate(h, {h.origin.i + t * (2 * a + 1), h.origin.j + 2 * t * b});
-          saturate(h, {h.origin.i + 2 * t * b, h.origin.j + t * (2 * a + 1)});
-        }
-    }
-    for (const Neighbourhood& h : hoods)  // centres of squares of side 2t
-      for (std::int64_t b = 0; b < C / (2 * t); ++b)
-        for (std::int64_t a = 0; a < C / (2 * t); ++a)
-          saturate(h, {h.origin.i + t * (2 * a + 1), h.origin.j + t * (2 * b + 1)});
+    rank.clear();
   }
-  for (std::size_t q = 0; q < indices.size(); ++q) {
-    const Neighbourhood& h = hoods[q];
-    if (h.at[1][1]->f[local(h.origin, {h.origin.i + C / 2, h.origin.j + C / 2})] != centre_before[q])
-      centres.push_back(indices[q]);
-  }
-  for (ChunkData* c : changed) ++c->version;
+  for (const std::uint64_t index : changed) ++data.at(index).version;
+  std::sort(centres.begin(), centres.end());
   return centres;
 }
 

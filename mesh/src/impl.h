@@ -174,10 +174,15 @@ struct ChunkedMesh::Impl {
   [[nodiscard]] detail::Vec3 node_position(Node n);
 
   // ---- fine errors (fine_errors.cpp) ----
-  void compute_errors(std::uint64_t index, const NodeRect& changed);
+  /// Vertices (node keys) by rank whose saturated error must be brought up to date.
+  using RankQueue = std::vector<std::vector<std::uint64_t>>;
+  /// The errors of the chunk's triangles that meet the changed nodes; the vertices whose
+  /// error changed go into seeds.
+  void compute_errors(std::uint64_t index, const NodeRect& changed, RankQueue& seeds);
   void summarise(std::uint64_t index);
-  /// Saturates the fine vertices of these chunks; returns the chunks whose centre changed.
-  std::vector<std::uint64_t> saturate_fine(const std::vector<std::uint64_t>& indices);
+  /// Saturates the queued fine vertices and, rank by rank, the parents of those that
+  /// changed; returns the chunks whose centre changed (their parents are coarse).
+  std::vector<std::uint64_t> saturate_fine(RankQueue& queue);
   [[nodiscard]] double fine_f(Node n, std::uint64_t hint) const;
 
   // ---- coarse errors (coarse_errors.cpp) ----

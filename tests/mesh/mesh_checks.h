@@ -81,21 +81,39 @@ inline std::int64_t cross(GridNode a, GridNode b, GridNode c) {
   return (b.i - a.i) * (c.j - a.j) - (b.j - a.j) * (c.i - a.i);
 }
 
-/// For every node: the distance from its position to the mesh point at its grid
-/// coordinates (vertical or 3-D), or -1 if no triangle covers it. Positions come from the
-/// field itself (double), triangles from the merged mesh.
-inline std::vector<double> node_errors(const TriangleMesh& m, const Field& f) {
-  const std::int64_t ni = f.ni(), nj = f.nj();
-  std::vector<double> err(static_cast<std::size_t>(ni * nj), -1.0);
-  std::vector<double> all(static_cast<std::size_t>(3 * ni * nj));
-  f.positions({0, 0, ni, nj}, all);
-  auto pos = [&](GridNode n) { return &all[3 * static_cast<std::size_t>(n.j * ni + n.i)]; };
+/// Positions of the nodes a set of triangles touches and of a window, read once.
+class PositionCache {
+ public:
+  explicit PositionCache(const Field& f) : f_(f) {}
+  const double* at(GridNode n) {
+    auto [it, fresh] = cache_.try_emplace(static_cast<std::uint64_t>(n.j * f_.ni() + n.i));
+    if (fresh) f_.positions({n.i, n.j, 1, 1}, it->second);
+    return it->second.data();
+  }
+
+ private:
+  const Field& f_;
+  std::map<std::uint64_t, std::array<double, 3>> cache_;
+};
+
+/// For every node of the window (default: the whole grid; row by row): the distance from
+/// its position to the mesh point at its grid coordinates (vertical or 3-D), or -1 if no
+/// triangle covers it. Positions come from the field itself (double), triangles from the
+/// merged mesh.
+inline std::vector<double> node_errors(const TriangleMesh& m, const Field& f, NodeRect w = {}) {
+  const std::int64_t ni = f.ni();
+  if (w.ni == 0) w = {0, 0, f.ni(), f.nj()};
+  std::vector<double> err(static_cast<std::size_t>(w.ni * w.nj), -1.0);
+  PositionCache cache(f);
+  auto pos = [&](GridNode n) { return cache.at(n); };
   for (std::size_t t = 0; t < m.triangle_count(); ++t) {
     const GridNode a = node_of(m.nodes[m.indices[3 * t]], ni), b = node_of(m.nodes[m.indices[3 * t + 1]], ni),
                    c = node_of(m.nodes[m.indices[3 * t + 2]], ni);
     const double area = static_cast<double>(cross(a, b, c));
-    const std::int64_t i0 = std::min({a.i, b.i, c.i}), i1 = std::max({a.i, b.i, c.i});
-    const std::int64_t j0 = std::min({a.j, b.j, c.j}), j1 = std::max({a.j, b.j, c.j});
+    const std::int64_t i0 = std::max(w.i0, std::min({a.i, b.i, c.i})),
+                       i1 = std::min(w.i0 + w.ni - 1, std::max({a.i, b.i, c.i}));
+    const std::int64_t j0 = std::max(w.j0, std::min({a.j, b.j, c.j})),
+                       j1 = std::min(w.j0 + w.nj - 1, std::max({a.j, b.j, c.j}));
     for (std::int64_t j = j0; j <= j1; ++j)
       for (std::int64_t i = i0; i <= i1; ++i) {
         const GridNode x{i, j};
@@ -109,27 +127,30 @@ inline std::vector<double> node_errors(const TriangleMesh& m, const Field& f) {
                            area;
           d2 += (p[k] - l) * (p[k] - l);
         }
-        double& e = err[static_cast<std::size_t>(j * ni + i)];
+        double& e = err[static_cast<std::size_t>((j - w.j0) * w.ni + (i - w.i0))];
         e = std::max(e, std::sqrt(d2));
       }
   }
   return err;
 }
 
-/// For every node: the angle (rad) the segment from its position to the mesh point at its
-/// grid coordinates subtends at the eye, or -1 where uncovered.
-inline std::vector<double> node_angles(const TriangleMesh& m, const Field& f, const Camera& cam) {
-  const std::int64_t ni = f.ni(), nj = f.nj();
-  std::vector<double> ang(static_cast<std::size_t>(ni * nj), -1.0);
-  std::vector<double> all(static_cast<std::size_t>(3 * ni * nj));
-  f.positions({0, 0, ni, nj}, all);
-  auto pos = [&](GridNode n) { return &all[3 * static_cast<std::size_t>(n.j * ni + n.i)]; };
+/// For every node of the window (default: the whole grid): the angle (rad) the segment
+/// from its position to the mesh point at its grid coordinates subtends at the eye, or -1
+/// where uncovered.
+inline std::vector<double> node_angles(const TriangleMesh& m, const Field& f, const Camera& cam, NodeRect w = {}) {
+  const std::int64_t ni = f.ni();
+  if (w.ni == 0) w = {0, 0, f.ni(), f.nj()};
+  std::vector<double> ang(static_cast<std::size_t>(w.ni * w.nj), -1.0);
+  PositionCache cache(f);
+  auto pos = [&](GridNode n) { return cache.at(n); };
   for (std::size_t t = 0; t < m.triangle_count(); ++t) {
     const GridNode a = node_of(m.nodes[m.indices[3 * t]], ni), b = node_of(m.nodes[m.indices[3 * t + 1]], ni),
                    c = node_of(m.nodes[m.indices[3 * t + 2]], ni);
     const double area = static_cast<double>(cross(a, b, c));
-    for (std::int64_t j = std::min({a.j, b.j, c.j}); j <= std::max({a.j, b.j, c.j}); ++j)
-      for (std::int64_t i = std::min({a.i, b.i, c.i}); i <= std::max({a.i, b.i, c.i}); ++i) {
+    for (std::int64_t j = std::max(w.j0, std::min({a.j, b.j, c.j}));
+         j <= std::min(w.j0 + w.nj - 1, std::max({a.j, b.j, c.j})); ++j)
+      for (std::int64_t i = std::max(w.i0, std::min({a.i, b.i, c.i}));
+           i <= std::min(w.i0 + w.ni - 1, std::max({a.i, b.i, c.i})); ++i) {
         const GridNode x{i, j};
         const std::int64_t wa = cross(b, c, x), wb = cross(c, a, x), wc = cross(a, b, x);
         if (wa < 0 || wb < 0 || wc < 0) continue;
@@ -142,10 +163,10 @@ inline std::vector<double> node_angles(const TriangleMesh& m, const Field& f, co
           u[static_cast<std::size_t>(k)] = pos(x)[k] - eye;
           v[static_cast<std::size_t>(k)] = (f.height_field() && k < 2 ? pos(x)[k] : l) - eye;
         }
-        const std::array<double, 3> w{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-        const double s = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        const std::array<double, 3> uv{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        const double s = std::sqrt(uv[0] * uv[0] + uv[1] * uv[1] + uv[2] * uv[2]);
         const double angle = std::atan2(s, u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);
-        double& e = ang[static_cast<std::size_t>(j * ni + i)];
+        double& e = ang[static_cast<std::size_t>((j - w.j0) * w.ni + (i - w.i0))];
         e = std::max(e, angle);
       }
   }

@@ -170,6 +170,28 @@ TEST(MeshIncremental, ALargeFieldCostsItsTouchedTilesOnly) {
   EXPECT_LT(v.changed.size(), 40u);
 }
 
+TEST(MeshIncremental, TheLargeFieldsRutIsWithinAPixelFromTwoMetresAbove) {
+  // The large field's structure (1 km at 1 cm, flat, one rut) with a 10 m rut: around the
+  // rut every column is covered and within a pixel of a 1080-line view.
+  const scenes::LargeField f = scenes::large_field(1000.0, 10.0);
+  terrain::TerrainField field(*f.soil, f.region);
+  const Camera cam = scenes::large_field_camera(f);
+  ChunkedMesh mesh;
+  mesh.update(field, &cam);
+  EXPECT_LT(mesh.triangle_count(), 100000u);
+  const TriangleMesh m = merge(mesh, field);
+  const std::int64_t i0 = f.soil->column_i(f.rut_x0) - 30, j0 = f.soil->column_j(f.rut_y) - 40;
+  const NodeRect window{i0, j0, f.soil->column_i(f.rut_x1) + 30 - i0, 81};
+  const std::vector<double> angle = node_angles(m, field, cam, window);
+  double worst = 0.0;
+  for (double a : angle) {
+    ASSERT_GE(a, 0.0) << "a column outside the mesh";
+    worst = std::max(worst, a * cam.pixels_per_radian());
+  }
+  EXPECT_LE(worst, 1.0 + 1e-9);
+  EXPECT_GT(worst, 0.2) << "the bound is used, not a full-resolution mesh near the camera";
+}
+
 TEST(MeshIncremental, MeshesAndTheCouplingEachSeeEveryChange) {
   // A mesh takes changes through Terrain::changed_since, the coupling through
   // take_changed: neither starves the other.
