@@ -96,16 +96,16 @@ class PositionCache {
   std::map<std::uint64_t, std::array<double, 3>> cache_;
 };
 
-/// For every node of the window (default: the whole grid; row by row): the distance from
-/// its position to the mesh point at its grid coordinates (vertical or 3-D), or -1 if no
-/// triangle covers it. Positions come from the field itself (double), triangles from the
-/// merged mesh.
-inline std::vector<double> node_errors(const TriangleMesh& m, const Field& f, NodeRect w = {}) {
+/// Locates every node of the window (default: the whole grid) in the merged mesh's
+/// triangles (grid space) and calls measure(node position, mesh point at the node's grid
+/// coordinates); returns, per window node (row by row), the largest value measure gave, or -1
+/// where no triangle covers the node. Positions come from the field itself (double).
+template <class Measure>
+std::vector<double> per_node(const TriangleMesh& m, const Field& f, NodeRect w, Measure&& measure) {
   const std::int64_t ni = f.ni();
   if (w.ni == 0) w = {0, 0, f.ni(), f.nj()};
-  std::vector<double> err(static_cast<std::size_t>(w.ni * w.nj), -1.0);
+  std::vector<double> out(static_cast<std::size_t>(w.ni * w.nj), -1.0);
   PositionCache cache(f);
-  auto pos = [&](GridNode n) { return cache.at(n); };
   for (std::size_t t = 0; t < m.triangle_count(); ++t) {
     const GridNode a = node_of(m.nodes[m.indices[3 * t]], ni), b = node_of(m.nodes[m.indices[3 * t + 1]], ni),
                    c = node_of(m.nodes[m.indices[3 * t + 2]], ni);
@@ -119,58 +119,39 @@ inline std::vector<double> node_errors(const TriangleMesh& m, const Field& f, No
         const GridNode x{i, j};
         const std::int64_t wa = cross(b, c, x), wb = cross(c, a, x), wc = cross(a, b, x);
         if (wa < 0 || wb < 0 || wc < 0) continue;
-        const double* p = pos(x);
-        double d2 = 0.0;
-        for (int k = (f.height_field() ? 2 : 0); k < 3; ++k) {
-          const double l = (static_cast<double>(wa) * pos(a)[k] + static_cast<double>(wb) * pos(b)[k] +
-                            static_cast<double>(wc) * pos(c)[k]) /
-                           area;
-          d2 += (p[k] - l) * (p[k] - l);
+        std::array<double, 3> p{}, l{};
+        for (std::size_t k = 0; k < 3; ++k) {
+          p[k] = cache.at(x)[k];
+          l[k] = (static_cast<double>(wa) * cache.at(a)[k] + static_cast<double>(wb) * cache.at(b)[k] +
+                  static_cast<double>(wc) * cache.at(c)[k]) /
+                 area;
         }
-        double& e = err[static_cast<std::size_t>((j - w.j0) * w.ni + (i - w.i0))];
-        e = std::max(e, std::sqrt(d2));
+        if (f.height_field()) l[0] = p[0], l[1] = p[1];  // the grid's x and y: only z is interpolated
+        double& e = out[static_cast<std::size_t>((j - w.j0) * w.ni + (i - w.i0))];
+        e = std::max(e, measure(p, l));
       }
   }
-  return err;
+  return out;
 }
 
-/// For every node of the window (default: the whole grid): the angle (rad) the segment
-/// from its position to the mesh point at its grid coordinates subtends at the eye, or -1
-/// where uncovered.
+/// Per node: the distance from its position to the mesh point at its grid coordinates
+/// (vertical for a height field, else 3-D), or -1 if uncovered.
+inline std::vector<double> node_errors(const TriangleMesh& m, const Field& f, NodeRect w = {}) {
+  return per_node(m, f, w, [](const std::array<double, 3>& p, const std::array<double, 3>& l) {
+    return std::sqrt((p[0] - l[0]) * (p[0] - l[0]) + (p[1] - l[1]) * (p[1] - l[1]) + (p[2] - l[2]) * (p[2] - l[2]));
+  });
+}
+
+/// Per node: the angle (rad) the segment from its position to that mesh point subtends at
+/// the eye, or -1 if uncovered.
 inline std::vector<double> node_angles(const TriangleMesh& m, const Field& f, const Camera& cam, NodeRect w = {}) {
-  const std::int64_t ni = f.ni();
-  if (w.ni == 0) w = {0, 0, f.ni(), f.nj()};
-  std::vector<double> ang(static_cast<std::size_t>(w.ni * w.nj), -1.0);
-  PositionCache cache(f);
-  auto pos = [&](GridNode n) { return cache.at(n); };
-  for (std::size_t t = 0; t < m.triangle_count(); ++t) {
-    const GridNode a = node_of(m.nodes[m.indices[3 * t]], ni), b = node_of(m.nodes[m.indices[3 * t + 1]], ni),
-                   c = node_of(m.nodes[m.indices[3 * t + 2]], ni);
-    const double area = static_cast<double>(cross(a, b, c));
-    for (std::int64_t j = std::max(w.j0, std::min({a.j, b.j, c.j}));
-         j <= std::min(w.j0 + w.nj - 1, std::max({a.j, b.j, c.j})); ++j)
-      for (std::int64_t i = std::max(w.i0, std::min({a.i, b.i, c.i}));
-           i <= std::min(w.i0 + w.ni - 1, std::max({a.i, b.i, c.i})); ++i) {
-        const GridNode x{i, j};
-        const std::int64_t wa = cross(b, c, x), wb = cross(c, a, x), wc = cross(a, b, x);
-        if (wa < 0 || wb < 0 || wc < 0) continue;
-        std::array<double, 3> u{}, v{};
-        for (int k = 0; k < 3; ++k) {
-          const double l = (static_cast<double>(wa) * pos(a)[k] + static_cast<double>(wb) * pos(b)[k] +
-                            static_cast<double>(wc) * pos(c)[k]) /
-                           area;
-          const double eye = k == 0 ? cam.x : k == 1 ? cam.y : cam.z;
-          u[static_cast<std::size_t>(k)] = pos(x)[k] - eye;
-          v[static_cast<std::size_t>(k)] = (f.height_field() && k < 2 ? pos(x)[k] : l) - eye;
-        }
-        const std::array<double, 3> uv{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-        const double s = std::sqrt(uv[0] * uv[0] + uv[1] * uv[1] + uv[2] * uv[2]);
-        const double angle = std::atan2(s, u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);
-        double& e = ang[static_cast<std::size_t>((j - w.j0) * w.ni + (i - w.i0))];
-        e = std::max(e, angle);
-      }
-  }
-  return ang;
+  return per_node(m, f, w, [&](const std::array<double, 3>& p, const std::array<double, 3>& l) {
+    const std::array<double, 3> u{p[0] - cam.x, p[1] - cam.y, p[2] - cam.z},
+        v{l[0] - cam.x, l[1] - cam.y, l[2] - cam.z};
+    const std::array<double, 3> uv{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    return std::atan2(std::sqrt(uv[0] * uv[0] + uv[1] * uv[1] + uv[2] * uv[2]),
+                      u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);
+  });
 }
 
 /// Topology failures of a mesh over an ni x nj grid (empty: none): every triangle counter-
