@@ -64,35 +64,41 @@ Vec3 Interpolant::at(double i, double j) const {
 }
 
 double lattice_error(const Block& b, const std::array<Node, 3>& q, bool height_field) {
-  const double* c0 = b.at(q[0]);
-  const double* c1 = b.at(q[1]);
-  const double* c2 = b.at(q[2]);
-  if (is_hole(c0) || is_hole(c1) || is_hole(c2)) return kInf;
-  const std::int64_t area2 = cross(q[0], q[1], q[2]);
-  const double inv = 1.0 / static_cast<double>(area2);
+  const std::array<const double*, 3> c{b.at(q[0]), b.at(q[1]), b.at(q[2])};
+  if (is_hole(c[0]) || is_hole(c[1]) || is_hole(c[2])) return kInf;
+  const double inv = 1.0 / static_cast<double>(cross(q[0], q[1], q[2]));
+  // Barycentric weight k is the edge function opposite corner k over twice the area: affine
+  // in i along a row, so the interpolant is its value at the row's first node plus a step.
+  std::array<double, 3> step{};
+  for (std::size_t k = 0; k < 3; ++k)
+    for (std::size_t e = 0; e < 3; ++e) {
+      const Node a = q[(e + 1) % 3], d = q[(e + 2) % 3];
+      step[k] -= static_cast<double>(d.j - a.j) * inv * c[e][k];
+    }
+  const std::size_t first = height_field ? 2 : 0;
   const std::int64_t j0 = std::min({q[0].j, q[1].j, q[2].j}), j1 = std::max({q[0].j, q[1].j, q[2].j});
-  double worst = 0.0;
+  double worst2 = 0.0;
   for (std::int64_t j = j0; j <= j1; ++j) {
     std::int64_t lo = 0, hi = 0;
     if (!row_span(q, j, lo, hi)) continue;
-    for (std::int64_t i = lo; i <= hi; ++i) {
-      const Node x{i, j};
-      // Barycentric weights: the edge functions opposite each corner, over twice the area.
-      const double w0 = static_cast<double>(cross(q[1], q[2], x)) * inv;
-      const double w1 = static_cast<double>(cross(q[2], q[0], x)) * inv;
-      const double w2 = static_cast<double>(cross(q[0], q[1], x)) * inv;
-      const double* p = b.at(x);
+    const Node start{lo, j};
+    const std::array<double, 3> w{static_cast<double>(cross(q[1], q[2], start)) * inv,
+                                  static_cast<double>(cross(q[2], q[0], start)) * inv,
+                                  static_cast<double>(cross(q[0], q[1], start)) * inv};
+    std::array<double, 3> l0{};
+    for (std::size_t k = first; k < 3; ++k) l0[k] = w[0] * c[0][k] + w[1] * c[1][k] + w[2] * c[2][k];
+    const double* p = b.at(start);
+    for (std::int64_t n = 0; n <= hi - lo; ++n, p += 3) {
       if (is_hole(p)) return kInf;
-      if (height_field) {
-        worst = std::max(worst, std::abs(p[2] - (w0 * c0[2] + w1 * c1[2] + w2 * c2[2])));
-      } else {
-        const Vec3 l{w0 * c0[0] + w1 * c1[0] + w2 * c2[0], w0 * c0[1] + w1 * c1[1] + w2 * c2[1],
-                     w0 * c0[2] + w1 * c1[2] + w2 * c2[2]};
-        worst = std::max(worst, distance(p, l, false));
+      double d2 = 0.0;
+      for (std::size_t k = first; k < 3; ++k) {
+        const double d = p[k] - (l0[k] + static_cast<double>(n) * step[k]);
+        d2 += d * d;
       }
+      worst2 = std::max(worst2, d2);
     }
   }
-  return worst;
+  return std::sqrt(worst2);
 }
 
 int clip_polygon(const std::array<Node, 3>& tri, double i0, double j0, double i1, double j1,
@@ -165,7 +171,28 @@ int clip_to_domain(const Tri& t, const Domain& d, std::array<std::array<Node, 3>
   return m - 2;
 }
 
+namespace {
+
+/// Distance of the node at the middle of a lattice segment from the segment's midpoint.
+double midpoint_error(const Block& b, Node a, Node c, bool height_field) {
+  const double* pa = b.at(a);
+  const double* pc = b.at(c);
+  const double* pm = b.at({(a.i + c.i) / 2, (a.j + c.j) / 2});
+  if (is_hole(pa) || is_hole(pc) || is_hole(pm)) return kInf;
+  return distance(pm, {0.5 * (pa[0] + pc[0]), 0.5 * (pa[1] + pc[1]), 0.5 * (pa[2] + pc[2])}, height_field);
+}
+
+}  // namespace
+
 double triangle_error(const Block& b, const Tri& t, const Domain& d, bool height_field) {
+  // The two smallest triangles that hold more than their corners (two thirds of all
+  // triangles) in closed form: their other nodes are midpoints of their edges.
+  if (d.holds(t) && detail::square_side(t) == 2) {
+    if (std::llabs(t.p2.i - t.p0.i) == std::llabs(t.p2.j - t.p0.j))  // legs of 2: three edge midpoints
+      return std::max({midpoint_error(b, t.p0, t.p2, height_field), midpoint_error(b, t.p0, t.apex, height_field),
+                       midpoint_error(b, t.apex, t.p2, height_field)});
+    return midpoint_error(b, t.p0, t.p2, height_field);  // hypotenuse of 2: its midpoint
+  }
   std::array<std::array<Node, 3>, 5> pieces;
   const int n = clip_to_domain(t, d, pieces);
   double worst = 0.0;

@@ -74,6 +74,7 @@ void ChunkedMesh::Impl::fine_leaves(std::uint64_t index, const detail::Signature
   std::array<Tri, 2> halves;
   const int n = detail::diamond({o.i + C / 2, o.j + C / 2}, S, halves);
   std::vector<Tri> stack;
+  stack.reserve(64);  // depth first: at most two per level
   for (int k = n - 1; k >= 0; --k)
     if (sig.halves & (1 << detail::diamond_side(halves[static_cast<std::size_t>(k)], {o.i + C / 2, o.j + C / 2})))
       stack.push_back(halves[static_cast<std::size_t>(k)]);
@@ -84,18 +85,23 @@ void ChunkedMesh::Impl::fine_leaves(std::uint64_t index, const detail::Signature
       continue;
     if (detail::has_split(t)) {
       const Node m = detail::split_vertex(t);
+      const double err = f ? static_cast<double>((*f)[local(o, m)]) : 0.0;
       double d = 0.0;
-      if (camera) {  // the nearest of the chunks the vertex's subtree reaches
+      if (camera && err > 0.0) {  // the nearest of the chunks the vertex's subtree reaches
         const std::int64_t r = detail::reach(detail::classify(m, S));
-        d = detail::kInf;
-        for (int dx = -1; dx <= 1; ++dx)
-          for (int dy = -1; dy <= 1; ++dy) {
-            const std::int64_t i0 = o.i + dx * C, j0 = o.j + dy * C;
-            if (i0 < m.i + r && i0 + C > m.i - r && j0 < m.j + r && j0 + C > m.j - r)
-              d = std::min(d, sig.distance[static_cast<std::size_t>(dx + 1)][static_cast<std::size_t>(dy + 1)]);
-          }
+        if (m.i - r >= o.i && m.i + r <= o.i + C && m.j - r >= o.j && m.j + r <= o.j + C) {
+          d = sig.distance[1][1];  // this chunk's alone
+        } else {
+          d = detail::kInf;
+          for (int dx = -1; dx <= 1; ++dx)
+            for (int dy = -1; dy <= 1; ++dy) {
+              const std::int64_t i0 = o.i + dx * C, j0 = o.j + dy * C;
+              if (i0 < m.i + r && i0 + C > m.i - r && j0 < m.j + r && j0 + C > m.j - r)
+                d = std::min(d, sig.distance[static_cast<std::size_t>(dx + 1)][static_cast<std::size_t>(dy + 1)]);
+            }
+        }
       }
-      if (active(f ? static_cast<double>((*f)[local(o, m)]) : 0.0, d)) {
+      if (err > 0.0 && active(err, d)) {
         stack.push_back(detail::second_child(t, m));  // first child on top: depth first, first child first
         stack.push_back(detail::first_child(t, m));
         continue;
