@@ -67,13 +67,29 @@ void ChunkedMesh::Impl::initialise(const Field& f) {
   initialised = true;
 }
 
+detail::ChunkData* ChunkedMesh::Impl::chunk_data(std::uint64_t index) const {
+  if (recent_index[0] == index) return recent_data[0];
+  if (recent_index[1] == index) {
+    std::swap(recent_index[0], recent_index[1]);
+    std::swap(recent_data[0], recent_data[1]);
+    return recent_data[0];
+  }
+  const auto it = data.find(index);
+  recent_index[1] = recent_index[0], recent_data[1] = recent_data[0];
+  recent_index[0] = index;
+  recent_data[0] = it == data.end() ? nullptr : const_cast<detail::ChunkData*>(&it->second);
+  return recent_data[0];
+}
+
 void ChunkedMesh::Impl::allocate(std::uint64_t index) {
   const auto [it, fresh] = data.try_emplace(index);
   if (!fresh) return;
+  recent_index = {~0ull, ~0ull};
   const std::size_t n = static_cast<std::size_t>((C + 1) * (C + 1));
   it->second.e[0].assign(n, 0.0f);
   it->second.e[1].assign(n, 0.0f);
   it->second.f.assign(n, 0.0f);
+  it->second.queued.assign(n, 0u);
 }
 
 void ChunkedMesh::Impl::apply_changes(const std::vector<NodeRect>& rects,
@@ -178,6 +194,7 @@ const MeshUpdate& ChunkedMesh::update(Field& field, const Camera* camera) {
 
   std::vector<std::uint64_t> dirty;
   Impl::RankQueue seeds(64);
+  ++m.pass;
   for (const auto& [index, rect] : error_dirty) {
     m.compute_errors(index, rect, seeds);
     m.summarise(index);

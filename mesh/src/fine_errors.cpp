@@ -30,7 +30,7 @@ void ChunkedMesh::Impl::compute_errors(std::uint64_t index, const NodeRect& chan
     float& slot = cd.e[static_cast<std::size_t>(detail::diamond_side(t, m))][local(o, m)];
     if (slot != err) {  // its vertex's saturated error may change
       slot = err;
-      seeds[static_cast<std::size_t>(detail::classify(m, S).rank())].push_back(node_key(m));
+      enqueue(seeds, m);
     }
     stack.push_back(detail::first_child(t, m));
     stack.push_back(detail::second_child(t, m));
@@ -94,18 +94,25 @@ double ChunkedMesh::Impl::fine_f(Node n, std::uint64_t hint) const {
     return it == data.end() ? 0.0 : static_cast<double>(it->second.f[local(o, n)]);
   }
   const std::int64_t cx = std::min(n.i / C, S / C - 1), cy = std::min(n.j / C, S / C - 1);
-  const auto it = data.find(chunk_index(cx, cy));
-  return it == data.end() ? 0.0 : static_cast<double>(it->second.f[local({cx * C, cy * C}, n)]);
+  const detail::ChunkData* d = chunk_data(chunk_index(cx, cy));
+  return d ? static_cast<double>(d->f[local({cx * C, cy * C}, n)]) : 0.0;
+}
+
+void ChunkedMesh::Impl::enqueue(RankQueue& queue, Node v) {
+  const std::int64_t cx = std::min(v.i / C, S / C - 1), cy = std::min(v.j / C, S / C - 1);
+  if (detail::ChunkData* d = chunk_data(chunk_index(cx, cy))) {
+    std::uint32_t& mark = d->queued[local({cx * C, cy * C}, v)];
+    if (mark == pass) return;
+    mark = pass;
+  }
+  queue[static_cast<std::size_t>(detail::classify(v, S).rank())].push_back(node_key(v));
 }
 
 std::vector<std::uint64_t> ChunkedMesh::Impl::saturate_fine(RankQueue& queue) {
   std::vector<std::uint64_t> centres;
-  std::set<std::uint64_t> changed;
   const int top = detail::classify({C / 2, C / 2}, S).rank();  // a chunk's centre
   for (int r = 0; r <= top; ++r) {
     std::vector<std::uint64_t>& rank = queue[static_cast<std::size_t>(r)];
-    std::sort(rank.begin(), rank.end());
-    rank.erase(std::unique(rank.begin(), rank.end()), rank.end());
     for (const std::uint64_t key : rank) {
       const Node v = node_of(key);
       // The chunks whose closed square holds v: one, or two for a vertex on a chunk's side.
@@ -116,11 +123,12 @@ std::vector<std::uint64_t> ChunkedMesh::Impl::saturate_fine(RankQueue& queue) {
       if (v.i % C == 0 && v.i > 0 && v.i < S) holders[static_cast<std::size_t>(count++)] = chunk_index(cx - 1, cy);
       if (v.j % C == 0 && v.j > 0 && v.j < S) holders[static_cast<std::size_t>(count++)] = chunk_index(cx, cy - 1);
       double f = 0.0;  // its own error, in whichever chunk its diamond's triangles lie ...
+      std::array<detail::ChunkData*, 2> held{};
       for (int q = 0; q < count; ++q) {
-        const auto it = data.find(holders[static_cast<std::size_t>(q)]);
-        if (it == data.end()) continue;
-        const std::size_t k = local(chunk_origin(it->first), v);
-        f = std::max({f, static_cast<double>(it->second.e[0][k]), static_cast<double>(it->second.e[1][k])});
+        detail::ChunkData* d = held[static_cast<std::size_t>(q)] = chunk_data(holders[static_cast<std::size_t>(q)]);
+        if (!d) continue;
+        const std::size_t k = local(chunk_origin(holders[static_cast<std::size_t>(q)]), v);
+        f = std::max({f, static_cast<double>(d->e[0][k]), static_cast<double>(d->e[1][k])});
       }
       std::array<Node, 4> kids;  // ... and its children's saturated errors
       const int nk = detail::children(v, S, kids);
@@ -128,13 +136,13 @@ std::vector<std::uint64_t> ChunkedMesh::Impl::saturate_fine(RankQueue& queue) {
       const float value = detail::float_up(f);
       bool moved = false;
       for (int q = 0; q < count; ++q) {
-        const auto it = data.find(holders[static_cast<std::size_t>(q)]);
-        if (it == data.end()) continue;
-        float& slot = it->second.f[local(chunk_origin(it->first), v)];
+        detail::ChunkData* d = held[static_cast<std::size_t>(q)];
+        if (!d) continue;
+        float& slot = d->f[local(chunk_origin(holders[static_cast<std::size_t>(q)]), v)];
         if (slot == value) continue;
         slot = value;
         moved = true;
-        changed.insert(it->first);
+        if (d->bumped != pass) d->bumped = pass, ++d->version;
       }
       if (!moved) continue;
       if (r == top) {  // a chunk's centre: its parents are coarse
@@ -143,13 +151,10 @@ std::vector<std::uint64_t> ChunkedMesh::Impl::saturate_fine(RankQueue& queue) {
       }
       std::array<Node, 2> ps;
       const int np = detail::parents(v, S, ps);
-      for (int q = 0; q < np; ++q)
-        queue[static_cast<std::size_t>(detail::classify(ps[static_cast<std::size_t>(q)], S).rank())].push_back(
-            node_key(ps[static_cast<std::size_t>(q)]));
+      for (int q = 0; q < np; ++q) enqueue(queue, ps[static_cast<std::size_t>(q)]);
     }
     rank.clear();
   }
-  for (const std::uint64_t index : changed) ++data.at(index).version;
   std::sort(centres.begin(), centres.end());
   return centres;
 }

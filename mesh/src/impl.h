@@ -60,9 +60,11 @@ struct Summary {
 struct ChunkData {
   std::array<std::vector<float>, 2> e;  ///< the errors of the node's two diamond triangles, those inside
   std::vector<float> f;                 ///< saturated error of the node's vertex
+  std::vector<std::uint32_t> queued;    ///< the saturation pass that last queued the node's vertex
   bool detailed = false;                ///< holds nodes off the base (errors computed)
   Summary summary;                      ///< when detailed
-  std::uint64_t version = 0;            ///< bumped when f changes
+  std::uint64_t version = 0;            ///< bumped (once per saturation pass) when f changes
+  std::uint32_t bumped = 0;             ///< the pass that last bumped version
 };
 
 struct CoarseVertex {
@@ -145,6 +147,13 @@ struct ChunkedMesh::Impl {
   std::map<std::uint64_t, Block> blocks;  ///< chunk blocks read this update (with a 1-node halo)
   std::map<std::uint64_t, detail::Vec3> node_positions;
 
+  /// The chunk's data, or null if it has none; remembers the last two asked for (the
+  /// saturation asks for the same few chunks over and over). Pointers into `data` stay
+  /// valid: it is never erased from, and allocate() forgets the remembered ones.
+  [[nodiscard]] detail::ChunkData* chunk_data(std::uint64_t index) const;
+  mutable std::array<std::uint64_t, 2> recent_index{~0ull, ~0ull};
+  mutable std::array<detail::ChunkData*, 2> recent_data{nullptr, nullptr};
+
   // ---- keys ----
   [[nodiscard]] std::uint64_t chunk_index(std::int64_t cx, std::int64_t cy) const {
     return (static_cast<std::uint64_t>(cy) << 32) | static_cast<std::uint64_t>(cx);
@@ -176,6 +185,10 @@ struct ChunkedMesh::Impl {
   // ---- fine errors (fine_errors.cpp) ----
   /// Vertices (node keys) by rank whose saturated error must be brought up to date.
   using RankQueue = std::vector<std::vector<std::uint64_t>>;
+  std::uint32_t pass = 0;  ///< saturation passes so far (ChunkData::queued)
+  /// Queues a fine vertex once per pass (the order within a rank does not matter: a vertex
+  /// reads only lower ranks).
+  void enqueue(RankQueue& queue, Node v);
   /// The errors of the chunk's triangles that meet the changed nodes; the vertices whose
   /// error changed go into seeds.
   void compute_errors(std::uint64_t index, const NodeRect& changed, RankQueue& seeds);

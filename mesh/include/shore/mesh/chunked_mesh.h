@@ -39,8 +39,8 @@
 namespace shore::mesh {
 
 struct MeshSettings {
-  /// m, without a camera: the largest distance from a node to the mesh. 0 keeps every node
-  /// that is off the plane of its neighbours (lossless), > 0 simplifies. Finite, >= 0.
+  /// m, without a camera: the largest distance from a node to the mesh. 0 is lossless (only
+  /// parts that are planar to the last bit are simplified), > 0 simplifies. Finite, >= 0.
   double max_error = 0.001;
   /// pixels, with a camera: the largest projected error. Finite, > 0.
   double max_error_pixels = 1.0;
@@ -105,8 +105,10 @@ class ChunkedMesh {
   ChunkedMesh& operator=(ChunkedMesh&&) noexcept;
 
   /// Takes the field's changes and brings the mesh up to date for the camera (null: the
-  /// metres bound). Throws InvalidSetting if the camera is invalid or the field's size
-  /// differs from the first update's; shore::InvalidSetting from the field propagates.
+  /// metres bound). The result stays valid until the next update. Throws InvalidSetting if
+  /// the camera is invalid or the field's size differs from the first update's (the mesh is
+  /// then unchanged); an exception from the field propagates and leaves the mesh to be
+  /// rebuilt (a new ChunkedMesh). One thread at a time.
   const MeshUpdate& update(Field& field, const Camera* camera = nullptr);
 
   [[nodiscard]] const std::map<ChunkKey, Chunk>& chunks() const noexcept;
