@@ -17,11 +17,12 @@
 // error, seen from the eye, subtends at most max_error_pixels / pixels_per_radian radians
 // (a pixel's angle at the image centre; the camera has no direction, so this holds for any).
 //
-// The mesh. Every node of the grid lies in the mesh; every edge is shared by two triangles
-// except along the grid's border, with opposite directions (consistent winding: counter-
-// clockwise in (i, j), seen from +z for ground); no vertex lies inside another triangle's
-// edge (no T-junctions), across chunks and across changes of detail. Vertices are grid
-// nodes at their exact positions; normals are the full-resolution surface's at the node.
+// The mesh. It covers the grid (holes aside: the cells touching a missing node are left
+// out); every edge is shared by two triangles except along the grid's border and holes,
+// with opposite directions (consistent winding: counter-clockwise in (i, j), seen from +z
+// for ground); no vertex lies inside another triangle's edge (no T-junctions), across
+// chunks and across changes of detail. Vertices are grid nodes at their exact positions;
+// normals are the full-resolution surface's at the node.
 //
 // One mesh follows one field: the first update builds it, later ones rebuild what the
 // field's changes or the camera's move made different. The result equals a build from
