@@ -147,6 +147,39 @@ TEST(MeshIncremental, SeedWaterFollowedStepByStepEqualsScratch) {
   EXPECT_TRUE(still.removed.empty());
 }
 
+TEST(MeshIncremental, GroundThatIsNotFlatIsReadWholeAndStaysWithinTheBound) {
+  // Lattice-noise ground has no base plane: the first update reads the whole region, and
+  // later ones only what the wheel changed.
+  terrain::TerrainSettings ts = soil_with_small_tiles();
+  terrain::LatticeNoiseSettings noise;
+  noise.amplitude = 0.03;
+  noise.spacing = 0.3;
+  noise.octaves = 3;
+  ts.base = std::make_shared<terrain::LatticeNoise>(noise);
+  terrain::Terrain soil(ts);
+  terrain::TerrainField field(soil, kRegion);
+  MeshSettings s;
+  s.max_error = 1e-3;
+  s.chunk_cells = 16;
+  ChunkedMesh mesh(s);
+  const MeshUpdate& first = mesh.update(field);
+  EXPECT_GE(first.nodes_read, static_cast<std::int64_t>(kRegion.nx) * kRegion.ny);
+  scenes::RollingWheel wheel(soil, 0.0, 0.0);
+  for (int k = 0; k < 8; ++k) wheel.step();
+  const MeshUpdate& later = mesh.update(field);
+  EXPECT_LT(later.nodes_read, static_cast<std::int64_t>(kRegion.nx) * kRegion.ny / 2);
+  terrain::TerrainField fresh_field(soil, kRegion);
+  ChunkedMesh fresh(s);
+  fresh.update(fresh_field);
+  expect_same_chunks(mesh.chunks(), fresh.chunks(), "noise ground");
+  const TriangleMesh m = merge(mesh, field);
+  for (double e : node_errors(m, field)) {
+    EXPECT_GE(e, 0.0);
+    EXPECT_LE(e, 1e-3 + 1e-12);
+  }
+  EXPECT_TRUE(topology_failures(m, kRegion.nx, kRegion.ny).empty());
+}
+
 TEST(MeshIncremental, ALargeFieldCostsItsTouchedTilesOnly) {
   // 1 km x 1 km of 1 cm columns (10^10 nodes) with three edits: the mesh reads the tiles
   // around them and a few nodes more, never the field.
