@@ -214,17 +214,10 @@ detail::Vec3 node_normal(const detail::Block& b, const detail::Domain& dom, deta
 
 }  // namespace
 
-Chunk ChunkedMesh::Impl::emit(const ChunkKey& key, const std::vector<Tri>& leaves) {
-  std::vector<std::array<Node, 3>> pieces;
-  for (const Tri& t : leaves) {
-    std::array<std::array<Node, 3>, 5> out;
-    const int n = detail::clip_to_domain(t, dom, out);
-    for (int k = 0; k < n; ++k) pieces.push_back(out[static_cast<std::size_t>(k)]);
-  }
+std::vector<std::uint64_t> ChunkedMesh::Impl::used_nodes(const ChunkKey& key, const std::vector<Piece>& pieces) const {
   // The nodes used, in node key order (row by row).
   std::vector<std::uint64_t> keys;
-  const bool fine = key.cells == C;
-  if (fine) {  // a flag per node of the chunk's square beats sorting
+  if (key.cells == C) {  // a fine chunk: a flag per node of the chunk's square beats sorting
     const Node o{key.i0, key.j0};
     std::vector<char> used(static_cast<std::size_t>((C + 1) * (C + 1)), 0);
     for (const auto& p : pieces)
@@ -232,16 +225,22 @@ Chunk ChunkedMesh::Impl::emit(const ChunkKey& key, const std::vector<Tri>& leave
     for (std::int64_t j = 0; j <= C; ++j)
       for (std::int64_t i = 0; i <= C; ++i)
         if (used[static_cast<std::size_t>(j * (C + 1) + i)]) keys.push_back(node_key({o.i + i, o.j + j}));
-  } else {
-    for (const auto& p : pieces)
-      for (const Node& q : p) keys.push_back(node_key(q));
-    std::sort(keys.begin(), keys.end());
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    return keys;
   }
+  for (const auto& p : pieces)
+    for (const Node& q : p) keys.push_back(node_key(q));
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
+}
 
-  // Positions and normals: from the chunk's block (with its halo) for a fine chunk, from a
-  // 3 x 3 read around each node for a coarse one (it has few).
-  std::vector<detail::Vec3> pos(keys.size()), nrm(keys.size());
+void ChunkedMesh::Impl::sample_nodes(const ChunkKey& key, const std::vector<std::uint64_t>& keys,
+                                     std::vector<detail::Vec3>& pos, std::vector<detail::Vec3>& nrm) {
+  // From the chunk's block (with its halo) for a fine chunk, from a 3 x 3 read around each
+  // node for a coarse one (it has few).
+  const bool fine = key.cells == C;
+  pos.resize(keys.size());
+  nrm.resize(keys.size());
   for (std::size_t k = 0; k < keys.size(); ++k) {
     const Node q = node_of(keys[k]);
     if (fine) {
@@ -255,7 +254,12 @@ Chunk ChunkedMesh::Impl::emit(const ChunkKey& key, const std::vector<Tri>& leave
       nrm[k] = node_normal(b, dom, q);
     }
   }
-  // Pieces touching a hole are dropped, and so are the nodes only they used.
+}
+
+Chunk ChunkedMesh::Impl::assemble(const ChunkKey& key, const std::vector<Piece>& pieces,
+                                  const std::vector<std::uint64_t>& keys, const std::vector<detail::Vec3>& pos,
+                                  const std::vector<detail::Vec3>& nrm) const {
+  const bool fine = key.cells == C;
   std::vector<std::uint32_t> slot;  // fine chunks: node of the square -> position in keys
   if (fine) {
     slot.assign(static_cast<std::size_t>((C + 1) * (C + 1)), 0);
@@ -266,6 +270,7 @@ Chunk ChunkedMesh::Impl::emit(const ChunkKey& key, const std::vector<Tri>& leave
     if (fine) return static_cast<std::size_t>(slot[local({key.i0, key.j0}, q)]);
     return static_cast<std::size_t>(std::lower_bound(keys.begin(), keys.end(), node_key(q)) - keys.begin());
   };
+  // Pieces touching a hole are dropped, and so are the nodes only they used.
   std::vector<std::array<std::size_t, 3>> kept;
   std::vector<std::uint32_t> remap(keys.size(), 0);
   std::vector<char> used(keys.size(), 0);
@@ -296,6 +301,19 @@ Chunk ChunkedMesh::Impl::emit(const ChunkKey& key, const std::vector<Tri>& leave
   for (const auto& idx : kept)
     for (const std::size_t k : idx) c.indices.push_back(remap[k]);
   return c;
+}
+
+Chunk ChunkedMesh::Impl::emit(const ChunkKey& key, const std::vector<Tri>& leaves) {
+  std::vector<Piece> pieces;
+  for (const Tri& t : leaves) {
+    std::array<Piece, 5> out;
+    const int n = detail::clip_to_domain(t, dom, out);
+    for (int k = 0; k < n; ++k) pieces.push_back(out[static_cast<std::size_t>(k)]);
+  }
+  const std::vector<std::uint64_t> keys = used_nodes(key, pieces);
+  std::vector<detail::Vec3> pos, nrm;
+  sample_nodes(key, keys, pos, nrm);
+  return assemble(key, pieces, keys, pos, nrm);
 }
 
 }  // namespace shore::mesh

@@ -220,6 +220,13 @@ struct ChunkedMesh::Impl {
   void fine_leaves(std::uint64_t index, const detail::Signature& sig, std::vector<Tri>& out) const;
   [[nodiscard]] bool output_dirty(const ChunkKey& key) const;
   Chunk emit(const ChunkKey& key, const std::vector<Tri>& leaves);
+  using Piece = std::array<Node, 3>;  ///< a leaf triangle clipped to the domain
+  [[nodiscard]] std::vector<std::uint64_t> used_nodes(const ChunkKey& key, const std::vector<Piece>& pieces) const;
+  void sample_nodes(const ChunkKey& key, const std::vector<std::uint64_t>& keys, std::vector<detail::Vec3>& pos,
+                    std::vector<detail::Vec3>& nrm);
+  [[nodiscard]] Chunk assemble(const ChunkKey& key, const std::vector<Piece>& pieces,
+                               const std::vector<std::uint64_t>& keys, const std::vector<detail::Vec3>& pos,
+                               const std::vector<detail::Vec3>& nrm) const;
 };
 
 }  // namespace shore::mesh
