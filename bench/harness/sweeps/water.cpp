@@ -51,7 +51,7 @@ double mode_shape(int nodes, int i, int j) {
 
 /// Least-squares amplitude of the mode in the heights.
 double project(const water::Surface& s, const std::vector<double>& phi) {
-  const auto uz = s.view().uz;
+  const std::vector<double> uz = s.dense_state().uz;
   double num = 0.0, den = 0.0;
   for (std::size_t k = 0; k < phi.size(); ++k) {
     num += phi[k] * uz[k];
