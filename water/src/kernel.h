@@ -64,6 +64,7 @@ struct Coefficients {
   double dt_z = 1.0;        ///< dt
   double u_magic = 1.0, u_inv = 1.0;  ///< height quantum (quantum.h)
   double v_magic = 1.0, v_inv = 1.0;  ///< velocity quantum
+  double u_ref = 0.0;       ///< the level activity is measured from: the mean height above rest (m)
   double u_scale = 1.0;     ///< 1 / sleep height threshold (activity)
   double v_scale = 1.0;     ///< 1 / sleep velocity threshold
 };
@@ -95,7 +96,8 @@ struct TileResult {
   quantum::Wide damped = 0;    ///< sum of the (rounded) damping impulses gamma dt / m v
   quantum::Wide v_after = 0;   ///< sum of vertical velocities after it
   quantum::Wide rise = 0;      ///< sum of the (rounded) height increments v dt
-  /// Activity: max over moving nodes of |u| / sleep height and |v| / sleep velocity, over the
+  /// Activity: max over moving nodes of |u_z - u_ref| (in-plane |u|) / sleep height and
+  /// |v| / sleep velocity, over the
   /// whole tile, along each side (row or column) and at each corner node (SideIndex order).
   double activity = 0.0;
   double side_activity[kSides] = {};

@@ -111,6 +111,18 @@ void Surface::State::fill_sponge(const SurfaceSettings& s, TileData& t) const {
     }
 }
 
+void Surface::State::set_layer(const SurfaceSettings& s) {
+  sigma.clear();
+  sigma_max = 0.0;
+  if (s.boundary != Boundary::open) return;
+  const OpenBoundarySettings& o = s.open;
+  sigma_max = o.strength * s.lattice.wave_speed() / (o.width * s.lattice.spacing);
+  for (int d = 0; d < o.width; ++d) {
+    const double r = double(o.width - d) / o.width;
+    sigma.push_back(sigma_max * r * r);
+  }
+}
+
 void Surface::State::set_awake(TileData& t) {
   if (t.awake) {
     t.calm = 0;
@@ -191,14 +203,7 @@ Surface::Surface(const SurfaceSettings& settings) : settings_(settings), s_(std:
   s.qv = quantum::Quantum::for_scale(h * omega);
   s.sleep_u = settings_.sleep.height > 0.0 ? settings_.sleep.height : 1e-5 * h;
   s.sleep_v = settings_.sleep.velocity > 0.0 ? settings_.sleep.velocity : s.sleep_u * omega_max_vertical(settings_.lattice);
-  if (settings_.boundary == Boundary::open) {
-    const OpenBoundarySettings& o = settings_.open;
-    s.sigma_max = o.strength * settings_.lattice.wave_speed() / (o.width * h);
-    for (int d = 0; d < o.width; ++d) {
-      const double r = double(o.width - d) / o.width;
-      s.sigma.push_back(s.sigma_max * r * r);
-    }
-  }
+  s.set_layer(settings_);
   s.threads = settings_.threads > 0 ? settings_.threads : hardware_threads();
   s.last_substep = 0.0;
   // Tiles at rest need not exist, except a free edge of the 3-D lattice: its missing
@@ -274,16 +279,7 @@ void Surface::apply_boundary(Boundary b) {
   changed.validate();
   settings_.boundary = b;
   State& s = *s_;
-  s.sigma.clear();
-  s.sigma_max = 0.0;
-  if (b == Boundary::open) {
-    const OpenBoundarySettings& o = settings_.open;
-    s.sigma_max = o.strength * settings_.lattice.wave_speed() / (o.width * spacing());
-    for (int d = 0; d < o.width; ++d) {
-      const double r = double(o.width - d) / o.width;
-      s.sigma.push_back(s.sigma_max * r * r);
-    }
-  }
+  s.set_layer(settings_);
   const NodeConstraint c = default_constraint(b, 0, 0, nx(), ny());
   for (const auto& t : s.tiles) s.fill_sponge(settings_, *t);
   for (int i = 0; i < nx(); ++i) {
@@ -337,7 +333,9 @@ void Surface::disturb(std::span<const Disturbance> ds) {
         const std::size_t k = t.at(i & (s.T - 1), j & (s.T - 1), s.T);
         if (t.flags[k] == static_cast<std::uint8_t>(NodeConstraint::fixed)) continue;
         double& target = height ? t.uz[k] : t.vz[k];
-        target += quantum::round_to(wy * ax.weights[a], q.magic);
+        const double r = quantum::round_to(wy * ax.weights[a], q.magic);
+        target += r;
+        if (height) s.volume_quanta += quantum::count(r, q.inv);
       }
     }
     for (int ty = j0 >> s.shift; ty <= j1 >> s.shift; ++ty)
@@ -378,7 +376,9 @@ bool Surface::add_height(int i, int j, double dz) {
   State& s = *s_;
   s.wake_around(settings_, i >> s.shift, j >> s.shift);
   TileData& t = *s.find(i >> s.shift, j >> s.shift);
-  t.uz[t.at(i & (s.T - 1), j & (s.T - 1), s.T)] += quantum::round_to(dz, s.qu.magic);
+  const double r = quantum::round_to(dz, s.qu.magic);
+  t.uz[t.at(i & (s.T - 1), j & (s.T - 1), s.T)] += r;
+  s.volume_quanta += quantum::count(r, s.qu.inv);
   s.refresh_edges(t, t.cur);
   s.deformation.reset();
   return true;
@@ -444,7 +444,7 @@ double Surface::add_heights(int i0, int j0, int w, int h, std::span<const double
   if (a0 > a1 || b0 > b1) return 0.0;
   for (int ty = b0 >> s.shift; ty <= b1 >> s.shift; ++ty)
     for (int tx = a0 >> s.shift; tx <= a1 >> s.shift; ++tx) s.wake_around(settings_, tx, ty);
-  double quanta = 0.0;
+  quantum::Wide quanta = 0;
   for (int j = b0; j <= b1; ++j)
     for (int i = a0; i <= a1; ++i) {
       const double d = dz[static_cast<std::size_t>(j - j0) * static_cast<std::size_t>(w) + static_cast<std::size_t>(i - i0)];
@@ -454,12 +454,13 @@ double Surface::add_heights(int i0, int j0, int w, int h, std::span<const double
       if (t.flags[k] == static_cast<std::uint8_t>(NodeConstraint::fixed)) continue;
       const double r = quantum::round_to(d, s.qu.magic);
       t.uz[k] += r;
-      quanta += static_cast<double>(quantum::count(r, s.qu.inv));
+      quanta += quantum::count(r, s.qu.inv);
     }
   for (int ty = b0 >> s.shift; ty <= b1 >> s.shift; ++ty)
     for (int tx = a0 >> s.shift; tx <= a1 >> s.shift; ++tx) s.refresh_edges(*s.find(tx, ty), s.find(tx, ty)->cur);
   s.deformation.reset();
-  return quanta * s.qu.q * spacing() * spacing();
+  s.volume_quanta += quanta;
+  return static_cast<double>(quanta) * s.qu.q * spacing() * spacing();
 }
 
 // ---- node access ---------------------------------------------------------------------------

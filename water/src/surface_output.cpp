@@ -166,42 +166,64 @@ Energy Surface::energy() const {
 
 namespace {
 
-/// FNV-1a digest of one tile's nodes (constraints and state, row by row); `t` null: a tile
-/// not created (at rest, default constraints).
-std::uint64_t tile_digest(const Surface& surface, const Surface::State& s, int tx, int ty, const TileData* t) {
-  const int w = std::min(s.T, surface.nx() - tx * s.T), h = std::min(s.T, surface.ny() - ty * s.T);
+/// Nodes per side of the blocks the state hash digests one by one: a multiple of every
+/// tile size, so the digest does not depend on the tile size.
+constexpr int kHashBlock = 256;
+
+/// FNV-1a digest of the nodes of hash block (bx, by): row by row, the constraints, then
+/// u_z, v_z (and in 3-D u_x, u_y, v_x, v_y) of the whole row. Nodes of tiles not created
+/// count at rest with their default constraints.
+std::uint64_t block_digest(const Surface& surface, const Surface::State& s, int bx, int by) {
+  const int i0 = bx * kHashBlock, j0 = by * kHashBlock;
+  const int w = std::min(kHashBlock, surface.nx() - i0), h = std::min(kHashBlock, surface.ny() - j0);
   StateHash d;
   d.add(w);
   d.add(h);
   std::vector<std::uint8_t> flags(static_cast<std::size_t>(w));
-  const std::vector<double> zeros_d(static_cast<std::size_t>(w), 0.0);
-  const std::vector<float> zeros_f(static_cast<std::size_t>(w), 0.f);
+  std::vector<double> z(static_cast<std::size_t>(w)), vz(static_cast<std::size_t>(w));
+  std::vector<float> f[4];
+  for (auto& v : f) v.assign(s.full ? static_cast<std::size_t>(w) : 0, 0.f);
   for (int r = 0; r < h; ++r) {
-    const std::size_t o = static_cast<std::size_t>(r) * static_cast<std::size_t>(s.T);
-    const auto row_d = [&](const std::vector<double>& v) {
-      return t ? std::span<const double>(v.data() + o, static_cast<std::size_t>(w)) : std::span<const double>(zeros_d);
-    };
-    const auto row_f = [&](const std::vector<float>& v) {
-      return t ? std::span<const float>(v.data() + o, static_cast<std::size_t>(w)) : std::span<const float>(zeros_f);
-    };
-    if (t) {
-      d.add(std::span<const std::uint8_t>(t->flags.data() + o, static_cast<std::size_t>(w)));
-    } else {
-      for (int i = 0; i < w; ++i)
-        flags[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(
-            default_constraint(surface.settings().boundary, tx * s.T + i, ty * s.T + r, surface.nx(), surface.ny()));
-      d.add(std::span<const std::uint8_t>(flags));
+    const int j = j0 + r;
+    for (int a = 0; a < w; ++a) {
+      const int i = i0 + a;
+      const TileData* t = s.find(i >> s.shift, j >> s.shift);
+      const std::size_t n = static_cast<std::size_t>(a);
+      if (!t) {
+        flags[n] = static_cast<std::uint8_t>(
+            default_constraint(surface.settings().boundary, i, j, surface.nx(), surface.ny()));
+        z[n] = vz[n] = 0.0;
+        for (auto& v : f)
+          if (s.full) v[n] = 0.f;
+        continue;
+      }
+      const std::size_t k = t->at(i & (s.T - 1), j & (s.T - 1), s.T);
+      flags[n] = t->flags[k];
+      z[n] = t->uz[k];
+      vz[n] = t->vz[k];
+      if (s.full) {
+        f[0][n] = t->ux[k];
+        f[1][n] = t->uy[k];
+        f[2][n] = t->vx[k];
+        f[3][n] = t->vy[k];
+      }
     }
-    d.add(row_d(t ? t->uz : zeros_d));
-    d.add(row_d(t ? t->vz : zeros_d));
-    if (s.full) {
-      d.add(row_f(t ? t->ux : zeros_f));
-      d.add(row_f(t ? t->uy : zeros_f));
-      d.add(row_f(t ? t->vx : zeros_f));
-      d.add(row_f(t ? t->vy : zeros_f));
-    }
+    d.add(std::span<const std::uint8_t>(flags));
+    d.add(std::span<const double>(z));
+    d.add(std::span<const double>(vz));
+    if (s.full)
+      for (const auto& v : f) d.add(std::span<const float>(v));
   }
   return d.value();
+}
+
+/// Whether any tile of hash block (bx, by) exists.
+bool block_has_tiles(const Surface::State& s, int bx, int by) {
+  const int per = kHashBlock / s.T;
+  for (int ty = by * per; ty < std::min((by + 1) * per, s.tiles_y); ++ty)
+    for (int tx = bx * per; tx < std::min((bx + 1) * per, s.tiles_x); ++tx)
+      if (s.find(tx, ty)) return true;
+  return false;
 }
 
 }  // namespace
@@ -212,19 +234,20 @@ std::uint64_t Surface::state_hash() const {
   h.add(nx());
   h.add(ny());
   h.add(static_cast<std::uint8_t>(settings_.mode));
-  // Tiles not created differ only by which grid edges they touch and their size.
+  const int bxs = (nx() + kHashBlock - 1) / kHashBlock, bys = (ny() + kHashBlock - 1) / kHashBlock;
+  // Blocks without tiles differ only by which grid edges they touch and their size.
   std::map<std::tuple<int, int, int, int>, std::uint64_t> rest;
-  for (int ty = 0; ty < s.tiles_y; ++ty)
-    for (int tx = 0; tx < s.tiles_x; ++tx) {
-      const TileData* t = s.find(tx, ty);
-      if (t) {
-        h.add(tile_digest(*this, s, tx, ty, t));
+  for (int by = 0; by < bys; ++by)
+    for (int bx = 0; bx < bxs; ++bx) {
+      if (block_has_tiles(s, bx, by)) {
+        h.add(block_digest(*this, s, bx, by));
         continue;
       }
-      const auto key = std::make_tuple(tx == 0 ? 0 : tx == s.tiles_x - 1 ? 2 : 1, ty == 0 ? 0 : ty == s.tiles_y - 1 ? 2 : 1,
-                                       std::min(s.T, nx() - tx * s.T), std::min(s.T, ny() - ty * s.T));
+      const auto key = std::make_tuple(bx == 0 ? 0 : bx == bxs - 1 ? 2 : 1, by == 0 ? 0 : by == bys - 1 ? 2 : 1,
+                                       std::min(kHashBlock, nx() - bx * kHashBlock),
+                                       std::min(kHashBlock, ny() - by * kHashBlock));
       auto it = rest.find(key);
-      if (it == rest.end()) it = rest.emplace(key, tile_digest(*this, s, tx, ty, nullptr)).first;
+      if (it == rest.end()) it = rest.emplace(key, block_digest(*this, s, bx, by)).first;
       h.add(it->second);
     }
   return h.value();

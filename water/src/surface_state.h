@@ -97,6 +97,12 @@ struct Surface::State {
   double last_substep = 0.0;
   double time = 0.0;
   std::int64_t ever_awake = 0;
+  /// The exact sum of all heights above rest, in height quanta: kept by every edit and
+  /// substep (the volume is this times q h^2); its mean is the level sleeping is measured from.
+  quantum::Wide volume_quanta = 0;
+  [[nodiscard]] double mean_height(const SurfaceSettings& s) const {
+    return static_cast<double>(volume_quanta) * qu.q / (static_cast<double>(s.nx) * static_cast<double>(s.ny));
+  }
 
   // ---- tiles ----
   [[nodiscard]] TileData* find(int tx, int ty) const;
@@ -109,6 +115,8 @@ struct Surface::State {
   void rebuild_awake_list();
   /// Rewrites edges[parity] from the tile's storage.
   void refresh_edges(TileData& t, int parity) const;
+  /// The open boundary's sigma profile from the settings (empty unless Boundary::open).
+  void set_layer(const SurfaceSettings& s);
   /// Recomputes the sponge sigma of a tile (empty where the layer does not reach).
   void fill_sponge(const SurfaceSettings& s, TileData& t) const;
   [[nodiscard]] std::size_t memory_bytes() const;

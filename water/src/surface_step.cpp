@@ -182,6 +182,7 @@ kernel::Coefficients coefficients(const SurfaceSettings& s, const Surface::State
   k.u_inv = st.qu.inv;
   k.v_magic = st.qv.magic;
   k.v_inv = st.qv.inv;
+  k.u_ref = st.mean_height(s);
   k.u_scale = 1.0 / st.sleep_u;
   k.v_scale = 1.0 / st.sleep_v;
   return k;
@@ -252,27 +253,98 @@ double nearest(double x) { return std::floor(x + 0.5); }
 
 namespace {
 
-/// Puts the rounding of damping and of the rise back on one moving node (the first of
-/// the first awake tile): afterwards the sum of the damping impulses equals
-/// round(gamma dt / m * sum v) and the sum of the rises round(dt * sum v'), exactly.
-void restore_totals(Surface::State& s, const Totals& tot, const kernel::Coefficients& k) {
+/// The node corrections go to: the first moving node of the first awake tile.
+struct Anchor {
+  TileData* tile = nullptr;
+  std::size_t node = 0;
+  bool on_edge = false;
+};
+Anchor find_anchor(const Surface::State& s) {
   for (std::int32_t slot : s.awake) {
     TileData& t = *s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(slot)])];
     for (int j = 0; j < t.h; ++j)
       for (int i = 0; i < t.w; ++i) {
         const std::size_t n = t.at(i, j, s.T);
-        if (t.flags[n] == static_cast<std::uint8_t>(NodeConstraint::fixed)) continue;
-        const double target_damped = nearest(k.beta * static_cast<double>(tot.v_before));
-        const double extra_v = static_cast<double>(tot.damped) - target_damped;  // quanta
-        const double v_after = static_cast<double>(tot.v_after) + extra_v;
-        const double target_rise = nearest(k.dt_z * v_after * s.qv.q * s.qu.inv);
-        const double extra_u = target_rise - static_cast<double>(tot.rise);
-        t.vz[n] += extra_v * s.qv.q;
-        t.uz[n] += extra_u * s.qu.q;
-        if (i == 0 || j == 0 || i == t.w - 1 || j == t.h - 1) s.refresh_edges(t, t.cur);
-        return;
+        if (t.flags[n] != static_cast<std::uint8_t>(NodeConstraint::fixed))
+          return {&t, n, i == 0 || j == 0 || i == t.w - 1 || j == t.h - 1};
       }
   }
+  return {};
+}
+
+/// Adds dv and du (exact multiples of the quanta) to the anchor.
+void kick_anchor(Surface::State& s, const Anchor& a, double dv, double du) {
+  a.tile->vz[a.node] += dv;
+  a.tile->uz[a.node] += du;
+  if (a.on_edge) s.refresh_edges(*a.tile, a.tile->cur);
+}
+
+/// Puts the rounding of damping and of the rise back on the anchor: afterwards the sum of
+/// the damping impulses equals round(gamma dt / m * sum v) and the sum of the rises
+/// round(dt * sum v'), exactly. The volume then changes by exactly the latter.
+void restore_totals(Surface::State& s, const Totals& tot, const kernel::Coefficients& k) {
+  const Anchor a = find_anchor(s);
+  if (!a.tile) {
+    s.volume_quanta += tot.rise;  // nothing moves: no rise either
+    return;
+  }
+  const double target_damped = nearest(k.beta * static_cast<double>(tot.v_before));
+  const double extra_v = static_cast<double>(tot.damped) - target_damped;  // quanta
+  const double v_after = static_cast<double>(tot.v_after) + extra_v;
+  const double target_rise = nearest(k.dt_z * v_after * s.qv.q * s.qu.inv);
+  const double extra_u = target_rise - static_cast<double>(tot.rise);
+  kick_anchor(s, a, extra_v * s.qv.q, extra_u * s.qu.q);
+  s.volume_quanta += static_cast<quantum::Wide>(target_rise);
+}
+
+/// Shares `momentum` (velocity quanta) exactly among the moving nodes of the awake tiles
+/// around tile t (all awake tiles if none is next to it): every node gets the same count,
+/// the first few one more.
+void spread_momentum(Surface::State& s, const TileData& t, quantum::Wide momentum) {
+  if (momentum == 0) return;
+  std::vector<TileData*> around;
+  for (int side = 0; side < kernel::kSides; ++side)
+    if (TileData* n = s.find(t.tx + kSideDx[side], t.ty + kSideDy[side]); n && n->awake) around.push_back(n);
+  if (around.empty())
+    for (std::int32_t slot : s.awake) around.push_back(s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(slot)])].get());
+  std::int64_t nodes = 0;
+  for (const TileData* n : around)
+    for (int j = 0; j < n->h; ++j)
+      for (int i = 0; i < n->w; ++i) nodes += n->flags[n->at(i, j, s.T)] != static_cast<std::uint8_t>(NodeConstraint::fixed);
+  if (nodes == 0) return;  // nothing moves: the momentum has nowhere to go
+  quantum::Wide share = momentum / nodes, rest = momentum - share * nodes;
+  if (rest < 0) {
+    share -= 1;
+    rest += nodes;
+  }
+  for (TileData* n : around) {
+    for (int j = 0; j < n->h; ++j)
+      for (int i = 0; i < n->w; ++i) {
+        const std::size_t k = n->at(i, j, s.T);
+        if (n->flags[k] == static_cast<std::uint8_t>(NodeConstraint::fixed)) continue;
+        const quantum::Wide q = share + (rest > 0 ? 1 : 0);
+        if (rest > 0) --rest;
+        n->vz[k] += static_cast<double>(q) * s.qv.q;
+      }
+    s.refresh_edges(*n, n->cur);
+  }
+}
+
+/// A tile falls asleep at rest: its velocities (below the threshold) are zeroed and their
+/// vertical momentum shared among the awake nodes around it, so the awake water keeps its
+/// net momentum and the volume stays exact. Returns the momentum in velocity quanta.
+quantum::Wide put_to_sleep(Surface::State& s, TileData& t) {
+  quantum::Wide momentum = 0;
+  for (int j = 0; j < t.h; ++j)
+    for (int i = 0; i < t.w; ++i) {
+      const std::size_t n = t.at(i, j, s.T);
+      momentum += quantum::count(t.vz[n], s.qv.inv);
+      t.vz[n] = 0.0;
+      if (s.full) t.vx[n] = t.vy[n] = 0.f;
+    }
+  t.awake = false;
+  s.refresh_edges(t, t.cur);
+  return momentum;
 }
 
 /// Wakes neighbours an awake tile's edges reach, counts calm substeps, puts calm tiles to
@@ -291,15 +363,14 @@ void update_sleep(const SurfaceSettings& settings, Surface::State& s, const std:
   }
   for (std::int32_t e : excited) s.set_awake(s.obtain(settings, e % s.tiles_x, e / s.tiles_x));
   if (!settings.sleep.enabled) return;
-  bool changed = false;
+  std::vector<std::pair<TileData*, quantum::Wide>> slept;
   for (std::int32_t slot : stepped) {
     TileData& t = *s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(slot)])];
-    if (t.awake && t.calm >= settings.sleep.calm_substeps) {
-      t.awake = false;
-      changed = true;
-    }
+    if (t.awake && t.calm >= settings.sleep.calm_substeps) slept.emplace_back(&t, put_to_sleep(s, t));
   }
-  if (changed) s.rebuild_awake_list();
+  if (slept.empty()) return;
+  s.rebuild_awake_list();
+  for (const auto& [t, momentum] : slept) spread_momentum(s, *t, momentum);
 }
 
 /// One substep of every awake tile; returns whether it ran on the team.
