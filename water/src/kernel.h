@@ -39,7 +39,8 @@ struct Tile {
   float* vx = nullptr;
   float* vy = nullptr;
   const std::uint8_t* flags = nullptr;  ///< storage: 0 free, 1 vertical-only, 2 fixed
-  const double* bz = nullptr;           ///< block: old heights with the ghost ring
+  double* bz = nullptr;                 ///< block: old heights with the ghost ring (scratch: the
+                                        ///< vertical-only kernel overwrites it)
   const float* bx = nullptr;            ///< block, 3-D only
   const float* by = nullptr;
   Side sides[kSides] = {};
