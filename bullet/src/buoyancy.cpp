@@ -68,8 +68,12 @@ BodyWater water_forces(const Submerged& wet, double sampled_volume, V3 sampled_m
   out.submerged_volume = volume;
   out.centre_of_buoyancy = bt(cb);
   const V3 lift{0, 0, fluid.density * fluid.gravity * volume};
+  const V3 lift_torque = cross(cb - m.com, lift);
+  // The velocity Bullet hands the coupling is the one the body moved with in this substep
+  // (gravity added, buoyancy not yet): drag acts on it.
+  const V3 v = m.v, omega = m.w;
   // Translation: the whole wet part on the relative velocity of the centre of buoyancy.
-  const V3 u = m.v + cross(m.w, cb - m.com) - V3{0, 0, w.vz};
+  const V3 u = v + cross(omega, cb - m.com) - V3{0, 0, w.vz};
   const double speed = norm(u);
   V3 drag{}, drag_torque{};
   if (speed > 0.0) {
@@ -77,13 +81,13 @@ BodyWater water_forces(const Submerged& wet, double sampled_volume, V3 sampled_m
     out.projected_area = projected_area(wet, w, u * (1.0 / speed)) + (sampled_volume > 0.0 ? det::pow(sampled_volume, 2.0 / 3.0) : 0.0);
     drag = drag_on(out.projected_area, u, fluid);
     // Never more than stops the relative motion within the substep.
-    const double dv = norm(drag) * h / m.mass;
+    const double dv = m.mass > 0.0 ? norm(drag) * h / m.mass : 0.0;  // mass 0: kinematic, moved regardless
     if (dv > speed) drag = drag * (speed / dv);
     drag_torque = cross(cb - m.com, drag);
   }
   V3 spin_force{}, spin_torque{};
-  spin_drag(wet, cb, m.w, m.com, fluid, spin_force, spin_torque);
-  const double spin = norm(m.w), dw = (m.inv_inertia * bt(spin_torque)).length() * h;
+  spin_drag(wet, cb, omega, m.com, fluid, spin_force, spin_torque);
+  const double spin = norm(omega), dw = (m.inv_inertia * bt(spin_torque)).length() * h;
   if (dw > spin && dw > 0.0) {
     spin_force = spin_force * (spin / dw);
     spin_torque = spin_torque * (spin / dw);
@@ -91,7 +95,7 @@ BodyWater water_forces(const Submerged& wet, double sampled_volume, V3 sampled_m
   out.buoyancy = bt(lift);
   out.drag = bt(drag + spin_force);
   out.force = bt(lift + drag + spin_force);
-  out.torque = bt(cross(cb - m.com, lift) + drag_torque + spin_torque);
+  out.torque = bt(lift_torque + drag_torque + spin_torque);
   return out;
 }
 

@@ -298,7 +298,9 @@ void WaterCoupling::displace(Body& b) {
   btVector3 lo, hi;
   b.body->getCollisionShape()->getAabb(pose, lo, hi);
   const double reach = 0.5 * double((hi - lo).length());
-  if (b.have_reference && same_pose(pose, b.reference_pose, 1e-9 * h, reach)) return;  // at rest: nothing swept
+  // At rest (within a thousandth of a cell of the pose the displacement was last taken
+  // from) nothing is swept: the motion is taken, whole, once it exceeds that.
+  if (b.have_reference && same_pose(pose, b.reference_pose, 1e-3 * h, reach)) return;
   // The current envelopes on the sub-sample grid.
   const int per = settings_.fluid.samples_per_cell;
   const EnvelopeGrid grid = sub_grid(surface_, per);
@@ -440,23 +442,17 @@ void WaterCoupling::updateAction(btCollisionWorld*, btScalar substep) {
           }
       }
     }
-    const double mass = body.getInvMass() > 0 ? 1.0 / body.getInvMass() : 0.0;
-    if (mass > 0.0) {
-      water_detail::Motion m;
-      m.com = v3(body.getCenterOfMassPosition());
-      m.v = v3(body.getLinearVelocity());
-      m.w = v3(body.getAngularVelocity());
-      m.mass = mass;
-      m.inv_inertia = body.getInvInertiaTensorWorld();
-      b.last = water_detail::water_forces(b.wet, sampled_volume, sampled_moment, plane, settings_.fluid, m, h);
-      if (b.last.submerged_volume > 0.0) {
-        body.applyCentralImpulse(b.last.force * btScalar(h));
-        body.applyTorqueImpulse(b.last.torque * btScalar(h));
-        body.activate(true);
-      }
-    } else {
-      b.last = BodyWater{};
-      b.last.submerged_volume = b.wet.volume + sampled_volume;
+    water_detail::Motion m;
+    m.com = v3(body.getCenterOfMassPosition());
+    m.v = v3(body.getLinearVelocity());
+    m.w = v3(body.getAngularVelocity());
+    m.mass = body.getInvMass() > 0 ? 1.0 / double(body.getInvMass()) : 0.0;
+    m.inv_inertia = body.getInvInertiaTensorWorld();
+    b.last = water_detail::water_forces(b.wet, sampled_volume, sampled_moment, plane, settings_.fluid, m, h);
+    if (m.mass > 0.0 && b.last.submerged_volume > 0.0) {  // kinematic and static bodies only feel it
+      body.applyCentralImpulse(b.last.force * btScalar(h));
+      body.applyTorqueImpulse(b.last.torque * btScalar(h));
+      body.activate(true);
     }
     surface_.wake(lo.x(), lo.y(), hi.x(), hi.y());
     if (b.disturb) displace(b);

@@ -16,7 +16,7 @@ struct Motion {
   V3 com;                  ///< centre of mass, world
   V3 v;                    ///< linear velocity
   V3 w;                    ///< angular velocity
-  double mass = 0.0;       ///< kg, > 0
+  double mass = 0.0;       ///< kg; 0: kinematic or static (the forces are reported, not limited)
   btMatrix3x3 inv_inertia; ///< world inverse inertia tensor
 };
 

@@ -240,6 +240,7 @@ double Surface::sleep_velocity() const { return s_->sleep_v; }
 
 namespace {
 void check_index(const Surface& s, const char* what, int i, int j) {
+  if (i >= 0 && j >= 0 && i < s.nx() && j < s.ny()) return;  // the common case builds no message
   const Check c{std::string("water.Surface.") + what};
   c.in_closed("i", i, 0, s.nx() - 1);
   c.in_closed("j", j, 0, s.ny() - 1);
@@ -400,32 +401,36 @@ bool Surface::add_vertical_velocity(int i, int j, double dv) {
 }
 
 namespace {
-/// Calls fn(value index, tile or null, in-tile index) for every node of a window, nodes
-/// beyond the grid clamped to the nearest edge node.
-template <class State, class Fn>
-void for_window(State& s, int nx, int ny, int i0, int j0, int w, int h, Fn&& fn) {
+/// Copies a field of the nodes of a window, row-major, nodes beyond the grid clamped to the
+/// nearest edge node, tiles not created read as 0: one tile lookup per row and tile.
+void read_window(const Surface::State& s, int nx, int ny, int i0, int j0, int w, int h,
+                 std::vector<double> TileData::*field, std::vector<double>& out) {
+  out.assign(static_cast<std::size_t>(std::max(w, 0)) * static_cast<std::size_t>(std::max(h, 0)), 0.0);
   for (int b = 0; b < h; ++b) {
     const int j = std::clamp(j0 + b, 0, ny - 1);
-    for (int a = 0; a < w; ++a) {
+    double* row = out.data() + static_cast<std::size_t>(b) * static_cast<std::size_t>(w);
+    for (int a = 0; a < w;) {
       const int i = std::clamp(i0 + a, 0, nx - 1);
-      auto* t = s.find(i >> s.shift, j >> s.shift);
-      fn(static_cast<std::size_t>(b) * static_cast<std::size_t>(w) + static_cast<std::size_t>(a), t,
-         t ? t->at(i & (s.T - 1), j & (s.T - 1), s.T) : std::size_t{0});
+      const TileData* t = s.find(i >> s.shift, j >> s.shift);
+      // The run of window nodes inside this tile (nodes clamped to the edge: one at a time).
+      const bool inside = i0 + a >= 0 && i0 + a < nx;
+      const int run = inside ? std::min(w - a, std::min(nx - 1, ((i >> s.shift) + 1) * s.T - 1) - i + 1) : 1;
+      if (t) {
+        const double* src = (t->*field).data() + t->at(i & (s.T - 1), j & (s.T - 1), s.T);
+        std::copy_n(src, run, row + a);
+      }
+      a += run;
     }
   }
 }
 }  // namespace
 
 void Surface::heights_above_rest(int i0, int j0, int w, int h, std::vector<double>& out) const {
-  out.assign(static_cast<std::size_t>(std::max(w, 0)) * static_cast<std::size_t>(std::max(h, 0)), 0.0);
-  for_window(*s_, nx(), ny(), i0, j0, w, h,
-             [&](std::size_t n, const TileData* t, std::size_t k) { out[n] = t ? t->uz[k] : 0.0; });
+  read_window(*s_, nx(), ny(), i0, j0, w, h, &TileData::uz, out);
 }
 
 void Surface::vertical_velocities(int i0, int j0, int w, int h, std::vector<double>& out) const {
-  out.assign(static_cast<std::size_t>(std::max(w, 0)) * static_cast<std::size_t>(std::max(h, 0)), 0.0);
-  for_window(*s_, nx(), ny(), i0, j0, w, h,
-             [&](std::size_t n, const TileData* t, std::size_t k) { out[n] = t ? t->vz[k] : 0.0; });
+  read_window(*s_, nx(), ny(), i0, j0, w, h, &TileData::vz, out);
 }
 
 double Surface::add_heights(int i0, int j0, int w, int h, std::span<const double> dz) {

@@ -38,7 +38,7 @@ struct FluidSettings {
   double quadratic_drag = 1.0;
   /// k, m/s, >= 0: a linear drag rho k A u on the same area, for slow motion (skin friction,
   /// wave making); at 1 m/s and k = 0.01 it adds 2 % to the C_d = 1 drag.
-  double linear_drag = 0.01;
+  double linear_drag = 0.2;
   /// Sub-samples per water cell side, in [1, 16]: the body's envelopes on this grid give the
   /// water it displaces (its wake) and, for concave meshes only, their buoyancy.
   int samples_per_cell = 2;

@@ -18,7 +18,8 @@
 // total, keeps the water's own motion from feeding back into itself; tracking starts from
 // the pose at add_body, so the first substep does not dump the whole submerged volume. A
 // body sliding sideways makes a wake. A body at rest costs no displacement work: its
-// envelopes are not sampled again until its pose moves by more than 1e-9 of a cell.
+// envelopes are not sampled again until its pose moves by more than 1e-3 of a cell from
+// the pose they were last sampled at (the motion is then displaced whole, so none is lost).
 //
 // The water under every body is kept awake (Surface::wake), so sleeping tiles never hide
 // a body's water.
@@ -87,7 +88,8 @@ class WaterCoupling : public btActionInterface {
   [[nodiscard]] const WaterCouplingStats& stats() const noexcept { return stats_; }
   /// Submerged volume of a body in the last substep (m^3), 0 if unknown.
   [[nodiscard]] double submerged_volume(const btRigidBody* body) const;
-  /// The water's force and torque on a body in the last substep (zeros if unknown).
+  /// The water's force and torque on a body in the last substep (zeros if unknown). For a
+  /// kinematic or static body (mass 0) they are reported but not applied.
   [[nodiscard]] BodyWater water_force(const btRigidBody* body) const;
 
   struct Body;  ///< opaque: per-body shape and displacement state
