@@ -142,26 +142,35 @@ water_detail::WaterPlane fit_plane(const water::Surface& s, const NodeWindow& wi
                                   sv / n);
 }
 
-/// Lower / upper of every part at (x, y), merged into lo / hi (the body's envelope).
-void chord_of_parts(const water_detail::WaterShape& shape, const std::vector<Frame>& frames,
-                    const std::vector<water_detail::WorldPlanes>& planes, double x, double y, double& lo, double& hi) {
+/// The body's envelope along a row of sub-samples: every part's chord, merged (min of the
+/// lower ends, max of the upper ones where a part covers the point).
+void envelope_row(const water_detail::WaterShape& shape, const std::vector<Frame>& frames,
+                  const std::vector<water_detail::WorldPlanes>& planes, double x0, double dx, int n, double y,
+                  double* lower, double* upper, std::vector<double>& lo, std::vector<double>& hi) {
+  lo.resize(std::size_t(n));
+  hi.resize(std::size_t(n));
   for (std::size_t p = 0; p < shape.parts.size(); ++p) {
     const Part& part = shape.parts[p];
-    double a = 0.0, b = 0.0;
+    if (part.kind == Part::Kind::sampled) continue;  // merged from their raster
+    std::fill(lo.begin(), lo.end(), -std::numeric_limits<double>::infinity());
+    std::fill(hi.begin(), hi.end(), std::numeric_limits<double>::infinity());
     if (part.kind == Part::Kind::polyhedron) {
-      if (!water_detail::chord(planes[p], x, y, a, b)) continue;
-    } else if (part.kind == Part::Kind::ball) {
-      const V3 c = frames[p].t;
-      const double r2 = part.radius * part.radius - (x - c.x) * (x - c.x) - (y - c.y) * (y - c.y);
-      if (!(r2 > 0.0)) continue;
-      const double half = std::sqrt(r2);
-      a = c.z - half;
-      b = c.z + half;
+      water_detail::chord_row(planes[p], x0, dx, n, y, lo.data(), hi.data());
     } else {
-      continue;  // sampled parts are merged from their raster
+      const V3 c = frames[p].t;
+      const double ry = part.radius * part.radius - (y - c.y) * (y - c.y);
+      for (int k = 0; k < n; ++k) {
+        const double r2 = ry - (x0 + k * dx - c.x) * (x0 + k * dx - c.x);
+        const double half = r2 > 0.0 ? std::sqrt(r2) : 0.0;
+        lo[std::size_t(k)] = r2 > 0.0 ? c.z - half : 0.0;
+        hi[std::size_t(k)] = r2 > 0.0 ? c.z + half : 0.0;
+      }
     }
-    lo = std::min(lo, a);
-    hi = std::max(hi, b);
+    for (int k = 0; k < n; ++k)
+      if (lo[std::size_t(k)] < hi[std::size_t(k)]) {
+        lower[k] = std::min(lower[k], lo[std::size_t(k)]);
+        upper[k] = std::max(upper[k], hi[std::size_t(k)]);
+      }
   }
 }
 
@@ -319,14 +328,11 @@ void WaterCoupling::displace(Body& b) {
   std::vector<Frame> frames;
   std::vector<water_detail::WorldPlanes> planes;
   part_frames(b.shape, envelope_detail::frame_of(pose), frames, planes);
-  for (int l = 0; l < e.nl; ++l)
-    for (int k = 0; k < e.nk; ++k) {
-      const double x = grid.origin_x + double(e.k0 + k) * grid.cell, y = grid.origin_y + double(e.l0 + l) * grid.cell;
-      double a = EnvelopeRaster::kNoLower, c = EnvelopeRaster::kNoUpper;
-      chord_of_parts(b.shape, frames, planes, x, y, a, c);
-      e.lower[std::size_t(l) * std::size_t(e.nk) + std::size_t(k)] = a;
-      e.upper[std::size_t(l) * std::size_t(e.nk) + std::size_t(k)] = c;
-    }
+  for (int l = 0; l < e.nl; ++l) {
+    const std::size_t row = std::size_t(l) * std::size_t(e.nk);
+    envelope_row(b.shape, frames, planes, grid.origin_x + double(e.k0) * grid.cell, grid.cell, e.nk,
+                 grid.origin_y + double(e.l0 + l) * grid.cell, e.lower.data() + row, e.upper.data() + row, lo_, hi_);
+  }
   if (b.rasterizer) {  // sampled parts: their raster on the same grid, merged
     EnvelopeRaster r;
     r.resize(e.k0, e.l0, e.nk, e.nl, true);
@@ -358,16 +364,19 @@ void WaterCoupling::displace(Body& b) {
     ds_.assign(heights_.size(), 0.0);
     const double rest = surface_.settings().rest_height, share = 1.0 / (double(per) * per);
     const auto accumulate = [&](const SubEnvelope& s, double sign) {
-      for (int l = 0; l < s.nl; ++l)
+      for (int l = 0; l < s.nl; ++l) {
+        const int j = node0(s.l0 + l) - win.j0;
+        const double* lower = s.lower.data() + std::size_t(l) * std::size_t(s.nk);
+        const double* upper = s.upper.data() + std::size_t(l) * std::size_t(s.nk);
+        double* out = ds_.data() + std::size_t(j) * std::size_t(win.w());
+        const double* water = heights_.data() + std::size_t(j) * std::size_t(win.w());
         for (int k = 0; k < s.nk; ++k) {
-          const std::size_t q = std::size_t(l) * std::size_t(s.nk) + std::size_t(k);
-          if (!(s.lower[q] < EnvelopeRaster::kNoLower)) continue;
-          const int i = node0(s.k0 + k) - win.i0, j = node0(s.l0 + l) - win.j0;
-          const std::size_t node = std::size_t(j) * std::size_t(win.w()) + std::size_t(i);
-          const double water = rest + heights_[node];
-          const double wet = std::clamp(water - s.lower[q], 0.0, s.upper[q] - s.lower[q]);
-          ds_[node] += sign * share * wet;
+          if (!(lower[k] < EnvelopeRaster::kNoLower)) continue;
+          const int i = node0(s.k0 + k) - win.i0;
+          const double wet = std::clamp(rest + water[i] - lower[k], 0.0, upper[k] - lower[k]);
+          out[i] += sign * share * wet;
         }
+      }
     };
     accumulate(e, 1.0);
     accumulate(b.reference, -1.0);

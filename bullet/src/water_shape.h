@@ -127,6 +127,9 @@ struct WorldPlanes {
 };
 void world_planes(const Polyhedron& p, const Frame& f, WorldPlanes& out);
 bool chord(const WorldPlanes& p, double x, double y, double& lo, double& hi);
+/// The chords of a row of n points (x0 + k dx, y): lo[k] / hi[k] narrowed by every face
+/// (start them at -inf / +inf); a point outside gets lo >= hi.
+void chord_row(const WorldPlanes& p, double x0, double dx, int n, double y, double* lo, double* hi);
 
 }  // namespace water_detail
 }  // namespace SHORE_BULLET_ABI

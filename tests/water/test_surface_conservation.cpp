@@ -67,9 +67,9 @@ INSTANTIATE_TEST_SUITE_P(Modes, ClosedPool,
                                            VolumeCase{SurfaceMode::vertical_only, true, 2},
                                            VolumeCase{SurfaceMode::full_3d, false, 1},
                                            VolumeCase{SurfaceMode::full_3d, true, 2}),
-                         [](const ::testing::TestParamInfo<VolumeCase>& info) {
-                           return std::string(info.param.mode == SurfaceMode::full_3d ? "Full3d" : "VerticalOnly") +
-                                  (info.param.sleep ? "_Sleeping" : "_Dense");
+                         [](const ::testing::TestParamInfo<VolumeCase>& c) {
+                           return std::string(c.param.mode == SurfaceMode::full_3d ? "Full3d" : "VerticalOnly") +
+                                  (c.param.sleep ? "_Sleeping" : "_Dense");
                          });
 
 TEST(ClosedPool, VolumeChangesByExactlyWhatIsAdded) {

@@ -44,6 +44,9 @@ struct Tile {
   const float* bx = nullptr;            ///< block, 3-D only
   const float* by = nullptr;
   Side sides[kSides] = {};
+  /// Activity of the steps between the tile's edges and the ghost ring per side (computed
+  /// when gathering: max |u_edge - u_ghost| / sleep height; 0 where the side is absent).
+  double boundary_activity[kSides] = {};
   /// The open boundary's sigma per node (1/s, row-major with the storage's stride), or null
   /// where the tile has no sponge: damping 2 sigma v and pull sigma^2 u per unit mass.
   const double* sponge = nullptr;
@@ -65,7 +68,6 @@ struct Coefficients {
   double dt_z = 1.0;        ///< dt
   double u_magic = 1.0, u_inv = 1.0;  ///< height quantum (quantum.h)
   double v_magic = 1.0, v_inv = 1.0;  ///< velocity quantum
-  double u_ref = 0.0;       ///< the level activity is measured from: the mean height above rest (m)
   double u_scale = 1.0;     ///< 1 / sleep height threshold (activity)
   double v_scale = 1.0;     ///< 1 / sleep velocity threshold
 };
@@ -97,8 +99,9 @@ struct TileResult {
   quantum::Wide damped = 0;    ///< sum of the (rounded) damping impulses gamma dt / m v
   quantum::Wide v_after = 0;   ///< sum of vertical velocities after it
   quantum::Wide rise = 0;      ///< sum of the (rounded) height increments v dt
-  /// Activity: max over moving nodes of |u_z - u_ref| (in-plane |u|) / sleep height and
-  /// |v| / sleep velocity, over the
+  /// Activity: max over moving nodes of the stretch |u_a - u_b| of their springs to the
+  /// other nodes of the tile (all components) / sleep height and |v| / sleep velocity (and
+  /// the steps to the ghost ring, boundary_activity), over the
   /// whole tile, along each side (row or column) and at each corner node (SideIndex order).
   double activity = 0.0;
   double side_activity[kSides] = {};

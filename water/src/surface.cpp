@@ -334,9 +334,7 @@ void Surface::disturb(std::span<const Disturbance> ds) {
         const std::size_t k = t.at(i & (s.T - 1), j & (s.T - 1), s.T);
         if (t.flags[k] == static_cast<std::uint8_t>(NodeConstraint::fixed)) continue;
         double& target = height ? t.uz[k] : t.vz[k];
-        const double r = quantum::round_to(wy * ax.weights[a], q.magic);
-        target += r;
-        if (height) s.volume_quanta += quantum::count(r, q.inv);
+        target += quantum::round_to(wy * ax.weights[a], q.magic);
       }
     }
     for (int ty = j0 >> s.shift; ty <= j1 >> s.shift; ++ty)
@@ -377,9 +375,7 @@ bool Surface::add_height(int i, int j, double dz) {
   State& s = *s_;
   s.wake_around(settings_, i >> s.shift, j >> s.shift);
   TileData& t = *s.find(i >> s.shift, j >> s.shift);
-  const double r = quantum::round_to(dz, s.qu.magic);
-  t.uz[t.at(i & (s.T - 1), j & (s.T - 1), s.T)] += r;
-  s.volume_quanta += quantum::count(r, s.qu.inv);
+  t.uz[t.at(i & (s.T - 1), j & (s.T - 1), s.T)] += quantum::round_to(dz, s.qu.magic);
   s.refresh_edges(t, t.cur);
   s.deformation.reset();
   return true;
@@ -464,7 +460,6 @@ double Surface::add_heights(int i0, int j0, int w, int h, std::span<const double
   for (int ty = b0 >> s.shift; ty <= b1 >> s.shift; ++ty)
     for (int tx = a0 >> s.shift; tx <= a1 >> s.shift; ++tx) s.refresh_edges(*s.find(tx, ty), s.find(tx, ty)->cur);
   s.deformation.reset();
-  s.volume_quanta += quanta;
   return static_cast<double>(quanta) * s.qu.q * spacing() * spacing();
 }
 

@@ -97,12 +97,6 @@ struct Surface::State {
   double last_substep = 0.0;
   double time = 0.0;
   std::int64_t ever_awake = 0;
-  /// The exact sum of all heights above rest, in height quanta: kept by every edit and
-  /// substep (the volume is this times q h^2); its mean is the level sleeping is measured from.
-  quantum::Wide volume_quanta = 0;
-  [[nodiscard]] double mean_height(const SurfaceSettings& s) const {
-    return static_cast<double>(volume_quanta) * qu.q / (static_cast<double>(s.nx) * static_cast<double>(s.ny));
-  }
 
   // ---- tiles ----
   [[nodiscard]] TileData* find(int tx, int ty) const;

@@ -4,6 +4,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "shore/core/error.h"
 #include "shore/water/stability.h"
@@ -76,16 +77,18 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
     int first;                 // first entry of that edge
     int count;                 // entries
     std::ptrdiff_t at, step;   // block offset of the first ghost and the step between ghosts
+    std::ptrdiff_t inner;      // from a ghost to the tile's node its spring reaches
   };
+  const std::ptrdiff_t hs = static_cast<std::ptrdiff_t>(t.h) * bs;
   const Ghost ghosts[] = {
-      {kernel::kSouth, kernel::kNorth, 0, t.w, -bs, 1},
-      {kernel::kNorth, kernel::kSouth, 0, t.w, static_cast<std::ptrdiff_t>(t.h) * bs, 1},
-      {kernel::kWest, kernel::kEast, 0, t.h, -1, bs},
-      {kernel::kEast, kernel::kWest, 0, t.h, t.w, bs},
-      {kernel::kSouthWest, kernel::kNorth, T - 1, 1, -bs - 1, 1},
-      {kernel::kSouthEast, kernel::kNorth, 0, 1, -bs + t.w, 1},
-      {kernel::kNorthWest, kernel::kSouth, T - 1, 1, static_cast<std::ptrdiff_t>(t.h) * bs - 1, 1},
-      {kernel::kNorthEast, kernel::kSouth, 0, 1, static_cast<std::ptrdiff_t>(t.h) * bs + t.w, 1},
+      {kernel::kSouth, kernel::kNorth, 0, t.w, -bs, 1, bs},
+      {kernel::kNorth, kernel::kSouth, 0, t.w, hs, 1, -bs},
+      {kernel::kWest, kernel::kEast, 0, t.h, -1, bs, 1},
+      {kernel::kEast, kernel::kWest, 0, t.h, t.w, bs, -1},
+      {kernel::kSouthWest, kernel::kNorth, T - 1, 1, -bs - 1, 1, bs + 1},
+      {kernel::kSouthEast, kernel::kNorth, 0, 1, -bs + t.w, 1, bs - 1},
+      {kernel::kNorthWest, kernel::kSouth, T - 1, 1, hs - 1, 1, -bs + 1},
+      {kernel::kNorthEast, kernel::kSouth, 0, 1, hs + t.w, 1, -bs - 1},
   };
   for (const Ghost& g : ghosts) {
     const TileData* n = k.sides[g.side] == kernel::Side::absent ? nullptr
@@ -97,6 +100,16 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
       copy_edge(e ? &e->x : nullptr, first, g.count, bx + g.at, g.step);
       copy_edge(e ? &e->y : nullptr, first, g.count, by + g.at, g.step);
     }
+    k.boundary_activity[g.side] = 0.0;
+    if (k.sides[g.side] == kernel::Side::absent) continue;
+    // The steps across this side: a tile at rest next to water at another level is not at rest.
+    double step = 0.0;
+    for (int q = 0; q < g.count; ++q) {
+      const std::ptrdiff_t a = g.at + q * g.step, b = a + g.inner;
+      step = std::max(step, std::abs(bz[a] - bz[b]));
+      if (full) step = std::max(step, static_cast<double>(std::max(std::abs(bx[a] - bx[b]), std::abs(by[a] - by[b]))));
+    }
+    k.boundary_activity[g.side] = step / sleep_u;
   }
   return k;
 }
@@ -182,7 +195,6 @@ kernel::Coefficients coefficients(const SurfaceSettings& s, const Surface::State
   k.u_inv = st.qu.inv;
   k.v_magic = st.qv.magic;
   k.v_inv = st.qv.inv;
-  k.u_ref = st.mean_height(s);
   k.u_scale = 1.0 / st.sleep_u;
   k.v_scale = 1.0 / st.sleep_v;
   return k;
@@ -284,17 +296,13 @@ void kick_anchor(Surface::State& s, const Anchor& a, double dv, double du) {
 /// round(dt * sum v'), exactly. The volume then changes by exactly the latter.
 void restore_totals(Surface::State& s, const Totals& tot, const kernel::Coefficients& k) {
   const Anchor a = find_anchor(s);
-  if (!a.tile) {
-    s.volume_quanta += tot.rise;  // nothing moves: no rise either
-    return;
-  }
+  if (!a.tile) return;  // nothing moves: no rise either
   const double target_damped = nearest(k.beta * static_cast<double>(tot.v_before));
   const double extra_v = static_cast<double>(tot.damped) - target_damped;  // quanta
   const double v_after = static_cast<double>(tot.v_after) + extra_v;
   const double target_rise = nearest(k.dt_z * v_after * s.qv.q * s.qu.inv);
   const double extra_u = target_rise - static_cast<double>(tot.rise);
   kick_anchor(s, a, extra_v * s.qv.q, extra_u * s.qu.q);
-  s.volume_quanta += static_cast<quantum::Wide>(target_rise);
 }
 
 /// Shares `momentum` (velocity quanta) exactly among the moving nodes of the awake tiles
@@ -347,6 +355,47 @@ quantum::Wide put_to_sleep(Surface::State& s, TileData& t) {
   return momentum;
 }
 
+/// Whether a tile and the facing nodes of its neighbours lie flat within half the sleep
+/// height (every component): only then may it sleep, at whatever level it stands.
+bool flat(const Surface::State& s, const TileData& t) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  double xlo = lo, xhi = hi, ylo = lo, yhi = hi;
+  const auto take = [&](double z, double x, double y) {
+    lo = std::min(lo, z);
+    hi = std::max(hi, z);
+    xlo = std::min(xlo, x);
+    xhi = std::max(xhi, x);
+    ylo = std::min(ylo, y);
+    yhi = std::max(yhi, y);
+  };
+  for (int j = 0; j < t.h; ++j)
+    for (int i = 0; i < t.w; ++i) {
+      const std::size_t k = t.at(i, j, s.T);
+      take(t.uz[k], s.full ? t.ux[k] : 0.0, s.full ? t.uy[k] : 0.0);
+    }
+  for (int side = 0; side < 4; ++side) {
+    const int tx = t.tx + kSideDx[side], ty = t.ty + kSideDy[side];
+    if (!s.inside(tx, ty)) continue;
+    const TileData* n = s.find(tx, ty);
+    const int count = side <= kernel::kNorth ? t.w : t.h;
+    const int facing = side == kernel::kSouth ? kernel::kNorth
+                       : side == kernel::kNorth ? kernel::kSouth
+                       : side == kernel::kWest  ? kernel::kEast
+                                                : kernel::kWest;
+    for (int q = 0; q < count; ++q) {
+      if (!n) {
+        take(0.0, 0.0, 0.0);  // at rest
+        break;
+      }
+      const TileData::Edges& e = n->edges[static_cast<std::size_t>(n->cur)];
+      const std::size_t k = static_cast<std::size_t>(facing * s.T + q);
+      take(e.z[k], s.full ? e.x[k] : 0.0, s.full ? e.y[k] : 0.0);
+    }
+  }
+  const double limit = kSleepLevel * s.sleep_u;
+  return hi - lo <= limit && xhi - xlo <= limit && yhi - ylo <= limit;
+}
+
 /// Wakes neighbours an awake tile's edges reach, counts calm substeps, puts calm tiles to
 /// sleep.
 void update_sleep(const SurfaceSettings& settings, Surface::State& s, const std::vector<kernel::TileResult>& results,
@@ -366,7 +415,12 @@ void update_sleep(const SurfaceSettings& settings, Surface::State& s, const std:
   std::vector<std::pair<TileData*, quantum::Wide>> slept;
   for (std::int32_t slot : stepped) {
     TileData& t = *s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(slot)])];
-    if (t.awake && t.calm >= settings.sleep.calm_substeps) slept.emplace_back(&t, put_to_sleep(s, t));
+    if (!t.awake || t.calm < settings.sleep.calm_substeps) continue;
+    if (!flat(s, t)) {
+      t.calm = 0;  // still, but standing on a slope: the water has not settled
+      continue;
+    }
+    slept.emplace_back(&t, put_to_sleep(s, t));
   }
   if (slept.empty()) return;
   s.rebuild_awake_list();

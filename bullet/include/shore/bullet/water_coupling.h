@@ -101,7 +101,7 @@ class WaterCoupling : public btActionInterface {
   water::Surface& surface_;
   WaterCouplingSettings settings_;
   std::vector<std::unique_ptr<Body>> bodies_;
-  std::vector<double> heights_, velocities_, ds_, scratch_;
+  std::vector<double> heights_, velocities_, ds_, scratch_, lo_, hi_;
   WaterCouplingStats stats_;
 };
 
