@@ -34,26 +34,31 @@ V3 drag_on(double area, V3 u, const FluidSettings& f) {
   return u * (-(0.5 * f.density * f.quadratic_drag * area * speed + f.density * f.linear_drag * area));
 }
 
-/// The faces' drag against their velocity relative to the centre of buoyancy (rotation),
-/// over each face's quadrature points: a box rolling about its long axis turns half its
-/// bottom into the water even though the bottom's centre does not move.
-void spin_drag(const Submerged& wet, V3 cb, V3 omega, V3 com, const FluidSettings& f, V3& force, V3& torque) {
+/// The velocity of a point of the body relative to the water there.
+V3 relative(const Motion& m, V3 p, double water_vz) { return m.v + cross(m.w, p - m.com) - V3{0, 0, water_vz}; }
+
+/// Drag over the closed wet surface of the polyhedra: every quadrature point (and the cut)
+/// by its own velocity, on half its area projected along it (half, because front and back
+/// both count: for a translation the sum is the projected area A exactly, for a spin only the
+/// normal motion of the surface acts). Adds force and torque about the centre of mass.
+void surface_drag(const Submerged& wet, const WaterPlane& w, const Motion& m, const FluidSettings& f, V3& force,
+                  V3& torque) {
+  const auto element = [&](V3 at, V3 area) {
+    const V3 u = relative(m, at, w.vz);
+    const double speed = norm(u);
+    if (!(speed > 0.0)) return;
+    const V3 fd = drag_on(0.5 * std::abs(dot(area, u)) / speed, u, f);
+    force = force + fd;
+    torque = torque + cross(at - m.com, fd);
+  };
   for (const WetFace& face : wet.faces) {
     const double a = norm(face.area);
     if (!(a > 0.0)) continue;
     const V3 n = face.area * (1.0 / a);
-    for (int k = face.first_point; k < face.first_point + face.points; ++k) {
-      const FacePoint& p = wet.points[std::size_t(k)];
-      const V3 u = cross(omega, p.at - cb);
-      const double speed = norm(u);
-      if (!(speed > 0.0)) continue;
-      const double facing = p.weight * dot(n, u) / speed;  // its area projected along u
-      if (facing <= 0.0) continue;                           // moving away from the water
-      const V3 fd = drag_on(facing, u, f);
-      force = force + fd;
-      torque = torque + cross(p.at - com, fd);
-    }
+    for (int k = face.first_point; k < face.first_point + face.points; ++k)
+      element(wet.points[std::size_t(k)].at, n * wet.points[std::size_t(k)].weight);
   }
+  if (wet.cut_count > 0) element(wet.cut_points * (1.0 / wet.cut_count), wet.cut);
 }
 
 }  // namespace
@@ -70,35 +75,44 @@ BodyWater water_forces(const Submerged& wet, double sampled_volume, V3 sampled_m
   const V3 lift{0, 0, fluid.density * fluid.gravity * volume};
   const V3 lift_torque = cross(cb - m.com, lift);
   // The velocity Bullet hands the coupling is the one the body moved with in this substep
-  // (gravity added, buoyancy not yet): drag acts on it.
-  const V3 v = m.v, omega = m.w;
-  // Translation: the whole wet part on the relative velocity of the centre of buoyancy.
-  const V3 u = v + cross(omega, cb - m.com) - V3{0, 0, w.vz};
-  const double speed = norm(u);
+  // (gravity added, buoyancy not yet): drag acts on it. Polyhedra: over their surface;
+  // balls: their centre's motion (a spin moves no surface along its normal); meshes: the
+  // area of a ball of their wet volume at their centre of buoyancy.
   V3 drag{}, drag_torque{};
-  if (speed > 0.0) {
-    // Meshes (sampled) have no faces: the area of a ball of their wet volume stands in.
-    out.projected_area = projected_area(wet, w, u * (1.0 / speed)) + (sampled_volume > 0.0 ? det::pow(sampled_volume, 2.0 / 3.0) : 0.0);
-    drag = drag_on(out.projected_area, u, fluid);
-    // Never more than stops the relative motion within the substep.
-    const double dv = m.mass > 0.0 ? norm(drag) * h / m.mass : 0.0;  // mass 0: kinematic, moved regardless
-    if (dv > speed) drag = drag * (speed / dv);
-    drag_torque = cross(cb - m.com, drag);
+  surface_drag(wet, w, m, fluid, drag, drag_torque);
+  for (const WetBall& b : wet.balls) {
+    const V3 u = relative(m, b.centre, w.vz);
+    const double speed = norm(u);
+    if (!(speed > 0.0)) continue;
+    const WetBall one[1] = {b};
+    Submerged alone;
+    alone.balls.assign(one, one + 1);
+    const V3 fd = drag_on(projected_area(alone, w, u * (1.0 / speed)), u, fluid);
+    drag = drag + fd;
+    drag_torque = drag_torque + cross(b.centre - m.com, fd);
   }
-  V3 spin_force{}, spin_torque{};
-  spin_drag(wet, cb, omega, m.com, fluid, spin_force, spin_torque);
-  const double spin = norm(omega), dw = (m.inv_inertia * bt(spin_torque)).length() * h;
-  if (dw > spin && dw > 0.0) {
-    spin_force = spin_force * (spin / dw);
-    spin_torque = spin_torque * (spin / dw);
+  const V3 uc = relative(m, cb, w.vz);
+  const double speed = norm(uc);
+  if (sampled_volume > 0.0 && speed > 0.0) {
+    const V3 fd = drag_on(det::pow(sampled_volume, 2.0 / 3.0), uc, fluid);
+    drag = drag + fd;
+    drag_torque = drag_torque + cross(cb - m.com, fd);
+  }
+  if (speed > 0.0) out.projected_area = projected_area(wet, w, uc * (1.0 / speed));
+  // Never more than stops the relative motion (or the spin) within the substep; a mass of
+  // 0 (kinematic) is moved regardless.
+  if (m.mass > 0.0) {
+    const double dv = norm(drag) * h / m.mass;
+    if (dv > speed) drag = drag * (speed / std::max(dv, 1e-300));
+    const double spin = norm(m.w), dw = (m.inv_inertia * bt(drag_torque)).length() * h;
+    if (dw > spin) drag_torque = drag_torque * (spin / std::max(dw, 1e-300));
   }
   out.buoyancy = bt(lift);
-  out.drag = bt(drag + spin_force);
-  out.force = bt(lift + drag + spin_force);
-  out.torque = bt(lift_torque + drag_torque + spin_torque);
+  out.drag = bt(drag);
+  out.force = bt(lift + drag);
+  out.torque = bt(lift_torque + drag_torque);
   return out;
 }
-
 }  // namespace water_detail
 }  // namespace SHORE_BULLET_ABI
 }  // namespace shore::bullet

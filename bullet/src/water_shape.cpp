@@ -289,8 +289,11 @@ void add_polyhedron(const Polyhedron& p, const Frame& f, const WaterPlane& w, Su
     for (std::size_t k = 0; k < face.size(); ++k) {  // Sutherland-Hodgman against n . x <= d
       const std::size_t a = std::size_t(face[k]), b = std::size_t(face[(k + 1) % face.size()]);
       if (depth[a] <= 0.0) q.push_back(world[a]);
-      if ((depth[a] < 0.0) != (depth[b] < 0.0) && depth[a] != depth[b])
+      if ((depth[a] < 0.0) != (depth[b] < 0.0) && depth[a] != depth[b]) {
         q.push_back(world[a] + (world[b] - world[a]) * (depth[a] / (depth[a] - depth[b])));
+        out.cut_points = out.cut_points + q.back();
+        ++out.cut_count;
+      }
     }
     if (q.size() < 3) continue;
     V3 area{}, weighted{};

@@ -92,6 +92,8 @@ struct Submerged {
   double volume = 0.0;  ///< m^3
   V3 moment;            ///< m^4, the integral of x over the submerged volume
   V3 cut;               ///< m^2, vector area of the water plane's cut through the polyhedra
+  V3 cut_points;        ///< sum of the points where the faces' edges cross the plane
+  int cut_count = 0;    ///< how many
   std::vector<WetFace> faces;
   std::vector<FacePoint> points;
   std::vector<WetBall> balls;
@@ -99,6 +101,8 @@ struct Submerged {
     volume = 0.0;
     moment = {};
     cut = {};
+    cut_points = {};
+    cut_count = 0;
     faces.clear();
     points.clear();
     balls.clear();
