@@ -195,6 +195,7 @@ kernel::Coefficients coefficients(const SurfaceSettings& s, const Surface::State
   k.u_inv = st.qu.inv;
   k.v_magic = st.qv.magic;
   k.v_inv = st.qv.inv;
+  k.activity = s.sleep.enabled;
   k.u_scale = 1.0 / st.sleep_u;
   k.v_scale = 1.0 / st.sleep_v;
   return k;
