@@ -183,7 +183,6 @@ void prepare(const btCollisionShape& shape, const Frame& local, int depth, Water
       check_positive(shape, "half height", h);
       part.volume = 2.0 * kPi * r * r * h;
       part.poly = revolution(up, {{-h, r}, {h, r}}, part.volume);
-      part.exact = false;
       part.axis = up;
       add_part(out, std::move(part));
       return;
@@ -195,7 +194,6 @@ void prepare(const btCollisionShape& shape, const Frame& local, int depth, Water
       check_positive(shape, "height", height);
       part.volume = kPi * r * r * height / 3.0;
       part.poly = revolution(c.getConeUpIndex(), {{-0.5 * height, r}, {0.5 * height, 0.0}}, part.volume);
-      part.exact = false;
       part.axis = c.getConeUpIndex();
       add_part(out, std::move(part));
       return;
@@ -218,7 +216,6 @@ void prepare(const btCollisionShape& shape, const Frame& local, int depth, Water
       }
       part.volume = 2.0 * kPi * r * r * h + 4.0 / 3.0 * kPi * r * r * r;
       part.poly = revolution(c.getUpAxis(), rings, part.volume);
-      part.exact = false;
       part.axis = c.getUpAxis();
       add_part(out, std::move(part));
       return;
@@ -404,25 +401,6 @@ void world_planes(const Polyhedron& p, const Frame& f, WorldPlanes& out) {
     out.n[k] = n;
     out.d[k] = p.offsets[k] + dot(n, f.t);
   }
-}
-
-bool chord(const WorldPlanes& p, double x, double y, double& lo, double& hi) {
-  lo = -std::numeric_limits<double>::infinity();
-  hi = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < p.n.size(); ++k) {
-    const V3& n = p.n[k];
-    const double rest = p.d[k] - n.x * x - n.y * y;  // n_z z <= rest
-    if (std::abs(n.z) < 1e-12) {
-      if (rest < 0.0) return false;
-      continue;
-    }
-    const double z = rest / n.z;
-    if (n.z > 0.0)
-      hi = std::min(hi, z);
-    else
-      lo = std::max(lo, z);
-  }
-  return lo < hi;
 }
 
 void chord_row(const WorldPlanes& p, double x0, double dx, int n, double y, double* __restrict lo,

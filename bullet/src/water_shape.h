@@ -43,7 +43,6 @@ struct Part {
   double radius = 0.0;                       ///< ball
   const btCollisionShape* shape = nullptr;   ///< sampled: the child shape, rasterized
   double volume = 0.0;                       ///< m^3, the part's own (sampled: 0, unknown)
-  bool exact = true;                         ///< false for the ring hulls of curved solids
   int axis = -1;                             ///< solids of revolution: their local axis (0, 1, 2)
 };
 
@@ -123,14 +122,13 @@ void add_ball(V3 c, double r, const WaterPlane& w, Submerged& out);
 /// The area (m^2) the submerged parts present to a flow along the unit direction u.
 double projected_area(const Submerged& s, const WaterPlane& w, V3 u);
 
-/// Vertical chord [lo, hi] of a polyhedron at world frame f through world (x, y): the
-/// face planes in world coordinates, prepared once per pose.
+/// The face planes of a polyhedron at world frame f, prepared once per pose for its
+/// vertical chords.
 struct WorldPlanes {
   std::vector<V3> n;
   std::vector<double> d;
 };
 void world_planes(const Polyhedron& p, const Frame& f, WorldPlanes& out);
-bool chord(const WorldPlanes& p, double x, double y, double& lo, double& hi);
 /// The chords of a row of n points (x0 + k dx, y): lo[k] / hi[k] narrowed by every face
 /// (start them at -inf / +inf); a point outside gets lo >= hi.
 void chord_row(const WorldPlanes& p, double x0, double dx, int n, double y, double* lo, double* hi);

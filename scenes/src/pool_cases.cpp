@@ -135,6 +135,7 @@ std::unique_ptr<Pool> make_pool(const PoolSettings& p) {
   ws.boundary = water::Boundary::vertical_only;
   ws.threads = p.threads;
   ws.sleep.enabled = p.sleep;
+  if (p.parallel_min_nodes >= 0) ws.parallel_min_nodes = p.parallel_min_nodes;
   pool->surface = std::make_shared<water::Surface>(ws);
   const double half_x = 0.5 * p.nodes * p.cell + 1.0, half_y = 0.5 * ny * p.cell + 1.0;
   pool->world.add_body(std::make_unique<btBoxShape>(btVector3(btScalar(half_x), btScalar(half_y), 0.5f)), 0.0,

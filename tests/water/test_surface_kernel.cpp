@@ -103,6 +103,8 @@ TEST_P(ThreadCount, StateHashIsTheSameFor1To4Threads) {
   for (int t = 0; t < 3; ++t) {
     SurfaceSettings s = mixed_settings(GetParam());
     s.threads = threads[t];
+    s.parallel_min_nodes = 0;  // fork every substep, however small the grid
+    s.sleep.tile = 16;
     Surface surf(s);
     add_island_and_drops(surf);
     surf.disturb(Disturbance::point_height(26.0, 23.0, 2.0, 20.0));  // violent: substeps too
@@ -206,6 +208,20 @@ TEST_P(KernelVariants, Avx2AndGenericAgreeBitwiseOnASleepingTiledSurface) {
 #else
   GTEST_SKIP() << "without SHORE_CROSS_PLATFORM_DETERMINISTIC the AVX2 kernel may fuse multiply-adds";
 #endif
+}
+
+// Threads never hurt: below parallel_min_nodes a step never wakes the team (a 53 x 47 grid
+// at the default), above it (here forced) it does.
+TEST(Threads, SmallGridsNeverForkTheTeam) {
+  SurfaceSettings s = mixed_settings(SurfaceMode::vertical_only);
+  s.threads = 2;
+  Surface small(s);
+  small.disturb(Disturbance::point_height(15.0, 20.0, 2.0, 1.0));
+  EXPECT_EQ(small.step(0.3).parallel_substeps, 0);
+  s.parallel_min_nodes = 0;
+  Surface forced(s);
+  forced.disturb(Disturbance::point_height(15.0, 20.0, 2.0, 1.0));
+  EXPECT_EQ(forced.step(0.3).parallel_substeps, 1);
 }
 
 TEST(KernelChoice, Avx2IsRefusedWhereItCannotRun) {

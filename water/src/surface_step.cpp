@@ -433,7 +433,9 @@ bool step_tiles(const SurfaceSettings& settings, Surface::State& s, double dt) {
   const kernel::Coefficients k = coefficients(settings, s, dt);
   const std::vector<std::int32_t> stepped = s.awake;
   const std::int64_t nodes = static_cast<std::int64_t>(stepped.size()) * s.T * s.T;
-  const bool parallel = s.threads > 1 && nodes >= settings.parallel_min_nodes && s.pacer.choose_parallel();
+  const bool forced = settings.parallel_min_nodes == 0;
+  const bool parallel =
+      s.threads > 1 && nodes >= settings.parallel_min_nodes && (forced || s.pacer.choose_parallel());
   if (parallel && !s.team) s.team = std::make_unique<Team>(s.threads);
   const int slots = parallel ? s.team->size() : 1;
   if (static_cast<int>(s.scratch.size()) < slots) s.scratch.resize(static_cast<std::size_t>(slots));
@@ -453,7 +455,7 @@ bool step_tiles(const SurfaceSettings& settings, Surface::State& s, double dt) {
     for (std::size_t n = 0; n < stepped.size(); ++n) one(static_cast<int>(n), 0);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (s.threads > 1 && nodes >= settings.parallel_min_nodes && nodes > 0)
+  if (s.threads > 1 && !forced && nodes >= settings.parallel_min_nodes && nodes > 0)
     s.pacer.record(parallel, seconds / static_cast<double>(nodes));
 
   Totals tot;

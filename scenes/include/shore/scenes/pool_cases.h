@@ -34,6 +34,7 @@ struct PoolSettings {
   int threads = 1;
   int nodes_y = 0;             ///< nodes along y, 0: the same as along x (a square pool)
   bool sleep = true;           ///< SleepSettings::enabled of the surface
+  int parallel_min_nodes = -1; ///< the surface's; -1: its default (0 forks every substep)
   bullet::FluidSettings fluid; ///< drag coefficients and samples per cell of the coupling
 };
 

@@ -116,7 +116,8 @@ struct SurfaceSettings {
   /// A substep forks only when at least this many nodes are awake (below it the wake-up
   /// costs more than it saves), and only while measured parallel substeps are faster than
   /// serial ones (a loaded machine makes them slower: then the step runs on one thread and
-  /// re-tries the team at growing intervals). >= 0.
+  /// re-tries the team at growing intervals). >= 0; 0: always fork when threads > 1, without
+  /// measuring (for tests of the parallel path).
   int parallel_min_nodes = 32768;
   GuardSettings guard;
   SleepSettings sleep;
