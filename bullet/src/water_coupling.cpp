@@ -126,7 +126,8 @@ water_detail::WaterPlane fit_plane(const water::Surface& s, const NodeWindow& wi
       syz += y * v;
       sv += vz[std::size_t(b) * std::size_t(w) + std::size_t(a)];
     }
-  const double cell = s.spacing(), x0 = s.node_x(win.i0) + 0.5 * (w - 1) * cell, y0 = s.node_y(win.j0) + 0.5 * (h - 1) * cell;
+  const double cell = s.spacing(), x0 = s.node_x(win.i0) + 0.5 * (w - 1) * cell,
+               y0 = s.node_y(win.j0) + 0.5 * (h - 1) * cell;
   if (n == 0) return water_detail::make_plane(x0, y0, s.settings().rest_height, 0, 0, 0);
   // Normal equations of z = a + b x + c y, centred on the nodes used.
   const double mx = sx / n, my = sy / n, mz = sz / n;
@@ -211,10 +212,10 @@ void check_pose(const btRigidBody& body) {
         throw InvalidSetting("bullet.WaterCoupling.add_body pose", "rotation " + detail::to_text(f.r[r][c]),
                              "must be finite");
   if (bad(f.t.x) || bad(f.t.y) || bad(f.t.z))
-    throw InvalidSetting("bullet.WaterCoupling.add_body pose",
-                         "position (" + detail::to_text(f.t.x) + ", " + detail::to_text(f.t.y) + ", " +
-                             detail::to_text(f.t.z) + ")",
-                         "must be finite");
+    throw InvalidSetting(
+        "bullet.WaterCoupling.add_body pose",
+        "position (" + detail::to_text(f.t.x) + ", " + detail::to_text(f.t.y) + ", " + detail::to_text(f.t.z) + ")",
+        "must be finite");
   if (!(envelope_detail::basis_deviation(f) <= kMaxBasisDeviation))
     throw InvalidSetting("bullet.WaterCoupling.add_body pose", detail::to_text(envelope_detail::basis_deviation(f)),
                          "the basis must be a rotation (deviation <= " + detail::to_text(kMaxBasisDeviation) + ")");
@@ -358,8 +359,10 @@ void WaterCoupling::displace(Body& b) {
     NodeWindow win;
     win.i0 = std::max(0, std::min(node0(e.k0), node0(b.reference.k0)) - pad);
     win.j0 = std::max(0, std::min(node0(e.l0), node0(b.reference.l0)) - pad);
-    win.i1 = std::min(surface_.nx() - 1, std::max(node0(e.k0 + e.nk - 1), node0(b.reference.k0 + b.reference.nk - 1)) + pad);
-    win.j1 = std::min(surface_.ny() - 1, std::max(node0(e.l0 + e.nl - 1), node0(b.reference.l0 + b.reference.nl - 1)) + pad);
+    win.i1 =
+        std::min(surface_.nx() - 1, std::max(node0(e.k0 + e.nk - 1), node0(b.reference.k0 + b.reference.nk - 1)) + pad);
+    win.j1 =
+        std::min(surface_.ny() - 1, std::max(node0(e.l0 + e.nl - 1), node0(b.reference.l0 + b.reference.nl - 1)) + pad);
     surface_.heights_above_rest(win.i0, win.j0, win.w(), win.h(), heights_);
     ds_.assign(heights_.size(), 0.0);
     const double rest = surface_.settings().rest_height, share = 1.0 / (double(per) * per);

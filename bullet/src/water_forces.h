@@ -13,11 +13,11 @@ namespace water_detail {
 
 /// The body's state the drag needs.
 struct Motion {
-  V3 com;                  ///< centre of mass, world
-  V3 v;                    ///< linear velocity
-  V3 w;                    ///< angular velocity
-  double mass = 0.0;       ///< kg; 0: kinematic or static (the forces are reported, not limited)
-  btMatrix3x3 inv_inertia; ///< world inverse inertia tensor
+  V3 com;                   ///< centre of mass, world
+  V3 v;                     ///< linear velocity
+  V3 w;                     ///< angular velocity
+  double mass = 0.0;        ///< kg; 0: kinematic or static (the forces are reported, not limited)
+  btMatrix3x3 inv_inertia;  ///< world inverse inertia tensor
 };
 
 /// Forces on the body from `wet` (its analytic parts) and `sampled_volume` /

@@ -31,9 +31,9 @@ using envelope_detail::to_v3;
 namespace {
 
 constexpr double kPi = det::detail::kPi;
-constexpr int kRing = 32;        // sides of the rings that stand for circles
-constexpr int kCapRings = 8;     // latitude rings of a capsule's hemisphere
-constexpr int kMaxDepth = 64;    // nested compounds
+constexpr int kRing = 32;      // sides of the rings that stand for circles
+constexpr int kCapRings = 8;   // latitude rings of a capsule's hemisphere
+constexpr int kMaxDepth = 64;  // nested compounds
 
 Frame compose(const Frame& a, const Frame& b) {
   Frame c;
@@ -69,8 +69,8 @@ double volume_of(const Polyhedron& p) {
   double v = 0.0;
   for (const auto& f : p.faces)
     for (std::size_t k = 1; k + 1 < f.size(); ++k)
-      v += dot(p.vertices[std::size_t(f[0])],
-               cross(p.vertices[std::size_t(f[k])], p.vertices[std::size_t(f[k + 1])])) / 6.0;
+      v += dot(p.vertices[std::size_t(f[0])], cross(p.vertices[std::size_t(f[k])], p.vertices[std::size_t(f[k + 1])])) /
+           6.0;
   return v;
 }
 
@@ -168,7 +168,8 @@ void prepare(const btCollisionShape& shape, const Frame& local, int depth, Water
         const auto& h = static_cast<const btConvexPointCloudShape&>(shape);
         for (int k = 0; k < h.getNumPoints(); ++k) pts.push_back(to_v3(h.getScaledPoint(k)));
       }
-      for (const V3& p : pts) check_positive(shape, "point coordinate magnitude", 1.0 + std::abs(p.x) + std::abs(p.y) + std::abs(p.z));
+      for (const V3& p : pts)
+        check_positive(shape, "point coordinate magnitude", 1.0 + std::abs(p.x) + std::abs(p.y) + std::abs(p.z));
       part.poly = hull(pts);
       part.volume = volume_of(part.poly);
       check_positive(shape, "hull volume", part.volume);

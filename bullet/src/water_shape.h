@@ -38,17 +38,17 @@ struct Polyhedron {
 struct Part {
   enum class Kind { polyhedron, ball, sampled };
   Kind kind = Kind::polyhedron;
-  Frame local;                               ///< the part in the body's frame (compound children)
-  Polyhedron poly;                           ///< polyhedron
-  double radius = 0.0;                       ///< ball
-  const btCollisionShape* shape = nullptr;   ///< sampled: the child shape, rasterized
-  double volume = 0.0;                       ///< m^3, the part's own (sampled: 0, unknown)
-  int axis = -1;                             ///< solids of revolution: their local axis (0, 1, 2)
+  Frame local;                              ///< the part in the body's frame (compound children)
+  Polyhedron poly;                          ///< polyhedron
+  double radius = 0.0;                      ///< ball
+  const btCollisionShape* shape = nullptr;  ///< sampled: the child shape, rasterized
+  double volume = 0.0;                      ///< m^3, the part's own (sampled: 0, unknown)
+  int axis = -1;                            ///< solids of revolution: their local axis (0, 1, 2)
 };
 
 struct WaterShape {
   std::vector<Part> parts;
-  double volume = 0.0;  ///< m^3, sum of the parts' known volumes
+  double volume = 0.0;   ///< m^3, sum of the parts' known volumes
   bool sampled = false;  ///< some part is sampled
 };
 

@@ -264,7 +264,8 @@ TowResult run_tow(const TowRun& run) {
   out.area = frontal_area(run.floater, out.draft);
   const bullet::FluidSettings& fl = run.pool.fluid;
   const double v = run.speed;
-  out.reference = 0.5 * kWaterDensity * fl.quadratic_drag * out.area * v * v + kWaterDensity * fl.linear_drag * out.area * v;
+  out.reference =
+      0.5 * kWaterDensity * fl.quadratic_drag * out.area * v * v + kWaterDensity * fl.linear_drag * out.area * v;
   const SceneState state{.waters = {pool->surface.get()}, .bodies = {b}};
   out.nan_count = non_finite_count(state);
   return out;

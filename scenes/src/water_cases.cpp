@@ -116,7 +116,8 @@ double energy_gain(const EnergyCase& c) {
   s.sleep.enabled = false;
   s.threads = 1;
   water::Surface surf(s);
-  surf.disturb(water::Disturbance::point_height(surf.node_x(0) + 1.18, surf.node_y(0) + 1.31, 3.0 * kCell, c.amplitude));
+  surf.disturb(
+      water::Disturbance::point_height(surf.node_x(0) + 1.18, surf.node_y(0) + 1.31, 3.0 * kCell, c.amplitude));
   surf.step(kDt);
   const double e0 = surf.energy().centred;
   double worst = 0.0;

@@ -353,8 +353,8 @@ TEST(WaterCoupling, AddBodyRefusesANanPoseAndAZeroSizeShape) {
   shore::water::Surface surface(shore::water::SurfaceSettings::physical(phys, 16, 16));
   World world;
   shore::bullet::WaterCoupling coupling(world.world(), surface);
-  btRigidBody* nan_body = world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 1.0,
-                                         btVector3(0, 0, 0));
+  btRigidBody* nan_body =
+      world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 1.0, btVector3(0, 0, 0));
   btTransform t = nan_body->getWorldTransform();
   t.setOrigin(btVector3(std::numeric_limits<btScalar>::quiet_NaN(), 0, 0));
   nan_body->setWorldTransform(t);
@@ -365,8 +365,8 @@ TEST(WaterCoupling, AddBodyRefusesANanPoseAndAZeroSizeShape) {
     EXPECT_NE(std::string(e.what()).find("pose"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("nan"), std::string::npos) << e.what();
   }
-  btRigidBody* flat = world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.0f, 0.1f)), 1.0,
-                                     btVector3(0, 0, 0));
+  btRigidBody* flat =
+      world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.0f, 0.1f)), 1.0, btVector3(0, 0, 0));
   try {
     coupling.add_body(flat);
     ADD_FAILURE() << "a box of zero thickness was accepted";

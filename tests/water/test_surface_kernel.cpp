@@ -180,7 +180,7 @@ TEST_P(KernelVariants, Avx2AndGenericAgreeBitwiseOnASleepingTiledSurface) {
   s.boundary = Boundary::open;
   s.open.width = 10;
   s.sleep.tile = 16;
-  s.sleep.height = 0.02;   // m, with h = 1 m and a 5 m bump: tiles the rings have left fall asleep
+  s.sleep.height = 0.02;    // m, with h = 1 m and a 5 m bump: tiles the rings have left fall asleep
   s.lattice.damping = 0.5;  // amplitude e-folding time 16 s
   s.threads = 2;
   s.parallel_min_nodes = 0;

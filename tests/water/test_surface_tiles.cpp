@@ -89,7 +89,7 @@ class Sleeping : public ::testing::TestWithParam<SurfaceMode> {};
 TEST_P(Sleeping, StaysWithinTheThresholdOfTheDenseGrid) {
   SurfaceSettings set = basin(GetParam(), 161, 16, true);
   set.boundary = Boundary::open;  // the ring leaves (a patch of a lake)
-  set.sleep.height = 2e-6;  // m: the threshold under test (4e-5 h)
+  set.sleep.height = 2e-6;        // m: the threshold under test (4e-5 h)
   Surface sleeping(set);
   set.sleep.enabled = false;
   Surface dense(set);

@@ -29,12 +29,12 @@ enum SideIndex : int { kSouth = 0, kNorth, kWest, kEast, kSouthWest, kSouthEast,
 /// The tile's state and its gathered block. Block pointers point at interior node (0, 0);
 /// row r, column i of the block is at [r * block_stride + i] for r, i in [-1, h] x [-1, w].
 struct Tile {
-  int w = 0, h = 0;          ///< interior nodes
-  int stride = 0;            ///< row stride of the tile's storage
-  int block_stride = 0;      ///< row stride of the block
-  double* uz = nullptr;      ///< storage: height above rest (multiples of the height quantum)
-  double* vz = nullptr;      ///< storage: vertical velocity (multiples of the velocity quantum)
-  float* ux = nullptr;       ///< storage, 3-D only
+  int w = 0, h = 0;      ///< interior nodes
+  int stride = 0;        ///< row stride of the tile's storage
+  int block_stride = 0;  ///< row stride of the block
+  double* uz = nullptr;  ///< storage: height above rest (multiples of the height quantum)
+  double* vz = nullptr;  ///< storage: vertical velocity (multiples of the velocity quantum)
+  float* ux = nullptr;   ///< storage, 3-D only
   float* uy = nullptr;
   float* vx = nullptr;
   float* vy = nullptr;
@@ -62,15 +62,15 @@ struct Coefficients {
   float damping = 0.f;    ///< gamma, N s/m (in-plane, float)
   float impulse = 1.f;    ///< dt / m (float)
   float dt = 1.f;
-  double impulse_z = 1.0;   ///< dt / m: vertical force to velocity change
-  double kappa = 1.0;       ///< vertical-only: k_t dt / m (velocity change per unit height difference)
-  double beta = 0.0;        ///< gamma dt / m
-  double dt_z = 1.0;        ///< dt
+  double impulse_z = 1.0;             ///< dt / m: vertical force to velocity change
+  double kappa = 1.0;                 ///< vertical-only: k_t dt / m (velocity change per unit height difference)
+  double beta = 0.0;                  ///< gamma dt / m
+  double dt_z = 1.0;                  ///< dt
   double u_magic = 1.0, u_inv = 1.0;  ///< height quantum (quantum.h)
   double v_magic = 1.0, v_inv = 1.0;  ///< velocity quantum
-  bool activity = true;     ///< measure the stretch part of the activity (false: nothing sleeps)
-  double u_scale = 1.0;     ///< 1 / sleep height threshold (activity)
-  double v_scale = 1.0;     ///< 1 / sleep velocity threshold
+  bool activity = true;               ///< measure the stretch part of the activity (false: nothing sleeps)
+  double u_scale = 1.0;               ///< 1 / sleep height threshold (activity)
+  double v_scale = 1.0;               ///< 1 / sleep velocity threshold
 };
 
 /// The guard's raw measures of the 3-D lattice, as bit patterns of non-negative floats

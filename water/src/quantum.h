@@ -28,10 +28,10 @@ inline constexpr std::int64_t kMagicBits = 0x4338000000000000LL;
 inline constexpr int kBits = 38;
 
 struct Quantum {
-  double q = 1.0;       ///< the quantum
-  double inv = 1.0;     ///< 1 / q (a power of two: x * inv is exact)
-  double magic = 1.0;   ///< 1.5 * 2^52 * q
-  double limit = 1.0;   ///< 2^51 * q: values beyond it are not exact multiples any more
+  double q = 1.0;      ///< the quantum
+  double inv = 1.0;    ///< 1 / q (a power of two: x * inv is exact)
+  double magic = 1.0;  ///< 1.5 * 2^52 * q
+  double limit = 1.0;  ///< 2^51 * q: values beyond it are not exact multiples any more
 
   /// The quantum for values of order `scale` (> 0, finite): Q = 2^(ilogb(scale) - kBits).
   static Quantum for_scale(double scale) {

@@ -48,7 +48,8 @@ Split split(int i, int shift) { return {i >> shift, i & ((1 << shift) - 1)}; }
 
 TileData* Surface::State::find(int tx, int ty) const {
   if (!inside(tx, ty)) return nullptr;
-  const std::int32_t k = slot[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x) + static_cast<std::size_t>(tx)];
+  const std::int32_t k =
+      slot[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x) + static_cast<std::size_t>(tx)];
   return k < 0 ? nullptr : tiles[static_cast<std::size_t>(k)].get();
 }
 
@@ -176,12 +177,15 @@ std::size_t Surface::State::memory_bytes() const {
   std::size_t b = slot.capacity() * sizeof(std::int32_t) + awake.capacity() * sizeof(std::int32_t) +
                   tiles.capacity() * sizeof(void*);
   for (const auto& t : tiles) {
-    b += sizeof(TileData) + t->uz.capacity() * 8 + t->vz.capacity() * 8 + t->flags.capacity() + t->sponge.capacity() * 8;
+    b +=
+        sizeof(TileData) + t->uz.capacity() * 8 + t->vz.capacity() * 8 + t->flags.capacity() + t->sponge.capacity() * 8;
     b += (t->ux.capacity() + t->uy.capacity() + t->vx.capacity() + t->vy.capacity()) * 4;
     for (const TileData::Edges& e : t->edges)
-      b += (e.z.capacity() + e.vz.capacity()) * 8 + (e.x.capacity() + e.y.capacity() + e.vx.capacity() + e.vy.capacity()) * 4;
+      b += (e.z.capacity() + e.vz.capacity()) * 8 +
+           (e.x.capacity() + e.y.capacity() + e.vx.capacity() + e.vy.capacity()) * 4;
   }
-  for (const Scratch& s : scratch) b += s.bz.capacity() * 8 + (s.bx.capacity() + s.by.capacity()) * 4 + s.rows.capacity();
+  for (const Scratch& s : scratch)
+    b += s.bz.capacity() * 8 + (s.bx.capacity() + s.by.capacity()) * 4 + s.rows.capacity();
   return b;
 }
 
@@ -202,7 +206,8 @@ Surface::Surface(const SurfaceSettings& settings) : settings_(settings), s_(std:
   s.qu = quantum::Quantum::for_scale(h);
   s.qv = quantum::Quantum::for_scale(h * omega);
   s.sleep_u = settings_.sleep.height > 0.0 ? settings_.sleep.height : 1e-5 * h;
-  s.sleep_v = settings_.sleep.velocity > 0.0 ? settings_.sleep.velocity : s.sleep_u * omega_max_vertical(settings_.lattice);
+  s.sleep_v =
+      settings_.sleep.velocity > 0.0 ? settings_.sleep.velocity : s.sleep_u * omega_max_vertical(settings_.lattice);
   s.set_layer(settings_);
   s.threads = settings_.threads > 0 ? settings_.threads : hardware_threads();
   s.last_substep = 0.0;
@@ -269,7 +274,8 @@ void Surface::set_constraint(int i, int j, NodeConstraint c) {
 NodeConstraint Surface::constraint(int i, int j) const {
   check_index(*this, "constraint", i, j);
   const Split a = split(i, s_->shift), b = split(j, s_->shift);
-  if (const TileData* t = s_->find(a.tile, b.tile)) return static_cast<NodeConstraint>(t->flags[t->at(a.local, b.local, s_->T)]);
+  if (const TileData* t = s_->find(a.tile, b.tile))
+    return static_cast<NodeConstraint>(t->flags[t->at(a.local, b.local, s_->T)]);
   return default_constraint(settings_.boundary, i, j, nx(), ny());
 }
 
@@ -448,7 +454,8 @@ double Surface::add_heights(int i0, int j0, int w, int h, std::span<const double
   quantum::Wide quanta = 0;
   for (int j = b0; j <= b1; ++j)
     for (int i = a0; i <= a1; ++i) {
-      const double d = dz[static_cast<std::size_t>(j - j0) * static_cast<std::size_t>(w) + static_cast<std::size_t>(i - i0)];
+      const double d =
+          dz[static_cast<std::size_t>(j - j0) * static_cast<std::size_t>(w) + static_cast<std::size_t>(i - i0)];
       if (d == 0.0) continue;
       TileData& t = *s.find(i >> s.shift, j >> s.shift);
       const std::size_t k = t.at(i & (s.T - 1), j & (s.T - 1), s.T);

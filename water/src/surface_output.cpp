@@ -243,9 +243,14 @@ std::uint64_t Surface::state_hash() const {
         h.add(block_digest(*this, s, bx, by));
         continue;
       }
-      const auto key = std::make_tuple(bx == 0 ? 0 : bx == bxs - 1 ? 2 : 1, by == 0 ? 0 : by == bys - 1 ? 2 : 1,
-                                       std::min(kHashBlock, nx() - bx * kHashBlock),
-                                       std::min(kHashBlock, ny() - by * kHashBlock));
+      const auto key =
+          std::make_tuple(bx == 0         ? 0
+                          : bx == bxs - 1 ? 2
+                                          : 1,
+                          by == 0         ? 0
+                          : by == bys - 1 ? 2
+                                          : 1,
+                          std::min(kHashBlock, nx() - bx * kHashBlock), std::min(kHashBlock, ny() - by * kHashBlock));
       auto it = rest.find(key);
       if (it == rest.end()) it = rest.emplace(key, block_digest(*this, s, bx, by)).first;
       h.add(it->second);

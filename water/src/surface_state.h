@@ -66,9 +66,9 @@ struct Scratch {
 /// measured time per node of parallel and serial substeps, re-trying the slower mode at
 /// intervals that double each time it loses again.
 struct Pacer {
-  double serial = -1.0;    ///< s per awake node, exponential average; < 0: not measured
+  double serial = -1.0;  ///< s per awake node, exponential average; < 0: not measured
   double parallel = -1.0;
-  int interval = 16;       ///< substeps between tries of the slower mode
+  int interval = 16;  ///< substeps between tries of the slower mode
   int countdown = 0;
   [[nodiscard]] bool choose_parallel();
   void record(bool parallel_run, double seconds_per_node);
@@ -82,9 +82,9 @@ struct Surface::State {
   std::vector<std::int32_t> awake;  ///< slots of awake tiles, ascending
   bool full = false;                ///< SurfaceMode::full_3d
   bool avx2 = false;
-  quantum::Quantum qu, qv;          ///< height and velocity quanta
+  quantum::Quantum qu, qv;  ///< height and velocity quanta
   double sleep_u = 0.0, sleep_v = 0.0;
-  std::vector<double> sigma;        ///< open boundary: sigma by node distance from the edge, [0, width)
+  std::vector<double> sigma;  ///< open boundary: sigma by node distance from the edge, [0, width)
   double sigma_max = 0.0;
 
   int threads = 1;

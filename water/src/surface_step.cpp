@@ -72,12 +72,12 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
   // The ghost ring: each side from the facing edge of the neighbour (zeros where there is
   // none: rest, or beyond the grid, where the kernel ignores them).
   struct Ghost {
-    int side;                  // of this tile
-    int facing;                // the neighbour's edge that faces it
-    int first;                 // first entry of that edge
-    int count;                 // entries
-    std::ptrdiff_t at, step;   // block offset of the first ghost and the step between ghosts
-    std::ptrdiff_t inner;      // from a ghost to the tile's node its spring reaches
+    int side;                 // of this tile
+    int facing;               // the neighbour's edge that faces it
+    int first;                // first entry of that edge
+    int count;                // entries
+    std::ptrdiff_t at, step;  // block offset of the first ghost and the step between ghosts
+    std::ptrdiff_t inner;     // from a ghost to the tile's node its spring reaches
   };
   const std::ptrdiff_t hs = static_cast<std::ptrdiff_t>(t.h) * bs;
   const Ghost ghosts[] = {
@@ -91,8 +91,8 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
       {kernel::kNorthEast, kernel::kSouth, 0, 1, hs + t.w, 1, -bs - 1},
   };
   for (const Ghost& g : ghosts) {
-    const TileData* n = k.sides[g.side] == kernel::Side::absent ? nullptr
-                                                                : find(t.tx + kSideDx[g.side], t.ty + kSideDy[g.side]);
+    const TileData* n =
+        k.sides[g.side] == kernel::Side::absent ? nullptr : find(t.tx + kSideDx[g.side], t.ty + kSideDy[g.side]);
     const TileData::Edges* e = n ? &n->edges[static_cast<std::size_t>(n->cur)] : nullptr;
     const std::size_t first = static_cast<std::size_t>(g.facing * T + g.first);
     copy_edge(e ? &e->z : nullptr, first, g.count, bz + g.at, g.step);
@@ -240,7 +240,7 @@ namespace {
 std::uint32_t relative_across(const Surface::State& s, const TileData& t, int side) {
   const TileData* n = s.find(t.tx + kSideDx[side], t.ty + kSideDy[side]);
   const TileData::Edges& mine = t.edges[static_cast<std::size_t>(t.cur)];
-  const int facing = side == kernel::kSouth ? kernel::kNorth
+  const int facing = side == kernel::kSouth   ? kernel::kNorth
                      : side == kernel::kNorth ? kernel::kSouth
                      : side == kernel::kWest  ? kernel::kEast
                                               : kernel::kWest;
@@ -315,11 +315,13 @@ void spread_momentum(Surface::State& s, const TileData& t, quantum::Wide momentu
   for (int side = 0; side < kernel::kSides; ++side)
     if (TileData* n = s.find(t.tx + kSideDx[side], t.ty + kSideDy[side]); n && n->awake) around.push_back(n);
   if (around.empty())
-    for (std::int32_t slot : s.awake) around.push_back(s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(slot)])].get());
+    for (std::int32_t slot : s.awake)
+      around.push_back(s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(slot)])].get());
   std::int64_t nodes = 0;
   for (const TileData* n : around)
     for (int j = 0; j < n->h; ++j)
-      for (int i = 0; i < n->w; ++i) nodes += n->flags[n->at(i, j, s.T)] != static_cast<std::uint8_t>(NodeConstraint::fixed);
+      for (int i = 0; i < n->w; ++i)
+        nodes += n->flags[n->at(i, j, s.T)] != static_cast<std::uint8_t>(NodeConstraint::fixed);
   if (nodes == 0) return;  // nothing moves: the momentum has nowhere to go
   quantum::Wide share = momentum / nodes, rest = momentum - share * nodes;
   if (rest < 0) {
@@ -379,7 +381,7 @@ bool flat(const Surface::State& s, const TileData& t) {
     if (!s.inside(tx, ty)) continue;
     const TileData* n = s.find(tx, ty);
     const int count = side <= kernel::kNorth ? t.w : t.h;
-    const int facing = side == kernel::kSouth ? kernel::kNorth
+    const int facing = side == kernel::kSouth   ? kernel::kNorth
                        : side == kernel::kNorth ? kernel::kSouth
                        : side == kernel::kWest  ? kernel::kEast
                                                 : kernel::kWest;
@@ -434,14 +436,14 @@ bool step_tiles(const SurfaceSettings& settings, Surface::State& s, double dt) {
   const std::vector<std::int32_t> stepped = s.awake;
   const std::int64_t nodes = static_cast<std::int64_t>(stepped.size()) * s.T * s.T;
   const bool forced = settings.parallel_min_nodes == 0;
-  const bool parallel =
-      s.threads > 1 && nodes >= settings.parallel_min_nodes && (forced || s.pacer.choose_parallel());
+  const bool parallel = s.threads > 1 && nodes >= settings.parallel_min_nodes && (forced || s.pacer.choose_parallel());
   if (parallel && !s.team) s.team = std::make_unique<Team>(s.threads);
   const int slots = parallel ? s.team->size() : 1;
   if (static_cast<int>(s.scratch.size()) < slots) s.scratch.resize(static_cast<std::size_t>(slots));
   std::vector<kernel::TileResult> results(stepped.size());
   const auto one = [&](int item, int slot_index) {
-    TileData& t = *s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(stepped[static_cast<std::size_t>(item)])])];
+    TileData& t =
+        *s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(stepped[static_cast<std::size_t>(item)])])];
     Scratch& sc = s.scratch[static_cast<std::size_t>(slot_index)];
     const kernel::Tile view = s.gather(t, sc);
     results[static_cast<std::size_t>(item)] = s.full ? kernel::step_3d(s.avx2, view, k, sc.workspace())
@@ -478,7 +480,8 @@ bool step_tiles(const SurfaceSettings& settings, Surface::State& s, double dt) {
       for (int side : {kernel::kSouth, kernel::kWest, kernel::kNorth, kernel::kEast}) {
         const bool mine = side == kernel::kSouth || side == kernel::kWest ||
                           s.side_of(t, side) == kernel::Side::frozen;  // awake neighbours do their own
-        if (mine && s.side_of(t, side) != kernel::Side::absent) e.relative = std::max(e.relative, relative_across(s, t, side));
+        if (mine && s.side_of(t, side) != kernel::Side::absent)
+          e.relative = std::max(e.relative, relative_across(s, t, side));
       }
     }
     if (static_cast<std::size_t>(s.tiles_x) * static_cast<std::size_t>(s.tiles_y) != s.awake.size())
@@ -487,8 +490,8 @@ bool step_tiles(const SurfaceSettings& settings, Surface::State& s, double dt) {
     // (v_b - v_a) dt with the new velocities: at most r dt for an axis spring, 2 r dt for a
     // diagonal (r the largest axis relative speed), plus a hair for rounding.
     const double slack = std::sqrt(static_cast<double>(from_bits(e.relative))) * dt * (1.0 + 1e-6) + 1e-7 * p.spacing;
-    s.deformation = deformation_of(e, p.rest_ratio * p.spacing, std::sqrt(2.0) * p.rest_ratio * p.spacing, slack,
-                                   2.0 * slack);
+    s.deformation =
+        deformation_of(e, p.rest_ratio * p.spacing, std::sqrt(2.0) * p.rest_ratio * p.spacing, slack, 2.0 * slack);
   }
   update_sleep(settings, s, results, stepped);
   return parallel;

@@ -263,12 +263,14 @@ void drag_sweep(const SweepContext& ctx, SweepResult& out) {
     t.add({"box 0.3 m, draft 0.1 m", double(samples), "yes", r.drag, r.reference, error_pct(r.drag, r.reference)});
     if (samples == 2) drag2 = r.drag;
     if (samples == 8) drag8 = r.drag;
-    if (samples == 2) out.figure("coupling.towed_box_drag_error_pct", error_pct(r.drag, r.reference), "% vs the law (in its waves)");
+    if (samples == 2)
+      out.figure("coupling.towed_box_drag_error_pct", error_pct(r.drag, r.reference), "% vs the law (in its waves)");
   }
   for (bool waves : {false, true}) {
     ctx.progress(std::string("towed ball at 1 m/s") + (waves ? ", in its waves" : ", no waves"));
     const scenes::TowResult r = tow(scenes::FloaterShape::sphere, 2, waves);
-    t.add({"ball D 0.2 m, half submerged", 2.0, waves ? "yes" : "no", r.drag, r.reference, error_pct(r.drag, r.reference)});
+    t.add({"ball D 0.2 m, half submerged", 2.0, waves ? "yes" : "no", r.drag, r.reference,
+           error_pct(r.drag, r.reference)});
   }
   const double ratio = drag8 / drag2;
   out.figure("coupling.drag_ratio_8_vs_2_samples", ratio, "x (towed box drag at 8 vs 2 samples per cell)");

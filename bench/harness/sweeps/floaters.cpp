@@ -59,8 +59,10 @@ void run(const SweepContext& ctx, SweepResult& out) {
     const char* name;
     int count;
   };
-  const std::vector<Case> cases = {{scenes::FloaterShape::box, "box", 1},   {scenes::FloaterShape::box, "box", 16},
-                                   {scenes::FloaterShape::box, "box", 64},  {scenes::FloaterShape::box, "box", 256},
+  const std::vector<Case> cases = {{scenes::FloaterShape::box, "box", 1},
+                                   {scenes::FloaterShape::box, "box", 16},
+                                   {scenes::FloaterShape::box, "box", 64},
+                                   {scenes::FloaterShape::box, "box", 256},
                                    {scenes::FloaterShape::hull, "hull", 64}};
   for (const Case& c : cases) {
     ctx.progress(std::to_string(c.count) + " floating " + (c.shape == scenes::FloaterShape::box ? "box" : "hull") +
@@ -68,7 +70,8 @@ void run(const SweepContext& ctx, SweepResult& out) {
     const FloatersRow r = run_floaters(c.shape, c.count, ctx.quick);
     t.add({std::string(c.name), double(c.count), r.coupling_us_per_body, 1e-3 * r.coupling_us_per_body * c.count,
            r.water_ms, r.total_ms, r.draft_error});
-    const std::string key = std::string(c.name == std::string("box") ? "floaters_" : "hulls_") + std::to_string(c.count);
+    const std::string key =
+        std::string(c.name == std::string("box") ? "floaters_" : "hulls_") + std::to_string(c.count);
     out.figure("coupling." + key + "_coupling_us_per_body", r.coupling_us_per_body, "us per body and substep");
     out.figure("coupling." + key + "_draft_error_rel", r.draft_error, "1 (worst body, against Archimedes)");
     if (c.shape == scenes::FloaterShape::box && c.count == 64) {

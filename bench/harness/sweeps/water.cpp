@@ -7,12 +7,12 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cstdlib>
-#include <thread>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <numbers>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "shore/scenes/water_cases.h"
@@ -252,13 +252,14 @@ void threads(const SweepContext& ctx, SweepResult& out) {
   for (const auto mode : {water::SurfaceMode::vertical_only, water::SurfaceMode::full_3d}) {
     for (int n : sizes) {
       ctx.progress(std::string(mode_name(mode)) + " water " + std::to_string(n) + "^2: 1 vs 2 threads under load");
-      water::Surface one(scenes::kernel_case_settings(mode == water::SurfaceMode::full_3d ? scenes::KernelVariant::fast_3d
-                                                                                        : scenes::KernelVariant::vertical_only,
-                                                      n, 1));
+      water::Surface one(scenes::kernel_case_settings(
+          mode == water::SurfaceMode::full_3d ? scenes::KernelVariant::fast_3d : scenes::KernelVariant::vertical_only,
+          n, 1));
       water::SurfaceSettings s2 = one.settings();
       s2.threads = 2;
       water::Surface two(s2);
-      for (water::Surface* s : {&one, &two}) s->disturb(water::Disturbance::point_height(0.5 * (n - 1), 0.5 * (n - 1), 3.0, 1.0));
+      for (water::Surface* s : {&one, &two})
+        s->disturb(water::Disturbance::point_height(0.5 * (n - 1), 0.5 * (n - 1), 3.0, 1.0));
       const Load busy(load);
       // Short slices alternating 1 and 2 threads; the ratio of each adjacent pair, whose
       // median is robust to the load's bursts (the medians of the times alone are not).
@@ -300,7 +301,8 @@ void threads(const SweepContext& ctx, SweepResult& out) {
               .unit = "x"});
   out.note(std::string("Threads: the paper's lattice (vertical-only and 3-D, dense grid, a bump in the middle) at dt "
                        "0.3, steps timed in short slices alternating 1 and 2 threads while busy threads load every "
-                       "core; speed = the median of the ratio of adjacent slices. The surface's team takes no OpenMP (OMP_WAIT_POLICY changes nothing in it; ") +
+                       "core; speed = the median of the ratio of adjacent slices. The surface's team takes no OpenMP "
+                       "(OMP_WAIT_POLICY changes nothing in it; ") +
            (policy ? std::string("it was ") + policy : std::string("it was unset")) +
            " in this run); a step forks only above parallel_min_nodes and while parallel substeps measure faster.");
 }
@@ -311,14 +313,15 @@ void lake(const SweepContext& ctx, SweepResult& out) {
   c.seconds = ctx.quick ? 8.0 : 20.0;
   ctx.progress("1 km x 1 km lake at 10 cm, a boat at 2 m/s for " + std::to_string(int(c.seconds)) + " s");
   const scenes::LakeResult r = scenes::run_lake(c);
-  Table& t = out.table("water_lake", {"t_s", "awake_nodes", "woken_nodes", "memory_mb", "ms_per_substep",
-                                      "ns_per_awake_node"});
+  Table& t = out.table("water_lake",
+                       {"t_s", "awake_nodes", "woken_nodes", "memory_mb", "ms_per_substep", "ns_per_awake_node"});
   double worst_memory = 0.0;
   std::vector<double> per_node;
   for (const scenes::LakeSample& s : r.samples) {
     const double ns = s.awake_nodes > 0 ? 1e6 * s.step_ms / double(s.awake_nodes) : 0.0;
     t.add({s.t, double(s.awake_nodes), double(s.woken_nodes), 1e-6 * double(s.memory_bytes), s.step_ms, ns});
-    if (s.woken_nodes > 0) worst_memory = std::max(worst_memory, double(s.memory_bytes) / (17.0 * double(s.woken_nodes)));
+    if (s.woken_nodes > 0)
+      worst_memory = std::max(worst_memory, double(s.memory_bytes) / (17.0 * double(s.woken_nodes)));
     if (s.awake_nodes > 0) per_node.push_back(ns);
   }
   std::sort(per_node.begin(), per_node.end());

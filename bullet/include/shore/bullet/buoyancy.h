@@ -30,8 +30,8 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
 struct FluidSettings {
-  double density = 1000.0;      ///< kg/m^3, water density, > 0 (the coupling takes the surface's)
-  double gravity = 9.81;        ///< m/s^2, > 0
+  double density = 1000.0;  ///< kg/m^3, water density, > 0 (the coupling takes the surface's)
+  double gravity = 9.81;    ///< m/s^2, > 0
   /// C_d, dimensionless, >= 0: pressure drag 1/2 rho C_d A |u| u on the projected area A.
   /// 1 is a bluff body at high Reynolds number (a cube broadside ~1.05, a flat plate ~1.2,
   /// a sphere ~0.47 for Re 1e3 - 2e5).
@@ -47,14 +47,14 @@ struct FluidSettings {
 
 /// What the water did to a body in one substep (forces averaged over the substep).
 struct BodyWater {
-  double submerged_volume = 0.0;           ///< m^3
-  btVector3 centre_of_buoyancy{0, 0, 0};   ///< world, valid if submerged_volume > 0
-  btVector3 buoyancy{0, 0, 0};             ///< N, rho g V, upward
-  btVector3 drag{0, 0, 0};                 ///< N, all drag (translation and rotation)
-  btVector3 force{0, 0, 0};                ///< N, buoyancy + drag
-  btVector3 torque{0, 0, 0};               ///< N m about the centre of mass
-  double projected_area = 0.0;             ///< m^2, A along the relative flow (0 at rest)
-  double water_level = 0.0;                ///< m, the fitted water plane's height at the centre of mass
+  double submerged_volume = 0.0;          ///< m^3
+  btVector3 centre_of_buoyancy{0, 0, 0};  ///< world, valid if submerged_volume > 0
+  btVector3 buoyancy{0, 0, 0};            ///< N, rho g V, upward
+  btVector3 drag{0, 0, 0};                ///< N, all drag (translation and rotation)
+  btVector3 force{0, 0, 0};               ///< N, buoyancy + drag
+  btVector3 torque{0, 0, 0};              ///< N m about the centre of mass
+  double projected_area = 0.0;            ///< m^2, A along the relative flow (0 at rest)
+  double water_level = 0.0;               ///< m, the fitted water plane's height at the centre of mass
 };
 
 }  // namespace SHORE_BULLET_ABI

@@ -32,10 +32,10 @@ struct PoolSettings {
   bool vertical_only = true;   ///< the vertical-only surface (cheaper, larger stable steps)
   double substep = 1.0 / 240;  ///< s
   int threads = 1;
-  int nodes_y = 0;             ///< nodes along y, 0: the same as along x (a square pool)
-  bool sleep = true;           ///< SleepSettings::enabled of the surface
-  int parallel_min_nodes = -1; ///< the surface's; -1: its default (0 forks every substep)
-  bullet::FluidSettings fluid; ///< drag coefficients and samples per cell of the coupling
+  int nodes_y = 0;              ///< nodes along y, 0: the same as along x (a square pool)
+  bool sleep = true;            ///< SleepSettings::enabled of the surface
+  int parallel_min_nodes = -1;  ///< the surface's; -1: its default (0 forks every substep)
+  bullet::FluidSettings fluid;  ///< drag coefficients and samples per cell of the coupling
 };
 
 /// box: full extents; sphere: x = diameter; cylinder: x = diameter, y = length (axis
@@ -46,8 +46,8 @@ enum class FloaterShape { box, sphere, cylinder, hull };
 struct Floater {
   FloaterShape shape = FloaterShape::box;
   btVector3 size{0.3f, 0.3f, 0.2f};  ///< m, see FloaterShape
-  double density_ratio = 0.5;   ///< body density / water density
-  btVector3 position{0, 0, 0};  ///< m, centre of mass at the start
+  double density_ratio = 0.5;        ///< body density / water density
+  btVector3 position{0, 0, 0};       ///< m, centre of mass at the start
   btQuaternion rotation = btQuaternion::getIdentity();
   btVector3 velocity{0, 0, 0};
 };
@@ -103,9 +103,9 @@ PoolResult run_pool(const PoolRun& run);
 struct TowRun {
   PoolSettings pool;
   Floater floater;
-  double speed = 1.0;     ///< m/s, along +x
-  double seconds = 2.5;   ///< towed; the force is averaged over the last second
-  bool disturb = true;    ///< false: the floater makes no waves (no bow wave in its water level)
+  double speed = 1.0;    ///< m/s, along +x
+  double seconds = 2.5;  ///< towed; the force is averaged over the last second
+  bool disturb = true;   ///< false: the floater makes no waves (no bow wave in its water level)
 };
 struct TowResult {
   double drag = 0.0;       ///< N, mean water force along -x over the last second
@@ -121,8 +121,8 @@ TowResult run_tow(const TowRun& run);
 /// A dense ball released under water in a deep pool: its terminal velocity against the
 /// balance of weight less buoyancy with the drag law on pi r^2.
 struct SinkRun {
-  PoolSettings pool;         ///< depth: the floor; the ball starts just under the surface
-  double diameter = 0.1;     ///< m
+  PoolSettings pool;      ///< depth: the floor; the ball starts just under the surface
+  double diameter = 0.1;  ///< m
   double density_ratio = 1.5;
   double seconds = 2.0;
 };

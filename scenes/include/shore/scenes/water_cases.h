@@ -70,17 +70,17 @@ struct LakeCase {
   int threads = 1;
 };
 struct LakeSample {
-  double t = 0.0;                  ///< s
-  std::int64_t awake_nodes = 0;    ///< nodes in awake tiles
-  std::int64_t woken_nodes = 0;    ///< nodes in tiles ever woken
-  std::size_t memory_bytes = 0;    ///< the surface's memory
-  double step_ms = 0.0;            ///< ms, mean wall time of water + coupling per substep since the last sample
+  double t = 0.0;                ///< s
+  std::int64_t awake_nodes = 0;  ///< nodes in awake tiles
+  std::int64_t woken_nodes = 0;  ///< nodes in tiles ever woken
+  std::size_t memory_bytes = 0;  ///< the surface's memory
+  double step_ms = 0.0;          ///< ms, mean wall time of water + coupling per substep since the last sample
 };
 struct LakeResult {
-  double creation_ms = 0.0;           ///< ms to construct the surface
+  double creation_ms = 0.0;            ///< ms to construct the surface
   std::size_t empty_memory_bytes = 0;  ///< memory right after construction
-  std::int64_t virtual_nodes = 0;     ///< nx * ny
-  std::vector<LakeSample> samples;    ///< about one a second
+  std::int64_t virtual_nodes = 0;      ///< nx * ny
+  std::vector<LakeSample> samples;     ///< about one a second
 };
 LakeResult run_lake(const LakeCase& c);
 

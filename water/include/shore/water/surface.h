@@ -75,13 +75,13 @@ struct NodeIndex {
 
 /// Tiles and their cost right now.
 struct TileStats {
-  int tile = 0;                   ///< nodes per tile side
-  std::int64_t tiles = 0;         ///< tiles covering the grid
-  std::int64_t created = 0;       ///< tiles that exist (awake or asleep)
-  std::int64_t awake = 0;         ///< tiles that step
-  std::int64_t awake_nodes = 0;   ///< nodes in awake tiles
-  std::int64_t ever_awake = 0;    ///< tiles that have been awake at least once
-  std::size_t memory_bytes = 0;   ///< the surface's own heap memory (tiles, index, scratch)
+  int tile = 0;                  ///< nodes per tile side
+  std::int64_t tiles = 0;        ///< tiles covering the grid
+  std::int64_t created = 0;      ///< tiles that exist (awake or asleep)
+  std::int64_t awake = 0;        ///< tiles that step
+  std::int64_t awake_nodes = 0;  ///< nodes in awake tiles
+  std::int64_t ever_awake = 0;   ///< tiles that have been awake at least once
+  std::size_t memory_bytes = 0;  ///< the surface's own heap memory (tiles, index, scratch)
 };
 
 /// A copy of the whole state as dense arrays (node (i, j) at index j * nx + i), for tests and

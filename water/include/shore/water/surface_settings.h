@@ -91,10 +91,10 @@ struct OpenBoundarySettings {
 /// sleeping surface where nothing sleeps).
 struct SleepSettings {
   bool enabled = true;
-  int tile = 32;            ///< nodes per tile side, a power of two in [8, 256]
-  double height = 0.0;      ///< m, >= 0; 0: 1e-5 * spacing
-  double velocity = 0.0;    ///< m/s, >= 0; 0: height * the top vertical lattice frequency
-  int calm_substeps = 16;   ///< >= 1
+  int tile = 32;           ///< nodes per tile side, a power of two in [8, 256]
+  double height = 0.0;     ///< m, >= 0; 0: 1e-5 * spacing
+  double velocity = 0.0;   ///< m/s, >= 0; 0: height * the top vertical lattice frequency
+  int calm_substeps = 16;  ///< >= 1
   void validate() const;
 };
 
