@@ -33,6 +33,12 @@ struct SubEnvelope {
   std::vector<double> lower, upper;
 };
 
+struct WaterCoupling::Workspace {
+  std::vector<Frame> frames;
+  std::vector<water_detail::WorldPlanes> planes;
+  std::vector<double> heights, velocities, ds, smooth, lo, hi;
+};
+
 struct WaterCoupling::Body {
   btRigidBody* body = nullptr;
   bool disturb = true;
@@ -187,7 +193,7 @@ void WaterCouplingSettings::validate() const {
 }
 
 WaterCoupling::WaterCoupling(btDiscreteDynamicsWorld& world, water::Surface& surface, WaterCouplingSettings settings)
-    : world_(world), surface_(surface), settings_(std::move(settings)) {
+    : world_(world), surface_(surface), settings_(std::move(settings)), work_(std::make_unique<Workspace>()) {
   settings_.fluid.density = surface.density();
   settings_.validate();
   world_.addAction(this);
@@ -292,6 +298,55 @@ void part_frames(const water_detail::WaterShape& shape, const Frame& body, std::
   }
 }
 
+/// A part's frame as a Bullet transform (for the rasterizer).
+btTransform to_transform(const Frame& f) {
+  btTransform t;
+  t.setBasis(btMatrix3x3(btScalar(f.r[0][0]), btScalar(f.r[0][1]), btScalar(f.r[0][2]), btScalar(f.r[1][0]),
+                         btScalar(f.r[1][1]), btScalar(f.r[1][2]), btScalar(f.r[2][0]), btScalar(f.r[2][1]),
+                         btScalar(f.r[2][2])));
+  t.setOrigin(bt(f.t));
+  return t;
+}
+
+/// The analytic parts below the plane.
+void submerge(const water_detail::WaterShape& shape, const std::vector<Frame>& frames,
+              const water_detail::WaterPlane& plane, water_detail::Submerged& wet) {
+  wet.clear();
+  for (std::size_t p = 0; p < shape.parts.size(); ++p) {
+    const Part& part = shape.parts[p];
+    if (part.kind == Part::Kind::polyhedron && part.axis >= 0)
+      water_detail::add_revolution(part.poly, frames[p], part.axis, plane, wet);
+    else if (part.kind == Part::Kind::polyhedron)
+      water_detail::add_polyhedron(part.poly, frames[p], plane, wet);
+    else if (part.kind == Part::Kind::ball)
+      water_detail::add_ball(frames[p].t, part.radius, plane, wet);
+  }
+}
+
+/// Meshes: the wet length of every sub-sample column under the plane, into volume and
+/// first moment.
+void submerge_sampled(const water_detail::WaterShape& shape, const std::vector<Frame>& frames,
+                      const water_detail::WaterPlane& plane, EnvelopeRasterizer& rasterizer, double& volume,
+                      V3& moment) {
+  EnvelopeRaster r;
+  const EnvelopeGrid& g = rasterizer.grid();
+  for (std::size_t p = 0; p < shape.parts.size(); ++p) {
+    if (shape.parts[p].kind != Part::Kind::sampled) continue;
+    rasterizer.rasterize(*shape.parts[p].shape, to_transform(frames[p]), r);
+    for (int l = 0; l < r.ny; ++l)
+      for (int k = 0; k < r.nx; ++k) {
+        const std::size_t q = std::size_t(l) * std::size_t(r.nx) + std::size_t(k);
+        if (!r.covers(q)) continue;
+        const double x = g.origin_x + double(r.i0 + k) * g.cell, y = g.origin_y + double(r.j0 + l) * g.cell;
+        const double top = std::min(r.upper[q], plane.height(x, y));
+        if (!(top > r.lower[q])) continue;
+        const double dv = (top - r.lower[q]) * g.cell * g.cell;
+        volume += dv;
+        moment = moment + V3{x, y, 0.5 * (top + r.lower[q])} * dv;
+      }
+  }
+}
+
 /// Whether two poses differ by less than `tol` (m, and tol / reach in rotation).
 bool same_pose(const btTransform& a, const btTransform& b, double tol, double reach) {
   if ((a.getOrigin() - b.getOrigin()).length() > tol) return false;
@@ -302,16 +357,10 @@ bool same_pose(const btTransform& a, const btTransform& b, double tol, double re
 
 }  // namespace
 
-void WaterCoupling::displace(Body& b) {
+void WaterCoupling::sample_envelopes(Body& b) {
   const btTransform& pose = b.body->getWorldTransform();
-  const double h = surface_.spacing();
   btVector3 lo, hi;
   b.body->getCollisionShape()->getAabb(pose, lo, hi);
-  const double reach = 0.5 * double((hi - lo).length());
-  // At rest (within a thousandth of a cell of the pose the displacement was last taken
-  // from) nothing is swept: the motion is taken, whole, once it exceeds that.
-  if (b.have_reference && same_pose(pose, b.reference_pose, 1e-3 * h, reach)) return;
-  // The current envelopes on the sub-sample grid.
   const int per = settings_.fluid.samples_per_cell;
   const EnvelopeGrid grid = sub_grid(surface_, per);
   const auto sub = [&](double x, double origin) { return (x - origin) / grid.cell; };
@@ -326,35 +375,39 @@ void WaterCoupling::displace(Body& b) {
   const std::size_t n = std::size_t(e.nk) * std::size_t(e.nl);
   e.lower.assign(n, EnvelopeRaster::kNoLower);
   e.upper.assign(n, EnvelopeRaster::kNoUpper);
-  std::vector<Frame> frames;
-  std::vector<water_detail::WorldPlanes> planes;
-  part_frames(b.shape, envelope_detail::frame_of(pose), frames, planes);
+  Workspace& w = *work_;
+  part_frames(b.shape, envelope_detail::frame_of(pose), w.frames, w.planes);
   for (int l = 0; l < e.nl; ++l) {
     const std::size_t row = std::size_t(l) * std::size_t(e.nk);
-    envelope_row(b.shape, frames, planes, grid.origin_x + double(e.k0) * grid.cell, grid.cell, e.nk,
-                 grid.origin_y + double(e.l0 + l) * grid.cell, e.lower.data() + row, e.upper.data() + row, lo_, hi_);
+    envelope_row(b.shape, w.frames, w.planes, grid.origin_x + double(e.k0) * grid.cell, grid.cell, e.nk,
+                 grid.origin_y + double(e.l0 + l) * grid.cell, e.lower.data() + row, e.upper.data() + row, w.lo, w.hi);
   }
-  if (b.rasterizer) {  // sampled parts: their raster on the same grid, merged
-    EnvelopeRaster r;
-    r.resize(e.k0, e.l0, e.nk, e.nl, true);
-    for (std::size_t p = 0; p < b.shape.parts.size(); ++p)
-      if (b.shape.parts[p].kind == Part::Kind::sampled) {
-        btTransform t;
-        const Frame& f = frames[p];
-        t.setBasis(btMatrix3x3(btScalar(f.r[0][0]), btScalar(f.r[0][1]), btScalar(f.r[0][2]), btScalar(f.r[1][0]),
-                               btScalar(f.r[1][1]), btScalar(f.r[1][2]), btScalar(f.r[2][0]), btScalar(f.r[2][1]),
-                               btScalar(f.r[2][2])));
-        t.setOrigin(bt(f.t));
-        b.rasterizer->accumulate(*b.shape.parts[p].shape, t, r);
-      }
-    for (std::size_t k = 0; k < n; ++k) {
-      e.lower[k] = std::min(e.lower[k], r.lower[k]);
-      e.upper[k] = std::max(e.upper[k], r.upper[k]);
-    }
+  if (!b.rasterizer) return;
+  EnvelopeRaster r;  // sampled parts: their raster on the same grid, merged
+  r.resize(e.k0, e.l0, e.nk, e.nl, true);
+  for (std::size_t p = 0; p < b.shape.parts.size(); ++p)
+    if (b.shape.parts[p].kind == Part::Kind::sampled)
+      b.rasterizer->accumulate(*b.shape.parts[p].shape, to_transform(w.frames[p]), r);
+  for (std::size_t k = 0; k < n; ++k) {
+    e.lower[k] = std::min(e.lower[k], r.lower[k]);
+    e.upper[k] = std::max(e.upper[k], r.upper[k]);
   }
+}
+
+void WaterCoupling::displace(Body& b) {
+  const btTransform& pose = b.body->getWorldTransform();
+  btVector3 lo, hi;
+  b.body->getCollisionShape()->getAabb(pose, lo, hi);
+  // At rest (within a thousandth of a cell of the pose the displacement was last taken
+  // from) nothing is swept: the motion is taken, whole, once it exceeds that.
+  if (b.have_reference &&
+      same_pose(pose, b.reference_pose, 1e-3 * surface_.spacing(), 0.5 * double((hi - lo).length())))
+    return;
+  sample_envelopes(b);
   if (b.have_reference) {
     // Nodes of both envelopes, padded for the smoothing.
-    const int pad = settings_.smoothing_passes + 1;
+    const int per = settings_.fluid.samples_per_cell, pad = settings_.smoothing_passes + 1;
+    const SubEnvelope& e = b.current;
     const auto node0 = [per](std::int64_t k) { return int(k / per); };
     NodeWindow win;
     win.i0 = std::max(0, std::min(node0(e.k0), node0(b.reference.k0)) - pad);
@@ -363,116 +416,79 @@ void WaterCoupling::displace(Body& b) {
         std::min(surface_.nx() - 1, std::max(node0(e.k0 + e.nk - 1), node0(b.reference.k0 + b.reference.nk - 1)) + pad);
     win.j1 =
         std::min(surface_.ny() - 1, std::max(node0(e.l0 + e.nl - 1), node0(b.reference.l0 + b.reference.nl - 1)) + pad);
-    surface_.heights_above_rest(win.i0, win.j0, win.w(), win.h(), heights_);
-    ds_.assign(heights_.size(), 0.0);
+    Workspace& w = *work_;
+    surface_.heights_above_rest(win.i0, win.j0, win.w(), win.h(), w.heights);
+    w.ds.assign(w.heights.size(), 0.0);
     const double rest = surface_.settings().rest_height, share = 1.0 / (double(per) * per);
     const auto accumulate = [&](const SubEnvelope& s, double sign) {
       for (int l = 0; l < s.nl; ++l) {
         const int j = node0(s.l0 + l) - win.j0;
         const double* lower = s.lower.data() + std::size_t(l) * std::size_t(s.nk);
         const double* upper = s.upper.data() + std::size_t(l) * std::size_t(s.nk);
-        double* out = ds_.data() + std::size_t(j) * std::size_t(win.w());
-        const double* water = heights_.data() + std::size_t(j) * std::size_t(win.w());
+        double* out = w.ds.data() + std::size_t(j) * std::size_t(win.w());
+        const double* water = w.heights.data() + std::size_t(j) * std::size_t(win.w());
         for (int k = 0; k < s.nk; ++k) {
           if (!(lower[k] < EnvelopeRaster::kNoLower)) continue;
           const int i = node0(s.k0 + k) - win.i0;
-          const double wet = std::clamp(rest + water[i] - lower[k], 0.0, upper[k] - lower[k]);
-          out[i] += sign * share * wet;
+          out[i] += sign * share * std::clamp(rest + water[i] - lower[k], 0.0, upper[k] - lower[k]);
         }
       }
     };
     accumulate(e, 1.0);
     accumulate(b.reference, -1.0);
-    for (int p = 0; p < settings_.smoothing_passes; ++p) smooth(ds_, win.w(), win.h(), scratch_);
-    for (double& d : ds_) d *= settings_.displacement_gain;
-    stats_.displaced_volume += surface_.add_heights(win.i0, win.j0, win.w(), win.h(), ds_);
+    for (int p = 0; p < settings_.smoothing_passes; ++p) smooth(w.ds, win.w(), win.h(), w.smooth);
+    for (double& d : w.ds) d *= settings_.displacement_gain;
+    stats_.displaced_volume += surface_.add_heights(win.i0, win.j0, win.w(), win.h(), w.ds);
   }
   std::swap(b.reference, b.current);
   b.reference_pose = pose;
   b.have_reference = true;
 }
 
+void WaterCoupling::float_body(Body& b, double h) {
+  btRigidBody& body = *b.body;
+  const Frame f = envelope_detail::frame_of(body.getWorldTransform());
+  if (!coupling_detail::body_is_sane(body, settings_.max_speed) ||
+      !(envelope_detail::basis_deviation(f) <= kMaxBasisDeviation)) {  // never poison the water
+    ++stats_.skipped_bodies;
+    return;
+  }
+  btVector3 lo, hi;
+  body.getCollisionShape()->getAabb(body.getWorldTransform(), lo, hi);
+  const NodeWindow inner = window_under(surface_, lo, hi, 0), win = window_under(surface_, lo, hi, 2);
+  Workspace& w = *work_;
+  surface_.heights_above_rest(win.i0, win.j0, win.w(), win.h(), w.heights);
+  surface_.vertical_velocities(win.i0, win.j0, win.w(), win.h(), w.velocities);
+  const water_detail::WaterPlane plane = fit_plane(surface_, win, inner, w.heights, w.velocities);
+  part_frames(b.shape, f, w.frames, w.planes);
+  submerge(b.shape, w.frames, plane, b.wet);
+  double sampled_volume = 0.0;
+  V3 sampled_moment{};
+  if (b.shape.sampled) submerge_sampled(b.shape, w.frames, plane, *b.rasterizer, sampled_volume, sampled_moment);
+  water_detail::Motion m;
+  m.com = v3(body.getCenterOfMassPosition());
+  m.v = v3(body.getLinearVelocity());
+  m.w = v3(body.getAngularVelocity());
+  m.mass = body.getInvMass() > 0 ? 1.0 / double(body.getInvMass()) : 0.0;
+  m.inv_inertia = body.getInvInertiaTensorWorld();
+  b.last = water_detail::water_forces(b.wet, sampled_volume, sampled_moment, plane, settings_.fluid, m, h);
+  if (m.mass > 0.0 && b.last.submerged_volume > 0.0) {  // kinematic and static bodies: reported, not applied
+    body.applyCentralImpulse(b.last.force * btScalar(h));
+    body.applyTorqueImpulse(b.last.torque * btScalar(h));
+    body.activate(true);
+  }
+  surface_.wake(lo.x(), lo.y(), hi.x(), hi.y());
+  if (b.disturb) displace(b);
+}
+
 void WaterCoupling::updateAction(btCollisionWorld*, btScalar substep) {
-  const double h = substep;
   ++stats_.substeps;
   const auto t0 = Clock::now();
-  std::vector<Frame> frames;
-  std::vector<water_detail::WorldPlanes> planes;
-  for (const auto& bp : bodies_) {
-    Body& b = *bp;
-    btRigidBody& body = *b.body;
-    const Frame f = envelope_detail::frame_of(body.getWorldTransform());
-    if (!coupling_detail::body_is_sane(body, settings_.max_speed) ||
-        !(envelope_detail::basis_deviation(f) <= kMaxBasisDeviation)) {  // never poison the water
-      ++stats_.skipped_bodies;
-      continue;
-    }
-    btVector3 lo, hi;
-    body.getCollisionShape()->getAabb(body.getWorldTransform(), lo, hi);
-    const NodeWindow inner = window_under(surface_, lo, hi, 0), win = window_under(surface_, lo, hi, 2);
-    surface_.heights_above_rest(win.i0, win.j0, win.w(), win.h(), heights_);
-    surface_.vertical_velocities(win.i0, win.j0, win.w(), win.h(), velocities_);
-    const water_detail::WaterPlane plane = fit_plane(surface_, win, inner, heights_, velocities_);
-    part_frames(b.shape, f, frames, planes);
-    b.wet.clear();
-    for (std::size_t p = 0; p < b.shape.parts.size(); ++p) {
-      const Part& part = b.shape.parts[p];
-      if (part.kind == Part::Kind::polyhedron) {
-        if (part.axis >= 0)
-          water_detail::add_revolution(part.poly, frames[p], part.axis, plane, b.wet);
-        else
-          water_detail::add_polyhedron(part.poly, frames[p], plane, b.wet);
-      }
-      if (part.kind == Part::Kind::ball) water_detail::add_ball(frames[p].t, part.radius, plane, b.wet);
-    }
-    double sampled_volume = 0.0;
-    V3 sampled_moment{};
-    if (b.shape.sampled) {
-      // Meshes: the wet length of every sub-sample column under the plane.
-      EnvelopeRaster r;
-      r.resize(0, 0, 0, 0, true);
-      for (std::size_t p = 0; p < b.shape.parts.size(); ++p) {
-        if (b.shape.parts[p].kind != Part::Kind::sampled) continue;
-        btTransform t;
-        const Frame& pf = frames[p];
-        t.setBasis(btMatrix3x3(btScalar(pf.r[0][0]), btScalar(pf.r[0][1]), btScalar(pf.r[0][2]), btScalar(pf.r[1][0]),
-                               btScalar(pf.r[1][1]), btScalar(pf.r[1][2]), btScalar(pf.r[2][0]), btScalar(pf.r[2][1]),
-                               btScalar(pf.r[2][2])));
-        t.setOrigin(bt(pf.t));
-        b.rasterizer->rasterize(*b.shape.parts[p].shape, t, r);
-        const EnvelopeGrid& g = b.rasterizer->grid();
-        for (int l = 0; l < r.ny; ++l)
-          for (int k = 0; k < r.nx; ++k) {
-            const std::size_t q = std::size_t(l) * std::size_t(r.nx) + std::size_t(k);
-            if (!r.covers(q)) continue;
-            const double x = g.origin_x + double(r.i0 + k) * g.cell, y = g.origin_y + double(r.j0 + l) * g.cell;
-            const double top = std::min(r.upper[q], plane.height(x, y));
-            if (!(top > r.lower[q])) continue;
-            const double dv = (top - r.lower[q]) * g.cell * g.cell;
-            sampled_volume += dv;
-            sampled_moment = sampled_moment + V3{x, y, 0.5 * (top + r.lower[q])} * dv;
-          }
-      }
-    }
-    water_detail::Motion m;
-    m.com = v3(body.getCenterOfMassPosition());
-    m.v = v3(body.getLinearVelocity());
-    m.w = v3(body.getAngularVelocity());
-    m.mass = body.getInvMass() > 0 ? 1.0 / double(body.getInvMass()) : 0.0;
-    m.inv_inertia = body.getInvInertiaTensorWorld();
-    b.last = water_detail::water_forces(b.wet, sampled_volume, sampled_moment, plane, settings_.fluid, m, h);
-    if (m.mass > 0.0 && b.last.submerged_volume > 0.0) {  // kinematic and static bodies only feel it
-      body.applyCentralImpulse(b.last.force * btScalar(h));
-      body.applyTorqueImpulse(b.last.torque * btScalar(h));
-      body.activate(true);
-    }
-    surface_.wake(lo.x(), lo.y(), hi.x(), hi.y());
-    if (b.disturb) displace(b);
-  }
+  for (const auto& b : bodies_) float_body(*b, substep);
   stats_.coupling_seconds = seconds_since(t0);
   if (settings_.step_water) {
     const auto t1 = Clock::now();
-    stats_.water_substeps = surface_.step(h).substeps;
+    stats_.water_substeps = surface_.step(substep).substeps;
     stats_.water_seconds = seconds_since(t1);
   }
 }

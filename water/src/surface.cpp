@@ -371,36 +371,31 @@ struct NodeRef {
 };
 }  // namespace
 
-bool Surface::add_height(int i, int j, double dz) {
-  check_index(*this, "add_height", i, j);
-  const double cap = settings_.guard.max_disturbance_spacings * spacing();
-  if (!(std::abs(dz) <= cap))
-    throw InvalidSetting("water.Surface.add_height.dz", detail::to_text(dz),
-                         "must be finite and within +-" + detail::to_text(cap) + " m");
-  if (constraint(i, j) == NodeConstraint::fixed) return false;
-  State& s = *s_;
-  s.wake_around(settings_, i >> s.shift, j >> s.shift);
+namespace {
+/// Adds `delta` (rounded to the field's quantum) to a node's height (or vertical velocity):
+/// checked against the cap, refused at a fixed node, waking the node's tile.
+bool edit_node(const Surface& surface, Surface::State& s, int i, int j, double delta, bool height) {
+  const char* what = height ? "add_height" : "add_vertical_velocity";
+  check_index(surface, what, i, j);
+  const SurfaceSettings& set = surface.settings();
+  const double cap = height ? set.guard.max_disturbance_spacings * set.lattice.spacing : velocity_cap(set);
+  if (!(std::abs(delta) <= cap))
+    throw InvalidSetting(std::string("water.Surface.") + what + (height ? ".dz" : ".dv"), detail::to_text(delta),
+                         "must be finite and within +-" + detail::to_text(cap) + (height ? " m" : " m/s"));
+  if (surface.constraint(i, j) == NodeConstraint::fixed) return false;
+  s.wake_around(set, i >> s.shift, j >> s.shift);
   TileData& t = *s.find(i >> s.shift, j >> s.shift);
-  t.uz[t.at(i & (s.T - 1), j & (s.T - 1), s.T)] += quantum::round_to(dz, s.qu.magic);
+  const std::size_t k = t.at(i & (s.T - 1), j & (s.T - 1), s.T);
+  (height ? t.uz[k] : t.vz[k]) += quantum::round_to(delta, height ? s.qu.magic : s.qv.magic);
   s.refresh_edges(t, t.cur);
-  s.deformation.reset();
+  if (height) s.deformation.reset();
   return true;
 }
+}  // namespace
 
-bool Surface::add_vertical_velocity(int i, int j, double dv) {
-  check_index(*this, "add_vertical_velocity", i, j);
-  const double cap = velocity_cap(settings_);
-  if (!(std::abs(dv) <= cap))
-    throw InvalidSetting("water.Surface.add_vertical_velocity.dv", detail::to_text(dv),
-                         "must be finite and within +-" + detail::to_text(cap) + " m/s");
-  if (constraint(i, j) == NodeConstraint::fixed) return false;
-  State& s = *s_;
-  s.wake_around(settings_, i >> s.shift, j >> s.shift);
-  TileData& t = *s.find(i >> s.shift, j >> s.shift);
-  t.vz[t.at(i & (s.T - 1), j & (s.T - 1), s.T)] += quantum::round_to(dv, s.qv.magic);
-  s.refresh_edges(t, t.cur);
-  return true;
-}
+bool Surface::add_height(int i, int j, double dz) { return edit_node(*this, *s_, i, j, dz, true); }
+
+bool Surface::add_vertical_velocity(int i, int j, double dv) { return edit_node(*this, *s_, i, j, dv, false); }
 
 namespace {
 /// Copies a field of the nodes of a window, row-major, nodes beyond the grid clamped to the

@@ -64,6 +64,9 @@ void run(const SweepContext& ctx, SweepResult& out) {
                                    {scenes::FloaterShape::box, "box", 64},
                                    {scenes::FloaterShape::box, "box", 256},
                                    {scenes::FloaterShape::hull, "hull", 64}};
+  const auto at_most = [&](const char* key, const char* what, double value, double threshold, const char* unit) {
+    out.target({.key = key, .what = what, .value = value, .op = "<=", .threshold = threshold, .unit = unit});
+  };
   for (const Case& c : cases) {
     ctx.progress(std::to_string(c.count) + " floating " + (c.shape == scenes::FloaterShape::box ? "box" : "hull") +
                  (c.count > 1 ? (c.shape == scenes::FloaterShape::box ? "es" : "s") : "") + " on 256 x 256 water");
@@ -76,36 +79,20 @@ void run(const SweepContext& ctx, SweepResult& out) {
     out.figure("coupling." + key + "_draft_error_rel", r.draft_error, "1 (worst body, against Archimedes)");
     if (c.shape == scenes::FloaterShape::box && c.count == 64) {
       out.figure("coupling.floater_us_per_body", r.coupling_us_per_body, "us per box and substep (64 boxes, 1 thread)");
-      out.target({.key = "coupling.floater_us_per_body",
-                  .what = "coupling cost per floating box (64 boxes on 256^2 water)",
-                  .value = r.coupling_us_per_body,
-                  .op = "<=",
-                  .threshold = 5.0,
-                  .unit = "us/substep"});
-      out.target({.key = "coupling.floaters_64_draft_error_rel",
-                  .what = "draft of 64 resting boxes against Archimedes",
-                  .value = r.draft_error,
-                  .op = "<=",
-                  .threshold = 1e-3,
-                  .unit = ""});
+      at_most("coupling.floater_us_per_body", "coupling cost per floating box (64 boxes on 256^2 water)",
+              r.coupling_us_per_body, 5.0, "us/substep");
+      at_most("coupling.floaters_64_draft_error_rel", "draft of 64 resting boxes against Archimedes", r.draft_error,
+              1e-3, "");
     }
     if (c.shape == scenes::FloaterShape::hull) {
       out.figure("coupling.hull_us_per_body", r.coupling_us_per_body, "us per hull and substep (64 octagonal prisms)");
-      out.target({.key = "coupling.hull_us_per_body",
-                  .what = "coupling cost per floating convex hull (64 on 256^2 water)",
-                  .value = r.coupling_us_per_body,
-                  .op = "<=",
-                  .threshold = 10.0,
-                  .unit = "us/substep"});
+      at_most("coupling.hull_us_per_body", "coupling cost per floating convex hull (64 on 256^2 water)",
+              r.coupling_us_per_body, 10.0, "us/substep");
     }
     if (c.count == 256) {
       out.figure("coupling.floaters_256_ms_per_substep", r.total_ms, "ms (coupling + water step, 256 boxes, 256^2)");
-      out.target({.key = "coupling.floaters_256_ms_per_substep",
-                  .what = "256 floating boxes on 256^2 water, coupling and water step",
-                  .value = r.total_ms,
-                  .op = "<=",
-                  .threshold = 2.0,
-                  .unit = "ms/substep"});
+      at_most("coupling.floaters_256_ms_per_substep", "256 floating boxes on 256^2 water, coupling and water step",
+              r.total_ms, 2.0, "ms/substep");
     }
   }
   out.note(

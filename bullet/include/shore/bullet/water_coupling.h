@@ -92,16 +92,23 @@ class WaterCoupling : public btActionInterface {
   /// kinematic or static body (mass 0) they are reported but not applied.
   [[nodiscard]] BodyWater water_force(const btRigidBody* body) const;
 
+  WaterCoupling(WaterCoupling&&) = delete;
   struct Body;  ///< opaque: per-body shape and displacement state
 
  private:
+  /// Buoyancy and drag of one body for a substep of h, then its displacement.
+  void float_body(Body& b, double h);
+  /// Samples the body's envelopes at its pose and adds what it swept to the water.
   void displace(Body& b);
+  /// The body's sub-sample envelopes at its pose, into b.current.
+  void sample_envelopes(Body& b);
 
   btDiscreteDynamicsWorld& world_;
   water::Surface& surface_;
   WaterCouplingSettings settings_;
   std::vector<std::unique_ptr<Body>> bodies_;
-  std::vector<double> heights_, velocities_, ds_, scratch_, lo_, hi_;
+  struct Workspace;  // scratch reused across bodies and substeps
+  std::unique_ptr<Workspace> work_;
   WaterCouplingStats stats_;
 };
 
