@@ -1,4 +1,4 @@
 # Convenience aliases for ./shore (which needs nothing but bash).
-.PHONY: demo test bench sanitize double
-demo test bench sanitize double:
+.PHONY: demo test bench sanitize double viewer
+demo test bench sanitize double viewer:
 	./shore $@

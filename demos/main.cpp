@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gl_pictures.h"
 #include "shore/core/hash.h"
 #include "shore/scenes/report.h"
 #include "shore/scenes/runner.h"
@@ -22,6 +23,7 @@ namespace {
 struct Cli {
   Overrides overrides;
   std::string progress = "auto";
+  bool gl = true;  ///< render.png from the OpenGL renderer (when built)
 };
 
 void add_common_options(CLI::App& app, Cli& cli) {
@@ -34,6 +36,7 @@ void add_common_options(CLI::App& app, Cli& cli) {
       ->check(CLI::IsMember({"sand", "mud", "snow"}));
   app.add_option("--cell", o.cell, "grid spacing, m (default: the scene's)")->check(CLI::Range(1e-4, 1.0));
   app.add_flag("--smoke", o.smoke, "short run (the scene's smoke_seconds), as the tests do");
+  app.add_flag("!--no-gl", cli.gl, "no render.png from the OpenGL renderer (the software pictures only)");
   app.add_option("--progress", cli.progress, "progress on stderr: auto (bar on a terminal), bar, lines, quiet")
       ->check(CLI::IsMember({"auto", "bar", "lines", "quiet"}))
       ->capture_default_str();
@@ -54,7 +57,7 @@ int run_scenes(const std::vector<const SceneType*>& list, const Cli& cli) {
   for (const SceneType* s : list) {
     std::fprintf(stderr, "shore-demo: %s ...\n", s->name.c_str());
     try {
-      const SceneResult r = run_scene(*s, resolve(*s, cli.overrides), mode);
+      const SceneResult r = run_scene(*s, resolve(*s, cli.overrides), mode, shore::demo::gl_pictures(cli.gl));
       const auto& m = r.metrics;
       std::printf("%-16s %6.2f s simulated in %6.3f s (x%.1f real time), hash %s, %zu files in %s\n", s->name.c_str(),
                   m["sim_seconds"].get<double>(), m["wall_seconds"].get<double>(), m["realtime_factor"].get<double>(),

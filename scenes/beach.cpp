@@ -244,6 +244,14 @@ class Beach final : public Scene {
   }
   Image film_frame() override { return view(o_.smoke ? 160 : 240, ""); }
 
+  SceneContents contents() override {
+    return {.world = &world_,
+            .soils = {{&sand_, &ground_, {}}},
+            .waters = {{&sea_, &water_}},
+            .bounds = {kX0, kY0, kX1, kY1},
+            .focus = ball_};
+  }
+
   void draw(Drawing& out) const override {
     const SandGrids grids = sand_grids(sand_);
     const BodyEnvelopes b = body_envelopes(drawn_, grids.now);

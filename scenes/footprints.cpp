@@ -328,6 +328,12 @@ class Footprints final : public Scene {
                          "", 0.04, 30.0);
   }
 
+  SceneContents contents() override {
+    SceneContents c{.world = &world_, .bounds = bounds_of(frame_)};
+    for (Strip& s : strips_) c.soils.push_back({s.soil.get(), s.coupling.get(), s.region()});
+    return c;
+  }
+
   void draw(Drawing& out) const override {
     const HeightGrid heights = sample(patches_, frame_, Field::height);
     out.png("top.png", relief_frame(heights, &baseline_, nullptr, o_.smoke ? 240 : 640,

@@ -225,6 +225,10 @@ class Impact final : public Scene {
   [[nodiscard]] std::vector<int> film_substeps() const override { return evenly_spread_film(o_.substeps(), o_.smoke); }
   Image film_frame() override { return soil_film_frame(patches_, frame_, baseline_, bodies_, o_.smoke ? 160 : 400); }
 
+  SceneContents contents() override {
+    return {.world = &world_, .soils = {{&soil_, &ground_, {}}}, .bounds = bounds_of(frame_)};
+  }
+
   void draw(Drawing& out) const override {
     const HeightGrid heights_now = sample(patches_, frame_, Field::height);
     const BodyEnvelopes env = body_envelopes(bodies_, frame_);

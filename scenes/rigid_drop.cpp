@@ -101,6 +101,8 @@ class RigidDrop final : public Scene {
   [[nodiscard]] std::vector<int> film_substeps() const override { return evenly_spread_film(o_.substeps(), o_.smoke); }
   Image film_frame() override { return picture(240, "", false, false); }
 
+  SceneContents contents() override { return {.world = &world_, .bounds = bounds_of(ground_.grid())}; }
+
   void draw(Drawing& out) const override {
     out.png("top.png", picture(480, "rigid_drop: ground height, box outline", true, true));
     out.png("view.png", picture(480, "rigid_drop at " + time_label(k_ * o_.substep), false, true));

@@ -185,6 +185,10 @@ class Tracks final : public Scene {
   [[nodiscard]] std::vector<int> film_substeps() const override { return evenly_spread_film(o_.substeps(), o_.smoke); }
   Image film_frame() override { return soil_film_frame(patches_, frame_, baseline_, bodies_, o_.smoke ? 160 : 480); }
 
+  SceneContents contents() override {
+    return {.world = &world_, .soils = {{&soil_, &coupling_, {}}}, .bounds = bounds_of(frame_), .focus = bike_.frame};
+  }
+
   void draw(Drawing& out) const override {
     const HeightGrid heights = sample(patches_, frame_, Field::height);
     const BodyEnvelopes env = body_envelopes(bodies_, frame_);

@@ -8,16 +8,20 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/scenes/film.h"
+#include "shore/scenes/four_wheeler.h"
+#include "shore/scenes/mesh_view.h"
 #include "shore/scenes/render.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/scene.h"
 #include "shore/scenes/soil_cases.h"
 #include "shore/scenes/soil_view.h"
 #include "shore/scenes/world.h"
+#include "shore/terrain/mesh_field.h"
 #include "shore/terrain/terrain.h"
 
 namespace shore::scenes {
@@ -25,12 +29,10 @@ namespace {
 
 constexpr double kGravity = 9.81;
 constexpr int kTileCells = 64;  // soil tile size; the strips are whole tiles long
-constexpr double kWheelRadius = 0.3, kWheelWidth = 0.25, kWheelMass = 25.0;
-constexpr double kChassisMass = 400.0;
-constexpr double kMotorTorque = 600.0;  // N m per wheel
-constexpr double kTargetSpeed = 2.0;    // m/s the wheel motors aim for
-constexpr double kHalfY = 5.0;          // m, half width of the ground and of the soil strips
-constexpr double kHalfWidth = 1.1;      // m, half width of the pictured strip (wheels at +-0.65 m)
+constexpr double kWheelRadius = FourWheelerSettings{}.wheel_radius;
+constexpr double kTargetSpeed = 2.0;  // m/s the wheel motors aim for
+constexpr double kHalfY = 5.0;        // m, half width of the ground and of the soil strips
+constexpr double kHalfWidth = 1.1;    // m, half width of the pictured strip (wheels at +-0.65 m)
 
 terrain::TerrainSettings strip_soil(const SceneOptions& o, const terrain::Material& m) {
   terrain::TerrainSettings s = soil_settings(o);
@@ -72,31 +74,15 @@ class Vehicle final : public Scene {
     mud_coupling_ = std::make_unique<bullet::TerrainCoupling>(world_.world(), mud_, strip_coupling(sand_x1_, mud_x1_));
 
     const double z0 = kWheelRadius + 0.02;
-    chassis_ = world_.add_body(std::make_unique<btBoxShape>(btVector3(1.0f, 0.5f, 0.15f)), kChassisMass,
-                               btVector3(btScalar(start_x_), 0, btScalar(z0 + 0.25)));
-    chassis_->setActivationState(DISABLE_DEACTIVATION);
+    FourWheelerSettings car;
+    car.target_speed = kTargetSpeed;
+    bullet::TerrainCoupling* const couplings[] = {sand_coupling_.get(), mud_coupling_.get()};
+    const FourWheeler v = build_four_wheeler(world_, car, btVector3(btScalar(start_x_), 0, btScalar(z0 + 0.25)),
+                                             btQuaternion::getIdentity(), o.substep, couplings);
+    chassis_ = v.chassis;
     bodies_.push_back(chassis_);
-    const std::array<btVector3, 4> mounts = {btVector3(0.75f, 0.65f, -0.25f), btVector3(0.75f, -0.65f, -0.25f),
-                                             btVector3(-0.75f, 0.65f, -0.25f), btVector3(-0.75f, -0.65f, -0.25f)};
-    for (const btVector3& mount : mounts) {
-      const btVector3 at = chassis_->getCenterOfMassPosition() + mount;
-      btRigidBody* wheel =
-          world_.add_body(std::make_unique<btCylinderShape>(
-                              btVector3(btScalar(kWheelRadius), btScalar(kWheelWidth / 2), btScalar(kWheelRadius))),
-                          kWheelMass, at);
-      wheel->setActivationState(DISABLE_DEACTIVATION);
-      wheel->setFriction(1.0f);
-      auto hinge = std::make_unique<btHingeConstraint>(*chassis_, *wheel, mount, btVector3(0, 0, 0), btVector3(0, 1, 0),
-                                                       btVector3(0, 1, 0));
-      // Bullet's hinge motor drives the velocity of body A (chassis) relative to body B
-      // (wheel) about the axis; the wheel rolls forward (+x) spinning at +v/R about +y
-      // relative to the chassis, so the target is -v/R.
-      hinge->enableAngularMotor(true, btScalar(-kTargetSpeed / kWheelRadius), btScalar(kMotorTorque * o.substep));
-      world_.add_constraint(std::move(hinge), true);
-      sand_coupling_->add_body(wheel);
-      mud_coupling_->add_body(wheel);
-      bodies_.push_back(wheel);
-    }
+    for (btRigidBody* wheel : v.wheels) bodies_.push_back(wheel);
+    for (btHingeConstraint* hinge : v.hinges) hinges_.push_back(hinge);
     x_ = chassis_->getCenterOfMassPosition().x();
   }
 
@@ -162,6 +148,15 @@ class Vehicle final : public Scene {
 
   Image film_frame() override { return soil_film_frame(patches_, frame_, baseline_, bodies_, o_.smoke ? 160 : 480); }
 
+  SceneContents contents() override {
+    return {
+        .world = &world_,
+        .soils = {{&sand_, sand_coupling_.get(), patches_[0].region}, {&mud_, mud_coupling_.get(), patches_[1].region}},
+        .bounds = {start_x_ - 1.2, -2.0, mud_x1_ + 1.5, 2.0},
+        .focus = chassis_,
+        .drive = [this](double forward, double turn) { drive(forward, turn); }};
+  }
+
   void draw(Drawing& out) const override {
     const HeightGrid heights = sample(patches_, frame_, Field::height);
     const BodyEnvelopes bodies = body_envelopes(bodies_, frame_);
@@ -177,9 +172,47 @@ class Vehicle final : public Scene {
                           "ruts: sand (left) to mud (right), heights x2", 0.0, 45.0, true));
     out.filmstrip();
     out.obj("ground.obj", heights);
+    out.png("lod.png", lod_view());
   }
 
  private:
+  /// Skid steering: each side's wheels aim at (forward -+ turn) times the target speed
+  /// (left wheels first in mounts); (0, 0) restores the scene's own straight drive.
+  void drive(double forward, double turn) {
+    if (forward == 0.0 && turn == 0.0) forward = 1.0;
+    for (std::size_t w = 0; w < hinges_.size(); ++w) {
+      const double side = w % 2 == 0 ? forward - turn : forward + turn;  // mounts alternate left, right
+      hinges_[w]->enableAngularMotor(true, btScalar(-kTargetSpeed * std::clamp(side, -1.5, 1.5) / kWheelRadius),
+                                     btScalar(FourWheelerSettings{}.motor_torque * o_.substep));
+    }
+    chassis_->activate(true);
+  }
+
+  /// The ruts at the sand-mud edge as a renderer would draw them: each soil's mesh
+  /// simplified to 1 pixel of this picture, its triangles outlined.
+  [[nodiscard]] Image lod_view() const {
+    PerspectiveView view;
+    view.eye = {.x = sand_x1_ - 1.6, .y = -1.3, .z = 0.8, .fov_y_deg = 50.0, .viewport_height = o_.smoke ? 180 : 540};
+    view.target = {sand_x1_ + 0.3, 0.0, -0.05};
+    std::vector<terrain::TerrainField> fields;
+    std::vector<mesh::ChunkedMesh> meshes(2);
+    std::size_t triangles = 0, columns = 0;
+    for (const auto& [soil, x0, x1] : {std::tuple{&sand_, 0.0, sand_x1_}, std::tuple{&mud_, sand_x1_, mud_x1_}}) {
+      const std::int64_t i0 = soil->column_i(x0), j0 = soil->column_j(-kHalfWidth);
+      const terrain::ColumnRect r{i0, j0, static_cast<int>(soil->column_i(x1) - i0 + 1),
+                                  static_cast<int>(soil->column_j(kHalfWidth) - j0 + 1)};
+      fields.emplace_back(*soil, r);
+      columns += static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny);
+    }
+    for (std::size_t k = 0; k < 2; ++k) {
+      meshes[k].update(fields[k], &view.eye);
+      triangles += meshes[k].triangle_count();
+    }
+    view.title = "ground mesh at 1 px: " + std::to_string(triangles) + " triangles (" + std::to_string(2 * columns) +
+                 " in full)";
+    return render_meshes({{&meshes[0], {214, 190, 140}}, {&meshes[1], {150, 122, 96}}}, view);
+  }
+
   SceneOptions o_;
   double start_x_, sand_x1_, mud_x1_;  // m: the chassis centre at the start; strip edges (sand from x = 0)
   World world_;
@@ -188,6 +221,7 @@ class Vehicle final : public Scene {
   std::vector<Patch> patches_;
   HeightGrid frame_, baseline_;
   btRigidBody* chassis_ = nullptr;
+  std::vector<btHingeConstraint*> hinges_;  // wheel motors, in mount order
   std::vector<const btRigidBody*> bodies_;  // chassis, then the wheels
   RunStats times_;                          // Shore's share of the substeps (both soils)
   double x_ = 0.0;                          // chassis x after the last substep

@@ -1,10 +1,20 @@
 #!/usr/bin/env bash
 # Installs the Debian packages Shore needs, only those missing. Usage:
-#   scripts/install-deps.sh [build|bench]   (bench adds the plotting tool)
+#   scripts/install-deps.sh [build|bench|viewer]...   (bench adds the plotting tool; viewer
+#   the OpenGL renderer's and shore-viewer's: GLFW, Dear ImGui, libepoxy, Mesa's EGL and
+#   llvmpipe, Xvfb for the window test)
 set -euo pipefail
 pkgs=(g++ binutils make cmake ninja-build pkg-config libbullet-dev libeigen3-dev libgtest-dev libgmock-dev
       libbenchmark-dev libcli11-dev nlohmann-json3-dev libstb-dev)
-if [[ "${1:-build}" == bench ]]; then pkgs+=(gnuplot-nox); fi
+viewer_pkgs=(libglfw3-dev libimgui-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth)
+for group in "${@:-build}"; do
+  case "$group" in
+    build) ;;
+    bench) pkgs+=(gnuplot-nox) ;;
+    viewer) pkgs+=("${viewer_pkgs[@]}") ;;
+    *) echo "install-deps.sh: unknown group $group (build, bench, viewer)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${pkgs[@]}"; do

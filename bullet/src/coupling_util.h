@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <vector>
 
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
@@ -27,6 +28,15 @@ inline bool body_is_sane(const btRigidBody& body, double max_speed) {
     return false;
   const btVector3& v = body.getLinearVelocity();
   return finite(v) && finite(body.getAngularVelocity()) && v.length() <= max_speed;
+}
+
+/// The btRigidBody* of each element of a coupling's body list (elements with a `body` member).
+template <class Entry>
+std::vector<btRigidBody*> body_pointers(const std::vector<Entry>& entries) {
+  std::vector<btRigidBody*> out;
+  out.reserve(entries.size());
+  for (const Entry& e : entries) out.push_back(e.body);
+  return out;
 }
 
 }  // namespace coupling_detail

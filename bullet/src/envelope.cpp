@@ -31,6 +31,7 @@ struct EnvelopeRasterizer::Cache {
     HullMesh hull;
   };
   std::unordered_map<const btCollisionShape*, Entry> hulls;
+  EnvelopeRaster point;  ///< lower_at's one-column raster
 };
 
 namespace {
@@ -44,9 +45,9 @@ void check_finite(const char* field, double v) { Check{"bullet.envelope"}.finite
 
 /// Checks a dimension of a shape: finite and >= 0 (> 0 if `strict`).
 void check_size(const btCollisionShape& shape, const char* what, double v, bool strict = false) {
-  const std::string field = std::string("shape ") + shape.getName() + " " + what;
-  if (!std::isfinite(v) || v < 0 || (strict && v == 0))
-    throw InvalidSetting(field, detail::to_text(v), strict ? "must be finite and > 0" : "must be finite and >= 0");
+  if (std::isfinite(v) && v >= 0 && !(strict && v == 0)) return;  // the common case builds no message
+  throw InvalidSetting(std::string("shape ") + shape.getName() + " " + what, detail::to_text(v),
+                       strict ? "must be finite and > 0" : "must be finite and >= 0");
 }
 
 double shape_margin(const btCollisionShape& shape, bool include) {
@@ -320,6 +321,17 @@ void EnvelopeRasterizer::draw_fresh(const btCollisionShape& shape, const btTrans
     out.resize(out.i0, out.j0, 0, 0, false);  // never leave a half-drawn raster behind
     throw;
   }
+}
+
+double EnvelopeRasterizer::lower_at(const btCollisionShape& shape, const btTransform& pose, double x, double y) {
+  EnvelopeRaster& r = cache_->point;
+  r.resize(0, 0, 1, 1, false);
+  const EnvelopeGrid at{x, y, grid_.cell};  // column (0, 0) of this grid stands at (x, y)
+  EnvelopeOptions lower_only = options_;
+  lower_only.upper = false;
+  Canvas cv(r, at, lower_only);
+  ShapeDrawer(cv, *cache_).draw(shape, pose, 0);
+  return r.lower[0];
 }
 
 int EnvelopeRasterizer::accumulate(const btCollisionShape& shape, const btTransform& pose, EnvelopeRaster& inout) {

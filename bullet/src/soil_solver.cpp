@@ -7,7 +7,9 @@
 #include "shore/core/det_math.h"
 #include "shore/terrain/shear.h"
 
-namespace shore::bullet::soil_detail {
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+namespace soil_detail {
 
 namespace {
 
@@ -28,6 +30,12 @@ int kind_of(const terrain::ContactElement& e) {
 }
 
 double length(Vec3 a) { return std::sqrt(dot(a, a)); }
+
+/// Share of the shear strength acting at shear displacement j: Janosi-Hanamoto's
+/// mobilisation, in soil remoulded by the same shear.
+double mobilisation(const terrain::Material& m, double j) {
+  return terrain::shear::mobilisation(m, j) * terrain::shear::strength_remoulding(m, j);
+}
 Vec3 normalized(Vec3 a) {
   const double n = length(a);
   return n > 0.0 ? a * (1.0 / n) : Vec3{0, 0, 1};
@@ -135,8 +143,7 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, const terr
     const double j = (e.raster_index >= 0 && !shear_displacement.empty())
                          ? shear_displacement[static_cast<std::size_t>(e.raster_index)]
                          : 0.0;
-    tallies[slot(floor_div(e.i, B), floor_div(e.j, B), kind_of(e))].add(e, terrain::shear::mobilisation(m, j),
-                                                                        m.cohesion);
+    tallies[slot(floor_div(e.i, B), floor_div(e.j, B), kind_of(e))].add(e, mobilisation(m, j), m.cohesion);
   }
   // In key order: rows of blocks, then columns, then kind.
   for (std::int64_t by = by0; by <= by1; ++by)
@@ -186,75 +193,83 @@ void clamp_warm_start(RigidBody& body, std::span<Block> blocks, double tan_phi, 
   }
 }
 
-void sweep(RigidBody& body, std::span<Block> blocks, double tan_phi, double h) {
-  for (Block& b : blocks) {
-    const double u = dot(body.point_velocity(b.point), b.normal);
-    const double next = std::clamp(b.normal_impulse - u * b.mass_n, 0.0, b.capacity * h);
-    body.apply_impulse(b.normal * (next - b.normal_impulse), b.point);
-    b.normal_impulse = next;
+void normal_row(RigidBody& body, Block& b, double h) {
+  const double u = dot(body.point_velocity(b.point), b.normal);
+  const double next = std::clamp(b.normal_impulse - u * b.mass_n, 0.0, b.capacity * h);
+  body.apply_impulse(b.normal * (next - b.normal_impulse), b.point);
+  b.normal_impulse = next;
+}
+
+void friction_rows(RigidBody& body, Block& b, double tan_phi, double h) {
+  if (b.wall) return;
+  const Vec3 pv = body.point_velocity(b.point);
+  double n1 = b.t1_impulse - dot(pv, b.t1) * b.mass_t1;
+  double n2 = b.t2_impulse - dot(pv, b.t2) * b.mass_t2;
+  const double limit = friction_limit(b, b.normal_impulse, tan_phi, h);
+  const double size = std::sqrt(n1 * n1 + n2 * n2);
+  if (size > limit) {
+    const double scale = limit > 0.0 ? limit / size : 0.0;
+    n1 *= scale, n2 *= scale;
   }
-  for (Block& b : blocks) {
-    if (b.wall) continue;
-    const Vec3 pv = body.point_velocity(b.point);
-    double n1 = b.t1_impulse - dot(pv, b.t1) * b.mass_t1;
-    double n2 = b.t2_impulse - dot(pv, b.t2) * b.mass_t2;
-    const double limit = friction_limit(b, b.normal_impulse, tan_phi, h);
-    const double size = std::sqrt(n1 * n1 + n2 * n2);
-    if (size > limit) {
-      const double scale = limit > 0.0 ? limit / size : 0.0;
-      n1 *= scale, n2 *= scale;
-    }
-    body.apply_impulse(b.t1 * (n1 - b.t1_impulse) + b.t2 * (n2 - b.t2_impulse), b.point);
-    b.t1_impulse = n1, b.t2_impulse = n2;
-  }
+  body.apply_impulse(b.t1 * (n1 - b.t1_impulse) + b.t2 * (n2 - b.t2_impulse), b.point);
+  b.t1_impulse = n1, b.t2_impulse = n2;
+}
+
+/// One sweep over the rows, forward or backward: alternating the order keeps Gauss-Seidel
+/// from favouring the blocks solved first (a box would settle tilted toward them).
+void sweep(RigidBody& body, std::span<Block> blocks, double tan_phi, double h, bool backward) {
+  const std::size_t n = blocks.size();
+  for (std::size_t k = 0; k < n; ++k) normal_row(body, blocks[backward ? n - 1 - k : k], h);
+  for (std::size_t k = 0; k < n; ++k) friction_rows(body, blocks[backward ? n - 1 - k : k], tan_phi, h);
 }
 
 }  // namespace
 
-SolveResult solve(RigidBody& body, std::span<Block> blocks, const terrain::Material& m, double h,
-                  const SolverSettings& settings) {
+SolveResult solve(RigidBody& body, const RigidBody& start, std::span<Block> blocks, const terrain::Material& m,
+                  double h, const SolverSettings& settings) {
   SolveResult out;
   if (blocks.empty()) return out;
   const double tan_phi = det::tan(m.friction_angle);
-  struct Before {
-    double n, t1, t2;
-  };
-  std::vector<Before> before(blocks.size());
-  for (std::size_t k = 0; k < blocks.size(); ++k) {
-    Block& b = blocks[k];
-    const Vec3 r = b.point - body.com;
-    b.mass_n = effective_mass(body, r, b.normal);
-    b.mass_t1 = effective_mass(body, r, b.t1);
-    b.mass_t2 = effective_mass(body, r, b.t2);
-    const Vec3 pv = body.point_velocity(b.point);
-    before[k] = {dot(pv, b.normal), dot(pv, b.t1), dot(pv, b.t2)};
+  for (Block& b : blocks) {
+    if (!settings.keep_masses) {
+      const Vec3 r = b.point - body.com;
+      b.mass_n = effective_mass(body, r, b.normal);
+      b.mass_t1 = effective_mass(body, r, b.t1);
+      b.mass_t2 = effective_mass(body, r, b.t2);
+    }
+    const Vec3 pv = start.point_velocity(b.point);
+    b.start_n = dot(pv, b.normal), b.start_t1 = dot(pv, b.t1), b.start_t2 = dot(pv, b.t2);
   }
   clamp_warm_start(body, blocks, tan_phi, h);
-  for (int it = 0; it < settings.iterations; ++it) sweep(body, blocks, tan_phi, h);
+  for (int it = 0; it < settings.iterations; ++it) sweep(body, blocks, tan_phi, h, it % 2 == 1);
 
-  // Work on the soil: -sum of impulse x mean velocity along it over the substep, which is
-  // exactly the kinetic energy the body lost to these impulses.
-  for (std::size_t k = 0; k < blocks.size(); ++k) {
-    const Block& b = blocks[k];
+  // Work on the soil: each impulse times the mean velocity along it over the substep, from
+  // the start of the substep (before the engine's forces) to its end. It is the kinetic
+  // energy the soil takes, exact for any substep whether the soil yields or holds an impact,
+  // and zero for a body at rest (the gravity kick it cancels carried no real energy).
+  for (const Block& b : blocks) {
     const Vec3 pv = body.point_velocity(b.point);
     const double un = dot(pv, b.normal), u1 = dot(pv, b.t1), u2 = dot(pv, b.t2);
-    out.work -= 0.5 * (b.normal_impulse * (before[k].n + un) + b.t1_impulse * (before[k].t1 + u1) +
-                       b.t2_impulse * (before[k].t2 + u2));
+    const bool at_capacity = b.normal_impulse >= b.capacity * h * (1.0 - 1e-9);
+    const double limit = b.wall ? 0.0 : friction_limit(b, b.normal_impulse, tan_phi, h);
+    const double friction = std::sqrt(b.t1_impulse * b.t1_impulse + b.t2_impulse * b.t2_impulse);
+    const bool sliding = !b.wall && friction >= limit * (1.0 - 1e-9) && friction > 0.0;
+    const double pressing = -0.5 * b.normal_impulse * (b.start_n + un);
+    const double shear = -0.5 * (b.t1_impulse * (b.start_t1 + u1) + b.t2_impulse * (b.start_t2 + u2));
+    out.work += pressing + shear;
+    out.shear_work += shear;
     const Vec3 impulse = b.normal * b.normal_impulse + b.t1 * b.t1_impulse + b.t2 * b.t2_impulse;
+    out.normal_impulse = out.normal_impulse + b.normal * b.normal_impulse;
     out.impulse = out.impulse + impulse;
     out.angular_impulse = out.angular_impulse + cross(b.point - body.com, impulse);
-    const bool at_capacity = b.normal_impulse >= b.capacity * h * (1.0 - 1e-9);
     if (at_capacity && un < -1e-6) out.yielded = true;
     if (un < -1e-4) out.stuck = false;
-    if (!b.wall) {
-      const double limit = friction_limit(b, b.normal_impulse, tan_phi, h);
-      const double slip = std::sqrt(u1 * u1 + u2 * u2);
-      if (slip > 1e-4 && std::sqrt(b.t1_impulse * b.t1_impulse + b.t2_impulse * b.t2_impulse) >= limit * (1 - 1e-9))
-        out.stuck = false;
-    }
+    if (sliding && std::sqrt(u1 * u1 + u2 * u2) > 1e-4) out.stuck = false;
   }
   if (out.yielded) out.stuck = false;
   return out;
 }
 
-}  // namespace shore::bullet::soil_detail
+}  // namespace soil_detail
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet

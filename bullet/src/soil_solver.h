@@ -15,10 +15,13 @@
 #include <span>
 #include <vector>
 
+#include "shore/bullet/config.h"
 #include "shore/terrain/contact.h"
 #include "shore/terrain/material.h"
 
-namespace shore::bullet::soil_detail {
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+namespace soil_detail {
 
 struct Vec3 {
   double x = 0, y = 0, z = 0;
@@ -31,9 +34,9 @@ inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a
 
 /// The body as the solver sees it: world frame, double precision.
 struct RigidBody {
-  Vec3 v, w;               ///< linear and angular velocity
-  Vec3 com;                ///< centre of mass
-  double inv_mass = 0.0;   ///< 1 / kg
+  Vec3 v, w;                      ///< linear and angular velocity
+  Vec3 com;                       ///< centre of mass
+  double inv_mass = 0.0;          ///< 1 / kg
   double inv_inertia[3][3] = {};  ///< world inverse inertia tensor
 
   [[nodiscard]] Vec3 apply_inv_inertia(Vec3 a) const;
@@ -43,30 +46,36 @@ struct RigidBody {
 
 /// One block of contact elements.
 struct Block {
-  std::uint64_t key = 0;     ///< (block x, block y, kind): fixed solve order, warm start
-  Vec3 point, normal;        ///< where and along which direction it pushes
-  double capacity = 0.0;     ///< N, the most it pushes (+infinity on bedrock)
-  double cohesion = 0.0;     ///< N, sum of c A (1 - exp(-j / K)) over its bottom elements
-  double mobilised = 0.0;    ///< capacity-weighted mean of 1 - exp(-j / K)
+  std::uint64_t key = 0;   ///< (block x, block y, kind): fixed solve order, warm start
+  Vec3 point, normal;      ///< where and along which direction it pushes
+  double capacity = 0.0;   ///< N, the most it pushes (+infinity on bedrock)
+  double cohesion = 0.0;   ///< N, sum of c A (1 - exp(-j / K)) over its bottom elements
+  double mobilised = 0.0;  ///< capacity-weighted mean of 1 - exp(-j / K)
   bool wall = false;
   // Solve state.
-  Vec3 t1, t2;                                    ///< friction directions
+  Vec3 t1, t2;                                                      ///< friction directions
   double normal_impulse = 0.0, t1_impulse = 0.0, t2_impulse = 0.0;  ///< N s
-  double mass_n = 0.0, mass_t1 = 0.0, mass_t2 = 0.0;               ///< effective masses, kg
+  double mass_n = 0.0, mass_t1 = 0.0, mass_t2 = 0.0;                ///< effective masses, kg
+  double start_n = 0.0, start_t1 = 0.0, start_t2 = 0.0;  ///< the rows' velocities at the substep's start
 };
 
 struct SolverSettings {
   int block_columns = 4;  ///< columns per block side
   int iterations = 12;    ///< PGS sweeps over the rows
+  /// The blocks' effective masses are still right (the body has not moved since they were
+  /// computed: a body at rest re-solving its kept contact).
+  bool keep_masses = false;
 };
 
 /// What the solve did.
 struct SolveResult {
-  Vec3 impulse;            ///< N s, total on the body
-  Vec3 angular_impulse;    ///< N m s about the centre of mass
-  double work = 0.0;       ///< J done on the soil (the body's kinetic energy lost to it)
-  bool yielded = false;    ///< some block pushed its most and the body still approaches it
-  bool stuck = true;       ///< every block holds: no approach, no slip beyond its strength
+  Vec3 impulse;             ///< N s, total on the body
+  Vec3 normal_impulse;      ///< N s, the part along the blocks' normals
+  Vec3 angular_impulse;     ///< N m s about the centre of mass
+  double work = 0.0;        ///< J done on the soil (the body's kinetic energy lost to it)
+  double shear_work = 0.0;  ///< J of it done by the shear rows
+  bool yielded = false;     ///< some block pushed its most and the body still approaches it
+  bool stuck = true;        ///< every block holds: no approach, no slip beyond its strength
 };
 
 /// Gathers contact elements into blocks, sorted by key.
@@ -76,8 +85,12 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, const terr
 /// Warm start: the impulses the same blocks ended the last substep with (both sorted by key).
 void warm_start(std::span<const Block> previous, std::span<Block> blocks);
 
-/// Solves the substep's soil impulses on the body (velocities updated in place).
-SolveResult solve(RigidBody& body, std::span<Block> blocks, const terrain::Material& m, double h,
-                  const SolverSettings& settings);
+/// Solves the substep's soil impulses on the body (velocities updated in place). start:
+/// the body at the start of the substep, before the engine's forces of this substep (its
+/// velocities then and the solved ones bracket the substep's motion, for the work).
+SolveResult solve(RigidBody& body, const RigidBody& start, std::span<Block> blocks, const terrain::Material& m,
+                  double h, const SolverSettings& settings);
 
-}  // namespace shore::bullet::soil_detail
+}  // namespace soil_detail
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet

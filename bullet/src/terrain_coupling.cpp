@@ -13,6 +13,7 @@
 #include "coupling_util.h"
 #include "shore/bullet/envelope.h"
 #include "shore/core/error.h"
+#include "soil_solver.h"
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
@@ -28,7 +29,107 @@ EnvelopeOptions nominal_solid() {
   o.include_margin = false;
   return o;
 }
+
+/// The body's underside at any point, for sub-cell coverage at its footprint's edges.
+class ShapeProbe final : public terrain::SurfaceProbe {
+ public:
+  ShapeProbe(EnvelopeRasterizer& rasterizer, const btCollisionShape& shape, const btTransform& pose)
+      : rasterizer_(&rasterizer), shape_(&shape), pose_(pose) {}
+  [[nodiscard]] double lower_at(double x, double y) const override {
+    return rasterizer_->lower_at(*shape_, pose_, x, y);
+  }
+
+ private:
+  EnvelopeRasterizer* rasterizer_;
+  const btCollisionShape* shape_;
+  btTransform pose_;
+};
+
+/// Refuses a shape that covers no area seen from below (a zero-size box or ball): a point
+/// or a line cannot bear on soil.
+void check_has_area(const btCollisionShape& shape) {
+  btVector3 lo, hi;
+  shape.getAabb(btTransform::getIdentity(), lo, hi);
+  const btVector3 size = hi - lo;
+  const double extent = std::max({double(size.x()), double(size.y()), double(size.z())});
+  EnvelopeRaster probe;
+  const int covered = extent > 0.0
+                          ? rasterize_envelope(shape, btTransform::getIdentity(),
+                                               EnvelopeGrid{lo.x(), lo.y(), extent / 64.0}, nominal_solid(), probe)
+                          : 0;
+  if (covered == 0)
+    throw InvalidSetting(std::string("bullet.TerrainCoupling.add_body(body) shape ") + shape.getName(),
+                         "no size seen from below",
+                         "must cover some area (a zero-size box, ball or line cannot bear on soil)");
+}
+
+soil_detail::Vec3 to_vec(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
+btVector3 to_bt(const soil_detail::Vec3& v) { return {btScalar(v.x), btScalar(v.y), btScalar(v.z)}; }
+
+soil_detail::RigidBody solver_body(const btRigidBody& body) {
+  soil_detail::RigidBody rb;
+  rb.v = to_vec(body.getLinearVelocity());
+  rb.w = to_vec(body.getAngularVelocity());
+  rb.com = to_vec(body.getCenterOfMassPosition());
+  rb.inv_mass = body.getInvMass();
+  const btMatrix3x3& inv = body.getInvInertiaTensorWorld();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) rb.inv_inertia[r][c] = inv[r][c];
+  return rb;
+}
+
+/// Values kept per envelope column, moved from the old window to the new one (0 where new).
+template <class T>
+void remap(std::vector<T>& values, const ColumnWindow& from, const EnvelopeRaster& to) {
+  std::vector<T> moved(to.lower.size(), T{});
+  if (!values.empty())
+    for (int y = 0; y < to.ny; ++y)
+      for (int x = 0; x < to.nx; ++x) {
+        const std::int64_t i = to.i0 + x - from.i0, j = to.j0 + y - from.j0;
+        if (i < 0 || j < 0 || i >= from.nx || j >= from.ny) continue;
+        moved[static_cast<std::size_t>(y) * to.nx + x] = values[static_cast<std::size_t>(j * from.nx + i)];
+      }
+  values.swap(moved);
+}
 }  // namespace
+
+/// What a body's soil contact keeps between substeps.
+struct TerrainCoupling::BodyContact {
+  terrain::ContactPatch patch;
+  std::vector<soil_detail::Block> blocks, previous;  // this substep's and the last one's (warm start)
+  // Per envelope column, m: the shear displacement (the slip along the surface accumulated
+  // as a vector while the column is in contact; Janosi-Hanamoto's j is its length) and the
+  // drag (the body's horizontal travel over the column, also a vector; its length remoulds
+  // the soil, terrain::shear::remoulding). As vectors, slip that reverses undoes itself.
+  std::vector<soil_detail::Vec3> shear, next_shear;
+  std::vector<double> shear_length;  // |shear|, for the blocks
+  std::vector<double> drag_x, drag_y, drag_length, next_drag_x, next_drag_y;
+  /// The lengths of the shear and drag vectors: the blocks' and the soil's inputs.
+  void update_lengths() {
+    shear_length.resize(shear.size());
+    for (std::size_t k = 0; k < shear.size(); ++k) shear_length[k] = std::sqrt(soil_detail::dot(shear[k], shear[k]));
+    drag_length.resize(drag_x.size());
+    for (std::size_t k = 0; k < drag_x.size(); ++k)
+      drag_length[k] = std::sqrt(drag_x[k] * drag_x[k] + drag_y[k] * drag_y[k]);
+  }
+  SoilForce last;
+  bool resting = false;  // the body was at rest: its blocks and patch still hold it
+  // The body's velocities at the end of the last substep (the start of this one).
+  btVector3 v_end{0, 0, 0}, w_end{0, 0, 0};
+  bool has_end = false;
+};
+
+TerrainCoupling::Body::Body() : contact(std::make_unique<BodyContact>()) {}
+TerrainCoupling::Body::~Body() = default;
+TerrainCoupling::Body::Body(Body&&) noexcept = default;
+TerrainCoupling::Body& TerrainCoupling::Body::operator=(Body&&) noexcept = default;
+
+void SoilContactSettings::validate() const {
+  const Check c{"bullet.SoilContactSettings"};
+  c.in_closed("block_columns", block_columns, 1, 64);
+  c.in_closed("iterations", iterations, 1, 1000);
+  c.in_closed("resting_iterations", resting_iterations, 1, 1000);
+}
 
 void BodySoilSettings::validate() const {
   const Check c{"bullet.BodySoilSettings"};
@@ -38,6 +139,7 @@ void BodySoilSettings::validate() const {
 
 void TerrainCouplingSettings::validate() const {
   tiles.validate();
+  contact.validate();
   const Check c{"bullet.TerrainCouplingSettings"};
   c.positive("cover_margin", cover_margin);
   c.positive("max_speed", max_speed);
@@ -68,8 +170,10 @@ void TerrainCoupling::add_body(btRigidBody* body, BodySoilSettings body_settings
   Body b;
   b.body = body;
   b.settings = body_settings;
-  if (body_settings.deform)  // once: then rasterizing it never fails for a sane pose
+  if (body_settings.deform) {  // once: then rasterizing it never fails for a sane pose
     b.reach = check_rasterizable(*body->getCollisionShape(), rasterizer_.grid().cell, rasterizer_.options());
+    check_has_area(*body->getCollisionShape());
+  }
   remove_body(body);
   if (body_settings.enable_ccd && !body->isStaticOrKinematicObject()) {
     btVector3 lo, hi;
@@ -156,8 +260,33 @@ bool TerrainCoupling::overlaps_region(const btRigidBody& body) const {
 }
 
 void TerrainCoupling::rasterize(Body& b) {
-  rasterizer_.rasterize(*b.body->getCollisionShape(), b.body->getWorldTransform(), b.envelope);
+  const ColumnWindow old{b.envelope.i0, b.envelope.j0, b.envelope.nx, b.envelope.ny};
+  b.envelope_pose = b.body->getWorldTransform();
+  rasterizer_.rasterize(*b.body->getCollisionShape(), b.envelope_pose, b.envelope);
   clip_to_region(b.envelope);
+  BodyContact& c = *b.contact;
+  remap(c.shear, old, b.envelope);
+  remap(c.drag_x, old, b.envelope);
+  remap(c.drag_y, old, b.envelope);
+  c.update_lengths();
+  b.contact->resting = false;
+}
+
+bool TerrainCoupling::drifted(const Body& b) const {
+  // A tenth of a millimetre, a milliradian: well below what a column of soil resolves.
+  const btTransform& now = b.body->getWorldTransform();
+  const btTransform& then = b.envelope_pose;
+  if ((now.getOrigin() - then.getOrigin()).length() > btScalar(1e-4)) return true;
+  const btMatrix3x3 turn = now.getBasis() * then.getBasis().transpose();
+  return std::abs(double(turn[0][1] - turn[1][0])) + std::abs(double(turn[0][2] - turn[2][0])) +
+             std::abs(double(turn[1][2] - turn[2][1])) >
+         2e-3;
+}
+
+SoilForce TerrainCoupling::soil_force(const btRigidBody* body) const {
+  for (const Body& b : bodies_)
+    if (b.body == body) return b.contact->last;
+  return {};
 }
 
 void TerrainCoupling::clip_to_region(EnvelopeRaster& env) const {
@@ -170,38 +299,116 @@ void TerrainCoupling::clip_to_region(EnvelopeRaster& env) const {
             EnvelopeRaster::kNoLower;
 }
 
+void TerrainCoupling::gather_contact(Body& b) {
+  BodyContact& c = *b.contact;
+  const ShapeProbe probe(rasterizer_, *b.body->getCollisionShape(), b.envelope_pose);
+  soil_.contact(b.envelope, c.shear_length, settings_.contact.sub_cell_coverage ? &probe : nullptr, c.patch);
+  std::swap(c.previous, c.blocks);
+  soil_detail::gather_blocks(c.patch.elements, soil_.settings().material, c.shear_length,
+                             settings_.contact.block_columns, c.blocks);
+  soil_detail::warm_start(c.previous, c.blocks);
+}
+
+// Each touching column's shear displacement grows by the slip of the body over it, and its
+// drag by the body's horizontal travel over it; columns out of contact start from zero.
+void TerrainCoupling::advance_shear(Body& b, const soil_detail::RigidBody& rb, double h) {
+  BodyContact& c = *b.contact;
+  const std::size_t size = b.envelope.lower.size();
+  c.next_shear.assign(size, {});
+  c.next_drag_x.assign(size, 0.0);
+  c.next_drag_y.assign(size, 0.0);
+  const bool had = c.shear.size() == size;
+  for (const terrain::ContactElement& e : c.patch.elements) {
+    if (e.wall || e.raster_index < 0 || !b.envelope.contains(e.i, e.j)) continue;
+    const soil_detail::Vec3 n{e.nx, e.ny, e.nz};
+    const soil_detail::Vec3 u = rb.point_velocity({e.x, e.y, e.z});
+    const auto k = static_cast<std::size_t>(e.raster_index);
+    const soil_detail::Vec3 slip = u - n * soil_detail::dot(u, n);
+    c.next_shear[k] = (had ? c.shear[k] : soil_detail::Vec3{}) + slip * h;
+    // Column soil moves only up and down: the body's horizontal motion over it drags it.
+    c.next_drag_x[k] = (had ? c.drag_x[k] : 0.0) + u.x * h;
+    c.next_drag_y[k] = (had ? c.drag_y[k] : 0.0) + u.y * h;
+  }
+  c.shear.swap(c.next_shear);
+  c.drag_x.swap(c.next_drag_x);
+  c.drag_y.swap(c.next_drag_y);
+  c.update_lengths();
+}
+
+// A body at rest needs from the soil what it needed last substep: the same impulse cancels
+// the same forces. If that leaves it moving slower than rest_speed and rest_spin, the soil
+// holds it still (the little that is left over, it takes too) and nothing else is solved:
+// a few dozen operations. If not (something pushed it), its kept contact is solved.
+bool TerrainCoupling::hold_at_rest(Body& b, double h) {
+  btRigidBody& body = *b.body;
+  BodyContact& c = *b.contact;
+  const btVector3 v0 = body.getLinearVelocity(), w0 = body.getAngularVelocity();
+  const btVector3 v = v0 + c.last.force * btScalar(h * body.getInvMass());
+  const btVector3 w = w0 + body.getInvInertiaTensorWorld() * (c.last.torque * btScalar(h));
+  if (v.length() > btScalar(settings_.rest_speed) || w.length() > btScalar(settings_.rest_spin)) return false;
+  // The soil's whole impulse this substep is the one that stops the body: m (0 - v0) and
+  // I (0 - w0). More than last substep's (a load growing) is for the solve to bound by what
+  // the soil bears.
+  const btMatrix3x3 inertia = body.getInvInertiaTensorWorld().inverse();
+  const btVector3 force = -v0 * btScalar(1.0 / (h * body.getInvMass()));
+  if (force.length() > c.last.force.length() * btScalar(1.0 + 1e-6)) return false;
+  c.last.force = force;
+  c.last.torque = inertia * (-w0) * btScalar(1.0 / h);
+  body.setLinearVelocity(btVector3(0, 0, 0));
+  body.setAngularVelocity(btVector3(0, 0, 0));
+  btTransform corrected;
+  btTransformUtil::integrateTransform(body.getCenterOfMassTransform(), -v0, -w0, btScalar(h), corrected);
+  body.setCenterOfMassTransform(corrected);
+  return true;
+}
+
 bool TerrainCoupling::react(Body& b, double h) {
   btRigidBody& body = *b.body;
-  const double inv_mass = body.getInvMass();
-  if (inv_mass <= 0.0 || b.envelope.lower.empty()) return false;
-  const double mass = 1.0 / inv_mass;
-  const btVector3 com = body.getCenterOfMassPosition();
+  BodyContact& c = *b.contact;
+  if (body.getInvMass() <= 0.0 || b.envelope.lower.empty()) {
+    c.last = {};
+    return false;
+  }
+  if (c.resting && hold_at_rest(b, h)) {
+    ++stats_.resting_bodies;
+    return false;
+  }
+  c.last = {};
+  // The soil where the body stood at the start of this substep (the envelope kept from the
+  // end of the previous one): Bullet has since applied gravity and integrated freely, since
+  // it does not collide this body with soft tiles. A body at rest keeps its last contact.
+  if (c.resting)
+    ++stats_.resting_bodies;
+  else
+    gather_contact(b);
+  if (c.blocks.empty()) return false;
 
-  // The soil's state where the body stood at the start of this substep (the envelope kept
-  // from the end of the previous one): Bullet has since applied gravity and integrated
-  // freely, since it does not collide this body with soft tiles.
-  const double p = -mass * double(body.getLinearVelocity().z());  // downward momentum to absorb
-  const terrain::Bearing bearing = soil_.bearing(b.envelope, 0.0);
-  if (bearing.contact_columns == 0 || p <= 0.0) return false;
-  const double absorbable = bearing.capacity * h;  // +inf on bedrock
-  const bool yields = p > absorbable;
-  const double soil_impulse = yields ? absorbable : p;
-
+  soil_detail::RigidBody rb = solver_body(body);
+  soil_detail::RigidBody start = rb;
+  if (c.has_end) start.v = to_vec(c.v_end), start.w = to_vec(c.w_end);
   const btVector3 v0 = body.getLinearVelocity(), w0 = body.getAngularVelocity();
-  const btVector3 patch = apply_soil_impulse(b, bearing, soil_impulse, com);
-  apply_friction(body, patch - com, soil_impulse);
-
+  const soil_detail::SolverSettings solver{
+      settings_.contact.block_columns, c.resting ? settings_.contact.resting_iterations : settings_.contact.iterations,
+      c.resting};
+  const soil_detail::SolveResult r = soil_detail::solve(rb, start, c.blocks, soil_.settings().material, h, solver);
+  body.setLinearVelocity(to_bt(rb.v));
+  body.setAngularVelocity(to_bt(rb.w));
   // Re-integrate this substep's pose with the corrected velocity.
   const btVector3 dv = body.getLinearVelocity() - v0, dw = body.getAngularVelocity() - w0;
   btTransform corrected;
   btTransformUtil::integrateTransform(body.getCenterOfMassTransform(), dv, dw, btScalar(h), corrected);
   body.setCenterOfMassTransform(corrected);
 
-  if (yields) {
-    stats_.plastic_work += soil_impulse * std::max(0.0, -double(body.getLinearVelocity().z()));
-    ++stats_.yields;
-  }
-  return yields;
+  stats_.plastic_work += r.work;
+  stats_.shear_work += r.shear_work;
+  if (r.yielded) ++stats_.yields;
+  c.last.force = to_bt(r.impulse * (1.0 / h));
+  c.last.torque = to_bt(r.angular_impulse * (1.0 / h));
+  c.last.normal_force = to_bt(r.normal_impulse * (1.0 / h));
+  c.last.contact_columns = c.patch.touching_columns;
+  c.last.yielded = r.yielded;
+  if (!c.resting) advance_shear(b, rb, h);
+  return r.yielded;
 }
 
 void TerrainCoupling::keep_above_bedrock(Body& b) {
@@ -227,68 +434,17 @@ void TerrainCoupling::keep_above_bedrock(Body& b) {
   ++stats_.rescues;
 }
 
-btVector3 TerrainCoupling::apply_soil_impulse(Body& b, const terrain::Bearing& bearing, double impulse,
-                                              const btVector3& com) {
-  // Each contact column pushes up in proportion to the force it bears. Vertical impulses
-  // at many points add up exactly to their sum at their weighted centre (same linear and
-  // angular impulse), so one impulse is applied there: the bearing centre, not the centre
-  // of mass (rigid-ground style impulses through the middle make boxes rock).
-  // Columns on bedrock carry everything (infinite force): they share it equally; on fresh
-  // soil (no capacity yet) the plain centre of the patch is used.
-  const EnvelopeRaster& env = b.envelope;
-  const bool on_bedrock = !std::isfinite(bearing.capacity);
-  double weight = 0.0, cx = 0.0, cy = 0.0, cz = 0.0;
-  for (const terrain::ColumnForce& c : bearing.columns) {
-    const double w = on_bedrock ? (std::isfinite(c.force) ? 0.0 : 1.0) : (bearing.capacity > 0.0 ? c.force : 1.0);
-    if (w <= 0.0) continue;
-    const double z = env.contains(c.i, c.j) ? env.lower[env.index(c.i, c.j)] : double(com.z());
-    cx += w * soil_.column_x(c.i);
-    cy += w * soil_.column_y(c.j);
-    cz += w * z;
-    weight += w;
-  }
-  if (weight <= 0.0) return com;
-  const btVector3 centre(btScalar(cx / weight), btScalar(cy / weight), btScalar(cz / weight));
-  if (impulse > 0.0) b.body->applyImpulse(btVector3(0, 0, btScalar(impulse)), centre - com);
-  return centre;
-}
-
-void TerrainCoupling::apply_friction(btRigidBody& body, const btVector3& arm, double normal_impulse) {
-  // One Coulomb contact at the patch centre, solved exactly: the horizontal impulse that
-  // stops the point's horizontal slip, limited to mu times the normal impulse.
-  const double limit = soil_.settings().material.friction * normal_impulse;
-  if (limit <= 0.0) return;
-  const btVector3 u = body.getVelocityInLocalPoint(arm);
-  const btMatrix3x3& inv_inertia = body.getInvInertiaTensorWorld();
-  // K = (1/m) I + [r]x^T I^-1 [r]x, restricted to x and y.
-  double k[2][2];
-  for (int a = 0; a < 2; ++a) {
-    btVector3 e(0, 0, 0);
-    e[a] = 1;
-    const btVector3 du = e * body.getInvMass() + (inv_inertia * arm.cross(e)).cross(arm);
-    k[0][a] = du.x();
-    k[1][a] = du.y();
-  }
-  const double det = k[0][0] * k[1][1] - k[0][1] * k[1][0];
-  if (!(std::abs(det) > 0.0)) return;
-  double px = -(k[1][1] * u.x() - k[0][1] * u.y()) / det;
-  double py = -(-k[1][0] * u.x() + k[0][0] * u.y()) / det;
-  const double size = std::sqrt(px * px + py * py);
-  if (size > limit) {  // sliding: kinetic friction against the slip
-    px *= limit / size;
-    py *= limit / size;
-  }
-  body.applyImpulse(btVector3(btScalar(px), btScalar(py), 0), arm);
-}
-
 void TerrainCoupling::wake_bodies_over(const std::vector<terrain::ColumnRect>& changed) {
-  // Soft-soil bodies have no Bullet contact with the tiles, so nothing else wakes them.
+  // Soft-soil bodies have no Bullet contact with the tiles, so nothing else wakes them; a
+  // body at rest over soil that changed (the ring around its envelope too: walls) gathers
+  // its contact afresh.
   for (Body& b : bodies_) {
-    if (b.body->isActive() || b.envelope.lower.empty()) continue;
+    if (b.envelope.lower.empty()) continue;
     const EnvelopeRaster& e = b.envelope;
     for (const terrain::ColumnRect& r : changed)
       if (r.i0 <= e.i0 + e.nx && e.i0 <= r.i0 + r.nx && r.j0 <= e.j0 + e.ny && e.j0 <= r.j0 + r.ny) {
-        b.body->activate(true);
+        if (!b.body->isActive()) b.body->activate(true);
+        b.contact->resting = false;
         break;
       }
   }
@@ -319,6 +475,7 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   const double h = substep;
   ++stats_.substeps;
   stats_.envelope_seconds = stats_.terrain_seconds = stats_.push_seconds = stats_.reaction_seconds = 0.0;
+  stats_.resting_bodies = 0;
   auto t0 = Clock::now();
   cover_bodies(h);
   stats_.push_seconds += seconds_since(t0);
@@ -339,16 +496,19 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
     bool moved = true;
     if (!body.isStaticOrKinematicObject() && body.isActive() && !rigid_) {
       t0 = Clock::now();
-      const bool yielded = react(b, h);  // reads the envelope of the previous substep
+      react(b, h);  // reads the envelope of the previous substep
       stats_.reaction_seconds += seconds_since(t0);
       // A body the soil holds at rest presses nothing new: imprinting it again would only
-      // re-press soil that erosion slid back under its sides, inflating sinkage forever.
-      moved = yielded || b.envelope.lower.empty() || body.getLinearVelocity().length() > settings_.rest_speed ||
-              body.getAngularVelocity().length() > settings_.rest_spin;
+      // re-press soil that erosion slid back under its sides, inflating sinkage forever. One
+      // that creeps away from where it was imprinted is imprinted again.
+      moved = b.envelope.lower.empty() || body.getLinearVelocity().length() > settings_.rest_speed ||
+              body.getAngularVelocity().length() > settings_.rest_spin || drifted(b);
     }
     if (!body.isActive() || !moved) {
       // At rest its last envelope holds the soil it touches: slopes still eroding next to
-      // it cannot slide under it. It presses nothing and activates no soil by itself.
+      // it cannot slide under it. It presses nothing and activates no soil by itself, and
+      // keeps its contact for the next substep.
+      b.contact->resting = !b.envelope.lower.empty();
       if (!b.envelope.lower.empty()) {
         terrain::Imprint hold{&b.envelope};
         hold.hold = true;
@@ -380,6 +540,11 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   wake_bodies_over(changed);
   if (settings_.rescue_fallthrough) rescue_fallen_bodies();
   stats_.push_seconds += seconds_since(t0);
+  for (Body& b : bodies_) {  // the start of the next substep, for the soil's work
+    b.contact->v_end = b.body->getLinearVelocity();
+    b.contact->w_end = b.body->getAngularVelocity();
+    b.contact->has_end = true;
+  }
 }
 
 }  // namespace SHORE_BULLET_ABI

@@ -135,6 +135,7 @@ std::int64_t TerrainTiles::copy_rect(Tile& tile, std::int64_t ci0, std::int64_t 
 }
 
 std::int64_t TerrainTiles::push(std::span<const terrain::ColumnRect> changed) {
+  if (observer_ && !changed.empty()) observer_(changed);
   const int T = soil_.settings().tile_columns;
   const double cell = soil_.settings().cell;
   std::int64_t written = 0;

@@ -96,19 +96,6 @@ HeightGrid resample_body(const HeightGrid& g, const HeightGrid& like) {
   return r;
 }
 
-std::string format_length(double metres, bool signed_value) {
-  char buf[48];
-  const double a = std::abs(metres);
-  const char* sign = signed_value && metres > 0 ? "+" : "";
-  if (a != 0.0 && a < 0.001)
-    std::snprintf(buf, sizeof buf, "%s%.0f um", sign, metres * 1e6);
-  else if (a < 0.5)
-    std::snprintf(buf, sizeof buf, "%s%.1f mm", sign, metres * 1e3);
-  else
-    std::snprintf(buf, sizeof buf, "%s%.3f m", sign, metres);
-  return buf;
-}
-
 void min_max(const HeightGrid& g, double& lo, double& hi) {
   for (double v : g.z)
     if (std::isfinite(v)) {
@@ -153,9 +140,10 @@ Field make_field(const HeightGrid& heights, const ReliefStyle& style) {
       fd.colour[k] = diverging_colour(scale > 0.0 ? d / scale : 0.0);
     }
     fd.diverging = true;
-    fd.legend_low = format_length(-scale, true) + " lowered";
-    fd.legend_mid = "0";
-    fd.legend_high = "raised " + format_length(scale, true);
+    const Legend legend = deformation_legend(scale);
+    fd.legend_low = legend.low;
+    fd.legend_mid = legend.mid;
+    fd.legend_high = legend.high;
   } else {
     const double range = hi - lo;
     for (std::size_t k = 0; k < fd.colour.size(); ++k)
@@ -171,36 +159,64 @@ Field make_field(const HeightGrid& heights, const ReliefStyle& style) {
   return fd;
 }
 
+/// Adds a title strip above and the field's legend below a picture.
+Image frame_picture(const Image& picture, const std::string& title, const Field* field) {
+  if (field == nullptr) return framed_picture(picture, title, nullptr);
+  const Legend legend{field->diverging ? Legend::Map::diverging : Legend::Map::height, field->legend_low,
+                      field->legend_mid, field->legend_high};
+  return framed_picture(picture, title, &legend);
+}
+
+}  // namespace
+
+std::string format_length(double metres, bool signed_value) {
+  char buf[48];
+  const double a = std::abs(metres);
+  const char* sign = signed_value && metres > 0 ? "+" : "";
+  if (a != 0.0 && a < 0.001)
+    std::snprintf(buf, sizeof buf, "%s%.0f um", sign, metres * 1e6);
+  else if (a < 0.5)
+    std::snprintf(buf, sizeof buf, "%s%.1f mm", sign, metres * 1e3);
+  else
+    std::snprintf(buf, sizeof buf, "%s%.3f m", sign, metres);
+  return buf;
+}
+
+Legend deformation_legend(double scale) {
+  return {Legend::Map::diverging, format_length(-scale, true) + " lowered", "0",
+          "raised " + format_length(scale, true)};
+}
+
+namespace {
 /// A colour bar with its low / middle / high labels underneath, as wide as the labels need.
-void draw_legend(Image& out, int y, bool diverging, const std::string& low, const std::string& mid,
-                 const std::string& high) {
+void draw_legend(Image& out, int y, const Legend& legend) {
   const int x = 6, gap = 24;
-  const int needed = text_width(low, 2) + text_width(mid, 2) + text_width(high, 2) + 2 * gap;
+  const int needed = text_width(legend.low, 2) + text_width(legend.mid, 2) + text_width(legend.high, 2) + 2 * gap;
   const int bar_w = std::clamp(needed, 256, std::max(256, out.width() - 2 * x));
   for (int k = 0; k < bar_w; ++k) {
     const double t = static_cast<double>(k) / (bar_w - 1);
-    out.fill_rect(x + k, y, 1, 10, diverging ? diverging_colour(2.0 * t - 1.0) : height_colour(t));
+    const Rgb c = legend.map == Legend::Map::diverging ? diverging_colour(2.0 * t - 1.0)
+                  : legend.map == Legend::Map::water   ? water_colour(2.0 * t - 1.0)
+                                                       : height_colour(t);
+    out.fill_rect(x + k, y, 1, 10, c);
   }
-  draw_text(out, x, y + 14, low, kInk, 2);
-  draw_text(out, x + bar_w - text_width(high, 2), y + 14, high, kInk, 2);
-  if (!mid.empty() && needed <= bar_w) draw_text(out, x + (bar_w - text_width(mid, 2)) / 2, y + 14, mid, kInk, 2);
+  draw_text(out, x, y + 14, legend.low, kInk, 2);
+  draw_text(out, x + bar_w - text_width(legend.high, 2), y + 14, legend.high, kInk, 2);
+  if (!legend.mid.empty() && needed <= bar_w)
+    draw_text(out, x + (bar_w - text_width(legend.mid, 2)) / 2, y + 14, legend.mid, kInk, 2);
 }
+}  // namespace
 
-/// Adds a title strip above and a legend strip below a picture.
-Image frame_picture(const Image& picture, const std::string& title, const Field* legend) {
+Image framed_picture(const Image& picture, const std::string& title, const Legend* legend) {
   const int top = title.empty() ? 0 : kTitleHeight;
   const int bottom = legend ? kLegendHeight : 0;
   const int width = std::max(picture.width(), legend ? 480 : 1);
   Image out(width, picture.height() + top + bottom, kPaper);
   out.blit(picture, 0, top);
   if (!title.empty()) draw_text(out, 6, 5, title, kInk, 2);
-  if (legend)
-    draw_legend(out, top + picture.height() + 6, legend->diverging, legend->legend_low, legend->legend_mid,
-                legend->legend_high);
+  if (legend) draw_legend(out, top + picture.height() + 6, *legend);
   return out;
 }
-
-}  // namespace
 
 std::vector<double> hillshade(const HeightGrid& g, double azimuth_deg, double altitude_deg, double exaggeration) {
   const Light l = light_direction(azimuth_deg, altitude_deg);

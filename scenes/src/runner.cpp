@@ -88,7 +88,8 @@ SceneOptions resolve(const SceneType& scene, const Overrides& o) {
   return s;
 }
 
-SceneResult run_scene(const SceneType& type, const SceneOptions& options, ProgressMode progress_mode) {
+SceneResult run_scene(const SceneType& type, const SceneOptions& options, ProgressMode progress_mode,
+                      const DrawHook& draw_more) {
   options.validate();
   if (options.write_files) std::filesystem::create_directories(options.out_dir);
   omp_set_num_threads(options.threads);
@@ -126,6 +127,7 @@ SceneResult run_scene(const SceneType& type, const SceneOptions& options, Progre
   if (options.write_files) {
     Drawing drawing(options, frames.empty() ? Image() : scenes::filmstrip(frames, labels, 3));
     scene->draw(drawing);
+    if (draw_more) draw_more(*scene, drawing);
     result.files = drawing.files();
     for (const auto& f : result.files) files.push_back(f.filename().string());
     files.push_back("metrics.json");

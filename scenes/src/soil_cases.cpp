@@ -4,8 +4,10 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "shore/bullet/terrain_coupling.h"
+#include "shore/scenes/four_wheeler.h"
 #include "shore/scenes/state.h"
 #include "shore/scenes/world.h"
 #include "shore/terrain/bekker.h"
@@ -24,13 +26,23 @@ terrain::TerrainSettings soil_settings(const SoilRun& run) {
   s.threads = run.threads;
   s.max_erosion_passes = run.max_erosion_passes;
   s.active_reach = run.active_reach;
+  s.base = run.base;
+  return s;
+}
+
+bullet::TerrainCouplingSettings coupling_settings(const SoilRun& run) {
+  bullet::TerrainCouplingSettings s;
+  s.contact = run.contact;
   return s;
 }
 
 /// One soil, a world and their coupling: what every soil case runs on.
 struct SoilRig {
   explicit SoilRig(const SoilRun& run)
-      : soil(soil_settings(run)), world(kGravity), ground(world.world(), soil), h(run.substep) {}
+      : soil(soil_settings(run)),
+        world(kGravity),
+        ground(world.world(), soil, coupling_settings(run)),
+        h(run.substep) {}
 
   /// A body that never sleeps, pressing the soil.
   btRigidBody* add(std::unique_ptr<btCollisionShape> shape, double mass, const btVector3& at) {
@@ -52,6 +64,8 @@ struct SoilRig {
   void finish(RunStats& stats, const btRigidBody& body) const {
     stats.state_hash = state_hash({.soils = {&soil}, .bodies = {&body}});
     stats.rescues = ground.stats().rescues;
+    stats.soil_work = ground.stats().plastic_work;
+    stats.shear_work = ground.stats().shear_work;
   }
 
   terrain::Terrain soil;
@@ -83,8 +97,9 @@ PlateResult run_plate(const PlateCase& c) {
   PlateResult out;
   SoilRig rig(c.run);
   const double half_h = 0.05, mass = c.pressure * c.width * c.width / kGravity;
-  // Edges halfway between columns, so the footprint covers exactly (width / cell)^2 columns.
-  const double cx = 0.5 * c.run.cell + 0.5 * c.width;
+  // Edges edge_offset of a cell past column centres (0.5: the footprint covers exactly
+  // (width / cell)^2 columns).
+  const double cx = c.edge_offset * c.run.cell + 0.5 * c.width;
   btRigidBody* plate =
       rig.add(std::make_unique<btBoxShape>(btVector3(btScalar(c.width / 2), btScalar(c.width / 2), btScalar(half_h))),
               mass, btVector3(btScalar(cx), btScalar(cx), btScalar(half_h)));
@@ -97,6 +112,8 @@ PlateResult run_plate(const PlateCase& c) {
     rig.advance(out.stats);
   }
   out.sinkage = -(plate->getCenterOfMassPosition().z() - half_h);
+  out.drift = double((plate->getCenterOfMassPosition() - btVector3(btScalar(cx), btScalar(cx), 0)).length() -
+                     std::abs(double(plate->getCenterOfMassPosition().z())));
   out.reference = c.ramp_seconds > 0 ? terrain::bekker::plate_sinkage(c.run.material, c.width, c.pressure)
                                      : terrain::bekker::plate_sinkage_released(c.run.material, c.width, c.pressure);
   rig.finish(out.stats, *plate);
@@ -135,7 +152,7 @@ WheelResult run_wheel(const WheelCase& c) {
   wheel->setLinearVelocity(btVector3(btScalar(c.speed), 0, 0));
   wheel->setAngularVelocity(btVector3(0, btScalar(c.speed / R), 0));
   const auto tow_steps = static_cast<std::int64_t>(std::lround(c.distance / c.speed / h));
-  double depth_sum = 0.0, impulse_sum = 0.0;
+  double depth_sum = 0.0, impulse_sum = 0.0, slip_sum = 0.0;
   std::int64_t samples = 0;
   for (std::int64_t k = 0; k < tow_steps; ++k) {
     // Towing impulse that restores the speed lost in the previous substep.
@@ -145,11 +162,14 @@ WheelResult run_wheel(const WheelCase& c) {
     if (k >= tow_steps / 2) {
       depth_sum += -(wheel->getCenterOfMassPosition().z() - R);
       impulse_sum += pull;
+      const double rim = double(wheel->getAngularVelocity().y()) * R;
+      slip_sum += rim != 0.0 ? 1.0 - double(wheel->getLinearVelocity().x()) / rim : 0.0;
       ++samples;
     }
   }
   out.sinkage = depth_sum / double(std::max<std::int64_t>(samples, 1));
   out.resistance = impulse_sum / (double(std::max<std::int64_t>(samples, 1)) * h);
+  out.slip = slip_sum / double(std::max<std::int64_t>(samples, 1));
   // The rut: soil depth along the centre line over the middle of the track.
   const double x_end = wheel->getCenterOfMassPosition().x();
   double rut = 0.0;
@@ -163,6 +183,53 @@ WheelResult run_wheel(const WheelCase& c) {
   out.reference_sinkage = terrain::bekker::wheel_sinkage_rolling(c.run.material, c.load, c.diameter, c.width);
   out.reference_resistance =
       terrain::bekker::wheel_compaction_resistance(c.run.material, out.reference_sinkage, c.width);
+  rig.finish(out.stats, *wheel);
+  return out;
+}
+
+DrivenWheelResult run_driven_wheel(const DrivenWheelCase& c) {
+  DrivenWheelResult out;
+  SoilRig rig(c.run);
+  const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
+  btRigidBody* wheel =
+      rig.add(std::make_unique<btCylinderShape>(btVector3(btScalar(R), btScalar(c.width / 2), btScalar(R))), mass,
+              btVector3(0, btScalar(0.5 * c.run.cell), btScalar(R)));
+  // Press: the load ramps in with the wheel held still.
+  wheel->setLinearFactor(btVector3(0, 0, 1));
+  wheel->setAngularFactor(btVector3(0, 0, 0));
+  const auto ramp_steps = static_cast<std::int64_t>(std::lround(c.ramp_seconds / h));
+  for (std::int64_t k = 0; k < ramp_steps; ++k) {
+    const double t = double(k) * h;
+    wheel->applyCentralForce(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - t / c.ramp_seconds))));
+    rig.advance(out.stats);
+  }
+  // Drive: omega and the carrier's speed held at the start of every substep. The wheel's
+  // inertia about its axle is made huge, so the soil's torque cannot slow it within a
+  // substep either: omega is what the rig imposes, the driving torque what the soil takes.
+  wheel->setLinearFactor(btVector3(1, 0, 1));
+  wheel->setAngularFactor(btVector3(0, 1, 0));
+  const btVector3 inertia = wheel->getLocalInertia();
+  wheel->setMassProps(btScalar(mass), btVector3(inertia.x(), inertia.y() * btScalar(1e6), inertia.z()));
+  wheel->updateInertiaTensor();
+  const double omega = c.rim_speed / R, v = (1.0 - c.slip) * c.rim_speed;
+  const auto drive_steps = static_cast<std::int64_t>(std::lround(c.distance / v / h));
+  double depth = 0.0, pull = 0.0, torque = 0.0, resistance = 0.0;
+  std::int64_t samples = 0;
+  for (std::int64_t k = 0; k < drive_steps; ++k) {
+    const btVector3 u = wheel->getLinearVelocity();
+    wheel->setLinearVelocity(btVector3(btScalar(v), 0, u.z()));
+    wheel->setAngularVelocity(btVector3(0, btScalar(omega), 0));
+    rig.advance(out.stats);
+    if (k < drive_steps / 2) continue;
+    const bullet::SoilForce f = rig.ground.soil_force(wheel);
+    depth += -(wheel->getCenterOfMassPosition().z() - R);
+    pull += f.force.x();
+    resistance -= f.normal_force.x();
+    torque -= f.torque.y();
+    ++samples;
+  }
+  const double n = double(std::max<std::int64_t>(samples, 1));
+  out.sinkage = depth / n, out.drawbar_pull = pull / n, out.torque = torque / n, out.resistance = resistance / n;
   rig.finish(out.stats, *wheel);
   return out;
 }
@@ -209,6 +276,243 @@ double sphere_drop_reference_depth(const terrain::Material& m, double diameter, 
     (work(mid) < mass * gravity * (height + mid) ? lo : hi) = mid;
   }
   return 0.5 * (lo + hi);
+}
+
+namespace {
+
+/// The soil's rig on a slope: a plane descending along +x (downhill +x) or rising (uphill).
+std::shared_ptr<const terrain::HeightSource> plane_descending(double slope) {
+  return std::make_shared<terrain::PlaneHeight>(0.0, -std::tan(slope), 0.0);
+}
+
+/// Least-squares fit of s(t) = a0 + a1 t + a2 t^2 / 2: returns a2.
+double fitted_acceleration(const std::vector<double>& t, const std::vector<double>& s) {
+  // Normal equations of the basis (1, t, t^2 / 2), solved by Cramer's rule.
+  double m[3][3] = {}, r[3] = {};
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    const double b[3] = {1.0, t[k], 0.5 * t[k] * t[k]};
+    for (int i = 0; i < 3; ++i) {
+      r[i] += b[i] * s[k];
+      for (int j = 0; j < 3; ++j) m[i][j] += b[i] * b[j];
+    }
+  }
+  auto det3 = [](const double a[3][3]) {
+    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+  };
+  double m2[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m2[i][j] = j == 2 ? r[i] : m[i][j];
+  const double d = det3(m);
+  return d != 0.0 ? det3(m2) / d : 0.0;
+}
+
+/// The material for a rigid copy of a case (Bullet's heightfield contact, its friction).
+terrain::Material rigid_copy(const terrain::Material& m) {
+  terrain::Material r = terrain::Material::rigid_ground();
+  r.friction = std::tan(m.friction_angle);
+  return r;
+}
+
+}  // namespace
+
+SlopeBoxResult run_slope_box(const SlopeBoxCase& c) {
+  SlopeBoxResult out;
+  SoilRun run = c.run;
+  run.base = plane_descending(c.slope);
+  if (c.rigid) run.material = rigid_copy(c.run.material);
+  SoilRig rig(run);
+  const btVector3 normal(btScalar(std::sin(c.slope)), 0, btScalar(std::cos(c.slope)));
+  const btVector3 downhill(btScalar(std::cos(c.slope)), 0, btScalar(-std::sin(c.slope)));
+  const btQuaternion tilt(btVector3(0, 1, 0), btScalar(c.slope));
+  const btScalar half = btScalar(c.size / 2);
+  btRigidBody* box = rig.world.add_body(std::make_unique<btBoxShape>(btVector3(half, half, half)), c.mass,
+                                        normal * (half + btScalar(1e-3)), tilt);
+  box->setActivationState(DISABLE_DEACTIVATION);
+  box->setFriction(1.0f);
+  rig.ground.add_body(box);
+  const btVector3 start = box->getCenterOfMassPosition();
+  const double h = run.substep;
+  const auto steps = static_cast<std::int64_t>(std::lround(c.seconds / h));
+  std::vector<double> ts, ss;
+  for (std::int64_t k = 0; k < steps; ++k) {
+    rig.advance(out.stats);
+    const btVector3 up = box->getWorldTransform().getBasis().getColumn(2);
+    out.max_tilt = std::max(out.max_tilt, double(std::acos(std::clamp(up.dot(normal), btScalar(-1), btScalar(1)))));
+    if (k >= steps / 2) {
+      ts.push_back(double(k + 1) * h);
+      ss.push_back((box->getCenterOfMassPosition() - start).dot(downhill));
+    }
+  }
+  out.acceleration = fitted_acceleration(ts, ss);
+  out.end_speed = box->getLinearVelocity().dot(downhill);
+  out.distance = (box->getCenterOfMassPosition() - start).dot(downhill);
+  rig.finish(out.stats, *box);
+  return out;
+}
+
+RollingBallResult run_rolling_ball(const RollingBallCase& c) {
+  RollingBallResult out;
+  SoilRun run = c.run;
+  run.base = plane_descending(c.slope);
+  if (c.rigid) run.material = rigid_copy(c.run.material);
+  SoilRig rig(run);
+  const double R = c.diameter / 2;
+  const btVector3 normal(btScalar(std::sin(c.slope)), 0, btScalar(std::cos(c.slope)));
+  const btVector3 downhill(btScalar(std::cos(c.slope)), 0, btScalar(-std::sin(c.slope)));
+  btRigidBody* ball = rig.add(std::make_unique<btSphereShape>(btScalar(R)), c.mass, normal * btScalar(R + 1e-3));
+  ball->setFriction(1.0f);
+  ball->setRollingFriction(0.0f);
+  const btVector3 start = ball->getCenterOfMassPosition();
+  const auto steps = static_cast<std::int64_t>(std::lround(c.seconds / run.substep));
+  double depth = 0.0;
+  std::int64_t samples = 0;
+  for (std::int64_t k = 0; k < steps; ++k) {
+    rig.advance(out.stats);
+    if (k < steps / 2) continue;
+    depth += R - double(ball->getCenterOfMassPosition().dot(normal));  // the plane passes through the origin
+    ++samples;
+  }
+  out.distance = (ball->getCenterOfMassPosition() - start).dot(downhill);
+  out.sinkage = depth / double(std::max<std::int64_t>(samples, 1));
+  rig.finish(out.stats, *ball);
+  return out;
+}
+
+// Bekker's rolling resistance of a ball, by slices. Across the ball's width, a slice at
+// lateral offset y is a thin wheel of radius R whose bottom lies z(y) = z0 - y^2 / (2R) deep
+// (the ball's cross-section near its bottom). Bekker's rolling wheel, front half bearing,
+// carries per unit width w = (3 - n) / 3 k sqrt(2R) z^(n + 1/2) and resists with
+// r = k z^(n+1) / (n + 1), k = k_c / b + k_phi with b the patch width 2 sqrt(2 R z0). z0
+// makes the slices carry the load normal to the slope, m g cos(theta); the ball then
+// rolls with a = (g sin(theta) - R_c / m) / (1 + 2/5) (a solid ball: I = 2/5 m R^2).
+RollingBallEstimate rolling_ball_estimate(const terrain::Material& m, double diameter, double mass, double slope,
+                                          double seconds, double gravity) {
+  const double R = diameter / 2, n = m.bekker_n, load = mass * gravity * std::cos(slope);
+  auto integrate = [&](double z0, bool resistance) {
+    const double half = std::sqrt(2.0 * R * z0), k = m.bekker_kc / (2.0 * half) + m.bekker_kphi;
+    constexpr int kSlices = 2000;
+    double sum = 0.0;
+    for (int q = 0; q < kSlices; ++q) {
+      const double y = -half + (q + 0.5) * 2.0 * half / kSlices;
+      const double z = std::max(0.0, z0 - y * y / (2.0 * R));
+      sum += resistance ? k * std::pow(z, n + 1.0) / (n + 1.0)
+                        : (3.0 - n) / 3.0 * k * std::sqrt(2.0 * R) * std::pow(z, n + 0.5);
+    }
+    return sum * 2.0 * half / kSlices;
+  };
+  double lo = 0.0, hi = R;
+  for (int it = 0; it < 100; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (integrate(mid, false) < load ? lo : hi) = mid;
+  }
+  RollingBallEstimate e;
+  e.sinkage = 0.5 * (lo + hi);
+  e.resistance = integrate(e.sinkage, true);
+  const double a = (gravity * std::sin(slope) - e.resistance / mass) / 1.4;
+  e.distance = a > 0.0 ? 0.5 * a * seconds * seconds : 0.0;
+  return e;
+}
+
+SidePushResult run_side_push(const SidePushCase& c) {
+  SidePushResult out;
+  SoilRig rig(c.run);
+  const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
+  btRigidBody* wheel =
+      rig.add(std::make_unique<btCylinderShape>(btVector3(btScalar(R), btScalar(c.width / 2), btScalar(R))), mass,
+              btVector3(0, btScalar(0.5 * c.run.cell), btScalar(R)));
+  // Press the load in, held still.
+  wheel->setLinearFactor(btVector3(0, 0, 1));
+  wheel->setAngularFactor(btVector3(0, 0, 0));
+  for (std::int64_t k = 0, n = std::lround(1.5 / h); k < n; ++k) {
+    const double t = double(k) * h;
+    if (t < 1.0) wheel->applyCentralForce(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - t))));
+    rig.advance(out.stats);
+  }
+  if (c.in_rut) {  // roll 1.5 m to cut a rut, then stop in it
+    wheel->setLinearFactor(btVector3(1, 0, 1));
+    wheel->setAngularFactor(btVector3(0, 1, 0));
+    const double speed = 1.0;
+    for (std::int64_t k = 0, n = std::lround(1.5 / speed / h); k < n; ++k) {
+      wheel->setLinearVelocity(btVector3(btScalar(speed), 0, wheel->getLinearVelocity().z()));
+      wheel->setAngularVelocity(btVector3(0, btScalar(speed / R), 0));
+      rig.advance(out.stats);
+    }
+    wheel->setLinearFactor(btVector3(0, 0, 1));
+    wheel->setAngularFactor(btVector3(0, 0, 0));
+    wheel->setLinearVelocity(btVector3(0, 0, 0));
+    wheel->setAngularVelocity(btVector3(0, 0, 0));
+    for (std::int64_t k = 0, n = std::lround(0.3 / h); k < n; ++k) rig.advance(out.stats);
+  }
+  out.rut_depth = R - double(wheel->getCenterOfMassPosition().z());
+  // Push sideways at a steady speed; the soil's sideways push is the resistance.
+  wheel->setLinearFactor(btVector3(0, 1, 1));
+  const auto push_steps = static_cast<std::int64_t>(std::lround(c.push_distance / c.push_speed / h));
+  double lateral = 0.0;
+  std::int64_t samples = 0;
+  for (std::int64_t k = 0; k < push_steps; ++k) {
+    wheel->setLinearVelocity(btVector3(0, btScalar(c.push_speed), wheel->getLinearVelocity().z()));
+    rig.advance(out.stats);
+    if (k < push_steps / 2) continue;
+    lateral -= rig.ground.soil_force(wheel).force.y();
+    ++samples;
+  }
+  out.lateral_force = lateral / double(std::max<std::int64_t>(samples, 1));
+  rig.finish(out.stats, *wheel);
+  return out;
+}
+
+double bulldozing_resistance(const terrain::Material& m, double z, double b, double unit_weight) {
+  const double phi = m.friction_angle, tan_phi = std::tan(phi), cos2 = std::cos(phi) * std::cos(phi);
+  const double nq = std::exp(std::numbers::pi * tan_phi) * std::pow(std::tan(std::numbers::pi / 4 + phi / 2), 2.0);
+  const double nc = tan_phi > 0.0 ? (nq - 1.0) / tan_phi : 5.14;
+  const double ngamma = 2.0 * (nq + 1.0) * tan_phi;
+  const double kpc = (nc - tan_phi) * cos2;
+  const double kpgamma = (tan_phi > 0.0 ? 2.0 * ngamma / tan_phi : 0.0) * cos2 + cos2;
+  return b * (0.67 * m.cohesion * z * kpc + 0.5 * z * z * unit_weight * kpgamma);
+}
+
+VehicleWheel vehicle_wheel() {
+  const FourWheelerSettings s;
+  return {s.wheel_radius, s.wheel_width, (s.chassis_mass + 4.0 * s.wheel_mass) * kGravity / 4.0};
+}
+
+VehicleClimbResult run_vehicle_climb(const VehicleClimbCase& c) {
+  VehicleClimbResult out;
+  SoilRun run = c.run;
+  run.base = std::make_shared<terrain::PlaneHeight>(0.0, std::tan(c.slope), 0.0);  // rises along +x
+  SoilRig rig(run);
+  FourWheelerSettings car;
+  car.target_speed = c.wheel_speed;
+  const btQuaternion tilt(btVector3(0, 1, 0), btScalar(-c.slope));
+  const btVector3 normal(btScalar(-std::sin(c.slope)), 0, btScalar(std::cos(c.slope)));
+  const btVector3 uphill(btScalar(std::cos(c.slope)), 0, btScalar(std::sin(c.slope)));
+  const double rise = car.wheel_radius + 0.25 + 0.01;  // chassis centre above the wheels' bottoms
+  bullet::TerrainCoupling* const couplings[] = {&rig.ground};
+  const FourWheeler v = build_four_wheeler(rig.world, car, normal * btScalar(rise), tilt, run.substep, couplings);
+  const btVector3 start = v.chassis->getCenterOfMassPosition();
+  const auto steps = static_cast<std::int64_t>(std::lround(c.seconds / run.substep));
+  const auto last = static_cast<std::int64_t>(std::lround(1.0 / run.substep));
+  btVector3 at_last = start;
+  double slip = 0.0;
+  std::int64_t samples = 0;
+  for (std::int64_t k = 0; k < steps; ++k) {
+    rig.advance(out.stats);
+    if (k == steps - last - 1) at_last = v.chassis->getCenterOfMassPosition();
+    if (k < steps - last) continue;
+    const double ground_speed = double(v.chassis->getLinearVelocity().dot(uphill));
+    for (const btRigidBody* w : v.wheels) {
+      const double spin = double((w->getAngularVelocity() - v.chassis->getAngularVelocity()).y()) * car.wheel_radius;
+      slip += spin > 1e-6 ? 1.0 - ground_speed / spin : 0.0;
+      ++samples;
+    }
+  }
+  out.uphill_speed =
+      double((v.chassis->getCenterOfMassPosition() - at_last).dot(uphill)) / (double(last) * run.substep);
+  out.slip = slip / double(std::max<std::int64_t>(samples, 1));
+  out.wheel_load = vehicle_wheel().load;
+  rig.finish(out.stats, *v.chassis);
+  return out;
 }
 
 }  // namespace shore::scenes

@@ -20,8 +20,14 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Bisections of the footprint's edge between a covered and an uncovered column centre: the
-// edge to 1/64 of a cell, so a plate's area does not depend on where its edges fall.
-constexpr int kEdgeBisections = 6;
+// edge to 1/64 of a cell (the midpoint of a 1/32 bracket), so a plate's area does not depend on where its edges fall.
+constexpr int kEdgeBisections = 5;
+// Underside slopes beyond this (87 degrees: the sides of a ball or a wheel seen from above)
+// are capped, so the plan area over the normal's vertical share stays finite.
+constexpr double kMaxSlope = 20.0;
+// One-sided slopes further apart than half the larger plus this meet at an edge, not on a
+// smooth surface (a 0.3 m wheel's slopes at 1 cm differ by 0.03 near its bottom).
+constexpr double kCreaseSlope = 0.1;
 // The four axis directions: +x, -x, +y, -y.
 constexpr int kSx[4] = {1, -1, 0, 0};
 constexpr int kSy[4] = {0, 0, 1, -1};
@@ -85,6 +91,7 @@ class PatchBuilder {
       : s_(s), env_(env), shear_(shear), probe_(probe), soil_(soil), out_(out) {}
 
   void build() {
+    mark_covered();
     cover_footprint();
     out_.patch_width = patch_width();
     add_bottom_elements();
@@ -93,8 +100,18 @@ class PatchBuilder {
   }
 
  private:
+  /// Whether the envelope covers column (i, j), for columns of the window and its ring.
   [[nodiscard]] bool covered(std::int64_t i, std::int64_t j) const {
-    return env_.contains(i, j) && env_.lower[env_.index(i, j)] < kInf;
+    return covered_[static_cast<std::size_t>((j - env_.j0 + 1) * (env_.nx + 2) + (i - env_.i0 + 1))] != 0;
+  }
+  void mark_covered() {
+    covered_.assign(static_cast<std::size_t>(env_.nx + 2) * static_cast<std::size_t>(env_.ny + 2), 0);
+    highest_top_ = -kInf;
+    for (double t : soil_.top) highest_top_ = std::max(highest_top_, t);
+    for (int y = 0; y < env_.ny; ++y)
+      for (int x = 0; x < env_.nx; ++x)
+        covered_[static_cast<std::size_t>((y + 1) * (env_.nx + 2) + x + 1)] =
+            env_.lower[static_cast<std::size_t>(y) * env_.nx + x] < kInf ? 1 : 0;
   }
   [[nodiscard]] double column_x(std::int64_t i) const { return s_.origin_x + static_cast<double>(i) * s_.cell; }
   [[nodiscard]] double column_y(std::int64_t j) const { return s_.origin_y + static_cast<double>(j) * s_.cell; }
@@ -171,14 +188,21 @@ class PatchBuilder {
   void underside_normal(int x, int y, ContactElement& el) const {
     const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
     const double e = env_.lower[env_.index(i, j)];
+    // The slope along one axis: the central difference where the surface is smooth; where
+    // the two one-sided slopes disagree (an edge of a box: the bottom on one side, a face
+    // on the other) the gentler one, which belongs to the surface the column touches.
     auto slope = [&](int sx, int sy) {
       const bool up = covered(i + sx, j + sy), down = covered(i - sx, j - sy);
-      const double eu = up ? env_.lower[env_.index(i + sx, j + sy)] : e;
-      const double ed = down ? env_.lower[env_.index(i - sx, j - sy)] : e;
-      const int span = (up ? 1 : 0) + (down ? 1 : 0);
-      return span == 0 ? 0.0 : (eu - ed) / (span * s_.cell);
+      const double s_up = up ? (env_.lower[env_.index(i + sx, j + sy)] - e) / s_.cell : 0.0;
+      const double s_down = down ? (e - env_.lower[env_.index(i - sx, j - sy)]) / s_.cell : 0.0;
+      if (up != down) return up ? s_up : s_down;
+      if (!up) return 0.0;
+      if (std::fabs(s_up - s_down) <= 0.5 * std::max(std::fabs(s_up), std::fabs(s_down)) + kCreaseSlope)
+        return 0.5 * (s_up + s_down);
+      return std::fabs(s_up) < std::fabs(s_down) ? s_up : s_down;
     };
-    const double gx = slope(1, 0), gy = slope(0, 1);
+    const double gx = std::clamp(slope(1, 0), -kMaxSlope, kMaxSlope),
+                 gy = std::clamp(slope(0, 1), -kMaxSlope, kMaxSlope);
     const double norm = std::sqrt(gx * gx + gy * gy + 1.0);
     el.nx = -gx / norm, el.ny = -gy / norm, el.nz = 1.0 / norm;
   }
@@ -193,14 +217,16 @@ class PatchBuilder {
         ContactElement el;
         el.i = i, el.j = j;
         el.raster_index = static_cast<std::int32_t>(k);
-        el.area = std::max(0.0, fx_[k]) * std::max(0.0, fy_[k]) * cell_area;
+        underside_normal(x, y, el);
+        // The body's surface over the covered part of the cell: the plan area over the
+        // normal's vertical share, so the soil's push has Bekker's vertical component.
+        el.area = std::max(0.0, fx_[k]) * std::max(0.0, fy_[k]) * cell_area / el.nz;
         // Centroid of the covered part of the cell.
         el.x = column_x(i) + 0.5 * s_.cell * (loss_lo_x_[k] - (1.0 - fx_[k] - loss_lo_x_[k]));
         el.y = column_y(j) + 0.5 * s_.cell * (loss_lo_y_[k] - (1.0 - fy_[k] - loss_lo_y_[k]));
         el.z = env_.lower[k];
-        underside_normal(x, y, el);
         el.pressure = yield_pressure(soil_.at(i, j), el.z, shear_at(k));
-        out_.area += el.area;
+        out_.area += el.area * el.nz;
         out_.elements.push_back(el);
       }
   }
@@ -217,11 +243,11 @@ class PatchBuilder {
       el.raster_index = static_cast<std::int32_t>(f.source);
       // Across the edge the strip is as wide as the covered neighbour's cell.
       const double across = f.j == env_.j0 + sy ? fy_[f.source] : fx_[f.source];
-      el.area = f.share * std::max(0.0, across) * cell_area;
       el.x = f.cx, el.y = f.cy, el.z = lower;
       underside_normal(sx, sy, el);
+      el.area = f.share * std::max(0.0, across) * cell_area / el.nz;
       el.pressure = yield_pressure(soil_.at(f.i, f.j), lower, shear_at(f.source));
-      out_.area += el.area;
+      out_.area += el.area * el.nz;
       out_.elements.push_back(el);
     }
   }
@@ -234,7 +260,8 @@ class PatchBuilder {
       for (int x = 0; x < env_.nx; ++x) {
         const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
         const double e = env_.lower[k];
-        if (!(e < kInf)) continue;
+        // No soil beside the body stands above it here (a wheel's upper part, say).
+        if (!(e + s_.contact_tolerance < highest_top_)) continue;
         const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
         for (int d = 0; d < 4; ++d) {
           const std::int64_t ui = i + kSx[d], uj = j + kSy[d];
@@ -264,25 +291,26 @@ class PatchBuilder {
   const SoilWindow& soil_;
   ContactPatch& out_;
   std::vector<double> fx_, fy_, loss_lo_x_, loss_lo_y_;
+  std::vector<unsigned char> covered_;  // the window and a one-column ring, row-major
+  double highest_top_ = -kInf;          // m, the highest soil top in the window and its ring
   std::vector<unsigned char> touching_;
   std::vector<Fringe> fringe_;
 };
 
 }  // namespace
 
-void Terrain::contact(const EnvelopeRaster& envelope, std::span<const double> shear_displacement,
-                      const SurfaceProbe* probe, ContactPatch& out) const {
+void Terrain::contact(const EnvelopeRaster& envelope, std::span<const double> drag, const SurfaceProbe* probe,
+                      ContactPatch& out) const {
   check_envelope(&envelope, "terrain.Terrain.contact.envelope");
-  if (!shear_displacement.empty() && shear_displacement.size() != envelope.lower.size())
-    throw InvalidSetting("terrain.Terrain.contact.shear_displacement.size()",
-                         detail::to_text(shear_displacement.size()),
+  if (!drag.empty() && drag.size() != envelope.lower.size())
+    throw InvalidSetting("terrain.Terrain.contact.drag.size()", detail::to_text(drag.size()),
                          "must be 0 or the envelope's nx * ny = " + detail::to_text(envelope.lower.size()));
   out.clear();
   if (envelope.nx == 0 || envelope.ny == 0) return;
   SoilWindow soil;  // the window and a one-column ring (fringes and walls lie there)
   read_soil(impl_->tiles, impl_->s.material.soil_depth,
             {envelope.i0 - 1, envelope.j0 - 1, envelope.nx + 2, envelope.ny + 2}, soil);
-  PatchBuilder(impl_->s, envelope, shear_displacement, probe, soil, out).build();
+  PatchBuilder(impl_->s, envelope, drag, probe, soil, out).build();
 }
 
 }  // namespace shore::terrain

@@ -21,6 +21,16 @@ FlatHeight::FlatHeight(double level) : level_(level) { Check{"terrain.FlatHeight
 
 double FlatHeight::height(double, double) const { return level_; }
 
+PlaneHeight::PlaneHeight(double level, double slope_x, double slope_y)
+    : level_(level), slope_x_(slope_x), slope_y_(slope_y) {
+  const Check c{"terrain.PlaneHeight"};
+  c.finite("level", level);
+  c.finite("slope_x", slope_x);
+  c.finite("slope_y", slope_y);
+}
+
+double PlaneHeight::height(double x, double y) const { return level_ + slope_x_ * x + slope_y_ * y; }
+
 // ---- lattice noise -------------------------------------------------------------------
 
 void LatticeNoiseSettings::validate() const {

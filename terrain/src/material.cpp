@@ -27,6 +27,8 @@ void Material::validate() const {
   c.positive("shear_modulus", shear_modulus);
   if (!(remould_ratio >= 0.0 && remould_ratio < 1.0))
     throw InvalidSetting(c.name("remould_ratio"), detail::to_text(remould_ratio), "must be in [0, 1)");
+  if (!(remould_shear_ratio >= 0.0 && remould_shear_ratio < 1.0))
+    throw InvalidSetting(c.name("remould_shear_ratio"), detail::to_text(remould_shear_ratio), "must be in [0, 1)");
   c.positive("remould_length", remould_length);
   c.non_negative("friction", friction);
   c.positive("soil_depth", soil_depth);

@@ -16,4 +16,8 @@ double remoulding(const Material& m, double j) {
   return 1.0 - m.remould_ratio * (1.0 - det::exp(-std::fabs(j) / m.remould_length));
 }
 
+double strength_remoulding(const Material& m, double j) {
+  return 1.0 - m.remould_shear_ratio * (1.0 - det::exp(-std::fabs(j) / m.remould_length));
+}
+
 }  // namespace shore::terrain::shear

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <span>
+#include <string>
 #include <utility>
 
 #include "capacity_bytes.h"
@@ -37,6 +38,17 @@ Terrain::Terrain(Terrain&&) noexcept = default;
 Terrain& Terrain::operator=(Terrain&&) noexcept = default;
 
 const TerrainSettings& Terrain::settings() const noexcept { return impl_->s; }
+
+void Terrain::set_material(const Material& material) {
+  material.validate();
+  const Material& now = impl_->s.material;
+  if (material.soil_depth != now.soil_depth)
+    throw InvalidSetting("Terrain::set_material.soil_depth", std::to_string(material.soil_depth),
+                         "the present soil_depth (" + std::to_string(now.soil_depth) + " m)");
+  if (material.rigid != now.rigid)
+    throw InvalidSetting("Terrain::set_material.rigid", material.rigid ? "true" : "false", "the present rigid flag");
+  impl_->s.material = material;
+}
 
 // ---- grid geometry -------------------------------------------------------------------
 
@@ -83,6 +95,7 @@ void Terrain::read_rect(const ColumnRect& r, std::span<double> out, bool base) c
 void Terrain::set_height(std::int64_t i, std::int64_t j, double h) {
   Check{"terrain.Terrain.set_height"}.finite("h", h);
   TileStore& store = impl_->tiles;
+  store.advance_generation();
   const TileKey key = store.key_of(i, j);
   Tile& t = store.tile(key);
   const std::size_t k = store.local(i, j);
@@ -101,6 +114,7 @@ StepReport Terrain::step(std::span<const Imprint> imprints) {
   check_imprints(imprints);
   Impl& im = *impl_;
   if (im.s.material.rigid) return {};
+  im.tiles.advance_generation();
   std::vector<ColumnRect> reached;
   for (const Imprint& imprint : imprints)
     if (!imprint.hold)
@@ -126,12 +140,15 @@ StepReport Terrain::step(std::span<const Imprint> imprints) {
 StepReport Terrain::relax(const ColumnRect& region) {
   check_relax_region(region);
   if (impl_->s.material.rigid || region.nx == 0 || region.ny == 0) return {};
+  impl_->tiles.advance_generation();
   return impl_->pipeline.relax(impl_->tiles, impl_->s, region);
 }
 
 // ---- output --------------------------------------------------------------------------
 
 std::vector<ColumnRect> Terrain::take_changed() { return impl_->tiles.take_changed(); }
+std::uint64_t Terrain::generation() const noexcept { return impl_->tiles.generation(); }
+std::vector<ColumnRect> Terrain::changed_since(std::uint64_t g) const { return impl_->tiles.changed_since(g); }
 
 VolumeTotals Terrain::volume() const {
   VolumeTotals v;

@@ -8,7 +8,8 @@
 //   material: u32 name length, name bytes; f64 theta_stop, sigma, theta_in, theta_out,
 //             alpha, bekker_n, bekker_kc, bekker_kphi, friction, soil_depth; u8 rigid;
 //             (version 3 on) f64 cohesion, friction_angle, shear_modulus, remould_ratio,
-//             remould_length (older files load with the defaults of Material{})
+//             remould_shear_ratio, remould_length (older files load with the defaults of
+//             Material{})
 //   f64 compacted, edited
 //   (version 2 on) u64 count of regions still eroding; per region i64 i0, j0; i32 nx, ny
 //   u64 tile count
@@ -111,7 +112,9 @@ void write_settings(Writer& w, const TerrainSettings& s) {
                    m.friction, m.soil_depth})
     w.put(v);
   w.put(static_cast<std::uint8_t>(m.rigid ? 1 : 0));
-  for (double v : {m.cohesion, m.friction_angle, m.shear_modulus, m.remould_ratio, m.remould_length}) w.put(v);
+  for (double v :
+       {m.cohesion, m.friction_angle, m.shear_modulus, m.remould_ratio, m.remould_shear_ratio, m.remould_length})
+    w.put(v);
 }
 
 // Write beside the target, then rename: a reader never sees a half-written state.
@@ -191,7 +194,8 @@ TerrainSettings read_settings(Reader& hr, std::uint32_t version, std::shared_ptr
     *v = hr.get<double>("material");
   m.rigid = hr.get<std::uint8_t>("material") != 0;
   if (version >= 3)
-    for (double* v : {&m.cohesion, &m.friction_angle, &m.shear_modulus, &m.remould_ratio, &m.remould_length})
+    for (double* v : {&m.cohesion, &m.friction_angle, &m.shear_modulus, &m.remould_ratio, &m.remould_shear_ratio,
+                      &m.remould_length})
       *v = hr.get<double>("material");
   s.base = std::move(base);
   try {

@@ -36,16 +36,34 @@ void check_envelope(const EnvelopeRaster* env, const std::string& name) {
   if (env->lower.size() != expected)
     throw InvalidSetting(name + ".lower.size()", detail::to_text(env->lower.size()),
                          "must equal nx * ny = " + detail::to_text(expected));
+  // A NaN fails v > -inf, and so does -inf: one comparison per value, no branch taken.
+  bool bad = false;
+  const double* lower = env->lower.data();
+  for (std::size_t k = 0; k < expected; ++k) bad |= !(lower[k] > -std::numeric_limits<double>::infinity());
+  if (!bad) return;
   for (std::size_t k = 0; k < expected; ++k) {
-    const double v = env->lower[k];
+    const double v = lower[k];
     if (std::isnan(v) || v == -std::numeric_limits<double>::infinity())
       throw InvalidSetting(name + ".lower[" + std::to_string(k) + "]", detail::to_text(v),
                            "must be finite, or +inf where the body does not cover the column");
   }
 }
 
+namespace {
+bool imprint_ok(const Imprint& im) {
+  if (im.envelope == nullptr || im.envelope->nx < 0 || im.envelope->ny < 0) return false;
+  const EnvelopeRaster& env = *im.envelope;
+  if (env.lower.size() != static_cast<std::size_t>(env.nx) * static_cast<std::size_t>(env.ny)) return false;
+  bool bad = !(im.offset >= 0.0 && std::isfinite(im.offset)) || !std::isfinite(im.vx) || !std::isfinite(im.vy) ||
+             !std::isfinite(im.vz);
+  for (const double v : env.lower) bad |= !(v > -std::numeric_limits<double>::infinity());
+  return !bad;
+}
+}  // namespace
+
 void check_imprints(std::span<const Imprint> imprints) {
   for (std::size_t b = 0; b < imprints.size(); ++b) {
+    if (imprint_ok(imprints[b])) continue;  // the common case builds no names
     const std::string name = "terrain.Imprint[" + std::to_string(b) + "]";
     check_envelope(imprints[b].envelope, name + ".envelope");
     const Check c{name};

@@ -80,10 +80,12 @@ TEST(Contact, PlateAreaAndBekkerPressureDoNotDependOnWhereItsEdgesFall) {
     ContactPatch patch;
     t.contact(env, {}, &plate, patch);
     const Totals sum = totals(patch);
-    EXPECT_NEAR(sum.bottom_area, b * b, 2e-3 * b * b) << "shift " << shift;
-    EXPECT_NEAR(patch.patch_width, b, 0.02 * s.cell) << "shift " << shift;
+    // Each edge is found to 1/64 of a cell: the width to 2/64 of a cell, the area (20 cells
+    // a side) to 0.35 %.
+    EXPECT_NEAR(sum.bottom_area, b * b, 3.5e-3 * b * b) << "shift " << shift;
+    EXPECT_NEAR(patch.patch_width, b, s.cell / 32.0 + 1e-12) << "shift " << shift;
     const double want = bekker::pressure(m, b, depth) * b * b;
-    EXPECT_NEAR(sum.bottom_force, want, 3e-3 * want) << "shift " << shift;
+    EXPECT_NEAR(sum.bottom_force, want, 5e-3 * want) << "shift " << shift;
     // Without the probe the columns count whole: 21 x 21 of them when edges fall on centres.
     if (shift == 0.0) {
       ContactPatch whole;
@@ -178,6 +180,7 @@ TEST(Shear, JanosiHanamotoAndRemoulding) {
   EXPECT_NEAR(shear::strength(m, sigma), m.cohesion + sigma * std::tan(28.0 * std::numbers::pi / 180.0), 1e-9);
   EXPECT_EQ(shear::remoulding(m, 0.0), 1.0);
   EXPECT_NEAR(shear::remoulding(m, 10.0), 1.0 - m.remould_ratio, 1e-12);
+  EXPECT_NEAR(shear::strength_remoulding(m, 10.0), 1.0 - m.remould_shear_ratio, 1e-12);
 }
 
 TEST(Shear, MaterialsRejectBadShearParametersByName) {
@@ -196,6 +199,7 @@ TEST(Shear, MaterialsRejectBadShearParametersByName) {
   expect_bad([](Material& m) { m.friction_angle = std::nan(""); }, "friction_angle");
   expect_bad([](Material& m) { m.shear_modulus = 0.0; }, "shear_modulus");
   expect_bad([](Material& m) { m.remould_ratio = 1.0; }, "remould_ratio");
+  expect_bad([](Material& m) { m.remould_shear_ratio = -0.1; }, "remould_shear_ratio");
   expect_bad([](Material& m) { m.remould_length = -0.01; }, "remould_length");
   for (const char* name : {"sand", "mud", "snow", "rigid"}) EXPECT_NO_THROW(Material::preset(name).validate());
 }
@@ -227,6 +231,7 @@ TEST(Sinkage, ShearParametersSurviveSaveAndLoad) {
   s.material.friction_angle = 0.3;
   s.material.shear_modulus = 0.02;
   s.material.remould_ratio = 0.4;
+  s.material.remould_shear_ratio = 0.1;
   s.material.remould_length = 0.07;
   const Terrain t(s);
   const auto file = std::filesystem::temp_directory_path() / "shore_shear_params.state";
@@ -237,6 +242,7 @@ TEST(Sinkage, ShearParametersSurviveSaveAndLoad) {
   EXPECT_EQ(m.friction_angle, 0.3);
   EXPECT_EQ(m.shear_modulus, 0.02);
   EXPECT_EQ(m.remould_ratio, 0.4);
+  EXPECT_EQ(m.remould_shear_ratio, 0.1);
   EXPECT_EQ(m.remould_length, 0.07);
   std::filesystem::remove(file);
 }

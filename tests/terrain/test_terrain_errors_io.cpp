@@ -206,9 +206,9 @@ TEST(Files, VersionOneStatesLoadWithAnInfiniteReach) {
   std::memcpy(&stored, bytes.data() + kReachAt, sizeof stored);
   ASSERT_EQ(stored, 0.25);
   bytes.erase(bytes.begin() + kReachAt, bytes.begin() + kReachAt + 8);
-  // Nor the material's shear fields (5 f64 after its rigid flag, version 3 on).
+  // Nor the material's shear fields (6 f64 after its rigid flag, version 3 on).
   const std::size_t material_end = kReachAt + 4 + 4 + 10 * 8 + 1;
-  bytes.erase(bytes.begin() + material_end, bytes.begin() + material_end + 5 * 8);
+  bytes.erase(bytes.begin() + material_end, bytes.begin() + material_end + 6 * 8);
   // Nor a list of regions still eroding: after the volume bookkeeping, a u64 count and 24
   // bytes per region.
   const std::size_t regions_at = material_end + 2 * 8;

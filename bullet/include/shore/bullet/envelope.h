@@ -105,6 +105,11 @@ class EnvelopeRasterizer {
   /// covered columns of `inout` after the merge. On error `inout` is left unchanged.
   int accumulate(const btCollisionShape& shape, const btTransform& pose, EnvelopeRaster& inout);
 
+  /// Lowest point of `shape` at `pose` on the vertical line through world (x, y), m;
+  /// +infinity where the line misses it. For sub-cell detail at a footprint's edges. The
+  /// pose must be one rasterize() accepts.
+  [[nodiscard]] double lower_at(const btCollisionShape& shape, const btTransform& pose, double x, double y);
+
   /// Drops all cached hull triangulations.
   void clear_cache() noexcept;
 

@@ -11,20 +11,22 @@
 //   world.stepSimulation(1.0 / 60, 8, 1.0 / 240);
 //
 // What Shore does with added bodies:
-// - Soft soil: Shore, not Bullet, makes their normal contact with the ground (Bullet does
-//   not collide them with the soil tiles: see soil_filter_bit). Each substep the body's
-//   downward momentum is compared with what the columns under it can bear in one substep
-//   (Bekker's bearing capacity times the substep); the soil's impulse, with Coulomb
-//   friction, is applied where the columns bear, and the soil is pressed where the body
-//   went. If the body carries more than the soil bears, the soil yields and the body sinks.
-//   Craters do not depend on the substep. Columns on bedrock bear anything.
+// - Soft soil: Shore, not Bullet, makes their contact with the ground (Bullet does not
+//   collide them with the soil tiles: see soil_filter_bit). Each substep the soil says
+//   where and how hard it can push (terrain::Terrain::contact): along the underside's normal
+//   under the body, at most Bekker's yield pressure times the substep; horizontally from
+//   the walls of ruts and craters; and along the surface with Janosi-Hanamoto's shear,
+//   which grows with each column's shear displacement. Shore then finds the impulses that
+//   stop the body's approach and slip where the soil can, and lets the soil yield where it
+//   cannot (SoilContactSettings); the soil never pulls. Then the soil is pressed where the
+//   body went. Craters do not depend on the substep; columns on bedrock bear anything.
 // - Rigid materials (Material::rigid): Bullet's ordinary heightfield contact.
 // - Kinematic bodies press the soil geometrically; bodies at rest press nothing new but
-//   keep eroding soil out from under them.
+//   keep eroding soil out from under them, and cost almost nothing (their contact is kept).
 // - A body driven below bedrock in one substep is lifted back (counted in stats().rescues).
-// - add_body() checks the body's shape once (InvalidSetting if it cannot be rasterized);
-//   a body with a broken pose (non-finite, not a rotation) or faster than max_speed is
-//   skipped for that substep and counted in stats().skipped_bodies.
+// - add_body() checks the body's shape once (InvalidSetting if it cannot be rasterized or
+//   has no size); a body with a broken pose (non-finite, not a rotation) or faster than
+//   max_speed is skipped for that substep and counted in stats().skipped_bodies.
 // Bodies that are not added collide with the soil's tiles through Bullet as with rigid ground.
 
 #include <cstdint>
@@ -44,6 +46,9 @@
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
+namespace soil_detail {
+struct RigidBody;
+}
 
 /// Per-body choices.
 struct BodySoilSettings {
@@ -56,8 +61,25 @@ struct BodySoilSettings {
   void validate() const;
 };
 
+/// How the soil's contact with a body is solved (see shore/terrain/contact.h).
+struct SoilContactSettings {
+  /// Columns per side of a contact block: the soil's push is solved per block of
+  /// block_columns x block_columns columns (1: per column, exact but slower), in [1, 64].
+  int block_columns = 4;
+  /// Projected Gauss-Seidel sweeps over the blocks per substep, warm-started, in [1, 1000].
+  int iterations = 12;
+  /// Sweeps for a body at rest, whose contact is kept from the last substep and whose solve
+  /// starts from last substep's impulses (they already hold it), in [1, 1000].
+  int resting_iterations = 2;
+  /// Sub-cell coverage at the edges of a footprint: a body covering part of a column bears
+  /// on that part only, so sinkage does not depend on where its edges fall.
+  bool sub_cell_coverage = true;
+  void validate() const;
+};
+
 struct TerrainCouplingSettings {
   TerrainTilesSettings tiles;
+  SoilContactSettings contact;
   /// Where this soil is. Several Terrain objects (say sand, then mud) can lie side by side,
   /// each with its own coupling and region; put region edges on tile edges (multiples of
   /// the soil's tile_columns * cell from its origin) so tiles meet exactly.
@@ -88,7 +110,10 @@ struct TerrainCouplingStats {
   std::int64_t yields = 0;           ///< body-substeps in which the soil yielded (total)
   std::int64_t rescues = 0;          ///< bodies lifted back above bedrock (total)
   std::int64_t vertices_pushed = 0;  ///< heightfield vertices written (total)
-  double plastic_work = 0.0;         ///< J: soil impulse times the body's downward travel while yielding (total)
+  /// J, total: work the coupled bodies did on the soil, pressing and shearing it (the
+  /// kinetic energy the soil's impulses took from them).
+  double plastic_work = 0.0;
+  double shear_work = 0.0;  ///< J, total: the part of plastic_work done shearing the soil
   // last substep, seconds of wall time
   double envelope_seconds = 0.0;
   double terrain_seconds = 0.0;
@@ -96,6 +121,16 @@ struct TerrainCouplingStats {
   double reaction_seconds = 0.0;
   int active_columns = 0;
   int erosion_passes = 0;
+  int resting_bodies = 0;  ///< bodies at rest that kept their contact this substep (cheap)
+};
+
+/// The soil's push on one body in the last substep (zero if it had no contact).
+struct SoilForce {
+  btVector3 force{0, 0, 0};         ///< N, world frame
+  btVector3 torque{0, 0, 0};        ///< N m about the body's centre of mass
+  btVector3 normal_force{0, 0, 0};  ///< N, the part of force along the soil's normals (the rest is shear)
+  int contact_columns = 0;          ///< columns the body's underside touched
+  bool yielded = false;             ///< the soil could not stop the body's approach somewhere
 };
 
 class TerrainCoupling : public btActionInterface {
@@ -114,18 +149,33 @@ class TerrainCoupling : public btActionInterface {
   void remove_body(btRigidBody* body);
 
   void updateAction(btCollisionWorld* world, btScalar substep) override;
-  void debugDraw(btIDebugDraw*) override {}
+  /// Contact columns, soil reaction vectors and tile outlines, as the drawer's debug mode
+  /// bits ask (shore/bullet/debug_draw.h).
+  void debugDraw(btIDebugDraw* drawer) override;
 
   [[nodiscard]] const TerrainCouplingStats& stats() const noexcept { return stats_; }
+  /// The soil's force and torque on an added body in the last substep (zero for others).
+  [[nodiscard]] SoilForce soil_force(const btRigidBody* body) const;
+  [[nodiscard]] const TerrainCouplingSettings& settings() const noexcept { return settings_; }
+  /// The added bodies, in the order added.
+  [[nodiscard]] std::vector<btRigidBody*> bodies() const;
+  [[nodiscard]] btDiscreteDynamicsWorld& world() const noexcept { return world_; }
   [[nodiscard]] TerrainTiles& tiles() noexcept { return tiles_; }
   [[nodiscard]] terrain::Terrain& soil() noexcept { return soil_; }
 
  private:
+  struct BodyContact;  // the soil contact's state kept between substeps (terrain_coupling.cpp)
   struct Body {
+    Body();
+    ~Body();
+    Body(Body&&) noexcept;
+    Body& operator=(Body&&) noexcept;
     btRigidBody* body = nullptr;
     BodySoilSettings settings;
-    EnvelopeRaster envelope;  // reused buffer
-    double reach = 0.0;       // m, from check_rasterizable
+    EnvelopeRaster envelope;  // at envelope_pose: this substep's imprint, the next one's contact
+    btTransform envelope_pose;
+    double reach = 0.0;  // m, from check_rasterizable
+    std::unique_ptr<BodyContact> contact;
   };
   bool body_is_sane(const btRigidBody& body) const;
   /// The cheap per-substep test that rasterizing the body at its pose cannot fail.
@@ -135,12 +185,16 @@ class TerrainCoupling : public btActionInterface {
   [[nodiscard]] bool overlaps_region(const btRigidBody& body) const;
   void drop_tile_pairs(btBroadphaseProxy* proxy);
   void clip_to_region(EnvelopeRaster& env) const;
-  /// The momentum rule for one dynamic body; returns true if the soil yielded.
+  /// The soil's push on one dynamic body (shore/terrain/contact.h); returns true if the
+  /// soil yielded somewhere.
   bool react(Body& b, double substep);
-  /// The soil's vertical impulse, at the bearing-weighted centre of the contact columns
-  /// (equivalent to one impulse per column); returns that centre.
-  btVector3 apply_soil_impulse(Body& b, const terrain::Bearing& bearing, double impulse, const btVector3& com);
-  void apply_friction(btRigidBody& body, const btVector3& arm, double normal_impulse);
+  /// A body at rest held by last substep's soil impulse; false if that no longer holds it.
+  bool hold_at_rest(Body& b, double substep);
+  /// Builds the body's contact blocks from the soil at its envelope.
+  void gather_contact(Body& b);
+  void advance_shear(Body& b, const soil_detail::RigidBody& rb, double h);
+  /// True if the body has moved away from the pose its envelope was made at.
+  [[nodiscard]] bool drifted(const Body& b) const;
   void rescue_fallen_bodies();
   void keep_above_bedrock(Body& b);
   void wake_bodies_over(const std::vector<terrain::ColumnRect>& changed);

@@ -12,6 +12,7 @@
 // raised ground (a rim) cannot jump over a body; the tile catches up on later substeps.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <unordered_map>
@@ -62,6 +63,11 @@ class TerrainTiles {
   /// number of vertices written.
   std::int64_t push(std::span<const terrain::ColumnRect> changed);
 
+  /// Called by push() with the soil's changed columns before they are copied (a renderer
+  /// uploads just these); empty: nobody listens. One observer; setting another replaces it.
+  using PushObserver = std::function<void(std::span<const terrain::ColumnRect> changed)>;
+  void set_push_observer(PushObserver observer) { observer_ = std::move(observer); }
+
   [[nodiscard]] bool is_tile(const btCollisionObject* object) const noexcept;
   [[nodiscard]] std::size_t count() const noexcept { return tiles_.size(); }
   /// Vertices clamped to a tile's height range so far (should stay 0; raise headroom if not).
@@ -94,6 +100,7 @@ class TerrainTiles {
   Region region_;
   int group_ = btBroadphaseProxy::StaticFilter;
   std::vector<double> scratch_;  // heights of the rectangle being copied
+  PushObserver observer_;
 };
 
 }  // namespace SHORE_BULLET_ABI

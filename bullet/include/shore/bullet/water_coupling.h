@@ -79,13 +79,19 @@ class WaterCoupling : public btActionInterface {
   void remove_body(btRigidBody* body);
 
   void updateAction(btCollisionWorld* world, btScalar substep) override;
-  void debugDraw(btIDebugDraw*) override {}
+  /// Buoyancy centres and forces and the water grid's outline, as the drawer's debug mode
+  /// bits ask (shore/bullet/debug_draw.h).
+  void debugDraw(btIDebugDraw* drawer) override;
 
   /// Fixes every node over ground higher than the water's rest level (a shoreline): waves
   /// reflect there. Returns the number of fixed nodes.
   int fix_shoreline(const terrain::Terrain& ground);
 
   [[nodiscard]] const WaterCouplingStats& stats() const noexcept { return stats_; }
+  [[nodiscard]] const WaterCouplingSettings& settings() const noexcept { return settings_; }
+  [[nodiscard]] const water::Surface& surface() const noexcept { return surface_; }
+  /// The added bodies, in the order added.
+  [[nodiscard]] std::vector<btRigidBody*> bodies() const;
   /// Submerged volume of a body in the last substep (m^3), 0 if unknown.
   [[nodiscard]] double submerged_volume(const btRigidBody* body) const;
   /// The water's force and torque on a body in the last substep (zeros if unknown). For a

@@ -36,31 +36,40 @@ inline constexpr double kTanTwelfthPi = 2.67949192431122695758e-01;  // tan(pi /
 
 inline constexpr double factorial(int n) { return n <= 1 ? 1.0 : n * factorial(n - 1); }
 
+/// 1 / n! for n in [0, 18], computed by the compiler (correctly rounded divisions).
+struct InverseFactorials {
+  double v[19] = {};
+  constexpr InverseFactorials() {
+    for (int n = 0; n < 19; ++n) v[n] = 1.0 / factorial(n);
+  }
+};
+inline constexpr InverseFactorials kInvFact{};
+
 /// sin(r) for |r| <= pi/4: Taylor series through r^17 (next term < 1e-19).
 inline double sin_kernel(double r) {
   const double z = r * r;
-  double p = 1.0 / factorial(17);
-  p = -1.0 / factorial(15) + z * p;
-  p = 1.0 / factorial(13) + z * p;
-  p = -1.0 / factorial(11) + z * p;
-  p = 1.0 / factorial(9) + z * p;
-  p = -1.0 / factorial(7) + z * p;
-  p = 1.0 / factorial(5) + z * p;
-  p = -1.0 / factorial(3) + z * p;
+  double p = kInvFact.v[17];
+  p = -kInvFact.v[15] + z * p;
+  p = kInvFact.v[13] + z * p;
+  p = -kInvFact.v[11] + z * p;
+  p = kInvFact.v[9] + z * p;
+  p = -kInvFact.v[7] + z * p;
+  p = kInvFact.v[5] + z * p;
+  p = -kInvFact.v[3] + z * p;
   return r + (r * z) * p;
 }
 
 /// cos(r) for |r| <= pi/4: Taylor series through r^18.
 inline double cos_kernel(double r) {
   const double z = r * r;
-  double p = -1.0 / factorial(18);
-  p = 1.0 / factorial(16) + z * p;
-  p = -1.0 / factorial(14) + z * p;
-  p = 1.0 / factorial(12) + z * p;
-  p = -1.0 / factorial(10) + z * p;
-  p = 1.0 / factorial(8) + z * p;
-  p = -1.0 / factorial(6) + z * p;
-  p = 1.0 / factorial(4) + z * p;
+  double p = -kInvFact.v[18];
+  p = kInvFact.v[16] + z * p;
+  p = -kInvFact.v[14] + z * p;
+  p = kInvFact.v[12] + z * p;
+  p = -kInvFact.v[10] + z * p;
+  p = kInvFact.v[8] + z * p;
+  p = -kInvFact.v[6] + z * p;
+  p = kInvFact.v[4] + z * p;
   return (1.0 - 0.5 * z) + (z * z) * p;
 }
 
@@ -93,8 +102,8 @@ inline double exp_with_tail(double x, double tail) {
   const double k = std::floor(x * kInvLn2 + 0.5);
   const double r = ((x - k * kLn2Hi) - k * kLn2Lo) + tail;  // |r| <= ln2 / 2
   // Taylor series through r^14 (next term < 1e-18 relative).
-  double p = 1.0 / factorial(14);
-  for (int n = 13; n >= 2; --n) p = 1.0 / factorial(n) + r * p;
+  double p = kInvFact.v[14];
+  for (int n = 13; n >= 2; --n) p = kInvFact.v[n] + r * p;
   const double e = 1.0 + (r + (r * r) * p);
   return std::ldexp(e, static_cast<int>(k));
 }

@@ -12,6 +12,24 @@
 
 namespace shore::scenes {
 
+/// A colour bar under a picture: one of the colour maps (image.h) with its low, middle
+/// and high labels.
+struct Legend {
+  enum class Map { diverging, height, water };
+  Map map = Map::diverging;
+  std::string low, mid, high;
+};
+
+/// "-3.2 mm", "+12 um", "0.150 m": how the pictures label lengths (signed: a + on positive values).
+std::string format_length(double metres, bool signed_value);
+
+/// The labels of the deformation colour bar for a scale of `scale` metres: "-x lowered", "0", "raised +x".
+Legend deformation_legend(double scale);
+
+/// The picture with a title strip above (none if empty) and the legend's colour bar below
+/// (none if null), on white, at least 480 pixels wide with a legend.
+Image framed_picture(const Image& picture, const std::string& title, const Legend* legend);
+
 /// Lambertian hillshade in [0, 1] of each column: light from azimuth (degrees clockwise
 /// from +y, "north") and altitude (degrees above the horizon); heights multiplied by
 /// exaggeration. Central differences inside, one-sided at the edges.

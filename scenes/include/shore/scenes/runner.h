@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -42,7 +43,11 @@ struct SceneResult {
 /// the scene and steps it options.substeps() times (timing the steps alone), takes the
 /// filmstrip, hashes the final state, fills the metrics, and with write_files draws the
 /// scene and writes out_dir/metrics.json. Scene errors propagate.
-SceneResult run_scene(const SceneType& scene, const SceneOptions& options, ProgressMode progress);
+/// draw_more (optional, with write_files): more pictures of the end of the run, after the
+/// scene's own (shore-demo's 3-D renderer).
+using DrawHook = std::function<void(Scene& scene, Drawing& out)>;
+SceneResult run_scene(const SceneType& scene, const SceneOptions& options, ProgressMode progress,
+                      const DrawHook& draw_more = {});
 
 /// Names of the common metrics, in report order, with their meaning.
 const std::vector<MetricHelp>& common_metric_help();

@@ -24,6 +24,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "shore/scenes/contents.h"
 #include "shore/scenes/image.h"
 #include "shore/scenes/state.h"
 
@@ -93,6 +94,8 @@ class Scene {
   virtual Image film_frame() = 0;
   /// The pictures and meshes of the end of the run.
   virtual void draw(Drawing& out) const = 0;
+  /// What a viewer draws and drives live (contents.h); empty by default.
+  virtual SceneContents contents() { return {}; }
 };
 
 /// One line of the report: what a metric means.

@@ -5,9 +5,11 @@
 // (speed against error) and the impact scene.
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "shore/bullet/terrain_coupling.h"
+#include "shore/terrain/height_source.h"
 #include "shore/terrain/material.h"
 #include "shore/terrain/terrain.h"
 
@@ -21,6 +23,8 @@ struct SoilRun {
   int threads = 1;                                                         ///< OpenMP threads of the soil
   int max_erosion_passes = terrain::TerrainSettings{}.max_erosion_passes;  ///< erosion pass cap per substep
   double active_reach = terrain::TerrainSettings{}.active_reach;           ///< m, see TerrainSettings
+  bullet::SoilContactSettings contact;                                     ///< how the soil's push is solved
+  std::shared_ptr<const terrain::HeightSource> base;                       ///< untouched ground; null: flat at 0
 };
 
 /// Results common to every case.
@@ -33,6 +37,8 @@ struct RunStats {
   double push_seconds = 0.0;
   std::uint64_t state_hash = 0;  ///< state_hash (state.h) of the soil and the body at the end
   std::int64_t rescues = 0;      ///< bodies lifted back above bedrock (should stay 0)
+  double soil_work = 0.0;        ///< J the body did on the soil (TerrainCouplingStats::plastic_work)
+  double shear_work = 0.0;       ///< J of it by shear
   /// Adds one substep of a soil coupling's timings (once per coupling and substep).
   void add_coupling_times(const bullet::TerrainCouplingStats& coupling);
   [[nodiscard]] double ms_per_substep() const { return substeps ? 1e3 * wall_seconds / double(substeps) : 0.0; }
@@ -44,7 +50,10 @@ struct RunStats {
 // ---- a square plate (box) under a uniform pressure --------------------------------------
 struct PlateCase {
   SoilRun run;
-  double width = 0.3;         ///< m, square footprint side
+  double width = 0.3;  ///< m, square footprint side
+  /// Where the plate's edges fall, as a fraction of a cell past a column centre: 0.5 puts
+  /// them halfway between columns, 0 on column centres.
+  double edge_offset = 0.5;
   double pressure = 50e3;     ///< Pa, weight / footprint
   double ramp_seconds = 0.0;  ///< s: weight ramped in linearly over this time; 0 = released at rest
   double settle_seconds = 1.0;
@@ -52,6 +61,7 @@ struct PlateCase {
 struct PlateResult {
   double sinkage = 0.0;    ///< m, final depth of the plate's bottom below the original surface
   double reference = 0.0;  ///< m, Bekker: quasi-static if ramped, (n+1)^(1/n) times that if released
+  double drift = 0.0;      ///< m the plate moved sideways
   RunStats stats;
 };
 PlateResult run_plate(const PlateCase& c);
@@ -71,11 +81,117 @@ struct WheelResult {
   double sinkage = 0.0;               ///< m: static, final depth; towed, mean depth over the second half of the run
   double resistance = 0.0;            ///< N, mean towing force over the second half (towed only)
   double rut_depth = 0.0;             ///< m, mean depth of the soil along the track's centre line behind the wheel
+  double slip = 0.0;                  ///< mean 1 - v / (omega R) over the second half (towed: negative, a skid)
   double reference_sinkage = 0.0;     ///< m, Bekker: static both-halves integral or rolling formula
   double reference_resistance = 0.0;  ///< N, Bekker compaction resistance (towed)
   RunStats stats;
 };
 WheelResult run_wheel(const WheelCase& c);
+
+// ---- a driven rigid wheel at a fixed slip (the Wong-Reece rig) ----------------------------
+/// The wheel spins at a fixed omega and its carrier moves at a fixed v = (1 - slip) omega r,
+/// free to move vertically; the soil's push on it gives drawbar pull and driving torque.
+struct DrivenWheelCase {
+  SoilRun run;                ///< default material: dry sand (Wong), c 1.04 kPa, phi 28 deg, K 1 cm
+  double diameter = 0.6;      ///< m
+  double width = 0.15;        ///< m
+  double load = 1000.0;       ///< N (the wheel's weight)
+  double slip = 0.2;          ///< i = 1 - v / (omega r), in [0, 1)
+  double rim_speed = 1.0;     ///< m/s, omega r
+  double distance = 1.2;      ///< m travelled by the carrier
+  double ramp_seconds = 1.0;  ///< the load ramps in with the wheel held still first
+};
+struct DrivenWheelResult {
+  double sinkage = 0.0;       ///< m, mean depth of the wheel's bottom below the original surface (second half)
+  double drawbar_pull = 0.0;  ///< N, mean horizontal push of the soil on the wheel, forward positive (second half)
+  double torque = 0.0;        ///< N m, mean driving torque that keeps omega (second half)
+  double resistance = 0.0;    ///< N, mean backward push of the soil's normal stresses (compaction, second half)
+  RunStats stats;
+};
+DrivenWheelResult run_driven_wheel(const DrivenWheelCase& c);
+
+// ---- a box resting on a soft slope ------------------------------------------------------
+/// A cube on a plane of soil descending along +x at `slope`, released at rest with its
+/// bottom on the surface. rigid: the same slope as a rigid Bullet heightfield (the rigid
+/// limit, with the material's friction as Bullet's).
+struct SlopeBoxCase {
+  SoilRun run;
+  double slope = 0.26;   ///< rad
+  double size = 0.3;     ///< m, cube side
+  double mass = 40.0;    ///< kg
+  double seconds = 1.5;  ///< s simulated
+  bool rigid = false;
+};
+struct SlopeBoxResult {
+  double acceleration = 0.0;  ///< m/s^2 along the slope (downhill positive), fitted over the second half
+  double end_speed = 0.0;     ///< m/s along the slope at the end
+  double max_tilt = 0.0;      ///< rad, the largest angle between the box's up axis and the slope's normal
+  double distance = 0.0;      ///< m slid along the slope
+  RunStats stats;
+};
+SlopeBoxResult run_slope_box(const SlopeBoxCase& c);
+
+// ---- a ball rolling down a soft slope ----------------------------------------------------
+struct RollingBallCase {
+  SoilRun run;
+  double slope = 0.26;    ///< rad, the plane descends along +x
+  double diameter = 0.3;  ///< m
+  double mass = 20.0;     ///< kg
+  double seconds = 2.0;   ///< s
+  bool rigid = false;     ///< rigid heightfield of the same slope instead of soft soil
+};
+struct RollingBallResult {
+  double distance = 0.0;  ///< m rolled along the slope after `seconds`
+  double sinkage = 0.0;   ///< m, mean depth of the ball's bottom below the plane (second half)
+  RunStats stats;
+};
+RollingBallResult run_rolling_ball(const RollingBallCase& c);
+/// The distance the ball should roll after t seconds against Bekker's compaction resistance
+/// (derived in soil_cases.cpp), and the rolling sinkage z0 that goes with it.
+struct RollingBallEstimate {
+  double distance = 0.0, sinkage = 0.0, resistance = 0.0;  ///< m, m, N
+};
+RollingBallEstimate rolling_ball_estimate(const terrain::Material& m, double diameter, double mass, double slope,
+                                          double seconds, double gravity = 9.81);
+
+// ---- a wheel pushed sideways, in its rut or on flat ground ------------------------------------
+struct SidePushCase {
+  SoilRun run;
+  double diameter = 0.8, width = 0.3, load = 4000.0;  ///< m, m, N
+  bool in_rut = true;           ///< true: towed 1.5 m first, then pushed in its own rut; false: pressed in place
+  double push_speed = 0.05;     ///< m/s sideways
+  double push_distance = 0.04;  ///< m
+};
+struct SidePushResult {
+  double lateral_force = 0.0;  ///< N, mean sideways push of the soil on the wheel over the second half of the push
+  double rut_depth = 0.0;      ///< m, the wheel's depth when the push began
+  RunStats stats;
+};
+SidePushResult run_side_push(const SidePushCase& c);
+/// Bekker's bulldozing resistance (N) of a wall of height z (m) and length b (m):
+/// b (0.67 c z K_pc + 0.5 z^2 gamma K_pgamma), with Terzaghi's bearing factors; gamma the
+/// soil's unit weight (N/m^3).
+double bulldozing_resistance(const terrain::Material& m, double z, double b, double unit_weight = 15e3);
+
+// ---- a four-wheel vehicle climbing a sand slope ------------------------------------------
+struct VehicleClimbCase {
+  SoilRun run;               ///< default cell 2 cm
+  double slope = 0.1;        ///< rad, the plane rises along +x
+  double seconds = 3.0;      ///< s simulated
+  double wheel_speed = 1.0;  ///< m/s, omega r the motors aim for
+};
+struct VehicleClimbResult {
+  double uphill_speed = 0.0;  ///< m/s, the chassis' mean speed up the slope over the last second
+  double slip = 0.0;          ///< the wheels' mean slip over the last second, 1 - v / (omega r)
+  double wheel_load = 0.0;    ///< N, the weight each wheel carries on the level
+  RunStats stats;
+};
+VehicleClimbResult run_vehicle_climb(const VehicleClimbCase& c);
+/// The vehicle's wheel for Wong and Reece's reference (radius, width and load of one wheel).
+struct VehicleWheel {
+  double radius = 0.3, width = 0.25, load = 0.0;
+};
+VehicleWheel vehicle_wheel();
 
 // ---- a sphere dropped into the soil -------------------------------------------------------
 struct SphereDropCase {

@@ -6,12 +6,16 @@
 // Bottom elements: every column the body's underside touches (lies within
 // contact_tolerance of the column's top). The soil pushes at the body's surface above the
 // column, along the normal of the underside (from the envelope's slopes), on the body's
-// area over the column: the whole cell, or, at the edges of the footprint and when a
-// SurfaceProbe is given, only the part the body covers. At most it pushes with Bekker's
+// surface over the column: over the whole cell, or, at the edges of the footprint and when
+// a SurfaceProbe is given, over the part the body covers (the plan area divided by the
+// normal's vertical share, so the push has Bekker's vertical component: a wheel's rim
+// carries W = integral of sigma b dx and resists with integral of sigma b dz, as Bekker's
+// and Wong's formulas have it). At most it pushes with Bekker's
 // yield pressure at the column's sinkage if pressed to the body (its plastic sinkage plus
-// how far the body lies below its top), times shear::remoulding(j) of the column's shear
-// displacement j. Sheared along the surface, the column resists with Janosi-Hanamoto's
-// stress (shore/terrain/shear.h), which the solver applies.
+// how far the body lies below its top), times shear::remoulding(j) of how far the body has
+// dragged the column's soil horizontally (a body pressed straight down remoulds nothing).
+// Sheared along the surface, the column resists with Janosi-Hanamoto's stress
+// (shore/terrain/shear.h), which the solver applies.
 //
 // Wall elements: where soil beside the footprint stands above the body's underside (the
 // sides of a rut, a crater or the body's own sinkage hole), it pushes horizontally on the
@@ -41,8 +45,8 @@ struct ContactElement {
   double area = 0.0;                    ///< m^2 the soil pushes on
   double pressure = 0.0;                ///< Pa, the most it can push with; +infinity on bedrock
   std::int64_t i = 0, j = 0;            ///< the soil column
-  /// Index into the envelope raster of the column whose shear displacement this element
-  /// reads and moves (a fringe element shares its covered neighbour's); -1 for walls.
+  /// Index into the envelope raster of the column whose shear (and drag) displacement this
+  /// element reads and moves (a fringe element shares its covered neighbour's); -1 for walls.
   std::int32_t raster_index = -1;
   bool wall = false;  ///< the side of a rut or crater (horizontal normal, no shear)
 };
@@ -51,7 +55,7 @@ struct ContactElement {
 struct ContactPatch {
   std::vector<ContactElement> elements;  ///< bottom elements in raster order, then walls
   double patch_width = 0.0;              ///< m, Bekker's b: the smaller extent of the touching area
-  double area = 0.0;                     ///< m^2 of the bottom elements
+  double area = 0.0;                     ///< m^2 of the bottom elements, in plan
   int touching_columns = 0;              ///< covered columns the underside touches
 
   void clear() {

@@ -25,6 +25,16 @@ class FlatHeight final : public HeightSource {
   double level_;
 };
 
+/// A plane: level + slope_x x + slope_y y (slopes as rise over run, dimensionless).
+class PlaneHeight final : public HeightSource {
+ public:
+  PlaneHeight(double level, double slope_x, double slope_y);  ///< all finite (throws InvalidSetting otherwise)
+  [[nodiscard]] double height(double x, double y) const override;
+
+ private:
+  double level_, slope_x_, slope_y_;
+};
+
 /// Sumner et al.'s initial ground: random values on a square lattice, interpolated with
 /// Catmull-Rom splines in x and y (a variant of 2-D Perlin noise). The lattice values come
 /// from an integer hash of (seed, octave, lattice i, lattice j), so the same settings give

@@ -28,12 +28,15 @@ struct Material {
   double cohesion = 1.04e3;                                 ///< c, Pa, >= 0
   double friction_angle = 28.0 * std::numbers::pi / 180.0;  ///< phi, rad, [0, pi/2)
   double shear_modulus = 0.01;  ///< K, m, > 0: shear displacement at which 63 % of the strength acts
-  /// Sheared soil bears less: Bekker's pressure is multiplied by
-  /// 1 - remould_ratio (1 - exp(-j / remould_length)), j the shear displacement. This is
-  /// what makes a slipping wheel dig in (slip sinkage). Calibrated for dry sand against
-  /// Wong and Reece's driven-wheel model (docs/terrain.md); [0, 1).
-  double remould_ratio = 0.68;
-  double remould_length = 0.03;  ///< m, > 0
+  /// Sheared soil is remoulded: its bearing (Bekker's pressure) is multiplied by
+  /// 1 - remould_ratio (1 - exp(-j / remould_length)) and its shear strength by
+  /// 1 - remould_shear_ratio (1 - exp(-j / remould_length)), j the shear displacement. This
+  /// is what makes a slipping wheel dig in (slip sinkage) and its pull level off with slip.
+  /// Calibrated for dry sand against Wong and Reece's driven wheel (docs/terrain.md, "Slip
+  /// sinkage"); each in [0, 1). 0 and 0: rigid-plastic soil that never softens.
+  double remould_ratio = 0.55;
+  double remould_shear_ratio = 0.22;
+  double remould_length = 0.06;  ///< m, > 0
 
   /// Bullet friction coefficient of rigid ground, and of soft ground for bodies Shore does
   /// not couple (they collide with the heightfield tiles through Bullet). Coupled bodies

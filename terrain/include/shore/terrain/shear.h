@@ -19,4 +19,8 @@ double stress(const Material& m, double sigma, double j);
 /// 1 - remould_ratio (1 - exp(-|j| / remould_length)).
 double remoulding(const Material& m, double j);
 
+/// Share of the shear strength left in soil sheared by j:
+/// 1 - remould_shear_ratio (1 - exp(-|j| / remould_length)).
+double strength_remoulding(const Material& m, double j);
+
 }  // namespace shore::terrain::shear

@@ -125,6 +125,11 @@ class Terrain {
   Terrain& operator=(Terrain&&) noexcept;
 
   [[nodiscard]] const TerrainSettings& settings() const noexcept;
+  /// Changes the material from the next step on (a viewer's live tweak of alpha, Bekker's
+  /// or the erosion parameters). Throws InvalidSetting if it is invalid, or if its
+  /// soil_depth or rigid flag differ from the present material's (they define bedrock and
+  /// the tiles' kind).
+  void set_material(const Material& material);
 
   // ---- grid geometry ----
   [[nodiscard]] std::int64_t column_i(double x) const;  ///< nearest column to world x
@@ -133,7 +138,7 @@ class Terrain {
   [[nodiscard]] double column_y(std::int64_t j) const;
 
   // ---- state of one column ----
-  [[nodiscard]] double height(std::int64_t i, std::int64_t j) const;   ///< collision surface, m
+  [[nodiscard]] double height(std::int64_t i, std::int64_t j) const;  ///< collision surface, m
   /// Plastic sinkage, m: how far the column's firm soil has been pressed below its
   /// uncompacted level; negative by the height of loose soil that displacement or erosion
   /// laid on it (loose soil bears nothing until pressed back to the firm level).
@@ -165,11 +170,12 @@ class Terrain {
   /// so the result never exceeds the depth to bedrock.
   [[nodiscard]] double bearing_offset(const EnvelopeRaster& envelope, double load) const;
   /// The soil's side of a body's contact (shore/terrain/contact.h) into `out`.
-  /// shear_displacement: the shear displacement j (m) of every raster column, in the
-  /// raster's layout, or empty (all 0). probe: the body's underside at any point, for
-  /// sub-cell coverage at the footprint's edges; null: whole columns. Reads only. Throws
-  /// InvalidSetting on a bad envelope or a shear_displacement of the wrong size.
-  void contact(const EnvelopeRaster& envelope, std::span<const double> shear_displacement, const SurfaceProbe* probe,
+  /// drag: how far (m) the body has dragged the soil at each raster column horizontally
+  /// while in contact (remoulding it: shear::remoulding), in the raster's layout, or empty
+  /// (all 0). probe: the body's underside at any point, for sub-cell coverage at the
+  /// footprint's edges; null: whole columns. Reads only. Throws InvalidSetting on a bad
+  /// envelope or a drag of the wrong size.
+  void contact(const EnvelopeRaster& envelope, std::span<const double> drag, const SurfaceProbe* probe,
                ContactPatch& out) const;
   /// One step of the pipeline for all imprints together: collision, contour map,
   /// displacement, erosion, over the active region only. Throws InvalidSetting (grid
@@ -187,6 +193,17 @@ class Terrain {
   /// most one per tile, the bounding box of that tile's changed columns, in tile key order.
   /// After load() every loaded tile is reported whole.
   std::vector<ColumnRect> take_changed();
+  /// The change generation: it advances with every call that may change heights (step,
+  /// relax, set_height), and every height change is stamped with it. An observer (a mesh,
+  /// a network delta) remembers generation() when it reads the heights and later asks
+  /// changed_since(that) what changed since; any number of observers can do so, and
+  /// take_changed is unaffected. Starts at 1 (load() too: loaded tiles are generation 1).
+  [[nodiscard]] std::uint64_t generation() const noexcept;
+  /// Rectangles covering every column whose height changed after generation g, at most one
+  /// per tile, in tile key order: the bounding box of that tile's changes after g, or the
+  /// whole tile when g is older than the recent history kept (a few changes per tile).
+  /// changed_since(0): every column ever changed. Reads only.
+  [[nodiscard]] std::vector<ColumnRect> changed_since(std::uint64_t g) const;
   [[nodiscard]] VolumeTotals volume() const;
   [[nodiscard]] std::uint64_t state_hash() const;  ///< FNV-1a over tiles in key order
   [[nodiscard]] std::size_t tile_count() const;

@@ -1,0 +1,118 @@
+// TerrainCoupling::debugDraw: contact columns, soil reaction and tile outlines, drawn from
+// what the coupling exposes (its bodies, soil, tiles, settings) so that the coupling's own
+// substep code stays free of drawing.
+#include <algorithm>
+#include <optional>
+
+#include <BulletCollision/CollisionDispatch/btCollisionObject.h>
+
+#include "coupling_util.h"
+#include "shore/bullet/debug_draw.h"
+#include "shore/bullet/envelope.h"
+#include "shore/bullet/terrain_coupling.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+namespace {
+
+constexpr double kLift = 0.003;  // m above the ground, so lines are not hidden in it
+
+/// The net force the soil pushed the body with in the last substep, where the coupling
+/// reports one (a per-body accessor `soil_force(body)` returning a vector, or a value with
+/// a `force` vector); empty while it reports none.
+template <class Coupling>
+std::optional<btVector3> reported_soil_force(const Coupling& coupling, const btRigidBody* body) {
+  if constexpr (requires { btVector3(coupling.soil_force(body)); })
+    return btVector3(coupling.soil_force(body));
+  else if constexpr (requires { btVector3(coupling.soil_force(body).force); })
+    return btVector3(coupling.soil_force(body).force);
+  else
+    return std::nullopt;
+}
+
+EnvelopeGrid soil_grid(const terrain::Terrain& soil) {
+  return {soil.settings().origin_x, soil.settings().origin_y, soil.settings().cell};
+}
+
+/// The soil's bearing under the body's lower envelope at its present pose (its contact
+/// columns), clipped to the coupling's region; empty if the body cannot be drawn.
+terrain::Bearing contact_of(const terrain::Terrain& soil, const Region& region, const btRigidBody& body) {
+  const btCollisionShape& shape = *body.getCollisionShape();
+  const EnvelopeGrid grid = soil_grid(soil);
+  if (!pose_rasterizable(body.getWorldTransform(), shape_reach(shape), grid)) return {};
+  EnvelopeRaster env;
+  rasterize_envelope(shape, body.getWorldTransform(), grid, EnvelopeOptions{}, env);
+  if (!region.everywhere())
+    for (int b = 0; b < env.ny; ++b)
+      for (int a = 0; a < env.nx; ++a)
+        if (!region.contains(soil.column_x(env.i0 + a), soil.column_y(env.j0 + b)))
+          env.lower[env.index(env.i0 + a, env.j0 + b)] = EnvelopeRaster::kNoLower;
+  return soil.bearing(env);
+}
+
+btVector3 column_top(const terrain::Terrain& soil, std::int64_t i, std::int64_t j) {
+  return {btScalar(soil.column_x(i)), btScalar(soil.column_y(j)), btScalar(soil.height(i, j) + kLift)};
+}
+
+void draw_body_contact(btIDebugDraw& d, const TerrainCoupling& coupling, const terrain::Terrain& soil,
+                       const btRigidBody& body, int mode) {
+  const terrain::Bearing bearing = contact_of(soil, coupling.settings().region, body);
+  if (bearing.columns.empty()) return;
+  const double half = 0.35 * soil.settings().cell;
+  const double mass = body.getInvMass() > 0 ? 1.0 / body.getInvMass() : 0.0;
+  const double g = -body.getGravity().z() > 0 ? -body.getGravity().z() : 9.81;
+  btVector3 centre(0, 0, 0);
+  double weight = 0.0;
+  for (const terrain::ColumnForce& c : bearing.columns) {
+    const btVector3 top = column_top(soil, c.i, c.j);
+    if (mode & debug_draw::kContactBits) debug_draw::cross(d, top, half, debug_draw::kContactColour);
+    if ((mode & debug_draw::kForceBits) && std::isfinite(c.force) && c.force > 0.0)
+      d.drawLine(top, top + debug_draw::force_arrow(btVector3(0, 0, btScalar(c.force)), mass, g),
+                 debug_draw::kCapacityColour);
+    const double w = std::isfinite(c.force) && c.force > 0.0 ? c.force : 1.0;
+    centre += top * btScalar(w);
+    weight += w;
+  }
+  if (!(mode & debug_draw::kForceBits) || weight <= 0.0) return;
+  if (const std::optional<btVector3> f = reported_soil_force(coupling, &body))
+    debug_draw::arrow(d, centre / btScalar(weight), debug_draw::force_arrow(*f, mass, g), debug_draw::kForceColour);
+}
+
+/// The outline of one Bullet tile, following the ground along its four edges.
+void draw_tile_outline(btIDebugDraw& d, const terrain::Terrain& soil, const btCollisionObject& tile) {
+  btVector3 lo, hi;
+  const btCollisionShape& shape = *tile.getCollisionShape();
+  shape.getAabb(tile.getWorldTransform(), lo, hi);
+  const btScalar m = shape.getMargin();  // Bullet pads a heightfield's box by its margin
+  const std::int64_t i0 = soil.column_i(lo.x() + m), i1 = soil.column_i(hi.x() - m);
+  const std::int64_t j0 = soil.column_j(lo.y() + m), j1 = soil.column_j(hi.y() - m);
+  auto edge = [&](std::int64_t ia, std::int64_t ja, std::int64_t di, std::int64_t dj, std::int64_t n) {
+    for (std::int64_t k = 0; k < n; ++k)
+      d.drawLine(column_top(soil, ia + k * di, ja + k * dj), column_top(soil, ia + (k + 1) * di, ja + (k + 1) * dj),
+                 debug_draw::kOutlineColour);
+  };
+  edge(i0, j0, 1, 0, i1 - i0);
+  edge(i0, j1, 1, 0, i1 - i0);
+  edge(i0, j0, 0, 1, j1 - j0);
+  edge(i1, j0, 0, 1, j1 - j0);
+}
+
+}  // namespace
+
+std::vector<btRigidBody*> TerrainCoupling::bodies() const { return coupling_detail::body_pointers(bodies_); }
+
+void TerrainCoupling::debugDraw(btIDebugDraw* drawer) {
+  if (drawer == nullptr) return;
+  const int mode = drawer->getDebugMode();
+  const terrain::Terrain& ground = soil();
+  if ((mode & (debug_draw::kContactBits | debug_draw::kForceBits)) && !ground.settings().material.rigid)
+    for (const btRigidBody* body : bodies()) draw_body_contact(*drawer, *this, ground, *body, mode);
+  if (mode & debug_draw::kOutlineBits) {
+    const btCollisionObjectArray& objects = world().getCollisionObjectArray();
+    for (int k = 0; k < objects.size(); ++k)
+      if (tiles().is_tile(objects[k])) draw_tile_outline(*drawer, ground, *objects[k]);
+  }
+}
+
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet

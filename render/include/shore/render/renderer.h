@@ -1,0 +1,101 @@
+#pragma once
+// The OpenGL 3.3 renderer of Shore's scenes: the soils from their tiles (only the columns
+// the push-back reports changed are uploaded), the water surfaces with normals and
+// shading that make small waves visible, every Bullet body from its collision shape, one
+// directional light with a shadow map, MSAA and a sky gradient; debug lines on top.
+// The same renderer draws the viewer's window and the headless pictures (headless.h).
+//
+//   shore::render::Renderer r;            // a GL 3.3 core context must be current
+//   r.set_contents(scene->contents());    // hooks the soils' push-back
+//   r.sync();                             // after stepping: upload what changed
+//   r.draw(camera, 1280, 720, settings);  // into its own MSAA framebuffer
+//   Image picture = r.read_image();       // or r.present(w, h) to the window
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "shore/render/camera.h"
+#include "shore/render/line_batch.h"
+#include "shore/scenes/contents.h"
+#include "shore/scenes/image.h"
+
+namespace shore::render {
+
+enum class GroundColour {
+  natural,      ///< the material's colour, lit
+  deformation,  ///< height - untouched ground: blue lowered, red raised (the pictures' diverging map)
+  sinkage,      ///< plastic sinkage: blue pressed, red loose soil laid on top
+  height,       ///< hypsometric, low to high
+};
+
+enum class WaterColour {
+  natural,   ///< deep water colour, sky reflection (Fresnel) and sun glints
+  height,    ///< height - rest level: troughs deep blue, crests pale (the pictures' water map)
+  velocity,  ///< vertical velocity: blue down, red up
+};
+
+struct RenderSettings {
+  GroundColour ground = GroundColour::natural;
+  double ground_scale = 0.0;  ///< m to full colour (deformation, sinkage); 0: the largest seen so far
+  WaterColour water = WaterColour::natural;
+  double water_scale = 0.0;        ///< m or m/s to full colour; 0: the largest now
+  double wave_exaggeration = 0.0;  ///< water slopes are multiplied by this for shading, >= 1; 0: automatic
+  bool soil_tile_borders = false;  ///< dark lines on the edges of the soils' storage tiles
+  bool shadows = true;             ///< the sun's shadow map
+  int samples = 4;                 ///< MSAA samples (1: none; at most what the GL allows)
+  bool sky = true;                 ///< sky gradient behind (false: white)
+};
+
+/// What the last sync() and draw() did.
+struct FrameStats {
+  std::int64_t soil_bytes = 0;        ///< soil texture bytes uploaded by the last sync
+  std::int64_t whole_soil_bytes = 0;  ///< what uploading every drawn soil column would cost
+  std::int64_t water_bytes = 0;       ///< water texture bytes uploaded by the last sync
+  std::int64_t soil_columns = 0;      ///< drawn soil columns
+  std::int64_t triangles = 0;         ///< triangles drawn in the colour pass
+  int bodies = 0;                     ///< collision objects drawn
+  std::int64_t lines = 0;             ///< debug lines drawn
+  double ground_scale = 0.0;          ///< the colour scale used (m)
+  double water_scale = 0.0;           ///< the colour scale used (m or m/s)
+};
+
+class Renderer {
+ public:
+  /// Needs a current OpenGL 3.3 core context. Throws std::runtime_error if a shader fails.
+  Renderer();
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// Draws these contents from now on (drops the previous ones), uploads them whole and
+  /// listens to the soils' push-back for changed columns. The scene must outlive this
+  /// renderer or the next set_contents()/clear().
+  void set_contents(const scenes::SceneContents& contents);
+  /// Forgets the contents and stops listening.
+  void clear();
+  /// Uploads what changed since the last sync: the soils' pushed columns, the water.
+  void sync();
+  /// Renders a width x height frame into the renderer's framebuffer.
+  void draw(const OrbitCamera& camera, int width, int height, const RenderSettings& settings,
+            const LineBatch* lines = nullptr);
+  /// Copies the last frame to the current default framebuffer (a window).
+  void present(int width, int height) const;
+  /// The last frame as an RGB image, top row first.
+  [[nodiscard]] scenes::Image read_image() const;
+
+  /// The first point where a ray from `origin` along `direction` meets a soil or a water
+  /// surface (or, failing those, the plane z = 0), if it meets one within 1 km.
+  [[nodiscard]] std::optional<Eigen::Vector3d> pick(const Eigen::Vector3d& origin,
+                                                    const Eigen::Vector3d& direction) const;
+  [[nodiscard]] const FrameStats& stats() const noexcept;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace shore::render

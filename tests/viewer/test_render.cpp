@@ -1,0 +1,125 @@
+// The OpenGL renderer headless (EGL on Mesa): pictures of real scenes checked for size,
+// for not being blank, for the colour bar, and the soil upload for sending only what changed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "shore/render/headless.h"
+#include "shore/render/picture.h"
+#include "shore/render/renderer.h"
+#include "shore/render/shape_mesh.h"
+#include "shore/scenes/image.h"
+#include "shore/scenes/runner.h"
+#include "shore/scenes/scene.h"
+
+#include <btBulletDynamicsCommon.h>
+
+namespace {
+
+using shore::scenes::Image;
+using shore::scenes::Rgb;
+
+std::unique_ptr<shore::scenes::Scene> smoke_scene(const char* name, int substeps) {
+  const shore::scenes::SceneType& type = *shore::scenes::find_scene(name);
+  shore::scenes::Overrides o;
+  o.smoke = true;
+  o.write_files = false;
+  auto scene = type.create(shore::scenes::resolve(type, o));
+  for (int k = 0; k < substeps; ++k) scene->step();
+  return scene;
+}
+
+double colour_distance(Rgb a, Rgb b) { return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b); }
+
+/// Distinct colours among the picture's pixels (coarsely binned): a blank picture has 1.
+int distinct_colours(const Image& im, int y0, int y1) {
+  std::vector<bool> seen(4096, false);
+  int n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = 0; x < im.width(); ++x) {
+      const Rgb c = im.at(x, y);
+      const int bin = (c.r >> 4) << 8 | (c.g >> 4) << 4 | (c.b >> 4);
+      if (!seen[bin]) ++n;
+      seen[bin] = true;
+    }
+  return n;
+}
+
+TEST(RenderHeadless, VehiclePictureHasItsSizeContentAndColourBar) {
+  auto scene = smoke_scene("vehicle", 120);
+  shore::render::PictureOptions o;
+  o.width = 640;
+  o.height = 360;
+  o.title = "vehicle";
+  const Image im = shore::render::scene_picture(*scene, o);
+  // 24 px title strip above, 40 px colour bar below (framed_picture).
+  ASSERT_EQ(im.width(), 640);
+  ASSERT_EQ(im.height(), 360 + 24 + 40);
+  EXPECT_GT(distinct_colours(im, 24, 24 + 360), 40) << "the 3-D view is (nearly) blank";
+  // The colour bar: its left end is the diverging map's "lowered" end, its right end "raised".
+  const int bar_y = 24 + 360 + 6 + 5;
+  int end = 6;  // the bar runs from x = 6 to its last non-white pixel
+  while (end + 1 < im.width() && !(im.at(end + 1, bar_y) == Rgb{255, 255, 255})) ++end;
+  EXPECT_GE(end - 6 + 1, 256) << "the colour bar is at least 256 pixels long";
+  EXPECT_LT(colour_distance(im.at(6, bar_y), shore::scenes::diverging_colour(-1.0)), 12);
+  EXPECT_LT(colour_distance(im.at(end, bar_y), shore::scenes::diverging_colour(1.0)), 12);
+  EXPECT_LT(colour_distance(im.at((6 + end) / 2, bar_y), shore::scenes::diverging_colour(0.0)), 12);
+}
+
+TEST(RenderHeadless, PondPictureShowsWaterWithTheWaterColourBar) {
+  auto scene = smoke_scene("pond", 60);
+  shore::render::PictureOptions o;
+  o.width = 480;
+  o.height = 320;
+  const Image im = shore::render::scene_picture(*scene, o);
+  ASSERT_EQ(im.height(), 320 + 40);
+  EXPECT_GT(distinct_colours(im, 0, 320), 40);
+  const int bar_y = 320 + 6 + 5;
+  EXPECT_LT(colour_distance(im.at(7, bar_y), shore::scenes::water_colour(-1.0)), 12);
+}
+
+TEST(RenderHeadless, SoilUploadsOnlyTheChangedColumns) {
+  auto scene = smoke_scene("vehicle", 0);
+  shore::render::HeadlessContext context;
+  shore::render::Renderer r;
+  const shore::scenes::SceneContents c = scene->contents();
+  r.set_contents(c);
+  r.sync();
+  const auto whole = r.stats().whole_soil_bytes;
+  EXPECT_EQ(r.stats().soil_bytes, whole) << "the first sync uploads the whole field";
+  std::int64_t most = 0, total = 0;
+  for (int frame = 0; frame < 30; ++frame) {
+    for (int k = 0; k < 4; ++k) scene->step();
+    r.sync();
+    most = std::max(most, r.stats().soil_bytes);
+    total += r.stats().soil_bytes;
+  }
+  EXPECT_GT(total, 0) << "the wheels on the sand change columns";
+  EXPECT_LT(most, whole / 4) << "a frame uploads a small part of the field";
+  r.clear();
+}
+
+TEST(ShapeMesh, ClosedShapesEncloseTheirVolume) {
+  // The divergence theorem over the triangles: sum of (a . (b x c)) / 6 is the enclosed
+  // volume, for outward-wound faces.
+  auto volume = [](const shore::render::ShapeMesh& m) {
+    double v = 0;
+    for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+      auto p = [&](std::size_t k) {
+        const std::uint32_t i = m.indices[t + k];
+        return btVector3(m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]);
+      };
+      v += double(p(0).dot(p(1).cross(p(2)))) / 6.0;
+    }
+    return v;
+  };
+  const double pi = 3.14159265358979;
+  EXPECT_NEAR(volume(shore::render::shape_mesh(btBoxShape(btVector3(0.1f, 0.2f, 0.3f)))), 8 * 0.006, 1e-6);
+  EXPECT_NEAR(volume(shore::render::shape_mesh(btSphereShape(0.5f), 64)), 4.0 / 3.0 * pi * 0.125, 0.01 * 0.52);
+  EXPECT_NEAR(volume(shore::render::shape_mesh(btCylinderShapeZ(btVector3(0.2f, 0.2f, 0.5f)), 64)), pi * 0.04 * 1.0,
+              0.01 * 0.126);
+  EXPECT_NEAR(volume(shore::render::shape_mesh(btConeShapeZ(0.3f, 0.6f), 64)), pi * 0.09 * 0.6 / 3.0, 0.01 * 0.057);
+}
+
+}  // namespace
