@@ -174,9 +174,9 @@ class Beach final : public Scene {
     const btVector3 pb = box_->getWorldTransform().getOrigin(), pl = ball_->getWorldTransform().getOrigin();
     const btTransform& tb = box_->getWorldTransform();  // bottom-face centre: unbiased by a small heel
     const double box_bottom = (pb - tb.getBasis().getColumn(2) * (btScalar(0.5) * box_f_.size.z())).z();
-    box_draft_sum_ += level_around(sea_, pb.x(), pb.y(), 0.36) - box_bottom;
+    box_draft_sum_ += sea_.level_around(pb.x(), pb.y(), 0.36) - box_bottom;
     const double ball_bottom = pl.z() - kBallRadius;
-    ball_draft_sum_ += level_around(sea_, pl.x(), pl.y(), kBallRadius + 0.15) - ball_bottom;
+    ball_draft_sum_ += sea_.level_around(pl.x(), pl.y(), kBallRadius + 0.15) - ball_bottom;
     const double bed = sand_.height(sand_.column_i(pl.x()), sand_.column_j(pl.y()));
     if (ball_bottom - bed < kAfloatClearance) ball_afloat_ = false;
     ++samples_;

@@ -132,7 +132,7 @@ double bottom_of(const Piece& p) {
 double level_of(const water::Surface& s, const Piece& p) {
   const btVector3 c = p.body->getWorldTransform().getOrigin();
   const double half_diagonal = 0.5 * std::hypot(double(p.f.size.x()), double(p.f.size.y()));
-  return level_around(s, c.x(), c.y(), half_diagonal + 0.15);
+  return s.level_around(c.x(), c.y(), half_diagonal + 0.15);
 }
 
 int pool_nodes(const SceneOptions& o) {

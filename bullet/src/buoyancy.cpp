@@ -1,9 +1,10 @@
-#include "shore/bullet/buoyancy.h"
-
+// Buoyancy and drag of one body from its submerged parts (buoyancy.h).
 #include <algorithm>
 #include <cmath>
 
+#include "shore/core/det_math.h"
 #include "shore/core/error.h"
+#include "water_forces.h"
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
@@ -18,85 +19,100 @@ void FluidSettings::validate() const {
     throw InvalidSetting(c.name("samples_per_cell"), detail::to_text(samples_per_cell), "must be in [1, 16]");
 }
 
+namespace water_detail {
 namespace {
-/// Visits every sample the body covers with its submerged segment [bottom, top].
-template <class Visit>
-void for_each_wet_sample(const EnvelopeRaster& env, double origin_x, double origin_y, double cell,
-                         const WaterSampler& water, Visit&& visit) {
-  const bool has_upper = !env.upper.empty();
-  for (int b = 0; b < env.ny; ++b)
-    for (int a = 0; a < env.nx; ++a) {
-      const std::size_t k =
-          static_cast<std::size_t>(b) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(a);
-      if (!env.covers(k)) continue;
-      const double x = origin_x + double(env.i0 + a) * cell, y = origin_y + double(env.j0 + b) * cell;
-      const double surface = water.height(x, y);
-      const double bottom = env.lower[k];
-      const double top = has_upper ? env.upper[k] : bottom;
-      const double wet_top = std::min(top, surface);
-      if (wet_top > bottom) visit(k, x, y, bottom, wet_top);
-    }
+
+using envelope_detail::cross;
+using envelope_detail::dot;
+using envelope_detail::norm;
+
+btVector3 bt(V3 v) { return {btScalar(v.x), btScalar(v.y), btScalar(v.z)}; }
+
+/// Drag on area a moving at u: -(1/2 rho C_d a |u| + rho k a) u.
+V3 drag_on(double area, V3 u, const FluidSettings& f) {
+  const double speed = norm(u);
+  return u * (-(0.5 * f.density * f.quadratic_drag * area * speed + f.density * f.linear_drag * area));
 }
+
+/// The velocity of a point of the body relative to the water there.
+V3 relative(const Motion& m, V3 p, double water_vz) { return m.v + cross(m.w, p - m.com) - V3{0, 0, water_vz}; }
+
+/// Drag over the closed wet surface of the polyhedra: every quadrature point (and the cut)
+/// by its own velocity, on half its area projected along it (half, because front and back
+/// both count: for a translation the sum is the projected area A exactly, for a spin only the
+/// normal motion of the surface acts). Adds force and torque about the centre of mass.
+void surface_drag(const Submerged& wet, const WaterPlane& w, const Motion& m, const FluidSettings& f, V3& force,
+                  V3& torque) {
+  const auto element = [&](V3 at, V3 area) {
+    const V3 u = relative(m, at, w.vz);
+    const double speed = norm(u);
+    if (!(speed > 0.0)) return;
+    const V3 fd = drag_on(0.5 * std::abs(dot(area, u)) / speed, u, f);
+    force = force + fd;
+    torque = torque + cross(at - m.com, fd);
+  };
+  for (const WetFace& face : wet.faces) {
+    const double a = norm(face.area);
+    if (!(a > 0.0)) continue;
+    const V3 n = face.area * (1.0 / a);
+    for (int k = face.first_point; k < face.first_point + face.points; ++k)
+      element(wet.points[std::size_t(k)].at, n * wet.points[std::size_t(k)].weight);
+  }
+  if (wet.cut_count > 0) element(wet.cut_points * (1.0 / wet.cut_count), wet.cut);
+}
+
 }  // namespace
 
-double submerged_lengths(const EnvelopeRaster& env, double origin_x, double origin_y, double sample_cell,
-                         const WaterSampler& water, std::vector<double>& lengths) {
-  lengths.assign(env.lower.size(), 0.0);
-  double volume = 0.0;
-  for_each_wet_sample(env, origin_x, origin_y, sample_cell, water,
-                      [&](std::size_t k, double, double, double bottom, double top) {
-                        lengths[k] = top - bottom;
-                        volume += (top - bottom) * sample_cell * sample_cell;
-                      });
-  return volume;
-}
-
-WaterImpulse water_impulse(const EnvelopeRaster& env, double origin_x, double origin_y, double sample_cell,
-                           const WaterSampler& water, const FluidSettings& fluid, const btVector3& com,
-                           const btVector3& v, const btVector3& w, double body_mass, double h) {
-  WaterImpulse out;
-  const double area = sample_cell * sample_cell;
-  double vol = 0.0, cx = 0.0, cy = 0.0, cz = 0.0;
-  btVector3 drag(0, 0, 0), drag_torque(0, 0, 0), mean_rel(0, 0, 0);
-  for_each_wet_sample(env, origin_x, origin_y, sample_cell, water,
-                      [&](std::size_t, double x, double y, double bottom, double top) {
-                        const double s = top - bottom, dv = s * area;
-                        vol += dv;
-                        cx += dv * x;
-                        cy += dv * y;
-                        cz += dv * 0.5 * (bottom + top);
-                        // Drag on the wetted part: the bottom face (area) for vertical motion,
-                        // the side strip (s * sample_cell) for horizontal motion.
-                        const btVector3 at(btScalar(x), btScalar(y), btScalar(0.5 * (bottom + top)));
-                        const btVector3 r = at - com;
-                        btVector3 u = v + w.cross(r);
-                        if (water.velocity) u -= water.velocity(x, y);
-                        const double speed = u.length();
-                        const double side = s * sample_cell;
-                        const btVector3 wetted{btScalar(side), btScalar(side), btScalar(area)};
-                        const double k = fluid.density * (fluid.linear_drag + 0.5 * fluid.quadratic_drag * speed);
-                        const btVector3 f = -btScalar(k) * (u * wetted);
-                        drag += f;
-                        drag_torque += r.cross(f);
-                        mean_rel += u * btScalar(dv);
-                      });
-  out.submerged_volume = vol;
-  if (vol <= 0.0) return out;
-  out.centroid = btVector3(btScalar(cx / vol), btScalar(cy / vol), btScalar(cz / vol));
-  const btVector3 buoyancy(0, 0, btScalar(fluid.density * fluid.gravity * vol * h));
-  // Drag may slow the body relative to the water, never reverse it within a substep.
-  btVector3 drag_impulse = drag * btScalar(h), drag_angular = drag_torque * btScalar(h);
-  const double rel_speed = (mean_rel / btScalar(vol)).length();
-  const double dv_drag = drag_impulse.length() / body_mass;
-  if (dv_drag > rel_speed && dv_drag > 0.0) {
-    const btScalar scale = btScalar(rel_speed / dv_drag);
-    drag_impulse *= scale;
-    drag_angular *= scale;
+BodyWater water_forces(const Submerged& wet, double sampled_volume, V3 sampled_moment, const WaterPlane& w,
+                       const FluidSettings& fluid, const Motion& m, double h) {
+  BodyWater out;
+  out.water_level = w.height(m.com.x, m.com.y);
+  const double volume = wet.volume + sampled_volume;
+  if (!(volume > 0.0)) return out;
+  const V3 cb = (wet.moment + sampled_moment) * (1.0 / volume);
+  out.submerged_volume = volume;
+  out.centre_of_buoyancy = bt(cb);
+  const V3 lift{0, 0, fluid.density * fluid.gravity * volume};
+  const V3 lift_torque = cross(cb - m.com, lift);
+  // The velocity Bullet hands the coupling is the one the body moved with in this substep
+  // (gravity added, buoyancy not yet): drag acts on it. Polyhedra: over their surface;
+  // balls: their centre's motion (a spin moves no surface along its normal); meshes: the
+  // area of a ball of their wet volume at their centre of buoyancy.
+  V3 drag{}, drag_torque{};
+  surface_drag(wet, w, m, fluid, drag, drag_torque);
+  for (const WetBall& b : wet.balls) {
+    const V3 u = relative(m, b.centre, w.vz);
+    const double speed = norm(u);
+    if (!(speed > 0.0)) continue;
+    const WetBall one[1] = {b};
+    Submerged alone;
+    alone.balls.assign(one, one + 1);
+    const V3 fd = drag_on(projected_area(alone, w, u * (1.0 / speed)), u, fluid);
+    drag = drag + fd;
+    drag_torque = drag_torque + cross(b.centre - m.com, fd);
   }
-  out.linear = buoyancy + drag_impulse;
-  out.angular = (out.centroid - com).cross(buoyancy) + drag_angular;
+  const V3 uc = relative(m, cb, w.vz);
+  const double speed = norm(uc);
+  if (sampled_volume > 0.0 && speed > 0.0) {
+    const V3 fd = drag_on(det::pow(sampled_volume, 2.0 / 3.0), uc, fluid);
+    drag = drag + fd;
+    drag_torque = drag_torque + cross(cb - m.com, fd);
+  }
+  if (speed > 0.0) out.projected_area = projected_area(wet, w, uc * (1.0 / speed));
+  // Never more than stops the relative motion (or the spin) within the substep; a mass of
+  // 0 (kinematic) is moved regardless.
+  if (m.mass > 0.0) {
+    const double dv = norm(drag) * h / m.mass;
+    if (dv > speed) drag = drag * (speed / std::max(dv, 1e-300));
+    const double spin = norm(m.w), dw = (m.inv_inertia * bt(drag_torque)).length() * h;
+    if (dw > spin) drag_torque = drag_torque * (spin / std::max(dw, 1e-300));
+  }
+  out.buoyancy = bt(lift);
+  out.drag = bt(drag);
+  out.force = bt(lift + drag);
+  out.torque = bt(lift_torque + drag_torque);
   return out;
 }
-
+}  // namespace water_detail
 }  // namespace SHORE_BULLET_ABI
 }  // namespace shore::bullet

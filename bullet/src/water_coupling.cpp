@@ -4,57 +4,183 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <utility>
 
 #include "coupling_util.h"
+#include "envelope_internal.h"
+#include "shore/bullet/envelope.h"
 #include "shore/core/error.h"
 #include "shore/terrain/terrain.h"
+#include "water_forces.h"
+#include "water_shape.h"
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
-namespace {
 using coupling_detail::Clock;
 using coupling_detail::seconds_since;
+using envelope_detail::Frame;
+using envelope_detail::V3;
+using water_detail::Part;
 
-/// Both envelopes of the nominal solid: buoyancy needs the body's true volume (Bullet's
-/// contact solid rounds cylinder rims and inflates hulls by the margin).
-EnvelopeOptions with_upper() {
+/// The body's sub-sample envelopes: sub-sample k (x) of node i = k / S sits at
+/// x_i + ((k mod S + 1/2) / S - 1/2) h, likewise l (y). Columns the body does not cover
+/// hold lower = +inf.
+struct SubEnvelope {
+  std::int64_t k0 = 0, l0 = 0;
+  int nk = 0, nl = 0;
+  std::vector<double> lower, upper;
+};
+
+struct WaterCoupling::Workspace {
+  std::vector<Frame> frames;
+  std::vector<water_detail::WorldPlanes> planes;
+  std::vector<double> heights, velocities, ds, smooth, lo, hi;
+};
+
+struct WaterCoupling::Body {
+  btRigidBody* body = nullptr;
+  bool disturb = true;
+  water_detail::WaterShape shape;
+  SubEnvelope reference;  // envelopes at the pose the displacement was last taken from
+  SubEnvelope current;
+  btTransform reference_pose;
+  bool have_reference = false;
+  BodyWater last;
+  std::unique_ptr<EnvelopeRasterizer> rasterizer;  // sampled parts only
+  water_detail::Submerged wet;
+  water_detail::WorldPlanes planes;
+};
+
+namespace {
+
+/// The node envelope's nominal solid: buoyancy needs the body's true volume.
+EnvelopeOptions nominal_with_upper() {
   EnvelopeOptions o;
   o.upper = true;
   o.include_margin = false;
   return o;
 }
 
-/// One volume-conserving [1 2 1]/4 pass in x then y over a rectangular field.
+V3 v3(const btVector3& v) { return {double(v.x()), double(v.y()), double(v.z())}; }
+btVector3 bt(V3 v) { return {btScalar(v.x), btScalar(v.y), btScalar(v.z)}; }
+
+/// One volume-conserving [1 2 1]/4 pass in x then y over a rectangular field (edges fold
+/// back onto themselves).
 void smooth(std::vector<double>& f, int nx, int ny, std::vector<double>& tmp) {
   tmp.assign(f.size(), 0.0);
+  const auto at = [nx](int x, int y) { return std::size_t(y) * std::size_t(nx) + std::size_t(x); };
   for (int y = 0; y < ny; ++y)
     for (int x = 0; x < nx; ++x) {
-      const double v = f[std::size_t(y) * std::size_t(nx) + std::size_t(x)];
+      const double v = f[at(x, y)];
       if (v == 0.0) continue;
-      const std::size_t row = std::size_t(y) * std::size_t(nx);
-      tmp[row + std::size_t(x)] += 0.5 * v;
-      if (x > 0)
-        tmp[row + std::size_t(x - 1)] += 0.25 * v;
-      else
-        tmp[row + std::size_t(x)] += 0.25 * v;
-      if (x + 1 < nx)
-        tmp[row + std::size_t(x + 1)] += 0.25 * v;
-      else
-        tmp[row + std::size_t(x)] += 0.25 * v;
+      tmp[at(x, y)] += 0.5 * v;
+      tmp[at(x > 0 ? x - 1 : x, y)] += 0.25 * v;
+      tmp[at(x + 1 < nx ? x + 1 : x, y)] += 0.25 * v;
     }
   f.assign(f.size(), 0.0);
   for (int y = 0; y < ny; ++y)
     for (int x = 0; x < nx; ++x) {
-      const double v = tmp[std::size_t(y) * std::size_t(nx) + std::size_t(x)];
+      const double v = tmp[at(x, y)];
       if (v == 0.0) continue;
-      auto at = [&](int yy) -> double& { return f[std::size_t(yy) * std::size_t(nx) + std::size_t(x)]; };
-      at(y) += 0.5 * v;
-      (y > 0 ? at(y - 1) : at(y)) += 0.25 * v;
-      (y + 1 < ny ? at(y + 1) : at(y)) += 0.25 * v;
+      f[at(x, y)] += 0.5 * v;
+      f[at(x, y > 0 ? y - 1 : y)] += 0.25 * v;
+      f[at(x, y + 1 < ny ? y + 1 : y)] += 0.25 * v;
     }
 }
+
+/// Nodes [i0, i1] x [j0, j1] under the world box, clamped to the grid.
+struct NodeWindow {
+  int i0 = 0, j0 = 0, i1 = -1, j1 = -1;
+  [[nodiscard]] int w() const { return i1 - i0 + 1; }
+  [[nodiscard]] int h() const { return j1 - j0 + 1; }
+};
+NodeWindow window_under(const water::Surface& s, const btVector3& lo, const btVector3& hi, int pad) {
+  const Eigen::Vector2d a = s.grid_coordinates(lo.x(), lo.y()), b = s.grid_coordinates(hi.x(), hi.y());
+  const auto clamp = [](double g, int n) { return static_cast<int>(std::clamp(g, 0.0, double(n - 1))); };
+  NodeWindow w;
+  w.i0 = clamp(std::floor(a.x()) - pad, s.nx());
+  w.i1 = clamp(std::ceil(b.x()) + pad, s.nx());
+  w.j0 = clamp(std::floor(a.y()) - pad, s.ny());
+  w.j1 = clamp(std::ceil(b.y()) + pad, s.ny());
+  return w;
+}
+
+/// The least-squares plane through the heights of the window's nodes outside `inner`
+/// (the nodes under the body's bounding box): the level the body sits in, free of the
+/// surface under the body itself, which its own displacement raises. Also the mean
+/// vertical velocity there.
+water_detail::WaterPlane fit_plane(const water::Surface& s, const NodeWindow& win, const NodeWindow& inner,
+                                   const std::vector<double>& z, const std::vector<double>& vz) {
+  const int w = win.w(), h = win.h();
+  double n = 0, sx = 0, sy = 0, sz = 0, sxx = 0, syy = 0, sxy = 0, sxz = 0, syz = 0, sv = 0;
+  for (int b = 0; b < h; ++b)
+    for (int a = 0; a < w; ++a) {
+      const int i = win.i0 + a, j = win.j0 + b;
+      if (i >= inner.i0 && i <= inner.i1 && j >= inner.j0 && j <= inner.j1) continue;
+      const double x = a - 0.5 * (w - 1), y = b - 0.5 * (h - 1);
+      const double v = z[std::size_t(b) * std::size_t(w) + std::size_t(a)];
+      n += 1;
+      sx += x;
+      sy += y;
+      sz += v;
+      sxx += x * x;
+      syy += y * y;
+      sxy += x * y;
+      sxz += x * v;
+      syz += y * v;
+      sv += vz[std::size_t(b) * std::size_t(w) + std::size_t(a)];
+    }
+  const double cell = s.spacing(), x0 = s.node_x(win.i0) + 0.5 * (w - 1) * cell,
+               y0 = s.node_y(win.j0) + 0.5 * (h - 1) * cell;
+  if (n == 0) return water_detail::make_plane(x0, y0, s.settings().rest_height, 0, 0, 0);
+  // Normal equations of z = a + b x + c y, centred on the nodes used.
+  const double mx = sx / n, my = sy / n, mz = sz / n;
+  const double cxx = sxx / n - mx * mx, cyy = syy / n - my * my, cxy = sxy / n - mx * my;
+  const double cxz = sxz / n - mx * mz, cyz = syz / n - my * mz;
+  const double det = cxx * cyy - cxy * cxy;
+  double bx = 0.0, by = 0.0;
+  if (det > 1e-12 * (cxx * cyy + 1e-300)) {
+    bx = (cxz * cyy - cyz * cxy) / det;
+    by = (cyz * cxx - cxz * cxy) / det;
+  }
+  return water_detail::make_plane(x0 + mx * cell, y0 + my * cell, s.settings().rest_height + mz, bx / cell, by / cell,
+                                  sv / n);
+}
+
+/// The body's envelope along a row of sub-samples: every part's chord, merged (min of the
+/// lower ends, max of the upper ones where a part covers the point).
+void envelope_row(const water_detail::WaterShape& shape, const std::vector<Frame>& frames,
+                  const std::vector<water_detail::WorldPlanes>& planes, double x0, double dx, int n, double y,
+                  double* lower, double* upper, std::vector<double>& lo, std::vector<double>& hi) {
+  lo.resize(std::size_t(n));
+  hi.resize(std::size_t(n));
+  for (std::size_t p = 0; p < shape.parts.size(); ++p) {
+    const Part& part = shape.parts[p];
+    if (part.kind == Part::Kind::sampled) continue;  // merged from their raster
+    std::fill(lo.begin(), lo.end(), -std::numeric_limits<double>::infinity());
+    std::fill(hi.begin(), hi.end(), std::numeric_limits<double>::infinity());
+    if (part.kind == Part::Kind::polyhedron) {
+      water_detail::chord_row(planes[p], x0, dx, n, y, lo.data(), hi.data());
+    } else {
+      const V3 c = frames[p].t;
+      const double ry = part.radius * part.radius - (y - c.y) * (y - c.y);
+      for (int k = 0; k < n; ++k) {
+        const double r2 = ry - (x0 + k * dx - c.x) * (x0 + k * dx - c.x);
+        const double half = r2 > 0.0 ? std::sqrt(r2) : 0.0;
+        lo[std::size_t(k)] = r2 > 0.0 ? c.z - half : 0.0;
+        hi[std::size_t(k)] = r2 > 0.0 ? c.z + half : 0.0;
+      }
+    }
+    for (int k = 0; k < n; ++k)
+      if (lo[std::size_t(k)] < hi[std::size_t(k)]) {
+        lower[k] = std::min(lower[k], lo[std::size_t(k)]);
+        upper[k] = std::max(upper[k], hi[std::size_t(k)]);
+      }
+  }
+}
+
 }  // namespace
 
 void WaterCouplingSettings::validate() const {
@@ -67,59 +193,79 @@ void WaterCouplingSettings::validate() const {
 }
 
 WaterCoupling::WaterCoupling(btDiscreteDynamicsWorld& world, water::Surface& surface, WaterCouplingSettings settings)
-    : world_(world),
-      surface_(surface),
-      settings_(std::move(settings)),
-      sample_cell_(surface.spacing() / settings_.fluid.samples_per_cell) {
+    : world_(world), surface_(surface), settings_(std::move(settings)), work_(std::make_unique<Workspace>()) {
   settings_.fluid.density = surface.density();
   settings_.validate();
-  sampler_.height = [this](double x, double y) { return surface_.height_at(x, y); };
-  sampler_.velocity = [this](double x, double y) {
-    return btVector3(0, 0, btScalar(surface_.vertical_velocity_at(x, y)));
-  };
   world_.addAction(this);
 }
 
 WaterCoupling::~WaterCoupling() { world_.removeAction(this); }
 
-bool WaterCoupling::body_is_sane(const btRigidBody& body) const {
-  return coupling_detail::body_is_sane(body, settings_.max_speed);
+namespace {
+/// The grid of sub-samples: sub-sample k at origin + (k + 1/2) h / S - h / 2.
+EnvelopeGrid sub_grid(const water::Surface& s, int per_cell) {
+  const double h = s.spacing(), cell = h / per_cell;
+  return {s.settings().origin_x - 0.5 * h + 0.5 * cell, s.settings().origin_y - 0.5 * h + 0.5 * cell, cell};
 }
 
-void WaterCoupling::rasterize(const btRigidBody& body, Sampled& out) const {
-  const btVector3 com = body.getCenterOfMassPosition();
-  out.origin_x = com.x() + 0.5 * sample_cell_;  // samples at com +- (k + 1/2) cell
-  out.origin_y = com.y() + 0.5 * sample_cell_;
-  rasterize_envelope(*body.getCollisionShape(), body.getWorldTransform(),
-                     EnvelopeGrid{out.origin_x, out.origin_y, sample_cell_}, with_upper(), out.raster);
+void check_pose(const btRigidBody& body) {
+  const btTransform& t = body.getWorldTransform();
+  const Frame f = envelope_detail::frame_of(t);
+  const auto bad = [](double v) { return !std::isfinite(v); };
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      if (bad(f.r[r][c]))
+        throw InvalidSetting("bullet.WaterCoupling.add_body pose", "rotation " + detail::to_text(f.r[r][c]),
+                             "must be finite");
+  if (bad(f.t.x) || bad(f.t.y) || bad(f.t.z))
+    throw InvalidSetting(
+        "bullet.WaterCoupling.add_body pose",
+        "position (" + detail::to_text(f.t.x) + ", " + detail::to_text(f.t.y) + ", " + detail::to_text(f.t.z) + ")",
+        "must be finite");
+  if (!(envelope_detail::basis_deviation(f) <= kMaxBasisDeviation))
+    throw InvalidSetting("bullet.WaterCoupling.add_body pose", detail::to_text(envelope_detail::basis_deviation(f)),
+                         "the basis must be a rotation (deviation <= " + detail::to_text(kMaxBasisDeviation) + ")");
+  if (!coupling_detail::finite(body.getLinearVelocity()) || !coupling_detail::finite(body.getAngularVelocity()))
+    throw InvalidSetting("bullet.WaterCoupling.add_body velocity", "not finite", "must be finite");
 }
-
-bool WaterCoupling::can_rasterize(const Body& b) const {
-  const btVector3 com = b.body->getCenterOfMassPosition();
-  return pose_rasterizable(b.body->getWorldTransform(), b.reach,
-                           EnvelopeGrid{com.x() + 0.5 * sample_cell_, com.y() + 0.5 * sample_cell_, sample_cell_});
-}
+}  // namespace
 
 void WaterCoupling::add_body(btRigidBody* body, bool disturb) {
   if (body == nullptr) throw InvalidSetting("bullet.WaterCoupling.add_body(body)", "null", "must be a rigid body");
-  Body b;
-  b.body = body;
-  b.disturb = disturb;
-  // Once: then rasterizing it never fails for a sane pose.
-  b.reach = check_rasterizable(*body->getCollisionShape(), sample_cell_, with_upper());
+  if (body->getCollisionShape() == nullptr)
+    throw InvalidSetting("bullet.WaterCoupling.add_body shape", "null", "the body must have a collision shape");
+  check_pose(*body);
+  auto b = std::make_unique<Body>();
+  b->body = body;
+  b->disturb = disturb;
+  b->shape = water_detail::prepare_shape(*body->getCollisionShape());
+  if (b->shape.sampled) {
+    const EnvelopeGrid grid = sub_grid(surface_, settings_.fluid.samples_per_cell);
+    (void)check_rasterizable(*body->getCollisionShape(), grid.cell, nominal_with_upper());
+    b->rasterizer = std::make_unique<EnvelopeRasterizer>(grid, nominal_with_upper());
+  }
   remove_body(body);
-  if (body_is_sane(*body) && can_rasterize(b)) rasterize(*body, b.previous);  // tracking starts at this pose
   bodies_.push_back(std::move(b));
+  Body& added = *bodies_.back();
+  if (added.disturb) displace(added);  // tracking starts at this pose
 }
 
 void WaterCoupling::remove_body(btRigidBody* body) {
-  std::erase_if(bodies_, [body](const Body& b) { return b.body == body; });
+  std::erase_if(bodies_, [body](const std::unique_ptr<Body>& b) { return b->body == body; });
 }
 
+std::vector<btRigidBody*> WaterCoupling::bodies() const { return coupling_detail::body_pointers(bodies_); }
+
 double WaterCoupling::submerged_volume(const btRigidBody* body) const {
-  for (const Body& b : bodies_)
-    if (b.body == body) return b.submerged;
+  for (const auto& b : bodies_)
+    if (b->body == body) return b->last.submerged_volume;
   return 0.0;
+}
+
+BodyWater WaterCoupling::water_force(const btRigidBody* body) const {
+  for (const auto& b : bodies_)
+    if (b->body == body) return b->last;
+  return {};
 }
 
 int WaterCoupling::fix_shoreline(const terrain::Terrain& ground) {
@@ -136,88 +282,215 @@ int WaterCoupling::fix_shoreline(const terrain::Terrain& ground) {
   return fixed;
 }
 
-void WaterCoupling::displace(Body& b) {
-  const double node_area = surface_.spacing() * surface_.spacing();
-  const double sample_area = sample_cell_ * sample_cell_;
-  const double inv_h = 1.0 / surface_.spacing();
-  // Node of a sample: the nearest one.
-  auto node_of = [&](const Sampled& s, std::int64_t fi, std::int64_t fj) {
-    const double x = s.origin_x + double(fi) * sample_cell_, y = s.origin_y + double(fj) * sample_cell_;
-    return std::pair<std::int64_t, std::int64_t>{
-        std::int64_t(std::floor((x - surface_.settings().origin_x) * inv_h + 0.5)),
-        std::int64_t(std::floor((y - surface_.settings().origin_y) * inv_h + 0.5))};
-  };
-  submerged_lengths(b.previous.raster, b.previous.origin_x, b.previous.origin_y, sample_cell_, sampler_, lengths_old_);
-  submerged_lengths(b.current.raster, b.current.origin_x, b.current.origin_y, sample_cell_, sampler_, lengths_new_);
-  // Node window covering both rasters, padded by one node per smoothing pass.
-  const int pad = settings_.smoothing_passes + 1;
-  std::int64_t i0 = INT64_MAX, j0 = INT64_MAX, i1 = INT64_MIN, j1 = INT64_MIN;
-  for (const Sampled* s : {&b.previous, &b.current}) {
-    const EnvelopeRaster& r = s->raster;
-    if (r.nx == 0 || r.ny == 0) continue;
-    const auto [a0, c0] = node_of(*s, r.i0, r.j0);
-    const auto [a1, c1] = node_of(*s, r.i0 + r.nx - 1, r.j0 + r.ny - 1);
-    i0 = std::min(i0, a0 - pad);
-    j0 = std::min(j0, c0 - pad);
-    i1 = std::max(i1, a1 + pad);
-    j1 = std::max(j1, c1 + pad);
+namespace {
+
+/// Frames of the parts at the body's pose, and the polyhedra's world face planes.
+void part_frames(const water_detail::WaterShape& shape, const Frame& body, std::vector<Frame>& frames,
+                 std::vector<water_detail::WorldPlanes>& planes) {
+  frames.resize(shape.parts.size());
+  planes.resize(shape.parts.size());
+  for (std::size_t p = 0; p < shape.parts.size(); ++p) {
+    const Frame& l = shape.parts[p].local;
+    Frame& f = frames[p];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        f.r[i][j] = body.r[i][0] * l.r[0][j] + body.r[i][1] * l.r[1][j] + body.r[i][2] * l.r[2][j];
+    f.t = body.to_world(l.t);
+    if (shape.parts[p].kind == Part::Kind::polyhedron) water_detail::world_planes(shape.parts[p].poly, f, planes[p]);
   }
-  if (i0 > i1 || j0 > j1) return;
-  const int nx = int(i1 - i0 + 1), ny = int(j1 - j0 + 1);
-  std::vector<double> ds(std::size_t(nx) * std::size_t(ny), 0.0);
-  auto accumulate = [&](const Sampled& s, const std::vector<double>& len, double sign) {
-    const EnvelopeRaster& r = s.raster;
-    for (int bb = 0; bb < r.ny; ++bb)
-      for (int aa = 0; aa < r.nx; ++aa) {
-        const double l = len[std::size_t(bb) * std::size_t(r.nx) + std::size_t(aa)];
-        if (l == 0.0) continue;
-        const auto [ni, nj] = node_of(s, r.i0 + aa, r.j0 + bb);
-        ds[std::size_t(nj - j0) * std::size_t(nx) + std::size_t(ni - i0)] += sign * l * sample_area / node_area;
+}
+
+/// A part's frame as a Bullet transform (for the rasterizer).
+btTransform to_transform(const Frame& f) {
+  btTransform t;
+  t.setBasis(btMatrix3x3(btScalar(f.r[0][0]), btScalar(f.r[0][1]), btScalar(f.r[0][2]), btScalar(f.r[1][0]),
+                         btScalar(f.r[1][1]), btScalar(f.r[1][2]), btScalar(f.r[2][0]), btScalar(f.r[2][1]),
+                         btScalar(f.r[2][2])));
+  t.setOrigin(bt(f.t));
+  return t;
+}
+
+/// The analytic parts below the plane.
+void submerge(const water_detail::WaterShape& shape, const std::vector<Frame>& frames,
+              const water_detail::WaterPlane& plane, water_detail::Submerged& wet) {
+  wet.clear();
+  for (std::size_t p = 0; p < shape.parts.size(); ++p) {
+    const Part& part = shape.parts[p];
+    if (part.kind == Part::Kind::polyhedron && part.axis >= 0)
+      water_detail::add_revolution(part.poly, frames[p], part.axis, plane, wet);
+    else if (part.kind == Part::Kind::polyhedron)
+      water_detail::add_polyhedron(part.poly, frames[p], plane, wet);
+    else if (part.kind == Part::Kind::ball)
+      water_detail::add_ball(frames[p].t, part.radius, plane, wet);
+  }
+}
+
+/// Meshes: the wet length of every sub-sample column under the plane, into volume and
+/// first moment.
+void submerge_sampled(const water_detail::WaterShape& shape, const std::vector<Frame>& frames,
+                      const water_detail::WaterPlane& plane, EnvelopeRasterizer& rasterizer, double& volume,
+                      V3& moment) {
+  EnvelopeRaster r;
+  const EnvelopeGrid& g = rasterizer.grid();
+  for (std::size_t p = 0; p < shape.parts.size(); ++p) {
+    if (shape.parts[p].kind != Part::Kind::sampled) continue;
+    rasterizer.rasterize(*shape.parts[p].shape, to_transform(frames[p]), r);
+    for (int l = 0; l < r.ny; ++l)
+      for (int k = 0; k < r.nx; ++k) {
+        const std::size_t q = std::size_t(l) * std::size_t(r.nx) + std::size_t(k);
+        if (!r.covers(q)) continue;
+        const double x = g.origin_x + double(r.i0 + k) * g.cell, y = g.origin_y + double(r.j0 + l) * g.cell;
+        const double top = std::min(r.upper[q], plane.height(x, y));
+        if (!(top > r.lower[q])) continue;
+        const double dv = (top - r.lower[q]) * g.cell * g.cell;
+        volume += dv;
+        moment = moment + V3{x, y, 0.5 * (top + r.lower[q])} * dv;
       }
-  };
-  accumulate(b.current, lengths_new_, 1.0);
-  accumulate(b.previous, lengths_old_, -1.0);
-  for (int p = 0; p < settings_.smoothing_passes; ++p) smooth(ds, nx, ny, scratch_);
-  const double gain = settings_.displacement_gain;
-  for (int y = 0; y < ny; ++y)
-    for (int x = 0; x < nx; ++x) {
-      const double d = gain * ds[std::size_t(y) * std::size_t(nx) + std::size_t(x)];
-      const std::int64_t i = i0 + x, j = j0 + y;
-      if (d == 0.0 || i < 0 || j < 0 || i >= surface_.nx() || j >= surface_.ny()) continue;
-      if (surface_.add_height(int(i), int(j), d)) stats_.displaced_volume += d * node_area;
-    }
+  }
+}
+
+/// Whether two poses differ by less than `tol` (m, and tol / reach in rotation).
+bool same_pose(const btTransform& a, const btTransform& b, double tol, double reach) {
+  if ((a.getOrigin() - b.getOrigin()).length() > tol) return false;
+  for (int r = 0; r < 3; ++r)
+    if ((a.getBasis()[r] - b.getBasis()[r]).length() * reach > tol) return false;
+  return true;
+}
+
+}  // namespace
+
+void WaterCoupling::sample_envelopes(Body& b) {
+  const btTransform& pose = b.body->getWorldTransform();
+  btVector3 lo, hi;
+  b.body->getCollisionShape()->getAabb(pose, lo, hi);
+  const int per = settings_.fluid.samples_per_cell;
+  const EnvelopeGrid grid = sub_grid(surface_, per);
+  const auto sub = [&](double x, double origin) { return (x - origin) / grid.cell; };
+  const std::int64_t kmax = std::int64_t(surface_.nx()) * per - 1, lmax = std::int64_t(surface_.ny()) * per - 1;
+  SubEnvelope& e = b.current;
+  e.k0 = std::clamp<std::int64_t>(std::int64_t(std::floor(sub(lo.x(), grid.origin_x))), 0, kmax);
+  e.l0 = std::clamp<std::int64_t>(std::int64_t(std::floor(sub(lo.y(), grid.origin_y))), 0, lmax);
+  const std::int64_t k1 = std::clamp<std::int64_t>(std::int64_t(std::ceil(sub(hi.x(), grid.origin_x))), 0, kmax);
+  const std::int64_t l1 = std::clamp<std::int64_t>(std::int64_t(std::ceil(sub(hi.y(), grid.origin_y))), 0, lmax);
+  e.nk = int(k1 - e.k0 + 1);
+  e.nl = int(l1 - e.l0 + 1);
+  const std::size_t n = std::size_t(e.nk) * std::size_t(e.nl);
+  e.lower.assign(n, EnvelopeRaster::kNoLower);
+  e.upper.assign(n, EnvelopeRaster::kNoUpper);
+  Workspace& w = *work_;
+  part_frames(b.shape, envelope_detail::frame_of(pose), w.frames, w.planes);
+  for (int l = 0; l < e.nl; ++l) {
+    const std::size_t row = std::size_t(l) * std::size_t(e.nk);
+    envelope_row(b.shape, w.frames, w.planes, grid.origin_x + double(e.k0) * grid.cell, grid.cell, e.nk,
+                 grid.origin_y + double(e.l0 + l) * grid.cell, e.lower.data() + row, e.upper.data() + row, w.lo, w.hi);
+  }
+  if (!b.rasterizer) return;
+  EnvelopeRaster r;  // sampled parts: their raster on the same grid, merged
+  r.resize(e.k0, e.l0, e.nk, e.nl, true);
+  for (std::size_t p = 0; p < b.shape.parts.size(); ++p)
+    if (b.shape.parts[p].kind == Part::Kind::sampled)
+      b.rasterizer->accumulate(*b.shape.parts[p].shape, to_transform(w.frames[p]), r);
+  for (std::size_t k = 0; k < n; ++k) {
+    e.lower[k] = std::min(e.lower[k], r.lower[k]);
+    e.upper[k] = std::max(e.upper[k], r.upper[k]);
+  }
+}
+
+void WaterCoupling::displace(Body& b) {
+  const btTransform& pose = b.body->getWorldTransform();
+  btVector3 lo, hi;
+  b.body->getCollisionShape()->getAabb(pose, lo, hi);
+  // At rest (within a thousandth of a cell of the pose the displacement was last taken
+  // from) nothing is swept: the motion is taken, whole, once it exceeds that.
+  if (b.have_reference &&
+      same_pose(pose, b.reference_pose, 1e-3 * surface_.spacing(), 0.5 * double((hi - lo).length())))
+    return;
+  sample_envelopes(b);
+  if (b.have_reference) {
+    // Nodes of both envelopes, padded for the smoothing.
+    const int per = settings_.fluid.samples_per_cell, pad = settings_.smoothing_passes + 1;
+    const SubEnvelope& e = b.current;
+    const auto node0 = [per](std::int64_t k) { return int(k / per); };
+    NodeWindow win;
+    win.i0 = std::max(0, std::min(node0(e.k0), node0(b.reference.k0)) - pad);
+    win.j0 = std::max(0, std::min(node0(e.l0), node0(b.reference.l0)) - pad);
+    win.i1 =
+        std::min(surface_.nx() - 1, std::max(node0(e.k0 + e.nk - 1), node0(b.reference.k0 + b.reference.nk - 1)) + pad);
+    win.j1 =
+        std::min(surface_.ny() - 1, std::max(node0(e.l0 + e.nl - 1), node0(b.reference.l0 + b.reference.nl - 1)) + pad);
+    Workspace& w = *work_;
+    surface_.heights_above_rest(win.i0, win.j0, win.w(), win.h(), w.heights);
+    w.ds.assign(w.heights.size(), 0.0);
+    const double rest = surface_.settings().rest_height, share = 1.0 / (double(per) * per);
+    const auto accumulate = [&](const SubEnvelope& s, double sign) {
+      for (int l = 0; l < s.nl; ++l) {
+        const int j = node0(s.l0 + l) - win.j0;
+        const double* lower = s.lower.data() + std::size_t(l) * std::size_t(s.nk);
+        const double* upper = s.upper.data() + std::size_t(l) * std::size_t(s.nk);
+        double* out = w.ds.data() + std::size_t(j) * std::size_t(win.w());
+        const double* water = w.heights.data() + std::size_t(j) * std::size_t(win.w());
+        for (int k = 0; k < s.nk; ++k) {
+          if (!(lower[k] < EnvelopeRaster::kNoLower)) continue;
+          const int i = node0(s.k0 + k) - win.i0;
+          out[i] += sign * share * std::clamp(rest + water[i] - lower[k], 0.0, upper[k] - lower[k]);
+        }
+      }
+    };
+    accumulate(e, 1.0);
+    accumulate(b.reference, -1.0);
+    for (int p = 0; p < settings_.smoothing_passes; ++p) smooth(w.ds, win.w(), win.h(), w.smooth);
+    for (double& d : w.ds) d *= settings_.displacement_gain;
+    stats_.displaced_volume += surface_.add_heights(win.i0, win.j0, win.w(), win.h(), w.ds);
+  }
+  std::swap(b.reference, b.current);
+  b.reference_pose = pose;
+  b.have_reference = true;
+}
+
+void WaterCoupling::float_body(Body& b, double h) {
+  btRigidBody& body = *b.body;
+  const Frame f = envelope_detail::frame_of(body.getWorldTransform());
+  if (!coupling_detail::body_is_sane(body, settings_.max_speed) ||
+      !(envelope_detail::basis_deviation(f) <= kMaxBasisDeviation)) {  // never poison the water
+    ++stats_.skipped_bodies;
+    return;
+  }
+  btVector3 lo, hi;
+  body.getCollisionShape()->getAabb(body.getWorldTransform(), lo, hi);
+  const NodeWindow inner = window_under(surface_, lo, hi, 0), win = window_under(surface_, lo, hi, 2);
+  Workspace& w = *work_;
+  surface_.heights_above_rest(win.i0, win.j0, win.w(), win.h(), w.heights);
+  surface_.vertical_velocities(win.i0, win.j0, win.w(), win.h(), w.velocities);
+  const water_detail::WaterPlane plane = fit_plane(surface_, win, inner, w.heights, w.velocities);
+  part_frames(b.shape, f, w.frames, w.planes);
+  submerge(b.shape, w.frames, plane, b.wet);
+  double sampled_volume = 0.0;
+  V3 sampled_moment{};
+  if (b.shape.sampled) submerge_sampled(b.shape, w.frames, plane, *b.rasterizer, sampled_volume, sampled_moment);
+  water_detail::Motion m;
+  m.com = v3(body.getCenterOfMassPosition());
+  m.v = v3(body.getLinearVelocity());
+  m.w = v3(body.getAngularVelocity());
+  m.mass = body.getInvMass() > 0 ? 1.0 / double(body.getInvMass()) : 0.0;
+  m.inv_inertia = body.getInvInertiaTensorWorld();
+  b.last = water_detail::water_forces(b.wet, sampled_volume, sampled_moment, plane, settings_.fluid, m, h);
+  if (m.mass > 0.0 && b.last.submerged_volume > 0.0) {  // kinematic and static bodies: reported, not applied
+    body.applyCentralImpulse(b.last.force * btScalar(h));
+    body.applyTorqueImpulse(b.last.torque * btScalar(h));
+    body.activate(true);
+  }
+  surface_.wake(lo.x(), lo.y(), hi.x(), hi.y());
+  if (b.disturb) displace(b);
 }
 
 void WaterCoupling::updateAction(btCollisionWorld*, btScalar substep) {
-  const double h = substep;
   ++stats_.substeps;
   const auto t0 = Clock::now();
-  for (Body& b : bodies_) {
-    btRigidBody& body = *b.body;
-    if (!body_is_sane(body) || !can_rasterize(b)) {  // never poison the water
-      ++stats_.skipped_bodies;
-      continue;
-    }
-    rasterize(body, b.current);
-    const double mass = body.getInvMass() > 0 ? 1.0 / body.getInvMass() : 0.0;
-    if (mass > 0.0) {
-      const WaterImpulse w = water_impulse(b.current.raster, b.current.origin_x, b.current.origin_y, sample_cell_,
-                                           sampler_, settings_.fluid, body.getCenterOfMassPosition(),
-                                           body.getLinearVelocity(), body.getAngularVelocity(), mass, h);
-      b.submerged = w.submerged_volume;
-      if (w.submerged_volume > 0.0) {
-        body.applyCentralImpulse(w.linear);
-        body.applyTorqueImpulse(w.angular);
-        body.activate(true);
-      }
-    }
-    if (b.disturb) displace(b);
-    std::swap(b.previous, b.current);
-  }
+  for (const auto& b : bodies_) float_body(*b, substep);
   stats_.coupling_seconds = seconds_since(t0);
   if (settings_.step_water) {
     const auto t1 = Clock::now();
-    stats_.water_substeps = surface_.step(h).substeps;
+    stats_.water_substeps = surface_.step(substep).substeps;
     stats_.water_seconds = seconds_since(t1);
   }
 }

@@ -44,6 +44,7 @@ water::SurfaceSettings kernel_case_settings(KernelVariant v, int n, int threads)
   s.nx = s.ny = n;
   s.lattice = LatticeParameters::paper();
   s.threads = threads;
+  s.sleep.enabled = false;  // the kernel over the whole grid, every substep
   s.mode = (v == KernelVariant::vertical_only || v == KernelVariant::reference_vertical) ? SurfaceMode::vertical_only
                                                                                          : SurfaceMode::full_3d;
   return s;
@@ -64,7 +65,17 @@ const char* kernel_variant_name(KernelVariant v) {
 }
 
 double bytes_per_node_step(KernelVariant v) {
-  return (v == KernelVariant::vertical_only || v == KernelVariant::reference_vertical) ? 17.0 : 49.0;
+  switch (v) {
+    case KernelVariant::fast_3d:
+      return 65.0;
+    case KernelVariant::vertical_only:
+      return 33.0;
+    case KernelVariant::reference_3d:
+      return 49.0;
+    case KernelVariant::reference_vertical:
+      break;
+  }
+  return 17.0;
 }
 
 KernelThroughput measure_kernel_throughput(KernelVariant v, int n, int threads, double min_seconds) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include "shore/scenes/envelopes.h"
 #include "shore/scenes/render.h"
@@ -83,16 +82,6 @@ Image render_water_scene(const water::Surface& surface, const WaterOverlay& over
   }
   if (!overlay.bodies.empty()) paint(image, top, w, h, body_cover(overlay.bodies, g.x0, g.y0, pixel, w, h), kBody, 0.8);
   return image;
-}
-
-double level_around(const water::Surface& surface, double x, double y, double radius) {
-  constexpr int kPoints = 32;
-  double sum = 0.0;
-  for (int k = 0; k < kPoints; ++k) {
-    const double a = 2.0 * std::numbers::pi * k / kPoints;
-    sum += surface.height_at(x + radius * std::cos(a), y + radius * std::sin(a));
-  }
-  return sum / kPoints;
 }
 
 }  // namespace shore::scenes

@@ -3,7 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <string>
+
+#include "shore/core/error.h"
 
 #include "bad_bodies.h"
 #include "shore/bullet/water_coupling.h"
@@ -181,6 +185,7 @@ TEST(WaterCoupling, SameResultWhateverTheThreadCount) {
   run.floaters[1].position = btVector3(0.6f, 0.4f, 0.5f);
   run.seconds = 1.0;
   std::uint64_t first = 0;
+  run.pool.parallel_min_nodes = 0;  // the team on every substep, however small the pool
   for (int threads : {1, 2, 4}) {
     run.pool.threads = threads;
     const PoolResult r = run_pool(run);
@@ -225,6 +230,151 @@ TEST(WaterCoupling, ShorelineIsFixedWhereTheGroundRisesAboveTheWater) {
     }
   EXPECT_EQ(fixed, expected);
   EXPECT_GT(fixed, 0);
+}
+
+// ---- drag, force, errors ---------------------------------------------------------------
+
+namespace {
+TowRun tow(FloaterShape shape, btVector3 size, double ratio) {
+  TowRun run;
+  run.pool.nodes = 128;  // 6.4 m along the tow
+  run.pool.nodes_y = 64;
+  run.pool.damping_time = 1.0;
+  run.floater.shape = shape;
+  run.floater.size = size;
+  run.floater.density_ratio = ratio;
+  run.floater.position = btVector3(-2.5f, 0.013f, 0.0f);  // height: run_tow puts it at its draft
+  return run;
+}
+}  // namespace
+
+// A box 0.3 m wide floating 0.1 m deep, towed at 1 m/s: the water pushes back with
+// 1/2 rho C_d A v^2 on its frontal area A = 0.3 x 0.1 m (15 N at C_d = 1), plus the
+// linear term rho k A v where k is set. (The old model felt V / sample size: 31 x.) In its
+// own waves the bow wave raises the water in front and the drag by a few per cent.
+TEST(WaterDrag, TowedBoxFeelsTheDragLawOnItsFrontalArea) {
+  for (double k : {0.0, 0.2})
+    for (bool waves : {false, true}) {
+      TowRun run = tow(FloaterShape::box, btVector3(0.3f, 0.3f, 0.2f), 0.5);
+      run.pool.fluid.linear_drag = k;
+      run.disturb = waves;
+      const TowResult r = run_tow(run);
+      EXPECT_EQ(r.nan_count, 0);
+      EXPECT_NEAR(r.area, 0.03, 0.001) << "towed at draft " << r.draft;
+      EXPECT_LT(rel(r.drag, r.reference), waves ? 0.06 : 0.005)
+          << "k " << k << (waves ? ", in its waves" : "") << ": drag " << r.drag << " N vs " << r.reference << " N";
+    }
+}
+
+TEST(WaterDrag, TowedBallFeelsTheDragLawOnItsWetSegment) {
+  for (bool waves : {false, true}) {
+    TowRun run = tow(FloaterShape::sphere, btVector3(0.2f, 0.2f, 0.2f), 0.5);
+    run.pool.fluid.linear_drag = 0.0;
+    run.disturb = waves;
+    const TowResult r = run_tow(run);
+    EXPECT_NEAR(r.area, 0.5 * std::numbers::pi * 0.01, 0.001) << "half a disc of r 0.1 m at half density";
+    EXPECT_LT(rel(r.drag, r.reference), waves ? 0.06 : 0.005) << r.drag << " N vs " << r.reference << " N";
+  }
+}
+
+TEST(WaterDrag, DoesNotDependOnSamplesPerCell) {
+  double drag[2] = {};
+  for (int n = 0; n < 2; ++n) {
+    TowRun run = tow(FloaterShape::box, btVector3(0.3f, 0.3f, 0.2f), 0.5);
+    run.pool.fluid.samples_per_cell = n == 0 ? 2 : 8;
+    drag[n] = run_tow(run).drag;
+  }
+  EXPECT_LT(rel(drag[1], drag[0]), 0.05) << "2 samples: " << drag[0] << " N, 8 samples: " << drag[1] << " N";
+}
+
+// A ball of density 1.5 and 0.1 m sinks through 3 m of water at the speed where the drag
+// law balances its weight less its buoyancy.
+TEST(WaterDrag, DenseBallSinksAtItsTerminalVelocity) {
+  SinkRun run;
+  run.pool.depth = 3.0;
+  run.pool.nodes = 32;
+  run.pool.cell = 0.1;
+  run.seconds = 8.0;
+  const SinkResult r = run_sink(run);
+  EXPECT_EQ(r.nan_count, 0);
+  ASSERT_GT(r.terminal, 0.0) << "it did not reach the depths measured";
+  EXPECT_LT(rel(r.terminal, r.reference), 0.10) << r.terminal << " m/s vs " << r.reference << " m/s";
+}
+
+// Boxes and a convex hull (an octagonal prism) released at rest at Archimedes' draft stay
+// there, to a tenth of a percent; the water's force on them balances their weight.
+TEST(WaterForce, RestingFloatersHoldArchimedesDraftAndBalanceTheirWeight) {
+  PoolRun run;
+  run.pool.damping_time = 1.0;
+  run.seconds = 3.0;
+  for (auto [shape, ratio] : {std::pair{FloaterShape::box, 0.5}, {FloaterShape::hull, 0.4}, {FloaterShape::box, 0.8}}) {
+    Floater f;
+    f.shape = shape;
+    f.size = btVector3(0.3f, 0.3f, 0.2f);
+    f.density_ratio = ratio;
+    f.position = btVector3(btScalar(-1.0 + 0.9 * double(run.floaters.size())), 0.013f, btScalar((0.5 - ratio) * 0.2));
+    run.floaters.push_back(f);
+  }
+  const PoolResult r = run_pool(run);
+  for (std::size_t n = 0; n < run.floaters.size(); ++n)
+    EXPECT_LT(rel(r.final_draft[n], archimedes_draft(run.floaters[n])), 1e-3)
+        << "floater " << n << ": " << r.final_draft[n] << " vs " << archimedes_draft(run.floaters[n]);
+}
+
+TEST(WaterForce, IsReportedPerBodyAndBalancesTheWeightAtRest) {
+  shore::water::PhysicalParameters phys;
+  shore::water::SurfaceSettings ws = shore::water::SurfaceSettings::physical(phys, 32, 32);
+  ws.origin_x = ws.origin_y = -0.775;
+  ws.mode = shore::water::SurfaceMode::vertical_only;
+  shore::water::Surface surface(ws);
+  World world;
+  shore::bullet::WaterCoupling coupling(world.world(), surface);
+  Floater f;
+  f.size = btVector3(0.3f, 0.3f, 0.2f);
+  f.density_ratio = 0.5;
+  f.position = btVector3(0.01f, 0.02f, 0.0f);  // at its draft
+  btRigidBody* b = add_floater(world, f);
+  coupling.add_body(b);
+  EXPECT_EQ(coupling.water_force(b).submerged_volume, 0.0) << "nothing before the first substep";
+  for (int k = 0; k < 480; ++k) world.step(1.0 / 240);
+  const shore::bullet::BodyWater w = coupling.water_force(b);
+  const double weight = 9.81 / b->getInvMass();
+  EXPECT_NEAR(w.force.z(), weight, 0.01 * weight);
+  EXPECT_NEAR(w.buoyancy.z(), 1000 * 9.81 * w.submerged_volume, 1e-3);
+  EXPECT_NEAR(w.submerged_volume, 0.5 * 0.3 * 0.3 * 0.2, 1e-2 * 0.009);
+  EXPECT_NEAR(w.centre_of_buoyancy.z(), -0.05, 5e-4) << "half way down the wet half";
+  EXPECT_LT(w.torque.length(), 0.01 * weight * 0.15) << "upright: no heeling moment";
+  EXPECT_DOUBLE_EQ(coupling.submerged_volume(b), w.submerged_volume);
+  EXPECT_EQ(coupling.water_force(nullptr).submerged_volume, 0.0);
+}
+
+TEST(WaterCoupling, AddBodyRefusesANanPoseAndAZeroSizeShape) {
+  shore::water::PhysicalParameters phys;
+  shore::water::Surface surface(shore::water::SurfaceSettings::physical(phys, 16, 16));
+  World world;
+  shore::bullet::WaterCoupling coupling(world.world(), surface);
+  btRigidBody* nan_body =
+      world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 1.0, btVector3(0, 0, 0));
+  btTransform t = nan_body->getWorldTransform();
+  t.setOrigin(btVector3(std::numeric_limits<btScalar>::quiet_NaN(), 0, 0));
+  nan_body->setWorldTransform(t);
+  try {
+    coupling.add_body(nan_body);
+    ADD_FAILURE() << "a NaN pose was accepted";
+  } catch (const shore::InvalidSetting& e) {
+    EXPECT_NE(std::string(e.what()).find("pose"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("nan"), std::string::npos) << e.what();
+  }
+  btRigidBody* flat =
+      world.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.0f, 0.1f)), 1.0, btVector3(0, 0, 0));
+  try {
+    coupling.add_body(flat);
+    ADD_FAILURE() << "a box of zero thickness was accepted";
+  } catch (const shore::InvalidSetting& e) {
+    EXPECT_NE(std::string(e.what()).find("half extent y"), std::string::npos) << e.what();
+  }
+  btRigidBody* dot = world.add_body(std::make_unique<btSphereShape>(btScalar(0)), 1.0, btVector3(0, 0, 0));
+  EXPECT_THROW(coupling.add_body(dot), shore::InvalidSetting);
 }
 
 // As for the soil: a shape the water cannot take is refused by add_body; a broken pose later

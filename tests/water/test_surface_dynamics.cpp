@@ -18,9 +18,12 @@ using shore::water::testing::tabulate_mode;
 namespace {
 
 bool state_is_finite(const Surface& s) {
-  const Surface::View v = s.view();
-  for (auto span : {v.ux, v.uy, v.uz, v.vx, v.vy, v.vz})
-    for (float x : span)
+  const DenseState v = s.dense_state();
+  for (const auto* f : {&v.ux, &v.uy, &v.vx, &v.vy})
+    for (float x : *f)
+      if (!std::isfinite(x)) return false;
+  for (const auto* f : {&v.uz, &v.vz})
+    for (double x : *f)
       if (!std::isfinite(x)) return false;
   return true;
 }

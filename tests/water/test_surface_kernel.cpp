@@ -52,7 +52,7 @@ TEST_P(FastAgainstReference, AgreeAfter1000Steps) {
     ASSERT_EQ(fast.step(dt).substeps, 1);
     ref.step(dt);
   }
-  const Surface::View v = fast.view();
+  const DenseState v = fast.dense_state();
   const bool full = GetParam() == SurfaceMode::full_3d;
   double diff_u = 0.0, scale_u = 0.0, diff_v = 0.0, scale_v = 0.0, diff_p = 0.0, scale_p = 0.0;
   for (int j = 0; j < s.ny; ++j) {
@@ -103,6 +103,8 @@ TEST_P(ThreadCount, StateHashIsTheSameFor1To4Threads) {
   for (int t = 0; t < 3; ++t) {
     SurfaceSettings s = mixed_settings(GetParam());
     s.threads = threads[t];
+    s.parallel_min_nodes = 0;  // fork every substep, however small the grid
+    s.sleep.tile = 16;
     Surface surf(s);
     add_island_and_drops(surf);
     surf.disturb(Disturbance::point_height(26.0, 23.0, 2.0, 20.0));  // violent: substeps too
@@ -149,10 +151,10 @@ TEST_P(KernelVariants, Avx2AndGenericAgreeBitwiseAfter1000ViolentSteps) {
   if (GetParam() == SurfaceMode::full_3d) {
     EXPECT_GT(substeps, 1000);  // the disturbance was violent enough to need substeps
   }
-  const Surface::View a = avx2.view(), g = generic.view();
+  const DenseState a = avx2.dense_state(), g = generic.dense_state();
   std::size_t differing = 0;
   for (std::size_t k = 0; k < a.uz.size(); ++k)
-    differing += std::bit_cast<std::uint32_t>(a.uz[k]) != std::bit_cast<std::uint32_t>(g.uz[k]);
+    differing += std::bit_cast<std::uint64_t>(a.uz[k]) != std::bit_cast<std::uint64_t>(g.uz[k]);
 #ifdef SHORE_CROSS_PLATFORM_DETERMINISTIC
   EXPECT_EQ(differing, 0u) << "nodes whose height differs in any bit";
   EXPECT_EQ(avx2.state_hash(), generic.state_hash());
@@ -167,6 +169,60 @@ INSTANTIATE_TEST_SUITE_P(Modes, KernelVariants, ::testing::Values(SurfaceMode::v
                          [](const ::testing::TestParamInfo<SurfaceMode>& c) {
                            return std::string(c.param == SurfaceMode::full_3d ? "Full3d" : "VerticalOnly");
                          });
+
+// The same on a sleeping, tiled surface with an open edge: tiles fall asleep and wake
+// during the run, and threads take tiles in any order.
+TEST_P(KernelVariants, Avx2AndGenericAgreeBitwiseOnASleepingTiledSurface) {
+  if (!Surface::kernel_available(KernelChoice::avx2)) GTEST_SKIP() << "no AVX2 kernel in this build or on this CPU";
+  SurfaceSettings s = mixed_settings(GetParam());
+  s.nx = 101;
+  s.ny = 93;
+  s.boundary = Boundary::open;
+  s.open.width = 10;
+  s.sleep.tile = 16;
+  s.sleep.height = 0.02;    // m, with h = 1 m and a 5 m bump: tiles the rings have left fall asleep
+  s.lattice.damping = 0.5;  // amplitude e-folding time 16 s
+  s.threads = 2;
+  s.parallel_min_nodes = 0;
+  s.kernel = KernelChoice::avx2;
+  Surface avx2(s);
+  s.kernel = KernelChoice::generic;
+  s.threads = 1;
+  Surface generic(s);
+  for (Surface* surf : {&avx2, &generic}) {
+    add_island_and_drops(*surf);
+    surf->disturb(Disturbance::point_height(70.0, 60.0, 2.0, 5.0));
+  }
+  std::int64_t slept = 0;
+  for (int k = 0; k < 600; ++k) {
+    avx2.step(0.4);
+    generic.step(0.4);
+    slept = std::max<std::int64_t>(slept, avx2.tile_stats().created - avx2.tile_stats().awake);
+    if (k == 300) {
+      for (Surface* surf : {&avx2, &generic}) surf->disturb(Disturbance::point_velocity(20.0, 70.0, 1.5, 0.5));
+    }
+  }
+  EXPECT_GT(slept, 0) << "no tile slept: the case does not test sleeping";
+#ifdef SHORE_CROSS_PLATFORM_DETERMINISTIC
+  EXPECT_EQ(avx2.state_hash(), generic.state_hash());
+#else
+  GTEST_SKIP() << "without SHORE_CROSS_PLATFORM_DETERMINISTIC the AVX2 kernel may fuse multiply-adds";
+#endif
+}
+
+// Threads never hurt: below parallel_min_nodes a step never wakes the team (a 53 x 47 grid
+// at the default), above it (here forced) it does.
+TEST(Threads, SmallGridsNeverForkTheTeam) {
+  SurfaceSettings s = mixed_settings(SurfaceMode::vertical_only);
+  s.threads = 2;
+  Surface small(s);
+  small.disturb(Disturbance::point_height(15.0, 20.0, 2.0, 1.0));
+  EXPECT_EQ(small.step(0.3).parallel_substeps, 0);
+  s.parallel_min_nodes = 0;
+  Surface forced(s);
+  forced.disturb(Disturbance::point_height(15.0, 20.0, 2.0, 1.0));
+  EXPECT_EQ(forced.step(0.3).parallel_substeps, 1);
+}
 
 TEST(KernelChoice, Avx2IsRefusedWhereItCannotRun) {
   SurfaceSettings s = mixed_settings(SurfaceMode::full_3d);

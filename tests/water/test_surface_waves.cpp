@@ -35,12 +35,12 @@ TEST_P(WaterRing, IsSymmetricUnderTheGridsEightSymmetries) {
   // compressed pre-tensioned lattice buckles in-plane, which amplifies rounding noise).
   surf.disturb(Disturbance::point_height(surf.node_x(20), surf.node_y(20), 2.0, 0.3));
   for (int k = 0; k < 120; ++k) surf.step(0.4);  // the ring reaches the edges and comes back
-  const Surface::View v = surf.view();
-  const auto at = [N](std::span<const float> a, int i, int j) {
+  const DenseState v = surf.dense_state();
+  const auto at = [N](const auto& a, int i, int j) {
     return static_cast<double>(a[static_cast<std::size_t>(j * N + i)]);
   };
   double scale = 0.0, worst = 0.0, worst_plane = 0.0;
-  for (float x : v.uz) scale = std::max(scale, static_cast<double>(std::abs(x)));
+  for (double x : v.uz) scale = std::max(scale, static_cast<double>(std::abs(x)));
   ASSERT_GT(scale, 1e-3);
   const bool full = GetParam() == SurfaceMode::full_3d;
   for (int j = 0; j < N; ++j) {

@@ -25,7 +25,7 @@ inline std::vector<double> tabulate_mode(int N, int m, int n) {
 
 /// Least-squares projection of the heights onto a tabulated mode shape.
 inline double project(const Surface& s, const std::vector<double>& phi) {
-  const auto uz = s.view().uz;
+  const std::vector<double> uz = s.dense_state().uz;
   double num = 0.0, den = 0.0;
   for (std::size_t k = 0; k < phi.size(); ++k) {
     num += phi[k] * uz[k];

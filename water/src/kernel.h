@@ -1,43 +1,83 @@
 #pragma once
-// Internal: the fast step kernels, compiled twice (AVX2 + FMA, and generic) from
-// kernel_impl.inc and chosen at run time.
+// Internal: the tile step kernels, compiled twice (AVX2 + FMA, and generic) from
+// kernel_impl.inc and chosen at run time. One call advances one tile by one substep.
+//
+// A tile holds up to T x T nodes (row stride T). The caller gathers the positions the
+// substep starts from into a scratch block with a ghost ring one node wide (the
+// neighbours' edges), so the kernel reads old positions from the block and writes the new
+// state into the tile's own storage in place: tiles are independent and may run on any
+// thread in any order. Every spring is computed from its two ends' old positions by the
+// same arithmetic whichever tile computes it, and the force on a node is summed in one
+// fixed order, so tile size and thread count never change the bits.
 
 #include <cstddef>
 #include <cstdint>
 
+#include "quantum.h"
+
 namespace shore::water::kernel {
 
-/// Float SoA state of an nx x ny grid, index j * nx + i. flags: 0 free, 1 vertical-only,
-/// 2 fixed (the NodeConstraint values).
-struct Grid {
-  int nx = 0;
-  int ny = 0;
-  float* ux = nullptr;
+/// What the spring to a ghost node is, per side of the tile.
+enum class Side : std::uint8_t {
+  live = 0,    ///< an awake neighbour: the spring acts in full
+  frozen = 1,  ///< a sleeping (or not yet created) neighbour: in-plane force acts, vertical does not
+  absent = 2,  ///< beyond the grid: no spring (3-D: the missing pre-tension pull is applied instead)
+};
+/// Index of the eight sides and corners.
+enum SideIndex : int { kSouth = 0, kNorth, kWest, kEast, kSouthWest, kSouthEast, kNorthWest, kNorthEast, kSides };
+
+/// The tile's state and its gathered block. Block pointers point at interior node (0, 0);
+/// row r, column i of the block is at [r * block_stride + i] for r, i in [-1, h] x [-1, w].
+struct Tile {
+  int w = 0, h = 0;      ///< interior nodes
+  int stride = 0;        ///< row stride of the tile's storage
+  int block_stride = 0;  ///< row stride of the block
+  double* uz = nullptr;  ///< storage: height above rest (multiples of the height quantum)
+  double* vz = nullptr;  ///< storage: vertical velocity (multiples of the velocity quantum)
+  float* ux = nullptr;   ///< storage, 3-D only
   float* uy = nullptr;
-  float* uz = nullptr;
   float* vx = nullptr;
   float* vy = nullptr;
-  float* vz = nullptr;
-  const std::uint8_t* flags = nullptr;
+  const std::uint8_t* flags = nullptr;  ///< storage: 0 free, 1 vertical-only, 2 fixed
+  double* bz = nullptr;                 ///< block: old heights with the ghost ring (scratch: the
+                                        ///< vertical-only kernel overwrites it)
+  const float* bx = nullptr;            ///< block, 3-D only
+  const float* by = nullptr;
+  Side sides[kSides] = {};
+  /// Activity of the steps between the tile's edges and the ghost ring per side (computed
+  /// when gathering: max |u_edge - u_ghost| / sleep height; 0 where the side is absent).
+  double boundary_activity[kSides] = {};
+  /// The open boundary's sigma per node (1/s, row-major with the storage's stride), or null
+  /// where the tile has no sponge: damping 2 sigma v and pull sigma^2 u per unit mass.
+  const double* sponge = nullptr;
 };
 
 /// Coefficients of one substep.
 struct Coefficients {
   float h = 1.f;          ///< spacing
-  float c = 1.f;          ///< spring stiffness (3-D); k_t (vertical-only)
-  float rest = 1.f;       ///< axis rest length
-  float rest_diag = 1.f;  ///< diagonal rest length
-  float damping = 0.f;    ///< gamma, N s/m
-  float impulse = 1.f;    ///< dt / m
+  float c = 1.f;          ///< spring stiffness (3-D); unused in vertical-only mode
+  float rest = 1.f;       ///< axis rest length (3-D)
+  float rest_diag = 1.f;  ///< diagonal rest length (3-D)
+  float s0 = 0.f;         ///< c (1 - rest_ratio): the Hooke factor at rest (3-D)
+  float damping = 0.f;    ///< gamma, N s/m (in-plane, float)
+  float impulse = 1.f;    ///< dt / m (float)
   float dt = 1.f;
+  double impulse_z = 1.0;             ///< dt / m: vertical force to velocity change
+  double kappa = 1.0;                 ///< vertical-only: k_t dt / m (velocity change per unit height difference)
+  double beta = 0.0;                  ///< gamma dt / m
+  double dt_z = 1.0;                  ///< dt
+  double u_magic = 1.0, u_inv = 1.0;  ///< height quantum (quantum.h)
+  double v_magic = 1.0, v_inv = 1.0;  ///< velocity quantum
+  bool activity = true;               ///< measure the stretch part of the activity (false: nothing sleeps)
+  double u_scale = 1.0;               ///< 1 / sleep height threshold (activity)
+  double v_scale = 1.0;               ///< 1 / sleep velocity threshold
 };
 
 /// The guard's raw measures of the 3-D lattice, as bit patterns of non-negative floats
 /// (they order like the floats; max and min are exact in any order): per spring family
 /// (axis, diagonal) the largest and smallest squared length and the largest squared
 /// component across the rest direction; and the largest squared relative velocity
-/// |v_b - v_a|^2 of the ends of an axis spring after the substep (a diagonal's is at most
-/// twice the square root of it).
+/// |v_b - v_a|^2 of the ends of an axis spring after the substep.
 struct Extremes {
   std::uint32_t long_axis = 0u, short_axis = 0x7f7fffffu, across_axis = 0u;
   std::uint32_t long_diag = 0u, short_diag = 0x7f7fffffu, across_diag = 0u;
@@ -54,29 +94,43 @@ struct Extremes {
   }
 };
 
-/// Floats of scratch per thread the kernels need for a row of nx nodes.
-std::size_t workspace_floats_per_thread(int nx);
+/// What one tile's substep reports. Sums are exact counts of quanta over moving nodes.
+struct TileResult {
+  quantum::Wide v_before = 0;  ///< sum of vertical velocities before the substep
+  quantum::Wide damped = 0;    ///< sum of the (rounded) damping impulses gamma dt / m v
+  quantum::Wide v_after = 0;   ///< sum of vertical velocities after it
+  quantum::Wide rise = 0;      ///< sum of the (rounded) height increments v dt
+  /// Activity: max over moving nodes of the stretch |u_a - u_b| of their springs to the
+  /// other nodes of the tile (all components) / sleep height and |v| / sleep velocity (and
+  /// the steps to the ghost ring, boundary_activity), over the
+  /// whole tile, along each side (row or column) and at each corner node (SideIndex order).
+  double activity = 0.0;
+  double side_activity[kSides] = {};
+  Extremes extremes;  ///< 3-D: the springs the tile computed, and relative speeds within it
+};
 
-// One substep in place, with the AVX2 variant if avx2 (only where avx2_available()), else
-// the generic one. workspace: threads * workspace_floats_per_thread(nx) floats. step_3d
-// returns the measures of the positions it started from and the largest relative velocity
-// of a spring's ends it ended with.
-Extremes step_3d(bool avx2, const Grid& g, const Coefficients& k, int threads, float* workspace);
-void step_vertical(bool avx2, const Grid& g, const Coefficients& k, int threads, float* workspace);
-Extremes measure_3d(bool avx2, const Grid& g, const Coefficients& k, int threads);
+/// Bytes of scratch one thread needs for tiles of up to `tile` nodes per side.
+std::size_t workspace_bytes(int tile);
+
+// One substep of one tile, with the AVX2 variant if avx2 (only where avx2_available()),
+// else the generic one. workspace: workspace_bytes(tile) bytes, 64-byte aligned.
+TileResult step_3d(bool avx2, const Tile& t, const Coefficients& k, void* workspace);
+TileResult step_vertical(bool avx2, const Tile& t, const Coefficients& k, void* workspace);
+/// The guard's measures of a tile's springs at the block's positions (no update).
+Extremes measure_3d(bool avx2, const Tile& t, const Coefficients& k, void* workspace);
 
 /// Whether this build has the AVX2 variant and this CPU can run it (AVX2 and FMA).
 bool avx2_available();
 
 namespace avx2 {
-Extremes step_3d(const Grid& g, const Coefficients& k, int threads, float* workspace);
-void step_vertical(const Grid& g, const Coefficients& k, int threads, float* workspace);
-Extremes measure_3d(const Grid& g, const Coefficients& k, int threads);
+TileResult step_3d(const Tile& t, const Coefficients& k, void* workspace);
+TileResult step_vertical(const Tile& t, const Coefficients& k, void* workspace);
+Extremes measure_3d(const Tile& t, const Coefficients& k, void* workspace);
 }  // namespace avx2
 namespace generic {
-Extremes step_3d(const Grid& g, const Coefficients& k, int threads, float* workspace);
-void step_vertical(const Grid& g, const Coefficients& k, int threads, float* workspace);
-Extremes measure_3d(const Grid& g, const Coefficients& k, int threads);
+TileResult step_3d(const Tile& t, const Coefficients& k, void* workspace);
+TileResult step_vertical(const Tile& t, const Coefficients& k, void* workspace);
+Extremes measure_3d(const Tile& t, const Coefficients& k, void* workspace);
 }  // namespace generic
 
 }  // namespace shore::water::kernel

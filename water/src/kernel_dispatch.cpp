@@ -2,9 +2,12 @@
 
 namespace shore::water::kernel {
 
-std::size_t workspace_floats_per_thread(int nx) {
-  const std::size_t n = (static_cast<std::size_t>(nx) + 15u) & ~std::size_t{15};
-  return 27 * (n + 16) + 16;  // 9 guarded rows of 3 (see take_row3)
+std::size_t workspace_bytes(int tile) {
+  // 13 force rows of 2 floats + 1 double, 8 measure rows of floats, 1 activity row of doubles,
+  // each of tile + 16 entries rounded up to 64 bytes, and slack.
+  const std::size_t n = static_cast<std::size_t>(tile) + 16;
+  const auto row = [](std::size_t bytes) { return (bytes + 63) & ~std::size_t{63}; };
+  return 13 * (2 * row(4 * n) + row(8 * n)) + 8 * row(4 * n) + row(8 * n) + 256;
 }
 
 bool avx2_available() {
@@ -18,27 +21,20 @@ bool avx2_available() {
 
 #ifdef SHORE_WATER_NO_AVX2
 // The generic variant only; callers never ask for AVX2 when it is not available.
-Extremes step_3d(bool, const Grid& g, const Coefficients& k, int threads, float* workspace) {
-  return generic::step_3d(g, k, threads, workspace);
+TileResult step_3d(bool, const Tile& t, const Coefficients& k, void* w) { return generic::step_3d(t, k, w); }
+TileResult step_vertical(bool, const Tile& t, const Coefficients& k, void* w) {
+  return generic::step_vertical(t, k, w);
 }
-void step_vertical(bool, const Grid& g, const Coefficients& k, int threads, float* workspace) {
-  generic::step_vertical(g, k, threads, workspace);
-}
-Extremes measure_3d(bool, const Grid& g, const Coefficients& k, int threads) {
-  return generic::measure_3d(g, k, threads);
-}
+Extremes measure_3d(bool, const Tile& t, const Coefficients& k, void* w) { return generic::measure_3d(t, k, w); }
 #else
-Extremes step_3d(bool avx2, const Grid& g, const Coefficients& k, int threads, float* workspace) {
-  return avx2 ? avx2::step_3d(g, k, threads, workspace) : generic::step_3d(g, k, threads, workspace);
+TileResult step_3d(bool avx2, const Tile& t, const Coefficients& k, void* w) {
+  return avx2 ? avx2::step_3d(t, k, w) : generic::step_3d(t, k, w);
 }
-void step_vertical(bool avx2, const Grid& g, const Coefficients& k, int threads, float* workspace) {
-  if (avx2)
-    avx2::step_vertical(g, k, threads, workspace);
-  else
-    generic::step_vertical(g, k, threads, workspace);
+TileResult step_vertical(bool avx2, const Tile& t, const Coefficients& k, void* w) {
+  return avx2 ? avx2::step_vertical(t, k, w) : generic::step_vertical(t, k, w);
 }
-Extremes measure_3d(bool avx2, const Grid& g, const Coefficients& k, int threads) {
-  return avx2 ? avx2::measure_3d(g, k, threads) : generic::measure_3d(g, k, threads);
+Extremes measure_3d(bool avx2, const Tile& t, const Coefficients& k, void* w) {
+  return avx2 ? avx2::measure_3d(t, k, w) : generic::measure_3d(t, k, w);
 }
 #endif
 

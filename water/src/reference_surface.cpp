@@ -8,20 +8,17 @@
 
 #include "shore/core/error.h"
 #include "shore/water/stability.h"
+#include "surface_state.h"
 
 namespace shore::water {
 
 ReferenceSurface::ReferenceSurface(const SurfaceSettings& settings) : settings_(settings) {
   settings_.validate();
   nodes_.resize(static_cast<std::size_t>(settings_.nx) * static_cast<std::size_t>(settings_.ny));
-  const NodeConstraint edge = settings_.boundary == Boundary::fixed           ? NodeConstraint::fixed
-                              : settings_.boundary == Boundary::vertical_only ? NodeConstraint::vertical_only
-                                                                              : NodeConstraint::free;
-  for (int j = 0; j < settings_.ny; ++j) {
-    for (int i = 0; i < settings_.nx; ++i) {
-      if (i == 0 || j == 0 || i == settings_.nx - 1 || j == settings_.ny - 1) set_constraint(i, j, edge);
-    }
-  }
+  // The same edge constraints as Surface (the reference has no open boundary's layer).
+  for (int j = 0; j < settings_.ny; ++j)
+    for (int i = 0; i < settings_.nx; ++i)
+      set_constraint(i, j, default_constraint(settings_.boundary, i, j, settings_.nx, settings_.ny));
 }
 
 void ReferenceSurface::set_constraint(int i, int j, NodeConstraint c) {

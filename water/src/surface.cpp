@@ -1,269 +1,315 @@
+// The surface: construction, tiles, constraints, edits and queries.
 #include "shore/water/surface.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
+#include <thread>
 
-#include <omp.h>
-#include <Eigen/Geometry>
-
-#include "kernel.h"
+#include "shore/core/det_math.h"
 #include "shore/core/error.h"
-#include "shore/core/hash.h"
 #include "shore/water/stability.h"
+#include "surface_state.h"
 
 namespace shore::water {
 
+NodeConstraint default_constraint(Boundary b, int i, int j, int nx, int ny) {
+  if (i > 0 && j > 0 && i < nx - 1 && j < ny - 1) return NodeConstraint::free;
+  switch (b) {
+    case Boundary::fixed:
+      return NodeConstraint::fixed;
+    case Boundary::vertical_only:
+    case Boundary::open:
+      return NodeConstraint::vertical_only;
+    case Boundary::free:
+      break;
+  }
+  return NodeConstraint::free;
+}
+
 namespace {
 
-constexpr double kSqrt2 = 1.4142135623730951;
-
-/// The four spring families, each joining (i, j) to (i + di, j + dj); anti-diagonal springs
-/// start at (i + 1, j). Rest offsets in units of h.
-struct SpringFamily {
-  int ai, aj, bi, bj;  ///< first and second end, relative to the cell corner (i, j)
-  double rest_scale;   ///< rest length / (rest_ratio h): 1 or sqrt(2)
-};
-constexpr SpringFamily kFamilies[4] = {
-    {0, 0, 1, 0, 1.0},     // horizontal
-    {0, 0, 0, 1, 1.0},     // vertical
-    {0, 0, 1, 1, kSqrt2},  // diagonal
-    {1, 0, 0, 1, kSqrt2},  // anti-diagonal
-};
-
-/// Calls fn(a, b, family) for every spring of an nx x ny grid, a and b node indices.
-template <class Fn>
-void for_each_spring(int nx, int ny, Fn&& fn) {
-  for (int j = 0; j < ny; ++j) {
-    for (int i = 0; i < nx; ++i) {
-      for (const SpringFamily& f : kFamilies) {
-        const int ai = i + f.ai, aj = j + f.aj, bi = i + f.bi, bj = j + f.bj;
-        if (ai >= nx || bi >= nx || aj >= ny || bj >= ny) continue;
-        const auto a = static_cast<std::size_t>(aj) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(ai);
-        const auto b = static_cast<std::size_t>(bj) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(bi);
-        fn(a, b, f);
-      }
-    }
-  }
+/// The velocity scale of the disturbance cap and the velocity quantum: the top frequency
+/// at rest times the spacing.
+double top_frequency(const SurfaceSettings& s) {
+  return s.mode == SurfaceMode::full_3d ? omega_max_at_rest(s.lattice) : omega_max_vertical(s.lattice);
 }
+
+int hardware_threads() { return std::max(1, static_cast<int>(std::thread::hardware_concurrency())); }
+
+/// Tile index and in-tile offset of a node index.
+struct Split {
+  int tile, local;
+};
+Split split(int i, int shift) { return {i >> shift, i & ((1 << shift) - 1)}; }
 
 }  // namespace
 
-Surface::Surface(const SurfaceSettings& settings) : settings_(settings) {
+// ---- tiles ---------------------------------------------------------------------------------
+
+TileData* Surface::State::find(int tx, int ty) const {
+  if (!inside(tx, ty)) return nullptr;
+  const std::int32_t k =
+      slot[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x) + static_cast<std::size_t>(tx)];
+  return k < 0 ? nullptr : tiles[static_cast<std::size_t>(k)].get();
+}
+
+TileData& Surface::State::obtain(const SurfaceSettings& s, int tx, int ty) {
+  if (TileData* t = find(tx, ty)) return *t;
+  auto t = std::make_unique<TileData>();
+  t->tx = tx;
+  t->ty = ty;
+  t->w = std::min(T, s.nx - tx * T);
+  t->h = std::min(T, s.ny - ty * T);
+  const std::size_t n = static_cast<std::size_t>(T) * static_cast<std::size_t>(T);
+  t->uz.assign(n, 0.0);
+  t->vz.assign(n, 0.0);
+  if (full) {
+    t->ux.assign(n, 0.f);
+    t->uy.assign(n, 0.f);
+    t->vx.assign(n, 0.f);
+    t->vy.assign(n, 0.f);
+  }
+  t->flags.assign(n, static_cast<std::uint8_t>(NodeConstraint::free));
+  for (int j = 0; j < t->h; ++j)
+    for (int i = 0; i < t->w; ++i)
+      t->flags[t->at(i, j, T)] =
+          static_cast<std::uint8_t>(default_constraint(s.boundary, tx * T + i, ty * T + j, s.nx, s.ny));
+  const std::size_t e = 4 * static_cast<std::size_t>(T);
+  for (TileData::Edges& ed : t->edges) {
+    ed.z.assign(e, 0.0);
+    if (full) {
+      ed.x.assign(e, 0.f);
+      ed.y.assign(e, 0.f);
+      ed.vx.assign(e, 0.f);
+      ed.vy.assign(e, 0.f);
+      ed.vz.assign(e, 0.0);
+    }
+  }
+  fill_sponge(s, *t);
+  slot[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x) + static_cast<std::size_t>(tx)] =
+      static_cast<std::int32_t>(tiles.size());
+  tiles.push_back(std::move(t));
+  return *tiles.back();
+}
+
+void Surface::State::fill_sponge(const SurfaceSettings& s, TileData& t) const {
+  t.sponge.clear();
+  if (s.boundary != Boundary::open || sigma.empty()) return;
+  const int width = static_cast<int>(sigma.size());
+  const int gi0 = t.tx * T, gj0 = t.ty * T;
+  const auto distance = [&](int i, int j) {
+    return std::min(std::min(gi0 + i, s.nx - 1 - (gi0 + i)), std::min(gj0 + j, s.ny - 1 - (gj0 + j)));
+  };
+  bool reaches = false;
+  for (int j = 0; j < t.h && !reaches; ++j)
+    for (int i = 0; i < t.w && !reaches; ++i) reaches = distance(i, j) < width;
+  if (!reaches) return;
+  t.sponge.assign(static_cast<std::size_t>(T) * static_cast<std::size_t>(T), 0.0);
+  for (int j = 0; j < t.h; ++j)
+    for (int i = 0; i < t.w; ++i) {
+      const int d = distance(i, j);
+      if (d < width) t.sponge[t.at(i, j, T)] = sigma[static_cast<std::size_t>(d)];
+    }
+}
+
+void Surface::State::set_layer(const SurfaceSettings& s) {
+  sigma.clear();
+  sigma_max = 0.0;
+  if (s.boundary != Boundary::open) return;
+  const OpenBoundarySettings& o = s.open;
+  sigma_max = o.strength * s.lattice.wave_speed() / (o.width * s.lattice.spacing);
+  for (int d = 0; d < o.width; ++d) {
+    const double r = double(o.width - d) / o.width;
+    sigma.push_back(sigma_max * r * r);
+  }
+}
+
+void Surface::State::set_awake(TileData& t) {
+  if (t.awake) {
+    t.calm = 0;
+    return;
+  }
+  t.awake = true;
+  t.calm = 0;
+  if (!t.ever_awake) ++ever_awake;
+  t.ever_awake = true;
+  const std::int32_t s = t.ty * tiles_x + t.tx;
+  awake.insert(std::lower_bound(awake.begin(), awake.end(), s), s);
+}
+
+void Surface::State::wake_around(const SurfaceSettings& s, int tx, int ty) {
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if (inside(tx + dx, ty + dy)) set_awake(obtain(s, tx + dx, ty + dy));
+}
+
+void Surface::State::rebuild_awake_list() {
+  awake.clear();
+  for (const auto& t : tiles)
+    if (t->awake) awake.push_back(t->ty * tiles_x + t->tx);
+  std::sort(awake.begin(), awake.end());
+}
+
+void Surface::State::refresh_edges(TileData& t, int parity) const {
+  TileData::Edges& e = t.edges[static_cast<std::size_t>(parity)];
+  const auto put = [&](int side, int k, int i, int j) {
+    const std::size_t from = t.at(i, j, T), to = static_cast<std::size_t>(side * T + k);
+    e.z[to] = t.uz[from];
+    if (full) {
+      e.x[to] = t.ux[from];
+      e.y[to] = t.uy[from];
+      e.vx[to] = t.vx[from];
+      e.vy[to] = t.vy[from];
+      e.vz[to] = t.vz[from];
+    }
+  };
+  for (int i = 0; i < t.w; ++i) {
+    put(kernel::kSouth, i, i, 0);
+    put(kernel::kNorth, i, i, t.h - 1);
+  }
+  for (int j = 0; j < t.h; ++j) {
+    put(kernel::kWest, j, 0, j);
+    put(kernel::kEast, j, t.w - 1, j);
+  }
+}
+
+std::size_t Surface::State::memory_bytes() const {
+  std::size_t b = slot.capacity() * sizeof(std::int32_t) + awake.capacity() * sizeof(std::int32_t) +
+                  tiles.capacity() * sizeof(void*);
+  for (const auto& t : tiles) {
+    b +=
+        sizeof(TileData) + t->uz.capacity() * 8 + t->vz.capacity() * 8 + t->flags.capacity() + t->sponge.capacity() * 8;
+    b += (t->ux.capacity() + t->uy.capacity() + t->vx.capacity() + t->vy.capacity()) * 4;
+    for (const TileData::Edges& e : t->edges)
+      b += (e.z.capacity() + e.vz.capacity()) * 8 +
+           (e.x.capacity() + e.y.capacity() + e.vx.capacity() + e.vy.capacity()) * 4;
+  }
+  for (const Scratch& s : scratch)
+    b += s.bz.capacity() * 8 + (s.bx.capacity() + s.by.capacity()) * 4 + s.rows.capacity();
+  return b;
+}
+
+// ---- construction --------------------------------------------------------------------------
+
+Surface::Surface(const SurfaceSettings& settings) : settings_(settings), s_(std::make_unique<State>()) {
   settings_.validate();
-  avx2_ = settings_.kernel == KernelChoice::avx2 ||
-          (settings_.kernel == KernelChoice::automatic && kernel::avx2_available());
-  const std::size_t n = node_count();
-  const bool full = settings_.mode == SurfaceMode::full_3d;
-  const std::size_t fields = full ? 6 : 2;
-  const std::size_t stride = ((n + 15) & ~std::size_t{15}) + 48;  // + 192 bytes per field
-  storage_.assign(fields * stride + 16, 0.f);
-  float* base = storage_.data();
-  float** targets[6] = {&uz_, &vz_, &ux_, &uy_, &vx_, &vy_};
-  for (std::size_t f = 0; f < fields; ++f) *targets[f] = base + f * stride;
-  constraints_.assign(n, NodeConstraint::free);
-  apply_boundary(settings_.boundary);
-  threads_ = settings_.threads;
+  State& s = *s_;
+  s.avx2 = settings_.kernel == KernelChoice::avx2 ||
+           (settings_.kernel == KernelChoice::automatic && kernel::avx2_available());
+  s.full = settings_.mode == SurfaceMode::full_3d;
+  s.T = settings_.sleep.tile;
+  s.shift = std::countr_zero(static_cast<unsigned>(s.T));
+  s.tiles_x = (settings_.nx + s.T - 1) / s.T;
+  s.tiles_y = (settings_.ny + s.T - 1) / s.T;
+  s.slot.assign(static_cast<std::size_t>(s.tiles_x) * static_cast<std::size_t>(s.tiles_y), -1);
+  const double h = settings_.lattice.spacing, omega = top_frequency(settings_);
+  s.qu = quantum::Quantum::for_scale(h);
+  s.qv = quantum::Quantum::for_scale(h * omega);
+  s.sleep_u = settings_.sleep.height > 0.0 ? settings_.sleep.height : 1e-5 * h;
+  s.sleep_v =
+      settings_.sleep.velocity > 0.0 ? settings_.sleep.velocity : s.sleep_u * omega_max_vertical(settings_.lattice);
+  s.set_layer(settings_);
+  s.threads = settings_.threads > 0 ? settings_.threads : hardware_threads();
+  s.last_substep = 0.0;
+  // Tiles at rest need not exist, except a free edge of the 3-D lattice: its missing
+  // springs' pre-tension pulls it inwards from the start.
+  const bool free_edges = s.full && settings_.boundary == Boundary::free;
+  for (int ty = 0; ty < s.tiles_y; ++ty)
+    for (int tx = 0; tx < s.tiles_x; ++tx) {
+      const bool edge = tx == 0 || ty == 0 || tx == s.tiles_x - 1 || ty == s.tiles_y - 1;
+      if (!settings_.sleep.enabled || (free_edges && edge)) s.set_awake(s.obtain(settings_, tx, ty));
+    }
 }
 
-std::size_t Surface::index(int i, int j) const {
-  return static_cast<std::size_t>(j) * static_cast<std::size_t>(nx()) + static_cast<std::size_t>(i);
-}
-
-void Surface::check_index(const char* what, int i, int j) const {
-  const Check c{std::string("water.Surface.") + what};
-  c.in_closed("i", i, 0, nx() - 1);
-  c.in_closed("j", j, 0, ny() - 1);
-}
+Surface::~Surface() = default;
+Surface::Surface(Surface&&) noexcept = default;
+Surface& Surface::operator=(Surface&&) noexcept = default;
 
 void Surface::set_threads(int threads) {
   Check{"water.Surface"}.at_least("threads", threads, 0);
-  threads_ = threads;
+  settings_.threads = threads;
+  s_->threads = threads > 0 ? threads : hardware_threads();
+  s_->team.reset();
+  s_->pacer = Pacer{};
 }
 
 const char* Surface::fast_kernel_isa() { return kernel::avx2_available() ? "avx2" : "generic"; }
-
 bool Surface::kernel_available(KernelChoice choice) { return choice != KernelChoice::avx2 || kernel::avx2_available(); }
+const char* Surface::kernel_isa() const noexcept { return s_->avx2 ? "avx2" : "generic"; }
+const StepStats& Surface::last_stats() const { return s_->last_stats; }
+double Surface::time() const { return s_->time; }
+double Surface::sleep_height() const { return s_->sleep_u; }
+double Surface::sleep_velocity() const { return s_->sleep_v; }
 
-// ---- stepping ------------------------------------------------------------------------------
-
-namespace {
-/// The kernel's view of the state. The measure pass only reads through it.
-kernel::Grid make_grid(int nx, int ny, const float* ux, const float* uy, const float* uz, const float* vx,
-                       const float* vy, const float* vz, const std::vector<NodeConstraint>& constraints) {
-  kernel::Grid g;
-  g.nx = nx;
-  g.ny = ny;
-  g.ux = const_cast<float*>(ux);
-  g.uy = const_cast<float*>(uy);
-  g.uz = const_cast<float*>(uz);
-  g.vx = const_cast<float*>(vx);
-  g.vy = const_cast<float*>(vy);
-  g.vz = const_cast<float*>(vz);
-  g.flags = reinterpret_cast<const std::uint8_t*>(constraints.data());
-  return g;
-}
-
-kernel::Coefficients make_coefficients(const SurfaceSettings& s, double dt) {
-  const LatticeParameters& p = s.lattice;
-  kernel::Coefficients k;
-  k.h = static_cast<float>(p.spacing);
-  k.c = static_cast<float>(s.mode == SurfaceMode::full_3d ? p.stiffness : p.transverse_stiffness());
-  k.rest = static_cast<float>(p.rest_ratio * p.spacing);
-  k.rest_diag = static_cast<float>(kSqrt2 * p.rest_ratio * p.spacing);
-  k.damping = static_cast<float>(p.damping);
-  k.impulse = static_cast<float>(dt / p.mass);
-  k.dt = static_cast<float>(dt);
-  return k;
-}
-
-/// Explicit thread counts are honoured; the default (0) takes OpenMP's count but at most one
-/// thread per 16384 nodes, as fork/join costs more than it saves on small grids.
-int resolve_threads(int threads, std::size_t nodes) {
-  if (threads > 0) return threads;
-  const auto by_size = static_cast<int>(std::min<std::size_t>(nodes / 16384u, 1024u));
-  return std::max(1, std::min(omp_get_max_threads(), by_size));
-}
-}  // namespace
+// ---- node helpers --------------------------------------------------------------------------
 
 namespace {
-float from_bits(std::uint32_t b) { return std::bit_cast<float>(b); }
-
-/// Turns the kernel's raw measures into the guard's (max tension, max sin), for positions
-/// that may have moved by up to `slack` along every spring since they were measured:
-/// lengths and across-components grow or shrink by at most slack.
-Deformation deformation_of(const kernel::Extremes& e, const kernel::Coefficients& k, double slack_axis,
-                           double slack_diag) {
-  const auto family = [](double rest, std::uint32_t longest2, std::uint32_t shortest2, std::uint32_t across2,
-                         double slack, double& tension, double& sine) {
-    const double longest = std::sqrt(static_cast<double>(from_bits(longest2))) + slack;
-    const double shortest = std::sqrt(static_cast<double>(from_bits(shortest2))) - slack;
-    const double across = std::sqrt(static_cast<double>(from_bits(across2))) + slack;
-    tension = std::max(tension, longest > 0.0 ? 1.0 - rest / longest : 0.0);
-    sine = std::max(sine, shortest > 0.0 ? std::min(1.0, across / shortest) : 1.0);
-  };
-  Deformation d;
-  family(k.rest, e.long_axis, e.short_axis, e.across_axis, slack_axis, d.max_tension, d.max_sin);
-  family(k.rest_diag, e.long_diag, e.short_diag, e.across_diag, slack_diag, d.max_tension, d.max_sin);
-  return d;
+void check_index(const Surface& s, const char* what, int i, int j) {
+  if (i >= 0 && j >= 0 && i < s.nx() && j < s.ny()) return;  // the common case builds no message
+  const Check c{std::string("water.Surface.") + what};
+  c.in_closed("i", i, 0, s.nx() - 1);
+  c.in_closed("j", j, 0, s.ny() - 1);
 }
 }  // namespace
-
-double Surface::omega_bound() const {
-  const LatticeParameters& p = settings_.lattice;
-  if (settings_.mode == SurfaceMode::vertical_only) return omega_max_vertical(p);
-  if (!deformation_) {
-    const kernel::Grid g = make_grid(nx(), ny(), ux_, uy_, uz_, vx_, vy_, vz_, constraints_);
-    const kernel::Coefficients k = make_coefficients(settings_, 1.0);
-    deformation_ =
-        deformation_of(kernel::measure_3d(avx2_, g, k, resolve_threads(threads_, node_count())), k, 0.0, 0.0);
-  }
-  return omega_bound_3d(p, deformation_->max_tension, deformation_->max_sin);
-}
-
-StepStats Surface::step(double dt) {
-  if (!(dt > 0.0) || !std::isfinite(dt))
-    throw InvalidSetting("water.Surface.step.dt", detail::to_text(dt), "must be finite and > 0");
-  const LatticeParameters& p = settings_.lattice;
-  const GuardSettings& guard = settings_.guard;
-  double omega = omega_bound();
-  SubstepPlan plan = plan_substeps(omega, dt, p.mass, p.damping, guard.safety, guard.max_substeps);
-  StepStats stats;
-  stats.omega_bound = omega;
-  stats.time_clamped = plan.time_clamped;
-  int left = plan.substeps;
-  double remaining = dt;
-  while (left > 0 && stats.substeps < guard.max_substeps) {
-    step_substep(plan.substep);
-    --left;
-    ++stats.substeps;
-    stats.simulated += plan.substep;
-    remaining -= plan.substep;
-    last_substep_ = plan.substep;
-    if (left == 0) break;
-    // The lattice may have stiffened during the substep: re-plan what is left if needed.
-    omega = omega_bound();
-    stats.omega_bound = std::max(stats.omega_bound, omega);
-    if (omega * plan.substep > 2.0 * guard.safety * std::sqrt(1.0 - 0.5 * p.damping * plan.substep / p.mass)) {
-      const int budget = guard.max_substeps - stats.substeps;
-      if (budget < 1) {
-        stats.time_clamped = true;
-        break;
-      }
-      plan = plan_substeps(omega, remaining, p.mass, p.damping, guard.safety, budget);
-      stats.time_clamped = stats.time_clamped || plan.time_clamped;
-      left = plan.substeps;
-    }
-  }
-  stats.substep = stats.simulated / stats.substeps;
-  last_stats_ = stats;
-  time_ += stats.simulated;
-  return stats;
-}
-
-void Surface::step_substep(double dt) {
-  const int threads = resolve_threads(threads_, node_count());
-  workspace_.resize(kernel::workspace_floats_per_thread(nx()) * static_cast<std::size_t>(threads));
-  const kernel::Grid g = make_grid(nx(), ny(), ux_, uy_, uz_, vx_, vy_, vz_, constraints_);
-  const kernel::Coefficients k = make_coefficients(settings_, dt);
-  if (settings_.mode == SurfaceMode::full_3d) {
-    const kernel::Extremes e = kernel::step_3d(avx2_, g, k, threads, workspace_.data());
-    // Measured on the positions the substep started from; then every spring vector moved by
-    // (v_b - v_a) dt with the new velocities: at most r dt for an axis spring, 2 r dt for a
-    // diagonal (r the largest axis relative speed), plus a hair for rounding.
-    const double slack =
-        std::sqrt(static_cast<double>(from_bits(e.relative))) * dt * (1.0 + 1e-6) + 1e-7 * settings_.lattice.spacing;
-    deformation_ = deformation_of(e, k, slack, 2.0 * slack);
-  } else {
-    kernel::step_vertical(avx2_, g, k, threads, workspace_.data());
-  }
-}
 
 // ---- constraints ---------------------------------------------------------------------------
 
 void Surface::set_constraint(int i, int j, NodeConstraint c) {
-  check_index("set_constraint", i, j);
-  const auto raw = static_cast<int>(c);
-  Check{"water.Surface.set_constraint"}.in_closed("constraint", raw, 0, 2);
-  const std::size_t k = index(i, j);
-  constraints_[k] = c;
-  if (c == NodeConstraint::fixed) vz_[k] = 0.f;
-  if (c != NodeConstraint::free && settings_.mode == SurfaceMode::full_3d) {
-    vx_[k] = 0.f;
-    vy_[k] = 0.f;
+  check_index(*this, "set_constraint", i, j);
+  Check{"water.Surface.set_constraint"}.in_closed("constraint", static_cast<int>(c), 0, 2);
+  State& s = *s_;
+  const Split a = split(i, s.shift), b = split(j, s.shift);
+  s.wake_around(settings_, a.tile, b.tile);
+  TileData& t = *s.find(a.tile, b.tile);
+  const std::size_t k = t.at(a.local, b.local, s.T);
+  t.flags[k] = static_cast<std::uint8_t>(c);
+  if (c == NodeConstraint::fixed) t.vz[k] = 0.0;
+  if (c != NodeConstraint::free && s.full) {
+    t.vx[k] = 0.f;
+    t.vy[k] = 0.f;
   }
+  s.refresh_edges(t, t.cur);
 }
 
 NodeConstraint Surface::constraint(int i, int j) const {
-  check_index("constraint", i, j);
-  return constraints_[index(i, j)];
+  check_index(*this, "constraint", i, j);
+  const Split a = split(i, s_->shift), b = split(j, s_->shift);
+  if (const TileData* t = s_->find(a.tile, b.tile))
+    return static_cast<NodeConstraint>(t->flags[t->at(a.local, b.local, s_->T)]);
+  return default_constraint(settings_.boundary, i, j, nx(), ny());
 }
 
 void Surface::apply_boundary(Boundary b) {
-  const NodeConstraint c = b == Boundary::fixed           ? NodeConstraint::fixed
-                           : b == Boundary::vertical_only ? NodeConstraint::vertical_only
-                                                          : NodeConstraint::free;
+  Check{"water.Surface.apply_boundary"}.in_closed("boundary", static_cast<int>(b), 0, 3);
+  SurfaceSettings changed = settings_;
+  changed.boundary = b;
+  changed.validate();
+  settings_.boundary = b;
+  State& s = *s_;
+  s.set_layer(settings_);
+  const NodeConstraint c = default_constraint(b, 0, 0, nx(), ny());
+  for (const auto& t : s.tiles) s.fill_sponge(settings_, *t);
   for (int i = 0; i < nx(); ++i) {
-    set_constraint(i, 0, c);
-    set_constraint(i, ny() - 1, c);
+    if (constraint(i, 0) != c || s.find(i >> s.shift, 0)) set_constraint(i, 0, c);
+    if (constraint(i, ny() - 1) != c || s.find(i >> s.shift, (ny() - 1) >> s.shift)) set_constraint(i, ny() - 1, c);
   }
   for (int j = 0; j < ny(); ++j) {
-    set_constraint(0, j, c);
-    set_constraint(nx() - 1, j, c);
+    if (constraint(0, j) != c || s.find(0, j >> s.shift)) set_constraint(0, j, c);
+    if (constraint(nx() - 1, j) != c || s.find((nx() - 1) >> s.shift, j >> s.shift)) set_constraint(nx() - 1, j, c);
   }
 }
 
-// ---- disturbances --------------------------------------------------------------------------
+// ---- disturbances and edits ----------------------------------------------------------------
 
-double Surface::velocity_cap() const {
-  const LatticeParameters& p = settings_.lattice;
-  const double omega = settings_.mode == SurfaceMode::full_3d ? omega_max_at_rest(p) : omega_max_vertical(p);
-  return settings_.guard.max_disturbance_spacings * p.spacing * omega;
+namespace {
+double velocity_cap(const SurfaceSettings& s) {
+  return s.guard.max_disturbance_spacings * s.lattice.spacing * top_frequency(s);
 }
+}  // namespace
 
 void Surface::disturb(std::span<const Disturbance> ds) {
   const double height_cap = settings_.guard.max_disturbance_spacings * spacing();
-  const double speed_cap = velocity_cap();
+  const double speed_cap = velocity_cap(settings_);
   for (const Disturbance& d : ds) {
     d.validate();
     const bool height = d.target == Disturbance::Target::height;
@@ -273,74 +319,187 @@ void Surface::disturb(std::span<const Disturbance> ds) {
                            "must be within +-" + detail::to_text(cap) + (height ? " m" : " m/s") +
                                " (GuardSettings::max_disturbance_spacings)");
   }
-  deformation_.reset();
+  State& s = *s_;
+  s.deformation.reset();
   for (const Disturbance& d : ds) {
     const DisturbanceAxis ax = tabulate_axis(d, d.x, d.half_x, settings_.origin_x, spacing(), nx());
     const DisturbanceAxis ay = tabulate_axis(d, d.y, d.half_y, settings_.origin_y, spacing(), ny());
-    float* target = d.target == Disturbance::Target::height ? uz_ : vz_;
+    if (ax.weights.empty() || ay.weights.empty()) continue;
+    const bool height = d.target == Disturbance::Target::height;
+    const quantum::Quantum& q = height ? s.qu : s.qv;
+    const int i0 = ax.first, i1 = ax.first + static_cast<int>(ax.weights.size()) - 1;
+    const int j0 = ay.first, j1 = ay.first + static_cast<int>(ay.weights.size()) - 1;
+    for (int ty = j0 >> s.shift; ty <= j1 >> s.shift; ++ty)
+      for (int tx = i0 >> s.shift; tx <= i1 >> s.shift; ++tx) s.wake_around(settings_, tx, ty);
     for (std::size_t b = 0; b < ay.weights.size(); ++b) {
       const double wy = d.amplitude * ay.weights[b];
-      const int j = ay.first + static_cast<int>(b);
+      const int j = j0 + static_cast<int>(b);
       for (std::size_t a = 0; a < ax.weights.size(); ++a) {
-        const std::size_t k = index(ax.first + static_cast<int>(a), j);
-        if (constraints_[k] == NodeConstraint::fixed) continue;
-        target[k] += static_cast<float>(wy * ax.weights[a]);
+        const int i = i0 + static_cast<int>(a);
+        TileData& t = *s.find(i >> s.shift, j >> s.shift);
+        const std::size_t k = t.at(i & (s.T - 1), j & (s.T - 1), s.T);
+        if (t.flags[k] == static_cast<std::uint8_t>(NodeConstraint::fixed)) continue;
+        double& target = height ? t.uz[k] : t.vz[k];
+        target += quantum::round_to(wy * ax.weights[a], q.magic);
       }
     }
+    for (int ty = j0 >> s.shift; ty <= j1 >> s.shift; ++ty)
+      for (int tx = i0 >> s.shift; tx <= i1 >> s.shift; ++tx) s.refresh_edges(*s.find(tx, ty), s.find(tx, ty)->cur);
   }
+}
+
+void Surface::wake(double x0, double y0, double x1, double y1) {
+  const Check c{"water.Surface.wake"};
+  c.finite("x0", x0);
+  c.finite("y0", y0);
+  c.finite("x1", x1);
+  c.finite("y1", y1);
+  const Eigen::Vector2d a = grid_coordinates(std::min(x0, x1), std::min(y0, y1));
+  const Eigen::Vector2d b = grid_coordinates(std::max(x0, x1), std::max(y0, y1));
+  const auto clamp_i = [&](double g, int n) { return static_cast<int>(std::clamp(g, 0.0, double(n - 1))); };
+  const int i0 = clamp_i(std::floor(a.x()), nx()), i1 = clamp_i(std::ceil(b.x()), nx());
+  const int j0 = clamp_i(std::floor(a.y()), ny()), j1 = clamp_i(std::ceil(b.y()), ny());
+  State& s = *s_;
+  for (int ty = j0 >> s.shift; ty <= j1 >> s.shift; ++ty)
+    for (int tx = i0 >> s.shift; tx <= i1 >> s.shift; ++tx) s.wake_around(settings_, tx, ty);
+}
+
+namespace {
+struct NodeRef {
+  TileData* tile;
+  std::size_t k;
+};
+}  // namespace
+
+namespace {
+/// Adds `delta` (rounded to the field's quantum) to a node's height (or vertical velocity):
+/// checked against the cap, refused at a fixed node, waking the node's tile.
+bool edit_node(const Surface& surface, Surface::State& s, int i, int j, double delta, bool height) {
+  const char* what = height ? "add_height" : "add_vertical_velocity";
+  check_index(surface, what, i, j);
+  const SurfaceSettings& set = surface.settings();
+  const double cap = height ? set.guard.max_disturbance_spacings * set.lattice.spacing : velocity_cap(set);
+  if (!(std::abs(delta) <= cap))
+    throw InvalidSetting(std::string("water.Surface.") + what + (height ? ".dz" : ".dv"), detail::to_text(delta),
+                         "must be finite and within +-" + detail::to_text(cap) + (height ? " m" : " m/s"));
+  if (surface.constraint(i, j) == NodeConstraint::fixed) return false;
+  s.wake_around(set, i >> s.shift, j >> s.shift);
+  TileData& t = *s.find(i >> s.shift, j >> s.shift);
+  const std::size_t k = t.at(i & (s.T - 1), j & (s.T - 1), s.T);
+  (height ? t.uz[k] : t.vz[k]) += quantum::round_to(delta, height ? s.qu.magic : s.qv.magic);
+  s.refresh_edges(t, t.cur);
+  if (height) s.deformation.reset();
+  return true;
+}
+}  // namespace
+
+bool Surface::add_height(int i, int j, double dz) { return edit_node(*this, *s_, i, j, dz, true); }
+
+bool Surface::add_vertical_velocity(int i, int j, double dv) { return edit_node(*this, *s_, i, j, dv, false); }
+
+namespace {
+/// Copies a field of the nodes of a window, row-major, nodes beyond the grid clamped to the
+/// nearest edge node, tiles not created read as 0: one tile lookup per row and tile.
+void read_window(const Surface::State& s, int nx, int ny, int i0, int j0, int w, int h,
+                 std::vector<double> TileData::*field, std::vector<double>& out) {
+  out.assign(static_cast<std::size_t>(std::max(w, 0)) * static_cast<std::size_t>(std::max(h, 0)), 0.0);
+  for (int b = 0; b < h; ++b) {
+    const int j = std::clamp(j0 + b, 0, ny - 1);
+    double* row = out.data() + static_cast<std::size_t>(b) * static_cast<std::size_t>(w);
+    for (int a = 0; a < w;) {
+      const int i = std::clamp(i0 + a, 0, nx - 1);
+      const TileData* t = s.find(i >> s.shift, j >> s.shift);
+      // The run of window nodes inside this tile (nodes clamped to the edge: one at a time).
+      const bool inside = i0 + a >= 0 && i0 + a < nx;
+      const int run = inside ? std::min(w - a, std::min(nx - 1, ((i >> s.shift) + 1) * s.T - 1) - i + 1) : 1;
+      if (t) {
+        const double* src = (t->*field).data() + t->at(i & (s.T - 1), j & (s.T - 1), s.T);
+        std::copy_n(src, run, row + a);
+      }
+      a += run;
+    }
+  }
+}
+}  // namespace
+
+void Surface::heights_above_rest(int i0, int j0, int w, int h, std::vector<double>& out) const {
+  read_window(*s_, nx(), ny(), i0, j0, w, h, &TileData::uz, out);
+}
+
+void Surface::vertical_velocities(int i0, int j0, int w, int h, std::vector<double>& out) const {
+  read_window(*s_, nx(), ny(), i0, j0, w, h, &TileData::vz, out);
+}
+
+double Surface::add_heights(int i0, int j0, int w, int h, std::span<const double> dz) {
+  if (w <= 0 || h <= 0) return 0.0;
+  if (dz.size() != static_cast<std::size_t>(w) * static_cast<std::size_t>(h))
+    throw InvalidSetting("water.Surface.add_heights.dz", std::to_string(dz.size()) + " values",
+                         "must hold w * h = " + std::to_string(std::int64_t(w) * h));
+  const double cap = settings_.guard.max_disturbance_spacings * spacing();
+  for (double d : dz)
+    if (!(std::abs(d) <= cap))
+      throw InvalidSetting("water.Surface.add_heights.dz", detail::to_text(d),
+                           "must be finite and within +-" + detail::to_text(cap) + " m");
+  State& s = *s_;
+  const int a0 = std::max(i0, 0), a1 = std::min(i0 + w - 1, nx() - 1);
+  const int b0 = std::max(j0, 0), b1 = std::min(j0 + h - 1, ny() - 1);
+  if (a0 > a1 || b0 > b1) return 0.0;
+  for (int ty = b0 >> s.shift; ty <= b1 >> s.shift; ++ty)
+    for (int tx = a0 >> s.shift; tx <= a1 >> s.shift; ++tx) s.wake_around(settings_, tx, ty);
+  quantum::Wide quanta = 0;
+  for (int j = b0; j <= b1; ++j)
+    for (int i = a0; i <= a1; ++i) {
+      const double d =
+          dz[static_cast<std::size_t>(j - j0) * static_cast<std::size_t>(w) + static_cast<std::size_t>(i - i0)];
+      if (d == 0.0) continue;
+      TileData& t = *s.find(i >> s.shift, j >> s.shift);
+      const std::size_t k = t.at(i & (s.T - 1), j & (s.T - 1), s.T);
+      if (t.flags[k] == static_cast<std::uint8_t>(NodeConstraint::fixed)) continue;
+      const double r = quantum::round_to(d, s.qu.magic);
+      t.uz[k] += r;
+      quanta += quantum::count(r, s.qu.inv);
+    }
+  for (int ty = b0 >> s.shift; ty <= b1 >> s.shift; ++ty)
+    for (int tx = a0 >> s.shift; tx <= a1 >> s.shift; ++tx) s.refresh_edges(*s.find(tx, ty), s.find(tx, ty)->cur);
+  s.deformation.reset();
+  return static_cast<double>(quanta) * s.qu.q * spacing() * spacing();
 }
 
 // ---- node access ---------------------------------------------------------------------------
 
 double Surface::height(int i, int j) const {
-  check_index("height", i, j);
-  return settings_.rest_height + static_cast<double>(uz_[index(i, j)]);
+  check_index(*this, "height", i, j);
+  const TileData* t = s_->find(i >> s_->shift, j >> s_->shift);
+  return settings_.rest_height + (t ? t->uz[t->at(i & (s_->T - 1), j & (s_->T - 1), s_->T)] : 0.0);
 }
 
 double Surface::vertical_velocity(int i, int j) const {
-  check_index("vertical_velocity", i, j);
-  return static_cast<double>(vz_[index(i, j)]);
-}
-
-bool Surface::add_height(int i, int j, double dz) {
-  check_index("add_height", i, j);
-  const double cap = settings_.guard.max_disturbance_spacings * spacing();
-  if (!(std::abs(dz) <= cap))
-    throw InvalidSetting("water.Surface.add_height.dz", detail::to_text(dz),
-                         "must be finite and within +-" + detail::to_text(cap) + " m");
-  const std::size_t k = index(i, j);
-  if (constraints_[k] == NodeConstraint::fixed) return false;
-  deformation_.reset();
-  uz_[k] += static_cast<float>(dz);
-  return true;
-}
-
-bool Surface::add_vertical_velocity(int i, int j, double dv) {
-  check_index("add_vertical_velocity", i, j);
-  const double cap = velocity_cap();
-  if (!(std::abs(dv) <= cap))
-    throw InvalidSetting("water.Surface.add_vertical_velocity.dv", detail::to_text(dv),
-                         "must be finite and within +-" + detail::to_text(cap) + " m/s");
-  const std::size_t k = index(i, j);
-  if (constraints_[k] == NodeConstraint::fixed) return false;
-  vz_[k] += static_cast<float>(dv);
-  return true;
+  check_index(*this, "vertical_velocity", i, j);
+  const TileData* t = s_->find(i >> s_->shift, j >> s_->shift);
+  return t ? t->vz[t->at(i & (s_->T - 1), j & (s_->T - 1), s_->T)] : 0.0;
 }
 
 Eigen::Vector3d Surface::position(int i, int j) const {
-  check_index("position", i, j);
-  const std::size_t k = index(i, j);
-  const bool full = settings_.mode == SurfaceMode::full_3d;
-  return {node_x(i) + (full ? static_cast<double>(ux_[k]) : 0.0),
-          node_y(j) + (full ? static_cast<double>(uy_[k]) : 0.0), settings_.rest_height + static_cast<double>(uz_[k])};
+  check_index(*this, "position", i, j);
+  const TileData* t = s_->find(i >> s_->shift, j >> s_->shift);
+  const std::size_t k = t ? t->at(i & (s_->T - 1), j & (s_->T - 1), s_->T) : 0;
+  const bool full = t && s_->full;
+  return {node_x(i) + (full ? static_cast<double>(t->ux[k]) : 0.0),
+          node_y(j) + (full ? static_cast<double>(t->uy[k]) : 0.0), settings_.rest_height + (t ? t->uz[k] : 0.0)};
 }
 
 Eigen::Vector3d Surface::velocity(int i, int j) const {
-  check_index("velocity", i, j);
-  const std::size_t k = index(i, j);
-  const bool full = settings_.mode == SurfaceMode::full_3d;
-  return {full ? static_cast<double>(vx_[k]) : 0.0, full ? static_cast<double>(vy_[k]) : 0.0,
-          static_cast<double>(vz_[k])};
+  check_index(*this, "velocity", i, j);
+  const TileData* t = s_->find(i >> s_->shift, j >> s_->shift);
+  const std::size_t k = t ? t->at(i & (s_->T - 1), j & (s_->T - 1), s_->T) : 0;
+  const bool full = t && s_->full;
+  return {full ? static_cast<double>(t->vx[k]) : 0.0, full ? static_cast<double>(t->vy[k]) : 0.0, t ? t->vz[k] : 0.0};
+}
+
+bool Surface::awake(int i, int j) const {
+  check_index(*this, "awake", i, j);
+  const TileData* t = s_->find(i >> s_->shift, j >> s_->shift);
+  return t && t->awake;
 }
 
 // ---- world <-> node ------------------------------------------------------------------------
@@ -362,152 +521,44 @@ bool Surface::contains(double x, double y) const {
 }
 
 namespace {
-/// Bilinear sample of a node field at continuous grid coordinates, clamped to the grid.
-double bilinear(const float* field, int nx, int ny, Eigen::Vector2d g) {
+/// Bilinear sample of a node value at continuous grid coordinates, clamped to the grid.
+template <class Value>
+double bilinear(int nx, int ny, Eigen::Vector2d g, Value&& value) {
   const double gx = std::clamp(std::isfinite(g.x()) ? g.x() : 0.0, 0.0, static_cast<double>(nx - 1));
   const double gy = std::clamp(std::isfinite(g.y()) ? g.y() : 0.0, 0.0, static_cast<double>(ny - 1));
   const int i = std::min(static_cast<int>(gx), nx - 2), j = std::min(static_cast<int>(gy), ny - 2);
   const double s = gx - i, t = gy - j;
-  const auto at = [&](int a, int b) {
-    return static_cast<double>(
-        field[static_cast<std::size_t>(b) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(a)]);
-  };
-  return (1 - t) * ((1 - s) * at(i, j) + s * at(i + 1, j)) + t * ((1 - s) * at(i, j + 1) + s * at(i + 1, j + 1));
+  return (1 - t) * ((1 - s) * value(i, j) + s * value(i + 1, j)) +
+         t * ((1 - s) * value(i, j + 1) + s * value(i + 1, j + 1));
 }
 }  // namespace
 
 double Surface::height_at(double x, double y) const {
-  return settings_.rest_height + bilinear(uz_, nx(), ny(), grid_coordinates(x, y));
+  return settings_.rest_height + bilinear(nx(), ny(), grid_coordinates(x, y), [&](int i, int j) {
+           const TileData* t = s_->find(i >> s_->shift, j >> s_->shift);
+           return t ? t->uz[t->at(i & (s_->T - 1), j & (s_->T - 1), s_->T)] : 0.0;
+         });
 }
 
 double Surface::vertical_velocity_at(double x, double y) const {
-  return bilinear(vz_, nx(), ny(), grid_coordinates(x, y));
-}
-
-// ---- output --------------------------------------------------------------------------------
-
-void Surface::positions(std::vector<float>& xyz) const {
-  xyz.resize(3 * node_count());
-  const bool full = settings_.mode == SurfaceMode::full_3d;
-  for (int j = 0; j < ny(); ++j) {
-    for (int i = 0; i < nx(); ++i) {
-      const std::size_t k = index(i, j);
-      xyz[3 * k + 0] = static_cast<float>(node_x(i) + (full ? ux_[k] : 0.f));
-      xyz[3 * k + 1] = static_cast<float>(node_y(j) + (full ? uy_[k] : 0.f));
-      xyz[3 * k + 2] = static_cast<float>(settings_.rest_height + uz_[k]);
-    }
-  }
-}
-
-void Surface::normals(std::vector<float>& xyz) const {
-  xyz.resize(3 * node_count());
-  const bool full = settings_.mode == SurfaceMode::full_3d;
-  const double h = spacing();
-  // Differences in the displacement form, so the result does not depend on the origin.
-  const auto rel = [&](int i, int j) {
-    const std::size_t k = index(i, j);
-    return Eigen::Vector3d(i * h + (full ? ux_[k] : 0.f), j * h + (full ? uy_[k] : 0.f), uz_[k]);
-  };
-  for (int j = 0; j < ny(); ++j) {
-    for (int i = 0; i < nx(); ++i) {
-      const Eigen::Vector3d dx = rel(std::min(i + 1, nx() - 1), j) - rel(std::max(i - 1, 0), j);
-      const Eigen::Vector3d dy = rel(i, std::min(j + 1, ny() - 1)) - rel(i, std::max(j - 1, 0));
-      Eigen::Vector3d n = dx.cross(dy);
-      const double len = n.norm();
-      n = len > 0.0 && std::isfinite(len) ? Eigen::Vector3d(n / len) : Eigen::Vector3d(0, 0, 1);
-      const std::size_t k = index(i, j);
-      xyz[3 * k + 0] = static_cast<float>(n.x());
-      xyz[3 * k + 1] = static_cast<float>(n.y());
-      xyz[3 * k + 2] = static_cast<float>(n.z());
-    }
-  }
-}
-
-void triangulate(int nx, int ny, std::vector<std::uint32_t>& indices) {
-  indices.clear();
-  if (nx < 2 || ny < 2) return;
-  indices.reserve(6 * static_cast<std::size_t>(nx - 1) * static_cast<std::size_t>(ny - 1));
-  const auto v = [nx](int i, int j) {
-    return static_cast<std::uint32_t>(j) * static_cast<std::uint32_t>(nx) + static_cast<std::uint32_t>(i);
-  };
-  for (int j = 0; j + 1 < ny; ++j) {
-    for (int i = 0; i + 1 < nx; ++i) {
-      indices.insert(indices.end(), {v(i, j), v(i + 1, j), v(i, j + 1)});
-      indices.insert(indices.end(), {v(i, j + 1), v(i + 1, j), v(i + 1, j + 1)});
-    }
-  }
-}
-
-void Surface::triangles(std::vector<std::uint32_t>& indices) const { triangulate(nx(), ny(), indices); }
-
-Energy Surface::energy() const {
-  const LatticeParameters& p = settings_.lattice;
-  const std::size_t n = node_count();
-  const bool full = settings_.mode == SurfaceMode::full_3d;
-  const double h = p.spacing, c = p.stiffness, kt = p.transverse_stiffness();
-  std::vector<double> fx(full ? n : 0, 0.0), fy(full ? n : 0, 0.0), fz(n, 0.0);
-  double potential = 0.0;
-  for_each_spring(nx(), ny(), [&](std::size_t a, std::size_t b, const SpringFamily& f) {
-    if (!full) {
-      const double dz = static_cast<double>(uz_[b]) - uz_[a];
-      potential += 0.5 * kt * dz * dz;
-      fz[a] += kt * dz;
-      fz[b] -= kt * dz;
-      return;
-    }
-    const double rest_dx = (f.bi - f.ai) * h, rest_dy = (f.bj - f.aj) * h;
-    const double dx = rest_dx + (static_cast<double>(ux_[b]) - ux_[a]);
-    const double dy = rest_dy + (static_cast<double>(uy_[b]) - uy_[a]);
-    const double dz = static_cast<double>(uz_[b]) - uz_[a];
-    const double l = std::sqrt(dx * dx + dy * dy + dz * dz);
-    const double rest = f.rest_scale * p.rest_ratio * h;
-    const double l0 = f.rest_scale * h;
-    potential += 0.5 * c * ((l - rest) * (l - rest) - (l0 - rest) * (l0 - rest));
-    const double s = l > 0.0 ? c * (1.0 - rest / l) : 0.0;
-    fx[a] += s * dx;
-    fy[a] += s * dy;
-    fz[a] += s * dz;
-    fx[b] -= s * dx;
-    fy[b] -= s * dy;
-    fz[b] -= s * dz;
+  return bilinear(nx(), ny(), grid_coordinates(x, y), [&](int i, int j) {
+    const TileData* t = s_->find(i >> s_->shift, j >> s_->shift);
+    return t ? t->vz[t->at(i & (s_->T - 1), j & (s_->T - 1), s_->T)] : 0.0;
   });
-  const double dt = last_substep_;
-  const double keep = 1.0 - p.damping * dt / p.mass, impulse = dt / p.mass;
-  double kinetic = 0.0, centred = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const double mh = constraints_[k] == NodeConstraint::free ? 1.0 : 0.0;
-    const double mv = constraints_[k] != NodeConstraint::fixed ? 1.0 : 0.0;
-    const double vz = vz_[k];
-    double v2 = vz * vz;
-    double vnext = vz * (vz * keep + fz[k] * impulse) * mv;
-    if (full) {
-      const double vx = vx_[k], vy = vy_[k];
-      v2 += vx * vx + vy * vy;
-      vnext += (vx * (vx * keep + fx[k] * impulse) + vy * (vy * keep + fy[k] * impulse)) * mh;
-    }
-    kinetic += 0.5 * p.mass * v2;
-    centred += 0.5 * p.mass * (dt > 0.0 ? vnext : v2);
+}
+
+double Surface::level_around(double x, double y, double radius) const {
+  const Check c{"water.Surface.level_around"};
+  c.finite("x", x);
+  c.finite("y", y);
+  c.positive("radius", radius);
+  constexpr int kPoints = 32;
+  double sum = 0.0;
+  for (int k = 0; k < kPoints; ++k) {
+    const double a = 2.0 * det::detail::kPi * k / kPoints;
+    sum += height_at(x + radius * det::cos(a), y + radius * det::sin(a));
   }
-  Energy e;
-  e.kinetic = kinetic;
-  e.potential = potential;
-  e.total = kinetic + potential;
-  e.centred = centred + potential;
-  return e;
-}
-
-std::uint64_t Surface::state_hash() const {
-  StateHash h;
-  h.add(nx());
-  h.add(ny());
-  h.add(static_cast<std::uint8_t>(settings_.mode));
-  for (const float* a : {ux_, uy_, uz_, vx_, vy_, vz_}) h.add(field(a));
-  h.add(std::span<const NodeConstraint>(constraints_));
-  return h.value();
-}
-
-Surface::View Surface::view() const {
-  return {field(ux_), field(uy_), field(uz_), field(vx_), field(vy_), field(vz_), constraints_};
+  return sum / kPoints;
 }
 
 }  // namespace shore::water

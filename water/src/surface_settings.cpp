@@ -13,6 +13,21 @@ void GuardSettings::validate() const {
   c.positive("max_disturbance_spacings", max_disturbance_spacings);
 }
 
+void OpenBoundarySettings::validate() const {
+  const Check c{"water.OpenBoundarySettings"};
+  c.at_least("width", width, 2);
+  c.in_left_open("strength", strength, 0.0, 64.0);
+}
+
+void SleepSettings::validate() const {
+  const Check c{"water.SleepSettings"};
+  if (tile < 8 || tile > 256 || (tile & (tile - 1)) != 0)
+    throw InvalidSetting(c.name("tile"), detail::to_text(tile), "must be a power of two in [8, 256]");
+  c.non_negative("height", height);
+  c.non_negative("velocity", velocity);
+  c.at_least("calm_substeps", calm_substeps, 1);
+}
+
 void SurfaceSettings::validate() const {
   const Check c{"water.SurfaceSettings"};
   c.at_least("nx", nx, 3);
@@ -25,6 +40,9 @@ void SurfaceSettings::validate() const {
   c.finite("rest_height", rest_height);
   c.positive("density", density);
   c.at_least("threads", threads, 0);
+  c.at_least("parallel_min_nodes", parallel_min_nodes, 0);
+  c.in_closed("boundary", static_cast<int>(boundary), 0, 3);
+  c.in_closed("mode", static_cast<int>(mode), 0, 1);
   c.in_closed("kernel", static_cast<int>(kernel), 0, 2);
   if (kernel == KernelChoice::avx2 && !Surface::kernel_available(KernelChoice::avx2))
     throw InvalidSetting(c.name("kernel"), "avx2",
@@ -32,6 +50,12 @@ void SurfaceSettings::validate() const {
                          "and FMA; use automatic or generic here");
   lattice.validate();
   guard.validate();
+  sleep.validate();
+  open.validate();
+  if (boundary == Boundary::open && (2 * open.width >= nx || 2 * open.width >= ny))
+    throw InvalidSetting(c.name("open.width"), detail::to_text(open.width),
+                         "must leave water between the layers: 2 * width < nx (" + detail::to_text(nx) +
+                             ") and < ny (" + detail::to_text(ny) + ")");
 }
 
 SurfaceSettings SurfaceSettings::paper() {

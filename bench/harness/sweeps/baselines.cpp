@@ -188,7 +188,7 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
   const int headline_threads = std::clamp(ctx.max_threads, 1, 2);
   out.figure("water.memory_floor_ratio_2048", fraction[headline_threads],
              "fraction of the triad floor (3-D, 2048 x 2048, " + std::to_string(headline_threads) +
-                 " thread(s), 49 B per node-step)");
+                 " thread(s), 65 B per node-step)");
   out.figure("water.memory_floor_ratio_2048_1t", fraction[1], "fraction (1 thread)");
   out.figure("water.memory_floor_ratio_2048_2t", fraction[2], "fraction (2 threads)");
   out.figure("water.triad_gbps_1t_float", bw[1] * 1e-9, "GB/s (float triad, 12 B per element)");
@@ -210,7 +210,8 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
       "0.3 with a "
       "disturbance in the middle; fast = Shore's fused SIMD kernel with its stability guard, reference = the plain "
       "loops of the same algorithm (ReferenceSurface). Floor = float triad bandwidth / bytes a node-step must move "
-      "(49 B in 3-D, 17 B vertical-only), measured with the same thread count in this run. The triad is counted "
+      "(65 B in 3-D and 33 B vertical-only for the fast kernel's fixed-point vertical state, 49 B and 17 B for the "
+      "reference), measured with the same thread count in this run. The triad is counted "
       "as STREAM counts it, 12 B per element; its store also reads the line first (write-allocate), so the real "
       "traffic is nearer 16 B and the floor is conservative: fractions can exceed 1 (vertical-only at 2048^2) and "
       "may overstate the kernel's share by up to 4/3. At 256^2 the state fits in the caches and the fraction "

@@ -5,13 +5,17 @@
 // Grid spacing is swept at the standard step (1/240 s), the step at the standard spacing
 // (5 cm), for the 3-D surface and the vertical-only one.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <numbers>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "shore/scenes/water_cases.h"
 #include "shore/scenes/water_kernel_cases.h"
 #include "shore/water/surface.h"
 #include "sweep.h"
@@ -51,7 +55,7 @@ double mode_shape(int nodes, int i, int j) {
 
 /// Least-squares amplitude of the mode in the heights.
 double project(const water::Surface& s, const std::vector<double>& phi) {
-  const auto uz = s.view().uz;
+  const std::vector<double> uz = s.dense_state().uz;
   double num = 0.0, den = 0.0;
   for (std::size_t k = 0; k < phi.size(); ++k) {
     num += phi[k] * uz[k];
@@ -134,7 +138,224 @@ EnergyRun run_energy(water::SurfaceMode mode, double cell, double dt) {
 
 const char* mode_name(water::SurfaceMode m) { return m == water::SurfaceMode::full_3d ? "3-D" : "vertical-only"; }
 
+/// Volume of a closed pool and energy of the undamped 3-D lattice over 100,000 steps.
+void conservation(const SweepContext& ctx, SweepResult& out) {
+  Table& t = out.table("water_conservation", {"quantity", "mode", "nodes", "steps", "value", "exact", "seconds"});
+  double worst = 0.0;
+  for (const auto mode : {water::SurfaceMode::vertical_only, water::SurfaceMode::full_3d}) {
+    scenes::DriftCase c;
+    c.mode = mode;
+    c.nodes = ctx.quick && mode == water::SurfaceMode::full_3d ? 33 : 65;
+    ctx.progress(std::string("closed pool, ") + mode_name(mode) + ", 100000 steps");
+    const scenes::DriftResult r = scenes::run_closed_pool(c);
+    t.add({"volume drift / bump volume", mode_name(mode), double(c.nodes), double(c.steps), r.volume_drift,
+           r.exact ? "yes" : "no", r.seconds});
+    worst = std::max(worst, r.volume_drift);
+  }
+  out.figure("water.volume_drift_100k", worst, "of the bump's volume, worst of both modes (closed pool, 1e5 steps)");
+  out.target({.key = "water.volume_drift_100k",
+              .what = "closed pool's volume over 100,000 steps",
+              .value = worst,
+              .op = "<=",
+              .threshold = 1e-9,
+              .unit = "relative"});
+  scenes::EnergyCase e;
+  e.steps = ctx.quick ? 20000 : 100000;
+  ctx.progress("undamped 3-D lattice at 0.003 h, " + std::to_string(e.steps) + " steps");
+  const auto t0 = Clock::now();
+  const double gain = scenes::energy_gain(e);
+  t.add({"time-centred energy gain", "3-D", 65.0, double(e.steps), gain, "-",
+         std::chrono::duration<double>(Clock::now() - t0).count()});
+  out.figure("water.energy_gain_small_amplitude", gain,
+             "relative, undamped 3-D at 0.003 h over " + std::to_string(e.steps) + " steps");
+  out.target({.key = "water.energy_gain_small_amplitude",
+              .what = "energy gain of small waves, undamped 3-D lattice",
+              .value = gain,
+              .op = "<=",
+              .threshold = 1e-4,
+              .unit = "relative"});
+  out.note(
+      "Conservation: a closed pool (65 x 65 at 5 cm, 0.5 m deep, vertical-only walls, damping time 2 s; 33 x 33 for "
+      "3-D in quick runs) with a 1 cm Gaussian bump (sigma 3 cells), 100,000 steps of 1/240 s, sleeping tiles on: the "
+      "largest |V(t) - V(0)| over the bump's volume (exact: the same bits at every check). Heights and vertical "
+      "velocities are fixed-point doubles, spring impulses equal and opposite, the rounding of damping and rise "
+      "put back exactly on one node (docs/water.md). Energy: the undamped 3-D lattice (65 x 65, fixed edges) with "
+      "a bump of 0.003 h, the largest rise of the time-centred energy over its start.");
+}
+
+/// A ring's echo from an open edge against the layer's width, and from walls.
+void reflection(const SweepContext& ctx, SweepResult& out) {
+  Table& t = out.table("water_open_edge", {"edge", "width_nodes", "strength", "echo_over_amplitude"});
+  for (const auto b : {water::Boundary::fixed, water::Boundary::vertical_only}) {
+    const scenes::EchoResult r = scenes::measure_echo({.boundary = b});
+    t.add({b == water::Boundary::fixed ? "fixed" : "vertical-only", 0.0, 0.0, r.ratio()});
+  }
+  double at_default = 0.0;
+  const std::vector<int> widths = ctx.quick ? std::vector<int>{8, 16, 32} : std::vector<int>{8, 12, 16, 24, 32, 48};
+  for (int w : widths) {
+    ctx.progress("ring's echo from an open edge, layer of " + std::to_string(w) + " nodes");
+    const scenes::EchoResult r = scenes::measure_echo({.width = w});
+    t.add({"open", double(w), 6.0, r.ratio()});
+    if (w == water::OpenBoundarySettings{}.width) at_default = r.ratio();
+  }
+  out.figure("water.open_edge_reflection", at_default, "of the ring's amplitude (open edge, default layer)");
+  out.target({.key = "water.open_edge_reflection",
+              .what = "a ring's echo from an open edge",
+              .value = at_default,
+              .op = "<=",
+              .threshold = 0.05,
+              .unit = "of its amplitude"});
+  out.plot({.name = "water_open_edge_reflection",
+            .title = "Echo of a ring from an open edge against the absorbing layer's width",
+            .table = "water_open_edge",
+            .x = "width_nodes",
+            .y = "echo_over_amplitude",
+            .series = "edge",
+            .x_label = "layer width, nodes",
+            .y_label = "echo / ring amplitude"});
+  out.note(
+      "Open edge: a 1 mm ring (sigma 2 cells, 5 cm, 0.5 m deep, undamped, vertical-only) 30 nodes from the edge of "
+      "the water; echo = the largest difference at the source from a run whose edges are too far to echo, over "
+      "the ring's amplitude at twice the distance (a perfect mirror's echo). Fixed and vertical-only edges are "
+      "listed at width 0.");
+}
+
+/// Busy threads that load every core while alive.
+class Load {
+ public:
+  explicit Load(int threads) {
+    for (int k = 0; k < threads; ++k)
+      workers_.emplace_back([this] {
+        volatile double x = 1.0;
+        while (!stop_.load(std::memory_order_relaxed)) x = x * 1.0000001 + 1e-9;
+      });
+  }
+  ~Load() {
+    stop_ = true;
+    for (std::thread& t : workers_) t.join();
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::vector<std::thread> workers_;
+};
+
+/// Water steps with 1 and 2 threads, interleaved, on a machine loaded by busy threads.
+void threads(const SweepContext& ctx, SweepResult& out) {
+  Table& t = out.table("water_threads", {"mode", "nodes_per_side", "load_threads", "ms_per_step_1t", "ms_per_step_2t",
+                                         "speed_2t_over_1t"});
+  const std::vector<int> sizes =
+      ctx.quick ? std::vector<int>{64, 256, 1024} : std::vector<int>{64, 128, 256, 512, 1024, 2048};
+  const int load = std::max(2, int(std::thread::hardware_concurrency()));
+  double worst = 1e300;
+  const char* policy = std::getenv("OMP_WAIT_POLICY");
+  for (const auto mode : {water::SurfaceMode::vertical_only, water::SurfaceMode::full_3d}) {
+    for (int n : sizes) {
+      ctx.progress(std::string(mode_name(mode)) + " water " + std::to_string(n) + "^2: 1 vs 2 threads under load");
+      water::Surface one(scenes::kernel_case_settings(
+          mode == water::SurfaceMode::full_3d ? scenes::KernelVariant::fast_3d : scenes::KernelVariant::vertical_only,
+          n, 1));
+      water::SurfaceSettings s2 = one.settings();
+      s2.threads = 2;
+      water::Surface two(s2);
+      for (water::Surface* s : {&one, &two})
+        s->disturb(water::Disturbance::point_height(0.5 * (n - 1), 0.5 * (n - 1), 3.0, 1.0));
+      const Load busy(load);
+      // Short slices alternating 1 and 2 threads; the ratio of each adjacent pair, whose
+      // median is robust to the load's bursts (the medians of the times alone are not).
+      std::vector<double> a, b, ratio;
+      const double slice = ctx.quick ? 0.03 : 0.08;
+      const auto time_slice = [&](water::Surface& s) {
+        const auto t0 = Clock::now();
+        long steps = 0;
+        double el = 0.0;
+        do {
+          s.step(0.3);
+          ++steps;
+          el = std::chrono::duration<double>(Clock::now() - t0).count();
+        } while (el < slice);
+        return el / double(steps);
+      };
+      for (int rep = 0; rep < (ctx.quick ? 15 : 25); ++rep) {
+        a.push_back(time_slice(one));
+        b.push_back(time_slice(two));
+        ratio.push_back(a.back() / b.back());
+      }
+      const auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        return v[v.size() / 2];
+      };
+      const double m1 = median(a), m2 = median(b), r = median(ratio);
+      t.add({mode_name(mode), double(n), double(load), 1e3 * m1, 1e3 * m2, r});
+      worst = std::min(worst, r);
+    }
+  }
+  out.figure("water.threads2_vs_1_min_speedup", worst,
+             std::string("x, worst grid size, 2 threads over 1 on a machine loaded by busy threads (OMP_WAIT_POLICY ") +
+                 (policy ? std::string("= ") + policy : std::string("unset")) + ")");
+  out.target({.key = "water.threads2_vs_1_min_speedup",
+              .what = "2 threads at least 0.9 x the speed of 1 at every grid size, loaded machine",
+              .value = worst,
+              .op = ">=",
+              .threshold = 0.9,
+              .unit = "x"});
+  out.note(std::string("Threads: the paper's lattice (vertical-only and 3-D, dense grid, a bump in the middle) at dt "
+                       "0.3, steps timed in short slices alternating 1 and 2 threads while busy threads load every "
+                       "core; speed = the median of the ratio of adjacent slices. The surface's team takes no OpenMP "
+                       "(OMP_WAIT_POLICY changes nothing in it; ") +
+           (policy ? std::string("it was ") + policy : std::string("it was unset")) +
+           " in this run); a step forks only above parallel_min_nodes and while parallel substeps measure faster.");
+}
+
+/// A 1 km lake at 10 cm with a boat crossing it: creation, memory, cost against the wake.
+void lake(const SweepContext& ctx, SweepResult& out) {
+  scenes::LakeCase c;
+  c.seconds = ctx.quick ? 8.0 : 20.0;
+  ctx.progress("1 km x 1 km lake at 10 cm, a boat at 2 m/s for " + std::to_string(int(c.seconds)) + " s");
+  const scenes::LakeResult r = scenes::run_lake(c);
+  Table& t = out.table("water_lake",
+                       {"t_s", "awake_nodes", "woken_nodes", "memory_mb", "ms_per_substep", "ns_per_awake_node"});
+  double worst_memory = 0.0;
+  std::vector<double> per_node;
+  for (const scenes::LakeSample& s : r.samples) {
+    const double ns = s.awake_nodes > 0 ? 1e6 * s.step_ms / double(s.awake_nodes) : 0.0;
+    t.add({s.t, double(s.awake_nodes), double(s.woken_nodes), 1e-6 * double(s.memory_bytes), s.step_ms, ns});
+    if (s.woken_nodes > 0)
+      worst_memory = std::max(worst_memory, double(s.memory_bytes) / (17.0 * double(s.woken_nodes)));
+    if (s.awake_nodes > 0) per_node.push_back(ns);
+  }
+  std::sort(per_node.begin(), per_node.end());
+  out.figure("water.lake_creation_ms", r.creation_ms, "ms to create 1e8 virtual nodes");
+  out.figure("water.lake_empty_memory_mb", 1e-6 * double(r.empty_memory_bytes), "MB right after creation");
+  out.figure("water.lake_memory_over_woken_area", worst_memory,
+             "x a dense grid's state (17 B per node) of the tiles ever woken, worst sample");
+  out.figure("water.lake_ns_per_awake_node", per_node.empty() ? 0.0 : per_node[per_node.size() / 2],
+             "ns per awake node and substep (water + coupling), median sample");
+  out.target({.key = "water.lake_memory_over_woken_area",
+              .what = "lake memory against the woken area",
+              .value = worst_memory,
+              .op = "<=",
+              .threshold = 5.0,
+              .unit = "x"});
+  out.plot({.name = "water_lake_cost_vs_awake",
+            .title = "1 km lake at 10 cm, a boat at 2 m/s: cost per substep against awake nodes",
+            .table = "water_lake",
+            .x = "awake_nodes",
+            .y = "ms_per_substep",
+            .series = "",
+            .x_label = "awake nodes",
+            .y_label = "ms per substep (water + coupling)"});
+  out.note(
+      "Lake: 1 km x 1 km at 10 cm (10001^2 = 1e8 nodes, vertical-only, 2 m deep, open edges), a kinematic boat (a 2 x "
+      "1 m box at 0.3 m draft) crossing it at 2 m/s from the middle, 1/60 s substeps, one thread; once a second "
+      "the awake nodes, the nodes of tiles ever woken, the surface's memory and the mean cost of a substep.");
+}
+
 void run(const SweepContext& ctx, SweepResult& out) {
+  conservation(ctx, out);
+  reflection(ctx, out);
+  threads(ctx, out);
+  lake(ctx, out);
   Table& t = out.table("water_modes",
                        {"curve", "method", "varied", "cell_m", "nodes", "dt_s", "substep_s", "ms_per_substep",
                         "s_wall_per_s_sim", "omega_rad_s", "continuum_rad_s", "freq_error_pct", "abs_freq_error_pct",

@@ -5,25 +5,31 @@
 //   shore::bullet::WaterCoupling water(world, pond);   // adds itself; steps the water
 //   water.add_body(box);
 //
-// Water to body: buoyancy from the submerged length of each sample column (lower and
-// upper envelopes against the live water height, 4 x 4 samples per water cell), acting
-// at the centre of buoyancy, plus linear and quadratic drag per sample against the
-// water's vertical velocity; applied as impulses each substep (buoyancy.h).
+// Water to body: buoyancy and drag from the body's shape against the water plane fitted
+// under it (buoyancy.h), applied as impulses each substep (forces added inside a Bullet
+// substep would accumulate across substeps). water_force() reports them.
 //
 // Body to water: the swept displacement. The node heights form a surface that passes
 // through bodies (the body hides it). Each substep, for every node, ds = s(new pose) -
-// s(old pose) is the change of the body's submerged length in that node's cell, both
-// taken at the current water height; ds is smoothed with a volume-conserving [1 2 1]/4
-// kernel (smoothing_passes) and displacement_gain * ds is added to the same nodes'
-// heights. The swept change, not the total, keeps the water's own motion from feeding
-// back into itself; tracking starts from the pose at add_body, so the first substep does
-// not dump the whole submerged volume. A body sliding sideways makes a wake.
+// s(old pose) is the change of the body's submerged length in that node's cell (the mean
+// over samples_per_cell^2 sub-samples of the cell), both taken at the current water
+// height; ds is smoothed with a volume-conserving [1 2 1]/4 kernel (smoothing_passes) and
+// displacement_gain * ds is added to the same nodes' heights. The swept change, not the
+// total, keeps the water's own motion from feeding back into itself; tracking starts from
+// the pose at add_body, so the first substep does not dump the whole submerged volume. A
+// body sliding sideways makes a wake. A body at rest costs no displacement work: its
+// envelopes are not sampled again until its pose moves by more than 1e-3 of a cell from
+// the pose they were last sampled at (the motion is then displaced whole, so none is lost).
 //
-// add_body() checks the body's shape once (InvalidSetting if it cannot be rasterized); a
-// body with a broken pose or faster than max_speed is skipped for that substep and
-// counted in stats().skipped_bodies.
+// The water under every body is kept awake (Surface::wake), so sleeping tiles never hide
+// a body's water.
+//
+// add_body() checks the body: a finite pose, a shape the water can take, a positive volume
+// (InvalidSetting naming what is wrong). A body whose pose breaks later, or faster than
+// max_speed, is skipped for that substep and counted in stats().skipped_bodies.
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <BulletDynamics/Dynamics/btActionInterface.h>
@@ -32,8 +38,6 @@
 
 #include "shore/bullet/buoyancy.h"
 #include "shore/bullet/config.h"
-#include "shore/bullet/envelope.h"
-#include "shore/core/envelope.h"
 #include "shore/water/surface.h"
 
 namespace shore::terrain {
@@ -56,7 +60,7 @@ struct WaterCouplingStats {
   std::int64_t substeps = 0;
   std::int64_t skipped_bodies = 0;
   int water_substeps = 0;         ///< internal substeps the surface took in the last substep
-  double coupling_seconds = 0.0;  ///< last substep: envelopes, buoyancy, displacement
+  double coupling_seconds = 0.0;  ///< last substep: buoyancy, drag, displacement
   double water_seconds = 0.0;     ///< last substep: the surface's own step
   double displaced_volume = 0.0;  ///< m^3 added to the water in total (signed)
 };
@@ -69,7 +73,8 @@ class WaterCoupling : public btActionInterface {
   WaterCoupling& operator=(const WaterCoupling&) = delete;
 
   /// The body floats and disturbs the water. disturb = false: it floats without making waves.
-  /// Throws InvalidSetting for a null body or a shape that cannot be rasterized.
+  /// Throws InvalidSetting for a null body, a non-finite pose, an unsupported shape or one
+  /// of zero volume.
   void add_body(btRigidBody* body, bool disturb = true);
   void remove_body(btRigidBody* body);
 
@@ -89,37 +94,27 @@ class WaterCoupling : public btActionInterface {
   [[nodiscard]] std::vector<btRigidBody*> bodies() const;
   /// Submerged volume of a body in the last substep (m^3), 0 if unknown.
   [[nodiscard]] double submerged_volume(const btRigidBody* body) const;
+  /// The water's force and torque on a body in the last substep (zeros if unknown). For a
+  /// kinematic or static body (mass 0) they are reported but not applied.
+  [[nodiscard]] BodyWater water_force(const btRigidBody* body) const;
+
+  WaterCoupling(WaterCoupling&&) = delete;
+  struct Body;  ///< opaque: per-body shape and displacement state
 
  private:
-  /// Envelopes on a sample grid anchored at the body's centre of mass (samples at
-  /// com +- (k + 1/2) cell), so a point-symmetric body is sampled symmetrically and its
-  /// centre of buoyancy has no sampling bias (a world-fixed grid shifted it by up to half a
-  /// sample: enough to hold a box heeled at 0.05 rad).
-  struct Sampled {
-    EnvelopeRaster raster;
-    double origin_x = 0.0, origin_y = 0.0;  // world position of sample (0, 0)
-  };
-  struct Body {
-    btRigidBody* body = nullptr;
-    bool disturb = true;
-    Sampled previous;  // envelopes at the last substep's pose
-    Sampled current;
-    double submerged = 0.0;
-    double reach = 0.0;  // m, from check_rasterizable
-  };
-  bool body_is_sane(const btRigidBody& body) const;
-  /// The cheap per-substep test that rasterizing the body at its pose cannot fail.
-  bool can_rasterize(const Body& b) const;
-  void rasterize(const btRigidBody& body, Sampled& out) const;
+  /// Buoyancy and drag of one body for a substep of h, then its displacement.
+  void float_body(Body& b, double h);
+  /// Samples the body's envelopes at its pose and adds what it swept to the water.
   void displace(Body& b);
+  /// The body's sub-sample envelopes at its pose, into b.current.
+  void sample_envelopes(Body& b);
 
   btDiscreteDynamicsWorld& world_;
   water::Surface& surface_;
   WaterCouplingSettings settings_;
-  double sample_cell_ = 0.0;
-  WaterSampler sampler_;
-  std::vector<Body> bodies_;
-  std::vector<double> scratch_, lengths_old_, lengths_new_;
+  std::vector<std::unique_ptr<Body>> bodies_;
+  struct Workspace;  // scratch reused across bodies and substeps
+  std::unique_ptr<Workspace> work_;
   WaterCouplingStats stats_;
 };
 

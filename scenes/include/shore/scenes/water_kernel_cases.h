@@ -3,9 +3,11 @@
 // memory floor measured beside them. Shared by shore_water_bench and shore-bench.
 //
 // Bytes counted per node-step (the floor: state read once and written once per step):
-//   fast 3-D:        u (3 floats) and v (3 floats) read and written, 1 flag byte read = 49 B
-//   vertical-only:   u_z and v_z read and written, 1 flag byte read                 = 17 B
-//   reference 3-D:   the same 49 B of state (its AoS node is 40 B with a force scratch)
+//   fast 3-D:        in-plane u and v (4 floats) and vertical u_z, v_z (2 fixed-point
+//                    doubles) read and written, 1 flag byte read                     = 65 B
+//   vertical-only:   u_z and v_z (2 doubles) read and written, 1 flag byte read      = 33 B
+//   reference 3-D:   u (3 floats) and v (3 floats), 1 flag: 49 B (its AoS node is 40 B
+//                    with a force scratch); reference vertical-only: 17 B
 // The floor is a STREAM-style triad a[i] = b[i] + s * c[i] over float arrays far larger
 // than the caches, counted as 12 bytes per element (2 reads and 1 write, as STREAM does).
 

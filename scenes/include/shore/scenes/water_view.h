@@ -1,7 +1,7 @@
 #pragma once
 // Water surfaces as the water scenes' pictures and metrics see them: copied into a
-// HeightGrid, drawn with land and floating bodies painted over them, wave heights and the
-// level a floater sits in.
+// HeightGrid, drawn with land and floating bodies painted over them, and wave heights. (The
+// level a floater sits in is water::Surface::level_around.)
 
 #include <functional>
 #include <string>
@@ -32,10 +32,5 @@ Image render_water_scene(const water::Surface& surface, const WaterOverlay& over
 
 /// Largest |height - rest level| over the surface's nodes that are not fixed, m.
 double max_deviation(const water::Surface& surface);
-
-/// Mean water height on a circle of `radius` around (x, y) (32 points, bilinear): the level
-/// a floater at (x, y) sits in, free of the surface under the body itself, which the body's
-/// displacement raises.
-double level_around(const water::Surface& surface, double x, double y, double radius);
 
 }  // namespace shore::scenes

@@ -1,35 +1,30 @@
 #pragma once
-// The spring-mass water surface (Markichev & Supikov): an nx x ny grid of point masses,
-// springs on every grid edge and both diagonals, semi-implicit Euler, optional per-node
-// constraints, additive disturbances, a stability guard that splits steps into substeps.
+// The fast spring-mass water surface (Markichev & Supikov).
 //
-// Model (3-D mode). Node (i, j) of mass m rests at (origin_x + i h, origin_y + j h, z0).
-// Springs join (i, j) to (i+1, j), (i, j+1) with rest length L0 = rest_ratio h, and to
-// (i+1, j+1) and between (i+1, j), (i, j+1) with rest length sqrt(2) L0. A spring of
-// length l pulls its ends together with force c (l - L0) (Hooke). rest_ratio < 1 puts the
-// lattice under tension at rest, which gives small vertical waves the speed
-//   c_w = h sqrt(3 c (1 - rest_ratio) / m).
-// Damping: a force -gamma v on each node, so an oscillation's amplitude decays as
-// exp(-t gamma / (2 m)): e-folding time 2 m / gamma. (The discrete scheme decays by exactly
-// sqrt(1 - gamma dt / m) per step for a single mode: rate -ln(1 - gamma dt / m) / (2 dt).)
-// Step: v += dt (F(x) - gamma v) / m, then x += dt v (the new v), per node; fixed nodes keep
-// v = 0, vertical-only nodes keep a zero horizontal velocity.
+// State per node: the displacement from the rest position and the velocity. Vertical
+// components are fixed-point doubles (exact multiples of a quantum of about 2^-38 of the
+// spacing), in-plane components (3-D mode) floats. The displacement form keeps precision
+// independent of where the grid sits in the world.
 //
-// Vertical-only mode: see SurfaceMode::vertical_only (linearised; discrete wave equation).
+// Storage and stepping are in square tiles (SleepSettings): tiles are created when
+// something reaches them, step while awake and cost nothing asleep, so a lake of a
+// hundred million nodes with one boat costs what its wake costs.
 //
-// Storage: float structure-of-arrays; in 3-D mode the displacement from the rest position
-// (ux, uy, uz) and the velocity (vx, vy, vz) per node; in vertical-only mode uz and vz. The
-// displacement form keeps float precision independent of where the grid sits in the world.
+// Exactness: springs exchange vertical momentum in rounded, equal and opposite impulses
+// and heights rise by rounded increments whose exact sums are known, and the one rounding
+// that does not cancel by itself (damping, and velocity times dt) is put back on one node
+// each substep. So in a pool without fixed nodes or open edges the total volume (the sum
+// of the heights) never changes, to the last bit, over any number of steps.
 //
-// Kernel: one fused pass per row and substep (spring forces, damping, update), float
-// structure-of-arrays, vectorised (AVX2 + FMA when the CPU has it, chosen at run time),
-// OpenMP over blocks of rows. ReferenceSurface (reference_surface.h) is the plain form of
-// the same algorithm that this one is tested against.
+// Kernel: one pass per tile and substep (spring forces, damping, update), vectorised
+// (AVX2 + FMA when the CPU has it, chosen at run time; both variants give the same bits).
+// ReferenceSurface (reference_surface.h) is the plain form of the same algorithm that
+// this one is tested against.
 //
-// Threads: results are bit-identical for any thread count (each row is computed by the same
-// arithmetic whoever runs it; no reductions across threads in the update).
+// Threads: results are bit-identical for any thread count, tile size and kernel variant.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
@@ -48,6 +43,7 @@ struct StepStats {
   double simulated = 0.0;     ///< s, time advanced (== dt unless time_clamped)
   double omega_bound = 0.0;   ///< rad/s, the guard's bound on the highest lattice frequency
   bool time_clamped = false;  ///< the guard needed more than max_substeps: time advanced < dt
+  int parallel_substeps = 0;  ///< substeps that ran on the team (the rest on one thread)
 };
 
 /// Energies in J. Potential is the elastic energy in excess of the rest lattice's
@@ -77,37 +73,56 @@ struct NodeIndex {
   int j = 0;
 };
 
+/// Tiles and their cost right now.
+struct TileStats {
+  int tile = 0;                  ///< nodes per tile side
+  std::int64_t tiles = 0;        ///< tiles covering the grid
+  std::int64_t created = 0;      ///< tiles that exist (awake or asleep)
+  std::int64_t awake = 0;        ///< tiles that step
+  std::int64_t awake_nodes = 0;  ///< nodes in awake tiles
+  std::int64_t ever_awake = 0;   ///< tiles that have been awake at least once
+  std::size_t memory_bytes = 0;  ///< the surface's own heap memory (tiles, index, scratch)
+};
+
+/// A copy of the whole state as dense arrays (node (i, j) at index j * nx + i), for tests and
+/// renderers of small grids. In vertical-only mode ux, uy, vx, vy are empty.
+struct DenseState {
+  std::vector<float> ux, uy, vx, vy;
+  std::vector<double> uz, vz;
+  std::vector<NodeConstraint> constraints;
+};
+
 class Surface {
  public:
   /// Validates the settings (throws shore::InvalidSetting) and builds a surface at rest
   /// with the boundary preset applied.
   explicit Surface(const SurfaceSettings& settings);
-  Surface(const Surface&) = delete;  // the state fields point into one owned buffer
+  ~Surface();
+  Surface(const Surface&) = delete;
   Surface& operator=(const Surface&) = delete;
-  Surface(Surface&&) noexcept = default;
-  Surface& operator=(Surface&&) noexcept = default;
+  Surface(Surface&&) noexcept;
+  Surface& operator=(Surface&&) noexcept;
 
   // ---- stepping -------------------------------------------------------------------------
   /// Advances by dt seconds (finite, > 0), in as many substeps as the guard needs.
   StepStats step(double dt);
-  /// Threads for step() (0: OpenMP's default, at most one per 16384 nodes). Results do not
-  /// depend on it.
+  /// Threads for step() (0: the machine's hardware threads). Results do not depend on it.
   void set_threads(int threads);
   /// "avx2" or "generic": the kernel KernelChoice::automatic picks on this CPU.
   [[nodiscard]] static const char* fast_kernel_isa();
   /// Whether this build and CPU can run the kernel (automatic and generic always can).
   [[nodiscard]] static bool kernel_available(KernelChoice kernel);
   /// "avx2" or "generic": the kernel this surface steps with (SurfaceSettings::kernel).
-  [[nodiscard]] const char* kernel_isa() const noexcept { return avx2_ ? "avx2" : "generic"; }
+  [[nodiscard]] const char* kernel_isa() const noexcept;
   /// The guard's current bound on the highest lattice frequency (rad/s) from the present
   /// deformation.
   [[nodiscard]] double omega_bound() const;
-  [[nodiscard]] const StepStats& last_stats() const { return last_stats_; }
+  [[nodiscard]] const StepStats& last_stats() const;
 
   // ---- constraints --------------------------------------------------------------------
   /// Sets a node's constraint. A node becoming fixed keeps its present position and loses
   /// its velocity; one becoming vertical-only loses its horizontal velocity. In
-  /// vertical-only mode, free and vertical_only mean the same.
+  /// vertical-only mode, free and vertical_only mean the same. Wakes the node's tile.
   void set_constraint(int i, int j, NodeConstraint c);
   [[nodiscard]] NodeConstraint constraint(int i, int j) const;
   /// For a coupling that marks the shoreline from terrain: fixed (true) or free (false).
@@ -123,16 +138,30 @@ class Surface {
   /// amplitude within the cap); on error nothing is applied. Fixed nodes are not moved.
   void disturb(std::span<const Disturbance> ds);
   void disturb(const Disturbance& d) { disturb(std::span<const Disturbance>(&d, 1)); }
+  /// Wakes every tile that covers a node in the world rectangle [x0, x1] x [y0, y1] (and
+  /// their neighbours), e.g. under a body. Finite corners, any order.
+  void wake(double x0, double y0, double x1, double y1);
 
   // ---- node access (for a coupling) -------------------------------------------------------
   /// World z of node (i, j) (m).
   [[nodiscard]] double height(int i, int j) const;
   /// Vertical velocity of node (i, j) (m/s).
   [[nodiscard]] double vertical_velocity(int i, int j) const;
-  /// Adds dz (m, finite) to node (i, j)'s height, dv (m/s, finite) to its vertical velocity.
-  /// Fixed nodes are left alone (returns false). Throws on a non-finite value or a bad index.
+  /// Adds dz (m, finite) to node (i, j)'s height, dv (m/s, finite) to its vertical velocity
+  /// (rounded to the state's quantum). Fixed nodes are left alone (returns false). Throws on
+  /// a non-finite value or a bad index.
   bool add_height(int i, int j, double dz);
   bool add_vertical_velocity(int i, int j, double dv);
+  /// Heights above rest (m) of the nodes [i0, i0 + w) x [j0, j0 + h), row-major, for a
+  /// coupling; nodes beyond the grid read as their nearest edge node.
+  void heights_above_rest(int i0, int j0, int w, int h, std::vector<double>& out) const;
+  /// Vertical velocities of the same window (m/s).
+  void vertical_velocities(int i0, int j0, int w, int h, std::vector<double>& out) const;
+  /// Adds dz[k] (m, finite, |dz| within the disturbance cap) to the nodes of the window
+  /// (row-major, w * h values; nodes beyond the grid and fixed nodes are skipped) and wakes
+  /// them. Returns the volume actually added (m^3, exact: the sum of the rounded changes
+  /// times h^2).
+  double add_heights(int i0, int j0, int w, int h, std::span<const double> dz);
   /// World position and velocity of a node (3-D).
   [[nodiscard]] Eigen::Vector3d position(int i, int j) const;
   [[nodiscard]] Eigen::Vector3d velocity(int i, int j) const;
@@ -152,6 +181,19 @@ class Surface {
   /// ignored). Points outside the footprint are clamped to its edge.
   [[nodiscard]] double height_at(double x, double y) const;
   [[nodiscard]] double vertical_velocity_at(double x, double y) const;
+  /// The water level around a point: the mean of height_at on a circle of `radius` (m, > 0)
+  /// around (x, y), 32 points: the level a floater at (x, y) sits in, free of the surface
+  /// under the body itself.
+  [[nodiscard]] double level_around(double x, double y, double radius) const;
+
+  // ---- totals ----------------------------------------------------------------------------
+  /// The water above the rest level (m^3): h^2 times the exact sum of z - rest_height over
+  /// every node (each node stands for a column of h x h). Exact: it changes only through
+  /// the physics (fixed nodes, open edges, damping of a net vertical momentum) and edits.
+  [[nodiscard]] double volume() const;
+  /// rest_height + volume() / (nx ny h^2): the mean height over all nodes (fixed ones
+  /// counted at their height), m.
+  [[nodiscard]] double mean_level() const;
 
   // ---- output ----------------------------------------------------------------------------
   /// World positions, xyz per node, node (i, j) at index j * nx + i.
@@ -162,8 +204,14 @@ class Surface {
   /// The triangle index buffer of this grid (see triangulate()).
   void triangles(std::vector<std::uint32_t>& indices) const;
   [[nodiscard]] Energy energy() const;
-  /// FNV-1a over the grid size, mode, constraints and the raw float state.
+  /// FNV-1a over the grid size, the mode and, tile by tile, the constraints and the state of
+  /// every node (tiles not created count as at rest, sleeping tiles as they are): the same
+  /// for the same state whatever sleeps or exists.
   [[nodiscard]] std::uint64_t state_hash() const;
+  /// Tile counts, awake nodes and memory.
+  [[nodiscard]] TileStats tile_stats() const;
+  /// Whether the tile holding node (i, j) steps (exists and is awake).
+  [[nodiscard]] bool awake(int i, int j) const;
 
   [[nodiscard]] const SurfaceSettings& settings() const { return settings_; }
   [[nodiscard]] int nx() const { return settings_.nx; }
@@ -175,45 +223,19 @@ class Surface {
   [[nodiscard]] double density() const { return settings_.density; }
   [[nodiscard]] SurfaceMode mode() const { return settings_.mode; }
   /// Total time advanced by step() so far (s).
-  [[nodiscard]] double time() const { return time_; }
+  [[nodiscard]] double time() const;
+  /// The sleep thresholds in use (m, m/s): SleepSettings with its defaults resolved.
+  [[nodiscard]] double sleep_height() const;
+  [[nodiscard]] double sleep_velocity() const;
 
-  /// Raw state for tests and renderers: displacement from rest and velocity per node
-  /// (index j * nx + i). In vertical-only mode ux, uy, vx, vy are empty.
-  struct View {
-    std::span<const float> ux, uy, uz, vx, vy, vz;
-    std::span<const NodeConstraint> constraints;
-  };
-  [[nodiscard]] View view() const;
+  /// A dense copy of the state (small grids: nx * ny * 33 bytes).
+  [[nodiscard]] DenseState dense_state() const;
+
+  struct State;  ///< opaque: tiles, team, guard
 
  private:
-  [[nodiscard]] std::size_t index(int i, int j) const;
-  void check_index(const char* what, int i, int j) const;
-  void step_substep(double dt);
-  [[nodiscard]] double velocity_cap() const;
-
   SurfaceSettings settings_;
-  int threads_ = 0;
-  bool avx2_ = false;  // the step kernel: the AVX2 variant, or the generic one
-  /// The float state lives in one buffer, each field staggered by a few cache lines so that
-  /// same-index elements of different fields do not share cache sets (power-of-two grids).
-  std::vector<float> storage_;
-  float* ux_ = nullptr;  // null in vertical-only mode
-  float* uy_ = nullptr;
-  float* uz_ = nullptr;
-  float* vx_ = nullptr;
-  float* vy_ = nullptr;
-  float* vz_ = nullptr;
-  [[nodiscard]] std::span<const float> field(const float* f) const {
-    return f ? std::span<const float>(f, node_count()) : std::span<const float>();
-  }
-  std::vector<NodeConstraint> constraints_;
-  mutable std::vector<float> workspace_;  // kernel scratch, per thread
-  /// The guard's deformation measures of the current positions (3-D mode): refreshed by
-  /// every substep, dropped when positions are edited, re-measured on demand.
-  mutable std::optional<Deformation> deformation_;
-  StepStats last_stats_;
-  double last_substep_ = 0.0;
-  double time_ = 0.0;
+  std::unique_ptr<State> s_;
 };
 
 /// The seed paper's triangulation: each cell (i, j)-(i+1, j+1) split along the edge

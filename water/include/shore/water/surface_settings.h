@@ -1,6 +1,7 @@
 #pragma once
 // Settings of a water surface: grid size and placement, lattice parameters, mode,
-// boundary preset, threads and the stability guard.
+// boundary preset (walls, shores or open water), tiles and sleeping, threads and the
+// stability guard.
 //
 // Grid convention (shared with terrain and the plugin): world Z is up; node (i, j) rests at
 // (origin_x + i * h, origin_y + j * h, rest_height), i in [0, nx), j in [0, ny), h = spacing.
@@ -23,6 +24,8 @@ enum class Boundary : std::uint8_t {
   fixed,          ///< all edge nodes fixed: waves reflect with inverted sign (shoreline)
   vertical_only,  ///< edge nodes move only vertically: waves reflect without inversion (pool walls)
   free,           ///< no constraint (3-D mode: pre-tension pulls a free edge inwards)
+  open,           ///< open water: a sponge layer (OpenBoundarySettings) absorbs arriving waves, so a
+                  ///< finite patch behaves as part of a larger lake; edge nodes are vertical-only
 };
 
 /// How nodes move.
@@ -59,6 +62,42 @@ struct GuardSettings {
   void validate() const;
 };
 
+/// The absorbing layer of Boundary::open: within `width` nodes of an edge every node feels
+/// an extra damping 2 sigma(d) v and a pull sigma(d)^2 u back to rest (per unit mass), with
+/// sigma(d) = sigma_max ((width - d) / width)^2 at d nodes from the edge and
+/// sigma_max = strength * c_w / (width * h). The pair is the critically damped form
+/// (d/dt + sigma)^2 u of a wave entering the layer, and the smooth ramp keeps the layer's
+/// own reflection small: a ring's echo is about 3 % of its amplitude at the default (4 % at
+/// width 24, 8 % at 16; tests/water/test_surface_open.cpp, and the benchmark's sweep over
+/// the width). The layer takes water out: the volume is not kept where an edge is open.
+struct OpenBoundarySettings {
+  int width = 32;         ///< nodes, the layer's width from each edge, >= 2 (2 * width < nx, ny)
+  double strength = 6.0;  ///< dimensionless, sigma_max * width * h / c_w, in (0, 64]
+  void validate() const;
+};
+
+/// Tiles and sleeping. The surface is stored and stepped in square tiles of `tile` nodes per
+/// side. With `enabled`, a tile is created only when something reaches it (creation of a huge
+/// surface is instant and costs nothing for still water); an awake tile falls asleep when
+/// for `calm_substeps` substeps in a row every node of it has |z - rest| <= height / 2 and
+/// |v| <= velocity / 2 (3-D: every component) and no awake neighbour has a node above a
+/// quarter of those next to it. A sleeping tile keeps its state (counted by state_hash) and
+/// costs nothing: its nodes are frozen and the springs to it carry no vertical force (its
+/// water neither leaves nor enters it, so the volume stays exact). Disturbances, edits,
+/// constraint changes and wake() wake the tiles they touch and their eight neighbours; a
+/// wave arriving at a tile's edge (above a quarter of the thresholds) wakes the neighbour.
+/// The difference from a surface where nothing sleeps stays within `height` (tests).
+/// Without `enabled`, every tile exists and steps always (the dense grid; the same bits as a
+/// sleeping surface where nothing sleeps).
+struct SleepSettings {
+  bool enabled = true;
+  int tile = 32;           ///< nodes per tile side, a power of two in [8, 256]
+  double height = 0.0;     ///< m, >= 0; 0: 1e-5 * spacing
+  double velocity = 0.0;   ///< m/s, >= 0; 0: height * the top vertical lattice frequency
+  int calm_substeps = 16;  ///< >= 1
+  void validate() const;
+};
+
 struct SurfaceSettings {
   int nx = 64;                ///< nodes along x, >= 3
   int ny = 64;                ///< nodes along y, >= 3
@@ -69,9 +108,20 @@ struct SurfaceSettings {
   double density = 1000.0;    ///< kg/m^3, water density for buoyancy in a coupling, > 0
   SurfaceMode mode = SurfaceMode::full_3d;
   Boundary boundary = Boundary::fixed;
-  int threads = 0;  ///< OpenMP threads for the step, >= 0 (0: OpenMP's default, at most one
-                    ///< per 16384 nodes). Results do not depend on it.
+  /// Threads for the step, >= 0 (0: the machine's hardware threads). Results do not depend
+  /// on it. The surface keeps its own team (no OpenMP, so no OMP_WAIT_POLICY matters): idle
+  /// workers sleep, work is handed out tile by tile, and a worker that wakes late finds
+  /// nothing left rather than holding the step up.
+  int threads = 0;
+  /// A substep forks only when at least this many nodes are awake (below it the wake-up
+  /// costs more than it saves), and only while measured parallel substeps are faster than
+  /// serial ones (a loaded machine makes them slower: then the step runs on one thread and
+  /// re-tries the team at growing intervals). >= 0; 0: always fork when threads > 1, without
+  /// measuring (for tests of the parallel path).
+  int parallel_min_nodes = 32768;
   GuardSettings guard;
+  SleepSettings sleep;
+  OpenBoundarySettings open;  ///< used where boundary == Boundary::open
   KernelChoice kernel = KernelChoice::automatic;
 
   /// Throws shore::InvalidSetting naming the field, the value and the allowed range.

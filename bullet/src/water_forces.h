@@ -1,0 +1,31 @@
+#pragma once
+// Internal: buoyancy and drag of one body from its submerged parts (buoyancy.h has the
+// model), clamped for one substep.
+
+#include <LinearMath/btMatrix3x3.h>
+
+#include "shore/bullet/buoyancy.h"
+#include "water_shape.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+namespace water_detail {
+
+/// The body's state the drag needs.
+struct Motion {
+  V3 com;                   ///< centre of mass, world
+  V3 v;                     ///< linear velocity
+  V3 w;                     ///< angular velocity
+  double mass = 0.0;        ///< kg; 0: kinematic or static (the forces are reported, not limited)
+  btMatrix3x3 inv_inertia;  ///< world inverse inertia tensor
+};
+
+/// Forces on the body from `wet` (its analytic parts) and `sampled_volume` /
+/// `sampled_moment` (its sampled parts) under water plane w, over a substep h: drag scaled
+/// down where it would reverse the relative velocity or spin within the substep.
+BodyWater water_forces(const Submerged& wet, double sampled_volume, V3 sampled_moment, const WaterPlane& w,
+                       const FluidSettings& fluid, const Motion& m, double h);
+
+}  // namespace water_detail
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet
