@@ -19,12 +19,11 @@
 
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <string>
-#include <system_error>
 
 #include "region.h"
+#include "shore/core/checkpoint_file.h"
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
 #include "terrain_impl.h"
@@ -115,38 +114,6 @@ void write_settings(Writer& w, const TerrainSettings& s) {
   for (double v :
        {m.cohesion, m.friction_angle, m.shear_modulus, m.remould_ratio, m.remould_shear_ratio, m.remould_length})
     w.put(v);
-}
-
-// Write beside the target, then rename: a reader never sees a half-written state.
-void write_file(const std::filesystem::path& file, const std::vector<unsigned char>& bytes) {
-  std::filesystem::path temp = file;
-  temp += ".tmp";
-  {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    if (!out) throw FileError("terrain state " + file.string() + ": cannot open " + temp.string() + " for writing");
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(temp, ignored);
-      throw FileError("terrain state " + file.string() + ": write failed (disk full?)");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(temp, file, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(temp, ignored);
-    throw FileError("terrain state " + file.string() + ": cannot rename the temporary file (" + ec.message() + ")");
-  }
-}
-
-std::vector<unsigned char> read_file(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError("terrain state " + file.string() + ": cannot open for reading");
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw FileError("terrain state " + file.string() + ": read failed");
-  return bytes;
 }
 
 // Checks the magic, version, byte order and checksum. Returns a reader of what lies between
@@ -269,7 +236,9 @@ std::vector<unsigned char> Terrain::save_bytes() const {
   return std::move(w.bytes);
 }
 
-void Terrain::save(const std::filesystem::path& file) const { write_file(file, save_bytes()); }
+void Terrain::save(const std::filesystem::path& file) const {
+  write_file_atomically(file, save_bytes(), "terrain state");
+}
 
 Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::string& name,
                             std::shared_ptr<const HeightSource> base) {
@@ -286,7 +255,7 @@ Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::str
 }
 
 Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const HeightSource> base) {
-  return load_bytes(read_file(file), file.string(), std::move(base));
+  return load_bytes(read_whole_file(file, "terrain state"), file.string(), std::move(base));
 }
 
 }  // namespace shore::terrain
