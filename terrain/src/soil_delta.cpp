@@ -16,6 +16,7 @@
 #include <cstring>
 #include <string>
 
+#include "shore/core/byte_io.h"
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
 #include "terrain_impl.h"
@@ -32,12 +33,6 @@ constexpr std::size_t kMaxRawBytes = std::size_t{1} << 31;
 constexpr double kMaxQuanta = 4503599627370496.0;  // 2^52: integers exact in a double
 
 [[noreturn]] void refuse(const std::string& problem) { throw FileError("soil delta: " + problem); }
-
-template <class T>
-void put(std::vector<unsigned char>& out, const T& v) {
-  const auto* p = reinterpret_cast<const unsigned char*>(&v);
-  out.insert(out.end(), p, p + sizeof(T));
-}
 
 void put_varint(std::vector<unsigned char>& out, std::uint64_t v) {
   while (v >= 0x80) {
@@ -67,17 +62,9 @@ void put_sequence(std::vector<unsigned char>& out, const std::vector<std::uint64
   }
 }
 
-class RawReader {
+class RawReader : public ByteReader {
  public:
-  explicit RawReader(std::span<const unsigned char> bytes) : bytes_(bytes) {}
-  template <class T>
-  T get(const char* what) {
-    if (sizeof(T) > bytes_.size() - pos_) refuse(std::string("corrupt (ends inside ") + what + ")");
-    T v;
-    std::memcpy(&v, bytes_.data() + pos_, sizeof(T));
-    pos_ += sizeof(T);
-    return v;
-  }
+  explicit RawReader(std::span<const unsigned char> bytes) : ByteReader(bytes, "soil delta") {}
   std::uint64_t varint() {
     std::uint64_t v = 0;
     for (int shift = 0; shift < 64; shift += 7) {
@@ -99,11 +86,7 @@ class RawReader {
       for (std::uint64_t r = 0; r < run; ++r) values[k++] = previous;
     }
   }
-  [[nodiscard]] bool done() const { return pos_ == bytes_.size(); }
-
- private:
-  std::span<const unsigned char> bytes_;
-  std::size_t pos_ = 0;
+  [[nodiscard]] bool done() const { return remaining() == 0; }
 };
 
 std::uint64_t quantise(double value, double quantum) {
@@ -160,14 +143,14 @@ std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_
   settings.validate();
   const Terrain::Impl& im = *server.impl_;
   const std::vector<ColumnRect> rects = im.tiles.changed_since(since);
-  std::vector<unsigned char> raw;
-  put(raw, im.compacted), put(raw, im.edited);
-  put(raw, static_cast<std::uint32_t>(rects.size()));
+  ByteWriter raw;
+  raw.put(im.compacted), raw.put(im.edited);
+  raw.put(static_cast<std::uint32_t>(rects.size()));
   std::vector<std::uint64_t> heights, sinkages;
   DeltaStats st;
   for (const ColumnRect& r : rects) {
-    put(raw, r.i0), put(raw, r.j0);
-    put(raw, static_cast<std::uint16_t>(r.nx)), put(raw, static_cast<std::uint16_t>(r.ny));
+    raw.put(r.i0), raw.put(r.j0);
+    raw.put(static_cast<std::uint16_t>(r.nx)), raw.put(static_cast<std::uint16_t>(r.ny));
     heights.assign(static_cast<std::size_t>(r.nx) * r.ny, 0);
     sinkages.assign(heights.size(), 0);
     im.tiles.for_each_run(r, [&](const Tile* t, const TileRun& run) {
@@ -178,26 +161,27 @@ std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_
         sinkages[at] = quantise(t->sinkage[local], settings.quantum);
       }
     });
-    put_sequence(raw, heights);
-    put_sequence(raw, sinkages);
+    put_sequence(raw.bytes, heights);
+    put_sequence(raw.bytes, sinkages);
     st.columns += heights.size();
   }
-  std::vector<unsigned char> out;
-  for (char c : kMagic) put(out, c);
-  put(out, kVersion), put(out, kByteOrderMark), put(out, settings.quantum);
-  put(out, since), put(out, im.tiles.generation()), put(out, static_cast<std::uint64_t>(raw.size()));
+  ByteWriter w;
+  for (char c : kMagic) w.put(c);
+  w.put(kVersion), w.put(kByteOrderMark), w.put(settings.quantum);
+  w.put(since), w.put(im.tiles.generation()), w.put(static_cast<std::uint64_t>(raw.bytes.size()));
+  std::vector<unsigned char>& out = w.bytes;
   const std::size_t frame_at = out.size() + sizeof(std::uint64_t);
-  out.resize(frame_at + ZSTD_compressBound(raw.size()));
-  const std::size_t frame =
-      ZSTD_compress(out.data() + frame_at, out.size() - frame_at, raw.data(), raw.size(), settings.compression_level);
+  out.resize(frame_at + ZSTD_compressBound(raw.bytes.size()));
+  const std::size_t frame = ZSTD_compress(out.data() + frame_at, out.size() - frame_at, raw.bytes.data(),
+                                          raw.bytes.size(), settings.compression_level);
   if (ZSTD_isError(frame) != 0) refuse(std::string("zstd failed: ") + ZSTD_getErrorName(frame));
   out.resize(frame_at + frame);
   const auto frame_size = static_cast<std::uint64_t>(frame);
   std::memcpy(out.data() + frame_at - sizeof frame_size, &frame_size, sizeof frame_size);
-  put(out, checksum(out.data(), out.size()));
-  st.rectangles = rects.size(), st.raw_bytes = raw.size(), st.bytes = out.size();
+  w.put(checksum(out.data(), out.size()));
+  st.rectangles = rects.size(), st.raw_bytes = raw.bytes.size(), st.bytes = out.size();
   if (stats != nullptr) *stats = st;
-  return out;
+  return std::move(w.bytes);
 }
 
 // ---- applying ----------------------------------------------------------------------------
