@@ -14,13 +14,7 @@
 namespace shore::terrain {
 namespace {
 
-TerrainSettings sand() {
-  TerrainSettings s;
-  s.cell = 0.02;
-  s.tile_columns = 16;
-  s.threads = 1;
-  return s;
-}
+TerrainSettings sand() { return testing::coarse_sand(); }
 
 // A sphere ploughing at 3 cm and a second pressing and lifting: erosion keeps working
 // between steps (the unsettled boxes), so the saved state must carry more than heights.

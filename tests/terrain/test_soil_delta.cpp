@@ -16,13 +16,7 @@ namespace {
 
 using testing::sphere_envelope;
 
-TerrainSettings sand() {
-  TerrainSettings s;
-  s.cell = 0.02;
-  s.tile_columns = 16;
-  s.threads = 1;
-  return s;
-}
+TerrainSettings sand() { return testing::coarse_sand(); }
 
 // The sphere's path: x from 0.2 to 1.4 m over `steps` steps, 3 cm deep.
 void plough(Terrain& t, int step, int steps) {
