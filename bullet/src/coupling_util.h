@@ -30,12 +30,18 @@ inline bool body_is_sane(const btRigidBody& body, double max_speed) {
   return finite(v) && finite(body.getAngularVelocity()) && v.length() <= max_speed;
 }
 
-/// The btRigidBody* of each element of a coupling's body list (elements with a `body` member).
+/// The btRigidBody* of each element of a coupling's body list (elements, or pointers to
+/// elements, with a `body` member).
 template <class Entry>
 std::vector<btRigidBody*> body_pointers(const std::vector<Entry>& entries) {
   std::vector<btRigidBody*> out;
   out.reserve(entries.size());
-  for (const Entry& e : entries) out.push_back(e.body);
+  for (const Entry& e : entries) {
+    if constexpr (requires { e.body; })
+      out.push_back(e.body);
+    else
+      out.push_back(e->body);
+  }
   return out;
 }
 

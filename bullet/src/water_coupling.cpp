@@ -254,6 +254,8 @@ void WaterCoupling::remove_body(btRigidBody* body) {
   std::erase_if(bodies_, [body](const std::unique_ptr<Body>& b) { return b->body == body; });
 }
 
+std::vector<btRigidBody*> WaterCoupling::bodies() const { return coupling_detail::body_pointers(bodies_); }
+
 double WaterCoupling::submerged_volume(const btRigidBody* body) const {
   for (const auto& b : bodies_)
     if (b->body == body) return b->last.submerged_volume;

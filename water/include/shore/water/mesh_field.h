@@ -33,9 +33,12 @@ class SurfaceField final : public mesh::Field {
   void take_changes(std::vector<mesh::NodeRect>& out) override;
 
  private:
+  /// Node (i, j)'s rest position, as the surface places it.
+  [[nodiscard]] Eigen::Vector3d rest_at(int i, int j) const;
+
   const Surface* surface_;
   mesh::BasePlane rest_;
-  std::vector<float> seen_;  ///< ux, uy, uz per node as last reported (3-D), or uz
+  std::vector<double> seen_;  ///< ux, uy, uz per node as last reported (3-D), or uz
 };
 
 }  // namespace shore::water
