@@ -5,7 +5,7 @@
 #   llvmpipe, Xvfb for the window test)
 set -euo pipefail
 pkgs=(g++ binutils make cmake ninja-build pkg-config libbullet-dev libeigen3-dev libgtest-dev libgmock-dev
-      libbenchmark-dev libcli11-dev nlohmann-json3-dev libstb-dev)
+      libbenchmark-dev libcli11-dev nlohmann-json3-dev libstb-dev libzstd-dev)
 viewer_pkgs=(libglfw3-dev libimgui-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth)
 for group in "${@:-build}"; do
   case "$group" in

@@ -19,12 +19,11 @@
 
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <string>
-#include <system_error>
 
 #include "region.h"
+#include "shore/core/checkpoint_file.h"
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
 #include "terrain_impl.h"
@@ -54,7 +53,7 @@ class Writer {
 
 class Reader {
  public:
-  Reader(const std::vector<unsigned char>& bytes, std::size_t end, std::string file)
+  Reader(std::span<const unsigned char> bytes, std::size_t end, std::string file)
       : bytes_(bytes), end_(end), file_(std::move(file)) {}
   template <class T>
   T get(const char* what) {
@@ -84,7 +83,7 @@ class Reader {
   void need(std::size_t size, const char* what) const {
     if (size > end_ - pos_) fail(std::string("truncated (file ends inside ") + what + ")");
   }
-  const std::vector<unsigned char>& bytes_;
+  std::span<const unsigned char> bytes_;
   std::size_t end_;
   std::size_t pos_ = 0;
   std::string file_;
@@ -117,41 +116,9 @@ void write_settings(Writer& w, const TerrainSettings& s) {
     w.put(v);
 }
 
-// Write beside the target, then rename: a reader never sees a half-written state.
-void write_file(const std::filesystem::path& file, const std::vector<unsigned char>& bytes) {
-  std::filesystem::path temp = file;
-  temp += ".tmp";
-  {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    if (!out) throw FileError("terrain state " + file.string() + ": cannot open " + temp.string() + " for writing");
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(temp, ignored);
-      throw FileError("terrain state " + file.string() + ": write failed (disk full?)");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(temp, file, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(temp, ignored);
-    throw FileError("terrain state " + file.string() + ": cannot rename the temporary file (" + ec.message() + ")");
-  }
-}
-
-std::vector<unsigned char> read_file(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError("terrain state " + file.string() + ": cannot open for reading");
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw FileError("terrain state " + file.string() + ": read failed");
-  return bytes;
-}
-
 // Checks the magic, version, byte order and checksum. Returns a reader of what lies between
 // the header and the checksum, and sets version.
-Reader open_body(const std::vector<unsigned char>& bytes, const std::string& name, std::uint32_t& version) {
+Reader open_body(std::span<const unsigned char> bytes, const std::string& name, std::uint32_t& version) {
   const Reader r(bytes, bytes.size(), name);
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     r.fail("not a Shore terrain state (magic \"SHORETRN\" missing)");
@@ -247,7 +214,7 @@ void read_tiles(Reader& hr, int n, TileStore& store) {
 
 }  // namespace
 
-void Terrain::save(const std::filesystem::path& file) const {
+std::vector<unsigned char> Terrain::save_bytes() const {
   const Impl& im = *impl_;
   Writer w;
   for (char c : kMagic) w.put(c);
@@ -266,12 +233,15 @@ void Terrain::save(const std::filesystem::path& file) const {
     w.put_doubles(t.height), w.put_doubles(t.sinkage), w.put_doubles(t.base);
   }
   w.put(checksum(w.bytes.data(), w.bytes.size()));
-  write_file(file, w.bytes);
+  return std::move(w.bytes);
 }
 
-Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const HeightSource> base) {
-  const std::string name = file.string();
-  const std::vector<unsigned char> bytes = read_file(file);
+void Terrain::save(const std::filesystem::path& file) const {
+  write_file_atomically(file, save_bytes(), "terrain state");
+}
+
+Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::string& name,
+                            std::shared_ptr<const HeightSource> base) {
   std::uint32_t version = 0;
   Reader hr = open_body(bytes, name, version);
   Terrain t(read_settings(hr, version, std::move(base)));
@@ -282,6 +252,10 @@ Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const H
   if (version >= 2) im.unsettled = read_unsettled(hr);
   read_tiles(hr, im.s.tile_columns, im.tiles);
   return t;
+}
+
+Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const HeightSource> base) {
+  return load_bytes(read_whole_file(file, "terrain state"), file.string(), std::move(base));
 }
 
 }  // namespace shore::terrain

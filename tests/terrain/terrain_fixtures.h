@@ -10,6 +10,16 @@
 
 namespace shore::terrain::testing {
 
+/// Sand on 2 cm columns in small tiles (16 x 16), one thread: rectangles and tiles stay
+/// few for the checkpoint and delta tests.
+inline TerrainSettings coarse_sand() {
+  TerrainSettings s;
+  s.cell = 0.02;
+  s.tile_columns = 16;
+  s.threads = 1;
+  return s;
+}
+
 /// Lowest point of a sphere (centre cx, cy, cz, radius r) over every column it covers.
 inline EnvelopeRaster sphere_envelope(const Terrain& t, double cx, double cy, double cz, double r) {
   EnvelopeRaster env;

@@ -21,6 +21,7 @@
 #include <limits>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "shore/core/envelope.h"
@@ -216,8 +217,15 @@ class Terrain {
   /// tile's heights, sinkage and sampled base; a checksum guards the whole file.
   void save(const std::filesystem::path& file) const;
   static Terrain load(const std::filesystem::path& file, std::shared_ptr<const HeightSource> base = nullptr);
+  /// The same state as save() writes, as bytes (a checkpoint embeds them whole, so whatever
+  /// the terrain adds to its own format comes with it), and its inverse; `name` says where
+  /// the bytes came from in load_bytes' FileError messages.
+  [[nodiscard]] std::vector<unsigned char> save_bytes() const;
+  static Terrain load_bytes(std::span<const unsigned char> bytes, const std::string& name,
+                            std::shared_ptr<const HeightSource> base = nullptr);
 
  private:
+  friend class SoilDelta;  // reads and writes columns in bulk (shore/terrain/soil_delta.h)
   void read_rect(const ColumnRect& rect, std::span<double> out, bool base) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -27,6 +27,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -227,6 +228,15 @@ class Surface {
   /// The sleep thresholds in use (m, m/s): SleepSettings with its defaults resolved.
   [[nodiscard]] double sleep_height() const;
   [[nodiscard]] double sleep_velocity() const;
+
+  /// The whole evolving state as bytes (shore/core/checkpoint_file.h embeds them): the
+  /// created tiles' nodes, constraints, edge snapshots and sleep counters, the time and the
+  /// guard's memory. Not the settings: restore_state takes a surface built with the same
+  /// ones, and the continued run is bit-identical to the uninterrupted one. restore_state
+  /// throws shore::FileError naming `source` (the surface unchanged) on bytes of another
+  /// version or grid, or truncated or corrupt ones.
+  [[nodiscard]] std::vector<unsigned char> save_state() const;
+  void restore_state(std::span<const unsigned char> bytes, const std::string& source);
 
   /// A dense copy of the state (small grids: nx * ny * 33 bytes).
   [[nodiscard]] DenseState dense_state() const;

@@ -1,0 +1,61 @@
+#pragma once
+// Soil deltas for network replicas: the columns a server's terrain changed since a
+// generation (Terrain::generation), their heights and sinkage (what the bearing law and the
+// contact read), quantised, delta and run-length coded rectangle by rectangle (at most one
+// per tile), compressed with zstd, versioned and checksummed.
+//
+// A replica is a Terrain built with the server's settings and base. It applies the deltas
+// in order; each names the server generation it starts from and the one it brings, so a
+// lost, repeated or reordered delta is refused. A delta from generation 0 (every column the
+// server ever changed) is a full snapshot: a late joiner applies it first, whatever it
+// holds. Applying reports the columns through the replica's take_changed / changed_since,
+// so its Bullet tiles update as the server's did.
+//
+// Layout (docs/checkpoints.md): "SHORESDL", u32 version, u32 byte-order mark, f64 quantum,
+// u64 from, u64 to, u64 raw size, u64 compressed size, zstd frame, u64 FNV-1a of every byte
+// before it.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "shore/terrain/terrain.h"
+
+namespace shore::terrain {
+
+struct DeltaSettings {
+  /// m: heights and sinkage are sent as multiples of this, so a replica's columns lie within
+  /// quantum / 2 of the server's (+ rounding of the sum). 0: exact (bit-identical). Finite, >= 0.
+  double quantum = 1e-4;
+  /// zstd level, in [1, 19]: higher is smaller and slower to encode (decoding is as fast).
+  int compression_level = 3;
+
+  /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
+  void validate() const;
+};
+
+/// What one encode() produced.
+struct DeltaStats {
+  std::size_t rectangles = 0;  ///< changed rectangles sent (at most one per tile)
+  std::size_t columns = 0;     ///< columns in them
+  std::size_t raw_bytes = 0;   ///< the coded columns before compression
+  std::size_t bytes = 0;       ///< the whole delta
+};
+
+class SoilDelta {
+ public:
+  /// The columns `server` changed after generation `since` (0: every changed column, a full
+  /// snapshot), from `since` to server.generation(). Throws InvalidSetting on bad settings
+  /// or a quantum too fine for the heights (more than 2^52 quanta from the base ground).
+  static std::vector<unsigned char> encode(const Terrain& server, std::uint64_t since, const DeltaSettings& settings,
+                                           DeltaStats* stats = nullptr);
+  /// Applies a delta to a replica that mirrors server generation `at`; returns the
+  /// generation it mirrors after. Throws shore::FileError (the replica untouched) if the
+  /// delta is corrupt, truncated, of another version or byte order, or does not start at
+  /// `at` (a snapshot, from 0, always applies); InvalidSetting if its rectangles do not fit
+  /// the replica's tiles.
+  static std::uint64_t apply(Terrain& replica, std::span<const unsigned char> delta, std::uint64_t at);
+};
+
+}  // namespace shore::terrain

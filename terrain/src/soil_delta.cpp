@@ -1,0 +1,289 @@
+// Soil deltas (shore/terrain/soil_delta.h). Before compression, a delta is
+//   f64 compacted, edited (the server's volume bookkeeping); u32 rectangle count;
+//   per rectangle: i64 i0, j0; u16 nx, ny; then its heights and its sinkages, row-major,
+//   each as a coded sequence (below).
+// A value is an integer: quantised, round((height - base) / quantum) and
+// round(sinkage / quantum); exact, the double's bit pattern. A sequence codes each value's
+// difference from the one before (the first from 0), wrapping, zig-zag mapped and written
+// as a LEB128 varint; a 0 token is followed by a varint count of further zero differences
+// (flat or unchanged stretches cost two bytes).
+
+#include "shore/terrain/soil_delta.h"
+
+#include <zstd.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "shore/core/byte_io.h"
+#include "shore/core/error.h"
+#include "shore/core/hash.h"
+#include "terrain_impl.h"
+
+namespace shore::terrain {
+
+namespace {
+
+constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'S', 'D', 'L'};
+constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kByteOrderMark = 0x01020304u;
+constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8 + 8 + 8 + 8;
+constexpr std::size_t kMaxRawBytes = std::size_t{1} << 31;
+constexpr double kMaxQuanta = 4503599627370496.0;  // 2^52: integers exact in a double
+
+[[noreturn]] void refuse(const std::string& problem) { throw FileError("soil delta: " + problem); }
+
+void put_varint(std::vector<unsigned char>& out, std::uint64_t v) {
+  while (v >= 0x80) {
+    out.push_back(static_cast<unsigned char>(v | 0x80));
+    v >>= 7;
+  }
+  out.push_back(static_cast<unsigned char>(v));
+}
+
+std::uint64_t zigzag(std::uint64_t difference) {
+  const auto d = static_cast<std::int64_t>(difference);
+  return (static_cast<std::uint64_t>(d) << 1) ^ static_cast<std::uint64_t>(d >> 63);
+}
+std::uint64_t unzigzag(std::uint64_t z) { return (z >> 1) ^ (0 - (z & 1)); }
+
+// Differences, zig-zag, varints, zero runs.
+void put_sequence(std::vector<unsigned char>& out, const std::vector<std::uint64_t>& values) {
+  std::uint64_t previous = 0;
+  for (std::size_t k = 0; k < values.size();) {
+    const std::uint64_t z = zigzag(values[k] - previous);
+    previous = values[k++];
+    put_varint(out, z);
+    if (z != 0) continue;
+    std::uint64_t run = 0;
+    while (k < values.size() && values[k] == previous) ++run, ++k;
+    put_varint(out, run);
+  }
+}
+
+class RawReader : public ByteReader {
+ public:
+  explicit RawReader(std::span<const unsigned char> bytes) : ByteReader(bytes, "soil delta") {}
+  std::uint64_t varint() {
+    std::uint64_t v = 0;
+    for (int shift = 0; shift < 64; shift += 7) {
+      const auto b = get<unsigned char>("a coded column");
+      v |= static_cast<std::uint64_t>(b & 0x7f) << shift;
+      if ((b & 0x80) == 0) return v;
+    }
+    refuse("corrupt (a varint of more than 10 bytes)");
+  }
+  void sequence(std::vector<std::uint64_t>& values) {
+    std::uint64_t previous = 0;
+    for (std::size_t k = 0; k < values.size();) {
+      const std::uint64_t z = varint();
+      previous += unzigzag(z);
+      values[k++] = previous;
+      if (z != 0) continue;
+      const std::uint64_t run = varint();
+      if (run > values.size() - k) refuse("corrupt (a zero run overruns its rectangle)");
+      for (std::uint64_t r = 0; r < run; ++r) values[k++] = previous;
+    }
+  }
+  [[nodiscard]] bool done() const { return remaining() == 0; }
+};
+
+std::uint64_t quantise(double value, double quantum) {
+  if (quantum == 0.0) {
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &value, sizeof bits);
+    return bits;
+  }
+  const double q = std::nearbyint(value / quantum);
+  if (!(std::fabs(q) <= kMaxQuanta))
+    throw InvalidSetting("terrain.DeltaSettings.quantum", detail::to_text(quantum),
+                         "too fine: a column lies " + detail::to_text(value) + " m from its reference");
+  return static_cast<std::uint64_t>(static_cast<std::int64_t>(q));
+}
+
+double dequantise(std::uint64_t value, double quantum) {
+  if (quantum == 0.0) {
+    double v = 0.0;
+    std::memcpy(&v, &value, sizeof v);
+    return v;
+  }
+  return static_cast<double>(static_cast<std::int64_t>(value)) * quantum;
+}
+
+// One rectangle's decoded columns.
+struct DecodedRect {
+  ColumnRect rect;
+  std::vector<double> height, sinkage;
+};
+
+struct Decoded {
+  double compacted = 0.0, edited = 0.0;
+  std::vector<DecodedRect> rects;
+};
+
+std::uint64_t checksum(const unsigned char* data, std::size_t size) {
+  StateHash h;
+  h.add_bytes(data, size);
+  return h.value();
+}
+
+}  // namespace
+
+void DeltaSettings::validate() const {
+  const Check c{"terrain.DeltaSettings"};
+  c.non_negative("quantum", quantum);
+  c.in_closed("compression_level", compression_level, 1, 19);
+}
+
+// ---- encoding ----------------------------------------------------------------------------
+
+std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_t since, const DeltaSettings& settings,
+                                             DeltaStats* stats) {
+  settings.validate();
+  const Terrain::Impl& im = *server.impl_;
+  const std::vector<ColumnRect> rects = im.tiles.changed_since(since);
+  ByteWriter raw;
+  raw.put(im.compacted), raw.put(im.edited);
+  raw.put(static_cast<std::uint32_t>(rects.size()));
+  std::vector<std::uint64_t> heights, sinkages;
+  DeltaStats st;
+  for (const ColumnRect& r : rects) {
+    raw.put(r.i0), raw.put(r.j0);
+    raw.put(static_cast<std::uint16_t>(r.nx)), raw.put(static_cast<std::uint16_t>(r.ny));
+    heights.assign(static_cast<std::size_t>(r.nx) * r.ny, 0);
+    sinkages.assign(heights.size(), 0);
+    im.tiles.for_each_run(r, [&](const Tile* t, const TileRun& run) {
+      for (int k = 0; k < run.count; ++k) {
+        const std::size_t at = static_cast<std::size_t>(run.y) * r.nx + run.x + k, local = run.local + k;
+        const double h = t->height[local];
+        heights[at] = quantise(settings.quantum == 0.0 ? h : h - t->base[local], settings.quantum);
+        sinkages[at] = quantise(t->sinkage[local], settings.quantum);
+      }
+    });
+    put_sequence(raw.bytes, heights);
+    put_sequence(raw.bytes, sinkages);
+    st.columns += heights.size();
+  }
+  ByteWriter w;
+  for (char c : kMagic) w.put(c);
+  w.put(kVersion), w.put(kByteOrderMark), w.put(settings.quantum);
+  w.put(since), w.put(im.tiles.generation()), w.put(static_cast<std::uint64_t>(raw.bytes.size()));
+  std::vector<unsigned char>& out = w.bytes;
+  const std::size_t frame_at = out.size() + sizeof(std::uint64_t);
+  out.resize(frame_at + ZSTD_compressBound(raw.bytes.size()));
+  const std::size_t frame = ZSTD_compress(out.data() + frame_at, out.size() - frame_at, raw.bytes.data(),
+                                          raw.bytes.size(), settings.compression_level);
+  if (ZSTD_isError(frame) != 0) refuse(std::string("zstd failed: ") + ZSTD_getErrorName(frame));
+  out.resize(frame_at + frame);
+  const auto frame_size = static_cast<std::uint64_t>(frame);
+  std::memcpy(out.data() + frame_at - sizeof frame_size, &frame_size, sizeof frame_size);
+  w.put(checksum(out.data(), out.size()));
+  st.rectangles = rects.size(), st.raw_bytes = raw.bytes.size(), st.bytes = out.size();
+  if (stats != nullptr) *stats = st;
+  return std::move(w.bytes);
+}
+
+// ---- applying ----------------------------------------------------------------------------
+
+namespace {
+
+struct Header {
+  double quantum = 0.0;
+  std::uint64_t from = 0, to = 0, raw_size = 0, frame_size = 0;
+};
+
+Header read_header(std::span<const unsigned char> delta) {
+  if (delta.size() < sizeof kMagic || std::memcmp(delta.data(), kMagic, sizeof kMagic) != 0)
+    refuse("not a Shore soil delta (magic \"SHORESDL\" missing)");
+  if (delta.size() < kHeaderBytes + 8) refuse("truncated (" + std::to_string(delta.size()) + " bytes)");
+  RawReader r(delta.subspan(sizeof kMagic, kHeaderBytes - sizeof kMagic));
+  const auto version = r.get<std::uint32_t>("version");
+  if (version != kVersion)
+    refuse("unsupported version " + std::to_string(version) + " (this build reads " + std::to_string(kVersion) + ")");
+  if (r.get<std::uint32_t>("byte-order mark") != kByteOrderMark) refuse("written with the other byte order");
+  Header h;
+  h.quantum = r.get<double>("header"), h.from = r.get<std::uint64_t>("header"), h.to = r.get<std::uint64_t>("header");
+  h.raw_size = r.get<std::uint64_t>("header"), h.frame_size = r.get<std::uint64_t>("header");
+  if (h.frame_size != delta.size() - kHeaderBytes - 8)
+    refuse("truncated or padded (frame of " + std::to_string(h.frame_size) + " bytes in a delta of " +
+           std::to_string(delta.size()) + ")");
+  std::uint64_t stored = 0;
+  std::memcpy(&stored, delta.data() + delta.size() - 8, sizeof stored);
+  if (stored != checksum(delta.data(), delta.size() - 8)) refuse("checksum mismatch (corrupt)");
+  if (!(h.quantum >= 0.0) || !std::isfinite(h.quantum) || h.raw_size > kMaxRawBytes || h.to < h.from)
+    refuse("corrupt header");
+  return h;
+}
+
+std::vector<unsigned char> decompress(std::span<const unsigned char> delta, const Header& h) {
+  std::vector<unsigned char> raw(h.raw_size);
+  const std::size_t got = ZSTD_decompress(raw.data(), raw.size(), delta.data() + kHeaderBytes, h.frame_size);
+  if (ZSTD_isError(got) != 0) refuse(std::string("zstd: ") + ZSTD_getErrorName(got));
+  if (got != raw.size()) refuse("corrupt (decompressed size differs from the header's)");
+  return raw;
+}
+
+DecodedRect read_rect(RawReader& r, const TileStore& tiles, double quantum) {
+  DecodedRect d;
+  d.rect.i0 = r.get<std::int64_t>("a rectangle"), d.rect.j0 = r.get<std::int64_t>("a rectangle");
+  d.rect.nx = r.get<std::uint16_t>("a rectangle"), d.rect.ny = r.get<std::uint16_t>("a rectangle");
+  const int n = tiles.n();
+  const ColumnRect& c = d.rect;
+  if (c.nx < 1 || c.ny < 1 || tiles.key_of(c.i0, c.j0) != tiles.key_of(c.i0 + c.nx - 1, c.j0 + c.ny - 1))
+    throw InvalidSetting("terrain.SoilDelta.rectangle",
+                         std::to_string(c.nx) + " x " + std::to_string(c.ny) + " at (" + std::to_string(c.i0) + ", " +
+                             std::to_string(c.j0) + ")",
+                         "must lie in one tile of " + std::to_string(n) + " columns (the server's tile_columns)");
+  std::vector<std::uint64_t> values(static_cast<std::size_t>(c.nx) * c.ny);
+  d.height.resize(values.size()), d.sinkage.resize(values.size());
+  r.sequence(values);
+  for (int y = 0; y < c.ny; ++y)
+    for (int x = 0; x < c.nx; ++x) {
+      const std::size_t k = static_cast<std::size_t>(y) * c.nx + x;
+      const double h = dequantise(values[k], quantum);
+      d.height[k] = quantum == 0.0 ? h : tiles.base_at(c.i0 + x, c.j0 + y) + h;
+    }
+  r.sequence(values);
+  for (std::size_t k = 0; k < values.size(); ++k) d.sinkage[k] = dequantise(values[k], quantum);
+  for (std::size_t k = 0; k < values.size(); ++k)
+    if (!std::isfinite(d.height[k]) || !std::isfinite(d.sinkage[k])) refuse("corrupt (a non-finite column)");
+  return d;
+}
+
+Decoded decode(std::span<const unsigned char> raw, const TileStore& tiles, double quantum) {
+  RawReader r(raw);
+  Decoded d;
+  d.compacted = r.get<double>("bookkeeping"), d.edited = r.get<double>("bookkeeping");
+  if (!std::isfinite(d.compacted) || !std::isfinite(d.edited)) refuse("corrupt (non-finite bookkeeping)");
+  const auto count = r.get<std::uint32_t>("rectangle count");
+  if (count > raw.size() / 20) refuse("corrupt (rectangle count " + std::to_string(count) + ")");
+  for (std::uint32_t k = 0; k < count; ++k) d.rects.push_back(read_rect(r, tiles, quantum));
+  if (!r.done()) refuse("corrupt (bytes after the last rectangle)");
+  return d;
+}
+
+}  // namespace
+
+std::uint64_t SoilDelta::apply(Terrain& replica, std::span<const unsigned char> delta, std::uint64_t at) {
+  const Header h = read_header(delta);
+  if (h.from != 0 && h.from != at)
+    refuse("out of order: it starts at server generation " + std::to_string(h.from) + ", the replica is at " +
+           std::to_string(at));
+  Terrain::Impl& im = *replica.impl_;
+  // Everything is decoded and checked before the first column is written.
+  const Decoded d = decode(decompress(delta, h), im.tiles, h.quantum);
+  TileStore& tiles = im.tiles;
+  tiles.advance_generation();
+  for (const DecodedRect& r : d.rects)
+    tiles.for_each_run_creating(r.rect, [&](Tile& t, const TileRun& run) {
+      const std::size_t from = static_cast<std::size_t>(run.y) * r.rect.nx + run.x;
+      std::memcpy(t.height.data() + run.local, r.height.data() + from, run.count * sizeof(double));
+      std::memcpy(t.sinkage.data() + run.local, r.sinkage.data() + from, run.count * sizeof(double));
+      tiles.mark_changed(run.key, t, run.li, run.lj, run.li + run.count - 1, run.lj);
+    });
+  im.compacted = d.compacted, im.edited = d.edited;
+  return h.to;
+}
+
+}  // namespace shore::terrain
