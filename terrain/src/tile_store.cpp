@@ -16,6 +16,12 @@ void Tile::mark_dirty(int li0, int lj0, int li1, int lj1) {
   di1 = std::max(di1, li1), dj1 = std::max(dj1, lj1);
 }
 
+bool Tile::holds_only_base() const {
+  bool same = true;  // no early exit: a branch-free pass over the arrays
+  for (std::size_t k = 0; k < height.size(); ++k) same &= height[k] == base[k] && sinkage[k] == 0.0;
+  return same;
+}
+
 std::size_t Tile::bytes() const { return sizeof(Tile) + capacity_bytes(height, sinkage, base); }
 
 TileStore::TileStore(const TerrainSettings& s)
@@ -38,7 +44,9 @@ const Tile* TileStore::find(TileKey key) const {
 
 Tile& TileStore::tile(TileKey key) {
   auto& slot = tiles_[key];
-  if (!slot) {
+  if (slot) {
+    slot->last_used = clock_;
+  } else {
     slot = std::make_unique<Tile>(n_);
     // Untouched ground is the base source; sample it once, when the tile is created.
     for (int lj = 0; lj < n_; ++lj)
@@ -48,6 +56,7 @@ Tile& TileStore::tile(TileKey key) {
         slot->base[k] = b;
         slot->height[k] = b;
       }
+    slot->last_used = clock_;
   }
   return *slot;
 }
@@ -95,9 +104,40 @@ std::vector<ColumnRect> TileStore::take_changed() {
 
 bool TileStore::adopt(TileKey key, std::unique_ptr<Tile> t) {
   Tile& added = *t;
+  added.from_source = false;
+  added.last_used = clock_;
   if (!tiles_.emplace(key, std::move(t)).second) return false;
   mark_changed(key, added, 0, 0, n_ - 1, n_ - 1);
   return true;
+}
+
+bool TileStore::releasable(TileKey key, Tile& t, std::int64_t idle_steps) const {
+  if (t.dirty || clock_ - t.last_used < idle_steps || t.kept_at == t.last_used) return false;
+  bool base_matches = t.from_source;
+  if (!base_matches) {  // a loaded tile: its base may come from another source than this store's
+    base_matches = true;
+    for (int lj = 0; lj < n_; ++lj)
+      for (int li = 0; li < n_; ++li)
+        base_matches &= t.base[static_cast<std::size_t>(lj) * n_ + li] == base_at(key.tx * n_ + li, key.ty * n_ + lj);
+  }
+  if (base_matches && t.holds_only_base()) return true;
+  t.kept_at = t.last_used;  // unchanged until a step uses it again: no need to compare again
+  return false;
+}
+
+std::size_t TileStore::release_idle(std::int64_t idle_steps) {
+  if (clock_ % kReleaseScanTicks != 0) return 0;
+  std::size_t released = 0;
+  // Each tile's fate depends on that tile alone, so the map's order does not matter.
+  for (auto it = tiles_.begin(); it != tiles_.end();) {
+    if (releasable(it->first, *it->second, idle_steps)) {
+      it = tiles_.erase(it);
+      ++released;
+    } else {
+      ++it;
+    }
+  }
+  return released;
 }
 
 std::size_t TileStore::bytes() const {

@@ -1,7 +1,9 @@
 #pragma once
 // Private: the soil grid's storage. Columns live in square tiles of n x n, created on first
 // write, so a large field costs nothing until touched; a column without a tile is the
-// untouched base ground.
+// untouched base ground. A tile that holds nothing but the base and that no step has used
+// for a while is released again (release_idle), so memory follows the soil that differs
+// from the base, not everywhere a body has been.
 
 #include <algorithm>
 #include <compare>
@@ -46,7 +48,14 @@ struct Tile {
   /// Columns whose height changed since the last take_changed (local, inclusive).
   bool dirty = false;
   int di0 = 0, dj0 = 0, di1 = 0, dj1 = 0;
+  std::int64_t last_used = 0;  ///< the store's clock when a step last gathered (or created) it
+  /// last_used when the tile was last found to differ from the base (not released): it is
+  /// not compared again until a step uses it. -1: never compared.
+  std::int64_t kept_at = -1;
+  bool from_source = true;  ///< base sampled from the store's base source (false: loaded from a file)
   void mark_dirty(int li0, int lj0, int li1, int lj1);
+  /// True if every height equals its base and no column has sinkage: the tile equals no tile.
+  [[nodiscard]] bool holds_only_base() const;
   [[nodiscard]] std::size_t bytes() const;  ///< this tile and its arrays
 };
 
@@ -71,7 +80,8 @@ class TileStore {
     return static_cast<std::size_t>((j - floor_div(j, n_) * n_) * n_ + (i - floor_div(i, n_) * n_));
   }
   [[nodiscard]] const Tile* find(TileKey key) const;
-  Tile& tile(TileKey key);  ///< creates the tile (from the base ground) on first use
+  /// Creates the tile (from the base ground) on first use; marks it used now.
+  Tile& tile(TileKey key);
   [[nodiscard]] std::size_t size() const noexcept { return tiles_.size(); }
   [[nodiscard]] std::vector<TileKey> sorted_keys() const;
 
@@ -99,9 +109,21 @@ class TileStore {
   /// (and the tile dropped) if the key is taken.
   bool adopt(TileKey key, std::unique_ptr<Tile> t);
 
+  /// Advances the clock that release_idle measures idleness with (once per step).
+  void tick() noexcept { ++clock_; }
+  /// Releases the tiles that no step has used for idle_steps ticks, that hold nothing but
+  /// the untouched base (Tile::holds_only_base, and for a loaded tile a base equal to the
+  /// source's) and whose changes have been taken. Looks every kReleaseScanTicks ticks only.
+  /// Returns the number released. Results never depend on it: a released tile is recreated
+  /// identically when needed.
+  std::size_t release_idle(std::int64_t idle_steps);
+  static constexpr std::int64_t kReleaseScanTicks = 64;
+
   [[nodiscard]] std::size_t bytes() const;  ///< heap memory: tiles, hash table, change list
 
  private:
+  [[nodiscard]] bool releasable(TileKey key, Tile& t, std::int64_t idle_steps) const;
+
   // One band of tiles at a time: its tiles are looked up first (in x order), then its rows
   // are walked run by run.
   template <class Lookup, class Fn>
@@ -131,6 +153,7 @@ class TileStore {
   std::shared_ptr<const HeightSource> base_;
   std::unordered_map<TileKey, std::unique_ptr<Tile>, TileKeyHash> tiles_;
   std::vector<TileKey> dirty_keys_;
+  std::int64_t clock_ = 0;
 };
 
 }  // namespace shore::terrain
