@@ -85,6 +85,58 @@ void TileStore::read(const ColumnRect& r, std::span<double> out, bool base) cons
 void TileStore::mark_changed(TileKey key, Tile& t, int li0, int lj0, int li1, int lj1) {
   if (!t.dirty) dirty_keys_.push_back(key);
   t.mark_dirty(li0, lj0, li1, lj1);
+  log_change(key, t, li0, lj0, li1, lj1);
+}
+
+void TileStore::log_change(TileKey key, Tile& t, int li0, int lj0, int li1, int lj1) {
+  if (t.changed_at == generation_) {  // this generation's entry for the tile: widen it
+    ChangeEntry& e = log_[t.log_entry];
+    e.i0 = std::min(e.i0, li0), e.j0 = std::min(e.j0, lj0);
+    e.i1 = std::max(e.i1, li1), e.j1 = std::max(e.j1, lj1);
+    return;
+  }
+  t.changed_at = generation_;
+  t.log_entry = log_.size();
+  log_.push_back({generation_, key, li0, lj0, li1, lj1});
+}
+
+void TileStore::advance_generation() {
+  ++generation_;
+  // The log keeps the recent generations only: past a few entries per tile the oldest half
+  // goes, and an observer older than what is left gets whole tiles (still every change).
+  const std::size_t limit = std::max<std::size_t>(1024, 4 * tiles_.size());
+  if (log_.size() <= limit) return;
+  const std::uint64_t cut = log_[log_.size() / 2].generation;
+  const auto keep = std::upper_bound(log_.begin(), log_.end(), cut,
+                                     [](std::uint64_t g, const ChangeEntry& e) { return g < e.generation; });
+  log_.erase(log_.begin(), keep);
+  log_floor_ = cut;
+  // Entries of the current generation cannot be dropped (it has none yet), so the tiles'
+  // log_entry indices are only needed for it and need no update.
+}
+
+ColumnRect TileStore::whole_tile(TileKey key) const { return {key.tx * n_, key.ty * n_, n_, n_}; }
+
+std::vector<ColumnRect> TileStore::changed_since(std::uint64_t g) const {
+  std::vector<ColumnRect> rects;
+  if (g < log_floor_) {  // older than the log: every tile changed since, whole
+    for (const TileKey& key : sorted_keys())
+      if (find(key)->changed_at > g) rects.push_back(whole_tile(key));
+    return rects;
+  }
+  const auto first = std::upper_bound(log_.begin(), log_.end(), g,
+                                      [](std::uint64_t gen, const ChangeEntry& e) { return gen < e.generation; });
+  std::vector<ChangeEntry> entries(first, log_.end());
+  std::sort(entries.begin(), entries.end(), [](const ChangeEntry& a, const ChangeEntry& b) { return a.key < b.key; });
+  for (std::size_t k = 0; k < entries.size();) {
+    ChangeEntry box = entries[k];
+    for (++k; k < entries.size() && entries[k].key == box.key; ++k) {
+      box.i0 = std::min(box.i0, entries[k].i0), box.j0 = std::min(box.j0, entries[k].j0);
+      box.i1 = std::max(box.i1, entries[k].i1), box.j1 = std::max(box.j1, entries[k].j1);
+    }
+    rects.push_back({box.key.tx * n_ + box.i0, box.key.ty * n_ + box.j0, box.i1 - box.i0 + 1, box.j1 - box.j0 + 1});
+  }
+  return rects;
 }
 
 std::vector<ColumnRect> TileStore::take_changed() {
@@ -104,23 +156,18 @@ std::vector<ColumnRect> TileStore::take_changed() {
 
 bool TileStore::adopt(TileKey key, std::unique_ptr<Tile> t) {
   Tile& added = *t;
-  added.from_source = false;
   added.last_used = clock_;
   if (!tiles_.emplace(key, std::move(t)).second) return false;
   mark_changed(key, added, 0, 0, n_ - 1, n_ - 1);
   return true;
 }
 
-bool TileStore::releasable(TileKey key, Tile& t, std::int64_t idle_steps) const {
-  if (t.dirty || clock_ - t.last_used < idle_steps || t.kept_at == t.last_used) return false;
-  bool base_matches = t.from_source;
-  if (!base_matches) {  // a loaded tile: its base may come from another source than this store's
-    base_matches = true;
-    for (int lj = 0; lj < n_; ++lj)
-      for (int li = 0; li < n_; ++li)
-        base_matches &= t.base[static_cast<std::size_t>(lj) * n_ + li] == base_at(key.tx * n_ + li, key.ty * n_ + lj);
-  }
-  if (base_matches && t.holds_only_base()) return true;
+bool TileStore::releasable(Tile& t, std::int64_t idle_steps) const {
+  // Only tiles whose heights never changed since they were sampled from the base (so no
+  // observer of changed_since() can hold a view of them that differs from the base; loaded
+  // tiles count as changed): releasing one changes nothing anyone can see.
+  if (t.dirty || t.changed_at != 0 || clock_ - t.last_used < idle_steps || t.kept_at == t.last_used) return false;
+  if (t.holds_only_base()) return true;
   t.kept_at = t.last_used;  // unchanged until a step uses it again: no need to compare again
   return false;
 }
@@ -130,7 +177,7 @@ std::size_t TileStore::release_idle(std::int64_t idle_steps) {
   std::size_t released = 0;
   // Each tile's fate depends on that tile alone, so the map's order does not matter.
   for (auto it = tiles_.begin(); it != tiles_.end();) {
-    if (releasable(it->first, *it->second, idle_steps)) {
+    if (releasable(*it->second, idle_steps)) {
       it = tiles_.erase(it);
       ++released;
     } else {
@@ -142,7 +189,7 @@ std::size_t TileStore::release_idle(std::int64_t idle_steps) {
 
 std::size_t TileStore::bytes() const {
   constexpr std::size_t kNodeBytes = sizeof(TileKey) + 2 * sizeof(void*);  // hash node: key, owner, next
-  std::size_t total = tiles_.bucket_count() * sizeof(void*) + capacity_bytes(dirty_keys_);
+  std::size_t total = tiles_.bucket_count() * sizeof(void*) + capacity_bytes(dirty_keys_, log_);
   for (const auto& entry : tiles_) total += kNodeBytes + entry.second->bytes();
   return total;
 }

@@ -48,11 +48,14 @@ struct Tile {
   /// Columns whose height changed since the last take_changed (local, inclusive).
   bool dirty = false;
   int di0 = 0, dj0 = 0, di1 = 0, dj1 = 0;
+  /// The change generation of its last height change (0: never changed), and that
+  /// generation's entry in the store's change log.
+  std::uint64_t changed_at = 0;
+  std::size_t log_entry = 0;
   std::int64_t last_used = 0;  ///< the store's clock when a step last gathered (or created) it
   /// last_used when the tile was last found to differ from the base (not released): it is
   /// not compared again until a step uses it. -1: never compared.
   std::int64_t kept_at = -1;
-  bool from_source = true;  ///< base sampled from the store's base source (false: loaded from a file)
   void mark_dirty(int li0, int lj0, int li1, int lj1);
   /// True if every height equals its base and no column has sinkage: the tile equals no tile.
   [[nodiscard]] bool holds_only_base() const;
@@ -109,11 +112,21 @@ class TileStore {
   /// (and the tile dropped) if the key is taken.
   bool adopt(TileKey key, std::unique_ptr<Tile> t);
 
+  // Non-consuming change tracking: every change is stamped with the current generation,
+  // which advance_generation() moves on. Any number of observers each remember the
+  // generation they last looked at and ask changed_since(it).
+  [[nodiscard]] std::uint64_t generation() const noexcept { return generation_; }
+  /// Starts a new generation (before a call that may change heights); trims the log.
+  void advance_generation();
+  /// One rectangle per tile whose heights changed after generation g, in key order: the
+  /// bounding box of its changes after g while the log still holds them, else the tile.
+  [[nodiscard]] std::vector<ColumnRect> changed_since(std::uint64_t g) const;
+
   /// Advances the clock that release_idle measures idleness with (once per step).
   void tick() noexcept { ++clock_; }
   /// Releases the tiles that no step has used for idle_steps ticks, that hold nothing but
-  /// the untouched base (Tile::holds_only_base, and for a loaded tile a base equal to the
-  /// source's) and whose changes have been taken. Looks every kReleaseScanTicks ticks only.
+  /// the untouched base (Tile::holds_only_base), whose heights never changed (loaded tiles
+  /// count as changed) and whose changes have been taken. Looks every kReleaseScanTicks ticks only.
   /// Returns the number released. Results never depend on it: a released tile is recreated
   /// identically when needed.
   std::size_t release_idle(std::int64_t idle_steps);
@@ -122,7 +135,7 @@ class TileStore {
   [[nodiscard]] std::size_t bytes() const;  ///< heap memory: tiles, hash table, change list
 
  private:
-  [[nodiscard]] bool releasable(TileKey key, Tile& t, std::int64_t idle_steps) const;
+  [[nodiscard]] bool releasable(Tile& t, std::int64_t idle_steps) const;
 
   // One band of tiles at a time: its tiles are looked up first (in x order), then its rows
   // are walked run by run.
@@ -153,6 +166,18 @@ class TileStore {
   std::shared_ptr<const HeightSource> base_;
   std::unordered_map<TileKey, std::unique_ptr<Tile>, TileKeyHash> tiles_;
   std::vector<TileKey> dirty_keys_;
+
+  /// One tile's changed columns (local, inclusive) in one generation.
+  struct ChangeEntry {
+    std::uint64_t generation = 0;
+    TileKey key;
+    int i0 = 0, j0 = 0, i1 = 0, j1 = 0;
+  };
+  void log_change(TileKey key, Tile& t, int li0, int lj0, int li1, int lj1);
+  [[nodiscard]] ColumnRect whole_tile(TileKey key) const;
+  std::uint64_t generation_ = 1;  ///< changes are stamped with it; 0 means "before anything"
+  std::vector<ChangeEntry> log_;  ///< in generation order; complete for generations > log_floor_
+  std::uint64_t log_floor_ = 0;
   std::int64_t clock_ = 0;
 };
 

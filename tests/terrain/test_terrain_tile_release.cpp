@@ -105,7 +105,7 @@ TEST(TileRelease, TilesThatDifferFromTheBaseAreNeverReleased) {
   EXPECT_NE(hash, Terrain(small_tiles(0)).state_hash());
 }
 
-TEST(TileRelease, ALoadedTileOnAnotherBaseIsKept) {
+TEST(TileRelease, LoadedTilesAreKeptOnAnyBase) {
   // Tiles saved over flat ground at 0, loaded over ground at 1 m: they hold the saved
   // heights (0), which are not this base; releasing them would raise the ground by 1 m.
   Terrain t(small_tiles(64));
@@ -118,9 +118,12 @@ TEST(TileRelease, ALoadedTileOnAnotherBaseIsKept) {
   EXPECT_EQ(loaded.height(0, 0), 0.0);
   EXPECT_EQ(loaded.height(5, 0), 0.0);
   EXPECT_EQ(loaded.height(0, 100), 1.0) << "elsewhere the new base";
-  // On the same base they are released, as tiles made in this run are.
+  // On the same base too: a loaded tile counts as changed (an observer of the changes may
+  // not have seen it yet), so it is kept, unlike the tiles this run made and left alone.
   Terrain same = Terrain::load_bytes(t.to_bytes(), "memory");
   hover_along_x(same, 300, 20.0);
-  EXPECT_EQ(loaded.tile_count() - same.tile_count(), tiles);
+  for (std::int64_t i = 0; i < 64; ++i) ASSERT_EQ(same.height(i, 0), 0.0);
+  EXPECT_EQ(loaded.tile_count(), same.tile_count());
+  EXPECT_GE(same.tile_count(), tiles);
   EXPECT_EQ(same.height(0, 0), 0.0);
 }

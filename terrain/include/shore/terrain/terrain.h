@@ -59,8 +59,10 @@ struct TerrainSettings {
   /// untouched base (every height equal to its base, no sinkage, no change not yet taken):
   /// such a tile equals no tile, and is recreated identically when a step reaches it
   /// again, so a body roaming over ground it does not change (or only brushes) leaves no
-  /// trail of memory behind. Tiles that differ from the base are never released (that would
-  /// lose soil). Results and state_hash() never depend on it. >= 0 (0: never release).
+  /// trail of memory behind. Tiles that differ from the base, or whose heights ever changed
+  /// (loaded tiles count as changed), are never released (that would lose soil, or a
+  /// change an observer of changed_since() has not seen yet). Results and state_hash() never depend on it. >= 0 (0:
+  /// never release).
   int idle_tile_steps = 2400;
 
   /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
@@ -201,6 +203,17 @@ class Terrain {
   /// most one per tile, the bounding box of that tile's changed columns, in tile key order.
   /// After load() every loaded tile is reported whole.
   std::vector<ColumnRect> take_changed();
+  /// The change generation: it advances with every call that may change heights (step,
+  /// relax, set_height), and every height change is stamped with it. An observer (a mesh,
+  /// a network delta) remembers generation() when it reads the heights and later asks
+  /// changed_since(that) what changed since; any number of observers can do so, and
+  /// take_changed is unaffected. Starts at 1 (load() too: loaded tiles are generation 1).
+  [[nodiscard]] std::uint64_t generation() const noexcept;
+  /// Rectangles covering every column whose height changed after generation g, at most one
+  /// per tile, in tile key order: the bounding box of that tile's changes after g, or the
+  /// whole tile when g is older than the recent history kept (a few changes per tile).
+  /// changed_since(0): every column ever changed. Reads only.
+  [[nodiscard]] std::vector<ColumnRect> changed_since(std::uint64_t g) const;
   [[nodiscard]] VolumeTotals volume() const;
   /// FNV-1a over the bookkeeping and the tiles in key order, leaving out tiles that hold
   /// nothing but the untouched base (they equal no tile): the same soil gives the same hash
