@@ -90,8 +90,8 @@ TEST(Errors, SettingsNameTheField) {
   EXPECT_TRUE(mentions(bad([](auto& s) { s.origin_y = 2e12; }), "origin_y"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.max_erosion_passes = 1001; }), "max_erosion_passes"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.max_erosion_passes = 1000; }), "(no exception)"));
-  EXPECT_TRUE(mentions(bad([](auto& s) { s.active_margin = 2049; }), "active_margin"));
-  EXPECT_TRUE(mentions(bad([](auto& s) { s.active_margin = 2048; }), "(no exception)"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.active_margin = 257; }), "active_margin"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.active_margin = 256; }), "(no exception)"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.threads = 1025; }), "threads"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.idle_tile_steps = -1; }), "idle_tile_steps"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.origin_x = kInf; }), "origin_x"));

@@ -41,7 +41,7 @@ struct TerrainSettings {
   std::shared_ptr<const HeightSource> base;
   double base_height = 0.0;    ///< m, flat ground level when base is null, finite
   int max_erosion_passes = 8;  ///< erosion pass cap per step, in [0, 1000] (a rate limit: deep ruts flow every step)
-  int active_margin = 4;       ///< columns added around each imprint window for displacement and erosion, in [1, 2048]
+  int active_margin = 4;       ///< columns added around each imprint window for displacement and erosion, in [1, 256]
   /// m: how far above the soil top a body still counts as over a column. A column whose
   /// (offset) envelope lies higher neither widens the step's active region (a rolling
   /// wheel's footprint is mostly air above its rut) nor holds its slopes at theta_in (a
