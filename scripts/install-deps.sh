@@ -1,18 +1,22 @@
 #!/usr/bin/env bash
 # Installs the Debian packages Shore needs, only those missing. Usage:
-#   scripts/install-deps.sh [build|bench|viewer]...   (bench adds the plotting tool; viewer
-#   the OpenGL renderer's and shore-viewer's: GLFW, Dear ImGui, libepoxy, Mesa's EGL and
-#   llvmpipe, Xvfb for the window test)
+#   scripts/install-deps.sh [build|bench|viewer|fuzz|memcheck]...   (bench adds the plotting
+#   tool; viewer the OpenGL renderer's and shore-viewer's: GLFW, Dear ImGui, libepoxy, Mesa's
+#   EGL and llvmpipe, Xvfb for the window test; fuzz clang with libFuzzer, its OpenMP and
+#   llvm-symbolizer; memcheck Valgrind)
 set -euo pipefail
 pkgs=(g++ binutils make cmake ninja-build pkg-config libbullet-dev libeigen3-dev libgtest-dev libgmock-dev
       libbenchmark-dev libcli11-dev nlohmann-json3-dev libstb-dev libzstd-dev)
+fuzz_pkgs=(clang libclang-rt-dev libomp-dev llvm)
 viewer_pkgs=(libglfw3-dev libimgui-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth)
 for group in "${@:-build}"; do
   case "$group" in
     build) ;;
     bench) pkgs+=(gnuplot-nox) ;;
     viewer) pkgs+=("${viewer_pkgs[@]}") ;;
-    *) echo "install-deps.sh: unknown group $group (build, bench, viewer)" >&2; exit 2 ;;
+    fuzz) pkgs+=("${fuzz_pkgs[@]}") ;;
+    memcheck) pkgs+=(valgrind) ;;
+    *) echo "install-deps.sh: unknown group $group (build, bench, viewer, fuzz, memcheck)" >&2; exit 2 ;;
   esac
 done
 

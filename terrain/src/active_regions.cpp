@@ -70,7 +70,8 @@ std::vector<ColumnRect> ActiveRegions::plan(std::span<const ColumnRect> reached,
   std::vector<ColumnRect> regions;
   for (const Box& b : boxes) {
     const std::int64_t w = b.i1 - b.i0 + 1, h = b.j1 - b.j0 + 1;
-    if ((w + 2) * (h + 2) > kMaxRegionColumns)
+    // Each side on its own first: the product of two huge sides would overflow.
+    if (w + 2 > kMaxRegionColumns || h + 2 > kMaxRegionColumns || (w + 2) * (h + 2) > kMaxRegionColumns)
       throw InvalidSetting("terrain.Imprint.envelope", detail::to_text(w) + " x " + detail::to_text(h) + " columns",
                            "active region must hold at most " + detail::to_text(kMaxRegionColumns) + " columns");
     regions.push_back({b.i0, b.j0, static_cast<int>(w), static_cast<int>(h)});

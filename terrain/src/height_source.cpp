@@ -6,11 +6,11 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <memory>
 #include <string>
 
+#include "shore/core/file_bytes.h"
 #include "shore/core/error.h"
 
 namespace shore::terrain {
@@ -126,44 +126,98 @@ struct StbFree {
   void operator()(void* p) const { stbi_image_free(p); }
 };
 
-std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file, const char* what) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(std::string(what) + " " + file.string() + ": cannot open for reading");
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  if (size < 0) throw FileError(std::string(what) + " " + file.string() + ": cannot determine the file size");
-  in.seekg(0, std::ios::beg);
-  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
-  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size))
-    throw FileError(std::string(what) + " " + file.string() + ": read failed");
-  return bytes;
+std::uint32_t big_endian_32(const unsigned char* p) {
+  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | std::uint32_t{p[3]};
+}
+
+std::uint32_t png_crc(const unsigned char* p, std::size_t n) {
+  std::uint32_t c = 0xffffffffu;
+  for (std::size_t i = 0; i < n; ++i) {
+    c ^= p[i];
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+  }
+  return c ^ 0xffffffffu;
+}
+
+/// Walks the PNG's chunks up to IEND, checking that each lies inside the file and matches
+/// its CRC (stb_image checks neither: a flipped bit would decode to wrong ground, or read
+/// past a chunk). Returns the file without its empty IDAT chunks (legal, but stb_image
+/// copies them from a null buffer), or an empty vector when there are none to drop.
+std::vector<unsigned char> checked_png_chunks(std::span<const unsigned char> bytes, const std::string& where) {
+  std::vector<unsigned char> kept;
+  bool dropped = false;
+  std::size_t pos = 8;
+  for (;;) {
+    if (bytes.size() - pos < 12) throw FileError(where + "truncated (the file ends before its IEND chunk)");
+    const std::uint32_t length = big_endian_32(bytes.data() + pos);
+    const std::string type(reinterpret_cast<const char*>(bytes.data() + pos + 4), 4);
+    const std::string chunk = "chunk \"" + type + "\" at byte " + std::to_string(pos);
+    if (length > 0x7fffffffu || bytes.size() - pos - 12 < length)
+      throw FileError(where + "truncated (" + chunk + " of " + std::to_string(length) + " bytes runs past the end)");
+    if (png_crc(bytes.data() + pos + 4, 4 + std::size_t{length}) != big_endian_32(bytes.data() + pos + 8 + length))
+      throw FileError(where + chunk + " fails its CRC (corrupt)");
+    const std::size_t end = pos + 12 + length;
+    if (type == "IDAT" && length == 0) {
+      if (!dropped) kept.assign(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(pos));
+      dropped = true;
+    } else if (dropped) {
+      kept.insert(kept.end(), bytes.begin() + static_cast<std::ptrdiff_t>(pos),
+                  bytes.begin() + static_cast<std::ptrdiff_t>(end));
+    }
+    pos = end;
+    if (type == "IEND") return kept;
+  }
+}
+
+/// A deflate stream expands at most 1032 times (zlib's limit): a PNG of S bytes holds at
+/// most 1032 S bytes of pixel rows, each of at least one filter byte and one bit per pixel.
+/// A header claiming more is corrupt, and is refused before anything is allocated for it.
+bool plausible_png_size(std::size_t file_bytes, int w, int h) {
+  const double least_raw = static_cast<double>(h) * (1.0 + std::ceil(static_cast<double>(w) / 8.0));
+  return least_raw <= 1032.0 * static_cast<double>(file_bytes);
 }
 
 }  // namespace
 
 Heightmap Heightmap::from_png(const std::filesystem::path& file, HeightmapPlacement placement) {
   placement.validate();
-  const std::string where = "heightmap PNG " + file.string() + ": ";
-  const std::vector<unsigned char> bytes = read_file_bytes(file, "heightmap PNG");
+  return from_png_bytes(read_file_bytes(file, "heightmap PNG"), file.string(), placement);
+}
+
+Heightmap Heightmap::from_png_bytes(std::span<const unsigned char> bytes, const std::string& name,
+                                    HeightmapPlacement placement) {
+  placement.validate();
+  const std::string where = "heightmap PNG " + name + ": ";
   static constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (bytes.size() < 8 || std::memcmp(bytes.data(), kPngSignature, 8) != 0)
     throw FileError(where + "not a PNG file (signature missing)");
   if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw FileError(where + "file too large");
+  const std::vector<unsigned char> without_empty_chunks = checked_png_chunks(bytes, where);
+  if (!without_empty_chunks.empty()) bytes = without_empty_chunks;
   const int len = static_cast<int>(bytes.size());
   int w = 0, h = 0, channels = 0;
   if (!stbi_info_from_memory(bytes.data(), len, &w, &h, &channels))
     throw FileError(where + "unreadable header (" + stbi_failure_reason() + ")");
   if (w < 1 || h < 1) throw FileError(where + "empty image");
+  const auto samples = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  if (samples > kMaxHeightmapSamples)
+    throw FileError(where + std::to_string(w) + " x " + std::to_string(h) + " pixels, more than the " +
+                    std::to_string(kMaxHeightmapSamples) + " samples a heightmap may hold");
+  if (!plausible_png_size(bytes.size(), w, h))
+    throw FileError(where + "header claims " + std::to_string(w) + " x " + std::to_string(h) + " pixels, more than " +
+                    std::to_string(bytes.size()) + " bytes can hold (corrupt)");
   const bool sixteen = stbi_is_16_bit_from_memory(bytes.data(), len) != 0;
-  std::vector<float> values(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  std::vector<float> values;
   if (sixteen) {
     std::unique_ptr<stbi_us, StbFree> pixels(stbi_load_16_from_memory(bytes.data(), len, &w, &h, &channels, 1));
     if (!pixels) throw FileError(where + "cannot decode 16-bit image (" + stbi_failure_reason() + ")");
+    values.resize(samples);
     for (std::size_t k = 0; k < values.size(); ++k) values[k] = static_cast<float>(pixels.get()[k] / 65535.0);
   } else {
     std::unique_ptr<stbi_uc, StbFree> pixels(stbi_load_from_memory(bytes.data(), len, &w, &h, &channels, 1));
     if (!pixels) throw FileError(where + "cannot decode 8-bit image (" + stbi_failure_reason() + ")");
+    values.resize(samples);
     for (std::size_t k = 0; k < values.size(); ++k) values[k] = static_cast<float>(pixels.get()[k] / 255.0);
   }
   return Heightmap(w, h, std::move(values), placement);
@@ -172,12 +226,22 @@ Heightmap Heightmap::from_png(const std::filesystem::path& file, HeightmapPlacem
 Heightmap Heightmap::from_raw_float32(const std::filesystem::path& file, int width, int rows,
                                       HeightmapPlacement placement) {
   placement.validate();
-  const std::string where = "heightmap raw float32 " + file.string() + ": ";
+  if (width < 1 || rows < 1)  // before reading: the message names the sizes, whatever the file
+    return from_raw_float32_bytes({}, file.string(), width, rows, placement);
+  return from_raw_float32_bytes(read_file_bytes(file, "heightmap raw float32"), file.string(), width, rows, placement);
+}
+
+Heightmap Heightmap::from_raw_float32_bytes(std::span<const unsigned char> bytes, const std::string& name, int width,
+                                            int rows, HeightmapPlacement placement) {
+  placement.validate();
+  const std::string where = "heightmap raw float32 " + name + ": ";
   if (width < 1 || rows < 1)
     throw FileError(where + "width and rows must be >= 1 (got " + std::to_string(width) + " x " + std::to_string(rows) +
                     ")");
-  const std::vector<unsigned char> bytes = read_file_bytes(file, "heightmap raw float32");
   const auto count = static_cast<std::size_t>(width) * static_cast<std::size_t>(rows);
+  if (count > kMaxHeightmapSamples)
+    throw FileError(where + std::to_string(width) + " x " + std::to_string(rows) + " samples, more than the " +
+                    std::to_string(kMaxHeightmapSamples) + " a heightmap may hold");
   if (bytes.size() != count * 4)
     throw FileError(where + "size is " + std::to_string(bytes.size()) + " bytes, expected " +
                     std::to_string(count * 4) + " (" + std::to_string(width) + " x " + std::to_string(rows) +

@@ -115,6 +115,7 @@ StepReport Terrain::step(std::span<const Imprint> imprints) {
   Impl& im = *impl_;
   if (im.s.material.rigid) return {};
   im.tiles.advance_generation();
+  im.tiles.tick();
   std::vector<ColumnRect> reached;
   for (const Imprint& imprint : imprints)
     if (!imprint.hold)
@@ -134,6 +135,7 @@ StepReport Terrain::step(std::span<const Imprint> imprints) {
   // What the bodies reached this step is eroded once more next step: where a body has
   // lifted or moved away, slopes it held at theta_in relax toward theta_out.
   im.unsettled.insert(im.unsettled.end(), reached.begin(), reached.end());
+  if (im.s.idle_tile_steps > 0) im.tiles.release_idle(im.s.idle_tile_steps);
   return total;
 }
 
@@ -172,6 +174,7 @@ std::uint64_t Terrain::state_hash() const {
   h.add(impl_->edited);
   for (const TileKey& key : impl_->tiles.sorted_keys()) {
     const Tile& t = *impl_->tiles.find(key);
+    if (t.holds_only_base()) continue;  // equals no tile, whether released yet or not
     h.add(key.tx);
     h.add(key.ty);
     h.add(std::span<const double>(t.height));

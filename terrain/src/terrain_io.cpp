@@ -1,10 +1,13 @@
 // Saved terrain state: a little binary format guarded by a checksum.
 //
 //   "SHORETRN" (8 bytes), u32 version, u32 byte-order mark 0x01020304
+//   (version 4 on) u32 bytes per real number: 8 (every real is an IEEE-754 f64, whatever
+//             precision Bullet was built with); any other value is refused by name
 //   settings: f64 cell, origin_x, origin_y; i32 tile_columns; f64 base_height;
 //             i32 max_erosion_passes, active_margin; f64 contact_tolerance; i32 threads,
 //             parallel_min_columns; f64 active_reach (version 2 on; version 1 files
-//             load with +infinity, the behaviour they were stepped with)
+//             load with +infinity, the behaviour they were stepped with); i32
+//             idle_tile_steps (version 4 on; older files load with the default)
 //   material: u32 name length, name bytes; f64 theta_stop, sigma, theta_in, theta_out,
 //             alpha, bekker_n, bekker_kc, bekker_kphi, friction, soil_depth; u8 rigid;
 //             (version 3 on) f64 cohesion, friction_angle, shear_modulus, remould_ratio,
@@ -16,15 +19,21 @@
 //   per tile (in key order): i64 tx, ty; f64[n*n] height, sinkage, base
 //   u64 FNV-1a of every byte before it
 // Numbers are stored in the writing machine's byte order; the mark rejects the other one.
+// Every loader input is fuzzed (fuzz/README.md): a file, however corrupt, gives a FileError
+// or a valid terrain, never a crash, a hang or a non-finite state.
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "region.h"
 #include "shore/core/checkpoint_file.h"
 #include "shore/core/error.h"
+#include "shore/core/file_bytes.h"
 #include "shore/core/hash.h"
 #include "terrain_impl.h"
 
@@ -33,9 +42,13 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'T', 'R', 'N'};
-constexpr std::uint32_t kVersion = 3;
+constexpr std::uint32_t kVersion = 4;
 constexpr std::uint32_t kOldestVersion = 1;
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
+constexpr std::uint32_t kRealBytes = sizeof(double);
+/// Columns (and so tiles) beyond this index are refused: their world positions would no
+/// longer be exact in a double, and index arithmetic stays far from overflow.
+constexpr std::int64_t kMaxColumnIndex = std::int64_t{1} << 52;
 
 class Writer {
  public:
@@ -105,6 +118,7 @@ void write_settings(Writer& w, const TerrainSettings& s) {
   w.put(static_cast<std::int32_t>(s.threads));
   w.put(static_cast<std::int32_t>(s.parallel_min_columns));
   w.put(s.active_reach);
+  w.put(static_cast<std::int32_t>(s.idle_tile_steps));
   w.put(static_cast<std::uint32_t>(m.name.size()));
   for (char c : m.name) w.put(c);
   for (double v : {m.theta_stop, m.sigma, m.theta_in, m.theta_out, m.alpha, m.bekker_n, m.bekker_kc, m.bekker_kphi,
@@ -116,8 +130,15 @@ void write_settings(Writer& w, const TerrainSettings& s) {
     w.put(v);
 }
 
-// Checks the magic, version, byte order and checksum. Returns a reader of what lies between
-// the header and the checksum, and sets version.
+std::string hex(std::uint32_t v) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0x%08x", v);
+  return buf;
+}
+
+// Checks the magic, byte order, version, precision and checksum. Returns a reader of what
+// lies between the header and the checksum, and sets version. The byte order comes first:
+// a file from the other byte order reads every number swapped, its version too.
 Reader open_body(std::span<const unsigned char> bytes, const std::string& name, std::uint32_t& version) {
   const Reader r(bytes, bytes.size(), name);
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
@@ -127,11 +148,18 @@ Reader open_body(std::span<const unsigned char> bytes, const std::string& name, 
   Reader hr(bytes, body, name);
   for (std::size_t k = 0; k < sizeof kMagic; ++k) hr.get<char>("magic");
   version = hr.get<std::uint32_t>("version");
+  if (const auto mark = hr.get<std::uint32_t>("byte-order mark"); mark != kByteOrderMark)
+    hr.fail(mark == __builtin_bswap32(kByteOrderMark)
+                ? "written on a machine with the other byte order (byte-order mark " + hex(mark) +
+                      "; this build reads files of its own byte order, " + hex(kByteOrderMark) + ")"
+                : "byte-order mark " + hex(mark) + " is neither byte order's (corrupt)");
   if (version < kOldestVersion || version > kVersion)
-    hr.fail("unsupported version " + std::to_string(version) + " (this build reads " + std::to_string(kOldestVersion) +
-            " to " + std::to_string(kVersion) + ")");
-  if (hr.get<std::uint32_t>("byte-order mark") != kByteOrderMark)
-    hr.fail("written on a machine with the other byte order");
+    hr.fail("unsupported format version " + std::to_string(version) + " (this build reads versions " +
+            std::to_string(kOldestVersion) + " to " + std::to_string(kVersion) + ")");
+  if (version >= 4)
+    if (const auto real = hr.get<std::uint32_t>("precision"); real != kRealBytes)
+      hr.fail("stores " + std::to_string(real) + "-byte real numbers; this build reads " + std::to_string(kRealBytes) +
+              "-byte (float64) ones only");
   std::uint64_t stored_sum = 0;
   std::memcpy(&stored_sum, bytes.data() + body, sizeof stored_sum);
   if (stored_sum != checksum(bytes.data(), body)) hr.fail("checksum mismatch (file truncated or corrupt)");
@@ -152,6 +180,7 @@ TerrainSettings read_settings(Reader& hr, std::uint32_t version, std::shared_ptr
   s.parallel_min_columns = hr.get<std::int32_t>("settings");
   // Version 1 states were stepped with every covered column active and under the body.
   s.active_reach = version >= 2 ? hr.get<double>("settings") : std::numeric_limits<double>::infinity();
+  if (version >= 4) s.idle_tile_steps = hr.get<std::int32_t>("settings");
   const auto name_size = hr.get<std::uint32_t>("material");
   if (name_size > 4096) hr.fail("material name of " + std::to_string(name_size) + " bytes (corrupt)");
   Material& m = s.material;
@@ -173,6 +202,13 @@ TerrainSettings read_settings(Reader& hr, std::uint32_t version, std::shared_ptr
   return s;
 }
 
+bool addressable(std::int64_t column) { return column >= -kMaxColumnIndex && column <= kMaxColumnIndex; }
+
+std::string rect_text(const ColumnRect& r) {
+  return "(" + std::to_string(r.i0) + ", " + std::to_string(r.j0) + ") + " + std::to_string(r.nx) + " x " +
+         std::to_string(r.ny);
+}
+
 std::vector<ColumnRect> read_unsettled(Reader& hr) {
   std::vector<ColumnRect> boxes;
   const auto regions = hr.get<std::uint64_t>("eroding regions");
@@ -183,11 +219,42 @@ std::vector<ColumnRect> read_unsettled(Reader& hr) {
     box.j0 = hr.get<std::int64_t>("eroding regions");
     box.nx = hr.get<std::int32_t>("eroding regions");
     box.ny = hr.get<std::int32_t>("eroding regions");
-    if (box.nx <= 0 || box.ny <= 0 || static_cast<std::int64_t>(box.nx) * box.ny > kMaxRegionColumns)
-      hr.fail("eroding region of " + std::to_string(box.nx) + " x " + std::to_string(box.ny) + " columns (corrupt)");
+    if (box.nx <= 0 || box.ny <= 0 || static_cast<std::int64_t>(box.nx) * box.ny > kMaxRegionColumns ||
+        !addressable(box.i0) || !addressable(box.j0))
+      hr.fail("eroding region " + rect_text(box) + " (corrupt)");
     boxes.push_back(box);
   }
   return boxes;
+}
+
+/// A saved state's eroding regions lie on saved tiles (a step creates the tiles of every
+/// region it works on); a region elsewhere is corrupt, and could make the next step work
+/// on far more columns than the file holds.
+void check_unsettled_on_tiles(const Reader& hr, const std::vector<ColumnRect>& boxes, const TileStore& store) {
+  for (const ColumnRect& box : boxes) {
+    const std::int64_t n = store.n();
+    const std::int64_t tx0 = floor_div(box.i0, n), tx1 = floor_div(box.i0 + box.nx - 1, n);
+    const std::int64_t ty0 = floor_div(box.j0, n), ty1 = floor_div(box.j0 + box.ny - 1, n);
+    if ((tx1 - tx0 + 1) * (ty1 - ty0 + 1) > static_cast<std::int64_t>(store.size()))
+      hr.fail("eroding region " + rect_text(box) + " covers more tiles than the file holds (corrupt)");
+    for (std::int64_t ty = ty0; ty <= ty1; ++ty)
+      for (std::int64_t tx = tx0; tx <= tx1; ++tx)
+        if (store.find({tx, ty}) == nullptr)
+          hr.fail("eroding region " + rect_text(box) + " lies outside the saved tiles (corrupt)");
+  }
+}
+
+/// Heights, sinkages and base heights beyond this (m) are corrupt: no ground is that far
+/// from sea level, and sums of such values would overflow.
+constexpr double kMaxLevel = 1e7;
+
+void check_tile_values(const Reader& hr, const TileKey& key, const Tile& t) {
+  const std::string where = "tile (" + std::to_string(key.tx) + ", " + std::to_string(key.ty) + ")";
+  for (std::size_t c = 0; c < t.height.size(); ++c)
+    for (const double v : {t.height[c], t.sinkage[c], t.base[c]}) {
+      if (!std::isfinite(v)) hr.fail(where + " holds a non-finite value");
+      if (std::abs(v) > kMaxLevel) hr.fail(where + " holds " + detail::to_text(v) + " m, beyond +-1e7 m (corrupt)");
+    }
 }
 
 void read_tiles(Reader& hr, int n, TileStore& store) {
@@ -200,13 +267,14 @@ void read_tiles(Reader& hr, int n, TileStore& store) {
     TileKey key;
     key.tx = hr.get<std::int64_t>("tile");
     key.ty = hr.get<std::int64_t>("tile");
+    if (!addressable(key.tx) || !addressable(key.ty) || !addressable(key.tx * n) || !addressable(key.ty * n))
+      hr.fail("tile (" + std::to_string(key.tx) + ", " + std::to_string(key.ty) +
+              ") lies beyond column index 2^52 (corrupt)");
     auto tile = std::make_unique<Tile>(n);
     hr.get_doubles(tile->height, "tile");
     hr.get_doubles(tile->sinkage, "tile");
     hr.get_doubles(tile->base, "tile");
-    for (std::size_t c = 0; c < columns; ++c)
-      if (!std::isfinite(tile->height[c]) || !std::isfinite(tile->sinkage[c]) || !std::isfinite(tile->base[c]))
-        hr.fail("tile (" + std::to_string(key.tx) + ", " + std::to_string(key.ty) + ") holds a non-finite value");
+    check_tile_values(hr, key, *tile);
     if (!store.adopt(key, std::move(tile)))
       hr.fail("tile (" + std::to_string(key.tx) + ", " + std::to_string(key.ty) + ") appears twice");
   }
@@ -220,6 +288,7 @@ std::vector<unsigned char> Terrain::save_bytes() const {
   for (char c : kMagic) w.put(c);
   w.put(kVersion);
   w.put(kByteOrderMark);
+  w.put(kRealBytes);
   write_settings(w, im.s);
   w.put(im.compacted), w.put(im.edited);
   w.put(static_cast<std::uint64_t>(im.unsettled.size()));
@@ -240,6 +309,10 @@ void Terrain::save(const std::filesystem::path& file) const {
   write_file_atomically(file, save_bytes(), "terrain state");
 }
 
+Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const HeightSource> base) {
+  return load_bytes(read_file_bytes(file, "terrain state"), file.string(), std::move(base));
+}
+
 Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::string& name,
                             std::shared_ptr<const HeightSource> base) {
   std::uint32_t version = 0;
@@ -251,11 +324,8 @@ Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::str
   if (!std::isfinite(im.compacted) || !std::isfinite(im.edited)) hr.fail("volume bookkeeping is not finite");
   if (version >= 2) im.unsettled = read_unsettled(hr);
   read_tiles(hr, im.s.tile_columns, im.tiles);
+  check_unsettled_on_tiles(hr, im.unsettled, im.tiles);
   return t;
-}
-
-Terrain Terrain::load(const std::filesystem::path& file, std::shared_ptr<const HeightSource> base) {
-  return load_bytes(read_whole_file(file, "terrain state"), file.string(), std::move(base));
 }
 
 }  // namespace shore::terrain

@@ -16,6 +16,12 @@ void Tile::mark_dirty(int li0, int lj0, int li1, int lj1) {
   di1 = std::max(di1, li1), dj1 = std::max(dj1, lj1);
 }
 
+bool Tile::holds_only_base() const {
+  bool same = true;  // no early exit: a branch-free pass over the arrays
+  for (std::size_t k = 0; k < height.size(); ++k) same &= height[k] == base[k] && sinkage[k] == 0.0;
+  return same;
+}
+
 std::size_t Tile::bytes() const { return sizeof(Tile) + capacity_bytes(height, sinkage, base); }
 
 TileStore::TileStore(const TerrainSettings& s)
@@ -38,7 +44,9 @@ const Tile* TileStore::find(TileKey key) const {
 
 Tile& TileStore::tile(TileKey key) {
   auto& slot = tiles_[key];
-  if (!slot) {
+  if (slot) {
+    slot->last_used = clock_;
+  } else {
     slot = std::make_unique<Tile>(n_);
     // Untouched ground is the base source; sample it once, when the tile is created.
     for (int lj = 0; lj < n_; ++lj)
@@ -48,6 +56,7 @@ Tile& TileStore::tile(TileKey key) {
         slot->base[k] = b;
         slot->height[k] = b;
       }
+    slot->last_used = clock_;
   }
   return *slot;
 }
@@ -147,9 +156,35 @@ std::vector<ColumnRect> TileStore::take_changed() {
 
 bool TileStore::adopt(TileKey key, std::unique_ptr<Tile> t) {
   Tile& added = *t;
+  added.last_used = clock_;
   if (!tiles_.emplace(key, std::move(t)).second) return false;
   mark_changed(key, added, 0, 0, n_ - 1, n_ - 1);
   return true;
+}
+
+bool TileStore::releasable(Tile& t, std::int64_t idle_steps) const {
+  // Only tiles whose heights never changed since they were sampled from the base (so no
+  // observer of changed_since() can hold a view of them that differs from the base; loaded
+  // tiles count as changed): releasing one changes nothing anyone can see.
+  if (t.dirty || t.changed_at != 0 || clock_ - t.last_used < idle_steps || t.kept_at == t.last_used) return false;
+  if (t.holds_only_base()) return true;
+  t.kept_at = t.last_used;  // unchanged until a step uses it again: no need to compare again
+  return false;
+}
+
+std::size_t TileStore::release_idle(std::int64_t idle_steps) {
+  if (clock_ % kReleaseScanTicks != 0) return 0;
+  std::size_t released = 0;
+  // Each tile's fate depends on that tile alone, so the map's order does not matter.
+  for (auto it = tiles_.begin(); it != tiles_.end();) {
+    if (releasable(*it->second, idle_steps)) {
+      it = tiles_.erase(it);
+      ++released;
+    } else {
+      ++it;
+    }
+  }
+  return released;
 }
 
 std::size_t TileStore::bytes() const {

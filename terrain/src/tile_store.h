@@ -1,7 +1,9 @@
 #pragma once
 // Private: the soil grid's storage. Columns live in square tiles of n x n, created on first
 // write, so a large field costs nothing until touched; a column without a tile is the
-// untouched base ground.
+// untouched base ground. A tile that holds nothing but the base and that no step has used
+// for a while is released again (release_idle), so memory follows the soil that differs
+// from the base, not everywhere a body has been.
 
 #include <algorithm>
 #include <compare>
@@ -50,7 +52,13 @@ struct Tile {
   /// generation's entry in the store's change log.
   std::uint64_t changed_at = 0;
   std::size_t log_entry = 0;
+  std::int64_t last_used = 0;  ///< the store's clock when a step last gathered (or created) it
+  /// last_used when the tile was last found to differ from the base (not released): it is
+  /// not compared again until a step uses it. -1: never compared.
+  std::int64_t kept_at = -1;
   void mark_dirty(int li0, int lj0, int li1, int lj1);
+  /// True if every height equals its base and no column has sinkage: the tile equals no tile.
+  [[nodiscard]] bool holds_only_base() const;
   [[nodiscard]] std::size_t bytes() const;  ///< this tile and its arrays
 };
 
@@ -75,7 +83,8 @@ class TileStore {
     return static_cast<std::size_t>((j - floor_div(j, n_) * n_) * n_ + (i - floor_div(i, n_) * n_));
   }
   [[nodiscard]] const Tile* find(TileKey key) const;
-  Tile& tile(TileKey key);  ///< creates the tile (from the base ground) on first use
+  /// Creates the tile (from the base ground) on first use; marks it used now.
+  Tile& tile(TileKey key);
   [[nodiscard]] std::size_t size() const noexcept { return tiles_.size(); }
   [[nodiscard]] std::vector<TileKey> sorted_keys() const;
 
@@ -113,9 +122,21 @@ class TileStore {
   /// bounding box of its changes after g while the log still holds them, else the tile.
   [[nodiscard]] std::vector<ColumnRect> changed_since(std::uint64_t g) const;
 
+  /// Advances the clock that release_idle measures idleness with (once per step).
+  void tick() noexcept { ++clock_; }
+  /// Releases the tiles that no step has used for idle_steps ticks, that hold nothing but
+  /// the untouched base (Tile::holds_only_base), whose heights never changed (loaded tiles
+  /// count as changed) and whose changes have been taken. Looks every kReleaseScanTicks ticks only.
+  /// Returns the number released. Results never depend on it: a released tile is recreated
+  /// identically when needed.
+  std::size_t release_idle(std::int64_t idle_steps);
+  static constexpr std::int64_t kReleaseScanTicks = 64;
+
   [[nodiscard]] std::size_t bytes() const;  ///< heap memory: tiles, hash table, change list
 
  private:
+  [[nodiscard]] bool releasable(Tile& t, std::int64_t idle_steps) const;
+
   // One band of tiles at a time: its tiles are looked up first (in x order), then its rows
   // are walked run by run.
   template <class Lookup, class Fn>
@@ -157,6 +178,7 @@ class TileStore {
   std::uint64_t generation_ = 1;  ///< changes are stamped with it; 0 means "before anything"
   std::vector<ChangeEntry> log_;  ///< in generation order; complete for generations > log_floor_
   std::uint64_t log_floor_ = 0;
+  std::int64_t clock_ = 0;
 };
 
 }  // namespace shore::terrain

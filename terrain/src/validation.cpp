@@ -12,20 +12,30 @@ namespace shore::terrain {
 
 void TerrainSettings::validate() const {
   const Check c{"terrain.TerrainSettings"};
-  c.positive("cell", cell);
-  c.finite("origin_x", origin_x);
-  c.finite("origin_y", origin_y);
+  // Beyond these a corrupt or mistaken value makes areas (cell^2 times a tile's sum)
+  // underflow to 0 or overflow to infinity, and a denormal cell slows every step badly.
+  c.in_closed("cell", cell, 1e-4, 1e3);
+  c.in_closed("origin_x", origin_x, -1e12, 1e12);
+  c.in_closed("origin_y", origin_y, -1e12, 1e12);
   if (!(tile_columns >= 4 && tile_columns <= 1024))
     throw InvalidSetting(c.name("tile_columns"), detail::to_text(tile_columns), "must be in [4, 1024]");
   material.validate();
   c.finite("base_height", base_height);
-  c.at_least("max_erosion_passes", max_erosion_passes, 0);
-  c.at_least("active_margin", active_margin, 1);
+  // A rate limit: more passes than this per step would stall the step (slopes that barely
+  // move, sigma near 0, keep every pass busy up to the cap).
+  c.in_closed("max_erosion_passes", max_erosion_passes, 0, 1000);
+  // A wider margin makes one small imprint gather over 250,000 columns every step (a fuzzed
+  // file with 1025 took seconds per step).
+  if (!(active_margin >= 1 && active_margin <= 256))
+    throw InvalidSetting(c.name("active_margin"), detail::to_text(active_margin), "must be in [1, 256]");
   if (!(active_reach > 0.0))  // +infinity allowed: every covered column widens the region
     throw InvalidSetting(c.name("active_reach"), detail::to_text(active_reach), "must be > 0 (+infinity allowed)");
   c.non_negative("contact_tolerance", contact_tolerance);
-  c.at_least("threads", threads, 0);
+  // Each OpenMP thread costs memory for good: an absurd count (a corrupt file's) could
+  // exhaust it.
+  c.in_closed("threads", threads, 0, 1024);
   c.at_least("parallel_min_columns", parallel_min_columns, 0);
+  c.at_least("idle_tile_steps", idle_tile_steps, 0);
 }
 
 void check_envelope(const EnvelopeRaster* env, const std::string& name) {

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "png_writer.h"
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
 #include "shore/terrain/terrain.h"
@@ -21,6 +22,7 @@
 
 using namespace shore::terrain;
 using namespace shore::terrain::testing;
+using shore::fuzz::png16;
 
 namespace {
 
@@ -68,49 +70,6 @@ Terrain pressed_sand(double active_reach = TerrainSettings{}.active_reach) {
   return t;
 }
 
-// ---- a minimal PNG writer for 16-bit grey (stored deflate blocks), for the loader test.
-std::uint32_t crc32(const unsigned char* p, std::size_t n, std::uint32_t c = 0xffffffffu) {
-  for (std::size_t i = 0; i < n; ++i) {
-    c ^= p[i];
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
-  }
-  return c;
-}
-void put_be32(std::vector<unsigned char>& v, std::uint32_t x) {
-  for (int s = 24; s >= 0; s -= 8) v.push_back(static_cast<unsigned char>(x >> s));
-}
-void put_chunk(std::vector<unsigned char>& png, const char* type, const std::vector<unsigned char>& data) {
-  put_be32(png, static_cast<std::uint32_t>(data.size()));
-  std::vector<unsigned char> body(type, type + 4);
-  body.insert(body.end(), data.begin(), data.end());
-  png.insert(png.end(), body.begin(), body.end());
-  put_be32(png, crc32(body.data(), body.size()) ^ 0xffffffffu);
-}
-std::vector<unsigned char> png16(int w, int h, const std::vector<std::uint16_t>& px) {
-  std::vector<unsigned char> raw;  // filter byte 0 per row, big-endian samples
-  for (int r = 0; r < h; ++r) {
-    raw.push_back(0);
-    for (int c = 0; c < w; ++c)
-      raw.push_back(static_cast<unsigned char>(px[r * w + c] >> 8)),
-          raw.push_back(static_cast<unsigned char>(px[r * w + c]));
-  }
-  std::vector<unsigned char> z = {0x78, 0x01, 0x01};  // zlib header, one final stored block
-  z.push_back(static_cast<unsigned char>(raw.size())), z.push_back(static_cast<unsigned char>(raw.size() >> 8));
-  z.push_back(static_cast<unsigned char>(~raw.size())), z.push_back(static_cast<unsigned char>(~raw.size() >> 8));
-  z.insert(z.end(), raw.begin(), raw.end());
-  std::uint32_t a = 1, b = 0;
-  for (unsigned char ch : raw) a = (a + ch) % 65521, b = (b + a) % 65521;
-  put_be32(z, (b << 16) | a);
-  std::vector<unsigned char> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  std::vector<unsigned char> ihdr;
-  put_be32(ihdr, static_cast<std::uint32_t>(w)), put_be32(ihdr, static_cast<std::uint32_t>(h));
-  ihdr.insert(ihdr.end(), {16, 0, 0, 0, 0});  // 16-bit grey
-  put_chunk(png, "IHDR", ihdr);
-  put_chunk(png, "IDAT", z);
-  put_chunk(png, "IEND", {});
-  return png;
-}
-
 }  // namespace
 
 TEST(Errors, SettingsNameTheField) {
@@ -122,6 +81,19 @@ TEST(Errors, SettingsNameTheField) {
   EXPECT_TRUE(mentions(bad([](auto& s) { s.cell = 0.0; }), "cell = 0"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.cell = -0.01; }), "cell"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.cell = kNaN; }), "cell"));
+  // The edges of the ranges (a fuzzer's 1e155 cell overflowed the volume, a denormal one
+  // stalled the step): just outside refused, the edge itself accepted.
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.cell = 0.99e-4; }), "cell"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.cell = 1001.0; }), "cell"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.cell = 1e-4; }), "(no exception)"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.cell = 1e3; }), "(no exception)"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.origin_y = 2e12; }), "origin_y"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.max_erosion_passes = 1001; }), "max_erosion_passes"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.max_erosion_passes = 1000; }), "(no exception)"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.active_margin = 257; }), "active_margin"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.active_margin = 256; }), "(no exception)"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.threads = 1025; }), "threads"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.idle_tile_steps = -1; }), "idle_tile_steps"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.origin_x = kInf; }), "origin_x"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.tile_columns = 2; }), "tile_columns"));
   EXPECT_TRUE(mentions(bad([](auto& s) { s.material.alpha = 1.5; }), "alpha = 1.5"));
@@ -196,16 +168,22 @@ TEST(Files, SaveLoadRoundTripIsBitExactAndContinuesIdentically) {
 }
 
 TEST(Files, VersionOneStatesLoadWithAnInfiniteReach) {
-  // Version 1 had no active_reach (8 bytes after parallel_min_columns, at byte 76).
+  // A version 4 file made into a version 1 file: version 1 had no precision field (4 bytes
+  // after the byte-order mark, at byte 16), no active_reach and idle_tile_steps (12 bytes
+  // after parallel_min_columns, at byte 76 once the precision field is gone).
   Terrain a = pressed_sand(0.25);
   const auto file = temp_file("v2.state");
   a.save(file);
   std::vector<unsigned char> bytes = read_bytes(file);
+  std::uint32_t real_bytes = 0;
+  std::memcpy(&real_bytes, bytes.data() + 16, sizeof real_bytes);
+  ASSERT_EQ(real_bytes, 8u);
+  bytes.erase(bytes.begin() + 16, bytes.begin() + 20);
   constexpr std::size_t kReachAt = 76;
   double stored = 0.0;
   std::memcpy(&stored, bytes.data() + kReachAt, sizeof stored);
   ASSERT_EQ(stored, 0.25);
-  bytes.erase(bytes.begin() + kReachAt, bytes.begin() + kReachAt + 8);
+  bytes.erase(bytes.begin() + kReachAt, bytes.begin() + kReachAt + 12);
   // Nor the material's shear fields (6 f64 after its rigid flag, version 3 on).
   const std::size_t material_end = kReachAt + 4 + 4 + 10 * 8 + 1;
   bytes.erase(bytes.begin() + material_end, bytes.begin() + material_end + 6 * 8);
@@ -230,6 +208,7 @@ TEST(Files, VersionOneStatesLoadWithAnInfiniteReach) {
   // Version 1 states were stepped with every covered column under the body.
   EXPECT_EQ(b.settings().active_reach, std::numeric_limits<double>::infinity());
   EXPECT_EQ(b.settings().parallel_min_columns, a.settings().parallel_min_columns);
+  EXPECT_EQ(b.settings().idle_tile_steps, TerrainSettings{}.idle_tile_steps);
   EXPECT_EQ(b.settings().material.name, "sand");
   std::filesystem::remove(file);
 }

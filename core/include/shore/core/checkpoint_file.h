@@ -23,41 +23,10 @@
 
 #include "shore/core/byte_io.h"
 #include "shore/core/error.h"
+#include "shore/core/file_bytes.h"
 #include "shore/core/hash.h"
 
 namespace shore {
-
-/// Writes bytes to file through file + ".tmp" and a rename. FileError naming `what` and
-/// the path on failure (the temporary removed).
-inline void write_file_atomically(const std::filesystem::path& file, std::span<const unsigned char> bytes,
-                                  const std::string& what) {
-  std::filesystem::path temp = file;
-  temp += ".tmp";
-  const auto fail = [&](const std::string& cause) {
-    std::error_code ignored;
-    std::filesystem::remove(temp, ignored);
-    throw FileError(what + " " + file.string() + ": " + cause);
-  };
-  {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    if (!out) throw FileError(what + " " + file.string() + ": cannot open " + temp.string() + " for writing");
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) fail("write failed (disk full?)");
-  }
-  std::error_code ec;
-  std::filesystem::rename(temp, file, ec);
-  if (ec) fail("cannot rename the temporary file (" + ec.message() + ")");
-}
-
-/// The whole file; FileError naming `what` and the path if it cannot be read.
-inline std::vector<unsigned char> read_whole_file(const std::filesystem::path& file, const std::string& what) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError(what + " " + file.string() + ": cannot open for reading");
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw FileError(what + " " + file.string() + ": read failed");
-  return bytes;
-}
 
 namespace checkpoint_format {
 inline constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'C', 'K', 'P'};
@@ -138,7 +107,7 @@ class CheckpointReader {
     read_sections(r);
   }
   static CheckpointReader open(const std::filesystem::path& file, std::uint32_t scalar_bytes = 0) {
-    return {read_whole_file(file, "checkpoint"), file.string(), scalar_bytes};
+    return {read_file_bytes(file, "checkpoint"), file.string(), scalar_bytes};
   }
   [[nodiscard]] bool has(std::string_view tag) const { return find(checkpoint_format::make_tag(tag)) != nullptr; }
   /// A section's bytes; FileError naming the missing section.

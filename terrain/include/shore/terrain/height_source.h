@@ -1,8 +1,11 @@
 #pragma once
 // Where untouched ground lies: flat, lattice noise, or an imported heightmap.
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <span>
+#include <string>
 #include <vector>
 
 namespace shore::terrain {
@@ -81,8 +84,13 @@ struct HeightmapPlacement {
   void validate() const;
 };
 
+/// Most samples a heightmap file may hold (16384 x 16384): larger headers are refused
+/// before anything is allocated.
+inline constexpr std::size_t kMaxHeightmapSamples = std::size_t{1} << 28;
+
 /// Imported ground, bilinearly interpolated between samples; outside the map the edge
-/// samples extend outward.
+/// samples extend outward. The file loaders are fuzzed (fuzz/README.md): whatever the
+/// bytes, they give a heightmap or a shore::FileError, never a crash.
 class Heightmap final : public HeightSource {
  public:
   /// values: width * rows samples, row-major, row 0 the top row. Throws InvalidSetting on
@@ -91,11 +99,20 @@ class Heightmap final : public HeightSource {
 
   /// 8- or 16-bit PNG (grey, grey+alpha, RGB or RGBA; colour is converted to grey by
   /// luminance, alpha ignored). Throws shore::FileError naming the file and the problem.
+  /// Every chunk must lie inside the file and match its CRC; headers claiming more than
+  /// kMaxHeightmapSamples pixels, or more pixels than the file's size can hold compressed,
+  /// are refused as corrupt.
   static Heightmap from_png(const std::filesystem::path& file, HeightmapPlacement placement);
+  /// from_png() of bytes already in memory; `name` stands for the file in error messages.
+  static Heightmap from_png_bytes(std::span<const unsigned char> bytes, const std::string& name,
+                                  HeightmapPlacement placement);
   /// Headerless little-endian float32 samples, row-major, row 0 the top row. The file size
   /// must be exactly width * rows * 4 bytes and every sample finite, else shore::FileError.
   static Heightmap from_raw_float32(const std::filesystem::path& file, int width, int rows,
                                     HeightmapPlacement placement);
+  /// from_raw_float32() of bytes already in memory; `name` stands for the file in messages.
+  static Heightmap from_raw_float32_bytes(std::span<const unsigned char> bytes, const std::string& name, int width,
+                                          int rows, HeightmapPlacement placement);
 
   [[nodiscard]] double height(double x, double y) const override;
   [[nodiscard]] int width() const noexcept { return width_; }

@@ -32,16 +32,16 @@
 namespace shore::terrain {
 
 struct TerrainSettings {
-  double cell = 0.01;     ///< m, column spacing, > 0
-  double origin_x = 0.0;  ///< m, world x of column (0, 0), finite
-  double origin_y = 0.0;  ///< m, world y of column (0, 0), finite
+  double cell = 0.01;     ///< m, column spacing, in [1e-4, 1e3]
+  double origin_x = 0.0;  ///< m, world x of column (0, 0), in [-1e12, 1e12]
+  double origin_y = 0.0;  ///< m, world y of column (0, 0), in [-1e12, 1e12]
   int tile_columns = 64;  ///< columns per tile side, in [4, 1024]
   Material material = Material::sand();
   /// Untouched ground. Null: flat at base_height.
   std::shared_ptr<const HeightSource> base;
   double base_height = 0.0;    ///< m, flat ground level when base is null, finite
-  int max_erosion_passes = 8;  ///< erosion pass cap per step, >= 0 (a rate limit: deep ruts flow every step)
-  int active_margin = 4;       ///< columns added around each imprint window for displacement and erosion, >= 1
+  int max_erosion_passes = 8;  ///< erosion pass cap per step, in [0, 1000] (a rate limit: deep ruts flow every step)
+  int active_margin = 4;       ///< columns added around each imprint window for displacement and erosion, in [1, 256]
   /// m: how far above the soil top a body still counts as over a column. A column whose
   /// (offset) envelope lies higher neither widens the step's active region (a rolling
   /// wheel's footprint is mostly air above its rut) nor holds its slopes at theta_in (a
@@ -50,11 +50,20 @@ struct TerrainSettings {
   /// covered column counts, however high the body.
   double active_reach = 0.03;
   double contact_tolerance = 1e-4;  ///< m: a column counts as touched when the envelope is within this of its top, >= 0
-  int threads = 0;                  ///< OpenMP threads, 0 = runtime default; results never depend on it, >= 0
+  int threads = 0;                  ///< OpenMP threads, 0 = runtime default; results never depend on it, in [0, 1024]
   /// Active regions with fewer columns (halo included) run on one thread: for small
   /// regions forking costs more than it saves, badly so on a loaded machine. Results
   /// never depend on it. >= 0 (0: always use `threads`).
   int parallel_min_columns = 16384;
+  /// Steps after which a tile no step has worked on is released if it holds nothing but the
+  /// untouched base (every height equal to its base, no sinkage, no change not yet taken):
+  /// such a tile equals no tile, and is recreated identically when a step reaches it
+  /// again, so a body roaming over ground it does not change (or only brushes) leaves no
+  /// trail of memory behind. Tiles that differ from the base, or whose heights ever changed
+  /// (loaded tiles count as changed), are never released (that would lose soil, or a
+  /// change an observer of changed_since() has not seen yet). Results and state_hash() never depend on it. >= 0 (0:
+  /// never release).
+  int idle_tile_steps = 2400;
 
   /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
   void validate() const;
@@ -206,21 +215,35 @@ class Terrain {
   /// changed_since(0): every column ever changed. Reads only.
   [[nodiscard]] std::vector<ColumnRect> changed_since(std::uint64_t g) const;
   [[nodiscard]] VolumeTotals volume() const;
-  [[nodiscard]] std::uint64_t state_hash() const;  ///< FNV-1a over tiles in key order
-  [[nodiscard]] std::size_t tile_count() const;
+  /// FNV-1a over the bookkeeping and the tiles in key order, leaving out tiles that hold
+  /// nothing but the untouched base (they equal no tile): the same soil gives the same hash
+  /// whichever idle tiles were released (TerrainSettings::idle_tile_steps).
+  [[nodiscard]] std::uint64_t state_hash() const;
+  [[nodiscard]] std::size_t tile_count() const;  ///< tiles held now (created on first write, released when idle)
   [[nodiscard]] std::size_t memory_bytes() const;
 
-  /// Bit-exact round trip of the touched state. save() writes a temporary file and
-  /// renames it; load() throws shore::FileError on a truncated or foreign file. The file
-  /// holds the settings (but not the base source: pass the same one to load, or null for
-  /// flat ground at the saved base_height), the bookkeeping (compacted, edited) and every
-  /// tile's heights, sinkage and sampled base; a checksum guards the whole file.
+  /// Bit-exact round trip of the touched state. The file holds the settings (but not the
+  /// base source: pass the same one to load, or null for flat ground at the saved
+  /// base_height), the bookkeeping (compacted, edited), the regions still eroding and every
+  /// tile's heights, sinkage and sampled base; a checksum guards the whole file
+  /// (terrain/src/terrain_io.cpp describes the format).
+  ///
+  /// save() writes `<file>.tmp`, flushes it to the disk and renames it over `file`, so the
+  /// old file stays whole and loadable whatever happens during the write: a full disk, a
+  /// folder that refuses the write, the process killed mid-write (a `<file>.tmp` may then be
+  /// left behind; the next save overwrites it). It throws shore::FileError naming the file,
+  /// the step that failed and the system's cause ("No space left on device").
   void save(const std::filesystem::path& file) const;
+  /// Throws shore::FileError naming the file and the problem: unreadable, truncated,
+  /// corrupt (checksum), not a terrain state, or another format version, byte order or
+  /// precision than this build reads (each refused with a message saying so). Never
+  /// crashes, whatever the bytes (the loaders are fuzzed: fuzz/README.md).
   static Terrain load(const std::filesystem::path& file, std::shared_ptr<const HeightSource> base = nullptr);
   /// The same state as save() writes, as bytes (a checkpoint embeds them whole, so whatever
   /// the terrain adds to its own format comes with it), and its inverse; `name` says where
   /// the bytes came from in load_bytes' FileError messages.
   [[nodiscard]] std::vector<unsigned char> save_bytes() const;
+  /// load() from bytes already in memory (a checkpoint, an archive, a network buffer).
   static Terrain load_bytes(std::span<const unsigned char> bytes, const std::string& name,
                             std::shared_ptr<const HeightSource> base = nullptr);
 

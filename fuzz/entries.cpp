@@ -1,0 +1,141 @@
+#include "entries.h"
+
+#include <cmath>
+#include <limits>
+
+#include "shore/core/envelope.h"
+#include "shore/core/error.h"
+#include "shore/core/hash.h"
+#include "shore/terrain/height_source.h"
+#include "shore/terrain/terrain.h"
+
+namespace shore::fuzz {
+
+namespace {
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw InvariantBroken(what);
+}
+
+void require_finite_volume(const terrain::Terrain& t, const char* when) {
+  const terrain::VolumeTotals v = t.volume();
+  require(std::isfinite(v.ground) && std::isfinite(v.compacted) && std::isfinite(v.edited),
+          std::string("non-finite volume ") + when);
+}
+
+/// A small flat press just below the soil at columns (0..3, 0..3), in grid coordinates (the
+/// file's origin and cell may be anything).
+shore::EnvelopeRaster press_near_origin(const terrain::Terrain& t) {
+  shore::EnvelopeRaster env;
+  env.resize(0, 0, 4, 4, false);
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) env.lower[env.index(i, j)] = t.height(i, j) - 0.001;
+  return env;
+}
+
+/// What a game does with a loaded state: steps it, reads it, saves it again.
+void exercise(terrain::Terrain& t) {
+  require_finite_volume(t, "after load");
+  (void)t.take_changed();
+  try {
+    t.step({});  // the regions the file says are still eroding
+    const shore::EnvelopeRaster env = press_near_origin(t);
+    const terrain::Imprint im{&env};
+    t.step({&im, 1});
+  } catch (const InvalidSetting&) {
+    // A refused step (a region too large to gather) changes nothing: allowed.
+  }
+  require_finite_volume(t, "after two steps");
+  for (int j = -1; j <= 4; ++j)
+    for (int i = -1; i <= 4; ++i) require(std::isfinite(t.height(i, j)), "non-finite height after a step");
+  const std::vector<unsigned char> again = t.save_bytes();
+  const terrain::Terrain reloaded = terrain::Terrain::load_bytes(again, "fuzz round trip");
+  require(reloaded.state_hash() == t.state_hash(), "save and load changed the state");
+}
+
+std::uint32_t big_endian_32(const unsigned char* p) {
+  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | std::uint32_t{p[3]};
+}
+
+/// Rewrites the CRC of every chunk that lies inside the file, so that mutations reach the
+/// decoder behind the loader's CRC check.
+void fix_chunk_crcs(std::vector<unsigned char>& png) {
+  for (std::size_t pos = 8; png.size() >= pos + 12;) {
+    const std::uint32_t length = big_endian_32(png.data() + pos);
+    if (png.size() - pos - 12 < length) return;
+    std::uint32_t c = 0xffffffffu;
+    for (std::size_t i = pos + 4; i < pos + 8 + length; ++i) {
+      c ^= png[i];
+      for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+    }
+    c ^= 0xffffffffu;
+    for (int b = 0; b < 4; ++b) png[pos + 8 + length + b] = static_cast<unsigned char>(c >> (24 - 8 * b));
+    pos += 12 + length;
+  }
+}
+
+}  // namespace
+
+bool terrain_state(std::span<const std::uint8_t> data) {
+  if (data.empty()) return false;
+  std::vector<unsigned char> bytes(data.begin() + 1, data.end());
+  if (data[0] & 1) {
+    StateHash sum;
+    sum.add_bytes(bytes.data(), bytes.size());
+    const std::uint64_t checksum = sum.value();
+    const auto* p = reinterpret_cast<const unsigned char*>(&checksum);
+    bytes.insert(bytes.end(), p, p + sizeof checksum);
+  }
+  try {
+    terrain::Terrain t = terrain::Terrain::load_bytes(bytes, "fuzz input");
+    exercise(t);
+    return true;
+  } catch (const FileError&) {
+    return false;
+  }
+}
+
+bool heightmap_png(std::span<const std::uint8_t> data) {
+  if (data.empty()) return false;
+  std::vector<unsigned char> png(data.begin() + 1, data.end());
+  if (data[0] & 1) fix_chunk_crcs(png);
+  try {
+    const terrain::Heightmap h = terrain::Heightmap::from_png_bytes(png, "fuzz input", {});
+    require(h.width() >= 1 && h.rows() >= 1, "empty heightmap accepted");
+    for (const double x : {-1.0, 0.0, 0.5 * h.width(), double(h.width())})
+      for (const double y : {-1.0, 0.0, 0.5 * h.rows(), double(h.rows())}) {
+        const double z = h.height(x, y);
+        require(std::isfinite(z) && z >= -1e-9 && z <= 1.0 + 1e-9, "PNG heights must lie in [0, 1] m");
+      }
+    return true;
+  } catch (const FileError&) {
+    return false;
+  }
+}
+
+bool heightmap_raw(std::span<const std::uint8_t> data) {
+  if (data.size() < 2) return false;
+  const int width = 1 + data[0] % 32;
+  const std::span<const std::uint8_t> file = data.subspan(2);
+  const int rows = data[1] >= 128 ? std::max<int>(1, int(file.size() / 4 / std::size_t(width))) : 1 + data[1] % 32;
+  try {
+    const terrain::Heightmap h = terrain::Heightmap::from_raw_float32_bytes(file, "fuzz input", width, rows, {});
+    require(h.width() == width && h.rows() == rows, "raw heightmap of the wrong size accepted");
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < width; ++c) require(std::isfinite(h.height(c, r)), "non-finite raw height");
+    return true;
+  } catch (const FileError&) {
+    return false;
+  }
+}
+
+const std::vector<Target>& targets() {
+  static const std::vector<Target> list = {
+      {"heightmap_png", heightmap_png},
+      {"heightmap_raw", heightmap_raw},
+      {"terrain_state", terrain_state},
+  };
+  return list;
+}
+
+}  // namespace shore::fuzz

@@ -1,0 +1,47 @@
+#pragma once
+// The fuzzed loaders' entry points: one function per fuzz target, shared by the libFuzzer
+// executables (fuzz_<name>, built with SHORE_FUZZ=ON) and by the ordinary test suite, which
+// runs every seed and every kept crash input through them (tests/fuzz).
+//
+// Each takes arbitrary bytes and returns whether the loader accepted them. A loader may
+// refuse them (shore::FileError: caught here); whatever it accepts must be a usable, finite
+// state: otherwise, or on a crash or sanitizer report, the input is a bug. Broken
+// invariants throw InvariantBroken (uncaught in a fuzzer: it aborts and keeps the input).
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace shore::fuzz {
+
+struct InvariantBroken : std::logic_error {
+  using std::logic_error::logic_error;
+};
+
+/// A saved terrain state (Terrain::load_bytes). Byte 0 chooses the mode: odd, the rest is
+/// a file without its checksum, which is appended (so mutations reach the parser behind
+/// it); even, the rest is the whole file. An accepted state is stepped, saved and loaded
+/// again: it must stay finite and round-trip to the same hash.
+bool terrain_state(std::span<const std::uint8_t> data);
+/// A PNG heightmap, 8 or 16 bits (Heightmap::from_png_bytes). Byte 0 chooses the mode: odd,
+/// every chunk's CRC in the rest is rewritten to match (so mutations reach the decoder
+/// behind the loader's CRC check); even, the rest is the file as it is.
+bool heightmap_png(std::span<const std::uint8_t> data);
+/// A raw float32 heightmap (Heightmap::from_raw_float32_bytes): byte 0 gives the width
+/// (1 + b % 32), byte 1 the rows (b >= 128: as many as the rest holds; else 1 + b % 32); the
+/// rest is the file.
+bool heightmap_raw(std::span<const std::uint8_t> data);
+
+/// A named entry point.
+struct Target {
+  const char* name;  ///< fuzz_<name> is the executable, fuzz/corpus/<name> its seeds
+  bool (*run)(std::span<const std::uint8_t>);
+};
+/// Every target, in name order. A new loader (the checkpoint and delta formats of issue 20)
+/// adds its function here and in fuzz/CMakeLists.txt (fuzz/README.md).
+const std::vector<Target>& targets();
+
+}  // namespace shore::fuzz

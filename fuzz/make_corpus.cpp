@@ -1,0 +1,126 @@
+// shore-fuzz-corpus <folder>: writes the fuzzers' seed corpus, <folder>/<target>/seed_*,
+// from scratch (the committed fuzz/corpus was made by it). Small valid inputs of every
+// kind each loader reads: terrain states of format versions 3 and 4 (with and without the
+// checksum the fuzz entry appends), PNG heightmaps of every colour type stb_image_write
+// writes plus a 16-bit one, raw float32 maps.
+#include <stb_image_write.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "png_writer.h"
+#include "shore/core/envelope.h"
+#include "shore/terrain/terrain.h"
+
+namespace fs = std::filesystem;
+using Bytes = std::vector<unsigned char>;
+
+namespace {
+
+void write(const fs::path& file, const Bytes& bytes) {
+  fs::create_directories(file.parent_path());
+  std::ofstream(file, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+/// Small tiles, a press with its rim still eroding: every section of the format is used.
+shore::terrain::Terrain pressed_state() {
+  shore::terrain::TerrainSettings s;
+  s.tile_columns = 4;
+  s.cell = 0.05;
+  s.max_erosion_passes = 1;
+  s.threads = 1;
+  shore::terrain::Terrain t(s);
+  shore::EnvelopeRaster env;
+  env.resize(1, 1, 3, 3, false);
+  for (double& v : env.lower) v = -0.02;
+  const shore::terrain::Imprint im{&env};
+  t.step({&im, 1});
+  return t;
+}
+
+/// A version 4 file as version 3 wrote it: no precision field (bytes 16-19) and no
+/// idle_tile_steps (the 4 bytes after active_reach, at 88 in version 4).
+Bytes as_version_3(Bytes v4) {
+  v4.erase(v4.begin() + 88, v4.begin() + 92);
+  v4.erase(v4.begin() + 16, v4.begin() + 20);
+  v4[8] = 3;
+  return v4;
+}
+
+/// The fuzz entry's input: mode byte (1: append the checksum) and the file.
+Bytes entry_input(bool append_checksum, Bytes file) {
+  if (append_checksum) file.resize(file.size() - 8);
+  file.insert(file.begin(), static_cast<unsigned char>(append_checksum ? 1 : 0));
+  return file;
+}
+
+void terrain_seeds(const fs::path& dir) {
+  const Bytes v4 = pressed_state().save_bytes();
+  write(dir / "seed_v4_pressed", entry_input(true, v4));
+  write(dir / "seed_v4_pressed_whole", entry_input(false, v4));
+  Bytes v3 = as_version_3(v4);
+  write(dir / "seed_v3_pressed", entry_input(true, v3));  // checksum recomputed by the entry
+  shore::terrain::TerrainSettings s;
+  s.tile_columns = 4;
+  s.material = shore::terrain::Material::snow();
+  shore::terrain::Terrain edited(s);
+  edited.set_height(-3, 2, 0.25);
+  write(dir / "seed_v4_edited_snow", entry_input(true, edited.save_bytes()));
+}
+
+void stb_write_to(void* context, void* data, int size) {
+  auto* out = static_cast<Bytes*>(context);
+  out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
+}
+
+void png_seeds(const fs::path& dir) {
+  const char* names[] = {"", "seed_grey8", "seed_grey_alpha8", "seed_rgb8", "seed_rgba8"};
+  for (int channels = 1; channels <= 4; ++channels) {
+    std::vector<unsigned char> px(3 * 2 * static_cast<std::size_t>(channels));
+    for (std::size_t k = 0; k < px.size(); ++k) px[k] = static_cast<unsigned char>(37 * k + 11);
+    Bytes png = {1};  // the entry's mode byte: CRCs fixed after mutation
+    stbi_write_png_to_func(stb_write_to, &png, 3, 2, channels, px.data(), 3 * channels);
+    write(dir / names[channels], png);
+  }
+  auto with_mode = [](unsigned char mode, Bytes png) {
+    png.insert(png.begin(), mode);
+    return png;
+  };
+  write(dir / "seed_grey16", with_mode(1, shore::fuzz::png16(2, 2, {0, 1000, 65535, 30000})));
+  write(dir / "seed_grey16_row", with_mode(1, shore::fuzz::png16(5, 1, {1, 2, 3, 4, 5})));
+  write(dir / "seed_grey16_as_is", with_mode(0, shore::fuzz::png16(3, 3, {9, 8, 7, 6, 5, 4, 3, 2, 1})));
+}
+
+Bytes raw_input(unsigned char width_byte, unsigned char rows_byte, const std::vector<float>& samples) {
+  Bytes out = {width_byte, rows_byte};
+  const auto* p = reinterpret_cast<const unsigned char*>(samples.data());
+  out.insert(out.end(), p, p + samples.size() * sizeof(float));
+  return out;
+}
+
+void raw_seeds(const fs::path& dir) {
+  write(dir / "seed_3x2", raw_input(2, 1, {0.5f, -0.25f, 3.0f, 1.5f, 2.0f, 0.0f}));
+  write(dir / "seed_4_by_size", raw_input(3, 200, {1, 2, 3, 4, 5, 6, 7, 8}));
+  write(dir / "seed_1x1", raw_input(0, 0, {1e30f}));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: shore-fuzz-corpus <folder>   (writes <folder>/<target>/seed_*)\n");
+    return 2;
+  }
+  const fs::path root = argv[1];
+  terrain_seeds(root / "terrain_state");
+  png_seeds(root / "heightmap_png");
+  raw_seeds(root / "heightmap_raw");
+  std::printf("seeds written to %s\n", root.c_str());
+  return 0;
+}
