@@ -20,9 +20,12 @@ std::uint64_t cling_key(const Vec3& b, double cell) {
 
 namespace {
 
+/// The draw that rounds a piece's number of particles (apart from the candidates' draws).
+constexpr std::uint64_t kRounding = std::uint64_t{1} << 40;
+
 ClingCell& find_or_add(std::vector<ClingCell>& cells, std::uint64_t key) {
-  const auto at = std::lower_bound(cells.begin(), cells.end(), key,
-                                   [](const ClingCell& c, std::uint64_t k) { return c.key < k; });
+  const auto at =
+      std::lower_bound(cells.begin(), cells.end(), key, [](const ClingCell& c, std::uint64_t k) { return c.key < k; });
   if (at != cells.end() && at->key == key) return *at;
   ClingCell fresh;
   fresh.key = key;
@@ -30,8 +33,8 @@ ClingCell& find_or_add(std::vector<ClingCell>& cells, std::uint64_t key) {
 }
 
 ClingCell* find(std::vector<ClingCell>& cells, std::uint64_t key) {
-  const auto at = std::lower_bound(cells.begin(), cells.end(), key,
-                                   [](const ClingCell& c, std::uint64_t k) { return c.key < k; });
+  const auto at =
+      std::lower_bound(cells.begin(), cells.end(), key, [](const ClingCell& c, std::uint64_t k) { return c.key < k; });
   return at != cells.end() && at->key == key ? &*at : nullptr;
 }
 
@@ -42,7 +45,8 @@ double reach_squared(const Imprint& im, const SprayGround& g) {
   for (int y = 0; y < env.ny; ++y) {
     const double dy = g.y_of(env.j0 + y) - im.cy;
     for (int x = 0; x < env.nx; ++x) {
-      const std::size_t k = static_cast<std::size_t>(y) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(x);
+      const std::size_t k =
+          static_cast<std::size_t>(y) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(x);
       if (!env.covers(k)) continue;
       const double dx = g.x_of(env.i0 + x) - im.cx, dz = env.lower[k] - im.offset - im.cz;
       most = std::max(most, dx * dx + dy * dy + dz * dz);
@@ -62,7 +66,8 @@ void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, co
   ground.heights({env.i0, env.j0, env.nx, env.ny}, heights_);
   for (int y = 0; y < env.ny; ++y)
     for (int x = 0; x < env.nx; ++x) {
-      const std::size_t k = static_cast<std::size_t>(y) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(x);
+      const std::size_t k =
+          static_cast<std::size_t>(y) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(x);
       if (!env.covers(k)) continue;
       const double e = env.lower[k] - im.offset;
       if (!(e <= heights_[k] + rules.tolerance)) continue;
@@ -118,13 +123,17 @@ void Cling::shed(const ClingingBody& body, ClingCell& c, const BodyMotion& m, co
     ++n;
   };
   if (!(c.volume > 0.0)) return;
+  // Sumner's n = dv phi particles, rounded at random (up with the probability of the
+  // fraction), so the number shed keeps its expected value however small dv is; what the
+  // rounding sheds early or late is evened out by `owed` in the next steps.
   const double vp = rules.particle_volume;
-  c.owed += (c.volume - c.owed) * rules.shed_share;
-  while (c.owed >= vp && c.volume > 0.0) {
+  c.owed += std::max(0.0, c.volume - c.owed) * rules.shed_share;
+  const double whole = std::floor(std::max(0.0, c.owed) / vp + rnd.uniform(kRounding, 0));
+  for (double k = 0.0; k < whole && c.volume > 0.0; k += 1.0) {
     emit(std::min(vp, c.volume));
     c.owed -= vp;
   }
-  if (c.volume > 0.0 && c.volume - c.owed < 0.5 * vp) emit(c.volume);  // less than half a particle would stay
+  if (c.volume > 0.0 && c.volume < 0.5 * vp) emit(c.volume);  // less than half a particle is left: it goes too
   if (!(c.volume > 0.0)) c.volume = c.owed = 0.0;
 }
 

@@ -10,9 +10,10 @@
 //             below it) takes its load off the top of the column it last touched: soil is
 //             carried away where the surface lifts from it, never from under a body that
 //             still presses on it (which would open a gap under it and take its bearing);
-//   shed      a piece off the ground sheds its soil with the half-life: what the decay owes is released
-//             in whole particles of the material's volume, and the rest at once when less
-//             than half a particle would stay. Each candidate starts at a random time in
+//   shed      a piece off the ground sheds its soil with the half-life: what the decay owes
+//             goes in whole particles of the material's volume (their number rounded up or
+//             down at random, keeping its expected value), the rest at once when less than
+//             half a particle is left. Each candidate starts at a random time in
 //             the step, at a random point of a column-sized cube around its piece, with the
 //             piece's velocity v + w x r plus jitter.
 // Whether a candidate flies (Sumner's (|v + w x r| / s)^gamma test) is the caller's, who
@@ -44,10 +45,10 @@ struct ClingRules {
 
 /// A particle a piece sheds, before Sumner's speed test.
 struct Candidate {
-  Particle start;        ///< at its creation time
-  double flight = 0.0;   ///< s of the step left after its creation
-  double speed = 0.0;    ///< m/s, |v + w x r| of its piece (Sumner's |p0'|)
-  double chance = 0.0;   ///< the uniform number in [0, 1) its speed test must beat
+  Particle start;       ///< at its creation time
+  double flight = 0.0;  ///< s of the step left after its creation
+  double speed = 0.0;   ///< m/s, |v + w x r| of its piece (Sumner's |p0'|)
+  double chance = 0.0;  ///< the uniform number in [0, 1) its speed test must beat
 };
 
 /// Soil that goes straight down onto the column below a point (set down, or a candidate
@@ -59,8 +60,8 @@ struct Drop {
 class Cling {
  public:
   /// One body's step: touch, set down, leave and shed (candidates and drops appended in a
-  /// fixed order). Returns the m^3 picked up (carried away from the ground). A body with no clinging soil that cannot move at
-  /// min_speed anywhere under its envelope costs one pass over the envelope.
+  /// fixed order). Returns the m^3 picked up (carried away from the ground). A body with no clinging soil that cannot
+  /// move at min_speed anywhere under its envelope costs one pass over the envelope.
   double step(ClingingBody& body, const Imprint& im, SprayGround& ground, const ClingRules& rules,
               std::vector<Candidate>& candidates, std::vector<Drop>& drops);
   /// Whether some point of the body's envelope moves at min_speed or more (|v| + |w| times

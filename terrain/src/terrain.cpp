@@ -32,8 +32,7 @@ TerrainSettings validated(TerrainSettings s) {
 Terrain::Impl::Impl(TerrainSettings settings) : s(validated(std::move(settings))), tiles(s) {}
 
 std::size_t Terrain::Impl::bytes() const {
-  return sizeof(Impl) + tiles.bytes() + capacity_bytes(unsettled) + planner.bytes() + pipeline.bytes() +
-         spray.bytes();
+  return sizeof(Impl) + tiles.bytes() + capacity_bytes(unsettled) + planner.bytes() + pipeline.bytes() + spray.bytes();
 }
 
 Terrain::Terrain(TerrainSettings settings) : impl_(std::make_unique<Impl>(std::move(settings))) {}
@@ -181,8 +180,8 @@ std::vector<SprayParticle> Terrain::spray_particles() const {
   std::vector<SprayParticle> out;
   out.reserve(impl_->spray.state.particles.size());
   for (const Particle& p : impl_->spray.state.particles)
-    out.push_back({p.x, p.y, p.z, det::pow(p.volume * (3.0 / (4.0 * std::numbers::pi)), 1.0 / 3.0), p.volume, p.vx,
-                   p.vy, p.vz});
+    out.push_back(
+        {p.x, p.y, p.z, det::pow(p.volume * (3.0 / (4.0 * std::numbers::pi)), 1.0 / 3.0), p.volume, p.vx, p.vy, p.vz});
   return out;
 }
 
@@ -193,6 +192,7 @@ SprayCounts Terrain::spray_counts() const {
   SprayCounts c = spray.counts;
   c.particles = static_cast<std::int64_t>(spray.particles.size());
   c.clinging_cells = spray.cell_count();
+  c.bytes = impl_->spray.bytes();
   return c;
 }
 

@@ -13,6 +13,7 @@
 // limits and random seed in SpraySettings (TerrainSettings::spray); each body's velocity,
 // angular velocity, pose and key come with its Imprint (terrain.h).
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -99,7 +100,8 @@ struct SprayCounts {
   /// Pieces of surface whose soil was set back down at once: touching the soil slower than
   /// min_speed, or their body gone from the step's imprints (at rest, removed, spray off).
   std::int64_t set_down = 0;
-  double picked_volume = 0.0;       ///< m^3 picked up by bodies, in all
+  double picked_volume = 0.0;  ///< m^3 picked up by bodies, in all
+  std::size_t bytes = 0;       ///< memory spray holds now (particles, clinging soil, scratch)
 };
 
 }  // namespace shore::terrain
