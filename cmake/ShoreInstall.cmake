@@ -1,15 +1,15 @@
 # Install the libraries, headers and a relocatable package config, so that an outside
 # project can do find_package(Shore REQUIRED) and link shore::terrain, shore::water,
-# shore::bullet.
+# shore::bullet (and shore::mesh, the meshes for rendering).
 include(CMakePackageConfigHelpers)
 
-install(TARGETS shore_core shore_terrain shore_water shore_bullet
+install(TARGETS shore_core shore_mesh shore_terrain shore_water shore_bullet
   EXPORT ShoreTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-foreach(_dir core terrain water bullet)
+foreach(_dir core mesh terrain water bullet)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${_dir}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endforeach()
 

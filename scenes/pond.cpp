@@ -15,12 +15,14 @@
 #include "shore/bullet/water_coupling.h"
 #include "shore/scenes/envelopes.h"
 #include "shore/scenes/film.h"
+#include "shore/scenes/mesh_view.h"
 #include "shore/scenes/pool_cases.h"
 #include "shore/scenes/render.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/scene.h"
 #include "shore/scenes/water_view.h"
 #include "shore/scenes/world.h"
+#include "shore/water/mesh_field.h"
 
 namespace shore::scenes {
 namespace {
@@ -222,7 +224,10 @@ class Pond final : public Scene {
 
   Image film_frame() override {
     // The oblique view is taken while the bump's waves wrap around the island (frame 4).
-    if (k_ == film_at_[std::min<std::size_t>(3, film_at_.size() - 1)]) view_ = oblique();
+    if (k_ == film_at_[std::min<std::size_t>(3, film_at_.size() - 1)]) {
+      view_ = oblique();
+      lod_ = lod_view();
+    }
     return render_water_scene(pond_, overlay_, 0.0, "", o_.smoke ? 160 : 480);
   }
 
@@ -236,9 +241,29 @@ class Pond final : public Scene {
     out.filmstrip();
     out.png("view.png", view_);
     out.obj("water.obj", surface_grid(pond_));
+    out.png("lod.png", lod_);
   }
 
  private:
+  /// The water as a renderer would draw it: its 3-D nodes simplified to 1 pixel of this
+  /// picture, the triangles outlined (taken with the oblique view).
+  [[nodiscard]] Image lod_view() const {
+    PerspectiveView view;
+    view.eye = {.x = 0.3,
+                .y = -0.6 * kExtent - 1.0,
+                .z = 0.6 * kExtent,
+                .fov_y_deg = 50.0,
+                .viewport_height = o_.smoke ? 180 : 540};
+    view.target = {0.0, 0.0, 0.0};
+    water::SurfaceField field(pond_);
+    mesh::ChunkedMesh mesh;
+    mesh.update(field, &view.eye);
+    view.title = "water at " + time_label(k_ * o_.substep) +
+                 ", mesh at 1 px: " + std::to_string(mesh.triangle_count()) + " triangles (" +
+                 std::to_string(2 * (nodes_ - 1) * (nodes_ - 1)) + " in full)";
+    return render_meshes({{&mesh, water_colour(0.0)}}, view);
+  }
+
   [[nodiscard]] Image oblique() const {
     const HeightGrid g = surface_grid(pond_);
     const HeightGrid rest(g.nx, g.ny, g.cell, g.x0, g.y0, pond_.settings().rest_height);
@@ -267,6 +292,7 @@ class Pond final : public Scene {
   std::vector<int> film_at_;
   WaterOverlay overlay_;
   Image view_;
+  Image lod_;  // the water mesh at the oblique view's moment
   int k_ = 0;
   int water_substeps_max_ = 0;
   double max_wave_ = 0.0;

@@ -8,17 +8,20 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/scenes/film.h"
 #include "shore/scenes/four_wheeler.h"
+#include "shore/scenes/mesh_view.h"
 #include "shore/scenes/render.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/scene.h"
 #include "shore/scenes/soil_cases.h"
 #include "shore/scenes/soil_view.h"
 #include "shore/scenes/world.h"
+#include "shore/terrain/mesh_field.h"
 #include "shore/terrain/terrain.h"
 
 namespace shore::scenes {
@@ -169,6 +172,7 @@ class Vehicle final : public Scene {
                           "ruts: sand (left) to mud (right), heights x2", 0.0, 45.0, true));
     out.filmstrip();
     out.obj("ground.obj", heights);
+    out.png("lod.png", lod_view());
   }
 
  private:
@@ -182,6 +186,31 @@ class Vehicle final : public Scene {
                                      btScalar(FourWheelerSettings{}.motor_torque * o_.substep));
     }
     chassis_->activate(true);
+  }
+
+  /// The ruts at the sand-mud edge as a renderer would draw them: each soil's mesh
+  /// simplified to 1 pixel of this picture, its triangles outlined.
+  [[nodiscard]] Image lod_view() const {
+    PerspectiveView view;
+    view.eye = {.x = sand_x1_ - 1.6, .y = -1.3, .z = 0.8, .fov_y_deg = 50.0, .viewport_height = o_.smoke ? 180 : 540};
+    view.target = {sand_x1_ + 0.3, 0.0, -0.05};
+    std::vector<terrain::TerrainField> fields;
+    std::vector<mesh::ChunkedMesh> meshes(2);
+    std::size_t triangles = 0, columns = 0;
+    for (const auto& [soil, x0, x1] : {std::tuple{&sand_, 0.0, sand_x1_}, std::tuple{&mud_, sand_x1_, mud_x1_}}) {
+      const std::int64_t i0 = soil->column_i(x0), j0 = soil->column_j(-kHalfWidth);
+      const terrain::ColumnRect r{i0, j0, static_cast<int>(soil->column_i(x1) - i0 + 1),
+                                  static_cast<int>(soil->column_j(kHalfWidth) - j0 + 1)};
+      fields.emplace_back(*soil, r);
+      columns += static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny);
+    }
+    for (std::size_t k = 0; k < 2; ++k) {
+      meshes[k].update(fields[k], &view.eye);
+      triangles += meshes[k].triangle_count();
+    }
+    view.title = "ground mesh at 1 px: " + std::to_string(triangles) + " triangles (" + std::to_string(2 * columns) +
+                 " in full)";
+    return render_meshes({{&meshes[0], {214, 190, 140}}, {&meshes[1], {150, 122, 96}}}, view);
   }
 
   SceneOptions o_;

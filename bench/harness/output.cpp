@@ -327,6 +327,12 @@ std::filesystem::path write_benchmarks_md(const std::filesystem::path& source_di
     }
     for (const Table& t : run.result.tables()) md << "`" << t.name << ".csv`:\n\n" << markdown_table(t) << "\n";
   }
+  // Hand-written history (what a change cost, measured before and after) survives regeneration.
+  const std::filesystem::path history = source_dir / "bench" / "history.md";
+  if (std::filesystem::exists(history)) {
+    std::ifstream in(history);
+    md << "\n" << in.rdbuf();
+  }
   const std::filesystem::path path = docs / "BENCHMARKS.md";
   write_text(path, md.str());
   return path;

@@ -135,7 +135,11 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, const terr
   }
   const std::int64_t nbx = bx1 - bx0 + 1, nby = by1 - by0 + 1;
   constexpr int kKinds = 5;
-  std::vector<Tally> tallies(static_cast<std::size_t>(nbx * nby * kKinds));
+  // The tallies of a window's blocks, dense; kept between calls (per thread) and handed back
+  // cleared, so a call clears only the slots it used instead of the whole window.
+  thread_local std::vector<Tally> tallies;
+  if (tallies.size() < static_cast<std::size_t>(nbx * nby * kKinds))
+    tallies.resize(static_cast<std::size_t>(nbx * nby * kKinds));
   auto slot = [&](std::int64_t bx, std::int64_t by, int kind) {
     return static_cast<std::size_t>(((by - by0) * nbx + (bx - bx0)) * kKinds + kind);
   };
@@ -149,12 +153,13 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, const terr
   for (std::int64_t by = by0; by <= by1; ++by)
     for (std::int64_t bx = bx0; bx <= bx1; ++bx)
       for (int kind = 0; kind < kKinds; ++kind) {
-        const Tally& t = tallies[slot(bx, by, kind)];
+        Tally& t = tallies[slot(bx, by, kind)];
         if (!t.used) continue;
         const std::uint64_t key = (static_cast<std::uint64_t>(by + kKeyOffset) << 36) |
                                   (static_cast<std::uint64_t>(bx + kKeyOffset) << 8) | static_cast<std::uint64_t>(kind);
         blocks.push_back(t.finish(key, kind != 0));
         friction_directions(blocks.back());
+        t = Tally{};
       }
 }
 

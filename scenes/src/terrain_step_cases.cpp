@@ -40,22 +40,6 @@ EnvelopeRaster sole(const Terrain& t, double x, double bottom) {
   return env;
 }
 
-// Lowest point of a cylinder (axis along y, radius r, axle at (x, 0, z)) per column,
-// clipped to |column x - axle x| < half_window.
-EnvelopeRaster wheel(const Terrain& t, double x, double z, double r, double width, double half_window) {
-  EnvelopeRaster env;
-  const std::int64_t i0 = t.column_i(x - half_window), i1 = t.column_i(x + half_window);
-  const std::int64_t j0 = t.column_j(-width / 2), j1 = t.column_j(width / 2);
-  env.resize(i0 - 1, j0 - 1, static_cast<int>(i1 - i0 + 3), static_cast<int>(j1 - j0 + 3), false);
-  for (std::int64_t j = j0; j <= j1; ++j)
-    for (std::int64_t i = i0; i <= i1; ++i) {
-      const double dx = t.column_x(i) - x;
-      if (std::abs(dx) < half_window && std::abs(t.column_y(j)) <= width / 2)
-        env.lower[env.index(i, j)] = z - std::sqrt(r * r - dx * dx);
-    }
-  return env;
-}
-
 TerrainSettings sand_settings(double cell, int threads, bool forced_parallel) {
   TerrainSettings s;
   s.cell = cell;
@@ -93,6 +77,21 @@ struct Totals {
 
 }  // namespace
 
+EnvelopeRaster wheel_envelope(const Terrain& t, double x, double z, double r, double width, double half_window,
+                              double y) {
+  EnvelopeRaster env;
+  const std::int64_t i0 = t.column_i(x - half_window), i1 = t.column_i(x + half_window);
+  const std::int64_t j0 = t.column_j(y - width / 2), j1 = t.column_j(y + width / 2);
+  env.resize(i0 - 1, j0 - 1, static_cast<int>(i1 - i0 + 3), static_cast<int>(j1 - j0 + 3), false);
+  for (std::int64_t j = j0; j <= j1; ++j)
+    for (std::int64_t i = i0; i <= i1; ++i) {
+      const double dx = t.column_x(i) - x;
+      if (std::abs(dx) < half_window && std::abs(t.column_y(j) - y) <= width / 2)
+        env.lower[env.index(i, j)] = z - std::sqrt(r * r - dx * dx);
+    }
+  return env;
+}
+
 TerrainCaseResult run_towed_wheel(const TowedWheelCase& c, bool forced_parallel) {
   Terrain t(sand_settings(c.cell, c.threads, forced_parallel));
   TerrainCaseResult r;
@@ -104,7 +103,7 @@ TerrainCaseResult run_towed_wheel(const TowedWheelCase& c, bool forced_parallel)
   const double axle_z = c.radius - c.sinkage;
   for (int k = 0; k < c.steps; ++k) {
     const double x = c.speed * c.substep * k;
-    const EnvelopeRaster env = wheel(t, x, axle_z, c.radius, c.width, c.radius);
+    const EnvelopeRaster env = wheel_envelope(t, x, axle_z, c.radius, c.width, c.radius);
     const Imprint im{&env, 0.0, c.star, c.speed, 0.0, 0.0};
     const auto t0 = Clock::now();
     const Bearing b = t.bearing(env, 0.0);
@@ -141,7 +140,7 @@ TerrainCaseResult run_terrain_case(TerrainCase c, int threads, int steps, bool f
       env = sole(t, 0.35 * stride, -depth);
     } else {
       const double x = 1.0 * h * k;
-      env = wheel(t, x, 0.4 - 0.03, 0.4, 0.2, 0.15);
+      env = wheel_envelope(t, x, 0.4 - 0.03, 0.4, 0.2, 0.15);
     }
     const Imprint im{&env};
     const auto t0 = Clock::now();

@@ -20,13 +20,15 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Bisections of the footprint's edge between a covered and an uncovered column centre: the
-// edge to 1/64 of a cell, so a plate's area does not depend on where its edges fall.
-constexpr int kEdgeBisections = 6;
-// The four axis directions: +x, -x, +y, -y.
+// edge to 1/64 of a cell (the midpoint of a 1/32 bracket), so a plate's area does not depend on where its edges fall.
+constexpr int kEdgeBisections = 5;
+// Underside slopes beyond this (87 degrees: the sides of a ball or a wheel seen from above)
+// are capped, so the plan area over the normal's vertical share stays finite.
 constexpr double kMaxSlope = 20.0;
 // One-sided slopes further apart than half the larger plus this meet at an edge, not on a
 // smooth surface (a 0.3 m wheel's slopes at 1 cm differ by 0.03 near its bottom).
 constexpr double kCreaseSlope = 0.1;
+// The four axis directions: +x, -x, +y, -y.
 constexpr int kSx[4] = {1, -1, 0, 0};
 constexpr int kSy[4] = {0, 0, 1, -1};
 
@@ -89,6 +91,7 @@ class PatchBuilder {
       : s_(s), env_(env), shear_(shear), probe_(probe), soil_(soil), out_(out) {}
 
   void build() {
+    mark_covered();
     cover_footprint();
     out_.patch_width = patch_width();
     add_bottom_elements();
@@ -97,8 +100,18 @@ class PatchBuilder {
   }
 
  private:
+  /// Whether the envelope covers column (i, j), for columns of the window and its ring.
   [[nodiscard]] bool covered(std::int64_t i, std::int64_t j) const {
-    return env_.contains(i, j) && env_.lower[env_.index(i, j)] < kInf;
+    return covered_[static_cast<std::size_t>((j - env_.j0 + 1) * (env_.nx + 2) + (i - env_.i0 + 1))] != 0;
+  }
+  void mark_covered() {
+    covered_.assign(static_cast<std::size_t>(env_.nx + 2) * static_cast<std::size_t>(env_.ny + 2), 0);
+    highest_top_ = -kInf;
+    for (double t : soil_.top) highest_top_ = std::max(highest_top_, t);
+    for (int y = 0; y < env_.ny; ++y)
+      for (int x = 0; x < env_.nx; ++x)
+        covered_[static_cast<std::size_t>((y + 1) * (env_.nx + 2) + x + 1)] =
+            env_.lower[static_cast<std::size_t>(y) * env_.nx + x] < kInf ? 1 : 0;
   }
   [[nodiscard]] double column_x(std::int64_t i) const { return s_.origin_x + static_cast<double>(i) * s_.cell; }
   [[nodiscard]] double column_y(std::int64_t j) const { return s_.origin_y + static_cast<double>(j) * s_.cell; }
@@ -188,8 +201,6 @@ class PatchBuilder {
         return 0.5 * (s_up + s_down);
       return std::fabs(s_up) < std::fabs(s_down) ? s_up : s_down;
     };
-    // Slopes beyond 20 (87 degrees, the sides of a ball or a wheel seen from above) are
-    // capped: the plan area over the normal's vertical share stays finite.
     const double gx = std::clamp(slope(1, 0), -kMaxSlope, kMaxSlope),
                  gy = std::clamp(slope(0, 1), -kMaxSlope, kMaxSlope);
     const double norm = std::sqrt(gx * gx + gy * gy + 1.0);
@@ -249,7 +260,8 @@ class PatchBuilder {
       for (int x = 0; x < env_.nx; ++x) {
         const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
         const double e = env_.lower[k];
-        if (!(e < kInf)) continue;
+        // No soil beside the body stands above it here (a wheel's upper part, say).
+        if (!(e + s_.contact_tolerance < highest_top_)) continue;
         const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
         for (int d = 0; d < 4; ++d) {
           const std::int64_t ui = i + kSx[d], uj = j + kSy[d];
@@ -279,6 +291,8 @@ class PatchBuilder {
   const SoilWindow& soil_;
   ContactPatch& out_;
   std::vector<double> fx_, fy_, loss_lo_x_, loss_lo_y_;
+  std::vector<unsigned char> covered_;  // the window and a one-column ring, row-major
+  double highest_top_ = -kInf;          // m, the highest soil top in the window and its ring
   std::vector<unsigned char> touching_;
   std::vector<Fringe> fringe_;
 };

@@ -98,6 +98,7 @@ void Terrain::read_rect(const ColumnRect& r, std::span<double> out, bool base) c
 void Terrain::set_height(std::int64_t i, std::int64_t j, double h) {
   Check{"terrain.Terrain.set_height"}.finite("h", h);
   TileStore& store = impl_->tiles;
+  store.advance_generation();
   const TileKey key = store.key_of(i, j);
   Tile& t = store.tile(key);
   const std::size_t k = store.local(i, j);
@@ -118,6 +119,7 @@ StepReport Terrain::step(std::span<const Imprint> imprints, double dt) {
   check_imprints(imprints, dt);
   Impl& im = *impl_;
   if (im.s.material.rigid) return {};
+  im.tiles.advance_generation();
   std::vector<ColumnRect> reached;
   for (const Imprint& imprint : imprints)
     if (!imprint.hold)
@@ -150,12 +152,15 @@ StepReport Terrain::step(std::span<const Imprint> imprints, double dt) {
 StepReport Terrain::relax(const ColumnRect& region) {
   check_relax_region(region);
   if (impl_->s.material.rigid || region.nx == 0 || region.ny == 0) return {};
+  impl_->tiles.advance_generation();
   return impl_->pipeline.relax(impl_->tiles, impl_->s, region);
 }
 
 // ---- output --------------------------------------------------------------------------
 
 std::vector<ColumnRect> Terrain::take_changed() { return impl_->tiles.take_changed(); }
+std::uint64_t Terrain::generation() const noexcept { return impl_->tiles.generation(); }
+std::vector<ColumnRect> Terrain::changed_since(std::uint64_t g) const { return impl_->tiles.changed_since(g); }
 
 VolumeTotals Terrain::volume() const {
   VolumeTotals v;

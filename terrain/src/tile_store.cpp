@@ -76,6 +76,58 @@ void TileStore::read(const ColumnRect& r, std::span<double> out, bool base) cons
 void TileStore::mark_changed(TileKey key, Tile& t, int li0, int lj0, int li1, int lj1) {
   if (!t.dirty) dirty_keys_.push_back(key);
   t.mark_dirty(li0, lj0, li1, lj1);
+  log_change(key, t, li0, lj0, li1, lj1);
+}
+
+void TileStore::log_change(TileKey key, Tile& t, int li0, int lj0, int li1, int lj1) {
+  if (t.changed_at == generation_) {  // this generation's entry for the tile: widen it
+    ChangeEntry& e = log_[t.log_entry];
+    e.i0 = std::min(e.i0, li0), e.j0 = std::min(e.j0, lj0);
+    e.i1 = std::max(e.i1, li1), e.j1 = std::max(e.j1, lj1);
+    return;
+  }
+  t.changed_at = generation_;
+  t.log_entry = log_.size();
+  log_.push_back({generation_, key, li0, lj0, li1, lj1});
+}
+
+void TileStore::advance_generation() {
+  ++generation_;
+  // The log keeps the recent generations only: past a few entries per tile the oldest half
+  // goes, and an observer older than what is left gets whole tiles (still every change).
+  const std::size_t limit = std::max<std::size_t>(1024, 4 * tiles_.size());
+  if (log_.size() <= limit) return;
+  const std::uint64_t cut = log_[log_.size() / 2].generation;
+  const auto keep = std::upper_bound(log_.begin(), log_.end(), cut,
+                                     [](std::uint64_t g, const ChangeEntry& e) { return g < e.generation; });
+  log_.erase(log_.begin(), keep);
+  log_floor_ = cut;
+  // Entries of the current generation cannot be dropped (it has none yet), so the tiles'
+  // log_entry indices are only needed for it and need no update.
+}
+
+ColumnRect TileStore::whole_tile(TileKey key) const { return {key.tx * n_, key.ty * n_, n_, n_}; }
+
+std::vector<ColumnRect> TileStore::changed_since(std::uint64_t g) const {
+  std::vector<ColumnRect> rects;
+  if (g < log_floor_) {  // older than the log: every tile changed since, whole
+    for (const TileKey& key : sorted_keys())
+      if (find(key)->changed_at > g) rects.push_back(whole_tile(key));
+    return rects;
+  }
+  const auto first = std::upper_bound(log_.begin(), log_.end(), g,
+                                      [](std::uint64_t gen, const ChangeEntry& e) { return gen < e.generation; });
+  std::vector<ChangeEntry> entries(first, log_.end());
+  std::sort(entries.begin(), entries.end(), [](const ChangeEntry& a, const ChangeEntry& b) { return a.key < b.key; });
+  for (std::size_t k = 0; k < entries.size();) {
+    ChangeEntry box = entries[k];
+    for (++k; k < entries.size() && entries[k].key == box.key; ++k) {
+      box.i0 = std::min(box.i0, entries[k].i0), box.j0 = std::min(box.j0, entries[k].j0);
+      box.i1 = std::max(box.i1, entries[k].i1), box.j1 = std::max(box.j1, entries[k].j1);
+    }
+    rects.push_back({box.key.tx * n_ + box.i0, box.key.ty * n_ + box.j0, box.i1 - box.i0 + 1, box.j1 - box.j0 + 1});
+  }
+  return rects;
 }
 
 std::vector<ColumnRect> TileStore::take_changed() {
@@ -102,7 +154,7 @@ bool TileStore::adopt(TileKey key, std::unique_ptr<Tile> t) {
 
 std::size_t TileStore::bytes() const {
   constexpr std::size_t kNodeBytes = sizeof(TileKey) + 2 * sizeof(void*);  // hash node: key, owner, next
-  std::size_t total = tiles_.bucket_count() * sizeof(void*) + capacity_bytes(dirty_keys_);
+  std::size_t total = tiles_.bucket_count() * sizeof(void*) + capacity_bytes(dirty_keys_, log_);
   for (const auto& entry : tiles_) total += kNodeBytes + entry.second->bytes();
   return total;
 }

@@ -46,6 +46,10 @@ struct Tile {
   /// Columns whose height changed since the last take_changed (local, inclusive).
   bool dirty = false;
   int di0 = 0, dj0 = 0, di1 = 0, dj1 = 0;
+  /// The change generation of its last height change (0: never changed), and that
+  /// generation's entry in the store's change log.
+  std::uint64_t changed_at = 0;
+  std::size_t log_entry = 0;
   void mark_dirty(int li0, int lj0, int li1, int lj1);
   [[nodiscard]] std::size_t bytes() const;  ///< this tile and its arrays
 };
@@ -99,6 +103,16 @@ class TileStore {
   /// (and the tile dropped) if the key is taken.
   bool adopt(TileKey key, std::unique_ptr<Tile> t);
 
+  // Non-consuming change tracking: every change is stamped with the current generation,
+  // which advance_generation() moves on. Any number of observers each remember the
+  // generation they last looked at and ask changed_since(it).
+  [[nodiscard]] std::uint64_t generation() const noexcept { return generation_; }
+  /// Starts a new generation (before a call that may change heights); trims the log.
+  void advance_generation();
+  /// One rectangle per tile whose heights changed after generation g, in key order: the
+  /// bounding box of its changes after g while the log still holds them, else the tile.
+  [[nodiscard]] std::vector<ColumnRect> changed_since(std::uint64_t g) const;
+
   [[nodiscard]] std::size_t bytes() const;  ///< heap memory: tiles, hash table, change list
 
  private:
@@ -131,6 +145,18 @@ class TileStore {
   std::shared_ptr<const HeightSource> base_;
   std::unordered_map<TileKey, std::unique_ptr<Tile>, TileKeyHash> tiles_;
   std::vector<TileKey> dirty_keys_;
+
+  /// One tile's changed columns (local, inclusive) in one generation.
+  struct ChangeEntry {
+    std::uint64_t generation = 0;
+    TileKey key;
+    int i0 = 0, j0 = 0, i1 = 0, j1 = 0;
+  };
+  void log_change(TileKey key, Tile& t, int li0, int lj0, int li1, int lj1);
+  [[nodiscard]] ColumnRect whole_tile(TileKey key) const;
+  std::uint64_t generation_ = 1;  ///< changes are stamped with it; 0 means "before anything"
+  std::vector<ChangeEntry> log_;  ///< in generation order; complete for generations > log_floor_
+  std::uint64_t log_floor_ = 0;
 };
 
 }  // namespace shore::terrain

@@ -84,8 +84,11 @@ TEST(DebugDraw, ReactionAndTileOutlinesFollowTheirBits) {
   s.coupling.debugDraw(&forces);
   EXPECT_GT(forces.count(dd::kCapacityColour), 0) << "bearing lines at the contact columns";
   EXPECT_EQ(forces.count(dd::kContactColour), 0);
-  for (const Recorder::Line& l : forces.lines)
-    if (l.colour == dd::kCapacityColour) EXPECT_GT(l.to.z(), l.from.z()) << "the soil pushes up";
+  for (const Recorder::Line& l : forces.lines) {
+    if (l.colour == dd::kCapacityColour) {
+      EXPECT_GT(l.to.z(), l.from.z()) << "the soil pushes up";
+    }
+  }
   // The soil's net push on the ball (TerrainCoupling::soil_force): its arrow's longest line
   // (the shaft) points up.
   double longest = 0.0, rise = 0.0;

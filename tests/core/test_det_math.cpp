@@ -114,6 +114,29 @@ TEST(DetMath, SpecialValues) {
   EXPECT_EQ(shore::det::log(inf), inf);
 }
 
+TEST(DetMath, ScalingByPowersOfTwoMatchesLdexpAndFrexpAtTheRangeEdges) {
+  // exp scales its polynomial by 2^k from the bits, and log reads the exponent from the
+  // bits; both fall back to the C library's ldexp / frexp (exact operations) where the
+  // result or argument is not a normal number. Both paths must give ldexp's exact bits.
+  for (int k : {-1074, -1060, -1040, -1023, -1022, -1021, -1020, -1019, -1, 0, 1, 1019, 1020, 1021, 1023})
+    for (double x : {0.70710678118654752, 1.0, 1.4142135623730951, 1.9999999999999998}) {
+      SCOPED_TRACE(k);
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(shore::det::detail::times_power_of_two(x, k)),
+                std::bit_cast<std::uint64_t>(std::ldexp(x, k)));
+    }
+  for (double x : {4.9e-324, 2.2250738585072009e-308, 2.2250738585072014e-308, 0.5, 1.0, 3.0, 1.7976931348623157e308}) {
+    int e_det = 0, e_libc = 0;
+    const double m_det = shore::det::detail::mantissa_exponent(x, e_det), m_libc = std::frexp(x, &e_libc);
+    EXPECT_EQ(m_det, m_libc) << x;
+    EXPECT_EQ(e_det, e_libc) << x;
+  }
+  // Near the subnormal edge exp stays within a few ulps of the C library too.
+  for (double x = -745.0; x < -700.0; x += 0.37) {
+    const double ours = shore::det::exp(x), libc = std::exp(x);
+    EXPECT_LE(std::abs(ours - libc), 4 * std::abs(std::nextafter(libc, 0.0) - libc) + 5e-324) << x;
+  }
+}
+
 std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
 
 TEST(DetMath, PinnedBitsHoldOnEveryMachine) {

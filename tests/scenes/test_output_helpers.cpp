@@ -103,6 +103,7 @@ TEST(Png, UnwritablePathThrowsFileError) {
 
 struct ObjMesh {
   std::vector<std::array<double, 3>> v;
+  std::vector<std::array<double, 3>> vn;
   std::vector<std::array<int, 3>> f;
 };
 ObjMesh read_obj(const fs::path& p) {
@@ -117,9 +118,17 @@ ObjMesh read_obj(const fs::path& p) {
       std::array<double, 3> v{};
       s >> v[0] >> v[1] >> v[2];
       m.v.push_back(v);
-    } else if (tag == "f") {
+    } else if (tag == "vn") {
+      std::array<double, 3> n{};
+      s >> n[0] >> n[1] >> n[2];
+      m.vn.push_back(n);
+    } else if (tag == "f") {  // "a b c" or "a//a b//b c//c"
       std::array<int, 3> f{};
-      s >> f[0] >> f[1] >> f[2];
+      for (int& k : f) {
+        std::string word;
+        s >> word;
+        k = std::stoi(word.substr(0, word.find('/')));
+      }
       m.f.push_back({f[0] - 1, f[1] - 1, f[2] - 1});
     }
   }
@@ -150,6 +159,62 @@ TEST(Mesh, NanVertexDropsTheSixTrianglesAroundIt) {
   g.at(2, 2) = std::nan("");
   const ObjMesh m = read_obj(write_obj(temp_dir("nan") / "g.obj", g));
   EXPECT_EQ(m.f.size(), static_cast<std::size_t>(2 * 4 * 4 - 6));
+}
+
+TEST(Mesh, SimplifiedObjKeepsEveryColumnWithinTheBoundWithFewerTriangles) {
+  // A bump on a tilted plane: far from it the plane needs two triangles, near it detail.
+  const int n = 41;
+  HeightGrid g = plane(n, n, 0.05, 0.2, -0.1, 0.0);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double dx = g.x(i) - 0.5, dy = g.y(j) - 1.0;
+      g.at(i, j) += 0.05 * std::exp(-(dx * dx + dy * dy) / 0.02);
+    }
+  const double bound = 0.002;
+  const ObjMesh m = read_obj(write_obj(temp_dir("lod") / "g.obj", g, {.simplified = true, .max_error = bound}));
+  EXPECT_LT(m.f.size(), static_cast<std::size_t>(2 * (n - 1) * (n - 1)) / 4);
+  ASSERT_EQ(m.vn.size(), m.v.size());
+  // Every column: locate it in the triangles (seen from above) and compare heights.
+  std::vector<double> worst(static_cast<std::size_t>(n * n), -1.0);
+  for (const auto& f : m.f) {
+    const auto &a = m.v[f[0]], &b = m.v[f[1]], &c = m.v[f[2]];
+    const double area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    ASSERT_GT(area, 0.0) << "counter-clockwise seen from above";
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double x = g.x(i), y = g.y(j);
+        const double wa = ((b[0] - x) * (c[1] - y) - (b[1] - y) * (c[0] - x)) / area;
+        const double wb = ((c[0] - x) * (a[1] - y) - (c[1] - y) * (a[0] - x)) / area;
+        const double wc = 1.0 - wa - wb;
+        if (wa < -1e-9 || wb < -1e-9 || wc < -1e-9) continue;
+        double& w = worst[static_cast<std::size_t>(j * n + i)];
+        w = std::max(w, std::abs(g.at(i, j) - (wa * a[2] + wb * b[2] + wc * c[2])));
+      }
+  }
+  for (double w : worst) {
+    EXPECT_GE(w, 0.0) << "a column outside every triangle";
+    EXPECT_LE(w, bound + 1e-6);  // the file's 9 digits
+  }
+  for (const auto& v : m.vn) {
+    EXPECT_NEAR(v[0] * v[0] + v[1] * v[1] + v[2] * v[2], 1.0, 1e-6);
+    EXPECT_GT(v[2], 0.0);
+  }
+  EXPECT_THROW(write_obj(temp_dir("lod") / "bad.obj", g, {.simplified = true, .max_error = -1.0}),
+               shore::InvalidSetting);
+}
+
+TEST(Mesh, SimplifiedPlyOfAPlaneIsTwoTrianglesWithNormals) {
+  const fs::path p = write_ply(temp_dir("lodply") / "g.ply", plane(17, 17, 0.1, 0.1, 0.2, 0.0), {.simplified = true});
+  std::ifstream in(p, std::ios::binary);
+  std::string line, header;
+  while (std::getline(in, line)) {
+    header += line + "\n";
+    if (line == "end_header") break;
+  }
+  EXPECT_NE(header.find("element vertex 4"), std::string::npos) << header;
+  EXPECT_NE(header.find("property float nx"), std::string::npos);
+  EXPECT_NE(header.find("element face 2"), std::string::npos) << header;
+  EXPECT_EQ(fs::file_size(p), header.size() + 4u * 24u + 2u * 13u);
 }
 
 TEST(Mesh, PlyHeaderCountsMatchItsBinaryBody) {

@@ -80,10 +80,12 @@ TEST(Contact, PlateAreaAndBekkerPressureDoNotDependOnWhereItsEdgesFall) {
     ContactPatch patch;
     t.contact(env, {}, &plate, patch);
     const Totals sum = totals(patch);
-    EXPECT_NEAR(sum.bottom_area, b * b, 2e-3 * b * b) << "shift " << shift;
-    EXPECT_NEAR(patch.patch_width, b, 0.02 * s.cell) << "shift " << shift;
+    // Each edge is found to 1/64 of a cell: the width to 2/64 of a cell, the area (20 cells
+    // a side) to 0.35 %.
+    EXPECT_NEAR(sum.bottom_area, b * b, 3.5e-3 * b * b) << "shift " << shift;
+    EXPECT_NEAR(patch.patch_width, b, s.cell / 32.0 + 1e-12) << "shift " << shift;
     const double want = bekker::pressure(m, b, depth) * b * b;
-    EXPECT_NEAR(sum.bottom_force, want, 3e-3 * want) << "shift " << shift;
+    EXPECT_NEAR(sum.bottom_force, want, 5e-3 * want) << "shift " << shift;
     // Without the probe the columns count whole: 21 x 21 of them when edges fall on centres.
     if (shift == 0.0) {
       ContactPatch whole;

@@ -197,6 +197,12 @@ void wheel_plugin_time(const SweepContext& ctx, SweepResult& out) {
               .op = "<",
               .threshold = 0.5,
               .unit = "ms/substep"});
+  out.target({.key = "plugin.wheel_whole_step_ms_per_substep",
+              .what = "whole step (Bullet + Shore), one towed wheel on 1 cm sand at 1/240 s",
+              .value = whole,
+              .op = "<=",
+              .threshold = 0.3,
+              .unit = "ms/substep"});
   out.note(
       "Plugin time: one towed wheel (D 0.8 m, b 0.3 m, 4 kN) on 1 cm dry sand (alpha 0.3) at 1/240 s, one "
       "thread: 2 s of load ramp and 0.5 s of settling with the wheel held, then 2 m towed at 1 m/s. The towing "

@@ -13,7 +13,9 @@
 // Accuracy: within a few units in the last place of the C library's results over the
 // ranges Shore uses (tests/core/test_det_math.cpp); speed is comparable.
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace shore::det {
@@ -94,6 +96,22 @@ inline double atan_kernel(double t) {
 
 namespace detail {
 
+/// x 2^k, exactly as std::ldexp gives it (the product by a normal power of two is exact
+/// unless it leaves the normal range), without a call into the C library in the common case.
+inline double times_power_of_two(double x, int k) {
+  if (k < -1020 || k > 1020) return std::ldexp(x, k);
+  return x * std::bit_cast<double>(static_cast<std::uint64_t>(k + 1023) << 52);
+}
+
+/// std::frexp for x > 0 (m in [0.5, 1), x = m 2^e), read from the bits when x is normal.
+inline double mantissa_exponent(double x, int& e) {
+  const std::uint64_t bits = std::bit_cast<std::uint64_t>(x);
+  const int biased = static_cast<int>((bits >> 52) & 0x7ff);
+  if (biased == 0 || biased == 0x7ff) return std::frexp(x, &e);  // subnormal, infinite or NaN
+  e = biased - 1022;
+  return std::bit_cast<double>((bits & ~(std::uint64_t{0x7ff} << 52)) | (std::uint64_t{1022} << 52));
+}
+
 /// e^(x + tail) for |tail| << 1 ulp of x's reduced argument (the low part of a product).
 inline double exp_with_tail(double x, double tail) {
   if (x != x) return x;
@@ -105,13 +123,13 @@ inline double exp_with_tail(double x, double tail) {
   double p = kInvFact.v[14];
   for (int n = 13; n >= 2; --n) p = kInvFact.v[n] + r * p;
   const double e = 1.0 + (r + (r * r) * p);
-  return std::ldexp(e, static_cast<int>(k));
+  return times_power_of_two(e, static_cast<int>(k));
 }
 
 /// ln x = hi + lo for finite x > 0, the pair good to ~1e-17 absolute beyond hi's rounding.
 inline void log_parts(double x, double& hi, double& lo) {
   int e = 0;
-  double m = std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1)
+  double m = mantissa_exponent(x, e);  // x = m 2^e, m in [0.5, 1)
   if (m < 0.70710678118654752440) {
     m *= 2.0;
     --e;

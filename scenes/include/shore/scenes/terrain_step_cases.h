@@ -6,6 +6,12 @@
 #include <cstdint>
 #include <string>
 
+#include "shore/core/envelope.h"
+
+namespace shore::terrain {
+class Terrain;
+}
+
 namespace shore::scenes {
 
 enum class TerrainCase {
@@ -47,6 +53,11 @@ struct TowedWheelCase {
   int threads = 1;
   bool star = true;  ///< conservative collision surface, as the coupling uses
 };
+
+/// Lowest point of a cylinder (axis along y, radius r, axle at (x, y, z)) per column within
+/// width / 2 of y, clipped to |column x - x| < half_window.
+EnvelopeRaster wheel_envelope(const terrain::Terrain& t, double x, double z, double r, double width, double half_window,
+                              double y = 0.0);
 
 /// Runs the towed wheel: Terrain::bearing on the envelope (as the coupling does once per
 /// body per substep), then Terrain::step; times the last `measured` substeps.

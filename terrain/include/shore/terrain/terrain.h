@@ -226,6 +226,17 @@ class Terrain {
   /// most one per tile, the bounding box of that tile's changed columns, in tile key order.
   /// After load() every loaded tile is reported whole.
   std::vector<ColumnRect> take_changed();
+  /// The change generation: it advances with every call that may change heights (step,
+  /// relax, set_height), and every height change is stamped with it. An observer (a mesh,
+  /// a network delta) remembers generation() when it reads the heights and later asks
+  /// changed_since(that) what changed since; any number of observers can do so, and
+  /// take_changed is unaffected. Starts at 1 (load() too: loaded tiles are generation 1).
+  [[nodiscard]] std::uint64_t generation() const noexcept;
+  /// Rectangles covering every column whose height changed after generation g, at most one
+  /// per tile, in tile key order: the bounding box of that tile's changes after g, or the
+  /// whole tile when g is older than the recent history kept (a few changes per tile).
+  /// changed_since(0): every column ever changed. Reads only.
+  [[nodiscard]] std::vector<ColumnRect> changed_since(std::uint64_t g) const;
   [[nodiscard]] VolumeTotals volume() const;
   /// The spray particles in flight, in their fixed order (positions, radii, volumes).
   [[nodiscard]] std::vector<SprayParticle> spray_particles() const;

@@ -1,0 +1,41 @@
+#pragma once
+// A water surface as a surface to mesh (shore/mesh/field.h): node (i, j) of the grid at its
+// 3-D position, so a wave that leans or folds over keeps its shape in the mesh (errors are
+// 3-D distances; in vertical-only mode the surface is a height field). The base plane is
+// the surface at rest; changes are found by comparing the nodes' displacements with the
+// ones the previous take_changes saw (one pass over the grid).
+//
+//   shore::water::SurfaceField water(pond);
+//   shore::mesh::ChunkedMesh mesh;
+//   mesh.update(water, &camera);   // each frame, after the physics steps
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "shore/mesh/field.h"
+#include "shore/water/surface.h"
+
+namespace shore::water {
+
+class SurfaceField final : public mesh::Field {
+ public:
+  /// The surface must outlive the field.
+  explicit SurfaceField(const Surface& surface);
+
+  [[nodiscard]] std::int64_t ni() const override { return surface_->nx(); }
+  [[nodiscard]] std::int64_t nj() const override { return surface_->ny(); }
+  [[nodiscard]] bool height_field() const override { return surface_->mode() == SurfaceMode::vertical_only; }
+  void positions(const mesh::NodeRect& r, std::span<double> out) const override;
+  [[nodiscard]] std::optional<mesh::BasePlane> base() const override { return rest_; }
+  /// Blocks of nodes (their changed nodes' bounding box) whose displacement differs from
+  /// what the previous call saw (the first call: from rest).
+  void take_changes(std::vector<mesh::NodeRect>& out) override;
+
+ private:
+  const Surface* surface_;
+  mesh::BasePlane rest_;
+  std::vector<float> seen_;  ///< ux, uy, uz per node as last reported (3-D), or uz
+};
+
+}  // namespace shore::water
