@@ -26,7 +26,7 @@ Particle advanced(const Particle& p, double t, const FlightRules& r) {
     q.vz = p.vz - g * t;
   } else {
     const double a = drag_factor(k, t), e = 1.0 - k * a;  // e = e^(-k t)
-    const double fall = g / k;                             // terminal speed
+    const double fall = g / k;                            // terminal speed
     q.x = p.x + p.vx * a, q.y = p.y + p.vy * a;
     q.z = p.z + (p.vz + fall) * a - fall * t;
     q.vx = p.vx * e, q.vy = p.vy * e, q.vz = (p.vz + fall) * e - fall;

@@ -14,9 +14,9 @@
 namespace shore::terrain {
 
 struct FlightRules {
-  double gravity = 9.81;    ///< m/s^2
-  double drag = 0.0;        ///< 1/s
-  double max_flight = 10.0; ///< s
+  double gravity = 9.81;     ///< m/s^2
+  double drag = 0.0;         ///< 1/s
+  double max_flight = 10.0;  ///< s
 };
 
 struct FlightEnd {

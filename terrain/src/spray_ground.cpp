@@ -28,7 +28,8 @@ double SprayGround::set(std::int64_t i, std::int64_t j, Tile& t, std::size_t k, 
   const double moved = height - before;
   t.sinkage[k] -= std::abs(moved);
   const int n = store_.n();
-  const int li = static_cast<int>(k % static_cast<std::size_t>(n)), lj = static_cast<int>(k / static_cast<std::size_t>(n));
+  const int li = static_cast<int>(k % static_cast<std::size_t>(n)),
+            lj = static_cast<int>(k / static_cast<std::size_t>(n));
   store_.mark_changed(store_.key_of(i, j), t, li, lj, li, lj);
   return moved * area_;
 }

@@ -15,7 +15,7 @@ using Vec3 = std::array<double, 3>;
 
 struct BodyMotion {
   Vec3 v{}, w{}, c{};
-  double q[4] = {1.0, 0.0, 0.0, 0.0};  ///< normalised (w, x, y, z)
+  double q[4] = {1.0, 0.0, 0.0, 0.0};                  ///< normalised (w, x, y, z)
   double r[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};  ///< body to world
 
   /// A body that does not move, with this pose (a body seen last step, to set its soil down).
@@ -24,8 +24,7 @@ struct BodyMotion {
 
   [[nodiscard]] Vec3 velocity_at(const Vec3& p) const {
     const Vec3 d{p[0] - c[0], p[1] - c[1], p[2] - c[2]};
-    return {v[0] + (w[1] * d[2] - w[2] * d[1]), v[1] + (w[2] * d[0] - w[0] * d[2]),
-            v[2] + (w[0] * d[1] - w[1] * d[0])};
+    return {v[0] + (w[1] * d[2] - w[2] * d[1]), v[1] + (w[2] * d[0] - w[0] * d[2]), v[2] + (w[0] * d[1] - w[1] * d[0])};
   }
   /// World point -> body frame (relative to c).
   [[nodiscard]] Vec3 to_body(const Vec3& p) const {

@@ -75,9 +75,9 @@ void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, const Fligh
   r.step = state.step;
 
   auto sprays = [&](const Imprint& im) { return im.spray && !im.hold; };
-  if (state.bodies.empty() &&
-      std::none_of(imprints.begin(), imprints.end(),
-                   [&](const Imprint& im) { return sprays(im) && Cling::can_start(im, ground, r); }))
+  if (state.bodies.empty() && std::none_of(imprints.begin(), imprints.end(), [&](const Imprint& im) {
+        return sprays(im) && Cling::can_start(im, ground, r);
+      }))
     return;  // nothing clings and nothing moves fast enough to start: no work, no memory
   order_.clear();
   for (std::size_t k = 0; k < imprints.size(); ++k)

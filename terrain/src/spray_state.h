@@ -38,18 +38,18 @@ struct ClingCell {
 
 /// The soil clinging to one body, and where the body was last seen.
 struct ClingingBody {
-  std::uint64_t body = 0;         ///< Imprint::body
-  std::vector<ClingCell> cells;   ///< sorted by key
-  double c[3] = {0.0, 0.0, 0.0};  ///< m, its centre at the last step
+  std::uint64_t body = 0;              ///< Imprint::body
+  std::vector<ClingCell> cells;        ///< sorted by key
+  double c[3] = {0.0, 0.0, 0.0};       ///< m, its centre at the last step
   double q[4] = {1.0, 0.0, 0.0, 0.0};  ///< its orientation then (w, x, y, z)
 };
 
 struct SprayState {
-  std::vector<Particle> particles;      ///< in flight, oldest first
-  std::vector<ClingingBody> bodies;     ///< sorted by key
-  std::int64_t step = 0;                ///< steps with a time step so far (keys the random numbers)
-  double lost = 0.0;                    ///< m^3 that left the region or the world
-  SprayCounts counts;                   ///< totals (particles and clinging_cells filled on demand)
+  std::vector<Particle> particles;   ///< in flight, oldest first
+  std::vector<ClingingBody> bodies;  ///< sorted by key
+  std::int64_t step = 0;             ///< steps with a time step so far (keys the random numbers)
+  double lost = 0.0;                 ///< m^3 that left the region or the world
+  SprayCounts counts;                ///< totals (particles and clinging_cells filled on demand)
 
   /// m^3 in flight and clinging, summed in their fixed order.
   [[nodiscard]] double in_flight() const;

@@ -82,18 +82,6 @@ struct VolumeWatch {
   }
 };
 
-template <class E>
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  }
-  return "(no exception)";
-}
-
-bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
 /// Where a particle at (x, y, z) with velocity v reaches the plane z = ground, with
 /// gravity and a linear drag k (closed form of dv/dt = g - k v), by bisection on time.
 std::pair<double, double> ballistic_landing(const SprayParticle& p, double k, double ground) {
