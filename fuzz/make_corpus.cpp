@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -44,11 +45,31 @@ shore::terrain::Terrain pressed_state() {
   return t;
 }
 
-/// A version 4 file as version 3 wrote it: no precision field (bytes 16-19) and no
-/// idle_tile_steps (the 4 bytes after active_reach, at 88 in version 4).
+/// A version 4 file as version 3 wrote it: no precision field (bytes 16-19), no
+/// idle_tile_steps (the 4 bytes after active_reach), no spray settings (after the
+/// material's shear fields) and no spray state (after the eroding regions; only a soil that
+/// never sprayed can be converted). Layout at the top of terrain/src/terrain_io.cpp.
 Bytes as_version_3(Bytes v4) {
   v4.erase(v4.begin() + 88, v4.begin() + 92);
   v4.erase(v4.begin() + 16, v4.begin() + 20);
+  auto read_u64 = [&](std::size_t at) {
+    std::uint64_t v = 0;
+    std::memcpy(&v, v4.data() + at, sizeof v);
+    return v;
+  };
+  std::uint32_t name_length = 0;
+  std::memcpy(&name_length, v4.data() + 84, sizeof name_length);  // after f64 active_reach at 76
+  const std::size_t spray_at = 88 + name_length + 10 * 8 + 1 + 6 * 8;
+  constexpr std::size_t kSpraySettings = 8 * 8 + 1 + 4 + 8 + 6 * 8;
+  v4.erase(v4.begin() + static_cast<std::ptrdiff_t>(spray_at),
+           v4.begin() + static_cast<std::ptrdiff_t>(spray_at + kSpraySettings));
+  const std::size_t regions_at = spray_at + 2 * 8;  // after f64 compacted, edited
+  const std::size_t state_at = regions_at + 8 + 24 * read_u64(regions_at);
+  constexpr std::size_t kQuietState = 8 + 8 + 6 * 8 + 8 + 8 + 8;  // no particles, no bodies
+  if (read_u64(state_at + kQuietState - 16) != 0 || read_u64(state_at + kQuietState - 8) != 0)
+    throw std::runtime_error("the seed soil sprayed: cannot write it as version 3");
+  v4.erase(v4.begin() + static_cast<std::ptrdiff_t>(state_at),
+           v4.begin() + static_cast<std::ptrdiff_t>(state_at + kQuietState));
   v4[8] = 3;
   return v4;
 }

@@ -17,6 +17,7 @@
 #include "shore/scenes/scene.h"
 #include "shore/scenes/soil_cases.h"
 #include "shore/scenes/soil_view.h"
+#include "shore/scenes/spray_view.h"
 #include "shore/scenes/world.h"
 #include "shore/terrain/material.h"
 #include "shore/terrain/terrain.h"
@@ -177,6 +178,7 @@ class Impact final : public Scene {
   }
 
   void step() override { world_.step(o_.substep); }
+  void observe() override { spray_.observe(); }
 
   [[nodiscard]] SceneState state() const override {
     return {.soils = {&soil_}, .bodies = bodies_, .soil_heights = {sample(patches_, frame_, Field::height)}};
@@ -191,6 +193,7 @@ class Impact final : public Scene {
       const std::int64_t i = soil_.column_i(c.x()), j = soil_.column_j(c.y());
       if (c.z() < soil_.bedrock(i, j)) ++fallthrough;
     }
+    spray_.report(m);
     m["bodies"] = static_cast<int>(drops_.size());
     m["fallthrough_count"] = fallthrough;
     m["volume_drift_rel"] = volume_drift_rel(soil_);
@@ -258,6 +261,7 @@ class Impact final : public Scene {
   HeightGrid frame_;
   std::vector<Patch> patches_;
   HeightGrid baseline_;
+  SprayMeter spray_{{&soil_}};
 };
 
 }  // namespace
@@ -272,20 +276,18 @@ SceneType impact_scene() {
           "the displaced share alpha of the material. The 0.2 m sphere dropped from 1 m is checked against the energy "
           "balance of Bekker's law.",
       .defaults = {.seconds = 1.5, .substep = 1.0 / 240.0, .material = "sand", .cell = 0.02, .smoke_seconds = 0.3},
-      .metric_help =
-          {
-              {"bodies", "number of bodies dropped"},
-              {"fallthrough_count", "bodies that ended below bedrock or were lifted back by the coupling (must be 0)"},
-              {"volume_drift_rel", "|ground + compacted + airborne - edited| / moved volume (must be < 1e-6)"},
-              {"max_sinkage_m",
-               "largest plastic sinkage of any soil column (accumulates where slumping refills a "
-               "pressed column), m"},
-              {"deepest_m", "largest lowering of the ground below the untouched surface, m"},
-              {"lowest_point_depth_m", "per body: its lowest point below the original surface at the end, m"},
-              {"sphere_crater_depth_m",
-               "bottom of the 10 kg, 0.2 m sphere dropped from 1 m below the original surface, m"},
-              {"sphere_crater_reference_m", "the energy-balance depth of that sphere (Bekker, pure compaction), m"},
-          },
+      .metric_help = with_spray_metrics({
+          {"bodies", "number of bodies dropped"},
+          {"fallthrough_count", "bodies that ended below bedrock or were lifted back by the coupling (must be 0)"},
+          {"volume_drift_rel", "|ground + compacted + airborne - edited| / moved volume (must be < 1e-6)"},
+          {"max_sinkage_m",
+           "largest plastic sinkage of any soil column (accumulates where slumping refills a "
+           "pressed column), m"},
+          {"deepest_m", "largest lowering of the ground below the untouched surface, m"},
+          {"lowest_point_depth_m", "per body: its lowest point below the original surface at the end, m"},
+          {"sphere_crater_depth_m", "bottom of the 10 kg, 0.2 m sphere dropped from 1 m below the original surface, m"},
+          {"sphere_crater_reference_m", "the energy-balance depth of that sphere (Bekker, pure compaction), m"},
+      }),
       .create = make_scene<Impact>,
   };
 }

@@ -78,6 +78,22 @@ soil_detail::RigidBody solver_body(const btRigidBody& body) {
   return rb;
 }
 
+/// A moving body's imprint: its envelope, and for spray its motion (after the soil's push),
+/// pose and key. The key is the body's broadphase proxy id, given in the order bodies
+/// joined the world, so it does not depend on the order of add_body.
+terrain::Imprint moving_imprint(const EnvelopeRaster& envelope, const btRigidBody& body, bool spray) {
+  terrain::Imprint im{&envelope};
+  const btVector3 v = body.getLinearVelocity(), w = body.getAngularVelocity(), c = body.getCenterOfMassPosition();
+  const btQuaternion q = body.getOrientation();
+  im.vx = v.x(), im.vy = v.y(), im.vz = v.z(), im.wx = w.x(), im.wy = w.y(), im.wz = w.z();
+  im.cx = c.x(), im.cy = c.y(), im.cz = c.z();
+  im.qw = q.w(), im.qx = q.x(), im.qy = q.y(), im.qz = q.z();
+  const btBroadphaseProxy* proxy = body.getBroadphaseHandle();
+  im.body = proxy ? static_cast<std::uint64_t>(proxy->m_uniqueId) : 0;
+  im.spray = spray && proxy != nullptr;  // a body outside the world has no stable key: it does not spray
+  return im;
+}
+
 /// Values kept per envelope column, moved from the old window to the new one (0 where new).
 template <class T>
 void remap(std::vector<T>& values, const ColumnWindow& from, const EnvelopeRaster& to) {
@@ -492,7 +508,6 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
       b.envelope.lower.clear();
       continue;
     }
-    const btVector3 v = body.getLinearVelocity();
     bool moved = true;
     if (!body.isStaticOrKinematicObject() && body.isActive() && !rigid_) {
       t0 = Clock::now();
@@ -525,11 +540,11 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
     rasterize(b);  // at the (corrected) pose: this substep's imprint, next substep's bearing
     stats_.envelope_seconds += seconds_since(t0);
     if (!body.isStaticOrKinematicObject() && !rigid_) keep_above_bedrock(b);
-    imprints_.push_back(terrain::Imprint{&b.envelope, 0.0, false, v.x(), v.y(), v.z()});
+    imprints_.push_back(moving_imprint(b.envelope, body, b.settings.spray));
   }
 
   t0 = Clock::now();
-  const terrain::StepReport report = soil_.step(imprints_);
+  const terrain::StepReport report = soil_.step(imprints_, h);
   stats_.active_columns = report.active_columns;
   stats_.erosion_passes = report.erosion_passes;
   stats_.terrain_seconds += seconds_since(t0);

@@ -159,6 +159,18 @@ Field make_field(const HeightGrid& heights, const ReliefStyle& style) {
   return fd;
 }
 
+constexpr Rgb kSpray{92, 62, 30};  // dark earth: reads on every colour map
+
+/// A filled disc of `radius` pixels (at least 0.75) at pixel (cx, cy) of the picture.
+void draw_dot(Image& pic, double cx, double cy, double radius) {
+  const double r = std::max(radius, 0.75);
+  const int x0 = static_cast<int>(std::floor(cx - r)), x1 = static_cast<int>(std::ceil(cx + r));
+  const int y0 = static_cast<int>(std::floor(cy - r)), y1 = static_cast<int>(std::ceil(cy + r));
+  for (int y = std::max(y0, 0); y <= std::min(y1, pic.height() - 1); ++y)
+    for (int x = std::max(x0, 0); x <= std::min(x1, pic.width() - 1); ++x)
+      if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r) pic.at(x, y) = kSpray;
+}
+
 /// Adds a title strip above and the field's legend below a picture.
 Image frame_picture(const Image& picture, const std::string& title, const Field* field) {
   if (field == nullptr) return framed_picture(picture, title, nullptr);
@@ -248,6 +260,9 @@ Image render_relief(const HeightGrid& heights, const ReliefStyle& style) {
         pic.at(i, fd.h - 1 - j) = kInk;
       else if (in_body(i, j))
         pic.at(i, fd.h - 1 - j) = mix(pic.at(i, fd.h - 1 - j), kBody, 0.45);
+  if (style.spray != nullptr)  // seen from above: where each particle is over the ground
+    for (const Dot& d : *style.spray)
+      draw_dot(pic, (d.x - fd.ground.x0) / fd.pixel, fd.h - 1 - (d.y - fd.ground.y0) / fd.pixel, d.radius / fd.pixel);
   return frame_picture(pic, style.title, style.legend ? &fd : nullptr);
 }
 
@@ -295,6 +310,11 @@ Image render_oblique(const HeightGrid& heights, const ReliefStyle& style, double
                    shade(fd.colour[k], j == 0 ? 0.55 : 0.62));
     }
   }
+  if (style.spray != nullptr)  // over everything: particles are in the air in front of the ground
+    for (const Dot& d : *style.spray) {
+      const double u = up(d.y - fd.ground.y0, d.z) / fd.pixel;
+      draw_dot(pic, (d.x - fd.ground.x0) / fd.pixel, height - 1 - margin - u, d.radius / fd.pixel);
+    }
   return frame_picture(pic, style.title, style.legend ? &fd : nullptr);
 }
 
@@ -373,17 +393,20 @@ ReliefStyle frame_style(const HeightGrid* baseline, const BodyEnvelopes* bodies,
 }  // namespace
 
 Image relief_frame(const HeightGrid& heights, const HeightGrid* baseline, const BodyEnvelopes* bodies, int min_pixels,
-                   const std::string& title) {
-  return render_relief(heights, frame_style(baseline, bodies, min_pixels, title));
+                   const std::string& title, const std::vector<Dot>* spray) {
+  ReliefStyle style = frame_style(baseline, bodies, min_pixels, title);
+  style.spray = spray;
+  return render_relief(heights, style);
 }
 
 Image oblique_frame(const HeightGrid& heights, const HeightGrid& baseline, const BodyEnvelopes* bodies,
                     double exaggeration, int min_pixels, const std::string& title, double deformation_scale,
-                    double elevation_deg, bool legend) {
+                    double elevation_deg, bool legend, const std::vector<Dot>* spray) {
   ReliefStyle style = frame_style(&baseline, bodies, min_pixels, title);
   style.deformation_scale = deformation_scale;
   style.exaggeration = exaggeration;
   style.legend = legend;
+  style.spray = spray;
   return render_oblique(heights, style, elevation_deg);
 }
 

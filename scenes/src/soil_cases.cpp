@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <vector>
 
@@ -27,6 +28,7 @@ terrain::TerrainSettings soil_settings(const SoilRun& run) {
   s.max_erosion_passes = run.max_erosion_passes;
   s.active_reach = run.active_reach;
   s.base = run.base;
+  s.spray = run.spray;
   return s;
 }
 
@@ -42,13 +44,17 @@ struct SoilRig {
       : soil(soil_settings(run)),
         world(kGravity),
         ground(world.world(), soil, coupling_settings(run)),
-        h(run.substep) {}
+        h(run.substep),
+        body_spray(run.body_spray),
+        after_substep(run.after_substep) {}
 
   /// A body that never sleeps, pressing the soil.
   btRigidBody* add(std::unique_ptr<btCollisionShape> shape, double mass, const btVector3& at) {
     btRigidBody* body = world.add_body(std::move(shape), mass, at);
     body->setActivationState(DISABLE_DEACTIVATION);
-    ground.add_body(body);
+    bullet::BodySoilSettings b;
+    b.spray = body_spray;
+    ground.add_body(body, b);
     return body;
   }
 
@@ -59,6 +65,7 @@ struct SoilRig {
     stats.wall_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     stats.add_coupling_times(ground.stats());
     ++stats.substeps;
+    if (after_substep) after_substep(soil, ground);
   }
 
   void finish(RunStats& stats, const btRigidBody& body) const {
@@ -66,12 +73,16 @@ struct SoilRig {
     stats.rescues = ground.stats().rescues;
     stats.soil_work = ground.stats().plastic_work;
     stats.shear_work = ground.stats().shear_work;
+    stats.spray = soil.spray_counts();
+    stats.spray_seconds = soil.spray_seconds();
   }
 
   terrain::Terrain soil;
   World world;
   bullet::TerrainCoupling ground;
   double h;  // s, the substep
+  bool body_spray;
+  std::function<void(const terrain::Terrain&, const bullet::TerrainCoupling&)> after_substep;
 };
 
 /// Plastic work stored in the soil: sum over columns of cell^2 * integral_0^z p_yield dz,
@@ -240,6 +251,8 @@ SphereDropResult run_sphere_drop(const SphereDropCase& c) {
   const double R = c.diameter / 2, h = c.run.substep;
   btRigidBody* ball =
       rig.add(std::make_unique<btSphereShape>(btScalar(R)), c.mass, btVector3(0, 0, btScalar(R + c.height)));
+  ball->setLinearVelocity(btVector3(btScalar(c.vx), 0, 0));
+  ball->setAngularVelocity(btVector3(0, btScalar(c.spin), 0));
   const auto steps = static_cast<std::int64_t>(std::lround(c.seconds / h));
   for (std::int64_t k = 0; k < steps; ++k) rig.advance(out.stats);
   out.depth = -(ball->getCenterOfMassPosition().z() - R);

@@ -32,6 +32,7 @@ void Material::validate() const {
   c.positive("remould_length", remould_length);
   c.non_negative("friction", friction);
   c.positive("soil_depth", soil_depth);
+  spray.validate(Check{c.name("spray")});
 }
 
 Material Material::sand() { return Material{}; }
@@ -51,6 +52,14 @@ Material Material::mud() {
   m.friction_angle = 10.0 * std::numbers::pi / 180.0;
   m.shear_modulus = 0.01;
   m.friction = 0.4;
+  m.spray.adhesion = 0.004;
+  m.spray.half_life = 0.3;
+  m.spray.speed_scale = 6.0;
+  m.spray.exponent = 2.0;
+  m.spray.particle_size = 0.012;
+  m.spray.min_speed = 0.5;
+  m.spray.jitter = 0.3;
+  m.spray.drag = 0.3;
   return m;
 }
 
@@ -69,6 +78,14 @@ Material Material::snow() {
   m.friction_angle = 19.7 * std::numbers::pi / 180.0;
   m.shear_modulus = 0.025;
   m.friction = 0.2;
+  m.spray.adhesion = 0.002;
+  m.spray.half_life = 0.1;
+  m.spray.speed_scale = 4.0;
+  m.spray.exponent = 2.0;
+  m.spray.particle_size = 0.008;
+  m.spray.min_speed = 0.3;
+  m.spray.jitter = 0.3;
+  m.spray.drag = 2.5;
   return m;
 }
 
@@ -77,6 +94,7 @@ Material Material::rigid_ground() {
   m.name = "rigid";
   m.rigid = true;
   m.friction = 0.8;
+  m.spray.adhesion = 0.0;
   return m;
 }
 

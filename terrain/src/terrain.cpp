@@ -4,12 +4,15 @@
 #include "shore/terrain/terrain.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <numbers>
 #include <span>
 #include <string>
 #include <utility>
 
 #include "capacity_bytes.h"
+#include "shore/core/det_math.h"
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
 #include "terrain_impl.h"
@@ -29,7 +32,7 @@ TerrainSettings validated(TerrainSettings s) {
 Terrain::Impl::Impl(TerrainSettings settings) : s(validated(std::move(settings))), tiles(s) {}
 
 std::size_t Terrain::Impl::bytes() const {
-  return sizeof(Impl) + tiles.bytes() + capacity_bytes(unsettled) + planner.bytes() + pipeline.bytes();
+  return sizeof(Impl) + tiles.bytes() + capacity_bytes(unsettled) + planner.bytes() + pipeline.bytes() + spray.bytes();
 }
 
 Terrain::Terrain(TerrainSettings settings) : impl_(std::make_unique<Impl>(std::move(settings))) {}
@@ -110,8 +113,10 @@ void Terrain::set_height(std::int64_t i, std::int64_t j, double h) {
 
 // ---- physics -------------------------------------------------------------------------
 
-StepReport Terrain::step(std::span<const Imprint> imprints) {
-  check_imprints(imprints);
+StepReport Terrain::step(std::span<const Imprint> imprints) { return step(imprints, 0.0); }
+
+StepReport Terrain::step(std::span<const Imprint> imprints, double dt) {
+  check_imprints(imprints, dt);
   Impl& im = *impl_;
   if (im.s.material.rigid) return {};
   im.tiles.advance_generation();
@@ -135,6 +140,14 @@ StepReport Terrain::step(std::span<const Imprint> imprints) {
   // What the bodies reached this step is eroded once more next step: where a body has
   // lifted or moved away, slopes it held at theta_in relax toward theta_out.
   im.unsettled.insert(im.unsettled.end(), reached.begin(), reached.end());
+  // Spray after the soil has been pressed: bodies pick up from, and particles land on, the
+  // surface this step leaves.
+  if (dt > 0.0 && im.s.spray.enabled) {
+    const auto t0 = std::chrono::steady_clock::now();
+    im.spray.step(im.tiles, im.s, imprints, dt, total);
+    im.spray_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  // After spray, which may land on any tile: a tile it touched is no longer idle.
   if (im.s.idle_tile_steps > 0) im.tiles.release_idle(im.s.idle_tile_steps);
   return total;
 }
@@ -163,9 +176,32 @@ VolumeTotals Terrain::volume() const {
   }
   v.ground = ground * (impl_->s.cell * impl_->s.cell);
   v.compacted = impl_->compacted;
-  v.airborne = 0.0;
+  const SprayState& spray = impl_->spray.state;
+  v.clinging = spray.clinging();
+  v.airborne = spray.in_flight() + v.clinging;
+  v.lost = spray.lost;
   v.edited = impl_->edited;
   return v;
+}
+
+std::vector<SprayParticle> Terrain::spray_particles() const {
+  std::vector<SprayParticle> out;
+  out.reserve(impl_->spray.state.particles.size());
+  for (const Particle& p : impl_->spray.state.particles)
+    out.push_back(
+        {p.x, p.y, p.z, det::pow(p.volume * (3.0 / (4.0 * std::numbers::pi)), 1.0 / 3.0), p.volume, p.vx, p.vy, p.vz});
+  return out;
+}
+
+double Terrain::spray_seconds() const { return impl_->spray_seconds; }
+
+SprayCounts Terrain::spray_counts() const {
+  const SprayState& spray = impl_->spray.state;
+  SprayCounts c = spray.counts;
+  c.particles = static_cast<std::int64_t>(spray.particles.size());
+  c.clinging_cells = spray.cell_count();
+  c.bytes = impl_->spray.bytes();
+  return c;
 }
 
 std::uint64_t Terrain::state_hash() const {
@@ -180,6 +216,10 @@ std::uint64_t Terrain::state_hash() const {
     h.add(std::span<const double>(t.height));
     h.add(std::span<const double>(t.sinkage));
   }
+  // Spray, once a step has had time to make any (so soils that never sprayed keep the
+  // hashes they had before spray existed).
+  const SprayState& spray = impl_->spray.state;
+  if (spray.step > 0 || !spray.particles.empty() || !spray.bodies.empty()) spray.hash_into(h);
   return h.value();
 }
 

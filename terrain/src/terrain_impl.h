@@ -8,6 +8,7 @@
 #include "active_regions.h"
 #include "pipeline.h"
 #include "shore/terrain/terrain.h"
+#include "spray_stage.h"
 #include "tile_store.h"
 
 namespace shore::terrain {
@@ -25,6 +26,8 @@ struct Terrain::Impl {
   std::vector<ColumnRect> unsettled;
   ActiveRegions planner;
   Pipeline pipeline;
+  Spray spray;  ///< particles in flight, soil clinging to bodies (spray_stage.h)
+  double spray_seconds = 0.0;  ///< wall time spent in spray (a measurement, not state)
 
   [[nodiscard]] std::size_t bytes() const;  ///< all of it, this object included
 };

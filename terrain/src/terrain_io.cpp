@@ -13,8 +13,17 @@
 //             (version 3 on) f64 cohesion, friction_angle, shear_modulus, remould_ratio,
 //             remould_shear_ratio, remould_length (older files load with the defaults of
 //             Material{})
+//   (version 4 on) spray settings: f64 adhesion, half_life, speed_scale, exponent,
+//             particle_size, min_speed, jitter, drag (the material's); u8 enabled;
+//             i32 max_particles; u64 seed; f64 gravity, x_min, x_max, y_min, y_max,
+//             max_flight (older files load with spray off: they were stepped without it)
 //   f64 compacted, edited
 //   (version 2 on) u64 count of regions still eroding; per region i64 i0, j0; i32 nx, ny
+//   (version 4 on) spray state: i64 step; f64 lost; i64 created, landed, lost, clumps,
+//             limited, set_down; f64 picked_volume; u64 particle count, per particle f64 x,
+//             y, z, vx, vy, vz, volume, age; u64 body count, per body (by key) u64 key,
+//             f64 c[3], q[4], u64 cell count, per cell (by key) u64 key, f64 rx, ry, rz,
+//             volume, owed, pending, i64 i, j, touched
 //   u64 tile count
 //   per tile (in key order): i64 tx, ty; f64[n*n] height, sinkage, base
 //   u64 FNV-1a of every byte before it
@@ -31,10 +40,11 @@
 #include <vector>
 
 #include "region.h"
-#include "shore/core/checkpoint_file.h"
 #include "shore/core/error.h"
 #include "shore/core/file_bytes.h"
 #include "shore/core/hash.h"
+#include "spray_io.h"
+#include "state_file.h"
 #include "terrain_impl.h"
 
 namespace shore::terrain {
@@ -49,58 +59,6 @@ constexpr std::uint32_t kRealBytes = sizeof(double);
 /// Columns (and so tiles) beyond this index are refused: their world positions would no
 /// longer be exact in a double, and index arithmetic stays far from overflow.
 constexpr std::int64_t kMaxColumnIndex = std::int64_t{1} << 52;
-
-class Writer {
- public:
-  template <class T>
-  void put(const T& v) {
-    const auto* p = reinterpret_cast<const unsigned char*>(&v);
-    bytes.insert(bytes.end(), p, p + sizeof(T));
-  }
-  void put_doubles(const std::vector<double>& v) {
-    const auto* p = reinterpret_cast<const unsigned char*>(v.data());
-    bytes.insert(bytes.end(), p, p + v.size() * sizeof(double));
-  }
-  std::vector<unsigned char> bytes;
-};
-
-class Reader {
- public:
-  Reader(std::span<const unsigned char> bytes, std::size_t end, std::string file)
-      : bytes_(bytes), end_(end), file_(std::move(file)) {}
-  template <class T>
-  T get(const char* what) {
-    need(sizeof(T), what);
-    T v;
-    std::memcpy(&v, bytes_.data() + pos_, sizeof(T));
-    pos_ += sizeof(T);
-    return v;
-  }
-  void get_doubles(std::vector<double>& v, const char* what) {
-    need(v.size() * sizeof(double), what);
-    std::memcpy(v.data(), bytes_.data() + pos_, v.size() * sizeof(double));
-    pos_ += v.size() * sizeof(double);
-  }
-  std::string get_string(std::size_t size, const char* what) {
-    need(size, what);
-    std::string s(reinterpret_cast<const char*>(bytes_.data() + pos_), size);
-    pos_ += size;
-    return s;
-  }
-  [[nodiscard]] std::size_t remaining() const { return end_ - pos_; }
-  [[noreturn]] void fail(const std::string& problem) const {
-    throw FileError("terrain state " + file_ + ": " + problem);
-  }
-
- private:
-  void need(std::size_t size, const char* what) const {
-    if (size > end_ - pos_) fail(std::string("truncated (file ends inside ") + what + ")");
-  }
-  std::span<const unsigned char> bytes_;
-  std::size_t end_;
-  std::size_t pos_ = 0;
-  std::string file_;
-};
 
 std::uint64_t checksum(const unsigned char* data, std::size_t size) {
   StateHash h;
@@ -128,6 +86,7 @@ void write_settings(Writer& w, const TerrainSettings& s) {
   for (double v :
        {m.cohesion, m.friction_angle, m.shear_modulus, m.remould_ratio, m.remould_shear_ratio, m.remould_length})
     w.put(v);
+  write_spray_settings(w, s);
 }
 
 std::string hex(std::uint32_t v) {
@@ -193,6 +152,10 @@ TerrainSettings read_settings(Reader& hr, std::uint32_t version, std::shared_ptr
     for (double* v : {&m.cohesion, &m.friction_angle, &m.shear_modulus, &m.remould_ratio, &m.remould_shear_ratio,
                       &m.remould_length})
       *v = hr.get<double>("material");
+  if (version >= 4)
+    read_spray_settings(hr, s);
+  else
+    s.spray.enabled = false;  // stepped without spray: it continues so
   s.base = std::move(base);
   try {
     s.validate();
@@ -294,6 +257,7 @@ std::vector<unsigned char> Terrain::save_bytes() const {
   w.put(static_cast<std::uint64_t>(im.unsettled.size()));
   for (const ColumnRect& r : im.unsettled)
     w.put(r.i0), w.put(r.j0), w.put(static_cast<std::int32_t>(r.nx)), w.put(static_cast<std::int32_t>(r.ny));
+  write_spray_state(w, im.spray.state);
   const std::vector<TileKey> keys = im.tiles.sorted_keys();
   w.put(static_cast<std::uint64_t>(keys.size()));
   for (const TileKey& key : keys) {
@@ -323,6 +287,7 @@ Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::str
   im.edited = hr.get<double>("volume bookkeeping");
   if (!std::isfinite(im.compacted) || !std::isfinite(im.edited)) hr.fail("volume bookkeeping is not finite");
   if (version >= 2) im.unsettled = read_unsettled(hr);
+  if (version >= 4) read_spray_state(hr, im.spray.state);
   read_tiles(hr, im.s.tile_columns, im.tiles);
   check_unsettled_on_tiles(hr, im.unsettled, im.tiles);
   return t;

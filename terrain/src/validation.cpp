@@ -1,9 +1,13 @@
 #include "validation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "region.h"
 #include "shore/core/error.h"
@@ -36,6 +40,7 @@ void TerrainSettings::validate() const {
   c.in_closed("threads", threads, 0, 1024);
   c.at_least("parallel_min_columns", parallel_min_columns, 0);
   c.at_least("idle_tile_steps", idle_tile_steps, 0);
+  spray.validate(Check{c.name("spray")});
 }
 
 void check_envelope(const EnvelopeRaster* env, const std::string& name) {
@@ -60,28 +65,58 @@ void check_envelope(const EnvelopeRaster* env, const std::string& name) {
 }
 
 namespace {
+/// Within 1e-3 of a unit quaternion.
+bool unit(const Imprint& im) {
+  const double n2 = im.qw * im.qw + im.qx * im.qx + im.qy * im.qy + im.qz * im.qz;
+  return n2 > 0.998 && n2 < 1.002;
+}
+
 bool imprint_ok(const Imprint& im) {
   if (im.envelope == nullptr || im.envelope->nx < 0 || im.envelope->ny < 0) return false;
   const EnvelopeRaster& env = *im.envelope;
   if (env.lower.size() != static_cast<std::size_t>(env.nx) * static_cast<std::size_t>(env.ny)) return false;
-  bool bad = !(im.offset >= 0.0 && std::isfinite(im.offset)) || !std::isfinite(im.vx) || !std::isfinite(im.vy) ||
-             !std::isfinite(im.vz);
+  bool bad = !(im.offset >= 0.0 && std::isfinite(im.offset)) || !unit(im);
+  for (const double v : {im.vx, im.vy, im.vz, im.wx, im.wy, im.wz, im.cx, im.cy, im.cz}) bad |= !std::isfinite(v);
   for (const double v : env.lower) bad |= !(v > -std::numeric_limits<double>::infinity());
   return !bad;
 }
+
+void check_one(const Imprint& im, const std::string& name) {
+  check_envelope(im.envelope, name + ".envelope");
+  const Check c{name};
+  c.non_negative("offset", im.offset);
+  c.finite("vx", im.vx), c.finite("vy", im.vy), c.finite("vz", im.vz);
+  c.finite("wx", im.wx), c.finite("wy", im.wy), c.finite("wz", im.wz);
+  c.finite("cx", im.cx), c.finite("cy", im.cy), c.finite("cz", im.cz);
+  if (!unit(im))
+    throw InvalidSetting(c.name("qw, qx, qy, qz"),
+                         detail::to_text(im.qw) + ", " + detail::to_text(im.qx) + ", " + detail::to_text(im.qy) +
+                             ", " + detail::to_text(im.qz),
+                         "must be a unit quaternion (|q| within 1e-3 of 1)");
+}
+
+/// Spraying imprints name their bodies: one key, one body.
+void check_body_keys(std::span<const Imprint> imprints) {
+  std::vector<std::pair<std::uint64_t, std::size_t>> keys;
+  for (std::size_t b = 0; b < imprints.size(); ++b)
+    if (imprints[b].spray && !imprints[b].hold) keys.emplace_back(imprints[b].body, b);
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t k = 1; k < keys.size(); ++k)
+    if (keys[k].first == keys[k - 1].first)
+      throw InvalidSetting("terrain.Imprint[" + std::to_string(std::max(keys[k].second, keys[k - 1].second)) + "].body",
+                           detail::to_text(keys[k].first),
+                           "must differ from the key of every other spraying imprint of the step (Imprint[" +
+                               std::to_string(std::min(keys[k].second, keys[k - 1].second)) +
+                               "] has it); or set spray = false");
+}
 }  // namespace
 
-void check_imprints(std::span<const Imprint> imprints) {
-  for (std::size_t b = 0; b < imprints.size(); ++b) {
-    if (imprint_ok(imprints[b])) continue;  // the common case builds no names
-    const std::string name = "terrain.Imprint[" + std::to_string(b) + "]";
-    check_envelope(imprints[b].envelope, name + ".envelope");
-    const Check c{name};
-    c.non_negative("offset", imprints[b].offset);
-    c.finite("vx", imprints[b].vx);
-    c.finite("vy", imprints[b].vy);
-    c.finite("vz", imprints[b].vz);
-  }
+void check_imprints(std::span<const Imprint> imprints, double dt) {
+  if (!(dt >= 0.0 && std::isfinite(dt)))
+    throw InvalidSetting("terrain.Terrain.step.dt", detail::to_text(dt), "must be finite and >= 0 (s)");
+  for (std::size_t b = 0; b < imprints.size(); ++b)
+    if (!imprint_ok(imprints[b])) check_one(imprints[b], "terrain.Imprint[" + std::to_string(b) + "]");
+  if (dt > 0.0 && imprints.size() > 1) check_body_keys(imprints);
 }
 
 void check_relax_region(const ColumnRect& region) {

@@ -12,8 +12,9 @@ namespace shore::terrain {
 
 /// Not null, nx * ny values, none NaN or -inf.
 void check_envelope(const EnvelopeRaster* env, const std::string& name);
-/// Every imprint of a step: its envelope, offset and velocity.
-void check_imprints(std::span<const Imprint> imprints);
+/// Every imprint of a step: its envelope, offset, motion and pose; the step's dt (>= 0,
+/// finite); with dt > 0, no two spraying imprints with the same body key.
+void check_imprints(std::span<const Imprint> imprints, double dt);
 /// A rectangle for Terrain::relax: not negative, not larger than one region may be.
 void check_relax_region(const ColumnRect& region);
 

@@ -3,7 +3,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <numbers>
+#include <string>
 
 #include "shore/core/envelope.h"
 #include "shore/terrain/terrain.h"
@@ -66,5 +68,18 @@ inline GroundChange ground_change(const Terrain& t, std::int64_t i0, std::int64_
 
 /// Spherical cap of a sphere of radius r cut at depth z.
 inline double cap_volume(double r, double z) { return std::numbers::pi * z * z * (r - z / 3.0); }
+
+/// The message of the E a call throws, or "(no exception)".
+template <class E>
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
+  }
+  return "(no exception)";
+}
+
+inline bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 }  // namespace shore::terrain::testing

@@ -29,18 +29,6 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-template <class E>
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  }
-  return "(no exception)";
-}
-
-bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
 std::filesystem::path temp_file(const std::string& name) {
   return std::filesystem::temp_directory_path() / ("shore_terrain_test_" + name);
 }
@@ -167,23 +155,78 @@ TEST(Files, SaveLoadRoundTripIsBitExactAndContinuesIdentically) {
   std::filesystem::remove(file);
 }
 
-TEST(Files, VersionOneStatesLoadWithAnInfiniteReach) {
-  // A version 4 file made into a version 1 file: version 1 had no precision field (4 bytes
-  // after the byte-order mark, at byte 16), no active_reach and idle_tile_steps (12 bytes
-  // after parallel_min_columns, at byte 76 once the precision field is gone).
-  Terrain a = pressed_sand(0.25);
-  const auto file = temp_file("v2.state");
-  a.save(file);
-  std::vector<unsigned char> bytes = read_bytes(file);
+namespace {
+
+// Byte positions of a saved state of pressed_sand (layout at the top of terrain_io.cpp).
+constexpr std::size_t kReachAt = 76;  // f64 active_reach, after parallel_min_columns (version 2 on)
+constexpr std::size_t kSprayBytes = 8 * 8 + 1 + 4 + 8 + 6 * 8;       // spray settings (version 4 on)
+constexpr std::size_t kQuietSprayState = 8 + 8 + 6 * 8 + 8 + 8 + 8;  // spray state of a soil that never sprayed
+
+/// The state's bytes rewritten as version 3: without the precision field (4 bytes after
+/// the byte-order mark), idle_tile_steps (i32 after active_reach), the spray settings
+/// (after the material's shear fields) and the spray state (after the eroding regions).
+void strip_spray(std::vector<unsigned char>& bytes) {
   std::uint32_t real_bytes = 0;
   std::memcpy(&real_bytes, bytes.data() + 16, sizeof real_bytes);
   ASSERT_EQ(real_bytes, 8u);
   bytes.erase(bytes.begin() + 16, bytes.begin() + 20);
-  constexpr std::size_t kReachAt = 76;
+  bytes.erase(bytes.begin() + kReachAt + 8, bytes.begin() + kReachAt + 12);
+  const std::size_t spray_at = kReachAt + 8 + 4 + 4 + 10 * 8 + 1 + 6 * 8;
+  bytes.erase(bytes.begin() + spray_at, bytes.begin() + spray_at + kSprayBytes);
+  const std::size_t regions_at = spray_at + 2 * 8;
+  std::uint64_t regions = 0;
+  std::memcpy(&regions, bytes.data() + regions_at, sizeof regions);
+  ASSERT_LT(regions, 100U);
+  const std::size_t state_at = regions_at + 8 + 24 * regions;
+  std::int64_t step = -1;
+  std::memcpy(&step, bytes.data() + state_at, sizeof step);
+  ASSERT_EQ(step, 0) << "a soil that never sprayed";
+  bytes.erase(bytes.begin() + state_at, bytes.begin() + state_at + kQuietSprayState);
+  bytes[8] = 3;  // version, little-endian u32
+}
+
+/// Replaces the trailing checksum with that of the bytes before it.
+void reseal(std::vector<unsigned char>& bytes) {
+  bytes.resize(bytes.size() - 8);
+  shore::StateHash sum;
+  sum.add_bytes(bytes.data(), bytes.size());
+  const std::uint64_t checksum = sum.value();
+  bytes.insert(bytes.end(), reinterpret_cast<const unsigned char*>(&checksum),
+               reinterpret_cast<const unsigned char*>(&checksum) + sizeof checksum);
+}
+
+}  // namespace
+
+TEST(Files, VersionThreeStatesLoadWithSprayOff) {
+  Terrain a = pressed_sand();
+  const auto file = temp_file("v3.state");
+  a.save(file);
+  std::vector<unsigned char> bytes = read_bytes(file);
+  strip_spray(bytes);
+  reseal(bytes);
+  write_bytes(file, bytes);
+  const Terrain b = Terrain::load(file);
+  EXPECT_EQ(b.state_hash(), a.state_hash());
+  // Stepped without spray, they carry on without it.
+  EXPECT_FALSE(b.settings().spray.enabled);
+  EXPECT_TRUE(a.settings().spray.enabled);
+  EXPECT_EQ(b.settings().material.spray.adhesion, Material{}.spray.adhesion);
+  EXPECT_EQ(b.settings().active_reach, a.settings().active_reach);
+  std::filesystem::remove(file);
+}
+
+TEST(Files, VersionOneStatesLoadWithAnInfiniteReach) {
+  // A version 4 file made into a version 1 file: version 1 had none of version 4's fields,
+  // no active_reach (8 bytes after parallel_min_columns, at byte 76).
+  Terrain a = pressed_sand(0.25);
+  const auto file = temp_file("v2.state");
+  a.save(file);
+  std::vector<unsigned char> bytes = read_bytes(file);
+  strip_spray(bytes);  // nor version 4's fields
   double stored = 0.0;
   std::memcpy(&stored, bytes.data() + kReachAt, sizeof stored);
   ASSERT_EQ(stored, 0.25);
-  bytes.erase(bytes.begin() + kReachAt, bytes.begin() + kReachAt + 12);
+  bytes.erase(bytes.begin() + kReachAt, bytes.begin() + kReachAt + 8);
   // Nor the material's shear fields (6 f64 after its rigid flag, version 3 on).
   const std::size_t material_end = kReachAt + 4 + 4 + 10 * 8 + 1;
   bytes.erase(bytes.begin() + material_end, bytes.begin() + material_end + 6 * 8);
@@ -196,12 +239,7 @@ TEST(Files, VersionOneStatesLoadWithAnInfiniteReach) {
   const auto first = bytes.begin() + static_cast<std::ptrdiff_t>(regions_at);
   bytes.erase(first, first + static_cast<std::ptrdiff_t>(8 + 24 * regions));
   bytes[8] = 1;  // version, little-endian u32
-  bytes.resize(bytes.size() - 8);
-  shore::StateHash sum;
-  sum.add_bytes(bytes.data(), bytes.size());
-  const std::uint64_t checksum = sum.value();
-  bytes.insert(bytes.end(), reinterpret_cast<const unsigned char*>(&checksum),
-               reinterpret_cast<const unsigned char*>(&checksum) + sizeof checksum);
+  reseal(bytes);
   write_bytes(file, bytes);
   const Terrain b = Terrain::load(file);
   EXPECT_EQ(b.state_hash(), a.state_hash());
@@ -210,6 +248,7 @@ TEST(Files, VersionOneStatesLoadWithAnInfiniteReach) {
   EXPECT_EQ(b.settings().parallel_min_columns, a.settings().parallel_min_columns);
   EXPECT_EQ(b.settings().idle_tile_steps, TerrainSettings{}.idle_tile_steps);
   EXPECT_EQ(b.settings().material.name, "sand");
+  EXPECT_FALSE(b.settings().spray.enabled);
   std::filesystem::remove(file);
 }
 

@@ -53,6 +53,9 @@ struct RigidBody;
 /// Per-body choices.
 struct BodySoilSettings {
   bool deform = true;      ///< the body presses the soil (false: it only feels the ground)
+  /// A deforming body throws the soil it touches fast into the air (the soil's
+  /// Material::spray and TerrainSettings::spray; shore/terrain/spray.h).
+  bool spray = true;
   bool enable_ccd = true;  ///< turn on Bullet's continuous collision for fast impacts
   /// With enable_ccd: Bullet's CCD motion threshold and swept-sphere radius, as shares of
   /// the thinnest side of the body's bounding box; each in (0, 1].

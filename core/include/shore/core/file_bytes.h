@@ -19,7 +19,6 @@
 
 namespace shore {
 
-
 namespace file_detail {
 
 inline std::string cause(int err) { return std::generic_category().message(err); }
@@ -78,7 +77,7 @@ inline void sync_folder(const std::filesystem::path& file) {
 /// The whole file. Throws shore::FileError "<what> <path>: cannot open for reading (<cause>)"
 /// or "... read failed (<cause>)".
 [[nodiscard]] inline std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file,
-                                                             const std::string& what) {
+                                                                const std::string& what) {
   using namespace file_detail;
   const std::string where = what + " " + file.string() + ": ";
   Descriptor fd(::open(file.c_str(), O_RDONLY | O_CLOEXEC));

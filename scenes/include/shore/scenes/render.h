@@ -36,6 +36,11 @@ Image framed_picture(const Image& picture, const std::string& title, const Legen
 std::vector<double> hillshade(const HeightGrid& grid, double azimuth_deg = 315.0, double altitude_deg = 45.0,
                               double exaggeration = 1.0);
 
+/// A small sphere drawn over a picture (a spray particle), world coordinates, m.
+struct Dot {
+  double x = 0.0, y = 0.0, z = 0.0, radius = 0.0;
+};
+
 struct ReliefStyle {
   /// If set (same size as the heights), colour by heights - baseline with the diverging
   /// map (blue lowered, red raised, neutral untouched); otherwise colour by height.
@@ -50,6 +55,9 @@ struct ReliefStyle {
   int min_pixels = 480;       ///< the longer image side is at least this (grids are upsampled)
   std::string title;          ///< printed above the picture (empty: none)
   bool legend = true;         ///< colour bar with its range under the picture
+  /// Optional spray particles, drawn over the ground as dark dots (at least 1.5 pixels
+  /// across, so a few millimetres show on a metre-wide picture).
+  const std::vector<Dot>* spray = nullptr;
 };
 
 /// Top view: shaded relief coloured by deformation (or height), north up.
@@ -69,11 +77,12 @@ Image filmstrip(const std::vector<Image>& frames, const std::vector<std::string>
 /// The top view of one moment: relief coloured by deformation from `baseline` (by height
 /// without one), bodies tinted and outlined (if given), with a legend.
 Image relief_frame(const HeightGrid& heights, const HeightGrid* baseline, const BodyEnvelopes* bodies, int min_pixels,
-                   const std::string& title);
+                   const std::string& title, const std::vector<Dot>* spray = nullptr);
 
-/// The oblique picture of one moment: relief coloured by deformation, bodies drawn.
+/// The oblique picture of one moment: relief coloured by deformation, bodies and spray
+/// particles (if given) drawn.
 Image oblique_frame(const HeightGrid& heights, const HeightGrid& baseline, const BodyEnvelopes* bodies,
                     double exaggeration, int min_pixels, const std::string& title, double deformation_scale = 0.0,
-                    double elevation_deg = 35.0, bool legend = false);
+                    double elevation_deg = 35.0, bool legend = false, const std::vector<Dot>* spray = nullptr);
 
 }  // namespace shore::scenes

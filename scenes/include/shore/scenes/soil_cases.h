@@ -5,6 +5,7 @@
 // (speed against error) and the impact scene.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -25,6 +26,11 @@ struct SoilRun {
   double active_reach = terrain::TerrainSettings{}.active_reach;           ///< m, see TerrainSettings
   bullet::SoilContactSettings contact;                                     ///< how the soil's push is solved
   std::shared_ptr<const terrain::HeightSource> base;                       ///< untouched ground; null: flat at 0
+  terrain::SpraySettings spray;                                            ///< the soil's spray (on by default)
+  bool body_spray = true;  ///< the case's bodies throw soil (BodySoilSettings::spray)
+  /// Called after every substep (untimed): tests check the volume at every step,
+  /// benchmarks follow the spray's peaks. Empty: nothing.
+  std::function<void(const terrain::Terrain&, const bullet::TerrainCoupling&)> after_substep;
 };
 
 /// Results common to every case.
@@ -39,6 +45,8 @@ struct RunStats {
   std::int64_t rescues = 0;      ///< bodies lifted back above bedrock (should stay 0)
   double soil_work = 0.0;        ///< J the body did on the soil (TerrainCouplingStats::plastic_work)
   double shear_work = 0.0;       ///< J of it by shear
+  terrain::SprayCounts spray;    ///< the soil's spray at the end
+  double spray_seconds = 0.0;    ///< s of wall time the soil spent on spray (part of terrain_seconds)
   /// Adds one substep of a soil coupling's timings (once per coupling and substep).
   void add_coupling_times(const bullet::TerrainCouplingStats& coupling);
   [[nodiscard]] double ms_per_substep() const { return substeps ? 1e3 * wall_seconds / double(substeps) : 0.0; }
@@ -200,6 +208,8 @@ struct SphereDropCase {
   double mass = 10.0;     ///< kg
   double height = 1.0;    ///< m, drop height of the sphere's bottom above the surface
   double seconds = 1.5;   ///< s simulated
+  double vx = 0.0;        ///< m/s, horizontal velocity at release (an oblique impact)
+  double spin = 0.0;      ///< rad/s about +y at release
 };
 struct SphereDropResult {
   double depth = 0.0;         ///< m, final depth of the sphere's bottom below the original surface

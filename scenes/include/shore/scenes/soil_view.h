@@ -52,7 +52,8 @@ double max_lowering(const HeightGrid& baseline, const HeightGrid& heights);
 double max_of(const HeightGrid& g);
 
 /// The soil scenes' filmstrip frame: the oblique relief of the patches over `frame`
-/// (heights exaggerated 2x, coloured by lowering from `baseline`) with the bodies drawn.
+/// (heights exaggerated 2x, coloured by lowering from `baseline`) with the bodies and the
+/// soils' spray particles drawn.
 Image soil_film_frame(const std::vector<Patch>& patches, const HeightGrid& frame, const HeightGrid& baseline,
                       std::span<const btRigidBody* const> bodies, int min_pixels);
 

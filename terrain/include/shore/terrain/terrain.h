@@ -28,6 +28,7 @@
 #include "shore/terrain/contact.h"
 #include "shore/terrain/height_source.h"
 #include "shore/terrain/material.h"
+#include "shore/terrain/spray.h"
 
 namespace shore::terrain {
 
@@ -64,6 +65,8 @@ struct TerrainSettings {
   /// change an observer of changed_since() has not seen yet). Results and state_hash() never depend on it. >= 0 (0:
   /// never release).
   int idle_tile_steps = 2400;
+  /// Soil thrown into the air by fast bodies (shore/terrain/spray.h): on by default.
+  SpraySettings spray;
 
   /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
   void validate() const;
@@ -77,11 +80,24 @@ struct Imprint {
   /// point within +-1 column, so no heightfield triangle cuts into the body. Sinkage
   /// (soil state) is still taken from the true envelope.
   bool star = false;
-  double vx = 0.0, vy = 0.0, vz = 0.0;  ///< body velocity at the imprint, m/s (spray particles)
+  double vx = 0.0, vy = 0.0, vz = 0.0;  ///< m/s, the body's velocity (at its centre of mass), finite
   /// A body at rest: its envelope holds the soil it touches (erosion treats the columns as
   /// under a body, and never fills them above it) but presses nothing, and makes no active
-  /// region of its own; it only matters where other bodies or unsettled slopes work.
+  /// region of its own; it only matters where other bodies or unsettled slopes work. It
+  /// sprays nothing: soil clinging to it is set back down.
   bool hold = false;
+
+  // ---- for spray (shore/terrain/spray.h): a point p of the body moves at v + w x (p - c) ----
+  double wx = 0.0, wy = 0.0, wz = 0.0;  ///< rad/s, the body's angular velocity, finite
+  double cx = 0.0, cy = 0.0, cz = 0.0;  ///< m, the point it turns about (its centre of mass), finite
+  /// Its orientation, body to world, as a unit quaternion (w, x, y, z) (|q| within 1e-3 of
+  /// 1): soil clings to pieces of the body's surface, found again in the body's frame.
+  double qw = 1.0, qx = 0.0, qy = 0.0, qz = 0.0;
+  /// Names the body from step to step (the soil clinging to it is kept under this key), and
+  /// keys its random numbers: give each body the same key every step, whatever the order of
+  /// the imprints. Unique among a step's spraying imprints (spray on, not holding).
+  std::uint64_t body = 0;
+  bool spray = true;  ///< this body throws soil (and the terrain's spray is enabled)
 };
 
 /// Force one contact column can carry at its sinkage.
@@ -107,18 +123,29 @@ struct StepReport {
   int erosion_passes = 0;       ///< passes until every slope was below theta_stop (or the cap)
   double displaced_volume = 0;  ///< m^3 pushed down by collision this step
   double compacted_volume = 0;  ///< m^3 of it kept as compaction
+  // spray, this step
+  int particles_created = 0;  ///< particles thrown
+  int particles_landed = 0;   ///< particles that landed on a column
+  int particles_lost = 0;     ///< particles that left the region or the world
+  double picked_volume = 0;   ///< m^3 of soil the bodies picked up
 };
 
 /// Volume bookkeeping, m^3, relative to the untouched base: ground + compacted + airborne
-/// stays equal to its start value (zero) to rounding.
+/// + lost stays equal to its start value (zero, plus what set_height added) to rounding.
 struct VolumeTotals {
   double ground = 0.0;     ///< sum of (height - base height) cell^2 over touched columns
   double compacted = 0.0;  ///< volume removed from the surface by compression
-  double airborne = 0.0;   ///< volume carried by spray particles in flight (always 0: no particles yet)
-  /// Net volume added by set_height (an outside edit): ground + compacted + airborne equals
-  /// this to rounding. Not part of total().
+  /// Spray: soil off the ground, in flight as particles or clinging to bodies (the latter
+  /// also in `clinging`).
+  double airborne = 0.0;
+  double clinging = 0.0;  ///< the part of airborne clinging to bodies, not yet shed
+  /// Spray that left the terrain's region or the world (SpraySettings): gone, and counted
+  /// here, apart from the rest.
+  double lost = 0.0;
+  /// Net volume added by set_height (an outside edit): ground + compacted + airborne + lost
+  /// equals this to rounding. Not part of total().
   double edited = 0.0;
-  [[nodiscard]] double total() const { return ground + compacted + airborne; }
+  [[nodiscard]] double total() const { return ground + compacted + airborne + lost; }
 };
 
 /// A rectangle of columns [i0, i0 + nx) x [j0, j0 + ny).
@@ -192,6 +219,12 @@ class Terrain {
   /// untouched) if an envelope holds NaN or -inf, its size does not match nx * ny, an
   /// offset is negative or not finite, or a velocity is not finite. Rigid material: no-op.
   StepReport step(std::span<const Imprint> imprints);
+  /// The same step lasting dt seconds (>= 0, finite): spray particles fly for dt, bodies
+  /// pick soil up and shed it (shore/terrain/spray.h). dt = 0 is step(imprints): no time
+  /// passes, so nothing sprays and particles hold still. Also throws InvalidSetting for a
+  /// bad dt, a non-finite angular velocity or centre, a quaternion that is not a unit, or
+  /// (with dt > 0) two spraying imprints with the same body key.
+  StepReport step(std::span<const Imprint> imprints, double dt);
   /// Erosion alone over a region (e.g. to relax a pile that was set by set_height), run to
   /// rest: passes repeat while material moves (theta_stop is ignored), at most
   /// max_erosion_passes; call again while erosion_passes == max_erosion_passes. No column
@@ -215,18 +248,26 @@ class Terrain {
   /// changed_since(0): every column ever changed. Reads only.
   [[nodiscard]] std::vector<ColumnRect> changed_since(std::uint64_t g) const;
   [[nodiscard]] VolumeTotals volume() const;
-  /// FNV-1a over the bookkeeping and the tiles in key order, leaving out tiles that hold
-  /// nothing but the untouched base (they equal no tile): the same soil gives the same hash
-  /// whichever idle tiles were released (TerrainSettings::idle_tile_steps).
+  /// The spray particles in flight, in their fixed order (positions, radii, volumes).
+  [[nodiscard]] std::vector<SprayParticle> spray_particles() const;
+  [[nodiscard]] SprayCounts spray_counts() const;
+  /// s of wall time spent in spray since creation (for benchmarks; not part of the state).
+  [[nodiscard]] double spray_seconds() const;
+  /// FNV-1a over the bookkeeping, the tiles in key order (leaving out tiles that hold
+  /// nothing but the untouched base: they equal no tile, so the same soil gives the same
+  /// hash whichever idle tiles were released, TerrainSettings::idle_tile_steps) and the
+  /// spray (particles and clinging soil, in their fixed orders).
   [[nodiscard]] std::uint64_t state_hash() const;
   [[nodiscard]] std::size_t tile_count() const;  ///< tiles held now (created on first write, released when idle)
   [[nodiscard]] std::size_t memory_bytes() const;
 
   /// Bit-exact round trip of the touched state. The file holds the settings (but not the
   /// base source: pass the same one to load, or null for flat ground at the saved
-  /// base_height), the bookkeeping (compacted, edited), the regions still eroding and every
-  /// tile's heights, sinkage and sampled base; a checksum guards the whole file
-  /// (terrain/src/terrain_io.cpp describes the format).
+  /// base_height), the bookkeeping (compacted, edited, lost), the regions still eroding,
+  /// every tile's heights, sinkage and sampled base, and the spray (particles, clinging
+  /// soil, counts); a checksum guards the whole file (terrain/src/terrain_io.cpp describes
+  /// the format). Files written before spray existed (version 3 and older) load with spray
+  /// switched off, the behaviour they were stepped with.
   ///
   /// save() writes `<file>.tmp`, flushes it to the disk and renames it over `file`, so the
   /// old file stays whole and loadable whatever happens during the write: a full disk, a

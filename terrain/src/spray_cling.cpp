@@ -1,0 +1,191 @@
+#include "spray_cling.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "capacity_bytes.h"
+#include "spray_random.h"
+
+namespace shore::terrain {
+
+std::uint64_t cling_key(const Vec3& b, double cell) {
+  constexpr std::int64_t kHalf = std::int64_t{1} << 20;
+  auto part = [&](double x) {
+    const double k = std::floor(x / cell);
+    const std::int64_t clamped = static_cast<std::int64_t>(std::clamp(k, -double(kHalf), double(kHalf - 1)));
+    return static_cast<std::uint64_t>(clamped + kHalf);
+  };
+  return part(b[0]) | (part(b[1]) << 21) | (part(b[2]) << 42);
+}
+
+namespace {
+
+/// The draw that rounds a piece's number of particles (apart from the candidates' draws).
+constexpr std::uint64_t kRounding = std::uint64_t{1} << 40;
+
+ClingCell& find_or_add(std::vector<ClingCell>& cells, std::uint64_t key) {
+  const auto at =
+      std::lower_bound(cells.begin(), cells.end(), key, [](const ClingCell& c, std::uint64_t k) { return c.key < k; });
+  if (at != cells.end() && at->key == key) return *at;
+  ClingCell fresh;
+  fresh.key = key;
+  return *cells.insert(at, fresh);
+}
+
+ClingCell* find(std::vector<ClingCell>& cells, std::uint64_t key) {
+  const auto at =
+      std::lower_bound(cells.begin(), cells.end(), key, [](const ClingCell& c, std::uint64_t k) { return c.key < k; });
+  return at != cells.end() && at->key == key ? &*at : nullptr;
+}
+
+/// The largest distance from the body's centre to a point of its envelope, squared.
+double reach_squared(const Imprint& im, const SprayGround& g) {
+  const EnvelopeRaster& env = *im.envelope;
+  double most = 0.0;
+  for (int y = 0; y < env.ny; ++y) {
+    const double dy = g.y_of(env.j0 + y) - im.cy;
+    for (int x = 0; x < env.nx; ++x) {
+      const std::size_t k =
+          static_cast<std::size_t>(y) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(x);
+      if (!env.covers(k)) continue;
+      const double dx = g.x_of(env.i0 + x) - im.cx, dz = env.lower[k] - im.offset - im.cz;
+      most = std::max(most, dx * dx + dy * dy + dz * dz);
+    }
+  }
+  return most;
+}
+
+}  // namespace
+
+// Every column the body touches: a piece moving fast enough over it is loaded (it will
+// carry area x adhesion away when it leaves); a piece touching it slowly lays its soil back.
+void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, const SprayGround& ground,
+                  const ClingRules& rules, std::vector<Drop>& drops) {
+  const EnvelopeRaster& env = *im.envelope;
+  heights_.resize(env.lower.size());
+  ground.heights({env.i0, env.j0, env.nx, env.ny}, heights_);
+  for (int y = 0; y < env.ny; ++y)
+    for (int x = 0; x < env.nx; ++x) {
+      const std::size_t k =
+          static_cast<std::size_t>(y) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(x);
+      if (!env.covers(k)) continue;
+      const double e = env.lower[k] - im.offset;
+      if (!(e <= heights_[k] + rules.tolerance)) continue;
+      const std::int64_t i = env.i0 + x, j = env.j0 + y;
+      const Vec3 p{ground.x_of(i), ground.y_of(j), e};
+      const Vec3 r = m.to_body(p);
+      const std::uint64_t key = cling_key(r, ground.cell());
+      if (length(m.velocity_at(p)) < rules.min_speed) {
+        if (ClingCell* c = find(body.cells, key); c != nullptr) set_down(*c, p, drops);
+        continue;
+      }
+      if (rules.capacity <= 0.0 && find(body.cells, key) == nullptr) continue;
+      ClingCell& c = find_or_add(body.cells, key);
+      c.touched = rules.step;
+      c.rx = r[0], c.ry = r[1], c.rz = r[2];
+      c.i = i, c.j = j;
+      c.owed = 0.0;
+      c.pending = std::max(0.0, rules.capacity - c.volume);
+    }
+}
+
+void Cling::set_down(ClingCell& c, const Vec3& p, std::vector<Drop>& drops) {
+  if (c.volume > 0.0) {
+    drops.push_back({p[0], p[1], c.volume});
+    ++set_down_count;
+  }
+  c.volume = c.owed = c.pending = 0.0;
+}
+
+void Cling::shed(const ClingingBody& body, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
+                 std::vector<Candidate>& candidates) {
+  const Vec3 p = m.to_world({c.rx, c.ry, c.rz});
+  const Vec3 u = m.velocity_at(p);
+  const double speed = length(u), half = 0.5 * rules.cell;
+  const CounterRandom rnd(rules.seed, static_cast<std::uint64_t>(rules.step), body.body, c.key);
+  std::uint64_t n = 0;
+  auto emit = [&](double volume) {
+    const double flight = rules.dt * (1.0 - rnd.uniform(n, 0));  // created at a random time in the step
+    Candidate k;
+    Particle& s = k.start;
+    s.x = p[0] - u[0] * flight + half * rnd.symmetric(n, 1);
+    s.y = p[1] - u[1] * flight + half * rnd.symmetric(n, 2);
+    s.z = p[2] - u[2] * flight + half * rnd.symmetric(n, 3);
+    s.vx = u[0] + rules.jitter * speed * rnd.symmetric(n, 4);
+    s.vy = u[1] + rules.jitter * speed * rnd.symmetric(n, 5);
+    s.vz = u[2] + rules.jitter * speed * rnd.symmetric(n, 6);
+    s.volume = volume;
+    k.flight = flight;
+    k.speed = speed;
+    k.chance = rnd.uniform(n, 7);
+    candidates.push_back(k);
+    c.volume -= volume;
+    ++n;
+  };
+  if (!(c.volume > 0.0)) return;
+  // Sumner's n = dv phi particles, rounded at random (up with the probability of the
+  // fraction), so the number shed keeps its expected value however small dv is; what the
+  // rounding sheds early or late is evened out by `owed` in the next steps.
+  const double vp = rules.particle_volume;
+  c.owed += std::max(0.0, c.volume - c.owed) * rules.shed_share;
+  const double whole = std::floor(std::max(0.0, c.owed) / vp + rnd.uniform(kRounding, 0));
+  for (double k = 0.0; k < whole && c.volume > 0.0; k += 1.0) {
+    emit(std::min(vp, c.volume));
+    c.owed -= vp;
+  }
+  if (c.volume > 0.0 && c.volume < 0.5 * vp) emit(c.volume);  // less than half a particle is left: it goes too
+  if (!(c.volume > 0.0)) c.volume = c.owed = 0.0;
+}
+
+bool Cling::can_start(const Imprint& im, const SprayGround& ground, const ClingRules& rules) {
+  if (rules.capacity <= 0.0) return false;
+  const double v = std::sqrt(im.vx * im.vx + im.vy * im.vy + im.vz * im.vz);
+  const double spin = std::sqrt(im.wx * im.wx + im.wy * im.wy + im.wz * im.wz);
+  return v + (spin > 0.0 ? spin * std::sqrt(reach_squared(im, ground)) : 0.0) >= rules.min_speed;
+}
+
+double Cling::step(ClingingBody& body, const Imprint& im, SprayGround& ground, const ClingRules& rules,
+                   std::vector<Candidate>& candidates, std::vector<Drop>& drops) {
+  if (body.cells.empty() && !can_start(im, ground, rules)) return 0.0;
+  const BodyMotion m(im);
+  touch(body, im, m, ground, rules, drops);
+  // The pieces not touched this step: on the soil (within half a column of its top) they
+  // hold their soil, or set it down if they move slowly; off it, they have left the ground:
+  // they carry their load away from the column they last touched, and shed.
+  const double band = 0.5 * rules.cell + rules.tolerance;
+  const double area = rules.cell * rules.cell;
+  double picked = 0.0;
+  for (ClingCell& c : body.cells) {
+    if (c.touched == rules.step) continue;
+    const Vec3 p = m.to_world({c.rx, c.ry, c.rz});
+    const double top = ground.height(ground.column_i(p[0]), ground.column_j(p[1]));
+    if (p[2] <= top + band) {
+      if (length(m.velocity_at(p)) < rules.min_speed) set_down(c, p, drops);
+      continue;
+    }
+    if (c.pending > 0.0) {
+      const double taken = ground.take(c.i, c.j, c.pending / area);
+      c.volume += taken;
+      picked += taken;
+      c.pending = 0.0;
+    }
+    shed(body, c, m, rules, candidates);
+  }
+  std::erase_if(body.cells, [](const ClingCell& c) { return !(c.volume > 0.0) && !(c.pending > 0.0); });
+  for (int k = 0; k < 3; ++k) body.c[k] = m.c[static_cast<std::size_t>(k)];
+  for (int k = 0; k < 4; ++k) body.q[k] = m.q[k];
+  return picked;
+}
+
+void Cling::set_all_down(const ClingingBody& body, std::vector<Drop>& drops) {
+  const BodyMotion m(body.c, body.q);
+  for (const ClingCell& c : body.cells) {
+    if (!(c.volume > 0.0)) continue;
+    const Vec3 p = m.to_world({c.rx, c.ry, c.rz});
+    drops.push_back({p[0], p[1], c.volume});
+  }
+}
+
+std::size_t Cling::bytes() const { return capacity_bytes(heights_); }
+
+}  // namespace shore::terrain

@@ -1,0 +1,89 @@
+#pragma once
+// Private: Sumner's particle rule on one body's surface. The surface is cut into cubes of
+// one column's side in the body's frame ("pieces"), found again step after step however
+// the body turns. Each step:
+//   touch     every column the body touches (its envelope within contact_tolerance of the
+//             top) where the piece there moves at min_speed or more loads that piece: it
+//             will hold area x adhesion (area = cell^2);
+//   set down  a piece touching the soil slower than min_speed lays its soil back at once;
+//   leave     a piece that has left the ground (more than half a column above the soil top
+//             below it) takes its load off the top of the column it last touched: soil is
+//             carried away where the surface lifts from it, never from under a body that
+//             still presses on it (which would open a gap under it and take its bearing);
+//   shed      a piece off the ground sheds its soil with the half-life: what the decay owes
+//             goes in whole particles of the material's volume (their number rounded up or
+//             down at random, keeping its expected value), the rest at once when less than
+//             half a particle is left. Each candidate starts at a random time in
+//             the step, at a random point of a column-sized cube around its piece, with the
+//             piece's velocity v + w x r plus jitter.
+// Whether a candidate flies (Sumner's (|v + w x r| / s)^gamma test) is the caller's, who
+// also lays the soil that is set down.
+
+#include <cstdint>
+#include <vector>
+
+#include "shore/terrain/terrain.h"
+#include "spray_ground.h"
+#include "spray_motion.h"
+#include "spray_state.h"
+
+namespace shore::terrain {
+
+/// What a material, the terrain and the step's time make of the rule.
+struct ClingRules {
+  double dt = 0.0;               ///< s
+  double cell = 0.0;             ///< m, the column spacing (a piece is a cube of this side)
+  double tolerance = 0.0;        ///< m, a column is touched when the body lies this close to its top
+  double capacity = 0.0;         ///< m^3 a piece holds, adhesion x cell^2
+  double min_speed = 0.0;        ///< m/s
+  double particle_volume = 0.0;  ///< m^3
+  double shed_share = 0.0;       ///< 1 - 2^(-dt / half_life): share of what clings that drops off this step
+  double jitter = 0.0;
+  std::uint64_t seed = 0;
+  std::int64_t step = 0;
+};
+
+/// A particle a piece sheds, before Sumner's speed test.
+struct Candidate {
+  Particle start;       ///< at its creation time
+  double flight = 0.0;  ///< s of the step left after its creation
+  double speed = 0.0;   ///< m/s, |v + w x r| of its piece (Sumner's |p0'|)
+  double chance = 0.0;  ///< the uniform number in [0, 1) its speed test must beat
+};
+
+/// Soil that goes straight down onto the column below a point (set down, or a candidate
+/// that does not fly).
+struct Drop {
+  double x = 0.0, y = 0.0, volume = 0.0;
+};
+
+class Cling {
+ public:
+  /// One body's step: touch, set down, leave and shed (candidates and drops appended in a
+  /// fixed order). Returns the m^3 picked up (carried away from the ground). A body with no clinging soil that cannot
+  /// move at min_speed anywhere under its envelope costs one pass over the envelope.
+  double step(ClingingBody& body, const Imprint& im, SprayGround& ground, const ClingRules& rules,
+              std::vector<Candidate>& candidates, std::vector<Drop>& drops);
+  /// Whether some point of the body's envelope moves at min_speed or more (|v| + |w| times
+  /// its reach from the centre): if not, a body holding no soil has nothing to do.
+  static bool can_start(const Imprint& im, const SprayGround& ground, const ClingRules& rules);
+  /// A body gone from the step (at rest, removed, spray off): all its soil is set down
+  /// below its pieces, where it was last seen.
+  static void set_all_down(const ClingingBody& body, std::vector<Drop>& drops);
+  [[nodiscard]] std::size_t bytes() const;
+  std::int64_t set_down_count = 0;  ///< pieces set down, in all
+
+ private:
+  void touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, const SprayGround& ground,
+             const ClingRules& rules, std::vector<Drop>& drops);
+  /// The piece's soil straight down below p, at once; the piece then holds nothing.
+  void set_down(ClingCell& c, const Vec3& p, std::vector<Drop>& drops);
+  void shed(const ClingingBody& body, ClingCell& cell, const BodyMotion& m, const ClingRules& rules,
+            std::vector<Candidate>& candidates);
+  std::vector<double> heights_;  ///< soil tops under the envelope
+};
+
+/// The cube of the body frame a point lies in, packed in 64 bits (21 per axis).
+std::uint64_t cling_key(const Vec3& body_point, double cell);
+
+}  // namespace shore::terrain

@@ -1,0 +1,48 @@
+#pragma once
+// Private: the soil as spray sees it: column heights anywhere, soil taken off a column's
+// top (bodies picking it up) and laid onto it (particles landing, clumps, soil set back
+// down). Either change lowers the column's recorded sinkage by the height moved, so the
+// soil below keeps its bearing: a body pressing down to the new top feels what it felt at
+// the old one (as for deposits, stage "loosen" of the pipeline).
+
+#include <cmath>
+#include <cstdint>
+#include <span>
+
+#include "shore/terrain/terrain.h"
+#include "tile_store.h"
+
+namespace shore::terrain {
+
+class SprayGround {
+ public:
+  SprayGround(TileStore& store, const TerrainSettings& s);
+
+  [[nodiscard]] std::int64_t column_i(double x) const { return std::llround((x - origin_x_) / cell_); }
+  [[nodiscard]] std::int64_t column_j(double y) const { return std::llround((y - origin_y_) / cell_); }
+  [[nodiscard]] double x_of(std::int64_t i) const { return origin_x_ + static_cast<double>(i) * cell_; }
+  [[nodiscard]] double y_of(std::int64_t j) const { return origin_y_ + static_cast<double>(j) * cell_; }
+  [[nodiscard]] double cell() const { return cell_; }
+  [[nodiscard]] double height(std::int64_t i, std::int64_t j) const;
+  /// Heights of a rectangle, row-major (one tile lookup per run).
+  void heights(const ColumnRect& r, std::span<double> out) const { store_.read(r, out, false); }
+  /// Within the spray's region (SpraySettings bounds)?
+  [[nodiscard]] bool inside(double x, double y) const {
+    return x >= x_min_ && x <= x_max_ && y >= y_min_ && y <= y_max_;
+  }
+  /// Takes up to `depth` m off the column's top, never below bedrock; returns the m^3 taken
+  /// (what the column's height actually lost, times cell^2).
+  double take(std::int64_t i, std::int64_t j, double depth);
+  /// Lays `volume` m^3 onto the column; returns the m^3 its height actually gained.
+  double lay(std::int64_t i, std::int64_t j, double volume);
+
+ private:
+  /// Sets the column's height (its tile created if need be), lowers its sinkage by the
+  /// height moved and marks it changed; returns the m^3 the height moved by (signed).
+  double set(std::int64_t i, std::int64_t j, Tile& t, std::size_t k, double height);
+  TileStore& store_;
+  double cell_, area_, origin_x_, origin_y_, soil_depth_;
+  double x_min_, x_max_, y_min_, y_max_;
+};
+
+}  // namespace shore::terrain

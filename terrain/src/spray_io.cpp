@@ -1,0 +1,108 @@
+#include "spray_io.h"
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+namespace shore::terrain {
+
+namespace {
+constexpr std::size_t kParticleBytes = 8 * sizeof(double);
+constexpr std::size_t kCellBytes = 4 * sizeof(std::uint64_t) + 6 * sizeof(double);
+
+void need_finite(Reader& r, double v, const char* what) {
+  if (!std::isfinite(v)) r.fail(std::string(what) + " holds a non-finite value");
+}
+}  // namespace
+
+void write_spray_settings(Writer& w, const TerrainSettings& s) {
+  const SprayMaterial& m = s.material.spray;
+  for (double v : {m.adhesion, m.half_life, m.speed_scale, m.exponent, m.particle_size, m.min_speed, m.jitter, m.drag})
+    w.put(v);
+  const SpraySettings& p = s.spray;
+  w.put(static_cast<std::uint8_t>(p.enabled ? 1 : 0));
+  w.put(static_cast<std::int32_t>(p.max_particles));
+  w.put(p.seed);
+  for (double v : {p.gravity, p.x_min, p.x_max, p.y_min, p.y_max, p.max_flight}) w.put(v);
+}
+
+void read_spray_settings(Reader& r, TerrainSettings& s) {
+  SprayMaterial& m = s.material.spray;
+  for (double* v :
+       {&m.adhesion, &m.half_life, &m.speed_scale, &m.exponent, &m.particle_size, &m.min_speed, &m.jitter, &m.drag})
+    *v = r.get<double>("spray settings");
+  SpraySettings& p = s.spray;
+  p.enabled = r.get<std::uint8_t>("spray settings") != 0;
+  p.max_particles = r.get<std::int32_t>("spray settings");
+  p.seed = r.get<std::uint64_t>("spray settings");
+  for (double* v : {&p.gravity, &p.x_min, &p.x_max, &p.y_min, &p.y_max, &p.max_flight})
+    *v = r.get<double>("spray settings");
+}
+
+void write_spray_state(Writer& w, const SprayState& st) {
+  w.put(st.step);
+  w.put(st.lost);
+  const SprayCounts& c = st.counts;
+  for (std::int64_t v : {c.created, c.landed, c.lost, c.clumps, c.limited, c.set_down}) w.put(v);
+  w.put(c.picked_volume);
+  w.put(static_cast<std::uint64_t>(st.particles.size()));
+  for (const Particle& p : st.particles)
+    for (double v : {p.x, p.y, p.z, p.vx, p.vy, p.vz, p.volume, p.age}) w.put(v);
+  w.put(static_cast<std::uint64_t>(st.bodies.size()));
+  for (const ClingingBody& b : st.bodies) {
+    w.put(b.body);
+    for (double v : b.c) w.put(v);
+    for (double v : b.q) w.put(v);
+    w.put(static_cast<std::uint64_t>(b.cells.size()));
+    for (const ClingCell& cell : b.cells) {
+      w.put(cell.key);
+      for (double v : {cell.rx, cell.ry, cell.rz, cell.volume, cell.owed, cell.pending}) w.put(v);
+      for (std::int64_t v : {cell.i, cell.j, cell.touched}) w.put(v);
+    }
+  }
+}
+
+namespace {
+void read_bodies(Reader& r, SprayState& st) {
+  const auto bodies = r.get<std::uint64_t>("spray bodies");
+  if (bodies > r.remaining() / 64) r.fail("spray body count " + std::to_string(bodies) + " (corrupt)");
+  for (std::uint64_t k = 0; k < bodies; ++k) {
+    ClingingBody b;
+    b.body = r.get<std::uint64_t>("spray bodies");
+    if (!st.bodies.empty() && !(st.bodies.back().body < b.body)) r.fail("spray bodies out of order (corrupt)");
+    for (double& v : b.c) need_finite(r, v = r.get<double>("spray bodies"), "a spray body");
+    for (double& v : b.q) need_finite(r, v = r.get<double>("spray bodies"), "a spray body");
+    const auto cells = r.get<std::uint64_t>("spray bodies");
+    if (cells > r.remaining() / kCellBytes) r.fail("clinging cell count " + std::to_string(cells) + " (corrupt)");
+    for (std::uint64_t n = 0; n < cells; ++n) {
+      ClingCell c;
+      c.key = r.get<std::uint64_t>("clinging cells");
+      if (!b.cells.empty() && !(b.cells.back().key < c.key)) r.fail("clinging cells out of order (corrupt)");
+      for (double* v : {&c.rx, &c.ry, &c.rz, &c.volume, &c.owed, &c.pending})
+        need_finite(r, *v = r.get<double>("clinging cells"), "a clinging cell");
+      for (std::int64_t* v : {&c.i, &c.j, &c.touched}) *v = r.get<std::int64_t>("clinging cells");
+      b.cells.push_back(c);
+    }
+    st.bodies.push_back(std::move(b));
+  }
+}
+}  // namespace
+
+void read_spray_state(Reader& r, SprayState& st) {
+  st.step = r.get<std::int64_t>("spray state");
+  need_finite(r, st.lost = r.get<double>("spray state"), "the lost spray volume");
+  SprayCounts& c = st.counts;
+  for (std::int64_t* v : {&c.created, &c.landed, &c.lost, &c.clumps, &c.limited, &c.set_down})
+    *v = r.get<std::int64_t>("spray counts");
+  need_finite(r, c.picked_volume = r.get<double>("spray counts"), "the spray counts");
+  const auto particles = r.get<std::uint64_t>("spray particles");
+  if (particles > r.remaining() / kParticleBytes)
+    r.fail("spray particle count " + std::to_string(particles) + " (corrupt)");
+  st.particles.resize(particles);
+  for (Particle& p : st.particles)
+    for (double* v : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.volume, &p.age})
+      need_finite(r, *v = r.get<double>("spray particles"), "a spray particle");
+  read_bodies(r, st);
+}
+
+}  // namespace shore::terrain

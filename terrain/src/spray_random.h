@@ -1,0 +1,39 @@
+#pragma once
+// Private: the random numbers of spray, from a counter-based generator. Each number is a
+// hash of what it is for: (seed, step, body, piece of surface, candidate, draw), so no
+// generator state is carried, and results depend neither on the thread count nor on the
+// order bodies are given in. The mixing function is SplitMix64's finaliser (Steele, Lea &
+// Flood 2014), a bijection of 64-bit words whose outputs pass BigCrush.
+
+#include <cstdint>
+
+namespace shore::terrain {
+
+[[nodiscard]] constexpr std::uint64_t mix64(std::uint64_t z) noexcept {
+  z += 0x9e3779b97f4a7c15ull;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+/// The random numbers of one (seed, step, body, piece) tuple; uniform(candidate, draw) is
+/// the draw-th number of the candidate-th particle.
+class CounterRandom {
+ public:
+  CounterRandom(std::uint64_t seed, std::uint64_t step, std::uint64_t body, std::uint64_t piece) noexcept
+      : key_(mix64(mix64(mix64(mix64(seed) ^ step) ^ body) ^ piece)) {}
+  /// In [0, 1), 53 random bits.
+  [[nodiscard]] double uniform(std::uint64_t candidate, std::uint64_t draw) const noexcept {
+    const std::uint64_t bits = mix64(key_ ^ mix64(candidate * 16u + draw));
+    return static_cast<double>(bits >> 11) * 0x1.0p-53;
+  }
+  /// In [-1, 1).
+  [[nodiscard]] double symmetric(std::uint64_t candidate, std::uint64_t draw) const noexcept {
+    return 2.0 * uniform(candidate, draw) - 1.0;
+  }
+
+ private:
+  std::uint64_t key_;
+};
+
+}  // namespace shore::terrain

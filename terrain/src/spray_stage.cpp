@@ -1,0 +1,137 @@
+#include "spray_stage.h"
+
+#include <algorithm>
+#include <numbers>
+#include <utility>
+
+#include "capacity_bytes.h"
+#include "shore/core/det_math.h"
+
+namespace shore::terrain {
+
+void Spray::step(TileStore& store, const TerrainSettings& s, std::span<const Imprint> imprints, double dt,
+                 StepReport& report) {
+  SprayGround ground(store, s);
+  const FlightRules rules{s.spray.gravity, s.material.spray.drag, s.spray.max_flight};
+  fly_all(ground, rules, dt, report);
+  cling_all(ground, s, rules, imprints, dt, report);
+  ++state.step;
+}
+
+void Spray::fly_all(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report) {
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < state.particles.size(); ++k) {  // oldest first; landings raise columns in this order
+    Particle p = state.particles[k];
+    const FlightEnd end = fly(p, dt, ground, rules);
+    if (end.fate == FlightEnd::Fate::flying)
+      state.particles[kept++] = p;
+    else
+      land(ground, p, end, report);
+  }
+  state.particles.resize(kept);
+}
+
+void Spray::land(SprayGround& ground, const Particle& p, const FlightEnd& end, StepReport& report) {
+  if (end.fate == FlightEnd::Fate::landed) {
+    ground.lay(end.i, end.j, p.volume);
+    ++state.counts.landed;
+    ++report.particles_landed;
+  } else {
+    state.lost += p.volume;
+    ++state.counts.lost;
+    ++report.particles_lost;
+  }
+}
+
+void Spray::drop(SprayGround& ground, const Drop& d) {
+  if (ground.inside(d.x, d.y))
+    ground.lay(ground.column_i(d.x), ground.column_j(d.y), d.volume);
+  else
+    state.lost += d.volume;
+}
+
+void Spray::set_gone_down(SprayGround& ground, const ClingingBody& body) {
+  Cling::set_all_down(body, drops_);
+  state.counts.set_down += static_cast<std::int64_t>(drops_.size());
+  for (const Drop& d : drops_) drop(ground, d);
+  drops_.clear();
+}
+
+// Bodies by key (the imprints' order never matters), merged with the bodies soil clung to
+// last step: a body missing from this step sets its soil down.
+void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, const FlightRules& rules,
+                      std::span<const Imprint> imprints, double dt, StepReport& report) {
+  const SprayMaterial& m = s.material.spray;
+  ClingRules r;
+  r.dt = dt;
+  r.cell = s.cell;
+  r.tolerance = s.contact_tolerance;
+  r.capacity = m.adhesion * s.cell * s.cell;
+  r.min_speed = m.min_speed;
+  r.particle_volume = m.particle_volume();
+  r.shed_share = 1.0 - det::exp(-std::numbers::ln2 * dt / m.half_life);
+  r.jitter = m.jitter;
+  r.seed = s.spray.seed;
+  r.step = state.step;
+
+  auto sprays = [&](const Imprint& im) { return im.spray && !im.hold; };
+  if (state.bodies.empty() && std::none_of(imprints.begin(), imprints.end(), [&](const Imprint& im) {
+        return sprays(im) && Cling::can_start(im, ground, r);
+      }))
+    return;  // nothing clings and nothing moves fast enough to start: no work, no memory
+  order_.clear();
+  for (std::size_t k = 0; k < imprints.size(); ++k)
+    if (sprays(imprints[k])) order_.push_back(k);
+  std::sort(order_.begin(), order_.end(),
+            [&](std::size_t a, std::size_t b) { return imprints[a].body < imprints[b].body; });
+  next_bodies_.clear();
+  std::vector<ClingingBody>& old = state.bodies;
+  std::size_t b = 0;
+  const std::int64_t set_down_before = cling_.set_down_count;
+  for (const std::size_t k : order_) {
+    const Imprint& im = imprints[k];
+    for (; b < old.size() && old[b].body < im.body; ++b) set_gone_down(ground, old[b]);
+    ClingingBody body;
+    body.body = im.body;
+    if (b < old.size() && old[b].body == im.body) body = std::move(old[b++]);
+    const double picked = cling_.step(body, im, ground, r, candidates_, drops_);
+    report.picked_volume += picked;
+    state.counts.picked_volume += picked;
+    settle(ground, s, rules, report);
+    if (!body.cells.empty()) next_bodies_.push_back(std::move(body));
+  }
+  for (; b < old.size(); ++b) set_gone_down(ground, old[b]);
+  old.swap(next_bodies_);
+  state.counts.set_down += cling_.set_down_count - set_down_before;
+}
+
+// Sumner's test: a candidate flies where (speed / s)^gamma exceeds its uniform number.
+void Spray::settle(SprayGround& ground, const TerrainSettings& s, const FlightRules& rules, StepReport& report) {
+  for (const Drop& d : drops_) drop(ground, d);
+  drops_.clear();
+  const SprayMaterial& m = s.material.spray;
+  for (const Candidate& c : candidates_) {
+    const double ratio = c.speed / m.speed_scale;
+    const bool flies = ratio >= 1.0 || det::pow(ratio, m.exponent) > c.chance;
+    if (!flies || state.particles.size() >= static_cast<std::size_t>(s.spray.max_particles)) {
+      ++(flies ? state.counts.limited : state.counts.clumps);
+      drop(ground, {c.start.x, c.start.y, c.start.volume});
+      continue;
+    }
+    Particle p = c.start;
+    ++state.counts.created;
+    ++report.particles_created;
+    const FlightEnd end = fly(p, c.flight, ground, rules);
+    if (end.fate == FlightEnd::Fate::flying)
+      state.particles.push_back(p);
+    else
+      land(ground, p, end, report);
+  }
+  candidates_.clear();
+}
+
+std::size_t Spray::bytes() const {
+  return state.bytes() + cling_.bytes() + capacity_bytes(candidates_, drops_, order_, next_bodies_);
+}
+
+}  // namespace shore::terrain

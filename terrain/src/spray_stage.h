@@ -1,0 +1,52 @@
+#pragma once
+// Private: the spray stage of a step, after the pipeline has pressed, displaced and eroded
+// the soil (Terrain::step):
+//   fly       particles in flight move on by dt; those that land add their volume to the
+//             column they land on, those that leave the region or the world are lost;
+//   cling     each spraying body, in the order of its key, picks soil up, sets it down and
+//             sheds it (spray_cling.h); soil of bodies gone from the step is set down;
+//   throw     each shed candidate flies if (speed / s)^gamma beats its random number and
+//             max_particles allows (else it drops onto the column below, counted), starting
+//             at its own time within the step.
+// Serial, in fixed orders: particles oldest first, bodies by key, pieces by key.
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "shore/terrain/terrain.h"
+#include "spray_cling.h"
+#include "spray_flight.h"
+#include "spray_state.h"
+#include "tile_store.h"
+
+namespace shore::terrain {
+
+class Spray {
+ public:
+  /// One step of dt seconds (> 0) with these imprints (already checked).
+  void step(TileStore& store, const TerrainSettings& s, std::span<const Imprint> imprints, double dt,
+            StepReport& report);
+  [[nodiscard]] std::size_t bytes() const;
+
+  SprayState state;
+
+ private:
+  void fly_all(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report);
+  void cling_all(SprayGround& ground, const TerrainSettings& s, const FlightRules& rules,
+                 std::span<const Imprint> imprints, double dt, StepReport& report);
+  void set_gone_down(SprayGround& ground, const ClingingBody& body);
+  /// Candidates and drops of one body, in order.
+  void settle(SprayGround& ground, const TerrainSettings& s, const FlightRules& rules, StepReport& report);
+  /// Soil straight down onto the column below a point (lost outside the region).
+  void drop(SprayGround& ground, const Drop& d);
+  void land(SprayGround& ground, const Particle& p, const FlightEnd& end, StepReport& report);
+
+  Cling cling_;
+  std::vector<Candidate> candidates_;
+  std::vector<Drop> drops_;
+  std::vector<std::size_t> order_;
+  std::vector<ClingingBody> next_bodies_;
+};
+
+}  // namespace shore::terrain

@@ -1,0 +1,53 @@
+#include "spray_state.h"
+
+#include "capacity_bytes.h"
+
+namespace shore::terrain {
+
+double SprayState::in_flight() const {
+  double sum = 0.0;
+  for (const Particle& p : particles) sum += p.volume;
+  return sum;
+}
+
+double SprayState::clinging() const {
+  double sum = 0.0;
+  for (const ClingingBody& b : bodies)
+    for (const ClingCell& c : b.cells) sum += c.volume;
+  return sum;
+}
+
+std::int64_t SprayState::cell_count() const {
+  std::int64_t n = 0;
+  for (const ClingingBody& b : bodies)
+    for (const ClingCell& c : b.cells) n += c.volume > 0.0 ? 1 : 0;
+  return n;
+}
+
+void SprayState::hash_into(StateHash& h) const {
+  h.add(step);
+  h.add(lost);
+  h.add(static_cast<std::uint64_t>(particles.size()));
+  for (const Particle& p : particles)
+    for (double v : {p.x, p.y, p.z, p.vx, p.vy, p.vz, p.volume, p.age}) h.add(v);
+  h.add(static_cast<std::uint64_t>(bodies.size()));
+  for (const ClingingBody& b : bodies) {
+    h.add(b.body);
+    for (double v : b.c) h.add(v);
+    for (double v : b.q) h.add(v);
+    h.add(static_cast<std::uint64_t>(b.cells.size()));
+    for (const ClingCell& c : b.cells) {
+      h.add(c.key);
+      for (double v : {c.rx, c.ry, c.rz, c.volume, c.owed, c.pending}) h.add(v);
+      for (std::int64_t v : {c.i, c.j, c.touched}) h.add(v);
+    }
+  }
+}
+
+std::size_t SprayState::bytes() const {
+  std::size_t n = capacity_bytes(particles, bodies);
+  for (const ClingingBody& b : bodies) n += capacity_bytes(b.cells);
+  return n;
+}
+
+}  // namespace shore::terrain

@@ -1,0 +1,62 @@
+#pragma once
+// Private: what spray keeps from step to step (saved, loaded and hashed): the particles in
+// flight and the soil clinging to bodies, in fixed orders, and the totals.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "shore/core/hash.h"
+#include "shore/terrain/spray.h"
+
+namespace shore::terrain {
+
+/// One particle in flight, as it is at the end of the last step.
+struct Particle {
+  double x = 0.0, y = 0.0, z = 0.0;     ///< m
+  double vx = 0.0, vy = 0.0, vz = 0.0;  ///< m/s
+  double volume = 0.0;                  ///< m^3
+  double age = 0.0;                     ///< s in flight
+};
+
+/// Soil clinging to one piece of a body's surface: a cube of one column's side in the
+/// body's frame.
+struct ClingCell {
+  std::uint64_t key = 0;                ///< the cube, packed (cling_key)
+  double rx = 0.0, ry = 0.0, rz = 0.0;  ///< m, body frame: where it last touched the soil
+  double volume = 0.0;                  ///< m^3 clinging
+  /// m^3 of it the half-life says has dropped off but that has not yet made a whole
+  /// particle (shed as soon as it does).
+  double owed = 0.0;
+  /// m^3 the piece will carry away from the column it last touched when it leaves the
+  /// ground (adhesion x area, less what it still holds): soil under a body that is still
+  /// pressing stays where it bears the body.
+  double pending = 0.0;
+  std::int64_t i = 0, j = 0;  ///< the column it last touched
+  std::int64_t touched = -1;  ///< the spray step it last touched the soil in, moving fast enough
+};
+
+/// The soil clinging to one body, and where the body was last seen.
+struct ClingingBody {
+  std::uint64_t body = 0;              ///< Imprint::body
+  std::vector<ClingCell> cells;        ///< sorted by key
+  double c[3] = {0.0, 0.0, 0.0};       ///< m, its centre at the last step
+  double q[4] = {1.0, 0.0, 0.0, 0.0};  ///< its orientation then (w, x, y, z)
+};
+
+struct SprayState {
+  std::vector<Particle> particles;   ///< in flight, oldest first
+  std::vector<ClingingBody> bodies;  ///< sorted by key
+  std::int64_t step = 0;             ///< steps with a time step so far (keys the random numbers)
+  double lost = 0.0;                 ///< m^3 that left the region or the world
+  SprayCounts counts;                ///< totals (particles and clinging_cells filled on demand)
+
+  /// m^3 in flight and clinging, summed in their fixed order.
+  [[nodiscard]] double in_flight() const;
+  [[nodiscard]] double clinging() const;
+  [[nodiscard]] std::int64_t cell_count() const;
+  void hash_into(StateHash& h) const;
+  [[nodiscard]] std::size_t bytes() const;
+};
+
+}  // namespace shore::terrain

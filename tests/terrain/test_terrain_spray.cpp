@@ -1,0 +1,401 @@
+// Spray (shore/terrain/spray.h), on the terrain alone with bodies moved by hand: particles
+// land where ballistics says, volume is exact at every step, slow bodies make nothing,
+// faster ones throw more, results are bit-identical whatever the threads or the order of
+// the imprints, the particle limit and the region's edges are kept and counted, the state
+// saves and loads, bad parameters are refused by name.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "shore/core/error.h"
+#include "shore/terrain/terrain.h"
+#include "terrain_fixtures.h"
+
+using namespace shore::terrain;
+using namespace shore::terrain::testing;
+
+namespace {
+
+constexpr double kG = 9.81;
+
+/// A wheel (axis along y, centred on y = 0) of radius r and width w, centre at (x, z):
+/// its lowest point over each column it covers.
+shore::EnvelopeRaster wheel_envelope(const Terrain& t, double x, double z, double r, double w) {
+  shore::EnvelopeRaster env;
+  const std::int64_t i0 = t.column_i(x - r) - 1, i1 = t.column_i(x + r) + 1;
+  const std::int64_t j0 = t.column_j(-w / 2), j1 = t.column_j(w / 2);
+  env.resize(i0, j0, static_cast<int>(i1 - i0 + 1), static_cast<int>(j1 - j0 + 1), false);
+  for (std::int64_t j = j0; j <= j1; ++j)
+    for (std::int64_t i = i0; i <= i1; ++i) {
+      const double dx = t.column_x(i) - x;
+      if (std::abs(dx) < r) env.lower[env.index(i, j)] = z - std::sqrt(r * r - dx * dx);
+    }
+  return env;
+}
+
+/// A wheel driven at a fixed slip along +x, pressed `depth` into the soil, spinning at
+/// rim_speed (its bottom moving backward), kinematically: what a slipping tyre does.
+struct SpinningWheel {
+  double radius = 0.3, width = 0.15, depth = 0.03, rim_speed = 3.0, slip = 0.5;
+  std::uint64_t key = 7;
+  double x0 = 0.0;
+
+  [[nodiscard]] double speed() const { return (1.0 - slip) * rim_speed; }
+  /// Its envelope and imprint at time t (the imprint points at env).
+  Imprint at(const Terrain& t, double time, shore::EnvelopeRaster& env) const {
+    const double x = x0 + speed() * time, z = radius - depth;
+    env = wheel_envelope(t, x, z, radius, width);
+    Imprint im{&env};
+    const double omega = rim_speed / radius, turn = omega * time;
+    im.vx = speed();
+    im.wy = omega;
+    im.cx = x, im.cz = z;
+    im.qw = std::cos(turn / 2), im.qy = std::sin(turn / 2);
+    im.body = key;
+    return im;
+  }
+};
+
+TerrainSettings sand(double cell = 0.01) {
+  TerrainSettings s;
+  s.cell = cell;
+  s.material = Material::sand();
+  s.tile_columns = 32;
+  return s;
+}
+
+/// |ground + compacted + airborne + lost - edited| after each step, over the volume moved
+/// so far (displaced by collision plus picked up by bodies).
+struct VolumeWatch {
+  double moved = 0.0, worst = 0.0;
+  void after(const Terrain& t, const StepReport& r) {
+    moved += r.displaced_volume + r.picked_volume;
+    const VolumeTotals v = t.volume();
+    if (moved > 0.0) worst = std::max(worst, std::abs(v.total() - v.edited) / moved);
+  }
+};
+
+/// Where a particle at (x, y, z) with velocity v reaches the plane z = ground, with
+/// gravity and a linear drag k (closed form of dv/dt = g - k v), by bisection on time.
+std::pair<double, double> ballistic_landing(const SprayParticle& p, double k, double ground) {
+  auto distance = [&](double v, double t) { return k > 0.0 ? v * (1.0 - std::exp(-k * t)) / k : v * t; };
+  auto height = [&](double t) {
+    if (k == 0.0) return p.z + p.vz * t - 0.5 * kG * t * t;
+    const double vt = kG / k;
+    return p.z + distance(p.vz + vt, t) - vt * t;
+  };
+  double lo = 0.0, hi = 100.0;
+  for (int it = 0; it < 200; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (height(mid) > ground ? lo : hi) = mid;
+  }
+  return {p.x + distance(p.vx, lo), p.y + distance(p.vy, lo)};
+}
+
+/// A one-column body that touches the soil once and then leaves it at `velocity`.
+Terrain fling_one_particle(double drag, const double velocity[3], SprayParticle& thrown) {
+  TerrainSettings s = sand();
+  s.material.spray.jitter = 0.0;
+  s.material.spray.drag = drag;
+  s.material.spray.half_life = 1e-6;      // everything drops off in the first step off the ground
+  s.material.spray.speed_scale = 0.1;     // and flies
+  s.material.spray.particle_size = 0.05;  // one particle holds more than a piece: one per piece
+  Terrain t(s);
+  const double dt = 0.01;
+  for (int step = 0; step < 2; ++step) {
+    const double lift = double(step) * dt;
+    const shore::EnvelopeRaster env =
+        box_envelope(t.column_i(velocity[0] * lift), t.column_j(velocity[1] * lift), 1, 1, velocity[2] * lift);
+    Imprint im{&env};
+    im.vx = velocity[0], im.vy = velocity[1], im.vz = velocity[2];
+    im.cx = velocity[0] * lift, im.cy = velocity[1] * lift, im.cz = 0.05 + velocity[2] * lift;
+    im.body = 1;
+    t.step({&im, 1}, dt);
+  }
+  const std::vector<SprayParticle> p = t.spray_particles();
+  EXPECT_EQ(p.size(), 1u);
+  if (!p.empty()) thrown = p.front();
+  return t;
+}
+
+}  // namespace
+
+TEST(Spray, AParticleLandsWhereBallisticsSaysAndAddsItsVolumeThere) {
+  const double velocity[3] = {2.0, 1.0, 3.0};
+  for (const double drag : {0.0, 2.0}) {
+    SprayParticle p;
+    Terrain t = fling_one_particle(drag, velocity, p);
+    ASSERT_GT(p.volume, 0.0);
+    EXPECT_NEAR(p.vx, velocity[0] * (drag > 0 ? std::exp(-drag * 0.01) : 1.0), 0.05);
+    const auto [x, y] = ballistic_landing(p, drag, 0.0);
+    const VolumeTotals before = t.volume();
+    for (int k = 0; k < 200 && t.spray_counts().landed == 0; ++k) t.step({}, 0.01);
+    ASSERT_EQ(t.spray_counts().landed, 1);
+    // The column that rose: where ballistics puts the particle, within one column.
+    const std::int64_t ci = t.column_i(x), cj = t.column_j(y);
+    std::int64_t hit_i = 0, hit_j = 0;
+    double rise = 0.0;
+    for (std::int64_t j = cj - 3; j <= cj + 3; ++j)
+      for (std::int64_t i = ci - 3; i <= ci + 3; ++i)
+        if (const double d = t.height(i, j) - t.base_height(i, j); d > rise) rise = d, hit_i = i, hit_j = j;
+    const double cell = t.settings().cell;
+    EXPECT_LE(std::abs(t.column_x(hit_i) - x), cell)
+        << "drag " << drag << ": landed at column x " << t.column_x(hit_i) << ", ballistics " << x;
+    EXPECT_LE(std::abs(t.column_y(hit_j) - y), cell) << "drag " << drag;
+    EXPECT_NEAR(rise * cell * cell, p.volume, 1e-15 * p.volume + 1e-22) << "its whole volume, on that column";
+    EXPECT_EQ(t.volume().airborne, 0.0);
+    EXPECT_NEAR(t.volume().ground - before.ground, p.volume, 1e-18);
+    // Landed soil is loose: it lowers the column's sinkage by its height.
+    EXPECT_NEAR(t.sinkage(hit_i, hit_j), -rise, 1e-15);
+  }
+}
+
+TEST(Spray, VolumeIsExactAtEveryStepOfASpinningWheel) {
+  Terrain t(sand());
+  const SpinningWheel w;
+  const double dt = 1.0 / 240;
+  VolumeWatch watch;
+  double peak_airborne = 0.0;
+  shore::EnvelopeRaster env;
+  for (int k = 0; k < 480; ++k) {  // 2 s at 50 % slip
+    const Imprint im = w.at(t, k * dt, env);
+    watch.after(t, t.step({&im, 1}, dt));
+    peak_airborne = std::max(peak_airborne, t.volume().airborne);
+  }
+  const SprayCounts c = t.spray_counts();
+  EXPECT_GT(c.created, 100) << "a wheel spinning at 3 m/s throws sand";
+  EXPECT_GT(c.landed, 50);
+  EXPECT_GT(peak_airborne, 0.0);
+  EXPECT_LT(watch.worst, 1e-12) << "worst |ground + compacted + airborne + lost - edited| / moved";
+}
+
+TEST(Spray, BodiesAtRestOrCreepingMakeNothingAndHoldNoMemory) {
+  // Rolling: no point of the ball moves faster than twice its speed, below sand's min_speed
+  // of 0.3 m/s.
+  for (const double speed : {0.0, 0.05, 0.14}) {
+    Terrain on(sand());
+    TerrainSettings quiet = sand();
+    quiet.spray.enabled = false;
+    Terrain off(quiet);
+    for (int k = 0; k < 120; ++k) {
+      const double x = speed * k / 240.0;
+      for (Terrain* t : {&on, &off}) {
+        const shore::EnvelopeRaster ball = sphere_envelope(*t, x, 0.0, 0.1 - 0.02 - 1e-4 * k, 0.1);
+        Imprint im{&ball};
+        im.vx = speed, im.vz = -0.024;
+        im.cx = x, im.cz = 0.08 - 1e-4 * k;
+        im.wy = speed / 0.1;  // rolling
+        t->step({&im, 1}, 1.0 / 240);
+      }
+    }
+    const SprayCounts c = on.spray_counts();
+    EXPECT_EQ(c.created, 0) << speed;
+    EXPECT_EQ(c.clinging_cells, 0) << speed;
+    EXPECT_EQ(c.picked_volume, 0.0) << speed;
+    EXPECT_EQ(on.volume().airborne, 0.0) << speed;
+    EXPECT_EQ(on.memory_bytes(), off.memory_bytes()) << "spray allocated something at " << speed << " m/s";
+  }
+}
+
+TEST(Spray, AirborneVolumeGrowsWithTheWheelsSpeed) {
+  double last = 0.0;
+  for (const double rim : {1.0, 2.0, 4.0, 8.0}) {
+    Terrain t(sand());
+    SpinningWheel w;
+    w.rim_speed = rim;
+    const double dt = 1.0 / 240;
+    double sum = 0.0;
+    shore::EnvelopeRaster env;
+    for (int k = 0; k < 120; ++k) {
+      const Imprint im = w.at(t, k * dt, env);
+      t.step({&im, 1}, dt);
+      if (k >= 60) sum += t.volume().airborne;
+    }
+    const double mean = sum / 60;
+    EXPECT_GT(mean, last) << "mean airborne volume at rim speed " << rim << " m/s";
+    last = mean;
+  }
+}
+
+namespace {
+
+/// A spinning wheel and a sphere sliding fast beside it, imprints in either order.
+std::uint64_t two_bodies(int threads, bool reversed) {
+  TerrainSettings s = sand();
+  s.threads = threads;
+  s.parallel_min_columns = 0;  // split even these small regions between threads
+  s.max_erosion_passes = 2;    // fewer fork-joins: this machine's cores are shared
+  Terrain t(s);
+  SpinningWheel w;
+  const double dt = 1.0 / 240;
+  shore::EnvelopeRaster wheel;
+  for (int k = 0; k < 60; ++k) {
+    const double x = 2.0 * k * dt;
+    const shore::EnvelopeRaster ball = sphere_envelope(t, x, 0.4, 0.1 - 0.015, 0.1);
+    Imprint b{&ball};
+    b.vx = 2.0, b.wx = -5.0, b.cx = x, b.cy = 0.4, b.cz = 0.085, b.body = 3;
+    const Imprint a = w.at(t, k * dt, wheel);
+    const Imprint ims[2] = {reversed ? b : a, reversed ? a : b};
+    t.step(ims, dt);
+  }
+  EXPECT_GT(t.spray_counts().created, 0);
+  return t.state_hash();
+}
+
+}  // namespace
+
+TEST(Spray, SameHashForOneTwoFourThreadsAndEitherOrderOfTheBodies) {
+  const std::uint64_t one = two_bodies(1, false);
+  EXPECT_EQ(two_bodies(2, false), one);
+  EXPECT_EQ(two_bodies(4, false), one);
+  EXPECT_EQ(two_bodies(2, true), one);
+}
+
+TEST(Spray, TheStateHashCoversTheParticles) {
+  // Two seeds, stopped right after the first particles are thrown: particles elsewhere.
+  std::uint64_t hashes[2];
+  for (int n = 0; n < 2; ++n) {
+    TerrainSettings s = sand();
+    s.spray.seed = 1000 + n;
+    Terrain t(s);
+    const SpinningWheel w;
+    shore::EnvelopeRaster env;
+    for (int k = 0; k < 400 && t.spray_counts().created == 0; ++k) {
+      const Imprint im = w.at(t, k / 240.0, env);
+      t.step({&im, 1}, 1.0 / 240);
+    }
+    ASSERT_GT(t.spray_counts().created, 0);
+    hashes[n] = t.state_hash();
+  }
+  EXPECT_NE(hashes[0], hashes[1]);
+}
+
+TEST(Spray, TheParticleLimitIsKeptAndTheRestLaidAtOnce) {
+  TerrainSettings s = sand();
+  s.spray.max_particles = 3;
+  Terrain t(s);
+  SpinningWheel w;
+  w.rim_speed = 6.0;
+  VolumeWatch watch;
+  shore::EnvelopeRaster env;
+  for (int k = 0; k < 240; ++k) {
+    const Imprint im = w.at(t, k / 240.0, env);
+    watch.after(t, t.step({&im, 1}, 1.0 / 240));
+    ASSERT_LE(t.spray_particles().size(), 3u);
+  }
+  EXPECT_GT(t.spray_counts().limited, 0);
+  EXPECT_LT(watch.worst, 1e-12);
+}
+
+TEST(Spray, ParticlesLeavingTheRegionAreCountedLost) {
+  TerrainSettings s = sand();
+  s.spray.x_min = -0.05;  // the wheel throws backward, toward -x
+  s.spray.x_max = 10.0;
+  Terrain t(s);
+  SpinningWheel w;
+  w.rim_speed = 6.0;
+  VolumeWatch watch;
+  shore::EnvelopeRaster env;
+  for (int k = 0; k < 120; ++k) {
+    const Imprint im = w.at(t, k / 240.0, env);
+    watch.after(t, t.step({&im, 1}, 1.0 / 240));
+  }
+  EXPECT_GT(t.spray_counts().lost, 0);
+  EXPECT_GT(t.volume().lost, 0.0);
+  EXPECT_LT(watch.worst, 1e-12) << "lost volume is counted, never dropped";
+}
+
+TEST(Spray, ABodyThatLeavesTheStepSetsItsSoilDown) {
+  Terrain t(sand());
+  SpinningWheel w;
+  shore::EnvelopeRaster env;
+  for (int k = 0; k < 60; ++k) {
+    const Imprint im = w.at(t, k / 240.0, env);
+    t.step({&im, 1}, 1.0 / 240);
+  }
+  const SprayCounts before = t.spray_counts();
+  ASSERT_GT(before.clinging_cells, 0);
+  const double clinging = t.volume().clinging;
+  ASSERT_GT(clinging, 0.0);
+  t.step({}, 0.0);  // no time passes: nothing moves
+  EXPECT_EQ(t.volume().clinging, clinging);
+  EXPECT_EQ(t.spray_counts().particles, before.particles);
+  t.step({}, 1.0 / 240);  // the wheel is gone: its soil goes down at once
+  EXPECT_EQ(t.spray_counts().clinging_cells, 0);
+  EXPECT_EQ(t.volume().clinging, 0.0);
+  EXPECT_EQ(t.spray_counts().set_down, before.set_down + before.clinging_cells);
+}
+
+TEST(Spray, SavedMidFlightItLoadsBitExactAndContinuesIdentically) {
+  Terrain a(sand());
+  SpinningWheel w;
+  shore::EnvelopeRaster env;
+  int k = 0;
+  for (; k < 100; ++k) {
+    const Imprint im = w.at(a, k / 240.0, env);
+    a.step({&im, 1}, 1.0 / 240);
+  }
+  ASSERT_GT(a.spray_counts().particles, 0);
+  ASSERT_GT(a.spray_counts().clinging_cells, 0);
+  const auto file = std::filesystem::temp_directory_path() / "shore_terrain_test_spray.state";
+  a.save(file);
+  Terrain b = Terrain::load(file);
+  EXPECT_EQ(b.state_hash(), a.state_hash());
+  EXPECT_EQ(b.spray_counts().created, a.spray_counts().created);
+  EXPECT_EQ(b.volume().airborne, a.volume().airborne);
+  EXPECT_TRUE(b.settings().spray.enabled);
+  for (; k < 160; ++k)
+    for (Terrain* t : {&a, &b}) {
+      const Imprint im = w.at(*t, k / 240.0, env);
+      t->step({&im, 1}, 1.0 / 240);
+    }
+  EXPECT_EQ(b.state_hash(), a.state_hash());
+  std::filesystem::remove(file);
+}
+
+TEST(Spray, BadParametersAndInputsAreRefusedByName) {
+  auto bad = [](const std::function<void(TerrainSettings&)>& edit) {
+    TerrainSettings s;
+    edit(s);
+    return message_of<shore::InvalidSetting>([&] { Terrain t(s); });
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.material.spray.adhesion = -1e-3; }), "Material(sand).spray.adhesion"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.material.spray.half_life = 0.0; }), "spray.half_life = 0"));
+  EXPECT_TRUE(mentions(bad([nan](auto& s) { s.material.spray.speed_scale = nan; }), "spray.speed_scale"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.material.spray.exponent = 0.0; }), "spray.exponent"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.material.spray.particle_size = -0.004; }), "spray.particle_size"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.material.spray.min_speed = -1.0; }), "spray.min_speed"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.material.spray.jitter = 1.5; }), "spray.jitter = 1.5"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.material.spray.drag = -0.1; }), "spray.drag"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.spray.max_particles = -1; }), "TerrainSettings.spray.max_particles"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.spray.gravity = 0.0; }), "spray.gravity"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.spray.max_flight = 0.0; }), "spray.max_flight"));
+  EXPECT_TRUE(mentions(bad([](auto& s) { s.spray.x_min = 1.0, s.spray.x_max = 1.0; }), "spray.x_min / x_max"));
+  EXPECT_TRUE(mentions(bad([nan](auto& s) { s.spray.y_max = nan; }), "spray.y_min / y_max"));
+
+  Terrain t(sand());
+  const shore::EnvelopeRaster env = sphere_envelope(t, 0.0, 0.0, 0.09, 0.1);
+  auto step_error = [&](const std::function<void(Imprint&)>& edit, double dt = 0.01) {
+    Imprint im{&env};
+    edit(im);
+    return message_of<shore::InvalidSetting>([&] { t.step({&im, 1}, dt); });
+  };
+  EXPECT_TRUE(mentions(step_error([](Imprint&) {}, -0.01), "terrain.Terrain.step.dt"));
+  EXPECT_TRUE(mentions(step_error([](Imprint&) {}, nan), "step.dt"));
+  EXPECT_TRUE(mentions(step_error([nan](Imprint& im) { im.wz = nan; }), "terrain.Imprint[0].wz"));
+  EXPECT_TRUE(mentions(step_error([](Imprint& im) { im.cx = std::numeric_limits<double>::infinity(); }), "cx"));
+  EXPECT_TRUE(mentions(step_error([](Imprint& im) { im.qw = 0.0; }), "terrain.Imprint[0].qw, qx, qy, qz"));
+  const Imprint two[2] = {{&env}, {&env}};
+  EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { t.step(two, 0.01); }), "terrain.Imprint[1].body"));
+  EXPECT_EQ(message_of<shore::InvalidSetting>([&] { t.step(two, 0.0); }), "(no exception)")
+      << "keys only matter when time passes";
+  EXPECT_EQ(t.spray_counts().created, 0);
+}
