@@ -55,6 +55,7 @@ class ByteReader {
       fail(std::string(what) + " holds " + std::to_string(count) + " values, expected " + std::to_string(expected));
     need(count * sizeof(T), what);
     v.resize(count);
+    if (count == 0) return;  // an empty vector's data() may be null, which memcpy must not see
     std::memcpy(v.data(), bytes_.data() + pos_, count * sizeof(T));
     pos_ += count * sizeof(T);
   }
