@@ -56,7 +56,7 @@ struct Block {
   Vec3 t1, t2;                                                      ///< friction directions
   double normal_impulse = 0.0, t1_impulse = 0.0, t2_impulse = 0.0;  ///< N s
   double mass_n = 0.0, mass_t1 = 0.0, mass_t2 = 0.0;                ///< effective masses, kg
-  double start_n = 0.0, start_t1 = 0.0, start_t2 = 0.0;  ///< the rows' velocities at the substep's start
+  double start_n = 0.0, start_t1 = 0.0, start_t2 = 0.0;             ///< the rows' velocities at the substep's start
 };
 
 struct SolverSettings {

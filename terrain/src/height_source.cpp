@@ -10,8 +10,8 @@
 #include <memory>
 #include <string>
 
-#include "shore/core/file_bytes.h"
 #include "shore/core/error.h"
+#include "shore/core/file_bytes.h"
 
 namespace shore::terrain {
 

@@ -26,7 +26,7 @@ struct Terrain::Impl {
   std::vector<ColumnRect> unsettled;
   ActiveRegions planner;
   Pipeline pipeline;
-  Spray spray;  ///< particles in flight, soil clinging to bodies (spray_stage.h)
+  Spray spray;                 ///< particles in flight, soil clinging to bodies (spray_stage.h)
   double spray_seconds = 0.0;  ///< wall time spent in spray (a measurement, not state)
 
   [[nodiscard]] std::size_t bytes() const;  ///< all of it, this object included

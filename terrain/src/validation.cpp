@@ -90,8 +90,8 @@ void check_one(const Imprint& im, const std::string& name) {
   c.finite("cx", im.cx), c.finite("cy", im.cy), c.finite("cz", im.cz);
   if (!unit(im))
     throw InvalidSetting(c.name("qw, qx, qy, qz"),
-                         detail::to_text(im.qw) + ", " + detail::to_text(im.qx) + ", " + detail::to_text(im.qy) +
-                             ", " + detail::to_text(im.qz),
+                         detail::to_text(im.qw) + ", " + detail::to_text(im.qx) + ", " + detail::to_text(im.qy) + ", " +
+                             detail::to_text(im.qz),
                          "must be a unit quaternion (|q| within 1e-3 of 1)");
 }
 

@@ -52,7 +52,7 @@ struct RigidBody;
 
 /// Per-body choices.
 struct BodySoilSettings {
-  bool deform = true;      ///< the body presses the soil (false: it only feels the ground)
+  bool deform = true;  ///< the body presses the soil (false: it only feels the ground)
   /// A deforming body throws the soil it touches fast into the air (the soil's
   /// Material::spray and TerrainSettings::spray; shore/terrain/spray.h).
   bool spray = true;
