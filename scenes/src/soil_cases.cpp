@@ -58,6 +58,27 @@ struct SoilRig {
     return body;
   }
 
+  /// A wheel (a cylinder along y) standing on the surface, free only to move up and down.
+  btRigidBody* add_held_wheel(double radius, double width, double mass, double cell) {
+    btRigidBody* wheel =
+        add(std::make_unique<btCylinderShape>(btVector3(btScalar(radius), btScalar(width / 2), btScalar(radius))), mass,
+            btVector3(0, btScalar(0.5 * cell), btScalar(radius)));
+    wheel->setLinearFactor(btVector3(0, 0, 1));
+    wheel->setAngularFactor(btVector3(0, 0, 0));
+    return wheel;
+  }
+
+  /// `steps` substeps in which the part of the body's weight not yet applied is held up:
+  /// the load grows linearly to the whole weight over ramp_seconds (0: all at once).
+  void press(btRigidBody& body, double mass, double ramp_seconds, std::int64_t steps, RunStats& stats) {
+    for (std::int64_t k = 0; k < steps; ++k) {
+      const double t = double(k) * h;
+      if (t < ramp_seconds)
+        body.applyCentralForce(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - t / ramp_seconds))));
+      advance(stats);
+    }
+  }
+
   /// One substep, timed, with the coupling's timings.
   void advance(RunStats& stats) {
     const auto t0 = Clock::now();
@@ -115,13 +136,8 @@ PlateResult run_plate(const PlateCase& c) {
       rig.add(std::make_unique<btBoxShape>(btVector3(btScalar(c.width / 2), btScalar(c.width / 2), btScalar(half_h))),
               mass, btVector3(btScalar(cx), btScalar(cx), btScalar(half_h)));
   const double h = c.run.substep;
-  const auto steps = static_cast<std::int64_t>(std::lround((c.ramp_seconds + c.settle_seconds) / h));
-  for (std::int64_t k = 0; k < steps; ++k) {
-    const double t = double(k) * h;
-    if (t < c.ramp_seconds)  // the part of the weight not yet applied is held up
-      plate->applyCentralForce(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - t / c.ramp_seconds))));
-    rig.advance(out.stats);
-  }
+  rig.press(*plate, mass, c.ramp_seconds,
+            static_cast<std::int64_t>(std::lround((c.ramp_seconds + c.settle_seconds) / h)), out.stats);
   out.sinkage = -(plate->getCenterOfMassPosition().z() - half_h);
   out.drift = double((plate->getCenterOfMassPosition() - btVector3(btScalar(cx), btScalar(cx), 0)).length() -
                      std::abs(double(plate->getCenterOfMassPosition().z())));
@@ -135,21 +151,11 @@ WheelResult run_wheel(const WheelCase& c) {
   WheelResult out;
   SoilRig rig(c.run);
   const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
-  btRigidBody* wheel =
-      rig.add(std::make_unique<btCylinderShape>(btVector3(btScalar(R), btScalar(c.width / 2), btScalar(R))), mass,
-              btVector3(0, btScalar(0.5 * c.run.cell), btScalar(R)));
-  wheel->setLinearFactor(btVector3(0, 0, 1));
-  wheel->setAngularFactor(btVector3(0, 0, 0));
-
+  btRigidBody* wheel = rig.add_held_wheel(R, c.width, mass, c.run.cell);
   // Press: the load ramps in with the wheel held still.
   const auto ramp_steps = static_cast<std::int64_t>(std::lround(c.ramp_seconds / h));
   const auto settle_steps = static_cast<std::int64_t>(std::lround(0.5 / h));
-  for (std::int64_t k = 0; k < ramp_steps + settle_steps; ++k) {
-    const double t = double(k) * h;
-    if (t < c.ramp_seconds)
-      wheel->applyCentralForce(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - t / c.ramp_seconds))));
-    rig.advance(out.stats);
-  }
+  rig.press(*wheel, mass, c.ramp_seconds, ramp_steps + settle_steps, out.stats);
   if (!c.towed) {
     out.sinkage = -(wheel->getCenterOfMassPosition().z() - R);
     out.reference_sinkage = terrain::bekker::wheel_sinkage_static(c.run.material, c.load, c.diameter, c.width);
@@ -202,18 +208,9 @@ DrivenWheelResult run_driven_wheel(const DrivenWheelCase& c) {
   DrivenWheelResult out;
   SoilRig rig(c.run);
   const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
-  btRigidBody* wheel =
-      rig.add(std::make_unique<btCylinderShape>(btVector3(btScalar(R), btScalar(c.width / 2), btScalar(R))), mass,
-              btVector3(0, btScalar(0.5 * c.run.cell), btScalar(R)));
-  // Press: the load ramps in with the wheel held still.
-  wheel->setLinearFactor(btVector3(0, 0, 1));
-  wheel->setAngularFactor(btVector3(0, 0, 0));
-  const auto ramp_steps = static_cast<std::int64_t>(std::lround(c.ramp_seconds / h));
-  for (std::int64_t k = 0; k < ramp_steps; ++k) {
-    const double t = double(k) * h;
-    wheel->applyCentralForce(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - t / c.ramp_seconds))));
-    rig.advance(out.stats);
-  }
+  btRigidBody* wheel = rig.add_held_wheel(R, c.width, mass, c.run.cell);
+  // Press: the load ramps in with the wheel held still (every step of the ramp is within it).
+  rig.press(*wheel, mass, c.ramp_seconds, static_cast<std::int64_t>(std::lround(c.ramp_seconds / h)), out.stats);
   // Drive: omega and the carrier's speed held at the start of every substep. The wheel's
   // inertia about its axle is made huge, so the soil's torque cannot slow it within a
   // substep either: omega is what the rig imposes, the driving torque what the soil takes.
@@ -431,18 +428,9 @@ SidePushResult run_side_push(const SidePushCase& c) {
   SidePushResult out;
   SoilRig rig(c.run);
   const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
-  btRigidBody* wheel =
-      rig.add(std::make_unique<btCylinderShape>(btVector3(btScalar(R), btScalar(c.width / 2), btScalar(R))), mass,
-              btVector3(0, btScalar(0.5 * c.run.cell), btScalar(R)));
-  // Press the load in, held still.
-  wheel->setLinearFactor(btVector3(0, 0, 1));
-  wheel->setAngularFactor(btVector3(0, 0, 0));
-  for (std::int64_t k = 0, n = std::lround(1.5 / h); k < n; ++k) {
-    const double t = double(k) * h;
-    if (t < 1.0) wheel->applyCentralForce(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - t))));
-    rig.advance(out.stats);
-  }
-  if (c.in_rut) {  // roll 1.5 m to cut a rut, then stop in it
+  btRigidBody* wheel = rig.add_held_wheel(R, c.width, mass, c.run.cell);
+  rig.press(*wheel, mass, 1.0, std::lround(1.5 / h), out.stats);  // the load in over 1 s, held still
+  if (c.in_rut) {                                                 // roll 1.5 m to cut a rut, then stop in it
     wheel->setLinearFactor(btVector3(1, 0, 1));
     wheel->setAngularFactor(btVector3(0, 1, 0));
     const double speed = 1.0;
