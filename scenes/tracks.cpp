@@ -186,7 +186,11 @@ class Tracks final : public Scene {
   Image film_frame() override { return soil_film_frame(patches_, frame_, baseline_, bodies_, o_.smoke ? 160 : 480); }
 
   SceneContents contents() override {
-    return {.world = &world_, .soils = {{&soil_, &coupling_, {}}}, .bounds = bounds_of(frame_), .focus = bike_.frame};
+    return {.world = &world_,
+            .soils = {{&soil_, &coupling_, {}}},
+            .bounds = bounds_of(frame_),
+            .focus = bike_.frame,
+            .clock = &k_};
   }
 
   void draw(Drawing& out) const override {

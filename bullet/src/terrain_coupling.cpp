@@ -10,6 +10,7 @@
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <LinearMath/btTransformUtil.h>
 
+#include "checkpoint_bytes.h"
 #include "coupling_util.h"
 #include "shore/bullet/envelope.h"
 #include "shore/core/error.h"
@@ -134,6 +135,36 @@ struct TerrainCoupling::BodyContact {
   btVector3 v_end{0, 0, 0}, w_end{0, 0, 0};
   bool has_end = false;
 };
+
+void TerrainCoupling::save_contact(const BodyContact& c, ByteWriter& w) {
+  w.put_array(c.patch.elements);
+  w.put(c.patch.patch_width), w.put(c.patch.area), w.put(c.patch.touching_columns);
+  w.put_array(c.blocks), w.put_array(c.previous), w.put_array(c.shear), w.put_array(c.shear_length);
+  w.put_array(c.drag_x), w.put_array(c.drag_y), w.put_array(c.drag_length);
+  coupling_detail::put_vector(w, c.last.force), coupling_detail::put_vector(w, c.last.torque);
+  coupling_detail::put_vector(w, c.last.normal_force);
+  w.put(c.last.contact_columns), w.put(static_cast<std::uint8_t>(c.last.yielded));
+  coupling_detail::put_vector(w, c.v_end), coupling_detail::put_vector(w, c.w_end);
+  w.put(static_cast<std::uint8_t>(c.resting)), w.put(static_cast<std::uint8_t>(c.has_end));
+}
+
+void TerrainCoupling::restore_contact(ByteReader& r, BodyContact& c) {
+  coupling_detail::get_any_array(r, c.patch.elements, "contact patch");
+  c.patch.patch_width = r.get<double>("contact patch"), c.patch.area = r.get<double>("contact patch");
+  c.patch.touching_columns = r.get<int>("contact patch");
+  coupling_detail::get_any_array(r, c.blocks, "contact blocks");
+  coupling_detail::get_any_array(r, c.previous, "contact blocks");
+  coupling_detail::get_any_array(r, c.shear, "shear displacement");
+  r.get_array(c.shear_length, c.shear.size(), "shear displacement");
+  coupling_detail::get_any_array(r, c.drag_x, "drag");
+  r.get_array(c.drag_y, c.drag_x.size(), "drag");
+  r.get_array(c.drag_length, c.drag_x.size(), "drag");
+  c.last.force = coupling_detail::get_vector(r, "soil force"), c.last.torque = coupling_detail::get_vector(r, "soil force");
+  c.last.normal_force = coupling_detail::get_vector(r, "soil force");
+  c.last.contact_columns = r.get<int>("soil force"), c.last.yielded = r.get<std::uint8_t>("soil force") != 0;
+  c.v_end = coupling_detail::get_vector(r, "contact velocities"), c.w_end = coupling_detail::get_vector(r, "contact velocities");
+  c.resting = r.get<std::uint8_t>("contact flags") != 0, c.has_end = r.get<std::uint8_t>("contact flags") != 0;
+}
 
 TerrainCoupling::Body::Body() : contact(std::make_unique<BodyContact>()) {}
 TerrainCoupling::Body::~Body() = default;

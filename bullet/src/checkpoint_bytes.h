@@ -1,0 +1,80 @@
+#pragma once
+// Internal: Bullet values and variable-length arrays in checkpoint bytes (shore/core/byte_io.h).
+// btScalars are written raw: a checkpoint carries its writer's precision and refuses the other.
+
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+#include <BulletCollision/CollisionShapes/btCollisionShape.h>
+#include <LinearMath/btTransform.h>
+
+#include "shore/bullet/config.h"
+#include "shore/core/byte_io.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+namespace coupling_detail {
+
+inline void put_vector(ByteWriter& w, const btVector3& v) {
+  for (int k = 0; k < 3; ++k) w.put(v[k]);
+}
+inline void put_transform(ByteWriter& w, const btTransform& t) {
+  for (int r = 0; r < 3; ++r) put_vector(w, t.getBasis()[r]);
+  put_vector(w, t.getOrigin());
+}
+inline btVector3 get_vector(ByteReader& r, const char* what) {
+  btVector3 v;
+  for (int k = 0; k < 3; ++k) v[k] = r.get<btScalar>(what);
+  return v;
+}
+inline btTransform get_transform(ByteReader& r, const char* what) {
+  btMatrix3x3 m;
+  for (int row = 0; row < 3; ++row) m[row] = get_vector(r, what);
+  const btVector3 o = get_vector(r, what);
+  return btTransform(m, o);
+}
+
+/// A state's header: 8 magic bytes, u32 version, u32 sizeof(btScalar).
+inline void put_header(ByteWriter& w, const char (&magic)[8], std::uint32_t version) {
+  for (char c : magic) w.put(c);
+  w.put(version), w.put(static_cast<std::uint32_t>(sizeof(btScalar)));
+}
+/// Checks put_header's bytes: FileError naming what the bytes should be, the version or the precision.
+inline void check_header(ByteReader& r, const char (&magic)[8], std::uint32_t version, const char* what) {
+  std::array<char, 8> m{};
+  for (char& c : m) c = r.get<char>("magic");
+  if (std::memcmp(m.data(), magic, sizeof magic) != 0)
+    r.fail(std::string("not ") + what + " (magic " + std::string(magic, sizeof magic) + " missing)");
+  if (const auto v = r.get<std::uint32_t>("version"); v != version)
+    r.fail("unsupported version " + std::to_string(v) + " of " + what + " (this build reads " +
+           std::to_string(version) + ")");
+  if (const auto scalar = r.get<std::uint32_t>("precision"); scalar != sizeof(btScalar))
+    r.fail("written with " + std::to_string(8 * scalar) + "-bit Bullet scalars, this build uses " +
+           std::to_string(8 * sizeof(btScalar)) + "-bit");
+}
+
+/// The body's collision shape type (-1: none): saved states check they meet the same body.
+inline int shape_type(const btRigidBody& b) {
+  return b.getCollisionShape() ? b.getCollisionShape()->getShapeType() : -1;
+}
+
+/// Reads ByteWriter::put_array's form of any length the bytes can hold (a corrupt count
+/// is refused before anything is allocated).
+template <class T>
+requires std::is_trivially_copyable_v<T>
+void get_any_array(ByteReader& r, std::vector<T>& v, const char* what) {
+  const auto count = r.get<std::uint64_t>(what);
+  if (count > r.remaining() / sizeof(T))
+    r.fail(std::string(what) + " claims " + std::to_string(count) + " values, more than the bytes left");
+  v.resize(static_cast<std::size_t>(count));
+  for (T& x : v) x = r.get<T>(what);
+}
+
+}  // namespace coupling_detail
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet
