@@ -4,6 +4,8 @@
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
 
+#include <cmath>
+
 #include "checkpoint_bytes.h"
 #include "shore/core/byte_io.h"
 #include "shore/core/error.h"
@@ -56,6 +58,13 @@ BodyRecord read_record(ByteReader& r) {
   b.activation = r.get<std::int32_t>("body activation");
   b.deactivation_time = r.get<btScalar>("body activation");
   b.hit_fraction = r.get<btScalar>("body hit fraction");
+  if (!coupling_detail::finite(b.pose) || !coupling_detail::finite(b.interpolation_pose) ||
+      !coupling_detail::finite(b.v) || !coupling_detail::finite(b.w) || !coupling_detail::finite(b.interpolation_v) ||
+      !coupling_detail::finite(b.interpolation_w) || !std::isfinite(b.deactivation_time) ||
+      !std::isfinite(b.hit_fraction))
+    r.fail("a body's pose or velocity is not finite");
+  if (b.activation < ACTIVE_TAG || b.activation > DISABLE_SIMULATION)
+    r.fail("a body's activation state " + std::to_string(b.activation) + " is not one of Bullet's (1 to 5)");
   return b;
 }
 
@@ -106,6 +115,7 @@ void restore_bodies(btDiscreteDynamicsWorld& world, std::span<const unsigned cha
   ByteReader r(bytes, source);
   coupling_detail::check_header(r, kMagic, kVersion, "Shore's Bullet body state");
   const auto local_time = r.get<btScalar>("world clock");
+  if (!std::isfinite(local_time) || local_time < 0) r.fail("the world's clock is negative or not finite");
   const auto seed = r.get<std::uint64_t>("solver seed");
   const std::vector<btRigidBody*> bodies = rigid_bodies(world);
   const auto count = r.get<std::uint32_t>("body count");

@@ -3,6 +3,7 @@
 // btScalars are written raw: a checkpoint carries its writer's precision and refuses the other.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -13,6 +14,7 @@
 #include <BulletCollision/CollisionShapes/btCollisionShape.h>
 #include <LinearMath/btTransform.h>
 
+#include "coupling_util.h"
 #include "shore/bullet/config.h"
 #include "shore/core/byte_io.h"
 
@@ -37,6 +39,10 @@ inline btTransform get_transform(ByteReader& r, const char* what) {
   for (int row = 0; row < 3; ++row) m[row] = get_vector(r, what);
   const btVector3 o = get_vector(r, what);
   return btTransform(m, o);
+}
+
+inline bool finite(const btTransform& t) {
+  return finite(t.getOrigin()) && finite(t.getBasis()[0]) && finite(t.getBasis()[1]) && finite(t.getBasis()[2]);
 }
 
 /// A state's header: 8 magic bytes, u32 version, u32 sizeof(btScalar).

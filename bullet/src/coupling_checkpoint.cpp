@@ -38,6 +38,8 @@ EnvelopeRaster get_envelope(ByteReader& r) {
     r.fail("envelope holds " + std::to_string(e.lower.size()) + " columns, its window " + std::to_string(cells));
   coupling_detail::get_any_array(r, e.upper, "envelope");
   if (!e.upper.empty() && e.upper.size() != e.lower.size()) r.fail("envelope's upper and lower differ in size");
+  for (std::size_t k = 0; k < e.lower.size(); ++k)
+    if (std::isnan(e.lower[k]) || (!e.upper.empty() && std::isnan(e.upper[k]))) r.fail("envelope holds NaN");
   return e;
 }
 
@@ -88,7 +90,10 @@ void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const 
              (bodies_[k].settings.deform ? "" : " not") + " deforming");
     saved[k].envelope = get_envelope(r);
     saved[k].envelope_pose = coupling_detail::get_transform(r, "envelope pose");
-    restore_contact(r, *saved[k].contact);
+    if (!coupling_detail::finite(saved[k].envelope_pose))
+      r.fail("body " + std::to_string(k) + "'s envelope pose is not finite");
+    restore_contact(r, *saved[k].contact,
+                    static_cast<std::size_t>(saved[k].envelope.nx) * static_cast<std::size_t>(saved[k].envelope.ny));
   }
   tiles_.restore_state(r);  // last in the bytes; changes the tiles only once all is read
   // Loading the soil marked every column changed. The run that was saved had taken its

@@ -530,7 +530,7 @@ SubEnvelope get_sub_envelope(ByteReader& r) {
   const std::size_t n = std::size_t(e.nk) * std::size_t(e.nl);
   coupling_detail::get_any_array(r, e.lower, "envelope");
   coupling_detail::get_any_array(r, e.upper, "envelope");
-  if ((e.lower.size() != n && !e.lower.empty()) || e.upper.size() != e.lower.size())
+  if (e.lower.size() != n || e.upper.size() != n)
     r.fail("envelope holds " + std::to_string(e.lower.size()) + " samples, its window " + std::to_string(n));
   return e;
 }
@@ -577,7 +577,15 @@ void WaterCoupling::restore_state(std::span<const unsigned char> bytes, const st
              (disturb ? "" : " not") + " disturbing; the coupling's has " + std::to_string(shape_type(*bodies_[k]->body)) +
              (bodies_[k]->disturb ? "" : " not") + " disturbing");
     saved[k].reference = get_sub_envelope(r);
+    const SubEnvelope& e = saved[k].reference;
+    const int per = settings_.fluid.samples_per_cell;
+    if (!e.lower.empty() && (e.k0 < 0 || e.l0 < 0 || e.k0 + e.nk > std::int64_t(surface_.nx()) * per ||
+                             e.l0 + e.nl > std::int64_t(surface_.ny()) * per))
+      r.fail("body " + std::to_string(k) + "'s envelope lies outside the water grid");
+    for (std::size_t n = 0; n < e.lower.size(); ++n)
+      if (std::isnan(e.lower[n]) || std::isnan(e.upper[n])) r.fail("body " + std::to_string(k) + "'s envelope holds NaN");
     saved[k].pose = coupling_detail::get_transform(r, "envelope pose");
+    if (!coupling_detail::finite(saved[k].pose)) r.fail("body " + std::to_string(k) + "'s envelope pose is not finite");
     saved[k].have_reference = r.get<std::uint8_t>("envelope flag") != 0;
     saved[k].last = get_body_water(r);
   }
