@@ -77,29 +77,7 @@ void fix_chunk_crcs(std::vector<unsigned char>& png) {
   }
 }
 
-}  // namespace
-
-bool terrain_state(std::span<const std::uint8_t> data) {
-  if (data.empty()) return false;
-  std::vector<unsigned char> bytes(data.begin() + 1, data.end());
-  if (data[0] & 1) {
-    StateHash sum;
-    sum.add_bytes(bytes.data(), bytes.size());
-    const std::uint64_t checksum = sum.value();
-    const auto* p = reinterpret_cast<const unsigned char*>(&checksum);
-    bytes.insert(bytes.end(), p, p + sizeof checksum);
-  }
-  try {
-    terrain::Terrain t = terrain::Terrain::load_bytes(bytes, "fuzz input");
-    exercise(t);
-    return true;
-  } catch (const FileError&) {
-    return false;
-  }
-}
-
-namespace {
-/// Byte 0 odd: the rest with the container's checksum appended; even: the rest as it is.
+/// Byte 0 odd: the rest with the file's checksum appended; even: the rest as it is.
 std::vector<unsigned char> with_checksum_mode(std::span<const std::uint8_t> data) {
   std::vector<unsigned char> bytes(data.begin() + 1, data.end());
   if (data[0] & 1) {
@@ -111,6 +89,22 @@ std::vector<unsigned char> with_checksum_mode(std::span<const std::uint8_t> data
   }
   return bytes;
 }
+
+}  // namespace
+
+bool terrain_state(std::span<const std::uint8_t> data) {
+  if (data.empty()) return false;
+  const std::vector<unsigned char> bytes = with_checksum_mode(data);
+  try {
+    terrain::Terrain t = terrain::Terrain::load_bytes(bytes, "fuzz input");
+    exercise(t);
+    return true;
+  } catch (const FileError&) {
+    return false;
+  }
+}
+
+namespace {
 
 std::uint64_t world_hash(const CoupledWorld& w) {
   StateHash h;

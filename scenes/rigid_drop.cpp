@@ -101,9 +101,7 @@ class RigidDrop final : public Scene {
   [[nodiscard]] std::vector<int> film_substeps() const override { return evenly_spread_film(o_.substeps(), o_.smoke); }
   Image film_frame() override { return picture(240, "", false, false); }
 
-  SceneContents contents() override {
-    return {.world = &world_, .bounds = bounds_of(ground_.grid()), .clock = &k_};
-  }
+  SceneContents contents() override { return {.world = &world_, .bounds = bounds_of(ground_.grid()), .clock = &k_}; }
 
   void draw(Drawing& out) const override {
     out.png("top.png", picture(480, "rigid_drop: ground height, box outline", true, true));

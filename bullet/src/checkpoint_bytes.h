@@ -10,8 +10,8 @@
 #include <type_traits>
 #include <vector>
 
-#include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <BulletCollision/CollisionShapes/btCollisionShape.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <LinearMath/btTransform.h>
 
 #include "coupling_util.h"
@@ -44,6 +44,18 @@ inline btTransform get_transform(ByteReader& r, const char* what) {
 inline bool finite(const btTransform& t) {
   return finite(t.getOrigin()) && finite(t.getBasis()[0]) && finite(t.getBasis()[1]) && finite(t.getBasis()[2]);
 }
+
+/// A window of columns (first index in x and y, size) with its lower and upper values:
+/// the couplings' envelopes.
+inline void put_window(ByteWriter& w, std::int64_t i0, std::int64_t j0, int nx, int ny,
+                       const std::vector<double>& lower, const std::vector<double>& upper) {
+  w.put(i0), w.put(j0), w.put(nx), w.put(ny);
+  w.put_array(lower), w.put_array(upper);
+}
+/// Reads put_window's form; FileError for a negative size or NaN values (the arrays' sizes
+/// are for the caller to check against nx * ny).
+inline void get_window(ByteReader& r, std::int64_t& i0, std::int64_t& j0, int& nx, int& ny, std::vector<double>& lower,
+                       std::vector<double>& upper);
 
 /// A state's header: 8 magic bytes, u32 version, u32 sizeof(btScalar).
 inline void put_header(ByteWriter& w, const char (&magic)[8], std::uint32_t version) {
@@ -79,6 +91,18 @@ void get_any_array(ByteReader& r, std::vector<T>& v, const char* what) {
     r.fail(std::string(what) + " claims " + std::to_string(count) + " values, more than the bytes left");
   v.resize(static_cast<std::size_t>(count));
   for (T& x : v) x = r.get<T>(what);
+}
+
+inline void get_window(ByteReader& r, std::int64_t& i0, std::int64_t& j0, int& nx, int& ny, std::vector<double>& lower,
+                       std::vector<double>& upper) {
+  i0 = r.get<std::int64_t>("envelope"), j0 = r.get<std::int64_t>("envelope");
+  nx = r.get<int>("envelope"), ny = r.get<int>("envelope");
+  if (nx < 0 || ny < 0) r.fail("envelope of negative size " + std::to_string(nx) + " x " + std::to_string(ny));
+  get_any_array(r, lower, "envelope");
+  get_any_array(r, upper, "envelope");
+  for (const auto* values : {&lower, &upper})
+    for (double v : *values)
+      if (std::isnan(v)) r.fail("envelope holds NaN");
 }
 
 }  // namespace coupling_detail

@@ -23,23 +23,16 @@ constexpr char kSoilMagic[8] = {'S', 'H', 'S', 'O', 'I', 'L', 'C', 'P'};
 constexpr std::uint32_t kSoilVersion = 1;
 
 void put_envelope(ByteWriter& w, const EnvelopeRaster& e) {
-  w.put(e.i0), w.put(e.j0), w.put(e.nx), w.put(e.ny);
-  w.put_array(e.lower), w.put_array(e.upper);
+  coupling_detail::put_window(w, e.i0, e.j0, e.nx, e.ny, e.lower, e.upper);
 }
 
 EnvelopeRaster get_envelope(ByteReader& r) {
   EnvelopeRaster e;
-  e.i0 = r.get<std::int64_t>("envelope"), e.j0 = r.get<std::int64_t>("envelope");
-  e.nx = r.get<int>("envelope"), e.ny = r.get<int>("envelope");
-  if (e.nx < 0 || e.ny < 0) r.fail("envelope of negative size " + std::to_string(e.nx) + " x " + std::to_string(e.ny));
+  coupling_detail::get_window(r, e.i0, e.j0, e.nx, e.ny, e.lower, e.upper);
   const auto cells = static_cast<std::size_t>(e.nx) * static_cast<std::size_t>(e.ny);
-  coupling_detail::get_any_array(r, e.lower, "envelope");
-  if (e.lower.size() != cells && !e.lower.empty())
+  if (e.lower.size() != cells && !e.lower.empty())  // empty: the body left the soil's region
     r.fail("envelope holds " + std::to_string(e.lower.size()) + " columns, its window " + std::to_string(cells));
-  coupling_detail::get_any_array(r, e.upper, "envelope");
   if (!e.upper.empty() && e.upper.size() != e.lower.size()) r.fail("envelope's upper and lower differ in size");
-  for (std::size_t k = 0; k < e.lower.size(); ++k)
-    if (std::isnan(e.lower[k]) || (!e.upper.empty() && std::isnan(e.upper[k]))) r.fail("envelope holds NaN");
   return e;
 }
 
@@ -85,8 +78,8 @@ void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const 
     const auto type = r.get<std::int32_t>("body shape type");
     const bool deform = r.get<std::uint8_t>("body settings") != 0;
     if (type != shape_type(*bodies_[k].body) || deform != bodies_[k].settings.deform)
-      r.fail("body " + std::to_string(k) + " was saved with shape type " + std::to_string(type) + (deform ? "" : " not") +
-             " deforming; the coupling's has " + std::to_string(shape_type(*bodies_[k].body)) +
+      r.fail("body " + std::to_string(k) + " was saved with shape type " + std::to_string(type) +
+             (deform ? "" : " not") + " deforming; the coupling's has " + std::to_string(shape_type(*bodies_[k].body)) +
              (bodies_[k].settings.deform ? "" : " not") + " deforming");
     saved[k].envelope = get_envelope(r);
     saved[k].envelope_pose = coupling_detail::get_transform(r, "envelope pose");
@@ -124,9 +117,8 @@ void TerrainTiles::save_state(ByteWriter& w) const {
   std::vector<const Tile*> ordered;  // key order: the file does not depend on the map's
   ordered.reserve(tiles_.size());
   for (const auto& [k, tile] : tiles_) ordered.push_back(&tile);
-  std::sort(ordered.begin(), ordered.end(), [](const Tile* a, const Tile* b) {
-    return a->j0 != b->j0 ? a->j0 < b->j0 : a->i0 < b->i0;
-  });
+  std::sort(ordered.begin(), ordered.end(),
+            [](const Tile* a, const Tile* b) { return a->j0 != b->j0 ? a->j0 < b->j0 : a->i0 < b->i0; });
   w.put(static_cast<std::int32_t>(T)), w.put(clamped_);
   w.put(static_cast<std::uint64_t>(ordered.size()));
   for (const Tile* t : ordered) {
@@ -165,7 +157,8 @@ void TerrainTiles::restore_state(ByteReader& r) {
       r.fail("tile (" + std::to_string(t.tx) + ", " + std::to_string(t.ty) + ") has broken height bounds");
     r.get_array(t.heights, vertices, "tile heights");
     for (double h : t.heights)
-      if (!std::isfinite(h)) r.fail("tile (" + std::to_string(t.tx) + ", " + std::to_string(t.ty) + ") has a non-finite height");
+      if (!std::isfinite(h))
+        r.fail("tile (" + std::to_string(t.tx) + ", " + std::to_string(t.ty) + ") has a non-finite height");
     t.lagging = r.get<std::uint8_t>("tile lag");
     for (std::int32_t& v : t.lag) v = r.get<std::int32_t>("tile lag");
   }

@@ -159,10 +159,12 @@ void TerrainCoupling::restore_contact(ByteReader& r, BodyContact& c, std::size_t
   coupling_detail::get_any_array(r, c.drag_x, "drag");
   r.get_array(c.drag_y, c.drag_x.size(), "drag");
   r.get_array(c.drag_length, c.drag_x.size(), "drag");
-  c.last.force = coupling_detail::get_vector(r, "soil force"), c.last.torque = coupling_detail::get_vector(r, "soil force");
+  c.last.force = coupling_detail::get_vector(r, "soil force"),
+  c.last.torque = coupling_detail::get_vector(r, "soil force");
   c.last.normal_force = coupling_detail::get_vector(r, "soil force");
   c.last.contact_columns = r.get<int>("soil force"), c.last.yielded = r.get<std::uint8_t>("soil force") != 0;
-  c.v_end = coupling_detail::get_vector(r, "contact velocities"), c.w_end = coupling_detail::get_vector(r, "contact velocities");
+  c.v_end = coupling_detail::get_vector(r, "contact velocities"),
+  c.w_end = coupling_detail::get_vector(r, "contact velocities");
   c.resting = r.get<std::uint8_t>("contact flags") != 0, c.has_end = r.get<std::uint8_t>("contact flags") != 0;
   check_contact(r, c, envelope_columns);
 }
@@ -182,8 +184,9 @@ void TerrainCoupling::check_contact(const ByteReader& r, const BodyContact& c, s
   for (const auto* blocks : {&c.blocks, &c.previous})
     for (const soil_detail::Block& b : *blocks)
       sound = sound && std::isfinite(b.point.x + b.point.y + b.point.z + b.normal.x + b.normal.y + b.normal.z) &&
-              !std::isnan(b.capacity) && std::isfinite(b.cohesion + b.mobilised + b.normal_impulse + b.t1_impulse +
-                                                       b.t2_impulse + b.mass_n + b.mass_t1 + b.mass_t2) &&
+              !std::isnan(b.capacity) &&
+              std::isfinite(b.cohesion + b.mobilised + b.normal_impulse + b.t1_impulse + b.t2_impulse + b.mass_n +
+                            b.mass_t1 + b.mass_t2) &&
               std::isfinite(b.t1.x + b.t1.y + b.t1.z + b.t2.x + b.t2.y + b.t2.z + b.start_n + b.start_t1 + b.start_t2);
   for (std::size_t k = 0; k < c.shear.size(); ++k)
     sound = sound && std::isfinite(c.shear[k].x + c.shear[k].y + c.shear[k].z + c.shear_length[k]);

@@ -518,18 +518,13 @@ BodyWater get_body_water(ByteReader& r) {
 }
 
 void put_sub_envelope(ByteWriter& w, const SubEnvelope& e) {
-  w.put(e.k0), w.put(e.l0), w.put(e.nk), w.put(e.nl);
-  w.put_array(e.lower), w.put_array(e.upper);
+  coupling_detail::put_window(w, e.k0, e.l0, e.nk, e.nl, e.lower, e.upper);
 }
 
 SubEnvelope get_sub_envelope(ByteReader& r) {
   SubEnvelope e;
-  e.k0 = r.get<std::int64_t>("envelope"), e.l0 = r.get<std::int64_t>("envelope");
-  e.nk = r.get<int>("envelope"), e.nl = r.get<int>("envelope");
-  if (e.nk < 0 || e.nl < 0) r.fail("envelope of negative size");
+  coupling_detail::get_window(r, e.k0, e.l0, e.nk, e.nl, e.lower, e.upper);
   const std::size_t n = std::size_t(e.nk) * std::size_t(e.nl);
-  coupling_detail::get_any_array(r, e.lower, "envelope");
-  coupling_detail::get_any_array(r, e.upper, "envelope");
   if (e.lower.size() != n || e.upper.size() != n)
     r.fail("envelope holds " + std::to_string(e.lower.size()) + " samples, its window " + std::to_string(n));
   return e;
@@ -574,16 +569,14 @@ void WaterCoupling::restore_state(std::span<const unsigned char> bytes, const st
     const bool disturb = r.get<std::uint8_t>("body settings") != 0;
     if (type != shape_type(*bodies_[k]->body) || disturb != bodies_[k]->disturb)
       r.fail("body " + std::to_string(k) + " was saved with shape type " + std::to_string(type) +
-             (disturb ? "" : " not") + " disturbing; the coupling's has " + std::to_string(shape_type(*bodies_[k]->body)) +
-             (bodies_[k]->disturb ? "" : " not") + " disturbing");
+             (disturb ? "" : " not") + " disturbing; the coupling's has " +
+             std::to_string(shape_type(*bodies_[k]->body)) + (bodies_[k]->disturb ? "" : " not") + " disturbing");
     saved[k].reference = get_sub_envelope(r);
     const SubEnvelope& e = saved[k].reference;
     const int per = settings_.fluid.samples_per_cell;
     if (!e.lower.empty() && (e.k0 < 0 || e.l0 < 0 || e.k0 + e.nk > std::int64_t(surface_.nx()) * per ||
                              e.l0 + e.nl > std::int64_t(surface_.ny()) * per))
       r.fail("body " + std::to_string(k) + "'s envelope lies outside the water grid");
-    for (std::size_t n = 0; n < e.lower.size(); ++n)
-      if (std::isnan(e.lower[n]) || std::isnan(e.upper[n])) r.fail("body " + std::to_string(k) + "'s envelope holds NaN");
     saved[k].pose = coupling_detail::get_transform(r, "envelope pose");
     if (!coupling_detail::finite(saved[k].pose)) r.fail("body " + std::to_string(k) + "'s envelope pose is not finite");
     saved[k].have_reference = r.get<std::uint8_t>("envelope flag") != 0;

@@ -5,13 +5,13 @@
 // not the code's own prediction.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
-#include <algorithm>
 #include <memory>
 #include <span>
-#include <vector>
 #include <string>
+#include <vector>
 
 #include "shore/bullet/body_state.h"
 #include "shore/core/checkpoint_file.h"
@@ -137,8 +137,8 @@ TEST(SceneCheckpointErrors, TruncatedCouplingStatesAreRefusedAndLeaveTheCoupling
     EXPECT_THROW(c.waters[0].coupling->restore_state(std::span(water).first(std::min(cut, water.size() - 1)), "water"),
                  shore::FileError)
         << cut;
-    EXPECT_THROW(shore::bullet::restore_bodies(c.world->world(), std::span(bodies).first(std::min(cut, bodies.size() - 1)),
-                                               "bodies"),
+    EXPECT_THROW(shore::bullet::restore_bodies(c.world->world(),
+                                               std::span(bodies).first(std::min(cut, bodies.size() - 1)), "bodies"),
                  shore::FileError)
         << cut;
   }
