@@ -131,7 +131,6 @@ void TerrainCoupling::save_contact(const BodyContact& c, ByteWriter& w) {
   w.put_array(c.patch.elements);
   w.put(c.patch.patch_width), w.put(c.patch.area), w.put(c.patch.touching_columns);
   w.put_array(c.blocks), w.put_array(c.previous), w.put_array(c.shear), w.put_array(c.shear_length);
-  w.put_array(c.drag_x), w.put_array(c.drag_y), w.put_array(c.drag_length);
   coupling_detail::put_vector(w, c.last.force), coupling_detail::put_vector(w, c.last.torque);
   coupling_detail::put_vector(w, c.last.normal_force);
   w.put(c.last.contact_columns), w.put(static_cast<std::uint8_t>(c.last.yielded));
@@ -147,9 +146,6 @@ void TerrainCoupling::restore_contact(ByteReader& r, BodyContact& c, std::size_t
   coupling_detail::get_any_array(r, c.previous, "contact blocks");
   coupling_detail::get_any_array(r, c.shear, "shear displacement");
   r.get_array(c.shear_length, c.shear.size(), "shear displacement");
-  coupling_detail::get_any_array(r, c.drag_x, "drag");
-  r.get_array(c.drag_y, c.drag_x.size(), "drag");
-  r.get_array(c.drag_length, c.drag_x.size(), "drag");
   c.last.force = coupling_detail::get_vector(r, "soil force"),
   c.last.torque = coupling_detail::get_vector(r, "soil force");
   c.last.normal_force = coupling_detail::get_vector(r, "soil force");
@@ -163,10 +159,9 @@ void TerrainCoupling::restore_contact(ByteReader& r, BodyContact& c, std::size_t
 // What the next substeps index or divide by must be sound: a corrupt state is refused,
 // never read out of bounds or turned into NaN.
 void TerrainCoupling::check_contact(const ByteReader& r, const BodyContact& c, std::size_t envelope_columns) {
-  if ((!c.shear.empty() && c.shear.size() != envelope_columns) ||
-      (!c.drag_x.empty() && c.drag_x.size() != envelope_columns))
-    r.fail("shear or drag of " + std::to_string(std::max(c.shear.size(), c.drag_x.size())) +
-           " columns, the envelope has " + std::to_string(envelope_columns));
+  if (!c.shear.empty() && c.shear.size() != envelope_columns)
+    r.fail("shear displacement of " + std::to_string(c.shear.size()) + " columns, the envelope has " +
+           std::to_string(envelope_columns));
   bool sound = coupling_detail::finite(c.last.force) && coupling_detail::finite(c.last.torque) &&
                coupling_detail::finite(c.v_end) && coupling_detail::finite(c.w_end);
   for (const terrain::ContactElement& e : c.patch.elements)
@@ -181,8 +176,6 @@ void TerrainCoupling::check_contact(const ByteReader& r, const BodyContact& c, s
               std::isfinite(b.t1.x + b.t1.y + b.t1.z + b.t2.x + b.t2.y + b.t2.z + b.start_n + b.start_t1 + b.start_t2);
   for (std::size_t k = 0; k < c.shear.size(); ++k)
     sound = sound && std::isfinite(c.shear[k].x + c.shear[k].y + c.shear[k].z + c.shear_length[k]);
-  for (std::size_t k = 0; k < c.drag_x.size(); ++k)
-    sound = sound && std::isfinite(c.drag_x[k] + c.drag_y[k] + c.drag_length[k]);
   if (!sound) r.fail("the soil contact's state holds a non-finite value or an index beyond the envelope");
 }
 

@@ -171,7 +171,7 @@ class TerrainCoupling : public btActionInterface {
 
   /// The coupling's own state for a checkpoint (docs/checkpoints.md): per added body its
   /// envelope and the pose it was made at, and the soil contact's kept state (blocks and
-  /// their impulses, patch, shear and drag, last force, rest); the tiles (which exist, their
+  /// their impulses, patch, shear displacement and its length, last force, rest); the tiles (which exist, their
   /// bounds and heights); the totals of stats(). Not the soil (Terrain::save_bytes).
   [[nodiscard]] std::vector<unsigned char> save_state() const;
   /// Restores save_state's bytes into a coupling built the same way (the same bodies added
