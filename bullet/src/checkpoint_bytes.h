@@ -97,7 +97,11 @@ inline void get_window(ByteReader& r, std::int64_t& i0, std::int64_t& j0, int& n
                        std::vector<double>& upper) {
   i0 = r.get<std::int64_t>("envelope"), j0 = r.get<std::int64_t>("envelope");
   nx = r.get<int>("envelope"), ny = r.get<int>("envelope");
-  if (nx < 0 || ny < 0) r.fail("envelope of negative size " + std::to_string(nx) + " x " + std::to_string(ny));
+  if (nx < 0 || ny < 0 || nx > (1 << 20) || ny > (1 << 20))
+    r.fail("envelope of size " + std::to_string(nx) + " x " + std::to_string(ny) + " (0 to 2^20 columns a side)");
+  constexpr std::int64_t kMaxColumn = std::int64_t{1} << 52;  // the soil's own bound on column indices
+  if (i0 < -kMaxColumn || i0 > kMaxColumn || j0 < -kMaxColumn || j0 > kMaxColumn)
+    r.fail("envelope at column (" + std::to_string(i0) + ", " + std::to_string(j0) + ") beyond index 2^52");
   get_any_array(r, lower, "envelope");
   get_any_array(r, upper, "envelope");
   for (const auto* values : {&lower, &upper})

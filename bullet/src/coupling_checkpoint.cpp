@@ -146,6 +146,9 @@ void TerrainTiles::restore_state(ByteReader& r) {
   std::vector<SavedTile> saved(static_cast<std::size_t>(count));
   for (SavedTile& t : saved) {
     t.tx = r.get<std::int64_t>("tile"), t.ty = r.get<std::int64_t>("tile");
+    constexpr std::int64_t kMaxColumn = std::int64_t{1} << 52;  // the soil's own bound on column indices
+    if (t.tx < -kMaxColumn / T || t.tx > kMaxColumn / T || t.ty < -kMaxColumn / T || t.ty > kMaxColumn / T)
+      r.fail("tile (" + std::to_string(t.tx) + ", " + std::to_string(t.ty) + ") lies beyond column index 2^52");
     HeightfieldTileSettings& s = t.settings;
     s.columns = T + 1;
     s.cell = soil_.settings().cell;
