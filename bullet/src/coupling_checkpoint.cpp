@@ -169,9 +169,7 @@ void TerrainTiles::restore_state(ByteReader& r) {
   remove_all();
   clamped_ = clamped;
   for (const SavedTile& t : saved) {
-    Tile& tile = add(t.tx, t.ty, t.settings);
-    for (int b = 0; b <= T; ++b)
-      for (int a = 0; a <= T; ++a) tile.field->set_height(a, b, t.heights[static_cast<std::size_t>(b) * (T + 1) + a]);
+    Tile& tile = add(t.tx, t.ty, t.settings, t.heights);
     tile.lagging = t.lagging != 0;
     tile.lag_a0 = t.lag[0], tile.lag_b0 = t.lag[1], tile.lag_a1 = t.lag[2], tile.lag_b1 = t.lag[3];
   }

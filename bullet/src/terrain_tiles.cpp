@@ -64,18 +64,23 @@ TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
   hs.max_height = hi + settings_.headroom;
   hs.initial_height = hi;
   hs.friction = friction_;
-  Tile& added = add(tx, ty, hs);
+  std::vector<double> heights(static_cast<std::size_t>(T + 1) * static_cast<std::size_t>(T + 1));
   for (int b = 0; b <= T; ++b)
-    for (int a = 0; a <= T; ++a) added.field->set_height(a, b, soil_.height(added.i0 + a, added.j0 + b));
-  return added;
+    for (int a = 0; a <= T; ++a) heights[static_cast<std::size_t>(b) * (T + 1) + a] = soil_.height(i0 + a, j0 + b);
+  return add(tx, ty, hs, heights);
 }
 
-TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, const HeightfieldTileSettings& hs) {
+TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, const HeightfieldTileSettings& hs,
+                                      std::span<const double> heights) {
   const int T = soil_.settings().tile_columns;
   Tile tile;
   tile.i0 = tx * T;
   tile.j0 = ty * T;
   tile.field = std::make_unique<HeightfieldTile>(hs);
+  for (int b = 0; b <= T; ++b)
+    for (int a = 0; a <= T; ++a) tile.field->set_height(a, b, heights[static_cast<std::size_t>(b) * (T + 1) + a]);
+  // Rigid ground never changes: its tiles can carry Bullet's internal-edge info.
+  if (soil_.settings().material.rigid && settings_.smooth_rigid_edges) tile.field->smooth_internal_edges();
   tile.field->object()->setUserIndex2(kTileTag);
   world_.addCollisionObject(tile.field->object(), group_,
                             btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);

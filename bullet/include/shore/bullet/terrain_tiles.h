@@ -43,6 +43,9 @@ struct Region {
 struct TerrainTilesSettings {
   double headroom = 0.5;                ///< m a tile can hold above its highest untouched ground (rims), > 0
   double max_rise_per_substep = 0.002;  ///< m, > 0: cap on how far ground may rise in one substep
+  /// Rigid ground's tiles get Bullet's internal-edge info (HeightfieldTile::smooth_internal_edges),
+  /// so a box slides over them as over one face instead of catching on triangle edges.
+  bool smooth_rigid_edges = true;
   void validate() const;
 };
 
@@ -96,8 +99,8 @@ class TerrainTiles {
   };
   static std::uint64_t key(std::int64_t tx, std::int64_t ty) noexcept;
   Tile& create(std::int64_t tx, std::int64_t ty);
-  /// A tile with these bounds (heights initial_height) added to the world.
-  Tile& add(std::int64_t tx, std::int64_t ty, const HeightfieldTileSettings& hs);
+  /// A tile with these bounds and heights ((T + 1)^2, row-major) added to the world.
+  Tile& add(std::int64_t tx, std::int64_t ty, const HeightfieldTileSettings& hs, std::span<const double> heights);
   void remove_all();
   std::int64_t copy_rect(Tile& tile, std::int64_t ci0, std::int64_t cj0, std::int64_t ci1, std::int64_t cj1);
   void drop_stale_contacts(double x0, double y0, double x1, double y1);
