@@ -11,8 +11,14 @@ namespace shore::terrain {
 std::uint64_t cling_key(const Vec3& b, double cell) {
   constexpr std::int64_t kHalf = std::int64_t{1} << 20;
   auto part = [&](double x) {
-    const double k = std::floor(x / cell);
-    const std::int64_t clamped = static_cast<std::int64_t>(std::clamp(k, -double(kHalf), double(kHalf - 1)));
+    const double q = x / cell;
+    std::int64_t clamped = 0;
+    if (std::abs(q) < 4.6e18) {  // floor without the library call: truncate, then step down below zero
+      const auto t = static_cast<std::int64_t>(q);
+      clamped = std::clamp(static_cast<double>(t) > q ? t - 1 : t, -kHalf, kHalf - 1);
+    } else {
+      clamped = static_cast<std::int64_t>(std::clamp(std::floor(q), -double(kHalf), double(kHalf - 1)));
+    }
     return static_cast<std::uint64_t>(clamped + kHalf);
   };
   return part(b[0]) | (part(b[1]) << 21) | (part(b[2]) << 42);
