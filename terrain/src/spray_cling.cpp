@@ -107,6 +107,9 @@ void Cling::merge_fresh(ClingingBody& body) {
   const auto old_size = static_cast<std::ptrdiff_t>(body.cells.size());
   body.cells.insert(body.cells.end(), fresh_.begin(), fresh_.end());
   std::inplace_merge(body.cells.begin(), body.cells.begin() + old_size, body.cells.end(), by_key);
+  // A first contact fills a whole patch; later steps a few pieces: keep no patch-sized
+  // scratch between steps.
+  if (fresh_.capacity() > 64) std::vector<ClingCell>().swap(fresh_);
   fresh_.clear();
 }
 
