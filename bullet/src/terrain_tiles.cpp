@@ -30,8 +30,11 @@ TerrainTiles::TerrainTiles(btCollisionWorld& world, const terrain::Terrain& soil
   settings_.validate();
 }
 
-TerrainTiles::~TerrainTiles() {
+TerrainTiles::~TerrainTiles() { remove_all(); }
+
+void TerrainTiles::remove_all() {
   for (auto& [k, tile] : tiles_) world_.removeCollisionObject(tile.field->object());
+  tiles_.clear();
 }
 
 std::uint64_t TerrainTiles::key(std::int64_t tx, std::int64_t ty) noexcept {

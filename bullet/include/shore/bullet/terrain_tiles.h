@@ -68,6 +68,8 @@ class TerrainTiles {
   using PushObserver = std::function<void(std::span<const terrain::ColumnRect> changed)>;
   void set_push_observer(PushObserver observer) { observer_ = std::move(observer); }
 
+  /// Removes every tile from the world and forgets it (a detaching coupling).
+  void remove_all();
   [[nodiscard]] bool is_tile(const btCollisionObject* object) const noexcept;
   [[nodiscard]] std::size_t count() const noexcept { return tiles_.size(); }
   /// Vertices clamped to a tile's height range so far (should stay 0; raise headroom if not).
