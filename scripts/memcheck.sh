@@ -6,7 +6,8 @@
 # couplings, changed shapes) under memcheck too, unless scenes are named. Two runs at a time
 # (the machine's cores). Fails on any memcheck error (invalid read or write, use of
 # uninitialised values, a definite leak) or a hash that differs. Logs go to
-# build/memcheck/<name>.log. CI (.ci/run) runs it whole: a few minutes on 2 cores.
+# build/memcheck/<name>.log. CI (.ci/run) runs it whole: about 2 minutes on 2 cores.
+# scripts/memcheck.supp holds the suppressions (each outside Shore, with its reproduction).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh build memcheck
@@ -25,6 +26,7 @@ memcheck() {  # <name> <command...>: one run under memcheck, its verdict on stdo
   local name=$1 start; shift
   start=$(date +%s)
   if OMP_NUM_THREADS=1 valgrind --tool=memcheck --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite \
+      --suppressions=scripts/memcheck.supp \
       --log-file="build/memcheck/$name.log" "$@" >"build/memcheck/$name.out" 2>&1; then
     echo "memcheck: $name clean ($(($(date +%s) - start)) s)"
   else
@@ -40,7 +42,7 @@ for s in "${scenes[@]}"; do runs+=("scene_$s"); done
 [[ $tests -eq 1 ]] && runs+=(coupling_misuse)
 run_one() {
   case $1 in
-    scene_*) memcheck "$1" "$demo" pin --scene "${1#scene_}" tests/scenes/pinned_hashes.json ;;
+    scene_*) memcheck "$1" "$demo" pin tests/scenes/pinned_hashes.json --scene "${1#scene_}" ;;
     coupling_misuse) memcheck "$1" build/release/tests/bullet/shore_bullet_tests --gtest_filter='CouplingMisuse.*' ;;
   esac
 }

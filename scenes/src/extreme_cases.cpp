@@ -39,6 +39,40 @@ ExtremeCase plate_on_snow(std::string name, std::string what, double cell, doubl
   return c;
 }
 
+/// Sand with one edit: a material at an edge of its allowed ranges (Material::validate).
+template <class Edit>
+terrain::Material sand_with(std::string name, Edit edit) {
+  terrain::Material m = terrain::Material::sand();
+  m.name = std::move(name);
+  edit(m);
+  return m;
+}
+
+/// The 10 kg ball dropped 1 m onto each material at its edges: Bekker's exponent near 0 and
+/// near 3, soil as soft and as stiff as allowed, vertical walls that never slump with
+/// everything displaced to the rim, nothing displaced and no angle of repose to speak of,
+/// and shear strength near its limits (friction angle near pi/2, 1 MPa cohesion).
+void add_material_edges(std::vector<ExtremeCase>& out, double cell) {
+  constexpr double half_pi = 1.5707963267948966;
+  const terrain::Material edges[] = {
+      sand_with("n_0_05", [](terrain::Material& m) { m.bekker_n = 0.05; }),
+      sand_with("n_2_95", [](terrain::Material& m) { m.bekker_n = 2.95; }),
+      sand_with("softest", [](terrain::Material& m) { m.bekker_kc = 0.0, m.bekker_kphi = 1e3; }),
+      sand_with("stiffest", [](terrain::Material& m) { m.bekker_kc = 0.0, m.bekker_kphi = 1e12; }),
+      sand_with("vertical_walls",
+                [&](terrain::Material& m) {
+                  m.theta_stop = m.theta_in = m.theta_out = half_pi, m.alpha = 1.0, m.sigma = 1.0;
+                }),
+      sand_with(
+          "flowing",
+          [](terrain::Material& m) { m.theta_stop = m.theta_in = m.theta_out = 1e-3, m.alpha = 0.0, m.sigma = 0.0; }),
+      sand_with("strongest_shear", [](terrain::Material& m) { m.friction_angle = 1.55, m.cohesion = 1e6; }),
+  };
+  for (const terrain::Material& m : edges)
+    out.push_back(sphere("material_" + m.name, "10 kg ball (0.2 m) dropped 1 m onto sand with " + m.name, m, cell,
+                         1.0 / 240, 0.2, 10.0, 1.0, 1.5));
+}
+
 }  // namespace
 
 std::vector<ExtremeCase> extreme_cases(bool smoke) {
@@ -46,7 +80,7 @@ std::vector<ExtremeCase> extreme_cases(bool smoke) {
   const double coarse = smoke ? 0.02 : 0.01;  // m, the cell of cases that do not vary it
   // 50 m/s at the surface: dropped from v^2 / 2g, falling for v / g.
   const double impact = 50.0, drop = impact * impact / (2 * kGravity), fall = impact / kGravity;
-  return {
+  std::vector<ExtremeCase> cases{
       sphere("substep_1_30", "10 kg ball (0.2 m) dropped 1 m onto sand, 1/30 s substeps", sand, coarse, 1.0 / 30, 0.2,
              10.0, 1.0, 1.5),
       sphere("substep_1_2000", "10 kg ball (0.2 m) dropped 1 m onto sand, 1/2000 s substeps", sand, coarse, 1.0 / 2000,
@@ -60,6 +94,8 @@ std::vector<ExtremeCase> extreme_cases(bool smoke) {
       sphere("mud_50mps", "10 kg ball (0.2 m) into mud at 50 m/s", mud, coarse, 1.0 / 240, 0.2, 10.0, drop,
              fall + (smoke ? 0.3 : 1.0)),
   };
+  add_material_edges(cases, coarse);
+  return cases;
 }
 
 ExtremeResult run_extreme(const ExtremeCase& c) {

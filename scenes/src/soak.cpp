@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <set>
 
+#include <time.h>
 #include <unistd.h>
 
 #include <btBulletDynamicsCommon.h>
@@ -114,6 +115,45 @@ void check_bodies(const std::vector<btRigidBody*>& bodies, const terrain::Terrai
   }
 }
 
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// CPU time per substep in blocks of kBlock substeps, kept for the blocks inside the first
+/// and the last window.
+struct BlockClock {
+  static constexpr std::int64_t kBlock = 100;
+  std::int64_t first_begin = 0, first_end = 0, last_begin = 0, last_end = 0;  // substeps (begin, end]
+  double block_start = thread_cpu_seconds();
+  std::vector<double> first, last;
+  void tick(std::int64_t s) {
+    if (s % kBlock != 0) return;
+    const double now = thread_cpu_seconds(), per_substep = (now - block_start) / kBlock;
+    block_start = now;
+    const std::int64_t b0 = s - kBlock;  // the block is (b0, s]
+    if (b0 >= first_begin && s <= first_end) first.push_back(per_substep);
+    if (b0 >= last_begin && s <= last_end) last.push_back(per_substep);
+  }
+};
+
+/// The kick of substep s (see SoakCase::kick_every): one body in turn, thrown up and across.
+void kick(const std::vector<btRigidBody*>& bodies, std::int64_t s, int every) {
+  const std::int64_t n = s / every, k = n % static_cast<std::int64_t>(bodies.size());
+  const btScalar side = (n / static_cast<std::int64_t>(bodies.size())) % 2 == 0 ? 1.0f : -1.0f;
+  btRigidBody* b = bodies[static_cast<std::size_t>(k)];
+  b->activate(true);
+  b->setLinearVelocity(btVector3(0.3f * side, 0.2f * side, 2.0f));
+}
+
 /// Warm-up and window lengths: the case's, or a tenth of the run (windows at most 10,000).
 void resolve_lengths(const SoakCase& c, SoakResult& r) {
   r.warm_up_substeps = c.warm_up_substeps > 0 ? c.warm_up_substeps : std::max<std::int64_t>(1, c.substeps / 10);
@@ -153,10 +193,15 @@ SoakResult run_soak(const SoakCase& c) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   const std::int64_t last_window_start = c.substeps - r.window_substeps;
+  BlockClock cpu;
+  cpu.first_begin = r.warm_up_substeps, cpu.first_end = r.warm_up_substeps + r.window_substeps;
+  cpu.last_begin = last_window_start, cpu.last_end = c.substeps;
   for (std::int64_t s = 1; s <= c.substeps; ++s) {
+    if (c.kick_every > 0 && s > c.settled_substeps && s % c.kick_every == 0) kick(bodies, s, c.kick_every);
     const auto t0 = Clock::now();
     world.step(c.substep);
     const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+    cpu.tick(s);
     if (s > r.warm_up_substeps && s <= r.warm_up_substeps + r.window_substeps) r.first_window_seconds += dt;
     if (s > last_window_start) r.last_window_seconds += dt;
     if (s == c.settled_substeps) r.rescues_after_settling = -ground.stats().rescues;
@@ -167,9 +212,12 @@ SoakResult run_soak(const SoakCase& c) {
     if (!std::isfinite(vol.total()) || (pool && !std::isfinite(pool->volume()))) ++counts.nan;
     const std::size_t soil_mem = soil.memory_bytes(), water_mem = pool ? pool->tile_stats().memory_bytes : 0;
     const std::size_t rss = resident_bytes();
+    const std::size_t tiles = soil.tile_count();
     if (warm_end) r.soil_memory_warm = soil_mem, r.water_memory_warm = water_mem, r.rss_warm = rss;
+    if (warm_end) r.soil_tiles_warm = tiles;
     if (s >= r.warm_up_substeps) {
       r.soil_memory_max = std::max(r.soil_memory_max, soil_mem);
+      r.soil_tiles_max = std::max(r.soil_tiles_max, tiles);
       r.water_memory_max = std::max(r.water_memory_max, water_mem);
       r.rss_max = std::max(r.rss_max, rss);
     }
@@ -177,6 +225,8 @@ SoakResult run_soak(const SoakCase& c) {
   }
   r.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   r.substeps = c.substeps;
+  r.first_window_cpu = median(cpu.first);
+  r.last_window_cpu = median(cpu.last);
   r.nan_count = counts.nan;
   r.fall_throughs = static_cast<int>(counts.fallen.size());
   r.rescues = ground.stats().rescues;
