@@ -105,28 +105,21 @@ ExtremeResult run_extreme(const ExtremeCase& c) {
   auto watch = [&](const terrain::Terrain& soil, const bullet::TerrainCoupling&) {
     if (++substep % 10 == 0 && !std::isfinite(soil.volume().total())) soil_finite = false;
   };
-  RunStats stats;
-  if (c.plate) {
-    PlateCase pc = c.plate_case;
-    pc.run.after_substep = watch;
-    const PlateResult p = run_plate(pc);
-    r.sinkage = p.sinkage;
-    r.reference = p.reference;
-    r.soil_depth = pc.run.material.soil_depth;
-    stats = p.stats;
-  } else {
-    SphereDropCase sc = c.sphere_case;
-    sc.run.after_substep = watch;
-    const SphereDropResult s = run_sphere_drop(sc);
-    r.sinkage = s.depth;
-    r.reference = s.reference;
-    r.soil_depth = sc.run.material.soil_depth;
-    stats = s.stats;
-  }
-  r.reference = std::min(r.reference, r.soil_depth);
+  // Either case, watched; its sinkage, reference and run statistics.
+  auto run = [&](auto soil_case, auto runner, auto sinkage_of) {
+    soil_case.run.after_substep = watch;
+    const auto result = runner(soil_case);
+    r.sinkage = sinkage_of(result);
+    r.reference = std::min(result.reference, soil_case.run.material.soil_depth);
+    r.soil_depth = soil_case.run.material.soil_depth;
+    r.rescues = result.stats.rescues;
+    r.wall_seconds = result.stats.wall_seconds;
+  };
+  if (c.plate)
+    run(c.plate_case, run_plate, [](const PlateResult& p) { return p.sinkage; });
+  else
+    run(c.sphere_case, run_sphere_drop, [](const SphereDropResult& s) { return s.depth; });
   r.finite = std::isfinite(r.sinkage) && soil_finite;
-  r.rescues = stats.rescues;
-  r.wall_seconds = stats.wall_seconds;
   return r;
 }
 

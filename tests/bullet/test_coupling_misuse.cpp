@@ -50,6 +50,16 @@ bool soil_bit_cleared(const btRigidBody& b, const bullet::TerrainCoupling& groun
   return (b.getBroadphaseHandle()->m_collisionFilterMask & ground.settings().soil_filter_bit) == 0;
 }
 
+/// A 40 kg box that never sleeps, added at height z and left half a second to press the soil.
+btRigidBody* add_pressing_box(World& world, bullet::TerrainCoupling& ground, double z) {
+  btRigidBody* box =
+      world.add_body(std::make_unique<btBoxShape>(btVector3(0.15f, 0.15f, 0.1f)), 40.0, btVector3(0, 0, btScalar(z)));
+  box->setActivationState(DISABLE_DEACTIVATION);
+  ground.add_body(box);
+  steps(world, 120);
+  return box;
+}
+
 /// A body the test owns (not the World), so that it can delete it.
 struct OwnBody {
   btSphereShape shape{0.1f};
@@ -97,11 +107,7 @@ TEST(CouplingMisuse, RemovingABodyInContactHandsItToBulletsTileContact) {
   terrain::Terrain soil(sand());
   World world;
   bullet::TerrainCoupling ground(world.world(), soil);
-  btRigidBody* box =
-      world.add_body(std::make_unique<btBoxShape>(btVector3(0.15f, 0.15f, 0.1f)), 40.0, btVector3(0, 0, 0.11f));
-  box->setActivationState(DISABLE_DEACTIVATION);
-  ground.add_body(box);
-  steps(world, 120);
+  btRigidBody* box = add_pressing_box(world, ground, 0.11);
   ASSERT_GT(ground.soil_force(box).contact_columns, 0) << "in contact when removed";
   ground.remove_body(box);
   EXPECT_EQ(ground.soil_force(box).contact_columns, 0);
@@ -229,11 +235,7 @@ TEST(CouplingMisuse, SwitchingBetweenKinematicAndDynamic) {
   terrain::Terrain soil(sand());
   World world;
   bullet::TerrainCoupling ground(world.world(), soil);
-  btRigidBody* box =
-      world.add_body(std::make_unique<btBoxShape>(btVector3(0.15f, 0.15f, 0.1f)), 40.0, btVector3(0, 0, 0.2f));
-  box->setActivationState(DISABLE_DEACTIVATION);
-  ground.add_body(box);
-  steps(world, 120);
+  btRigidBody* box = add_pressing_box(world, ground, 0.2);
   auto switch_to = [&](bool kinematic) {
     world.world().removeRigidBody(box);
     if (kinematic) {
