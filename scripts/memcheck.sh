@@ -6,7 +6,7 @@
 # couplings, changed shapes) under memcheck too, unless scenes are named. Two runs at a time
 # (the machine's cores). Fails on any memcheck error (invalid read or write, use of
 # uninitialised values, a definite leak) or a hash that differs. Logs go to
-# build/memcheck/<name>.log. CI (.ci/run) runs it whole: about 2 minutes on 2 cores.
+# build/memcheck/<name>.log. CI (.ci/run) runs it whole: 1-2 minutes on 2 cores.
 # scripts/memcheck.supp holds the suppressions (each outside Shore, with its reproduction).
 set -euo pipefail
 cd "$(dirname "$0")/.."
