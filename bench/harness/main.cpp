@@ -76,6 +76,10 @@ int main(int argc, char** argv) {
   app.add_flag("--save", save,
                "write bench/results/<YYYY-MM-DD>-<hostname>.json and docs/BENCHMARKS.md (committed reference runs)");
   app.add_flag("--list", list, "list the sweeps and exit");
+  std::int64_t soak_substeps = 0;
+  app.add_option("--soak-substeps", soak_substeps,
+                 "substeps of the reliability sweep's soak (default 100,000; 5,000 with --quick)")
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -100,6 +104,7 @@ int main(int argc, char** argv) {
       SweepContext ctx;
       ctx.quick = quick;
       ctx.max_threads = hardware_threads;
+      ctx.soak_substeps = soak_substeps;
       const auto t0 = std::chrono::steady_clock::now();
       ctx.progress_fn = [&](const std::string& what) {
         const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -30,6 +30,7 @@
 // whole quick suite must stay under 5 minutes on 2 cores). The scenes of scenes/ can be run
 // from a sweep with shore::scenes::run_scene (write_files = false).
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <variant>
@@ -113,6 +114,8 @@ class SweepResult {
 struct SweepContext {
   bool quick = false;   ///< short run (all sweeps together well under 5 minutes on 2 cores)
   int max_threads = 1;  ///< hardware threads of the machine
+  /// Substeps of the reliability sweep's soak (--soak-substeps); 0: its default.
+  std::int64_t soak_substeps = 0;
   std::function<void(const std::string&)> progress_fn;
   /// Prints a progress line for the current sweep.
   void progress(const std::string& what) const {

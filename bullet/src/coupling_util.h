@@ -2,9 +2,12 @@
 // Small pieces both couplings need: the check that keeps a broken body out of the grids,
 // and wall-clock timing of their stages.
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <vector>
+
+#include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
 
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
@@ -43,6 +46,36 @@ std::vector<btRigidBody*> body_pointers(const std::vector<Entry>& entries) {
       out.push_back(e->body);
   }
   return out;
+}
+
+/// The addresses of the world's rigid bodies, sorted: membership tests by address that
+/// never read the body asked about (it may have been deleted).
+inline std::vector<const void*> bodies_held_by(const btCollisionWorld& world) {
+  const btCollisionObjectArray& objects = world.getCollisionObjectArray();
+  std::vector<const void*> held;
+  held.reserve(static_cast<std::size_t>(objects.size()));
+  for (int k = 0; k < objects.size(); ++k)
+    if (const btRigidBody* body = btRigidBody::upcast(objects[k])) held.push_back(body);
+  std::sort(held.begin(), held.end());
+  return held;
+}
+
+inline bool holds(const std::vector<const void*>& held, const btRigidBody* body) {
+  return std::binary_search(held.begin(), held.end(), static_cast<const void*>(body));
+}
+
+/// Drops the entries (elements with `body` and `seen_in_world` members) whose body was in
+/// the world and no longer is: taken out of it, or deleted, without remove_body. Compares
+/// addresses only. Returns how many were dropped.
+template <class Entry, class Access>
+int forget_bodies_out_of(const btCollisionWorld& world, std::vector<Entry>& entries, Access entry) {
+  if (entries.empty()) return 0;
+  const std::vector<const void*> held = bodies_held_by(world);
+  for (Entry& e : entries)
+    if (holds(held, entry(e).body)) entry(e).seen_in_world = true;
+  const std::size_t before = entries.size();
+  std::erase_if(entries, [&](Entry& e) { return entry(e).seen_in_world && !holds(held, entry(e).body); });
+  return static_cast<int>(before - entries.size());
 }
 
 }  // namespace coupling_detail

@@ -222,14 +222,33 @@ TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrai
   world_.addAction(this);
 }
 
-TerrainCoupling::~TerrainCoupling() { world_.removeAction(this); }
+TerrainCoupling::~TerrainCoupling() { detach(); }
+
+void TerrainCoupling::detach() {
+  if (detached_) return;
+  const std::vector<const void*> held = coupling_detail::bodies_held_by(world_);
+  for (const Body& b : bodies_)  // restore Bullet's tile contact of the bodies still in the world
+    if (coupling_detail::holds(held, b.body) && b.body->getBroadphaseHandle() != nullptr)
+      b.body->getBroadphaseHandle()->m_collisionFilterMask |= settings_.soil_filter_bit;
+  bodies_.clear();
+  imprints_.clear();
+  tiles_.remove_all();
+  world_.removeAction(this);
+  detached_ = true;
+}
 
 void TerrainCoupling::add_body(btRigidBody* body, BodySoilSettings body_settings) {
   if (body == nullptr) throw InvalidSetting("bullet.TerrainCoupling.add_body(body)", "null", "must be a rigid body");
+  if (detached_)
+    throw InvalidSetting("bullet.TerrainCoupling.add_body(body)", "after detach()",
+                         "a detached coupling takes no bodies: make a new one");
   body_settings.validate();
   Body b;
   b.body = body;
   b.settings = body_settings;
+  b.shape = body->getCollisionShape();
+  if (b.shape != nullptr) b.scaling = b.shape->getLocalScaling();
+  b.seen_in_world = body->getBroadphaseHandle() != nullptr;
   if (body_settings.deform) {  // once: then rasterizing it never fails for a sane pose
     b.reach = check_rasterizable(*body->getCollisionShape(), rasterizer_.grid().cell, rasterizer_.options());
     check_has_area(*body->getCollisionShape());
@@ -271,6 +290,32 @@ void TerrainCoupling::remove_body(btRigidBody* body) {
 
 bool TerrainCoupling::body_is_sane(const btRigidBody& body) const {
   return coupling_detail::body_is_sane(body, settings_.max_speed);
+}
+
+bool TerrainCoupling::shape_still_fits(Body& b) const {
+  const btCollisionShape* shape = b.body->getCollisionShape();
+  if (shape == b.shape && (shape == nullptr || shape->getLocalScaling() == b.scaling)) return b.shape_fits;
+  b.shape = shape;
+  b.scaling = shape ? shape->getLocalScaling() : btVector3(1, 1, 1);
+  b.envelope.lower.clear();  // made for the old shape
+  b.shape_fits = false;
+  if (shape == nullptr) return false;
+  try {
+    b.reach = check_rasterizable(*shape, rasterizer_.grid().cell, rasterizer_.options());
+    check_has_area(*shape);
+    b.shape_fits = true;
+  } catch (const InvalidSetting&) {
+    // Skipped (and counted) while the soil cannot take the shape.
+  }
+  return b.shape_fits;
+}
+
+void TerrainCoupling::own_tile_contact(Body& b) {
+  btBroadphaseProxy* proxy = b.body->getBroadphaseHandle();
+  if (rigid_ || proxy == nullptr || b.body->isStaticOrKinematicObject()) return;
+  if ((proxy->m_collisionFilterMask & settings_.soil_filter_bit) == 0) return;
+  proxy->m_collisionFilterMask &= ~settings_.soil_filter_bit;
+  drop_tile_pairs(proxy);
 }
 
 bool TerrainCoupling::can_rasterize(const Body& b) const {
@@ -530,6 +575,8 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   ++stats_.substeps;
   stats_.envelope_seconds = stats_.terrain_seconds = stats_.push_seconds = stats_.reaction_seconds = 0.0;
   stats_.resting_bodies = 0;
+  // First: nothing below may read a body the world no longer holds.
+  stats_.lost_bodies += coupling_detail::forget_bodies_out_of(world_, bodies_, [](Body& b) -> Body& { return b; });
   auto t0 = Clock::now();
   cover_bodies(h);
   stats_.push_seconds += seconds_since(t0);
@@ -537,11 +584,12 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   imprints_.clear();
   for (Body& b : bodies_) {
     btRigidBody& body = *b.body;
-    if (!body_is_sane(body)) {
+    if (!body_is_sane(body) || (b.settings.deform && !shape_still_fits(b))) {
       ++stats_.skipped_bodies;
       continue;
     }
     if (!b.settings.deform) continue;
+    own_tile_contact(b);
     if (!overlaps_region(body)) {  // nothing to do here (another soil's region, say)
       b.envelope.lower.clear();
       continue;

@@ -32,6 +32,11 @@ TerrainTiles::TerrainTiles(btCollisionWorld& world, const terrain::Terrain& soil
 
 TerrainTiles::~TerrainTiles() { remove_all(); }
 
+void TerrainTiles::remove_all() {
+  for (auto& [k, tile] : tiles_) world_.removeCollisionObject(tile.field->object());
+  tiles_.clear();
+}
+
 std::uint64_t TerrainTiles::key(std::int64_t tx, std::int64_t ty) noexcept {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(tx)) << 32) | static_cast<std::uint32_t>(ty);
 }
@@ -85,11 +90,6 @@ TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, const He
   world_.addCollisionObject(tile.field->object(), group_,
                             btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
   return tiles_.emplace(key(tx, ty), std::move(tile)).first->second;
-}
-
-void TerrainTiles::remove_all() {
-  for (auto& [k, tile] : tiles_) world_.removeCollisionObject(tile.field->object());
-  tiles_.clear();
 }
 
 int TerrainTiles::ensure_cover(double x0, double y0, double x1, double y1) {

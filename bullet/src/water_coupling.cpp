@@ -43,6 +43,7 @@ struct WaterCoupling::Workspace {
 struct WaterCoupling::Body {
   btRigidBody* body = nullptr;
   bool disturb = true;
+  bool seen_in_world = false;  // the world held the body once (lost when it no longer does)
   water_detail::WaterShape shape;
   SubEnvelope reference;  // envelopes at the pose the displacement was last taken from
   SubEnvelope current;
@@ -239,6 +240,7 @@ void WaterCoupling::add_body(btRigidBody* body, bool disturb) {
   auto b = std::make_unique<Body>();
   b->body = body;
   b->disturb = disturb;
+  b->seen_in_world = body->getBroadphaseHandle() != nullptr;
   b->shape = water_detail::prepare_shape(*body->getCollisionShape());
   if (b->shape.sampled) {
     const EnvelopeGrid grid = sub_grid(surface_, settings_.fluid.samples_per_cell);
@@ -486,6 +488,9 @@ void WaterCoupling::float_body(Body& b, double h) {
 
 void WaterCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   ++stats_.substeps;
+  // First: nothing below may read a body the world no longer holds.
+  stats_.lost_bodies +=
+      coupling_detail::forget_bodies_out_of(world_, bodies_, [](std::unique_ptr<Body>& b) -> Body& { return *b; });
   const auto t0 = Clock::now();
   for (const auto& b : bodies_) float_body(*b, substep);
   stats_.coupling_seconds = seconds_since(t0);

@@ -11,6 +11,7 @@
 #include "shore/bullet/heightfield_tile.h"
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/core/error.h"
+#include "shore/scenes/soak.h"
 #include "shore/scenes/soil_cases.h"
 #include "shore/scenes/world.h"
 #include "shore/terrain/terrain.h"
@@ -27,36 +28,6 @@ terrain::TerrainSettings soil_of(const char* material, double cell = 0.02) {
   return s;
 }
 
-std::unique_ptr<btCollisionShape> random_shape(std::mt19937& rng) {
-  std::uniform_real_distribution<double> size(0.05, 0.25);
-  auto s = [&] { return btScalar(size(rng)); };
-  switch (rng() % 7) {
-    case 0:
-      return std::make_unique<btSphereShape>(s());
-    case 1:
-      return std::make_unique<btBoxShape>(btVector3(s(), s(), s()));
-    case 2:
-      return std::make_unique<btCapsuleShapeZ>(s(), s());
-    case 3:
-      return std::make_unique<btCylinderShapeZ>(btVector3(s(), s(), s()));
-    case 4:
-      return std::make_unique<btConeShapeZ>(s(), 2 * s());
-    case 5: {
-      auto hull = std::make_unique<btConvexHullShape>();
-      for (int k = 0; k < 12; ++k) hull->addPoint(btVector3(s() - 0.15f, s() - 0.15f, s() - 0.15f));
-      return hull;
-    }
-    default: {
-      auto compound = std::make_unique<btCompoundShape>();
-      static thread_local std::vector<std::unique_ptr<btCollisionShape>> children;  // outlive the compounds
-      children.push_back(std::make_unique<btBoxShape>(btVector3(s(), s(), s())));
-      compound->addChildShape(btTransform(btQuaternion::getIdentity(), btVector3(0.1f, 0, 0)), children.back().get());
-      children.push_back(std::make_unique<btSphereShape>(s()));
-      compound->addChildShape(btTransform(btQuaternion::getIdentity(), btVector3(-0.1f, 0, 0)), children.back().get());
-      return compound;
-    }
-  }
-}
 }  // namespace
 
 // 1,000 seeded drops of every shape type at up to 50 m/s onto sand, mud and snow: every
@@ -67,15 +38,17 @@ TEST(SoilRobustness, NothingFallsThrough) {
   int drops = 0;
   for (const char* material : {"sand", "mud", "snow"})
     for (int batch = 0; batch < 14 && drops < 1000; ++batch) {
-      terrain::Terrain soil(soil_of(material, 0.04));  // 4 cm columns: bodies are 10-50 cm
+      terrain::Terrain soil(soil_of(material, 0.04));           // 4 cm columns: bodies are 10-50 cm
+      std::vector<std::unique_ptr<btCollisionShape>> children;  // of compounds: outlive the world
       World world;
       bullet::TerrainCoupling ground(world.world(), soil);
       std::vector<btRigidBody*> bodies;
       std::uniform_real_distribution<double> speed(0.0, 50.0), angle(-3.14, 3.14), lateral(-2.0, 2.0);
       for (int k = 0; k < 24 && drops < 1000; ++k, ++drops) {
         const btVector3 at(btScalar(1.0 * (k % 6)), btScalar(1.0 * (k / 6)), btScalar(0.5 + 0.1 * (k % 3)));
-        btRigidBody* b = world.add_body(random_shape(rng), 1.0 + 20.0 * (rng() % 100) / 100.0, at,
-                                        btQuaternion(btScalar(angle(rng)), btScalar(angle(rng)), btScalar(angle(rng))));
+        btRigidBody* b =
+            world.add_body(scenes::random_body_shape(rng, children), 1.0 + 20.0 * (rng() % 100) / 100.0, at,
+                           btQuaternion(btScalar(angle(rng)), btScalar(angle(rng)), btScalar(angle(rng))));
         b->setLinearVelocity(btVector3(btScalar(lateral(rng)), btScalar(lateral(rng)), btScalar(-speed(rng))));
         ground.add_body(b);
         bodies.push_back(b);
@@ -92,57 +65,32 @@ TEST(SoilRobustness, NothingFallsThrough) {
   EXPECT_EQ(drops, 1000);
 }
 
-// The soak's test version (issue 21; the 100,000-substep run belongs in shore-bench): 50
-// bodies of every shape type dropped onto sand, 2,000 substeps at 1/240 s. Nothing becomes
+// The soak's test version (issue 21; the 100,000-substep run is shore-bench's reliability
+// sweep): 50 bodies of every shape type, 40 dropped onto sand and 10 into a walled pool
+// beside it (onto the sand under the water), 2,000 substeps at 1/240 s. Nothing becomes
 // non-finite, nothing ends below bedrock, no body needs a rescue once settled (after 2 s),
 // the soil's volume is conserved against what compression removed (ground + compacted
-// equals the edited volume, 0, to 1e-9 of the moved volume), and the soil's memory stops
-// growing once the bodies rest (the last 75 % within 5 %). Water is not part of this
-// version.
+// equals the edited volume, 0, to 1e-9 of the moved volume), the pool's volume changes by
+// exactly what the bodies displaced (no fixed node, no open edge: to 1e-12 m^3), and the
+// soil's and water's memory stop growing once the bodies rest (the last 75 % within 5 %).
 TEST(SoilRobustness, SoakOfFiftyBodiesStaysFiniteConservedAndFlat) {
-  std::mt19937 rng(20261201);
-  terrain::Terrain soil(soil_of("sand", 0.04));
-  World world;
-  bullet::TerrainCoupling ground(world.world(), soil);
-  std::vector<btRigidBody*> bodies;
-  for (int k = 0; k < 50; ++k) {
-    const btVector3 at(btScalar(0.8 * (k % 10)), btScalar(0.8 * (k / 10)), btScalar(0.4));
-    btRigidBody* b = world.add_body(random_shape(rng), 1.0 + 20.0 * (rng() % 100) / 100.0, at,
-                                    btQuaternion(btScalar(0.1 * k), btScalar(0.2), btScalar(0.05 * k)));
-    ground.add_body(b);
-    bodies.push_back(b);
-  }
-  constexpr int kSubsteps = 2000, kSettled = 480, kWarm = 500;
-  std::int64_t rescues_settled = 0;
-  std::size_t memory_warm = 0, memory_max = 0;
-  for (int s = 1; s <= kSubsteps; ++s) {
-    world.step(1.0 / 240);
-    if (s == kSettled) rescues_settled = ground.stats().rescues;
-    if (s >= kWarm) memory_max = std::max(memory_max, soil.memory_bytes());
-    if (s == kWarm) memory_warm = soil.memory_bytes();
-    if (s % 100 != 0) continue;
-    for (btRigidBody* b : bodies) {
-      const btVector3 c = b->getCenterOfMassPosition(), v = b->getLinearVelocity();
-      ASSERT_TRUE(std::isfinite(c.x()) && std::isfinite(c.y()) && std::isfinite(c.z())) << "substep " << s;
-      ASSERT_TRUE(std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z())) << "substep " << s;
-    }
-    const terrain::VolumeTotals vol = soil.volume();
-    ASSERT_TRUE(std::isfinite(vol.ground) && std::isfinite(vol.compacted)) << "substep " << s;
-  }
-  for (btRigidBody* b : bodies) {
-    btVector3 lo, hi;
-    b->getCollisionShape()->getAabb(b->getWorldTransform(), lo, hi);
-    const btVector3 c = b->getCenterOfMassPosition();
-    EXPECT_GT(lo.z(), soil.bedrock(soil.column_i(c.x()), soil.column_j(c.y())) - 0.02);
-  }
-  EXPECT_EQ(ground.stats().rescues - rescues_settled, 0) << "rescues after settling";
-  const terrain::VolumeTotals vol = soil.volume();
-  const double moved = std::abs(vol.compacted);
-  EXPECT_GT(moved, 0.0) << "the bodies pressed the sand";
-  EXPECT_LE(std::abs(vol.total() - vol.edited), 1e-9 * moved)
-      << "ground " << vol.ground << " compacted " << vol.compacted << " m^3";
-  EXPECT_LE(static_cast<double>(memory_max), 1.05 * static_cast<double>(memory_warm))
-      << "soil memory grew from " << memory_warm << " to " << memory_max << " bytes after warm-up";
+  scenes::SoakCase c;
+  c.floating_bodies = 10;
+  c.substeps = 2000;
+  c.warm_up_substeps = 500;
+  const scenes::SoakResult r = scenes::run_soak(c);
+  EXPECT_EQ(r.nan_count, 0);
+  EXPECT_EQ(r.fall_throughs, 0);
+  EXPECT_EQ(r.lost_bodies, 0);
+  EXPECT_EQ(r.rescues_after_settling, 0) << "rescues after settling";
+  EXPECT_GT(r.soil_moved_volume, 0.0) << "the bodies pressed the sand";
+  EXPECT_LE(r.soil_volume_drift, 1e-9 * r.soil_moved_volume) << "moved " << r.soil_moved_volume << " m^3";
+  EXPECT_NE(r.water_displaced_volume, 0.0) << "the floating bodies displaced water";
+  EXPECT_LE(r.water_volume_drift, 1e-12) << "displaced " << r.water_displaced_volume << " m^3";
+  EXPECT_LE(scenes::SoakResult::growth(r.soil_memory_warm, r.soil_memory_max), 0.05)
+      << "soil memory grew from " << r.soil_memory_warm << " to " << r.soil_memory_max << " bytes after warm-up";
+  EXPECT_LE(scenes::SoakResult::growth(r.water_memory_warm, r.water_memory_max), 0.05)
+      << "water memory grew from " << r.water_memory_warm << " to " << r.water_memory_max << " bytes after warm-up";
 }
 
 // On rigid material the coupling leaves Bullet's contact alone: same rest height as a

@@ -28,6 +28,25 @@
 //   has no size); a body with a broken pose (non-finite, not a rotation) or faster than
 //   max_speed is skipped for that substep and counted in stats().skipped_bodies.
 // Bodies that are not added collide with the soil's tiles through Bullet as with rigid ground.
+//
+// Lifetimes and misuse (issue 21; tests/bullet/test_coupling_misuse.cpp):
+// - add_body of a body already added replaces its settings (it is added once);
+//   remove_body of a body never added, or removed already, does nothing. A removed body
+//   collides with the tiles through Bullet again.
+// - Removing a body while it is in contact is fine: its contact state goes with it.
+// - A body taken out of the world (removeRigidBody), or deleted, without remove_body is
+//   noticed at the next substep by its address no longer being in the world (the coupling
+//   never reads it) and dropped, counted in stats().lost_bodies. A new body allocated at
+//   the deleted one's address before that substep would be taken for it: call
+//   remove_body first, as Bullet wants constraints removed before their bodies.
+// - A body's shape or its scaling changed after add_body is checked again at the next
+//   substep; while the soil cannot take it, the body is skipped (skipped_bodies).
+// - A body switched between kinematic and dynamic is treated as what it is at each substep
+//   (a dynamic one gets the soil's contact instead of Bullet's tile contact).
+// - A sleeping body is woken when the soil under it changes (an edit, or another body).
+// - The world and the soil must outlive the coupling; to destroy the world first, call
+//   detach() before (the destructor then touches nothing). A body in two couplings whose
+//   regions overlap is pushed by both soils: give couplings disjoint regions.
 
 #include <cstdint>
 #include <memory>
@@ -112,9 +131,12 @@ struct TerrainCouplingSettings {
 /// Counters and timings of the last substep and totals since creation.
 struct TerrainCouplingStats {
   std::int64_t substeps = 0;
-  std::int64_t skipped_bodies = 0;   ///< body-substeps skipped for a broken pose or an absurd speed (total)
-  std::int64_t yields = 0;           ///< body-substeps in which the soil yielded (total)
-  std::int64_t rescues = 0;          ///< bodies lifted back above bedrock (total)
+  std::int64_t skipped_bodies = 0;  ///< body-substeps skipped for a broken pose or an absurd speed (total)
+  std::int64_t yields = 0;          ///< body-substeps in which the soil yielded (total)
+  std::int64_t rescues = 0;         ///< bodies lifted back above bedrock (total)
+  /// Bodies dropped because the world no longer held them (removed or deleted without
+  /// remove_body; total).
+  std::int64_t lost_bodies = 0;
   std::int64_t vertices_pushed = 0;  ///< heightfield vertices written (total)
   /// J, total: work the coupled bodies did on the soil, pressing and shearing it (the
   /// kinetic energy the soil's impulses took from them).
@@ -151,8 +173,13 @@ class TerrainCoupling : public btActionInterface {
   /// The body presses the soil (dynamic: by the momentum rule; kinematic: geometrically).
   /// Tiles under it are created at once. Throws InvalidSetting for a null body, a dynamic
   /// body not yet in the world, or (with deform) a shape that cannot be rasterized.
+  /// Adding a body again replaces its settings. Throws InvalidSetting after detach().
   void add_body(btRigidBody* body, BodySoilSettings body_settings = {});
+  /// Does nothing for a body not added (or removed already).
   void remove_body(btRigidBody* body);
+  /// Takes the coupling out of its world: its tiles and itself (the action) are removed,
+  /// the bodies are let go. After it the world may be destroyed before the coupling.
+  void detach();
 
   void updateAction(btCollisionWorld* world, btScalar substep) override;
   /// Contact columns, soil reaction vectors and tile outlines, as the drawer's debug mode
@@ -198,9 +225,19 @@ class TerrainCoupling : public btActionInterface {
     EnvelopeRaster envelope;  // at envelope_pose: this substep's imprint, the next one's contact
     btTransform envelope_pose;
     double reach = 0.0;  // m, from check_rasterizable
+    // The shape and scaling reach was found for; shape_fits: the soil can take it.
+    const btCollisionShape* shape = nullptr;
+    btVector3 scaling{1, 1, 1};
+    bool shape_fits = true;
+    bool seen_in_world = false;  // the world held the body once (lost when it no longer does)
     std::unique_ptr<BodyContact> contact;
   };
   bool body_is_sane(const btRigidBody& body) const;
+  /// Checks a deforming body's shape again if it or its scaling changed since add_body.
+  bool shape_still_fits(Body& b) const;
+  /// A dynamic deforming body must not collide with soft tiles through Bullet (it may have
+  /// been switched from kinematic).
+  void own_tile_contact(Body& b);
   /// The cheap per-substep test that rasterizing the body at its pose cannot fail.
   bool can_rasterize(const Body& b) const;
   void cover_bodies(double substep);
@@ -233,6 +270,7 @@ class TerrainCoupling : public btActionInterface {
   std::vector<terrain::Imprint> imprints_;
   TerrainCouplingStats stats_;
   bool rigid_ = false;
+  bool detached_ = false;
 };
 
 }  // namespace SHORE_BULLET_ABI

@@ -72,6 +72,8 @@ class TerrainTiles {
   using PushObserver = std::function<void(std::span<const terrain::ColumnRect> changed)>;
   void set_push_observer(PushObserver observer) { observer_ = std::move(observer); }
 
+  /// Removes every tile from the world and forgets it (a detaching coupling).
+  void remove_all();
   [[nodiscard]] bool is_tile(const btCollisionObject* object) const noexcept;
   [[nodiscard]] std::size_t count() const noexcept { return tiles_.size(); }
   /// Vertices clamped to a tile's height range so far (should stay 0; raise headroom if not).
@@ -101,7 +103,6 @@ class TerrainTiles {
   Tile& create(std::int64_t tx, std::int64_t ty);
   /// A tile with these bounds and heights ((T + 1)^2, row-major) added to the world.
   Tile& add(std::int64_t tx, std::int64_t ty, const HeightfieldTileSettings& hs, std::span<const double> heights);
-  void remove_all();
   std::int64_t copy_rect(Tile& tile, std::int64_t ci0, std::int64_t cj0, std::int64_t ci1, std::int64_t cj1);
   void drop_stale_contacts(double x0, double y0, double x1, double y1);
 

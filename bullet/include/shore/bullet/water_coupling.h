@@ -27,6 +27,11 @@
 // add_body() checks the body: a finite pose, a shape the water can take, a positive volume
 // (InvalidSetting naming what is wrong). A body whose pose breaks later, or faster than
 // max_speed, is skipped for that substep and counted in stats().skipped_bodies.
+//
+// Lifetimes: add_body of a body already added replaces it (added once); remove_body of a
+// body not added does nothing; a body taken out of the world or deleted without
+// remove_body is dropped at the next substep (stats().lost_bodies; see terrain_coupling.h
+// for the one case this cannot tell). The world and the surface must outlive the coupling.
 
 #include <cstdint>
 #include <memory>
@@ -61,6 +66,9 @@ struct WaterCouplingSettings {
 struct WaterCouplingStats {
   std::int64_t substeps = 0;
   std::int64_t skipped_bodies = 0;
+  /// Bodies dropped because the world no longer held them (taken out of it or deleted
+  /// without remove_body; noticed by address at the next substep, never read; total).
+  std::int64_t lost_bodies = 0;
   int water_substeps = 0;         ///< internal substeps the surface took in the last substep
   double coupling_seconds = 0.0;  ///< last substep: buoyancy, drag, displacement
   double water_seconds = 0.0;     ///< last substep: the surface's own step

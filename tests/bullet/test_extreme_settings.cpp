@@ -1,0 +1,33 @@
+// The edges of the settings ranges (issue 21), smoke versions (the full ones, with their
+// errors against the references, are shore-bench's reliability sweep): substeps of 1/30 s
+// and 1/2000 s, cells of 2 mm and 20 cm, 0.05 kg and 50 t on snow, 50 m/s into mud. Each
+// stays finite, ends above bedrock and presses the soil.
+#include <gtest/gtest.h>
+
+#include <ostream>
+#include <string>
+
+#include "shore/scenes/extreme_cases.h"
+
+using namespace shore;
+
+namespace shore::scenes {
+// gtest prints a parameter's name, not its bytes.
+void PrintTo(const ExtremeCase& c, std::ostream* os) { *os << c.name; }
+}  // namespace shore::scenes
+
+class ExtremeSettings : public ::testing::TestWithParam<scenes::ExtremeCase> {};
+
+TEST_P(ExtremeSettings, FiniteAndNothingFallsThrough) {
+  const scenes::ExtremeCase& c = GetParam();
+  const scenes::ExtremeResult r = scenes::run_extreme(c);
+  EXPECT_TRUE(r.finite) << c.what;
+  EXPECT_TRUE(r.above_bedrock()) << c.what << ": sinkage " << r.sinkage << " m, soil " << r.soil_depth << " m";
+  EXPECT_GT(r.sinkage, 0.0) << c.what << ": the body pressed the soil";
+}
+
+namespace {
+std::string case_name(const ::testing::TestParamInfo<scenes::ExtremeCase>& p) { return p.param.name; }
+}  // namespace
+
+INSTANTIATE_TEST_SUITE_P(Smoke, ExtremeSettings, ::testing::ValuesIn(scenes::extreme_cases(true)), case_name);
