@@ -1,5 +1,6 @@
 // The OpenGL renderer headless (EGL on Mesa): pictures of real scenes checked for size,
-// for not being blank, for the colour bar, and the soil upload for sending only what changed.
+// for not being blank, for the colour bar, the soil meshes for uploading only the chunks that changed and for
+// culling the chunks outside the view.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -79,24 +80,55 @@ TEST(RenderHeadless, PondPictureShowsWaterWithTheWaterColourBar) {
   EXPECT_LT(colour_distance(im.at(7, bar_y), shore::scenes::water_colour(-1.0)), 12);
 }
 
-TEST(RenderHeadless, SoilUploadsOnlyTheChangedColumns) {
+TEST(RenderHeadless, SoilMeshUploadsOnlyTheChangedChunks) {
   auto scene = smoke_scene("vehicle", 0);
   shore::render::HeadlessContext context;
   shore::render::Renderer r;
   const shore::scenes::SceneContents c = scene->contents();
   r.set_contents(c);
-  r.sync();
+  const shore::render::OrbitCamera camera = shore::render::OrbitCamera::framing(c.bounds);
+  const shore::render::RenderSettings settings = shore::render::picture_settings(c);
+  r.draw(camera, 640, 360, settings);
   const auto whole = r.stats().whole_soil_bytes;
-  EXPECT_EQ(r.stats().soil_bytes, whole) << "the first sync uploads the whole field";
+  const auto first = r.stats().soil_bytes;
+  EXPECT_GT(first, 0) << "the first frame uploads the meshes";
+  EXPECT_LT(first, whole) << "a simplified mesh is smaller than the full-resolution one";
+  EXPECT_LT(r.stats().surface_triangles, r.stats().full_triangles);
+  r.draw(camera, 640, 360, settings);
+  EXPECT_EQ(r.stats().soil_bytes, 0) << "nothing changed, the camera did not move: nothing uploaded";
   std::int64_t most = 0, total = 0;
   for (int frame = 0; frame < 30; ++frame) {
     for (int k = 0; k < 4; ++k) scene->step();
-    r.sync();
+    r.draw(camera, 640, 360, settings);
     most = std::max(most, r.stats().soil_bytes);
     total += r.stats().soil_bytes;
   }
-  EXPECT_GT(total, 0) << "the wheels on the sand change columns";
+  EXPECT_GT(total, 0) << "the wheels on the sand change chunks";
   EXPECT_LT(most, whole / 4) << "a frame uploads a small part of the field";
+  r.clear();
+}
+
+TEST(RenderHeadless, ChunksOutsideTheViewAreCulled) {
+  auto scene = smoke_scene("vehicle", 0);
+  shore::render::HeadlessContext context;
+  shore::render::Renderer r;
+  const shore::scenes::SceneContents c = scene->contents();
+  r.set_contents(c);
+  shore::render::RenderSettings settings = shore::render::picture_settings(c);
+  settings.shadows = false;
+  shore::render::OrbitCamera wide = shore::render::OrbitCamera::framing(c.bounds);
+  r.draw(wide, 320, 180, settings);
+  EXPECT_EQ(r.stats().chunks_culled, 0) << "the framing view sees the whole scene";
+  // Close to the sand's near end, looking away from the rest of the field: most chunks are behind.
+  shore::render::OrbitCamera near = wide;
+  near.target = {std::max(c.soils.front().region.x0, c.bounds.x0) + 0.3, 0.0, 0.0};  // the sand's near end
+  near.yaw_deg = 0.0;  // the eye on the +x side of the target, looking towards -x: the rest is behind it
+  near.distance = 0.6;
+  near.pitch_deg = 20.0;
+  r.draw(near, 320, 180, settings);
+  EXPECT_GT(r.stats().chunks_culled, 0);
+  EXPECT_GT(r.stats().chunks_drawn, 0);
+  EXPECT_LT(r.stats().chunks_drawn, r.stats().surface_chunks);
   r.clear();
 }
 
