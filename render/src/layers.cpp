@@ -175,9 +175,6 @@ void Layers::prepare(const RenderSettings& settings, FrameStats& stats) {
 }
 
 namespace {
-ChunkDraw draw_chunks(const SurfaceMesh& m, const Frustum* frustum) {
-  return frustum != nullptr ? m.draw(*frustum) : m.draw_all();
-}
 void add(ChunkDraw& total, const ChunkDraw& d) {
   total.triangles += d.triangles;
   total.drawn += d.drawn;
@@ -198,7 +195,7 @@ ChunkDraw Layers::draw_soils(GLuint p, const Frustum* frustum, bool depth_only, 
       // Storage tile edges sit at multiples of tile_columns of the global column index.
       glUniform1i(glGetUniformLocation(p, "uTileColumns"), s.soil_tile_borders ? ts.tile_columns : 0);
     }
-    add(total, draw_chunks(*layer->mesh, frustum));
+    add(total, layer->mesh->draw(frustum));
   }
   return total;
 }
@@ -209,7 +206,7 @@ ChunkDraw Layers::draw_waters(GLuint p, const Frustum* frustum, const RenderSett
     glUniform1f(glGetUniformLocation(p, "uSlopeGain"), float(wave_gain_));
     glUniform1i(glGetUniformLocation(p, "uMode"), static_cast<int>(s.water));
     glUniform1f(glGetUniformLocation(p, "uScale"), float(water_scale_));
-    add(total, draw_chunks(*layer->mesh, frustum));
+    add(total, layer->mesh->draw(frustum));
   }
   return total;
 }

@@ -78,27 +78,14 @@ std::int64_t SurfaceMesh::upload(const mesh::ChunkKey& key, const mesh::Chunk& c
   return vertex_bytes + index_bytes;
 }
 
-ChunkDraw SurfaceMesh::draw(const Frustum& frustum) const {
+ChunkDraw SurfaceMesh::draw(const Frustum* frustum) const {
   ChunkDraw d;
   for (const auto& [key, g] : gpu_) {
     if (g.index_count == 0) continue;
-    if (!frustum.may_see(g.lo, g.hi)) {
+    if (frustum != nullptr && !frustum->may_see(g.lo, g.hi)) {
       ++d.culled;
       continue;
     }
-    glBindVertexArray(g.vao.get());
-    glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
-    d.triangles += g.index_count / 3;
-    ++d.drawn;
-  }
-  glBindVertexArray(0);
-  return d;
-}
-
-ChunkDraw SurfaceMesh::draw_all() const {
-  ChunkDraw d;
-  for (const auto& [key, g] : gpu_) {
-    if (g.index_count == 0) continue;
     glBindVertexArray(g.vao.get());
     glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
     d.triangles += g.index_count / 3;

@@ -47,10 +47,9 @@ class SurfaceMesh {
   /// Brings the mesh up to date for the eye and uploads the chunks that changed (dropping
   /// removed ones); returns the bytes uploaded.
   std::int64_t update(const mesh::Camera& eye);
-  /// Draws the chunks the frustum may see (vertex attributes 0 position, 1 normal, 2 extras).
-  ChunkDraw draw(const Frustum& frustum) const;
-  /// Draws every chunk's triangles (the shadow pass, where the light sees all).
-  ChunkDraw draw_all() const;
+  /// Draws the chunks the frustum may see, every chunk if it is null (the shadow pass)
+  /// (vertex attributes 0 position, 1 normal, 2 extras).
+  ChunkDraw draw(const Frustum* frustum) const;
 
   [[nodiscard]] std::int64_t nodes() const { return field_->ni() * field_->nj(); }
   /// Triangles of the full-resolution mesh of the same field: two per cell.

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 
+#include "picture_checks.h"
 #include "shore/render/headless.h"
 #include "shore/render/picture.h"
 #include "shore/render/renderer.h"
@@ -21,31 +22,19 @@ namespace {
 using shore::scenes::Image;
 using shore::scenes::Rgb;
 
-std::unique_ptr<shore::scenes::Scene> smoke_scene(const char* name, int substeps) {
-  const shore::scenes::SceneType& type = *shore::scenes::find_scene(name);
-  shore::scenes::Overrides o;
-  o.smoke = true;
-  o.write_files = false;
-  auto scene = type.create(shore::scenes::resolve(type, o));
-  for (int k = 0; k < substeps; ++k) scene->step();
-  return scene;
-}
+using shore::test::colour_distance;
+using shore::test::distinct_colours;
+using shore::test::smoke_scene;
 
-double colour_distance(Rgb a, Rgb b) { return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b); }
-
-/// Distinct colours among the picture's pixels (coarsely binned): a blank picture has 1.
-int distinct_colours(const Image& im, int y0, int y1) {
-  std::vector<bool> seen(4096, false);
-  int n = 0;
-  for (int y = y0; y < y1; ++y)
-    for (int x = 0; x < im.width(); ++x) {
-      const Rgb c = im.at(x, y);
-      const int bin = (c.r >> 4) << 8 | (c.g >> 4) << 4 | (c.b >> 4);
-      if (!seen[bin]) ++n;
-      seen[bin] = true;
-    }
-  return n;
-}
+/// The vehicle scene at its start, drawn by a renderer of its own headless context.
+struct VehicleRenderer {
+  std::unique_ptr<shore::scenes::Scene> scene = smoke_scene("vehicle", 0);
+  shore::render::HeadlessContext context;
+  shore::render::Renderer r;
+  shore::scenes::SceneContents c = scene->contents();
+  VehicleRenderer() { r.set_contents(c); }
+  ~VehicleRenderer() { r.clear(); }
+};
 
 TEST(RenderHeadless, VehiclePictureHasItsSizeContentAndColourBar) {
   auto scene = smoke_scene("vehicle", 120);
@@ -60,8 +49,7 @@ TEST(RenderHeadless, VehiclePictureHasItsSizeContentAndColourBar) {
   EXPECT_GT(distinct_colours(im, 24, 24 + 360), 40) << "the 3-D view is (nearly) blank";
   // The colour bar: its left end is the diverging map's "lowered" end, its right end "raised".
   const int bar_y = 24 + 360 + 6 + 5;
-  int end = 6;  // the bar runs from x = 6 to its last non-white pixel
-  while (end + 1 < im.width() && !(im.at(end + 1, bar_y) == Rgb{255, 255, 255})) ++end;
+  const int end = shore::test::colour_bar_end(im, bar_y);
   EXPECT_GE(end - 6 + 1, 256) << "the colour bar is at least 256 pixels long";
   EXPECT_LT(colour_distance(im.at(6, bar_y), shore::scenes::diverging_colour(-1.0)), 12);
   EXPECT_LT(colour_distance(im.at(end, bar_y), shore::scenes::diverging_colour(1.0)), 12);
@@ -81,11 +69,8 @@ TEST(RenderHeadless, PondPictureShowsWaterWithTheWaterColourBar) {
 }
 
 TEST(RenderHeadless, SoilMeshUploadsOnlyTheChangedChunks) {
-  auto scene = smoke_scene("vehicle", 0);
-  shore::render::HeadlessContext context;
-  shore::render::Renderer r;
-  const shore::scenes::SceneContents c = scene->contents();
-  r.set_contents(c);
+  VehicleRenderer v;
+  auto& [scene, context, r, c] = v;
   const shore::render::OrbitCamera camera = shore::render::OrbitCamera::framing(c.bounds);
   const shore::render::RenderSettings settings = shore::render::picture_settings(c);
   r.draw(camera, 640, 360, settings);
@@ -109,11 +94,8 @@ TEST(RenderHeadless, SoilMeshUploadsOnlyTheChangedChunks) {
 }
 
 TEST(RenderHeadless, ChunksOutsideTheViewAreCulled) {
-  auto scene = smoke_scene("vehicle", 0);
-  shore::render::HeadlessContext context;
-  shore::render::Renderer r;
-  const shore::scenes::SceneContents c = scene->contents();
-  r.set_contents(c);
+  VehicleRenderer v;
+  auto& [scene, context, r, c] = v;
   shore::render::RenderSettings settings = shore::render::picture_settings(c);
   settings.shadows = false;
   shore::render::OrbitCamera wide = shore::render::OrbitCamera::framing(c.bounds);

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <string>
 
+#include "picture_checks.h"
 #include "shore/render/painter.h"
 #include "shore/scenes/image.h"
 #include "shore/scenes/runner.h"
@@ -39,34 +40,21 @@ Image read_png(const fs::path& p) {
   return im;
 }
 
-int distance(Rgb a, Rgb b) { return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b); }
-
-/// Distinct colours (coarsely binned) among the rows [y0, y1): a blank picture has 1.
-int distinct_colours(const Image& im, int y0, int y1) {
-  std::vector<bool> seen(4096, false);
-  int n = 0;
-  for (int y = std::max(y0, 0); y < std::min(y1, im.height()); ++y)
-    for (int x = 0; x < im.width(); ++x) {
-      const Rgb c = im.at(x, y);
-      const int bin = (c.r >> 4) << 8 | (c.g >> 4) << 4 | (c.b >> 4);
-      if (!seen[bin]) ++n;
-      seen[bin] = true;
-    }
-  return n;
-}
+using shore::test::colour_distance;
+using shore::test::distinct_colours;
 
 /// True if the bottom 40 rows hold a colour bar: a row that from x = 6 runs at least 256
 /// pixels, from the low end of the diverging or the water map to its high end.
 bool has_colour_bar(const Image& im) {
   for (int y = std::max(im.height() - 40, 0); y < im.height(); ++y) {
-    int end = 6;  // the bar runs from x = 6 to its last non-white pixel
-    while (end + 1 < im.width() && !(im.at(end + 1, y) == Rgb{255, 255, 255})) ++end;
+    const int end = shore::test::colour_bar_end(im, y);
     if (end - 6 + 1 < 256) continue;
     const Rgb lo = im.at(6, y), hi = im.at(end, y);
-    if (distance(lo, shore::scenes::diverging_colour(-1.0)) < 12 &&
-        distance(hi, shore::scenes::diverging_colour(1.0)) < 12)
+    if (colour_distance(lo, shore::scenes::diverging_colour(-1.0)) < 12 &&
+        colour_distance(hi, shore::scenes::diverging_colour(1.0)) < 12)
       return true;
-    if (distance(lo, shore::scenes::water_colour(-1.0)) < 12 && distance(hi, shore::scenes::water_colour(1.0)) < 12)
+    if (colour_distance(lo, shore::scenes::water_colour(-1.0)) < 12 &&
+        colour_distance(hi, shore::scenes::water_colour(1.0)) < 12)
       return true;
   }
   return false;
@@ -99,7 +87,9 @@ TEST_P(ScenePictures, EveryPictureIsDrawnNotBlankAndHasItsColourBar) {
     const std::string name = f.filename().string();
     const bool bar =
         name != "filmstrip.png" && !(GetParam() == "pond" && name == "lod.png") && GetParam() != "rigid_drop";
-    if (bar) EXPECT_TRUE(has_colour_bar(im)) << f << ": no colour bar";
+    if (bar) {
+      EXPECT_TRUE(has_colour_bar(im)) << f << ": no colour bar";
+    }
   }
   EXPECT_GE(pictures, 3) << "every scene draws a top or oblique view, a filmstrip and more";
 }
@@ -140,7 +130,7 @@ TEST(ScenePictures, TheImpactTopViewShowsCratersUnderTheBodiesAndTheBodiesWhereT
     if (x < 2 || y < 26 || x >= 638 || y >= 24 + h - 2) continue;
     ++bodies_checked;
     // The body is drawn there: with and without bodies differ at its centre.
-    EXPECT_GT(distance(with.at(x, y), without.at(x, y)), 30) << "body at " << p.x() << ", " << p.y();
+    EXPECT_GT(colour_distance(with.at(x, y), without.at(x, y)), 30) << "body at " << p.x() << ", " << p.y();
     // Under it the soil is lowered: the diverging map's blue side (b > r).
     const Rgb g = without.at(x, y);
     if (g.b > g.r + 10) ++lowered_under;
