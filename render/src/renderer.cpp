@@ -32,7 +32,7 @@ Mat4 ortho(double r, double n, double f) {
   return m.cast<float>();
 }
 
-/// The sun: azimuth 315 degrees (north-west, as the software pictures' hillshade), 50 degrees up.
+/// The sun: azimuth 315 degrees (north-west), 50 degrees up.
 Eigen::Vector3d sun_direction() {
   const double az = 315.0 * std::numbers::pi / 180.0, alt = 50.0 * std::numbers::pi / 180.0;
   return {std::sin(az) * std::cos(alt), std::cos(az) * std::cos(alt), std::sin(alt)};
@@ -46,7 +46,7 @@ void set(GLuint p, const char* n, const Eigen::Vector3d& v) {
   glUniform3f(loc(p, n), float(v.x()), float(v.y()), float(v.z()));
 }
 
-/// The colour maps of the software pictures (image.h) as a 256 x 3 texture: rows diverging,
+/// The pictures' colour maps (image.h; their colour bars use the same) as a 256 x 3 texture: rows diverging,
 /// height, water.
 gl::Texture colour_lut() {
   std::vector<std::uint8_t> rgb;
