@@ -32,6 +32,10 @@ struct EnvelopeRasterizer::Cache {
   };
   std::unordered_map<const btCollisionShape*, Entry> hulls;
   EnvelopeRaster point;  ///< lower_at's one-column raster
+  /// The last pose to_frame accepted: the same pose again (a probe's many points on one
+  /// body) skips the finiteness and orthonormality checks, which cost more than the point.
+  btTransform checked_pose;
+  bool has_checked_pose = false;
 };
 
 namespace {
@@ -73,12 +77,22 @@ std::vector<V3> scaled_points(const btCollisionShape& shape) {
   return pts;
 }
 
+/// Bitwise the same rotation and origin (the vectors' unused fourth lanes aside).
+bool same_pose(const btTransform& a, const btTransform& b) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      if (a.getBasis()[r][c] != b.getBasis()[r][c]) return false;
+  for (int k = 0; k < 3; ++k)
+    if (a.getOrigin()[k] != b.getOrigin()[k]) return false;
+  return true;
+}
+
 class ShapeDrawer {
  public:
   ShapeDrawer(Canvas& cv, EnvelopeRasterizer::Cache& cache) : cv_(cv), cache_(cache) {}
 
   void draw(const btCollisionShape& shape, const btTransform& pose, int depth) {
-    const Frame f = envelope_detail::to_frame(pose);
+    const Frame f = checked_frame(pose);
     const bool with_margin = cv_.include_margin();
     switch (shape.getShapeType()) {
       case SPHERE_SHAPE_PROXYTYPE: {
@@ -149,6 +163,14 @@ class ShapeDrawer {
   }
 
  private:
+  Frame checked_frame(const btTransform& pose) {
+    if (cache_.has_checked_pose && same_pose(cache_.checked_pose, pose)) return envelope_detail::frame_of(pose);
+    const Frame f = envelope_detail::to_frame(pose);
+    cache_.checked_pose = pose;
+    cache_.has_checked_pose = true;
+    return f;
+  }
+
   void draw_compound(const btCompoundShape& compound, const btTransform& pose, int depth) {
     if (depth >= kMaxCompoundDepth)
       throw InvalidSetting("bullet.envelope compound depth", detail::to_text(depth),

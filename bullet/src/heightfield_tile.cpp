@@ -1,5 +1,10 @@
 #include "shore/bullet/heightfield_tile.h"
 
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionDispatch/btInternalEdgeUtility.h>
+#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/NarrowPhaseCollision/btManifoldPoint.h>
+
 #include <algorithm>
 
 #include "shore/core/error.h"
@@ -68,6 +73,31 @@ HeightfieldTile::RowWrite HeightfieldTile::set_row(int i0, int j, std::span<cons
     row[k] = static_cast<float>(clamped);
   }
   return out;
+}
+
+void HeightfieldTile::smooth_internal_edges() {
+  if (!edge_info_) edge_info_ = std::make_unique<btTriangleInfoMap>();
+  *edge_info_ = btTriangleInfoMap();
+  btGenerateInternalEdgeInfo(shape_.get(), edge_info_.get());
+  object_->setCollisionFlags(object_->getCollisionFlags() | btCollisionObject::CF_CUSTOM_MATERIAL_CALLBACK);
+  if (gContactAddedCallback == nullptr) gContactAddedCallback = adjust_internal_edge_contact;
+}
+
+namespace {
+bool smoothed_terrain(const btCollisionObjectWrapper* w) {
+  const btCollisionShape* shape = w->getCollisionObject()->getCollisionShape();
+  return shape->getShapeType() == TERRAIN_SHAPE_PROXYTYPE &&
+         static_cast<const btHeightfieldTerrainShape*>(shape)->getTriangleInfoMap() != nullptr;
+}
+}  // namespace
+
+bool adjust_internal_edge_contact(btManifoldPoint& cp, const btCollisionObjectWrapper* a, int part_a, int index_a,
+                                  const btCollisionObjectWrapper* b, int part_b, int index_b) {
+  if (smoothed_terrain(a))
+    btAdjustInternalEdgeContacts(cp, a, b, part_a, index_a);
+  else if (smoothed_terrain(b))
+    btAdjustInternalEdgeContacts(cp, b, a, part_b, index_b);
+  return false;
 }
 
 double HeightfieldTile::height(int i, int j) const {

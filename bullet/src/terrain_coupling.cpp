@@ -114,20 +114,11 @@ struct TerrainCoupling::BodyContact {
   terrain::ContactPatch patch;
   std::vector<soil_detail::Block> blocks, previous;  // this substep's and the last one's (warm start)
   // Per envelope column, m: the shear displacement (the slip along the surface accumulated
-  // as a vector while the column is in contact; Janosi-Hanamoto's j is its length) and the
-  // drag (the body's horizontal travel over the column, also a vector; its length remoulds
-  // the soil, terrain::shear::remoulding). As vectors, slip that reverses undoes itself.
+  // as a vector while the column is in contact; Janosi-Hanamoto's j is its length, which
+  // also remoulds the soil, terrain::shear::remoulding). As a vector, slip that reverses
+  // undoes itself.
   std::vector<soil_detail::Vec3> shear, next_shear;
-  std::vector<double> shear_length;  // |shear|, for the blocks
-  std::vector<double> drag_x, drag_y, drag_length, next_drag_x, next_drag_y;
-  /// The lengths of the shear and drag vectors: the blocks' and the soil's inputs.
-  void update_lengths() {
-    shear_length.resize(shear.size());
-    for (std::size_t k = 0; k < shear.size(); ++k) shear_length[k] = std::sqrt(soil_detail::dot(shear[k], shear[k]));
-    drag_length.resize(drag_x.size());
-    for (std::size_t k = 0; k < drag_x.size(); ++k)
-      drag_length[k] = std::sqrt(drag_x[k] * drag_x[k] + drag_y[k] * drag_y[k]);
-  }
+  std::vector<double> shear_length, next_shear_length;  // |shear|: the soil's and the blocks' input
   SoilForce last;
   bool resting = false;  // the body was at rest: its blocks and patch still hold it
   // The body's velocities at the end of the last substep (the start of this one).
@@ -282,9 +273,7 @@ void TerrainCoupling::rasterize(Body& b) {
   clip_to_region(b.envelope);
   BodyContact& c = *b.contact;
   remap(c.shear, old, b.envelope);
-  remap(c.drag_x, old, b.envelope);
-  remap(c.drag_y, old, b.envelope);
-  c.update_lengths();
+  remap(c.shear_length, old, b.envelope);
   b.contact->resting = false;
 }
 
@@ -325,14 +314,13 @@ void TerrainCoupling::gather_contact(Body& b) {
   soil_detail::warm_start(c.previous, c.blocks);
 }
 
-// Each touching column's shear displacement grows by the slip of the body over it, and its
-// drag by the body's horizontal travel over it; columns out of contact start from zero.
+// Each touching column's shear displacement grows by the slip of the body over it; columns
+// out of contact start from zero.
 void TerrainCoupling::advance_shear(Body& b, const soil_detail::RigidBody& rb, double h) {
   BodyContact& c = *b.contact;
   const std::size_t size = b.envelope.lower.size();
   c.next_shear.assign(size, {});
-  c.next_drag_x.assign(size, 0.0);
-  c.next_drag_y.assign(size, 0.0);
+  c.next_shear_length.assign(size, 0.0);
   const bool had = c.shear.size() == size;
   for (const terrain::ContactElement& e : c.patch.elements) {
     if (e.wall || e.raster_index < 0 || !b.envelope.contains(e.i, e.j)) continue;
@@ -340,15 +328,12 @@ void TerrainCoupling::advance_shear(Body& b, const soil_detail::RigidBody& rb, d
     const soil_detail::Vec3 u = rb.point_velocity({e.x, e.y, e.z});
     const auto k = static_cast<std::size_t>(e.raster_index);
     const soil_detail::Vec3 slip = u - n * soil_detail::dot(u, n);
-    c.next_shear[k] = (had ? c.shear[k] : soil_detail::Vec3{}) + slip * h;
-    // Column soil moves only up and down: the body's horizontal motion over it drags it.
-    c.next_drag_x[k] = (had ? c.drag_x[k] : 0.0) + u.x * h;
-    c.next_drag_y[k] = (had ? c.drag_y[k] : 0.0) + u.y * h;
+    const soil_detail::Vec3 j = (had ? c.shear[k] : soil_detail::Vec3{}) + slip * h;
+    c.next_shear[k] = j;
+    c.next_shear_length[k] = std::sqrt(soil_detail::dot(j, j));
   }
   c.shear.swap(c.next_shear);
-  c.drag_x.swap(c.next_drag_x);
-  c.drag_y.swap(c.next_drag_y);
-  c.update_lengths();
+  c.shear_length.swap(c.next_shear_length);
 }
 
 // A body at rest needs from the soil what it needed last substep: the same impulse cancels

@@ -71,6 +71,8 @@ TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
   tile.field = std::make_unique<HeightfieldTile>(hs);
   for (int b = 0; b <= T; ++b)
     for (int a = 0; a <= T; ++a) tile.field->set_height(a, b, soil_.height(tile.i0 + a, tile.j0 + b));
+  // Rigid ground never changes: its tiles can carry Bullet's internal-edge info.
+  if (soil_.settings().material.rigid && settings_.smooth_rigid_edges) tile.field->smooth_internal_edges();
   tile.field->object()->setUserIndex2(kTileTag);
   world_.addCollisionObject(tile.field->object(), group_,
                             btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);

@@ -299,18 +299,18 @@ class PatchBuilder {
 
 }  // namespace
 
-void Terrain::contact(const EnvelopeRaster& envelope, std::span<const double> drag, const SurfaceProbe* probe,
+void Terrain::contact(const EnvelopeRaster& envelope, std::span<const double> shear, const SurfaceProbe* probe,
                       ContactPatch& out) const {
   check_envelope(&envelope, "terrain.Terrain.contact.envelope");
-  if (!drag.empty() && drag.size() != envelope.lower.size())
-    throw InvalidSetting("terrain.Terrain.contact.drag.size()", detail::to_text(drag.size()),
+  if (!shear.empty() && shear.size() != envelope.lower.size())
+    throw InvalidSetting("terrain.Terrain.contact.shear.size()", detail::to_text(shear.size()),
                          "must be 0 or the envelope's nx * ny = " + detail::to_text(envelope.lower.size()));
   out.clear();
   if (envelope.nx == 0 || envelope.ny == 0) return;
   SoilWindow soil;  // the window and a one-column ring (fringes and walls lie there)
   read_soil(impl_->tiles, impl_->s.material.soil_depth,
             {envelope.i0 - 1, envelope.j0 - 1, envelope.nx + 2, envelope.ny + 2}, soil);
-  PatchBuilder(impl_->s, envelope, drag, probe, soil, out).build();
+  PatchBuilder(impl_->s, envelope, shear, probe, soil, out).build();
 }
 
 }  // namespace shore::terrain

@@ -67,6 +67,21 @@ TEST(SoilContact, AFrictionlessBoxSlidesDownASoftSlopeAtGSinTheta) {
   EXPECT_LT(r.max_tilt, 2 * kDeg);
 }
 
+TEST(SoilContact, AFrictionlessBoxSlidesDownRigidGroundAtGSinTheta) {
+  // The rigid limit, through Bullet: without internal-edge info a box catches on the
+  // heightfield's triangle edges and ends at about half Newton's speed.
+  for (const double degrees : {15.0, 25.0}) {
+    SlopeBoxCase c;
+    c.slope = degrees * kDeg;
+    c.rigid = true;
+    c.run.material.friction_angle = 0.0;  // rigid_copy gives the tiles Bullet friction tan(phi)
+    const SlopeBoxResult r = run_slope_box(c);
+    const double want = kGravity * std::sin(c.slope);
+    EXPECT_LT(rel(r.acceleration, want), 0.01) << degrees << " deg: " << r.acceleration << " vs " << want;
+    EXPECT_LT(r.max_tilt, 0.5 * kDeg) << degrees << " deg";
+  }
+}
+
 TEST(SoilContact, ABoxStaysOnASlopeLessSteepThanTheFrictionAngle) {
   // phi 28 degrees, c 0: the shear builds up over a few centimetres of slip and then holds.
   // Rigid-plastic sand holds up to phi; the sand preset softens as it is sheared (its

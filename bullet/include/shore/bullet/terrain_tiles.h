@@ -42,6 +42,9 @@ struct Region {
 struct TerrainTilesSettings {
   double headroom = 0.5;                ///< m a tile can hold above its highest untouched ground (rims), > 0
   double max_rise_per_substep = 0.002;  ///< m, > 0: cap on how far ground may rise in one substep
+  /// Rigid ground's tiles get Bullet's internal-edge info (HeightfieldTile::smooth_internal_edges),
+  /// so a box slides over them as over one face instead of catching on triangle edges.
+  bool smooth_rigid_edges = true;
   void validate() const;
 };
 

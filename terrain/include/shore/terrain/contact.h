@@ -12,8 +12,9 @@
 // carries W = integral of sigma b dx and resists with integral of sigma b dz, as Bekker's
 // and Wong's formulas have it). At most it pushes with Bekker's
 // yield pressure at the column's sinkage if pressed to the body (its plastic sinkage plus
-// how far the body lies below its top), times shear::remoulding(j) of how far the body has
-// dragged the column's soil horizontally (a body pressed straight down remoulds nothing).
+// how far the body lies below its top), times shear::remoulding(j) of the shear
+// displacement j the body has put into the column (a body pressed straight down remoulds
+// nothing).
 // Sheared along the surface, the column resists with Janosi-Hanamoto's stress
 // (shore/terrain/shear.h), which the solver applies.
 //
@@ -45,8 +46,8 @@ struct ContactElement {
   double area = 0.0;                    ///< m^2 the soil pushes on
   double pressure = 0.0;                ///< Pa, the most it can push with; +infinity on bedrock
   std::int64_t i = 0, j = 0;            ///< the soil column
-  /// Index into the envelope raster of the column whose shear (and drag) displacement this
-  /// element reads and moves (a fringe element shares its covered neighbour's); -1 for walls.
+  /// Index into the envelope raster of the column whose shear displacement this element
+  /// reads and moves (a fringe element shares its covered neighbour's); -1 for walls.
   std::int32_t raster_index = -1;
   bool wall = false;  ///< the side of a rut or crater (horizontal normal, no shear)
 };

@@ -207,12 +207,12 @@ class Terrain {
   /// so the result never exceeds the depth to bedrock.
   [[nodiscard]] double bearing_offset(const EnvelopeRaster& envelope, double load) const;
   /// The soil's side of a body's contact (shore/terrain/contact.h) into `out`.
-  /// drag: how far (m) the body has dragged the soil at each raster column horizontally
-  /// while in contact (remoulding it: shear::remoulding), in the raster's layout, or empty
-  /// (all 0). probe: the body's underside at any point, for sub-cell coverage at the
-  /// footprint's edges; null: whole columns. Reads only. Throws InvalidSetting on a bad
-  /// envelope or a drag of the wrong size.
-  void contact(const EnvelopeRaster& envelope, std::span<const double> drag, const SurfaceProbe* probe,
+  /// shear: the length (m) of the shear displacement the body has put into the soil at each
+  /// raster column while in contact (it remoulds the soil: shear::remoulding), in the
+  /// raster's layout, or empty (all 0). probe: the body's underside at any point, for
+  /// sub-cell coverage at the footprint's edges; null: whole columns. Reads only. Throws
+  /// InvalidSetting on a bad envelope or a shear of the wrong size.
+  void contact(const EnvelopeRaster& envelope, std::span<const double> shear, const SurfaceProbe* probe,
                ContactPatch& out) const;
   /// One step of the pipeline for all imprints together: collision, contour map,
   /// displacement, erosion, over the active region only. Throws InvalidSetting (grid
