@@ -3,7 +3,7 @@
 # shore::bullet (and shore::mesh, the meshes for rendering).
 include(CMakePackageConfigHelpers)
 
-install(TARGETS shore_core shore_mesh shore_terrain shore_water shore_bullet
+install(TARGETS shore_core shore_threads shore_mesh shore_terrain shore_water shore_bullet
   EXPORT ShoreTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

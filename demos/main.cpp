@@ -29,7 +29,8 @@ struct Cli {
 void add_common_options(CLI::App& app, Cli& cli) {
   Overrides& o = cli.overrides;
   app.add_option("--out", o.out_root, "output root; each scene writes to <out>/<scene>/")->capture_default_str();
-  app.add_option("--threads", o.threads, "OpenMP threads (default: OpenMP's default)")->check(CLI::Range(1, 1024));
+  app.add_option("--threads", o.threads, "threads of the soil and the water (default: the machine's hardware threads)")
+      ->check(CLI::Range(1, 1024));
   app.add_option("--seconds", o.seconds, "simulated seconds (default: the scene's)")->check(CLI::PositiveNumber);
   app.add_option("--substep", o.substep, "fixed substep, s (default: the scene's)")->check(CLI::Range(1e-6, 0.1));
   app.add_option("--material", o.material, "soil material (default: the scene's)")

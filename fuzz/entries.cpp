@@ -1,6 +1,9 @@
 #include "entries.h"
 
+#include "coupled_world.h"
+
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "shore/core/envelope.h"
@@ -74,10 +77,8 @@ void fix_chunk_crcs(std::vector<unsigned char>& png) {
   }
 }
 
-}  // namespace
-
-bool terrain_state(std::span<const std::uint8_t> data) {
-  if (data.empty()) return false;
+/// Byte 0 odd: the rest with the file's checksum appended; even: the rest as it is.
+std::vector<unsigned char> with_checksum_mode(std::span<const std::uint8_t> data) {
   std::vector<unsigned char> bytes(data.begin() + 1, data.end());
   if (data[0] & 1) {
     StateHash sum;
@@ -86,6 +87,14 @@ bool terrain_state(std::span<const std::uint8_t> data) {
     const auto* p = reinterpret_cast<const unsigned char*>(&checksum);
     bytes.insert(bytes.end(), p, p + sizeof checksum);
   }
+  return bytes;
+}
+
+}  // namespace
+
+bool terrain_state(std::span<const std::uint8_t> data) {
+  if (data.empty()) return false;
+  const std::vector<unsigned char> bytes = with_checksum_mode(data);
   try {
     terrain::Terrain t = terrain::Terrain::load_bytes(bytes, "fuzz input");
     exercise(t);
@@ -93,6 +102,63 @@ bool terrain_state(std::span<const std::uint8_t> data) {
   } catch (const FileError&) {
     return false;
   }
+}
+
+namespace {
+
+std::uint64_t world_hash(const CoupledWorld& w) {
+  StateHash h;
+  h.add(w.soil().state_hash());
+  h.add(w.surface().state_hash());
+  const btTransform& t = w.ball().getWorldTransform();
+  for (int k = 0; k < 3; ++k)
+    h.add(double(t.getOrigin()[k])), h.add(double(w.ball().getLinearVelocity()[k])),
+        h.add(double(w.ball().getAngularVelocity()[k]));
+  return h.value();
+}
+
+void require_finite_world(const CoupledWorld& w, const char* when) {
+  const btTransform& t = w.ball().getWorldTransform();
+  for (int k = 0; k < 3; ++k)
+    require(std::isfinite(t.getOrigin()[k]) && std::isfinite(w.ball().getLinearVelocity()[k]) &&
+                std::isfinite(w.ball().getAngularVelocity()[k]),
+            std::string("non-finite ball ") + when);
+  require_finite_volume(w.soil(), when);
+  require(std::isfinite(w.surface().volume()), std::string("non-finite water volume ") + when);
+}
+}  // namespace
+
+bool coupled_checkpoint(std::span<const std::uint8_t> data) {
+  if (data.empty()) return false;
+  auto world = std::make_unique<CoupledWorld>();
+  try {
+    world->restore(CheckpointReader(with_checksum_mode(data), "fuzz input", bullet::scalar_bytes()));
+  } catch (const FileError&) {
+    return false;
+  } catch (const InvalidSetting&) {
+    return false;  // a soil state with settings this build refuses
+  }
+  require_finite_world(*world, "after restore");
+  const std::vector<unsigned char> saved = world->checkpoint();
+  try {
+    for (int k = 0; k < 3; ++k) world->step();
+  } catch (const InvalidSetting&) {
+    return true;  // a step refused (an envelope window too large to gather): allowed
+  }
+  require_finite_world(*world, "after three steps");
+  CoupledWorld again;
+  again.restore(CheckpointReader(saved, "fuzz round trip", bullet::scalar_bytes()));
+  for (int k = 0; k < 3; ++k) again.step();
+  require(world_hash(again) == world_hash(*world), "a saved checkpoint does not continue identically");
+  return true;
+}
+
+bool checkpoint_seed_fits_build(std::span<const std::uint8_t> data) {
+  constexpr std::size_t kPrecisionAt = 1 + 8 + 4 + 4;  // mode byte, magic, version, byte-order mark
+  if (data.size() < kPrecisionAt + 4) return false;
+  std::uint32_t scalar = 0;
+  std::memcpy(&scalar, data.data() + kPrecisionAt, sizeof scalar);
+  return scalar == bullet::scalar_bytes();
 }
 
 bool heightmap_png(std::span<const std::uint8_t> data) {
@@ -131,6 +197,7 @@ bool heightmap_raw(std::span<const std::uint8_t> data) {
 
 const std::vector<Target>& targets() {
   static const std::vector<Target> list = {
+      {"coupled_checkpoint", coupled_checkpoint, checkpoint_seed_fits_build},
       {"heightmap_png", heightmap_png},
       {"heightmap_raw", heightmap_raw},
       {"terrain_state", terrain_state},

@@ -26,6 +26,12 @@ struct InvariantBroken : std::logic_error {
 /// it); even, the rest is the whole file. An accepted state is stepped, saved and loaded
 /// again: it must stay finite and round-trip to the same hash.
 bool terrain_state(std::span<const std::uint8_t> data);
+/// A checkpoint of a small coupled world (soil, water, both couplings, a Bullet ball:
+/// coupled_world.h) restored into a fresh one. Byte 0 chooses the mode as for
+/// terrain_state (odd: the container's checksum is appended). An accepted checkpoint is
+/// stepped: the ball, soil and water must stay finite, and saving it again and restoring
+/// that into another fresh world must continue to the same state.
+bool coupled_checkpoint(std::span<const std::uint8_t> data);
 /// A PNG heightmap, 8 or 16 bits (Heightmap::from_png_bytes). Byte 0 chooses the mode: odd,
 /// every chunk's CRC in the rest is rewritten to match (so mutations reach the decoder
 /// behind the loader's CRC check); even, the rest is the file as it is.
@@ -39,7 +45,12 @@ bool heightmap_raw(std::span<const std::uint8_t> data);
 struct Target {
   const char* name;  ///< fuzz_<name> is the executable, fuzz/corpus/<name> its seeds
   bool (*run)(std::span<const std::uint8_t>);
+  /// Whether a valid seed can load in this build (null: always). Checkpoint seeds carry
+  /// the btScalar precision of the build that wrote them; the other precision refuses them.
+  bool (*seed_fits_build)(std::span<const std::uint8_t>) = nullptr;
 };
+/// coupled_checkpoint's seed_fits_build: the container's precision field is this build's.
+bool checkpoint_seed_fits_build(std::span<const std::uint8_t> data);
 /// Every target, in name order. A new loader (the checkpoint and delta formats of issue 20)
 /// adds its function here and in fuzz/CMakeLists.txt (fuzz/README.md).
 const std::vector<Target>& targets();

@@ -2,7 +2,8 @@
 // from scratch (the committed fuzz/corpus was made by it). Small valid inputs of every
 // kind each loader reads: terrain states of format versions 3 and 4 (with and without the
 // checksum the fuzz entry appends), PNG heightmaps of every colour type stb_image_write
-// writes plus a 16-bit one, raw float32 maps.
+// writes plus a 16-bit one, raw float32 maps, checkpoints of a small coupled world (a
+// float build writes them: a double build refuses their precision).
 #include <stb_image_write.h>
 
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "coupled_world.h"
 #include "png_writer.h"
 #include "shore/core/envelope.h"
 #include "shore/terrain/terrain.h"
@@ -95,6 +97,17 @@ void terrain_seeds(const fs::path& dir) {
   write(dir / "seed_v4_edited_snow", entry_input(true, edited.save_bytes()));
 }
 
+/// A coupled world mid-run: the ball has pressed the soil and entered the water.
+void checkpoint_seeds(const fs::path& dir) {
+  shore::fuzz::CoupledWorld w;
+  const Bytes start = w.checkpoint();
+  write(dir / "seed_start", entry_input(true, start));
+  for (int k = 0; k < 30; ++k) w.step();
+  const Bytes mid = w.checkpoint();
+  write(dir / "seed_mid_run", entry_input(true, mid));
+  write(dir / "seed_mid_run_whole", entry_input(false, mid));
+}
+
 void stb_write_to(void* context, void* data, int size) {
   auto* out = static_cast<Bytes*>(context);
   out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
@@ -140,6 +153,7 @@ int main(int argc, char** argv) {
   }
   const fs::path root = argv[1];
   terrain_seeds(root / "terrain_state");
+  checkpoint_seeds(root / "coupled_checkpoint");
   png_seeds(root / "heightmap_png");
   raw_seeds(root / "heightmap_raw");
   std::printf("seeds written to %s\n", root.c_str());

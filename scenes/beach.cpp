@@ -239,7 +239,8 @@ class Beach final : public Scene {
             .soils = {{&sand_, &ground_, {}}},
             .waters = {{&sea_, &water_}},
             .bounds = {kX0, kY0, kX1, kY1},
-            .focus = ball_};
+            .focus = ball_,
+            .clock = &k_};
   }
 
   void draw(Drawing& out) const override {

@@ -330,7 +330,7 @@ class Footprints final : public Scene {
   }
 
   SceneContents contents() override {
-    SceneContents c{.world = &world_, .bounds = bounds_of(frame_)};
+    SceneContents c{.world = &world_, .bounds = bounds_of(frame_), .clock = &k_};
     for (Strip& s : strips_) c.soils.push_back({s.soil.get(), s.coupling.get(), s.region()});
     return c;
   }

@@ -241,7 +241,7 @@ class Pond final : public Scene {
 
   SceneContents contents() override {
     const double half = 0.5 * kExtent;
-    return {.world = &world_, .waters = {{&pond_, &coupling_}}, .bounds = {-half, -half, half, half}};
+    return {.world = &world_, .waters = {{&pond_, &coupling_}}, .bounds = {-half, -half, half, half}, .clock = &k_};
   }
 
   void draw(Drawing& out) const override {

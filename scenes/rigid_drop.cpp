@@ -101,7 +101,7 @@ class RigidDrop final : public Scene {
     return painter.paint(contents(), {.elevation_deg = 30.0, .legend = false, .width = 320});
   }
 
-  SceneContents contents() override { return {.world = &world_, .bounds = bounds_of(ground_.grid())}; }
+  SceneContents contents() override { return {.world = &world_, .bounds = bounds_of(ground_.grid()), .clock = &k_}; }
 
   void draw(Drawing& out) const override {
     out.view("top.png",

@@ -187,7 +187,11 @@ class Tracks final : public Scene {
   }
 
   SceneContents contents() override {
-    return {.world = &world_, .soils = {{&soil_, &coupling_, {}}}, .bounds = bounds_of(frame_), .focus = bike_.frame};
+    return {.world = &world_,
+            .soils = {{&soil_, &coupling_, {}}},
+            .bounds = bounds_of(frame_),
+            .focus = bike_.frame,
+            .clock = &k_};
   }
 
   void draw(Drawing& out) const override {

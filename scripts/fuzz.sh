@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-${SHORE_FUZZ_SECONDS:-60}}
 [[ $seconds =~ ^[0-9]+$ && $seconds -gt 0 ]] || { echo "fuzz: seconds must be a positive integer, got '$seconds'" >&2; exit 2; }
 jobs=$(nproc 2>/dev/null || echo 2)
-targets=(heightmap_png heightmap_raw terrain_state)
+targets=(coupled_checkpoint heightmap_png heightmap_raw terrain_state)
 
 scripts/install-deps.sh build fuzz
 cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \

@@ -2,12 +2,12 @@
 # Installs the Debian packages Shore needs, only those missing. Usage:
 #   scripts/install-deps.sh [build|bench|viewer|fuzz|memcheck]...   (bench adds the plotting
 #   tool; viewer the OpenGL renderer's and shore-viewer's: GLFW, Dear ImGui, libepoxy, Mesa's
-#   EGL and llvmpipe, Xvfb for the window test; fuzz clang with libFuzzer, its OpenMP and
+#   EGL and llvmpipe, Xvfb for the window test; fuzz clang with libFuzzer and
 #   llvm-symbolizer; memcheck Valgrind)
 set -euo pipefail
 pkgs=(g++ binutils make cmake ninja-build pkg-config libbullet-dev libeigen3-dev libgtest-dev libgmock-dev
       libbenchmark-dev libcli11-dev nlohmann-json3-dev libstb-dev libzstd-dev)
-fuzz_pkgs=(clang libclang-rt-dev libomp-dev llvm)
+fuzz_pkgs=(clang libclang-rt-dev llvm)
 viewer_pkgs=(libglfw3-dev libimgui-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth)
 for group in "${@:-build}"; do
   case "$group" in

@@ -16,9 +16,8 @@
 #include <string>
 #include <vector>
 
-#include <omp.h>
-
 #include "output.h"
+#include "shore/scenes/static_shares.h"
 #include "sweep.h"
 
 namespace fs = std::filesystem;
@@ -85,13 +84,13 @@ int main(int argc, char** argv) {
       return 0;
     }
     const std::vector<const Sweep*> chosen = select(only);
-    const int openmp_threads = omp_get_max_threads();  // before any sweep changes it
+    const int hardware_threads = shore::scenes::hardware_threads();
     fs::create_directories(out);
     std::vector<SweepRun> runs;
     int failed = 0;
     const auto start = std::chrono::steady_clock::now();
     const double load_at_start = load_average();
-    std::printf("load average (1 min) at start: %.2f on %d OpenMP threads\n", load_at_start, openmp_threads);
+    std::printf("load average (1 min) at start: %.2f on %d hardware threads\n", load_at_start, hardware_threads);
     for (std::size_t k = 0; k < chosen.size(); ++k) {
       const Sweep& s = *chosen[k];
       std::printf("[%zu/%zu] %s: %s\n", k + 1, chosen.size(), s.name.c_str(), s.description.c_str());
@@ -100,8 +99,7 @@ int main(int argc, char** argv) {
       run.sweep = &s;
       SweepContext ctx;
       ctx.quick = quick;
-      ctx.max_threads = openmp_threads;
-      omp_set_num_threads(openmp_threads);  // each sweep starts from the same setting
+      ctx.max_threads = hardware_threads;
       const auto t0 = std::chrono::steady_clock::now();
       ctx.progress_fn = [&](const std::string& what) {
         const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -126,7 +124,7 @@ int main(int argc, char** argv) {
     }
     const double total_so_far = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const nlohmann::json results =
-        results_json(runs, quick, command_line(argc, argv), openmp_threads, load_at_start, total_so_far);
+        results_json(runs, quick, command_line(argc, argv), hardware_threads, load_at_start, total_so_far);
     write_text(out / "results.json", results.dump(2) + "\n");
     if (!json_file.empty()) write_text(json_file, results.dump(2) + "\n");
     if (save) {

@@ -1,6 +1,5 @@
 #include "measure.h"
 
-#include <omp.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -8,6 +7,8 @@
 #include <memory>
 #include <numeric>
 #include <vector>
+
+#include "shore/scenes/static_shares.h"
 
 namespace shore::bench {
 
@@ -39,20 +40,22 @@ TriadResult triad_bandwidth(std::size_t n, int threads, double min_seconds) {
   // pages land where the threads that use them run.
   std::unique_ptr<double[]> a(new double[n]), b(new double[n]), c(new double[n]);
   const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (std::ptrdiff_t i = 0; i < count; ++i) {
-    a[i] = 0.0;
-    b[i] = 1.0;
-    c[i] = 2.0;
-  }
+  scenes::for_static_shares(threads, count, [&](std::ptrdiff_t i0, std::ptrdiff_t i1) {
+    for (std::ptrdiff_t i = i0; i < i1; ++i) {
+      a[i] = 0.0;
+      b[i] = 1.0;
+      c[i] = 2.0;
+    }
+  });
   const double s = 3.0;
   double* pa = a.get();
   const double* pb = b.get();
   const double* pc = c.get();
   const Measurement m = measure(
       [&] {
-#pragma omp parallel for schedule(static) num_threads(threads)
-        for (std::ptrdiff_t i = 0; i < count; ++i) pa[i] = pb[i] + s * pc[i];
+        scenes::for_static_shares(threads, count, [&](std::ptrdiff_t i0, std::ptrdiff_t i1) {
+          for (std::ptrdiff_t i = i0; i < i1; ++i) pa[i] = pb[i] + s * pc[i];
+        });
       },
       min_seconds, 5);
   TriadResult r;

@@ -24,7 +24,7 @@ struct TriadResult {
 };
 
 /// STREAM-style triad a[i] = b[i] + s * c[i] over three arrays of `elements` doubles with
-/// `threads` OpenMP threads (first touch by the same threads and schedule).
+/// `threads` threads (scenes::for_static_shares: first touch by the same threads and schedule).
 TriadResult triad_bandwidth(std::size_t elements, int threads, double min_seconds = 0.3);
 
 /// Elements per array so that the three arrays together are about 4x the last-level

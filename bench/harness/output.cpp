@@ -227,13 +227,13 @@ std::string host_name() {
 }
 
 nlohmann::json results_json(const std::vector<SweepRun>& runs, bool quick, const std::string& command,
-                            int openmp_threads, double load_at_start, double total_seconds) {
+                            int hardware_threads, double load_at_start, double total_seconds) {
   nlohmann::json j;
   j["meta"] = {{"date", today()},
                {"host", host_name()},
                {"cpu", cpu_model()},
                {"hardware_threads", static_cast<int>(sysconf(_SC_NPROCESSORS_ONLN))},
-               {"openmp_max_threads", openmp_threads},
+               {"hardware_threads", hardware_threads},
                {"bullet_precision", bullet::built_with_double_precision() ? "double" : "float"},
                {"build_type", SHORE_BUILD_TYPE},
                {"compiler", __VERSION__},

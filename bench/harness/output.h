@@ -30,10 +30,10 @@ std::vector<std::filesystem::path> render_plots(const std::filesystem::path& dir
 
 /// The results document: meta (date, host, cpu, threads, precision, quick), figures merged
 /// across sweeps, tables, and per-sweep wall time and errors.
-/// openmp_threads: omp_get_max_threads() at start (scenes run by sweeps may change it);
+/// hardware_threads: the machine's (std::thread::hardware_concurrency);
 /// load_at_start: load_average() before the first sweep.
 nlohmann::json results_json(const std::vector<SweepRun>& runs, bool quick, const std::string& command,
-                            int openmp_threads, double load_at_start, double total_seconds);
+                            int hardware_threads, double load_at_start, double total_seconds);
 
 /// 1-minute load average (-1 if unknown): above the core count, timings are inflated.
 double load_average();

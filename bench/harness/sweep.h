@@ -112,7 +112,7 @@ class SweepResult {
 
 struct SweepContext {
   bool quick = false;   ///< short run (all sweeps together well under 5 minutes on 2 cores)
-  int max_threads = 1;  ///< OpenMP threads available
+  int max_threads = 1;  ///< hardware threads of the machine
   std::function<void(const std::string&)> progress_fn;
   /// Prints a progress line for the current sweep.
   void progress(const std::string& what) const {

@@ -10,6 +10,7 @@
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <LinearMath/btTransformUtil.h>
 
+#include "checkpoint_bytes.h"
 #include "coupling_util.h"
 #include "shore/bullet/envelope.h"
 #include "shore/core/error.h"
@@ -125,6 +126,58 @@ struct TerrainCoupling::BodyContact {
   btVector3 v_end{0, 0, 0}, w_end{0, 0, 0};
   bool has_end = false;
 };
+
+void TerrainCoupling::save_contact(const BodyContact& c, ByteWriter& w) {
+  w.put_array(c.patch.elements);
+  w.put(c.patch.patch_width), w.put(c.patch.area), w.put(c.patch.touching_columns);
+  w.put_array(c.blocks), w.put_array(c.previous), w.put_array(c.shear), w.put_array(c.shear_length);
+  coupling_detail::put_vector(w, c.last.force), coupling_detail::put_vector(w, c.last.torque);
+  coupling_detail::put_vector(w, c.last.normal_force);
+  w.put(c.last.contact_columns), w.put(static_cast<std::uint8_t>(c.last.yielded));
+  coupling_detail::put_vector(w, c.v_end), coupling_detail::put_vector(w, c.w_end);
+  w.put(static_cast<std::uint8_t>(c.resting)), w.put(static_cast<std::uint8_t>(c.has_end));
+}
+
+void TerrainCoupling::restore_contact(ByteReader& r, BodyContact& c, std::size_t envelope_columns) {
+  coupling_detail::get_any_array(r, c.patch.elements, "contact patch");
+  c.patch.patch_width = r.get<double>("contact patch"), c.patch.area = r.get<double>("contact patch");
+  c.patch.touching_columns = r.get<int>("contact patch");
+  coupling_detail::get_any_array(r, c.blocks, "contact blocks");
+  coupling_detail::get_any_array(r, c.previous, "contact blocks");
+  coupling_detail::get_any_array(r, c.shear, "shear displacement");
+  r.get_array(c.shear_length, c.shear.size(), "shear displacement");
+  c.last.force = coupling_detail::get_vector(r, "soil force"),
+  c.last.torque = coupling_detail::get_vector(r, "soil force");
+  c.last.normal_force = coupling_detail::get_vector(r, "soil force");
+  c.last.contact_columns = r.get<int>("soil force"), c.last.yielded = r.get<std::uint8_t>("soil force") != 0;
+  c.v_end = coupling_detail::get_vector(r, "contact velocities"),
+  c.w_end = coupling_detail::get_vector(r, "contact velocities");
+  c.resting = r.get<std::uint8_t>("contact flags") != 0, c.has_end = r.get<std::uint8_t>("contact flags") != 0;
+  check_contact(r, c, envelope_columns);
+}
+
+// What the next substeps index or divide by must be sound: a corrupt state is refused,
+// never read out of bounds or turned into NaN.
+void TerrainCoupling::check_contact(const ByteReader& r, const BodyContact& c, std::size_t envelope_columns) {
+  if (!c.shear.empty() && c.shear.size() != envelope_columns)
+    r.fail("shear displacement of " + std::to_string(c.shear.size()) + " columns, the envelope has " +
+           std::to_string(envelope_columns));
+  bool sound = coupling_detail::finite(c.last.force) && coupling_detail::finite(c.last.torque) &&
+               coupling_detail::finite(c.v_end) && coupling_detail::finite(c.w_end);
+  for (const terrain::ContactElement& e : c.patch.elements)
+    sound = sound && e.raster_index < static_cast<std::int64_t>(envelope_columns) &&
+            std::isfinite(e.x + e.y + e.z + e.nx + e.ny + e.nz + e.area) && !std::isnan(e.pressure);
+  for (const auto* blocks : {&c.blocks, &c.previous})
+    for (const soil_detail::Block& b : *blocks)
+      sound = sound && std::isfinite(b.point.x + b.point.y + b.point.z + b.normal.x + b.normal.y + b.normal.z) &&
+              !std::isnan(b.capacity) &&
+              std::isfinite(b.cohesion + b.mobilised + b.normal_impulse + b.t1_impulse + b.t2_impulse + b.mass_n +
+                            b.mass_t1 + b.mass_t2) &&
+              std::isfinite(b.t1.x + b.t1.y + b.t1.z + b.t2.x + b.t2.y + b.t2.z + b.start_n + b.start_t1 + b.start_t2);
+  for (std::size_t k = 0; k < c.shear.size(); ++k)
+    sound = sound && std::isfinite(c.shear[k].x + c.shear[k].y + c.shear[k].z + c.shear_length[k]);
+  if (!sound) r.fail("the soil contact's state holds a non-finite value or an index beyond the envelope");
+}
 
 TerrainCoupling::Body::Body() : contact(std::make_unique<BodyContact>()) {}
 TerrainCoupling::Body::~Body() = default;

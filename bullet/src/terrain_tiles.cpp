@@ -30,9 +30,7 @@ TerrainTiles::TerrainTiles(btCollisionWorld& world, const terrain::Terrain& soil
   settings_.validate();
 }
 
-TerrainTiles::~TerrainTiles() {
-  for (auto& [k, tile] : tiles_) world_.removeCollisionObject(tile.field->object());
-}
+TerrainTiles::~TerrainTiles() { remove_all(); }
 
 std::uint64_t TerrainTiles::key(std::int64_t tx, std::int64_t ty) noexcept {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(tx)) << 32) | static_cast<std::uint32_t>(ty);
@@ -50,33 +48,48 @@ void TerrainTiles::set_friction(double friction) {
 
 TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
   const int T = soil_.settings().tile_columns;
-  Tile tile;
-  tile.i0 = tx * T;
-  tile.j0 = ty * T;
+  const std::int64_t i0 = tx * T, j0 = ty * T;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (int b = 0; b <= T; ++b)
     for (int a = 0; a <= T; ++a) {
-      lo = std::min(lo, soil_.bedrock(tile.i0 + a, tile.j0 + b));
-      hi = std::max(hi, std::max(soil_.base_height(tile.i0 + a, tile.j0 + b), soil_.height(tile.i0 + a, tile.j0 + b)));
+      lo = std::min(lo, soil_.bedrock(i0 + a, j0 + b));
+      hi = std::max(hi, std::max(soil_.base_height(i0 + a, j0 + b), soil_.height(i0 + a, j0 + b)));
     }
   HeightfieldTileSettings hs;
   hs.columns = T + 1;
   hs.cell = soil_.settings().cell;
-  hs.origin_x = soil_.column_x(tile.i0);
-  hs.origin_y = soil_.column_y(tile.j0);
+  hs.origin_x = soil_.column_x(i0);
+  hs.origin_y = soil_.column_y(j0);
   hs.min_height = lo - 0.01;
   hs.max_height = hi + settings_.headroom;
   hs.initial_height = hi;
   hs.friction = friction_;
+  std::vector<double> heights(static_cast<std::size_t>(T + 1) * static_cast<std::size_t>(T + 1));
+  for (int b = 0; b <= T; ++b)
+    for (int a = 0; a <= T; ++a) heights[static_cast<std::size_t>(b) * (T + 1) + a] = soil_.height(i0 + a, j0 + b);
+  return add(tx, ty, hs, heights);
+}
+
+TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, const HeightfieldTileSettings& hs,
+                                      std::span<const double> heights) {
+  const int T = soil_.settings().tile_columns;
+  Tile tile;
+  tile.i0 = tx * T;
+  tile.j0 = ty * T;
   tile.field = std::make_unique<HeightfieldTile>(hs);
   for (int b = 0; b <= T; ++b)
-    for (int a = 0; a <= T; ++a) tile.field->set_height(a, b, soil_.height(tile.i0 + a, tile.j0 + b));
+    for (int a = 0; a <= T; ++a) tile.field->set_height(a, b, heights[static_cast<std::size_t>(b) * (T + 1) + a]);
   // Rigid ground never changes: its tiles can carry Bullet's internal-edge info.
   if (soil_.settings().material.rigid && settings_.smooth_rigid_edges) tile.field->smooth_internal_edges();
   tile.field->object()->setUserIndex2(kTileTag);
   world_.addCollisionObject(tile.field->object(), group_,
                             btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
   return tiles_.emplace(key(tx, ty), std::move(tile)).first->second;
+}
+
+void TerrainTiles::remove_all() {
+  for (auto& [k, tile] : tiles_) world_.removeCollisionObject(tile.field->object());
+  tiles_.clear();
 }
 
 int TerrainTiles::ensure_cover(double x0, double y0, double x1, double y1) {

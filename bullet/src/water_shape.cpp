@@ -82,15 +82,86 @@ Polyhedron box(V3 h) {
   return p;
 }
 
-/// The hull of points as a polyhedron of outward triangles.
+/// The outward triangles of a hull that lie in one plane, merged into one polygon: its
+/// boundary (the directed edges whose reverse is not in the group) walked from the first
+/// triangle's first boundary edge. Empty if the boundary is not one simple loop.
+std::vector<int> merged_face(const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& group) {
+  std::vector<std::array<int, 2>> edges;
+  for (int t : group)
+    for (int k = 0; k < 3; ++k)
+      edges.push_back({triangles[std::size_t(t)][std::size_t(k)], triangles[std::size_t(t)][std::size_t((k + 1) % 3)]});
+  std::vector<std::array<int, 2>> boundary;
+  for (const auto& e : edges)
+    if (std::find(edges.begin(), edges.end(), std::array<int, 2>{e[1], e[0]}) == edges.end()) boundary.push_back(e);
+  std::vector<int> loop;
+  if (boundary.size() < 3) return loop;
+  loop.push_back(boundary[0][0]);
+  int at = boundary[0][1];
+  while (at != loop.front()) {
+    if (loop.size() > boundary.size()) return {};
+    loop.push_back(at);
+    int next = -1, found = 0;
+    for (const auto& e : boundary)
+      if (e[0] == at) next = e[1], ++found;
+    if (found != 1) return {};
+    at = next;
+  }
+  if (loop.size() != boundary.size()) return {};
+  return loop;
+}
+
+/// The hull of points as a polyhedron of outward faces, one per plane: the hull's triangles
+/// that lie in one plane (within 1e-9 of the hull's size) are merged into one convex
+/// polygon, so an octagonal prism has 10 faces, not 28 triangles, and a 32-sided cylinder
+/// 34, not 124. Clipping it under the water, its drag points and the chord rows of its
+/// displacement then visit each face once (the volume and the projected area are the same
+/// sums, regrouped).
 Polyhedron hull(const std::vector<V3>& points) {
   const envelope_detail::HullMesh m = envelope_detail::triangulate_hull(points);
   Polyhedron p;
   p.vertices = m.vertices;
+  double size = 0.0;
+  for (const V3& v : m.vertices) size = std::max(size, norm(v - m.inside));
+  const double tolerance = 1e-9 * size;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<V3> normal;
   for (const auto& t : m.faces) {
     const V3 a = m.vertices[std::size_t(t[0])], b = m.vertices[std::size_t(t[1])], c = m.vertices[std::size_t(t[2])];
-    const bool outward = dot(cross(b - a, c - a), a - m.inside) >= 0.0;
-    p.faces.push_back(outward ? std::vector<int>{t[0], t[1], t[2]} : std::vector<int>{t[0], t[2], t[1]});
+    const V3 n = cross(b - a, c - a);
+    const bool outward = dot(n, a - m.inside) >= 0.0;
+    triangles.push_back(outward ? t : std::array<int, 3>{t[0], t[2], t[1]});
+    const double len = norm(n);
+    normal.push_back(len > 0.0 ? n * ((outward ? 1.0 : -1.0) / len) : V3{});
+  }
+  // Groups in the order of their first triangle; a triangle joins the first group whose
+  // plane holds its three vertices and faces its way.
+  std::vector<std::vector<int>> groups;
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    bool joined = false;
+    for (auto& g : groups) {
+      const std::size_t first = std::size_t(g.front());
+      const V3 n = normal[first];
+      const double d = dot(n, m.vertices[std::size_t(triangles[first][0])]);
+      bool in_plane = dot(n, normal[t]) > 0.5;
+      for (int v : triangles[t]) in_plane = in_plane && std::abs(dot(n, m.vertices[std::size_t(v)]) - d) <= tolerance;
+      if (in_plane) {
+        g.push_back(static_cast<int>(t));
+        joined = true;
+        break;
+      }
+    }
+    if (!joined) groups.push_back({static_cast<int>(t)});
+  }
+  for (const auto& g : groups) {
+    std::vector<int> face = g.size() > 1 ? merged_face(triangles, g) : std::vector<int>{};
+    if (!face.empty()) {
+      p.faces.push_back(std::move(face));
+      continue;
+    }
+    for (int t : g) {  // a single triangle, or a group whose boundary is not one loop
+      const auto& tri = triangles[std::size_t(t)];
+      p.faces.push_back({tri[0], tri[1], tri[2]});
+    }
   }
   finish(p);
   return p;

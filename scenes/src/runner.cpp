@@ -1,7 +1,5 @@
 #include "shore/scenes/runner.h"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,6 +12,7 @@
 #include "shore/scenes/film.h"
 #include "shore/scenes/mesh.h"
 #include "shore/scenes/picture.h"
+#include "shore/scenes/static_shares.h"
 
 namespace shore::scenes {
 namespace {
@@ -91,7 +90,7 @@ void Drawing::filmstrip() { png("filmstrip.png", filmstrip_); }
 SceneOptions resolve(const SceneType& scene, const Overrides& o) {
   SceneOptions s;
   s.out_dir = o.out_root / scene.name;
-  s.threads = o.threads > 0 ? o.threads : std::max(1, omp_get_max_threads());
+  s.threads = o.threads > 0 ? o.threads : hardware_threads();
   s.smoke = o.smoke;
   s.seconds = o.seconds > 0 ? o.seconds : (o.smoke ? scene.defaults.smoke_seconds : scene.defaults.seconds);
   s.substep = o.substep > 0 ? o.substep : scene.defaults.substep;
@@ -105,7 +104,6 @@ SceneResult run_scene(const SceneType& type, const SceneOptions& options, Progre
                       Painter* painter) {
   options.validate();
   if (options.write_files) std::filesystem::create_directories(options.out_dir);
-  omp_set_num_threads(options.threads);
   Progress progress(type.name, progress_mode);
   const std::unique_ptr<Scene> scene = type.create(options);
 
@@ -159,7 +157,7 @@ const std::vector<MetricHelp>& common_metric_help() {
   static const std::vector<MetricHelp> help{
       {"scene", "scene name"},
       {"material", "soil material preset (sand, mud, snow)"},
-      {"threads", "OpenMP threads used"},
+      {"threads", "threads of the soil and the water"},
       {"substeps", "fixed substeps simulated"},
       {"substep_s", "substep length, s"},
       {"cell_m", "grid spacing, m"},

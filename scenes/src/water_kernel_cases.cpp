@@ -1,13 +1,12 @@
 #include "shore/scenes/water_kernel_cases.h"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
 #include <sstream>
 
+#include "shore/scenes/static_shares.h"
 #include "shore/water/reference_surface.h"
 #include "shore/water/surface.h"
 
@@ -103,19 +102,21 @@ KernelThroughput measure_kernel_throughput(KernelVariant v, int n, int threads, 
 double triad_bandwidth(std::size_t floats, int threads, double min_seconds) {
   const auto count = static_cast<long>(floats);
   std::unique_ptr<float[]> a(new float[floats]), b(new float[floats]), c(new float[floats]);
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (long i = 0; i < count; ++i) {
-    a[i] = 0.f;
-    b[i] = 1.f;
-    c[i] = 2.f;
-  }
+  for_static_shares(threads, count, [&](std::ptrdiff_t i0, std::ptrdiff_t i1) {
+    for (std::ptrdiff_t i = i0; i < i1; ++i) {
+      a[i] = 0.f;
+      b[i] = 1.f;
+      c[i] = 2.f;
+    }
+  });
   const float s = 0.5f;
   const auto triad = [&] {
     float* __restrict pa = a.get();
     const float* __restrict pb = b.get();
     const float* __restrict pc = c.get();
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (long i = 0; i < count; ++i) pa[i] = pb[i] + s * pc[i];
+    for_static_shares(threads, count, [&](std::ptrdiff_t i0, std::ptrdiff_t i1) {
+      for (std::ptrdiff_t i = i0; i < i1; ++i) pa[i] = pb[i] + s * pc[i];
+    });
   };
   const KernelThroughput t = time_steps(triad, min_seconds);
   volatile float sink = a[floats / 2];

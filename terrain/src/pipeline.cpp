@@ -1,8 +1,8 @@
 #include "pipeline.h"
 
-#include <omp.h>
-
 #include <algorithm>
+#include <chrono>
+#include <thread>
 
 namespace shore::terrain {
 
@@ -23,16 +23,43 @@ void loosen_deposits(Region& region) {
   }
 }
 
+int thread_count(const TerrainSettings& s) {
+  // hardware_concurrency reads the system's CPU list each call: once is enough.
+  static const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  return s.threads > 0 ? s.threads : hardware;
+}
+
+/// Whether the pacer judges a region of `columns` (halo included): more than one thread, at
+/// least parallel_min_columns, and not forced (parallel_min_columns 0 always forks).
+bool paced(const TerrainSettings& s, std::int64_t columns) {
+  return thread_count(s) > 1 && s.parallel_min_columns > 0 && columns >= s.parallel_min_columns;
+}
+
+std::int64_t halo_columns(const ColumnRect& region) {
+  return static_cast<std::int64_t>(region.nx + 2) * static_cast<std::int64_t>(region.ny + 2);
+}
+
+using Clock = std::chrono::steady_clock;
+
 }  // namespace
 
 void Pipeline::gather(TileStore& store, const TerrainSettings& s, const ColumnRect& region) {
-  const int threads = s.threads > 0 ? s.threads : omp_get_max_threads();
-  region_.prepare({region.i0 - 1, region.j0 - 1, region.nx + 2, region.ny + 2}, threads, s.parallel_min_columns);
+  const int threads = thread_count(s);
+  const std::int64_t columns = halo_columns(region);
+  const bool parallel =
+      threads > 1 && columns >= s.parallel_min_columns && (s.parallel_min_columns == 0 || pacer_.choose_parallel());
+  if (parallel && (!team_ || team_->size() != threads)) team_ = std::make_unique<Team>(threads);
+  region_.prepare({region.i0 - 1, region.j0 - 1, region.nx + 2, region.ny + 2}, parallel ? team_.get() : nullptr);
   region_.gather(store, s.material.soil_depth);
+}
+
+void Pipeline::record(const TerrainSettings& s, std::int64_t columns, double seconds) {
+  if (paced(s, columns)) pacer_.record(region_.team != nullptr, seconds / static_cast<double>(columns));
 }
 
 StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, const ColumnRect& region,
                          std::span<const Imprint> imprints) {
+  const Clock::time_point t0 = Clock::now();
   gather(store, s, region);
   imprint_.rasterize(region_, imprints);
   const ImprintStage::Collision collision = imprint_.collide(region_, s);
@@ -43,6 +70,7 @@ StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, const Colum
   report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, false);
   loosen_deposits(region_);
   region_.scatter(store);
+  record(s, halo_columns(region), std::chrono::duration<double>(Clock::now() - t0).count());
 
   const double cell_area = s.cell * s.cell;
   report.active_columns = region.nx * region.ny;
@@ -53,11 +81,13 @@ StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, const Colum
 }
 
 StepReport Pipeline::relax(TileStore& store, const TerrainSettings& s, const ColumnRect& region) {
+  const Clock::time_point t0 = Clock::now();
   gather(store, s, region);
   imprint_.no_bodies(region_);
   StepReport report;
   report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, true);
   region_.scatter(store);
+  record(s, halo_columns(region), std::chrono::duration<double>(Clock::now() - t0).count());
   report.active_columns = region.nx * region.ny;
   return report;
 }

@@ -8,11 +8,18 @@
 //   loosen      soil laid on a column lowers its recorded sinkage
 //   scatter     back into the tiles, marking what changed            (region.h)
 // Each stage owns its scratch arrays and reads the others' results by const reference.
+// Rows of the parallel stages run on the pipeline's own team (shore/core/team.h, created at
+// the first region that forks) when the region has at least parallel_min_columns columns
+// and the pacer measures parallel steps faster than serial ones.
 
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <span>
 
 #include "region.h"
+#include "shore/core/pacer.h"
+#include "shore/core/team.h"
 #include "shore/terrain/terrain.h"
 #include "stage_contour.h"
 #include "stage_displace.h"
@@ -34,8 +41,13 @@ class Pipeline {
   [[nodiscard]] std::size_t bytes() const;
 
  private:
+  /// Gathers the region (plus halo) and decides whether its rows fork onto the team.
   void gather(TileStore& store, const TerrainSettings& s, const ColumnRect& region);
+  /// After a step or relax of `columns`: tells the pacer how long it took.
+  void record(const TerrainSettings& s, std::int64_t columns, double seconds);
 
+  std::unique_ptr<Team> team_;
+  Pacer pacer_;  ///< per column of the region (halo included), over whole steps
   Region region_;
   ImprintStage imprint_;
   ContourStage contour_;

@@ -6,10 +6,9 @@
 
 namespace shore::terrain {
 
-void Region::prepare(const ColumnRect& with_halo, int thread_count, int parallel_min_columns) {
+void Region::prepare(const ColumnRect& with_halo, Team* rows_team) {
   si0 = with_halo.i0, sj0 = with_halo.j0, w = with_halo.nx, h = with_halo.ny;
-  threads = thread_count;
-  parallel = threads > 1 && static_cast<std::int64_t>(w) * h >= parallel_min_columns;
+  team = rows_team;
 }
 
 void Region::gather(TileStore& store, double soil_depth) {

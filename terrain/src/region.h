@@ -2,11 +2,13 @@
 // Private: one active region of a step plus a one-column halo, gathered from the tiles into
 // dense arrays for the stages and scattered back afterwards.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <vector>
 
+#include "shore/core/team.h"
 #include "shore/terrain/terrain.h"
 #include "tile_store.h"
 
@@ -20,18 +22,17 @@ inline constexpr double kInf = std::numeric_limits<double>::infinity();
 inline constexpr std::int64_t kMaxRegionColumns = std::int64_t{1} << 26;
 
 struct Region {
-  std::int64_t si0 = 0, sj0 = 0;  ///< global column of region column (0, 0), the halo's corner
-  int w = 0, h = 0;               ///< columns, halo included
-  bool parallel = false;          ///< rows are shared among `threads`
-  int threads = 1;
+  std::int64_t si0 = 0, sj0 = 0;   ///< global column of region column (0, 0), the halo's corner
+  int w = 0, h = 0;                ///< columns, halo included
+  Team* team = nullptr;            ///< rows are shared among its threads; nullptr: one thread
   std::vector<double> ht;          ///< collision surface, m: the stages move soil here
   std::vector<double> ht_orig;     ///< heights as gathered (scatter reports what changed)
   std::vector<double> ht_pressed;  ///< heights right after collision (what came after is deposit)
   std::vector<double> sink;        ///< plastic sinkage, m
   std::vector<double> bed;         ///< bedrock, m
 
-  /// Takes the rectangle (halo included) and decides whether its rows run in parallel.
-  void prepare(const ColumnRect& with_halo, int thread_count, int parallel_min_columns);
+  /// Takes the rectangle (halo included) and the team its rows run on (nullptr: serial).
+  void prepare(const ColumnRect& with_halo, Team* rows_team);
   void gather(TileStore& store, double soil_depth);  ///< creates the tiles it touches
   void scatter(TileStore& store) const;              ///< and marks what changed
 
@@ -39,13 +40,24 @@ struct Region {
   [[nodiscard]] std::size_t at(int x, int y) const noexcept {
     return static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
   }
-  /// fn(y) for rows [first, last), shared among the threads when the region is parallel.
-  /// Each row's task may write only that row's results, so the outcome never depends on the
-  /// thread count.
+  /// fn(y) for rows [first, last), shared among the team's threads in bands of rows when
+  /// there is a team. Each row's task may write only that row's results, so the outcome
+  /// never depends on the thread count or on which thread ran a band.
   template <class Fn>
   void for_rows(int first, int last, Fn&& fn) const {
-#pragma omp parallel for schedule(static) num_threads(threads) if (parallel)
-    for (int y = first; y < last; ++y) fn(y);
+    if (!team || last - first < 2) {
+      for (int y = first; y < last; ++y) fn(y);
+      return;
+    }
+    // About 8 bands per thread: few claims on the team's counter, and a band left to a
+    // descheduled worker is a small share of the work the caller waits for.
+    const int rows = last - first;
+    const int band = std::max(1, rows / (8 * team->size()));
+    team->run((rows + band - 1) / band, [&](int item, int) {
+      const int y0 = first + item * band;
+      const int y1 = std::min(last, y0 + band);
+      for (int y = y0; y < y1; ++y) fn(y);
+    });
   }
   [[nodiscard]] std::size_t bytes() const;
 };

@@ -11,8 +11,14 @@ namespace shore::terrain {
 std::uint64_t cling_key(const Vec3& b, double cell) {
   constexpr std::int64_t kHalf = std::int64_t{1} << 20;
   auto part = [&](double x) {
-    const double k = std::floor(x / cell);
-    const std::int64_t clamped = static_cast<std::int64_t>(std::clamp(k, -double(kHalf), double(kHalf - 1)));
+    const double q = x / cell;
+    std::int64_t clamped = 0;
+    if (std::abs(q) < 4.6e18) {  // floor without the library call: truncate, then step down below zero
+      const auto t = static_cast<std::int64_t>(q);
+      clamped = std::clamp(static_cast<double>(t) > q ? t - 1 : t, -kHalf, kHalf - 1);
+    } else {
+      clamped = static_cast<std::int64_t>(std::clamp(std::floor(q), -double(kHalf), double(kHalf - 1)));
+    }
     return static_cast<std::uint64_t>(clamped + kHalf);
   };
   return part(b[0]) | (part(b[1]) << 21) | (part(b[2]) << 42);
@@ -22,15 +28,6 @@ namespace {
 
 /// The draw that rounds a piece's number of particles (apart from the candidates' draws).
 constexpr std::uint64_t kRounding = std::uint64_t{1} << 40;
-
-ClingCell& find_or_add(std::vector<ClingCell>& cells, std::uint64_t key) {
-  const auto at =
-      std::lower_bound(cells.begin(), cells.end(), key, [](const ClingCell& c, std::uint64_t k) { return c.key < k; });
-  if (at != cells.end() && at->key == key) return *at;
-  ClingCell fresh;
-  fresh.key = key;
-  return *cells.insert(at, fresh);
-}
 
 ClingCell* find(std::vector<ClingCell>& cells, std::uint64_t key) {
   const auto at =
@@ -62,6 +59,7 @@ double reach_squared(const Imprint& im, const SprayGround& g) {
 void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, const SprayGround& ground,
                   const ClingRules& rules, std::vector<Drop>& drops) {
   const EnvelopeRaster& env = *im.envelope;
+  fresh_.clear();
   heights_.resize(env.lower.size());
   ground.heights({env.i0, env.j0, env.nx, env.ny}, heights_);
   for (int y = 0; y < env.ny; ++y)
@@ -76,17 +74,43 @@ void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, co
       const Vec3 r = m.to_body(p);
       const std::uint64_t key = cling_key(r, ground.cell());
       if (length(m.velocity_at(p)) < rules.min_speed) {
-        if (ClingCell* c = find(body.cells, key); c != nullptr) set_down(*c, p, drops);
+        if (ClingCell* c = piece(body, key); c != nullptr) set_down(*c, p, drops);
         continue;
       }
-      if (rules.capacity <= 0.0 && find(body.cells, key) == nullptr) continue;
-      ClingCell& c = find_or_add(body.cells, key);
+      ClingCell* found = piece(body, key);
+      if (found == nullptr) {
+        if (rules.capacity <= 0.0) continue;
+        found = &fresh_.emplace_back();
+        found->key = key;
+      }
+      ClingCell& c = *found;
       c.touched = rules.step;
       c.rx = r[0], c.ry = r[1], c.rz = r[2];
       c.i = i, c.j = j;
       c.owed = 0.0;
       c.pending = std::max(0.0, rules.capacity - c.volume);
     }
+  merge_fresh(body);
+}
+
+ClingCell* Cling::piece(ClingingBody& body, std::uint64_t key) {
+  if (ClingCell* c = find(body.cells, key); c != nullptr) return c;
+  for (ClingCell& c : fresh_)  // a few per step (a contact patch's worth on the first)
+    if (c.key == key) return &c;
+  return nullptr;
+}
+
+void Cling::merge_fresh(ClingingBody& body) {
+  if (fresh_.empty()) return;
+  const auto by_key = [](const ClingCell& a, const ClingCell& b) { return a.key < b.key; };
+  std::sort(fresh_.begin(), fresh_.end(), by_key);
+  const auto old_size = static_cast<std::ptrdiff_t>(body.cells.size());
+  body.cells.insert(body.cells.end(), fresh_.begin(), fresh_.end());
+  std::inplace_merge(body.cells.begin(), body.cells.begin() + old_size, body.cells.end(), by_key);
+  // A first contact fills a whole patch; later steps a few pieces: keep no patch-sized
+  // scratch between steps.
+  if (fresh_.capacity() > 64) std::vector<ClingCell>().swap(fresh_);
+  fresh_.clear();
 }
 
 void Cling::set_down(ClingCell& c, const Vec3& p, std::vector<Drop>& drops) {
@@ -186,6 +210,6 @@ void Cling::set_all_down(const ClingingBody& body, std::vector<Drop>& drops) {
   }
 }
 
-std::size_t Cling::bytes() const { return capacity_bytes(heights_); }
+std::size_t Cling::bytes() const { return capacity_bytes(heights_, fresh_); }
 
 }  // namespace shore::terrain

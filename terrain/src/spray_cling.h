@@ -80,7 +80,15 @@ class Cling {
   void set_down(ClingCell& c, const Vec3& p, std::vector<Drop>& drops);
   void shed(const ClingingBody& body, ClingCell& cell, const BodyMotion& m, const ClingRules& rules,
             std::vector<Candidate>& candidates);
+  /// The piece of this key, among the body's pieces or those first touched this step.
+  ClingCell* piece(ClingingBody& body, std::uint64_t key);
+  /// Puts the pieces first touched this step into the body's list, which stays sorted by key.
+  void merge_fresh(ClingingBody& body);
   std::vector<double> heights_;  ///< soil tops under the envelope
+  /// Pieces first touched in this step's touch, merged into the body's sorted list at its
+  /// end: one pass over the list instead of an insertion (and a shift of the list) each.
+  /// The list comes out the same as with the insertions: sorted by key, keys unique.
+  std::vector<ClingCell> fresh_;
 };
 
 /// The cube of the body frame a point lies in, packed in 64 bits (21 per axis).

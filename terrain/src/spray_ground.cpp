@@ -6,6 +6,7 @@ namespace shore::terrain {
 
 SprayGround::SprayGround(TileStore& store, const TerrainSettings& s)
     : store_(store),
+      n_(store.n()),
       cell_(s.cell),
       area_(s.cell * s.cell),
       origin_x_(s.origin_x),
@@ -16,9 +17,13 @@ SprayGround::SprayGround(TileStore& store, const TerrainSettings& s)
       y_min_(s.spray.y_min),
       y_max_(s.spray.y_max) {}
 
-double SprayGround::height(std::int64_t i, std::int64_t j) const {
-  const Tile* t = store_.find(store_.key_of(i, j));
-  return t ? t->height[store_.local(i, j)] : store_.base_at(i, j);
+double SprayGround::height_looked_up(std::int64_t i, std::int64_t j) const {
+  const TileKey key = store_.key_of(i, j);
+  const Tile* t = store_.find(key);
+  if (t == nullptr) return store_.base_at(i, j);
+  last_ = t;
+  last_i0_ = key.tx * n_, last_j0_ = key.ty * n_;
+  return t->height[store_.local(i, j)];
 }
 
 double SprayGround::set(std::int64_t i, std::int64_t j, Tile& t, std::size_t k, double height) {

@@ -18,12 +18,21 @@ class SprayGround {
  public:
   SprayGround(TileStore& store, const TerrainSettings& s);
 
-  [[nodiscard]] std::int64_t column_i(double x) const { return std::llround((x - origin_x_) / cell_); }
-  [[nodiscard]] std::int64_t column_j(double y) const { return std::llround((y - origin_y_) / cell_); }
+  [[nodiscard]] std::int64_t column_i(double x) const { return nearest((x - origin_x_) / cell_); }
+  [[nodiscard]] std::int64_t column_j(double y) const { return nearest((y - origin_y_) / cell_); }
   [[nodiscard]] double x_of(std::int64_t i) const { return origin_x_ + static_cast<double>(i) * cell_; }
   [[nodiscard]] double y_of(std::int64_t j) const { return origin_y_ + static_cast<double>(j) * cell_; }
   [[nodiscard]] double cell() const { return cell_; }
-  [[nodiscard]] double height(std::int64_t i, std::int64_t j) const;
+  /// A flight samples the columns it crosses one after another, mostly in one tile: the last
+  /// tile found is kept with its corner, so the next column in it costs no hash lookup and
+  /// no division (tiles are never released during a spray step; a column with no tile yet
+  /// is looked up each time, so a tile created meanwhile is found).
+  [[nodiscard]] double height(std::int64_t i, std::int64_t j) const {
+    const std::int64_t li = i - last_i0_, lj = j - last_j0_;
+    if (last_ != nullptr && li >= 0 && li < n_ && lj >= 0 && lj < n_)
+      return last_->height[static_cast<std::size_t>(lj * n_ + li)];
+    return height_looked_up(i, j);
+  }
   /// Heights of a rectangle, row-major (one tile lookup per run).
   void heights(const ColumnRect& r, std::span<double> out) const { store_.read(r, out, false); }
   /// Within the spray's region (SpraySettings bounds)?
@@ -40,7 +49,22 @@ class SprayGround {
   /// Sets the column's height (its tile created if need be), lowers its sinkage by the
   /// height moved and marks it changed; returns the m^3 the height moved by (signed).
   double set(std::int64_t i, std::int64_t j, Tile& t, std::size_t k, double height);
+  /// height() through the tile store, keeping the tile found.
+  double height_looked_up(std::int64_t i, std::int64_t j) const;
+  /// std::llround without the library call (the same value for every |x| < 2^62: the
+  /// nearest integer, halves away from zero; x - trunc(x) is exact).
+  static std::int64_t nearest(double x) {
+    if (!(std::abs(x) < 4.6e18)) return std::llround(x);
+    std::int64_t k = static_cast<std::int64_t>(x);  // truncated toward zero
+    const double rest = x - static_cast<double>(k);
+    if (rest >= 0.5) ++k;
+    if (rest <= -0.5) --k;
+    return k;
+  }
   TileStore& store_;
+  std::int64_t n_;
+  mutable const Tile* last_ = nullptr;
+  mutable std::int64_t last_i0_ = 0, last_j0_ = 0;  ///< last_'s first column
   double cell_, area_, origin_x_, origin_y_, soil_depth_;
   double x_min_, x_max_, y_min_, y_max_;
 };

@@ -35,7 +35,7 @@ void TerrainSettings::validate() const {
   if (!(active_reach > 0.0))  // +infinity allowed: every covered column widens the region
     throw InvalidSetting(c.name("active_reach"), detail::to_text(active_reach), "must be > 0 (+infinity allowed)");
   c.non_negative("contact_tolerance", contact_tolerance);
-  // Each OpenMP thread costs memory for good: an absurd count (a corrupt file's) could
+  // Each team thread costs memory for good: an absurd count (a corrupt file's) could
   // exhaust it.
   c.in_closed("threads", threads, 0, 1024);
   c.at_least("parallel_min_columns", parallel_min_columns, 0);

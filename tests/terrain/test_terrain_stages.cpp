@@ -24,7 +24,7 @@ namespace {
 // A w x h region (halo included) at the origin, flat at height 0 over bedrock at -1.
 Region flat_region(int w, int h) {
   Region r;
-  r.prepare({0, 0, w, h}, 1, 0);
+  r.prepare({0, 0, w, h}, nullptr);  // one thread
   r.ht.assign(r.size(), 0.0);
   r.ht_orig = r.ht;
   r.sink.assign(r.size(), 0.0);

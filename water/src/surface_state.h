@@ -11,8 +11,9 @@
 
 #include "kernel.h"
 #include "quantum.h"
+#include "shore/core/pacer.h"
+#include "shore/core/team.h"
 #include "shore/water/surface.h"
-#include "team.h"
 
 namespace shore::water {
 
@@ -62,18 +63,6 @@ struct Scratch {
   }
 };
 
-/// Chooses, substep by substep, whether the team pays: by a work threshold, then by the
-/// measured time per node of parallel and serial substeps, re-trying the slower mode at
-/// intervals that double each time it loses again.
-struct Pacer {
-  double serial = -1.0;  ///< s per awake node, exponential average; < 0: not measured
-  double parallel = -1.0;
-  int interval = 16;  ///< substeps between tries of the slower mode
-  int countdown = 0;
-  [[nodiscard]] bool choose_parallel();
-  void record(bool parallel_run, double seconds_per_node);
-};
-
 struct Surface::State {
   int T = 32, shift = 5;  ///< tile side and its log2
   int tiles_x = 0, tiles_y = 0;
@@ -90,7 +79,7 @@ struct Surface::State {
   int threads = 1;
   std::unique_ptr<Team> team;
   std::vector<Scratch> scratch;
-  Pacer pacer;
+  Pacer pacer;  ///< per substep, after the work threshold: whether the team pays (per awake node)
 
   mutable std::optional<Deformation> deformation;  // 3-D: of the current positions
   StepStats last_stats;

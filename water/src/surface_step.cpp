@@ -114,30 +114,6 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
   return k;
 }
 
-// ---- the pacer -----------------------------------------------------------------------------
-
-bool Pacer::choose_parallel() {
-  if (parallel < 0.0) return true;
-  if (serial < 0.0) return false;
-  const bool better = parallel <= serial;
-  if (--countdown <= 0) {
-    countdown = interval;
-    return !better;
-  }
-  return better;
-}
-
-void Pacer::record(bool parallel_run, double seconds_per_node) {
-  double& mine = parallel_run ? parallel : serial;
-  const double other = parallel_run ? serial : parallel;
-  const bool was_worse = mine >= 0.0 && other >= 0.0 && (parallel_run ? parallel > serial : serial > parallel);
-  mine = mine < 0.0 ? seconds_per_node : 0.75 * mine + 0.25 * seconds_per_node;
-  if (was_worse) {  // a try of the slower mode: back off if it lost again
-    interval = seconds_per_node > other ? std::min(2 * interval, 4096) : 16;
-    countdown = interval;
-  }
-}
-
 // ---- the guard -----------------------------------------------------------------------------
 
 namespace {

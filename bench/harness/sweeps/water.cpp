@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "loaded_pair.h"
 #include "shore/scenes/water_cases.h"
 #include "shore/scenes/water_kernel_cases.h"
 #include "shore/water/surface.h"
@@ -220,33 +221,13 @@ void reflection(const SweepContext& ctx, SweepResult& out) {
       "listed at width 0.");
 }
 
-/// Busy threads that load every core while alive.
-class Load {
- public:
-  explicit Load(int threads) {
-    for (int k = 0; k < threads; ++k)
-      workers_.emplace_back([this] {
-        volatile double x = 1.0;
-        while (!stop_.load(std::memory_order_relaxed)) x = x * 1.0000001 + 1e-9;
-      });
-  }
-  ~Load() {
-    stop_ = true;
-    for (std::thread& t : workers_) t.join();
-  }
-
- private:
-  std::atomic<bool> stop_{false};
-  std::vector<std::thread> workers_;
-};
-
 /// Water steps with 1 and 2 threads, interleaved, on a machine loaded by busy threads.
 void threads(const SweepContext& ctx, SweepResult& out) {
   Table& t = out.table("water_threads", {"mode", "nodes_per_side", "load_threads", "ms_per_step_1t", "ms_per_step_2t",
                                          "speed_2t_over_1t"});
   const std::vector<int> sizes =
       ctx.quick ? std::vector<int>{64, 256, 1024} : std::vector<int>{64, 128, 256, 512, 1024, 2048};
-  const int load = std::max(2, int(std::thread::hardware_concurrency()));
+  const int load = busy_load_threads();
   double worst = 1e300;
   const char* policy = std::getenv("OMP_WAIT_POLICY");
   for (const auto mode : {water::SurfaceMode::vertical_only, water::SurfaceMode::full_3d}) {
@@ -260,32 +241,10 @@ void threads(const SweepContext& ctx, SweepResult& out) {
       water::Surface two(s2);
       for (water::Surface* s : {&one, &two})
         s->disturb(water::Disturbance::point_height(0.5 * (n - 1), 0.5 * (n - 1), 3.0, 1.0));
-      const Load busy(load);
-      // Short slices alternating 1 and 2 threads; the ratio of each adjacent pair, whose
-      // median is robust to the load's bursts (the medians of the times alone are not).
-      std::vector<double> a, b, ratio;
-      const double slice = ctx.quick ? 0.03 : 0.08;
-      const auto time_slice = [&](water::Surface& s) {
-        const auto t0 = Clock::now();
-        long steps = 0;
-        double el = 0.0;
-        do {
-          s.step(0.3);
-          ++steps;
-          el = std::chrono::duration<double>(Clock::now() - t0).count();
-        } while (el < slice);
-        return el / double(steps);
-      };
-      for (int rep = 0; rep < (ctx.quick ? 15 : 25); ++rep) {
-        a.push_back(time_slice(one));
-        b.push_back(time_slice(two));
-        ratio.push_back(a.back() / b.back());
-      }
-      const auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v[v.size() / 2];
-      };
-      const double m1 = median(a), m2 = median(b), r = median(ratio);
+      const BusyLoad busy(load);
+      const PairTiming p = time_alternating([&] { one.step(0.3); }, [&] { two.step(0.3); }, ctx.quick ? 0.03 : 0.08,
+                                            ctx.quick ? 15 : 25);
+      const double m1 = p.s_per_step_1, m2 = p.s_per_step_2, r = p.speed_2_over_1;
       t.add({mode_name(mode), double(n), double(load), 1e3 * m1, 1e3 * m2, r});
       worst = std::min(worst, r);
     }

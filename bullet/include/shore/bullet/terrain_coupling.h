@@ -31,6 +31,8 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -41,6 +43,7 @@
 #include "shore/bullet/config.h"
 #include "shore/bullet/envelope.h"
 #include "shore/bullet/terrain_tiles.h"
+#include "shore/core/byte_io.h"
 #include "shore/core/envelope.h"
 #include "shore/terrain/terrain.h"
 
@@ -166,8 +169,25 @@ class TerrainCoupling : public btActionInterface {
   [[nodiscard]] TerrainTiles& tiles() noexcept { return tiles_; }
   [[nodiscard]] terrain::Terrain& soil() noexcept { return soil_; }
 
+  /// The coupling's own state for a checkpoint (docs/checkpoints.md): per added body its
+  /// envelope and the pose it was made at, and the soil contact's kept state (blocks and
+  /// their impulses, patch, shear displacement and its length, last force, rest); the tiles (which exist, their
+  /// bounds and heights); the totals of stats(). Not the soil (Terrain::save_bytes).
+  [[nodiscard]] std::vector<unsigned char> save_state() const;
+  /// Restores save_state's bytes into a coupling built the same way (the same bodies added
+  /// in the same order, the same settings), after its soil was restored; it takes the
+  /// soil's pending changes (the load's), so save between steps, not after editing the
+  /// soil by hand (such an edit would not wake bodies at rest after the restore). FileError naming
+  /// `source`, the coupling unchanged, for bytes of another version, truncated or corrupt
+  /// ones, or another number or kind of bodies.
+  void restore_state(std::span<const unsigned char> bytes, const std::string& source);
+
  private:
   struct BodyContact;  // the soil contact's state kept between substeps (terrain_coupling.cpp)
+  // A contact's bytes in a checkpoint: next to BodyContact, so a new field is saved too.
+  static void save_contact(const BodyContact& c, ByteWriter& w);
+  static void restore_contact(ByteReader& r, BodyContact& c, std::size_t envelope_columns);
+  static void check_contact(const ByteReader& r, const BodyContact& c, std::size_t envelope_columns);
   struct Body {
     Body();
     ~Body();

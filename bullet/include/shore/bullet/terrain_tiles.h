@@ -22,6 +22,7 @@
 
 #include "shore/bullet/config.h"
 #include "shore/bullet/heightfield_tile.h"
+#include "shore/core/byte_io.h"
 #include "shore/terrain/terrain.h"
 
 namespace shore::bullet {
@@ -80,6 +81,13 @@ class TerrainTiles {
   /// Sets the friction of every tile, present and future.
   void set_friction(double friction);
 
+  /// The tiles for a checkpoint (TerrainCoupling::save_state): which exist, their height
+  /// bounds, heights and lagging vertices, in key order.
+  void save_state(ByteWriter& w) const;
+  /// Makes exactly the saved tiles exist, as saved. The tiles are the last thing in r:
+  /// everything is read and checked (FileError) before any tile changes.
+  void restore_state(ByteReader& r);
+
  private:
   static constexpr int kTileTag = 0x5e0e71;  // user index 2 of every tile object
   struct Tile {
@@ -91,6 +99,9 @@ class TerrainTiles {
   };
   static std::uint64_t key(std::int64_t tx, std::int64_t ty) noexcept;
   Tile& create(std::int64_t tx, std::int64_t ty);
+  /// A tile with these bounds and heights ((T + 1)^2, row-major) added to the world.
+  Tile& add(std::int64_t tx, std::int64_t ty, const HeightfieldTileSettings& hs, std::span<const double> heights);
+  void remove_all();
   std::int64_t copy_rect(Tile& tile, std::int64_t ci0, std::int64_t cj0, std::int64_t ci1, std::int64_t cj1);
   void drop_stale_contacts(double x0, double y0, double x1, double y1);
 

@@ -30,6 +30,8 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
+#include <string>
 #include <vector>
 
 #include <BulletDynamics/Dynamics/btActionInterface.h>
@@ -97,6 +99,15 @@ class WaterCoupling : public btActionInterface {
   /// The water's force and torque on a body in the last substep (zeros if unknown). For a
   /// kinematic or static body (mass 0) they are reported but not applied.
   [[nodiscard]] BodyWater water_force(const btRigidBody* body) const;
+
+  /// The coupling's own state for a checkpoint (docs/checkpoints.md): per body the
+  /// envelopes and pose its displacement was last taken from and its last forces; the
+  /// totals of stats(). Not the surface (Surface::save_state).
+  [[nodiscard]] std::vector<unsigned char> save_state() const;
+  /// Restores save_state's bytes into a coupling built the same way (the same bodies added
+  /// in the same order). FileError naming `source`, the coupling unchanged, for bytes of
+  /// another version, truncated or corrupt ones, or other bodies.
+  void restore_state(std::span<const unsigned char> bytes, const std::string& source);
 
   WaterCoupling(WaterCoupling&&) = delete;
   struct Body;  ///< opaque: per-body shape and displacement state

@@ -52,6 +52,9 @@ struct SceneContents {
   /// Drives the scene's vehicle: forward and turn in [-1, 1] (0, 0: the scene's own
   /// script). Empty: nothing to drive.
   std::function<void(double forward, double turn)> drive = {};
+  /// The scene's substep counter, which its script reads (null: its script keeps no
+  /// clock); checkpoints save and restore it (checkpoint.h).
+  int* clock = nullptr;
 };
 
 }  // namespace shore::scenes

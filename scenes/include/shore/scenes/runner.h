@@ -19,7 +19,7 @@ namespace shore::scenes {
 /// Command-line overrides; unset fields take the scene's defaults.
 struct Overrides {
   std::filesystem::path out_root = "out";
-  int threads = 0;       ///< 0: OpenMP's default
+  int threads = 0;       ///< 0: the machine's hardware threads
   double seconds = 0;    ///< 0: scene default (or its smoke_seconds with smoke)
   double substep = 0;    ///< 0: scene default
   std::string material;  ///< empty: scene default
@@ -39,7 +39,7 @@ struct SceneResult {
   std::uint64_t state_hash = 0;
 };
 
-/// Runs a scene: validates options, creates out_dir, sets the OpenMP thread count, creates
+/// Runs a scene: validates options, creates out_dir, creates
 /// the scene and steps it options.substeps() times (timing the steps alone), takes the
 /// filmstrip, hashes the final state, fills the metrics, and with write_files draws the
 /// scene and writes out_dir/metrics.json. Scene errors propagate. The pictures (the

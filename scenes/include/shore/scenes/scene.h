@@ -43,7 +43,7 @@ struct SceneDefaults {
 /// Fully resolved settings of one run.
 struct SceneOptions {
   std::filesystem::path out_dir = "out";  ///< this scene's own output directory (<out>/<scene>)
-  int threads = 1;                        ///< OpenMP threads, >= 1
+  int threads = 1;                        ///< threads of the soil and the water, >= 1
   double seconds = 2.0;                   ///< s, simulated time, > 0
   double substep = 1.0 / 240.0;           ///< s, fixed substep, in (0, 0.1]
   std::string material = "sand";          ///< sand | mud | snow

@@ -21,7 +21,7 @@ struct SoilRun {
   terrain::Material material = terrain::Material::sand();
   double cell = 0.01;                                                      ///< m, soil column spacing
   double substep = 1.0 / 240;                                              ///< s, Bullet's fixed substep
-  int threads = 1;                                                         ///< OpenMP threads of the soil
+  int threads = 1;                                                         ///< threads of the soil
   int max_erosion_passes = terrain::TerrainSettings{}.max_erosion_passes;  ///< erosion pass cap per substep
   double active_reach = terrain::TerrainSettings{}.active_reach;           ///< m, see TerrainSettings
   bullet::SoilContactSettings contact;                                     ///< how the soil's push is solved

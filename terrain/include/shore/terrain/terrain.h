@@ -51,10 +51,11 @@ struct TerrainSettings {
   /// covered column counts, however high the body.
   double active_reach = 0.03;
   double contact_tolerance = 1e-4;  ///< m: a column counts as touched when the envelope is within this of its top, >= 0
-  int threads = 0;                  ///< OpenMP threads, 0 = runtime default; results never depend on it, in [0, 1024]
+  int threads = 0;                  ///< threads, 0 = the machine's; results never depend on it, in [0, 1024]
   /// Active regions with fewer columns (halo included) run on one thread: for small
-  /// regions forking costs more than it saves, badly so on a loaded machine. Results
-  /// never depend on it. >= 0 (0: always use `threads`).
+  /// regions forking costs more than it saves, badly so on a loaded machine. Larger ones
+  /// fork while the measured parallel steps are faster than serial ones (shore/core/pacer.h).
+  /// Results never depend on it. >= 0 (0: always fork onto `threads`, never paced).
   int parallel_min_columns = 16384;
   /// Steps after which a tile no step has worked on is released if it holds nothing but the
   /// untouched base (every height equal to its base, no sinkage, no change not yet taken):

@@ -1,6 +1,7 @@
 #pragma once
-// Internal: the surface's own team of worker threads (no OpenMP, so no OMP_WAIT_POLICY or
-// GOMP_SPINCOUNT changes its speed). Idle workers sleep on a condition variable; run()
+// A team of worker threads shared by the modules (the water's tiles, the soil's rows). No
+// OpenMP, so no OMP_WAIT_POLICY or GOMP_SPINCOUNT changes its speed: a game embedding Shore
+// sets no environment variable. Idle workers sleep on a condition variable; run()
 // wakes them and hands out items one at a time from an atomic counter that the caller
 // works through too. A worker that wakes after every item is taken finds none and goes
 // back to sleep, so the caller never waits for a thread that has not started: the only
@@ -13,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-namespace shore::water {
+namespace shore {
 
 class Team {
  public:
@@ -62,4 +63,4 @@ class Team {
   std::atomic<int> done_{0};
 };
 
-}  // namespace shore::water
+}  // namespace shore

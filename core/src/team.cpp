@@ -1,6 +1,6 @@
-#include "team.h"
+#include "shore/core/team.h"
 
-namespace shore::water {
+namespace shore {
 
 Team::Team(int threads) {
   for (int k = 1; k < threads; ++k) workers_.emplace_back([this, k] { work(k); });
@@ -65,4 +65,4 @@ void Team::run(int items, Job& job) {
     done_.wait(d, std::memory_order_acquire);
 }
 
-}  // namespace shore::water
+}  // namespace shore

@@ -1,0 +1,114 @@
+#pragma once
+// Internal: Bullet values and variable-length arrays in checkpoint bytes (shore/core/byte_io.h).
+// btScalars are written raw: a checkpoint carries its writer's precision and refuses the other.
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include <BulletCollision/CollisionShapes/btCollisionShape.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+#include <LinearMath/btTransform.h>
+
+#include "coupling_util.h"
+#include "shore/bullet/config.h"
+#include "shore/core/byte_io.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+namespace coupling_detail {
+
+inline void put_vector(ByteWriter& w, const btVector3& v) {
+  for (int k = 0; k < 3; ++k) w.put(v[k]);
+}
+inline void put_transform(ByteWriter& w, const btTransform& t) {
+  for (int r = 0; r < 3; ++r) put_vector(w, t.getBasis()[r]);
+  put_vector(w, t.getOrigin());
+}
+inline btVector3 get_vector(ByteReader& r, const char* what) {
+  btVector3 v;
+  for (int k = 0; k < 3; ++k) v[k] = r.get<btScalar>(what);
+  return v;
+}
+inline btTransform get_transform(ByteReader& r, const char* what) {
+  btMatrix3x3 m;
+  for (int row = 0; row < 3; ++row) m[row] = get_vector(r, what);
+  const btVector3 o = get_vector(r, what);
+  return btTransform(m, o);
+}
+
+inline bool finite(const btTransform& t) {
+  return finite(t.getOrigin()) && finite(t.getBasis()[0]) && finite(t.getBasis()[1]) && finite(t.getBasis()[2]);
+}
+
+/// A window of columns (first index in x and y, size) with its lower and upper values:
+/// the couplings' envelopes.
+inline void put_window(ByteWriter& w, std::int64_t i0, std::int64_t j0, int nx, int ny,
+                       const std::vector<double>& lower, const std::vector<double>& upper) {
+  w.put(i0), w.put(j0), w.put(nx), w.put(ny);
+  w.put_array(lower), w.put_array(upper);
+}
+/// Reads put_window's form; FileError for a negative size or NaN values (the arrays' sizes
+/// are for the caller to check against nx * ny).
+inline void get_window(ByteReader& r, std::int64_t& i0, std::int64_t& j0, int& nx, int& ny, std::vector<double>& lower,
+                       std::vector<double>& upper);
+
+/// A state's header: 8 magic bytes, u32 version, u32 sizeof(btScalar).
+inline void put_header(ByteWriter& w, const char (&magic)[8], std::uint32_t version) {
+  for (char c : magic) w.put(c);
+  w.put(version), w.put(static_cast<std::uint32_t>(sizeof(btScalar)));
+}
+/// Checks put_header's bytes: FileError naming what the bytes should be, the version or the precision.
+inline void check_header(ByteReader& r, const char (&magic)[8], std::uint32_t version, const char* what) {
+  std::array<char, 8> m{};
+  for (char& c : m) c = r.get<char>("magic");
+  if (std::memcmp(m.data(), magic, sizeof magic) != 0)
+    r.fail(std::string("not ") + what + " (magic " + std::string(magic, sizeof magic) + " missing)");
+  if (const auto v = r.get<std::uint32_t>("version"); v != version)
+    r.fail("unsupported version " + std::to_string(v) + " of " + what + " (this build reads " +
+           std::to_string(version) + ")");
+  if (const auto scalar = r.get<std::uint32_t>("precision"); scalar != sizeof(btScalar))
+    r.fail("written with " + std::to_string(8 * scalar) + "-bit Bullet scalars, this build uses " +
+           std::to_string(8 * sizeof(btScalar)) + "-bit");
+}
+
+/// The body's collision shape type (-1: none): saved states check they meet the same body.
+inline int shape_type(const btRigidBody& b) {
+  return b.getCollisionShape() ? b.getCollisionShape()->getShapeType() : -1;
+}
+
+/// Reads ByteWriter::put_array's form of any length the bytes can hold (a corrupt count
+/// is refused before anything is allocated).
+template <class T>
+requires std::is_trivially_copyable_v<T>
+void get_any_array(ByteReader& r, std::vector<T>& v, const char* what) {
+  const auto count = r.get<std::uint64_t>(what);
+  if (count > r.remaining() / sizeof(T))
+    r.fail(std::string(what) + " claims " + std::to_string(count) + " values, more than the bytes left");
+  v.resize(static_cast<std::size_t>(count));
+  for (T& x : v) x = r.get<T>(what);
+}
+
+inline void get_window(ByteReader& r, std::int64_t& i0, std::int64_t& j0, int& nx, int& ny, std::vector<double>& lower,
+                       std::vector<double>& upper) {
+  i0 = r.get<std::int64_t>("envelope"), j0 = r.get<std::int64_t>("envelope");
+  nx = r.get<int>("envelope"), ny = r.get<int>("envelope");
+  if (nx < 0 || ny < 0 || nx > (1 << 20) || ny > (1 << 20))
+    r.fail("envelope of size " + std::to_string(nx) + " x " + std::to_string(ny) + " (0 to 2^20 columns a side)");
+  constexpr std::int64_t kMaxColumn = std::int64_t{1} << 52;  // the soil's own bound on column indices
+  if (i0 < -kMaxColumn || i0 > kMaxColumn || j0 < -kMaxColumn || j0 > kMaxColumn)
+    r.fail("envelope at column (" + std::to_string(i0) + ", " + std::to_string(j0) + ") beyond index 2^52");
+  get_any_array(r, lower, "envelope");
+  get_any_array(r, upper, "envelope");
+  for (const auto* values : {&lower, &upper})
+    for (double v : *values)
+      if (std::isnan(v)) r.fail("envelope holds NaN");
+}
+
+}  // namespace coupling_detail
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet

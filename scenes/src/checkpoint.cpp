@@ -1,0 +1,81 @@
+#include "shore/scenes/checkpoint.h"
+
+#include <cstdint>
+#include <string>
+
+#include "shore/bullet/body_state.h"
+#include "shore/bullet/terrain_coupling.h"
+#include "shore/bullet/water_coupling.h"
+#include "shore/core/byte_io.h"
+#include "shore/core/error.h"
+#include "shore/scenes/contents.h"
+#include "shore/scenes/world.h"
+#include "shore/terrain/terrain.h"
+#include "shore/water/surface.h"
+
+namespace shore::scenes {
+namespace {
+
+/// TERRAIN, TERRAIN1, ...: the k-th part of a kind.
+std::string tag(const char* kind, std::size_t k) { return k == 0 ? kind : kind + std::to_string(k); }
+
+SceneContents contents_with_world(Scene& scene) {
+  SceneContents c = scene.contents();
+  if (c.world == nullptr)
+    throw InvalidSetting("scenes.save_checkpoint(scene).contents().world", "null",
+                         "the scene must show its world to be checkpointed");
+  return c;
+}
+
+}  // namespace
+
+CheckpointWriter save_checkpoint(Scene& scene) {
+  const SceneContents c = contents_with_world(scene);
+  CheckpointWriter w(bullet::scalar_bytes());
+  for (std::size_t k = 0; k < c.soils.size(); ++k) {
+    w.add(tag("TERRAIN", k), c.soils[k].soil->save_bytes());
+    if (c.soils[k].coupling) w.add(tag("SOILCP", k), c.soils[k].coupling->save_state());
+  }
+  for (std::size_t k = 0; k < c.waters.size(); ++k) {
+    w.add(tag("WATER", k), c.waters[k].surface->save_state());
+    if (c.waters[k].coupling) w.add(tag("WATERCP", k), c.waters[k].coupling->save_state());
+  }
+  w.add("BODIES", bullet::save_bodies(c.world->world()));
+  ByteWriter clock;
+  clock.put(static_cast<std::int64_t>(c.clock ? *c.clock : -1));
+  w.add("SCENE", std::move(clock.bytes));
+  return w;
+}
+
+void restore_checkpoint(Scene& scene, const CheckpointReader& r) {
+  const SceneContents c = contents_with_world(scene);
+  // Everything Shore's couplings read comes first: the soils (the tiles copy them) and water.
+  for (std::size_t k = 0; k < c.soils.size(); ++k) {
+    terrain::Terrain& soil = *c.soils[k].soil;
+    const std::string t = tag("TERRAIN", k);
+    soil = terrain::Terrain::load_bytes(r.section(t), r.describe(t), soil.settings().base);
+  }
+  for (std::size_t k = 0; k < c.waters.size(); ++k) {
+    const std::string t = tag("WATER", k);
+    c.waters[k].surface->restore_state(r.section(t), r.describe(t));
+  }
+  bullet::restore_bodies(c.world->world(), r.section("BODIES"), r.describe("BODIES"));
+  for (std::size_t k = 0; k < c.soils.size(); ++k)
+    if (c.soils[k].coupling) {
+      const std::string t = tag("SOILCP", k);
+      c.soils[k].coupling->restore_state(r.section(t), r.describe(t));
+    }
+  for (std::size_t k = 0; k < c.waters.size(); ++k)
+    if (c.waters[k].coupling) {
+      const std::string t = tag("WATERCP", k);
+      c.waters[k].coupling->restore_state(r.section(t), r.describe(t));
+    }
+  ByteReader clock(r.section("SCENE"), r.describe("SCENE"));
+  const auto k = clock.get<std::int64_t>("clock");
+  if (c.clock) {
+    if (k < 0) clock.fail("holds no clock, the scene has one");
+    *c.clock = static_cast<int>(k);
+  }
+}
+
+}  // namespace shore::scenes
