@@ -1,33 +1,36 @@
 #include "gl_pictures.h"
 
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #ifdef SHORE_DEMO_GL
 #include "shore/render/headless.h"
-#include "shore/render/picture.h"
+#include "shore/render/painter.h"
 #endif
 
 namespace shore::demo {
 
-scenes::DrawHook gl_pictures(bool enabled) {
+std::unique_ptr<scenes::Painter> make_painter(bool enabled) {
+  if (!enabled) {
+    std::fprintf(stderr, "shore-demo: --no-pictures: no pictures are drawn (metrics and meshes only)\n");
+    return nullptr;
+  }
 #ifdef SHORE_DEMO_GL
-  if (!enabled) return {};
-  return [](scenes::Scene& scene, scenes::Drawing& out) {
-    static bool unavailable = false;
-    if (unavailable || scene.contents().world == nullptr) return;
-    try {
-      render::PictureOptions o;
-      o.title = scene.contents().soils.empty() ? "3-D view (OpenGL), water coloured by height"
-                                               : "3-D view (OpenGL), ground coloured by deformation";
-      out.png("render.png", render::scene_picture(scene, o));
-    } catch (const render::ContextError& e) {
-      unavailable = true;
-      std::fprintf(stderr, "shore-demo: no OpenGL pictures (%s); the software pictures are written\n", e.what());
-    }
-  };
+  try {
+    auto painter = std::make_unique<render::HeadlessPainter>();
+    std::fprintf(stderr, "shore-demo: pictures from %s\n", painter->description().c_str());
+    return painter;
+  } catch (const render::ContextError& e) {
+    throw std::runtime_error(std::string("no headless OpenGL 3.3 context for the pictures (") + e.what() +
+                             "); install Mesa's EGL and llvmpipe (scripts/install-deps.sh viewer) or run with "
+                             "--no-pictures");
+  }
 #else
-  (void)enabled;
-  return {};
+  std::fprintf(stderr,
+               "shore-demo: built without the OpenGL renderer (SHORE_BUILD_VIEWER found no libepoxy): no pictures "
+               "are drawn; install them with scripts/install-deps.sh viewer\n");
+  return nullptr;
 #endif
 }
 

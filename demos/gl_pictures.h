@@ -1,14 +1,17 @@
 #pragma once
-// shore-demo's pictures from the OpenGL renderer (shore_render, headless through EGL):
-// render.png in every scene's folder, when the renderer is built; the software pictures
-// stay beside them (and are all there is without it or without a working EGL).
+// shore-demo's pictures: the OpenGL renderer's painter (shore_render, headless through EGL
+// on Mesa), when the renderer is built.
 
-#include "shore/scenes/runner.h"
+#include <memory>
+
+#include "shore/scenes/picture.h"
 
 namespace shore::demo {
 
-/// The hook run_scene calls after each scene's own pictures; empty if the renderer is not
-/// built or `enabled` is false. A missing EGL is reported once on stderr, then skipped.
-scenes::DrawHook gl_pictures(bool enabled);
+/// The painter every scene's pictures come from. Null if `enabled` is false (--no-pictures)
+/// or shore-demo was built without the renderer; both are said once on stderr. Throws
+/// std::runtime_error with what failed and how to go on if the renderer is built but no
+/// headless OpenGL 3.3 context can be made.
+std::unique_ptr<scenes::Painter> make_painter(bool enabled);
 
 }  // namespace shore::demo

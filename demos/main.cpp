@@ -23,7 +23,7 @@ namespace {
 struct Cli {
   Overrides overrides;
   std::string progress = "auto";
-  bool gl = true;  ///< render.png from the OpenGL renderer (when built)
+  bool pictures = true;  ///< the pictures, from the OpenGL renderer (when built)
 };
 
 void add_common_options(CLI::App& app, Cli& cli) {
@@ -37,7 +37,7 @@ void add_common_options(CLI::App& app, Cli& cli) {
       ->check(CLI::IsMember({"sand", "mud", "snow"}));
   app.add_option("--cell", o.cell, "grid spacing, m (default: the scene's)")->check(CLI::Range(1e-4, 1.0));
   app.add_flag("--smoke", o.smoke, "short run (the scene's smoke_seconds), as the tests do");
-  app.add_flag("!--no-gl", cli.gl, "no render.png from the OpenGL renderer (the software pictures only)");
+  app.add_flag("!--no-pictures", cli.pictures, "no pictures (they need the OpenGL renderer, headless through EGL)");
   app.add_option("--progress", cli.progress, "progress on stderr: auto (bar on a terminal), bar, lines, quiet")
       ->check(CLI::IsMember({"auto", "bar", "lines", "quiet"}))
       ->capture_default_str();
@@ -55,10 +55,11 @@ std::string scene_help(const SceneType& s) {
 int run_scenes(const std::vector<const SceneType*>& list, const Cli& cli) {
   int failed = 0;
   const ProgressMode mode = parse_progress_mode(cli.progress);
+  const std::unique_ptr<shore::scenes::Painter> painter = shore::demo::make_painter(cli.pictures);
   for (const SceneType* s : list) {
     std::fprintf(stderr, "shore-demo: %s ...\n", s->name.c_str());
     try {
-      const SceneResult r = run_scene(*s, resolve(*s, cli.overrides), mode, shore::demo::gl_pictures(cli.gl));
+      const SceneResult r = run_scene(*s, resolve(*s, cli.overrides), mode, painter.get());
       const auto& m = r.metrics;
       std::printf("%-16s %6.2f s simulated in %6.3f s (x%.1f real time), hash %s, %zu files in %s\n", s->name.c_str(),
                   m["sim_seconds"].get<double>(), m["wall_seconds"].get<double>(), m["realtime_factor"].get<double>(),

@@ -13,10 +13,8 @@
 
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/bullet/water_coupling.h"
-#include "shore/scenes/envelopes.h"
 #include "shore/scenes/film.h"
 #include "shore/scenes/pool_cases.h"
-#include "shore/scenes/render.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/scene.h"
 #include "shore/scenes/soil_view.h"
@@ -118,16 +116,6 @@ double max_sinkage(const terrain::Terrain& t) {
   for (std::int64_t j = t.column_j(kY0); j <= t.column_j(kY1); ++j)
     for (std::int64_t i = t.column_i(kX0); i <= t.column_i(kX1); ++i) m = std::max(m, t.sinkage(i, j));
   return m;
-}
-
-/// Sand with the water drawn over it where the water lies above the sand (what the
-/// oblique views show); with no surface, the water at its rest level (their baseline).
-HeightGrid scenery(const HeightGrid& sand, const water::Surface* w) {
-  HeightGrid g = sand;
-  for (int j = 0; j < g.ny; ++j)
-    for (int i = 0; i < g.nx; ++i)
-      if (g.x(i) <= kWaterX1) g.at(i, j) = std::max(g.at(i, j), w ? w->height_at(g.x(i), g.y(j)) : 0.0);
-  return g;
 }
 
 double sand_cell(const SceneOptions& o) { return o.smoke ? std::max(o.cell, 0.05) : o.cell; }
@@ -242,7 +230,9 @@ class Beach final : public Scene {
     return at_fractions(o_.substeps(),
                         o_.smoke ? std::span<const double>(kSmokeFrameAt) : std::span<const double>(kFrameAt), 0);
   }
-  Image film_frame() override { return view(o_.smoke ? 160 : 240, ""); }
+  Image film_frame(Painter& painter) override {
+    return painter.paint(contents(), {.elevation_deg = 30.0, .legend = false, .width = o_.smoke ? 240 : 400});
+  }
 
   SceneContents contents() override {
     return {.world = &world_,
@@ -255,30 +245,22 @@ class Beach final : public Scene {
 
   void draw(Drawing& out) const override {
     const SandGrids grids = sand_grids(sand_);
-    const BodyEnvelopes b = body_envelopes(drawn_, grids.now);
-    out.png("relief.png", relief_frame(grids.now, &grids.base, &b, 480, "beach: sand, coloured by deformation"));
-    const terrain::Terrain* s = &sand_;
-    const water::Surface* w = &sea_;
-    const WaterOverlay overlay{
-        [s, w](double x, double y) { return s->height(s->column_i(x), s->column_j(y)) > w->settings().rest_height; },
-        drawn_};
-    out.png("water.png", render_water_scene(sea_, overlay, 0.0, "beach: water (sand: dry land)"));
-    out.png("view.png", view(480, "beach at " + time_label(k_ * o_.substep)));
+    out.view("relief.png", {.camera = View::Camera::top,
+                            .water = View::Water::natural,
+                            .width = 960,
+                            .title = "beach: sand coloured by deformation, the water over it"});
+    out.view("water.png", {.camera = View::Camera::top,
+                           .ground = View::Ground::natural,
+                           .water = View::Water::height,
+                           .width = 960,
+                           .title = "beach: water coloured by height (sand: natural)"});
+    // Blue: the track, red: its rims; the water over the sand.
+    out.view("view.png", {.elevation_deg = 30.0, .width = 960, .title = "beach at " + time_label(k_ * o_.substep)});
     out.filmstrip();
     out.obj("sand.obj", grids.now);
   }
 
  private:
-  /// The oblique view: sand with the water over it, coloured against the untouched sand and
-  /// the water at rest.
-  [[nodiscard]] Image view(int min_pixels, const std::string& title) const {
-    const SandGrids g = sand_grids(sand_);
-    const HeightGrid now = scenery(g.now, &sea_), before = scenery(g.base, nullptr);
-    const BodyEnvelopes b = body_envelopes(drawn_, now);
-    // Blue: track and troughs, red: rims and crests.
-    return oblique_frame(now, before, &b, 1.0, min_pixels, title, 0.0, 30.0, !title.empty());
-  }
-
   SceneOptions o_;
   terrain::Terrain sand_;
   water::Surface sea_;

@@ -15,7 +15,6 @@
 
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/scenes/film.h"
-#include "shore/scenes/render.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/scene.h"
 #include "shore/scenes/soil_view.h"
@@ -322,10 +321,12 @@ class Footprints final : public Scene {
     return at;
   }
 
-  Image film_frame() override {
-    const BodyEnvelopes env = body_envelopes(bodies_, close_frame_);
-    return oblique_frame(sample(patches_, close_frame_, Field::height), close_base_, &env, 1.0, o_.smoke ? 160 : 320,
-                         "", 0.04, 30.0);
+  Image film_frame(Painter& painter) override {
+    return painter.paint(contents(), {.region = bounds_of(close_frame_),
+                                      .elevation_deg = 30.0,
+                                      .colour_scale = 0.04,
+                                      .legend = false,
+                                      .width = o_.smoke ? 240 : 320});
   }
 
   SceneContents contents() override {
@@ -336,14 +337,16 @@ class Footprints final : public Scene {
 
   void draw(Drawing& out) const override {
     const HeightGrid heights = sample(patches_, frame_, Field::height);
-    out.png("top.png", relief_frame(heights, &baseline_, nullptr, o_.smoke ? 240 : 640,
-                                    "footprints: sand (bottom), mud, snow (top)"));
-    out.png("view.png",
-            oblique_frame(heights, baseline_, nullptr, 1.5, o_.smoke ? 240 : 1100,
-                          "footprints in sand (front), mud and snow (back), heights x1.5", 0.0, 40.0, true));
-    const HeightGrid close_now = sample(patches_, close_frame_, Field::height);
-    out.png("closeup.png", oblique_frame(close_now, close_base_, nullptr, 1.0, o_.smoke ? 240 : 640,
-                                         "one footprint in " + focus_->material, 0.04, 35.0, true));
+    const int w = o_.smoke ? 320 : 1280;
+    out.view("top.png",
+             {.camera = View::Camera::top, .width = w, .title = "footprints: sand (bottom), mud, snow (top)"});
+    out.view("view.png",
+             {.elevation_deg = 40.0, .width = w, .title = "footprints in sand (front), mud and snow (back)"});
+    out.view("closeup.png", {.region = bounds_of(close_frame_),
+                             .elevation_deg = 35.0,
+                             .colour_scale = 0.04,
+                             .width = o_.smoke ? 320 : 960,
+                             .title = "one footprint in " + focus_->material});
     out.filmstrip();
     out.obj("ground.obj", heights);
   }

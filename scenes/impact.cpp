@@ -12,7 +12,6 @@
 
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/scenes/film.h"
-#include "shore/scenes/render.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/scene.h"
 #include "shore/scenes/soil_cases.h"
@@ -226,7 +225,9 @@ class Impact final : public Scene {
   }
 
   [[nodiscard]] std::vector<int> film_substeps() const override { return evenly_spread_film(o_.substeps(), o_.smoke); }
-  Image film_frame() override { return soil_film_frame(patches_, frame_, baseline_, bodies_, o_.smoke ? 160 : 400); }
+  Image film_frame(Painter& painter) override {
+    return painter.paint(contents(), {.legend = false, .width = o_.smoke ? 240 : 400});
+  }
 
   SceneContents contents() override {
     return {.world = &world_, .soils = {{&soil_, &ground_, {}}}, .bounds = bounds_of(frame_)};
@@ -234,17 +235,17 @@ class Impact final : public Scene {
 
   void draw(Drawing& out) const override {
     const HeightGrid heights_now = sample(patches_, frame_, Field::height);
-    const BodyEnvelopes env = body_envelopes(bodies_, frame_);
-    const int pixels = o_.smoke ? 240 : 800;
-    out.png("top.png",
-            relief_frame(heights_now, &baseline_, &env, pixels,
-                         "impact (" + o_.material + "): shapes left to right, drops 0.5 / 1 / 2 m front to back"));
-    out.png("craters.png", relief_frame(heights_now, &baseline_, nullptr, pixels,
-                                        "impact (" + o_.material + "): craters, bodies removed"));
-    out.png("view.png", oblique_frame(heights_now, baseline_, &env, 2.0, o_.smoke ? 240 : 1100,
-                                      "impact in " + o_.material + " at " + time_label(o_.substeps() * o_.substep) +
-                                          " (heights x2)",
-                                      0.0, 35.0, true));
+    const int w = o_.smoke ? 320 : 1280;
+    out.view("top.png",
+             {.camera = View::Camera::top,
+              .width = w,
+              .title = "impact (" + o_.material + "): shapes left to right, drops 0.5 / 1 / 2 m front to back"});
+    out.view("craters.png", {.camera = View::Camera::top,
+                             .bodies = false,
+                             .width = w,
+                             .title = "impact (" + o_.material + "): craters, bodies removed"});
+    out.view("view.png",
+             {.width = w, .title = "impact in " + o_.material + " at " + time_label(o_.substeps() * o_.substep)});
     out.filmstrip();
     out.obj("ground.obj", heights_now);
   }

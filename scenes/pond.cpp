@@ -13,11 +13,8 @@
 #include <btBulletDynamicsCommon.h>
 
 #include "shore/bullet/water_coupling.h"
-#include "shore/scenes/envelopes.h"
 #include "shore/scenes/film.h"
-#include "shore/scenes/mesh_view.h"
 #include "shore/scenes/pool_cases.h"
-#include "shore/scenes/render.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/scene.h"
 #include "shore/scenes/water_view.h"
@@ -167,7 +164,6 @@ class Pond final : public Scene {
       coupling_.add_body(p.body);
       bodies_.push_back(p.body);
     }
-    overlay_ = {on_island, bodies_};  // the island is drawn as land
   }
 
   void step() override {
@@ -222,13 +218,25 @@ class Pond final : public Scene {
 
   [[nodiscard]] std::vector<int> film_substeps() const override { return film_at_; }
 
-  Image film_frame() override {
-    // The oblique view is taken while the bump's waves wrap around the island (frame 4).
+  Image film_frame(Painter& painter) override {
+    // The oblique views are taken while the bump's waves wrap around the island (frame 4).
     if (k_ == film_at_[std::min<std::size_t>(3, film_at_.size() - 1)]) {
-      view_ = oblique();
-      lod_ = lod_view();
+      view_ = painter.paint(contents(), {.elevation_deg = 35.0,
+                                         .water = View::Water::height,
+                                         .width = 960,
+                                         .title = "pond at " + time_label(k_ * o_.substep)});
+      // The water as the renderer draws it: its 3-D nodes simplified to 1 pixel of this
+      // picture, the triangles outlined.
+      lod_ = painter.paint(contents(), {.elevation_deg = 40.0,
+                                        .water = View::Water::natural,
+                                        .legend = false,
+                                        .mesh_edges = true,
+                                        .width = 960,
+                                        .title = "water at " + time_label(k_ * o_.substep) + ", mesh at 1 px"});
     }
-    return render_water_scene(pond_, overlay_, 0.0, "", o_.smoke ? 160 : 480);
+    return painter.paint(
+        contents(),
+        {.camera = View::Camera::top, .water = View::Water::height, .legend = false, .width = o_.smoke ? 200 : 400});
   }
 
   SceneContents contents() override {
@@ -237,7 +245,10 @@ class Pond final : public Scene {
   }
 
   void draw(Drawing& out) const override {
-    out.png("water.png", render_water_scene(pond_, overlay_, 0.0, "pond: water at the end"));
+    out.view("water.png", {.camera = View::Camera::top,
+                           .water = View::Water::height,
+                           .width = 960,
+                           .title = "pond: water at the end, coloured by height"});
     out.filmstrip();
     out.png("view.png", view_);
     out.obj("water.obj", surface_grid(pond_));
@@ -245,38 +256,6 @@ class Pond final : public Scene {
   }
 
  private:
-  /// The water as a renderer would draw it: its 3-D nodes simplified to 1 pixel of this
-  /// picture, the triangles outlined (taken with the oblique view).
-  [[nodiscard]] Image lod_view() const {
-    PerspectiveView view;
-    view.eye = {.x = 0.3,
-                .y = -0.6 * kExtent - 1.0,
-                .z = 0.6 * kExtent,
-                .fov_y_deg = 50.0,
-                .viewport_height = o_.smoke ? 180 : 540};
-    view.target = {0.0, 0.0, 0.0};
-    water::SurfaceField field(pond_);
-    mesh::ChunkedMesh mesh;
-    mesh.update(field, &view.eye);
-    view.title = "water at " + time_label(k_ * o_.substep) +
-                 ", mesh at 1 px: " + std::to_string(mesh.triangle_count()) + " triangles (" +
-                 std::to_string(2 * (nodes_ - 1) * (nodes_ - 1)) + " in full)";
-    return render_meshes({{&mesh, water_colour(0.0)}}, view);
-  }
-
-  [[nodiscard]] Image oblique() const {
-    const HeightGrid g = surface_grid(pond_);
-    const HeightGrid rest(g.nx, g.ny, g.cell, g.x0, g.y0, pond_.settings().rest_height);
-    const std::vector<const btRigidBody*> drawn = [&] {
-      std::vector<const btRigidBody*> d{island_};
-      d.insert(d.end(), bodies_.begin(), bodies_.end());
-      return d;
-    }();
-    const BodyEnvelopes bodies = body_envelopes(drawn, g);
-    // Blue: troughs, red: crests.
-    return oblique_frame(g, rest, &bodies, 1.0, 480, "pond at " + time_label(k_ * o_.substep), 0.0, 35.0, true);
-  }
-
   SceneOptions o_;
   int nodes_;
   double h_;  // m, water node spacing
@@ -290,7 +269,6 @@ class Pond final : public Scene {
   std::vector<const btRigidBody*> bodies_;  // the pieces, in order
   int bump_step_, window_start_;
   std::vector<int> film_at_;
-  WaterOverlay overlay_;
   Image view_;
   Image lod_;  // the water mesh at the oblique view's moment
   int k_ = 0;

@@ -6,9 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "shore/scenes/envelopes.h"
 #include "shore/scenes/film.h"
-#include "shore/scenes/render.h"
 #include "shore/scenes/rigid_ground.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/scene.h"
@@ -99,13 +97,17 @@ class RigidDrop final : public Scene {
   }
 
   [[nodiscard]] std::vector<int> film_substeps() const override { return evenly_spread_film(o_.substeps(), o_.smoke); }
-  Image film_frame() override { return picture(240, "", false, false); }
+  Image film_frame(Painter& painter) override {
+    return painter.paint(contents(), {.elevation_deg = 30.0, .legend = false, .width = 320});
+  }
 
   SceneContents contents() override { return {.world = &world_, .bounds = bounds_of(ground_.grid()), .clock = &k_}; }
 
   void draw(Drawing& out) const override {
-    out.png("top.png", picture(480, "rigid_drop: ground height, box outline", true, true));
-    out.png("view.png", picture(480, "rigid_drop at " + time_label(k_ * o_.substep), false, true));
+    out.view("top.png",
+             {.camera = View::Camera::top, .width = 640, .title = "rigid_drop: the box on the rigid ground"});
+    out.view("view.png",
+             {.elevation_deg = 30.0, .width = 640, .title = "rigid_drop at " + time_label(k_ * o_.substep)});
     out.filmstrip();
     out.obj("ground.obj", ground_.grid());
   }
@@ -122,20 +124,6 @@ class RigidDrop final : public Scene {
       gap = std::min(gap, static_cast<double>(p.z()) - ground_.height_at(p.x(), p.y()));
     }
     return gap;
-  }
-
-  /// The ground with the box: the top view (relief) or the oblique view.
-  [[nodiscard]] Image picture(int min_pixels, const std::string& title, bool top, bool legend) const {
-    const HeightGrid g = ground_.grid();
-    const std::vector<const btRigidBody*> bodies = {box_};
-    const BodyEnvelopes e = body_envelopes(bodies, g);
-    ReliefStyle style;
-    style.bodies = &e.top;
-    style.body_bottoms = &e.bottom;
-    style.min_pixels = min_pixels;
-    style.title = title;
-    style.legend = legend;
-    return top ? render_relief(g, style) : render_oblique(g, style, 30.0);
   }
 
   SceneOptions o_;

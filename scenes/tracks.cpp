@@ -12,7 +12,6 @@
 
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/scenes/film.h"
-#include "shore/scenes/render.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/scene.h"
 #include "shore/scenes/soil_view.h"
@@ -183,7 +182,9 @@ class Tracks final : public Scene {
   }
 
   [[nodiscard]] std::vector<int> film_substeps() const override { return evenly_spread_film(o_.substeps(), o_.smoke); }
-  Image film_frame() override { return soil_film_frame(patches_, frame_, baseline_, bodies_, o_.smoke ? 160 : 480); }
+  Image film_frame(Painter& painter) override {
+    return painter.paint(contents(), {.legend = false, .width = o_.smoke ? 240 : 480});
+  }
 
   SceneContents contents() override {
     return {.world = &world_,
@@ -195,13 +196,12 @@ class Tracks final : public Scene {
 
   void draw(Drawing& out) const override {
     const HeightGrid heights = sample(patches_, frame_, Field::height);
-    const BodyEnvelopes env = body_envelopes(bodies_, frame_);
-    out.png("top.png", relief_frame(heights, &baseline_, &env, o_.smoke ? 240 : 1000,
-                                    "tracks in " + o_.material + ": rut, then the fall"));
-    out.png("view.png",
-            oblique_frame(heights, baseline_, &env, 2.0, o_.smoke ? 240 : 1200,
-                          "bicycle in " + o_.material + " at " + time_label(k_ * o_.substep) + " (heights x2)", 0.0,
-                          40.0, true));
+    const int w = o_.smoke ? 320 : 1280;
+    out.view("top.png",
+             {.camera = View::Camera::top, .width = w, .title = "tracks in " + o_.material + ": rut, then the fall"});
+    out.view("view.png", {.elevation_deg = 40.0,
+                          .width = w,
+                          .title = "bicycle in " + o_.material + " at " + time_label(k_ * o_.substep)});
     out.filmstrip();
     out.obj("ground.obj", heights);
   }

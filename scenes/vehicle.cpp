@@ -14,8 +14,6 @@
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/scenes/film.h"
 #include "shore/scenes/four_wheeler.h"
-#include "shore/scenes/mesh_view.h"
-#include "shore/scenes/render.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/scene.h"
 #include "shore/scenes/soil_cases.h"
@@ -146,7 +144,9 @@ class Vehicle final : public Scene {
     return at;
   }
 
-  Image film_frame() override { return soil_film_frame(patches_, frame_, baseline_, bodies_, o_.smoke ? 160 : 480); }
+  Image film_frame(Painter& painter) override {
+    return painter.paint(contents(), {.legend = false, .width = o_.smoke ? 240 : 480});
+  }
 
   SceneContents contents() override {
     return {
@@ -159,20 +159,27 @@ class Vehicle final : public Scene {
 
   void draw(Drawing& out) const override {
     const HeightGrid heights = sample(patches_, frame_, Field::height);
-    const BodyEnvelopes bodies = body_envelopes(bodies_, frame_);
-    out.png("top.png", relief_frame(heights, &baseline_, &bodies, o_.smoke ? 240 : 1200,
-                                    "vehicle: rigid | sand | mud | rigid, ground coloured by deformation"));
-    out.png("view.png", oblique_frame(heights, baseline_, &bodies, 2.0, o_.smoke ? 240 : 1400,
-                                      "vehicle across sand then mud (heights x2)", 0.0, 40.0, true));
+    const int w = o_.smoke ? 320 : 1280;
+    out.view("top.png", {.camera = View::Camera::top,
+                         .width = w,
+                         .title = "vehicle: rigid | sand | mud | rigid, ground coloured by deformation"});
+    out.view("view.png", {.elevation_deg = 40.0, .width = w, .title = "vehicle across sand then mud"});
     // A close view across the sand-mud edge.
-    const HeightGrid edge = grid_over(sand_x1_ - 1.2, -kHalfWidth, sand_x1_ + 1.2, kHalfWidth, o_.cell);
-    const HeightGrid edge_base(edge.nx, edge.ny, edge.cell, edge.x0, edge.y0, 0.0);
-    out.png("ruts.png",
-            oblique_frame(sample(patches_, edge, Field::height), edge_base, nullptr, 2.0, o_.smoke ? 240 : 900,
-                          "ruts: sand (left) to mud (right), heights x2", 0.0, 45.0, true));
+    const Bounds edge{sand_x1_ - 1.2, -kHalfWidth, sand_x1_ + 1.2, kHalfWidth};
+    out.view("ruts.png", {.region = edge,
+                          .elevation_deg = 45.0,
+                          .width = o_.smoke ? 320 : 960,
+                          .title = "ruts: sand (left) to mud (right)"});
     out.filmstrip();
     out.obj("ground.obj", heights);
-    out.png("lod.png", lod_view());
+    // The ruts at the edge as the renderer draws them: each soil's mesh simplified to 1
+    // pixel of this picture, its triangles outlined.
+    out.view("lod.png", {.region = {sand_x1_ - 0.9, -0.7, sand_x1_ + 0.9, 0.7},
+                         .elevation_deg = 30.0,
+                         .azimuth_deg = -110.0,
+                         .mesh_edges = true,
+                         .width = o_.smoke ? 320 : 960,
+                         .title = "ground mesh at 1 px"});
   }
 
  private:
@@ -186,31 +193,6 @@ class Vehicle final : public Scene {
                                      btScalar(FourWheelerSettings{}.motor_torque * o_.substep));
     }
     chassis_->activate(true);
-  }
-
-  /// The ruts at the sand-mud edge as a renderer would draw them: each soil's mesh
-  /// simplified to 1 pixel of this picture, its triangles outlined.
-  [[nodiscard]] Image lod_view() const {
-    PerspectiveView view;
-    view.eye = {.x = sand_x1_ - 1.6, .y = -1.3, .z = 0.8, .fov_y_deg = 50.0, .viewport_height = o_.smoke ? 180 : 540};
-    view.target = {sand_x1_ + 0.3, 0.0, -0.05};
-    std::vector<terrain::TerrainField> fields;
-    std::vector<mesh::ChunkedMesh> meshes(2);
-    std::size_t triangles = 0, columns = 0;
-    for (const auto& [soil, x0, x1] : {std::tuple{&sand_, 0.0, sand_x1_}, std::tuple{&mud_, sand_x1_, mud_x1_}}) {
-      const std::int64_t i0 = soil->column_i(x0), j0 = soil->column_j(-kHalfWidth);
-      const terrain::ColumnRect r{i0, j0, static_cast<int>(soil->column_i(x1) - i0 + 1),
-                                  static_cast<int>(soil->column_j(kHalfWidth) - j0 + 1)};
-      fields.emplace_back(*soil, r);
-      columns += static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny);
-    }
-    for (std::size_t k = 0; k < 2; ++k) {
-      meshes[k].update(fields[k], &view.eye);
-      triangles += meshes[k].triangle_count();
-    }
-    view.title = "ground mesh at 1 px: " + std::to_string(triangles) + " triangles (" + std::to_string(2 * columns) +
-                 " in full)";
-    return render_meshes({{&meshes[0], {214, 190, 140}}, {&meshes[1], {150, 122, 96}}}, view);
   }
 
   SceneOptions o_;

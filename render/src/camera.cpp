@@ -77,6 +77,12 @@ void OrbitCamera::zoom(double steps) { distance = std::clamp(distance * std::pow
 
 OrbitCamera OrbitCamera::framing(const scenes::Bounds& b, double z, double aspect) {
   OrbitCamera c;
+  c.frame(b, z, aspect);
+  return c;
+}
+
+void OrbitCamera::frame(const scenes::Bounds& b, double z, double aspect) {
+  OrbitCamera& c = *this;
   c.target = {0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1), z};
   // The nearest eye (bisection on the distance) from which the four corners of the bounds
   // lie inside the view with a small margin.
@@ -96,7 +102,6 @@ OrbitCamera OrbitCamera::framing(const scenes::Bounds& b, double z, double aspec
     (fits(mid) ? hi : lo) = mid;
   }
   c.distance = hi;
-  return c;
 }
 
 }  // namespace shore::render

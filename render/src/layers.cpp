@@ -6,12 +6,15 @@
 #include <btBulletDynamicsCommon.h>
 
 #include "shore/scenes/world.h"
+#include "shore/terrain/mesh_field.h"
+#include "shore/water/mesh_field.h"
 
 namespace shore::render {
 namespace {
 
-constexpr int kMaxTexels = 4096;  // a side of a field texture
-constexpr int kWaterTile = 64;    // cells per drawn water tile
+// Columns along a side of a drawn soil region: the meshes read only what changed over flat
+// ground, but a base that is not flat is read whole on the first frame.
+constexpr std::int64_t kMaxColumns = 1 << 16;
 
 Eigen::Vector3d material_tint(const std::string& name) {
   if (name == "mud") return {0.45, 0.36, 0.27};
@@ -34,161 +37,123 @@ void uniform3(GLuint p, const char* n, const Eigen::Vector3d& v) {
 
 }  // namespace
 
-TileMesh tile_mesh(int cells) {
-  TileMesh m;
-  for (int b = 0; b <= cells; ++b)
-    for (int a = 0; a <= cells; ++a) m.vertices.insert(m.vertices.end(), {a, b});
-  const auto row = static_cast<std::uint32_t>(cells + 1);
-  for (std::uint32_t b = 0; b < static_cast<std::uint32_t>(cells); ++b)
-    for (std::uint32_t a = 0; a < static_cast<std::uint32_t>(cells); ++a) {
-      const std::uint32_t v = b * row + a;
-      m.indices.insert(m.indices.end(), {v, v + 1, v + row + 1, v, v + row + 1, v + row});
-    }
-  return m;
-}
-
-void FieldTexture::create(int columns_x, int columns_y, const std::vector<float>& base_heights) {
-  nx = columns_x;
-  ny = columns_y;
-  auto make = [&](gl::Texture& t, GLint format, GLenum layout, const void* data) {
-    t = gl::make_texture();
-    glBindTexture(GL_TEXTURE_2D, t.get());
-    glTexImage2D(GL_TEXTURE_2D, 0, format, nx, ny, 0, layout, GL_FLOAT, data);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  };
-  make(field, GL_RG32F, GL_RG, nullptr);
-  make(base, GL_R32F, GL_RED, base_heights.data());
-}
-
-std::int64_t FieldTexture::upload(int i0, int j0, int w, int h, const std::vector<float>& rg) {
-  glBindTexture(GL_TEXTURE_2D, field.get());
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTexSubImage2D(GL_TEXTURE_2D, 0, i0, j0, w, h, GL_RG, GL_FLOAT, rg.data());
-  return static_cast<std::int64_t>(w) * h * 2 * static_cast<std::int64_t>(sizeof(float));
-}
-
 Layers::~Layers() { clear(); }
+
+void Layers::add_soil(const scenes::SoilContents& s) {
+  const terrain::Terrain& soil = *s.soil;
+  const double cell = soil.settings().cell, ox = soil.settings().origin_x, oy = soil.settings().origin_y;
+  const scenes::Bounds& b = contents_.bounds;
+  const double x0 = std::max(s.region.x0, b.x0), x1 = std::min(s.region.x1, b.x1);
+  const double y0 = std::max(s.region.y0, b.y0), y1 = std::min(s.region.y1, b.y1);
+  if (!(x1 > x0 && y1 > y0)) return;
+  auto layer = std::make_unique<SoilLayer>();
+  layer->contents = s;
+  const auto i0 = static_cast<std::int64_t>(std::ceil((x0 - ox) / cell - 1e-9));
+  const auto j0 = static_cast<std::int64_t>(std::ceil((y0 - oy) / cell - 1e-9));
+  const auto i1 = static_cast<std::int64_t>(std::floor((x1 - ox) / cell + 1e-9));
+  const auto j1 = static_cast<std::int64_t>(std::floor((y1 - oy) / cell + 1e-9));
+  layer->region = {i0, j0, static_cast<int>(std::clamp<std::int64_t>(i1 - i0 + 1, 2, kMaxColumns)),
+                   static_cast<int>(std::clamp<std::int64_t>(j1 - j0 + 1, 2, kMaxColumns))};
+  layer->zmin = layer->zmax = soil.base_height(i0, j0);
+  SoilLayer* raw = layer.get();
+  // Per vertex: height - untouched ground, plastic sinkage, the global column.
+  auto extras = [raw](std::int64_t i, std::int64_t j, float z, float* out) {
+    const terrain::Terrain& t = *raw->contents.soil;
+    const std::int64_t ci = raw->region.i0 + i, cj = raw->region.j0 + j;
+    const double delta = double(z) - t.base_height(ci, cj), sink = t.sinkage(ci, cj);
+    out[0] = float(delta);
+    out[1] = float(sink);
+    out[2] = float(ci);
+    out[3] = float(cj);
+    raw->max_delta = std::max(raw->max_delta, std::abs(delta));
+    raw->max_sinkage = std::max(raw->max_sinkage, std::abs(sink));
+    raw->zmin = std::min(raw->zmin, double(z));
+    raw->zmax = std::max(raw->zmax, double(z));
+  };
+  layer->mesh = std::make_unique<SurfaceMesh>(std::make_unique<terrain::TerrainField>(soil, layer->region), extras,
+                                              mesh_error_pixels_);
+  soils_.push_back(std::move(layer));
+}
+
+void Layers::add_water(const scenes::WaterContents& w) {
+  auto layer = std::make_unique<WaterLayer>();
+  layer->contents = w;
+  const water::Surface* surface = w.surface;
+  // Per vertex: height - rest level, vertical velocity, the node.
+  auto extras = [surface](std::int64_t i, std::int64_t j, float z, float* out) {
+    out[0] = float(double(z) - surface->settings().rest_height);
+    out[1] = float(surface->vertical_velocity(static_cast<int>(i), static_cast<int>(j)));
+    out[2] = float(i);
+    out[3] = float(j);
+  };
+  layer->mesh =
+      std::make_unique<SurfaceMesh>(std::make_unique<water::SurfaceField>(*surface), extras, mesh_error_pixels_);
+  waters_.push_back(std::move(layer));
+}
 
 void Layers::set(const scenes::SceneContents& contents) {
   clear();
   contents_ = contents;
-  for (const scenes::SoilContents& s : contents.soils) {
-    const terrain::Terrain& soil = *s.soil;
-    const double cell = soil.settings().cell, ox = soil.settings().origin_x, oy = soil.settings().origin_y;
-    const double x0 = std::max(s.region.x0, contents.bounds.x0), x1 = std::min(s.region.x1, contents.bounds.x1);
-    const double y0 = std::max(s.region.y0, contents.bounds.y0), y1 = std::min(s.region.y1, contents.bounds.y1);
-    if (!(x1 > x0 && y1 > y0)) continue;
-    auto layer = std::make_unique<SoilLayer>();
-    layer->contents = s;
-    layer->i0 = static_cast<std::int64_t>(std::ceil((x0 - ox) / cell - 1e-9));
-    layer->j0 = static_cast<std::int64_t>(std::ceil((y0 - oy) / cell - 1e-9));
-    const auto i1 = static_cast<std::int64_t>(std::floor((x1 - ox) / cell + 1e-9));
-    const auto j1 = static_cast<std::int64_t>(std::floor((y1 - oy) / cell + 1e-9));
-    const int nx = static_cast<int>(std::clamp<std::int64_t>(i1 - layer->i0 + 1, 2, kMaxTexels));
-    const int ny = static_cast<int>(std::clamp<std::int64_t>(j1 - layer->j0 + 1, 2, kMaxTexels));
-    std::vector<double> base(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
-    soil.base_heights({layer->i0, layer->j0, nx, ny}, base);
-    const std::vector<float> base_f(base.begin(), base.end());
-    layer->tex.x0 = soil.column_x(layer->i0);
-    layer->tex.y0 = soil.column_y(layer->j0);
-    layer->tex.cell = cell;
-    layer->tex.create(nx, ny, base_f);
-    const auto [lo, hi] = std::minmax_element(base.begin(), base.end());
-    layer->zmin = *lo;
-    layer->zmax = *hi;
-    if (s.coupling != nullptr) {
-      SoilLayer* raw = layer.get();
-      s.coupling->tiles().set_push_observer([raw](std::span<const terrain::ColumnRect> changed) {
-        raw->pending.insert(raw->pending.end(), changed.begin(), changed.end());
-      });
-    }
-    soils_.push_back(std::move(layer));
-  }
-  for (const scenes::WaterContents& w : contents.waters) {
-    auto layer = std::make_unique<WaterLayer>();
-    layer->contents = w;
-    const water::Surface& s = *w.surface;
-    layer->tex.x0 = s.node_x(0);
-    layer->tex.y0 = s.node_y(0);
-    layer->tex.cell = s.spacing();
-    layer->tex.create(s.nx(), s.ny(), std::vector<float>(s.node_count(), float(s.settings().rest_height)));
-    waters_.push_back(std::move(layer));
-  }
+  build_surfaces();
+}
+
+void Layers::build_surfaces() {
+  soils_.clear();
+  waters_.clear();
+  for (const scenes::SoilContents& s : contents_.soils) add_soil(s);
+  for (const scenes::WaterContents& w : contents_.waters) add_water(w);
 }
 
 void Layers::clear() {
-  for (auto& s : soils_)
-    if (s->contents.coupling != nullptr) s->contents.coupling->tiles().set_push_observer({});
   soils_.clear();
   waters_.clear();
   meshes_.clear();
   contents_ = {};
 }
 
-void Layers::upload_soil(SoilLayer& layer, const terrain::ColumnRect& rect, FrameStats& stats) {
-  const std::int64_t a0 = std::max(rect.i0, layer.i0), b0 = std::max(rect.j0, layer.j0);
-  const std::int64_t a1 = std::min(rect.i0 + rect.nx, layer.i0 + layer.tex.nx);
-  const std::int64_t b1 = std::min(rect.j0 + rect.ny, layer.j0 + layer.tex.ny);
-  if (a1 <= a0 || b1 <= b0) return;
-  const int w = static_cast<int>(a1 - a0), h = static_cast<int>(b1 - b0);
-  const terrain::Terrain& soil = *layer.contents.soil;
-  std::vector<double> heights(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
-  std::vector<double> base(heights.size());
-  soil.heights({a0, b0, w, h}, heights);
-  soil.base_heights({a0, b0, w, h}, base);
-  std::vector<float> rg(2 * heights.size());
-  for (int b = 0; b < h; ++b)
-    for (int a = 0; a < w; ++a) {
-      const std::size_t k = static_cast<std::size_t>(b) * static_cast<std::size_t>(w) + static_cast<std::size_t>(a);
-      const double sink = soil.sinkage(a0 + a, b0 + b);
-      rg[2 * k] = float(heights[k]);
-      rg[2 * k + 1] = float(sink);
-      layer.max_delta = std::max(layer.max_delta, std::abs(heights[k] - base[k]));
-      layer.max_sinkage = std::max(layer.max_sinkage, std::abs(sink));
-      layer.zmin = std::min(layer.zmin, heights[k]);
-      layer.zmax = std::max(layer.zmax, heights[k]);
-    }
-  stats.soil_bytes += layer.tex.upload(static_cast<int>(a0 - layer.i0), static_cast<int>(b0 - layer.j0), w, h, rg);
-}
-
-void Layers::sync_water(WaterLayer& layer, FrameStats& stats) {
+void Layers::measure_water(WaterLayer& layer) const {
   const water::Surface& s = *layer.contents.surface;
   const double rest = s.settings().rest_height;
-  std::vector<float> rg(2 * s.node_count());
   layer.scale_height = layer.scale_velocity = layer.steepest = 0.0;
   for (int j = 0; j < s.ny(); ++j)
     for (int i = 0; i < s.nx(); ++i) {
-      const std::size_t k =
-          static_cast<std::size_t>(j) * static_cast<std::size_t>(s.nx()) + static_cast<std::size_t>(i);
-      const double h = s.height(i, j), v = s.vertical_velocity(i, j);
-      rg[2 * k] = float(h);
-      rg[2 * k + 1] = float(v);
       if (s.is_fixed(i, j)) continue;
+      const double h = s.height(i, j);
       layer.scale_height = std::max(layer.scale_height, std::abs(h - rest));
-      layer.scale_velocity = std::max(layer.scale_velocity, std::abs(v));
+      layer.scale_velocity = std::max(layer.scale_velocity, std::abs(s.vertical_velocity(i, j)));
       if (i > 0) layer.steepest = std::max(layer.steepest, std::abs(h - s.height(i - 1, j)) / s.spacing());
       if (j > 0) layer.steepest = std::max(layer.steepest, std::abs(h - s.height(i, j - 1)) / s.spacing());
     }
-  stats.water_bytes += layer.tex.upload(0, 0, s.nx(), s.ny(), rg);
 }
 
-void Layers::sync(FrameStats& stats) {
-  stats.soil_bytes = stats.water_bytes = stats.whole_soil_bytes = stats.soil_columns = 0;
-  for (auto& layer : soils_) {
-    const std::int64_t columns = static_cast<std::int64_t>(layer->tex.nx) * layer->tex.ny;
-    stats.soil_columns += columns;
-    stats.whole_soil_bytes += columns * 2 * static_cast<std::int64_t>(sizeof(float));
-    // Without a coupling nobody reports changes: upload the whole field every time.
-    if (layer->whole || layer->contents.coupling == nullptr) {
-      upload_soil(*layer, {layer->i0, layer->j0, layer->tex.nx, layer->tex.ny}, stats);
-      layer->whole = false;
-    } else {
-      for (const terrain::ColumnRect& r : layer->pending) upload_soil(*layer, r, stats);
-    }
-    layer->pending.clear();
+void Layers::update(const Eigen::Vector3d& eye, double fov_y_deg, int viewport_height, const RenderSettings& settings,
+                    FrameStats& stats) {
+  const double bound = std::max(settings.max_error_pixels, 0.05);
+  if (bound != mesh_error_pixels_) {  // a new bound: new meshes (uploaded whole below)
+    mesh_error_pixels_ = bound;
+    build_surfaces();
   }
-  for (auto& w : waters_) sync_water(*w, stats);
+  const mesh::Camera camera{.x = eye.x(),
+                            .y = eye.y(),
+                            .z = eye.z(),
+                            .fov_y_deg = fov_y_deg,
+                            .viewport_height = std::max(viewport_height, 1)};
+  stats.soil_bytes = stats.water_bytes = stats.whole_soil_bytes = stats.whole_water_bytes = stats.soil_columns = 0;
+  stats.full_triangles = stats.surface_chunks = 0;
+  for (auto& layer : soils_) {
+    stats.soil_bytes += layer->mesh->update(camera);
+    stats.soil_columns += layer->mesh->nodes();
+    stats.whole_soil_bytes += layer->mesh->full_bytes();
+    stats.full_triangles += layer->mesh->full_triangles();
+    stats.surface_chunks += static_cast<int>(layer->mesh->chunk_count());
+  }
+  for (auto& layer : waters_) {
+    stats.water_bytes += layer->mesh->update(camera);
+    stats.whole_water_bytes += layer->mesh->full_bytes();
+    stats.full_triangles += layer->mesh->full_triangles();
+    stats.surface_chunks += static_cast<int>(layer->mesh->chunk_count());
+    measure_water(*layer);
+  }
 }
 
 void Layers::prepare(const RenderSettings& settings, FrameStats& stats) {
@@ -209,55 +174,16 @@ void Layers::prepare(const RenderSettings& settings, FrameStats& stats) {
   stats.water_scale = water_scale_;
 }
 
-GpuTile& Layers::tile(int cells) {
-  auto it = tiles_.find(cells);
-  if (it != tiles_.end()) return it->second;
-  const TileMesh m = tile_mesh(cells);
-  GpuTile t;
-  t.cells = cells;
-  t.vao = gl::make_vertex_array();
-  t.vbo = gl::make_buffer();
-  t.ibo = gl::make_buffer();
-  glBindVertexArray(t.vao.get());
-  glBindBuffer(GL_ARRAY_BUFFER, t.vbo.get());
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(m.vertices.size() * sizeof(std::int32_t)), m.vertices.data(),
-               GL_STATIC_DRAW);
-  glEnableVertexAttribArray(0);
-  glVertexAttribIPointer(0, 2, GL_INT, 2 * sizeof(std::int32_t), nullptr);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, t.ibo.get());
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(m.indices.size() * sizeof(std::uint32_t)),
-               m.indices.data(), GL_STATIC_DRAW);
-  glBindVertexArray(0);
-  t.index_count = static_cast<GLsizei>(m.indices.size());
-  return tiles_.emplace(cells, std::move(t)).first->second;
+namespace {
+void add(ChunkDraw& total, const ChunkDraw& d) {
+  total.triangles += d.triangles;
+  total.drawn += d.drawn;
+  total.culled += d.culled;
 }
+}  // namespace
 
-std::int64_t Layers::draw_field(GLuint p, const FieldTexture& tex, int tile_cells) {
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, tex.base.get());
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, tex.field.get());
-  glUniform1i(glGetUniformLocation(p, "uField"), 0);
-  glUniform1i(glGetUniformLocation(p, "uBase"), 1);
-  glUniform2i(glGetUniformLocation(p, "uSize"), tex.nx, tex.ny);
-  glUniform2f(glGetUniformLocation(p, "uOrigin"), float(tex.x0), float(tex.y0));
-  glUniform1f(glGetUniformLocation(p, "uCell"), float(tex.cell));
-  const GpuTile& t = tile(tile_cells);
-  glBindVertexArray(t.vao.get());
-  const GLint origin = glGetUniformLocation(p, "uTileOrigin");
-  std::int64_t triangles = 0;
-  for (int b = 0; b < tex.ny - 1; b += tile_cells)
-    for (int a = 0; a < tex.nx - 1; a += tile_cells) {
-      glUniform2i(origin, a, b);
-      glDrawElements(GL_TRIANGLES, t.index_count, GL_UNSIGNED_INT, nullptr);
-      triangles += t.index_count / 3;
-    }
-  glBindVertexArray(0);
-  return triangles;
-}
-
-std::int64_t Layers::draw_soils(GLuint p, bool depth_only, const RenderSettings& s) {
-  std::int64_t triangles = 0;
+ChunkDraw Layers::draw_soils(GLuint p, const Frustum* frustum, bool depth_only, const RenderSettings& s) {
+  ChunkDraw total;
   for (const auto& layer : soils_) {
     const terrain::TerrainSettings& ts = layer->contents.soil->settings();
     glUniform1f(glGetUniformLocation(p, "uSlopeGain"), 1.0f);
@@ -266,24 +192,23 @@ std::int64_t Layers::draw_soils(GLuint p, bool depth_only, const RenderSettings&
       glUniform1f(glGetUniformLocation(p, "uScale"), float(ground_scale_));
       glUniform2f(glGetUniformLocation(p, "uHeightRange"), float(layer->zmin), float(layer->zmax));
       uniform3(p, "uTint", material_tint(ts.material.name));
+      // Storage tile edges sit at multiples of tile_columns of the global column index.
       glUniform1i(glGetUniformLocation(p, "uTileColumns"), s.soil_tile_borders ? ts.tile_columns : 0);
-      // Storage tile edges sit at multiples of tile_columns; texel 0 is column i0.
-      glUniform2i(glGetUniformLocation(p, "uFirstColumn"), static_cast<int>(layer->i0), static_cast<int>(layer->j0));
     }
-    triangles += draw_field(p, layer->tex, std::clamp(ts.tile_columns, 16, 256));
+    add(total, layer->mesh->draw(frustum));
   }
-  return triangles;
+  return total;
 }
 
-std::int64_t Layers::draw_waters(GLuint p, const RenderSettings& s) {
-  std::int64_t triangles = 0;
+ChunkDraw Layers::draw_waters(GLuint p, const Frustum* frustum, const RenderSettings& s) {
+  ChunkDraw total;
   for (const auto& layer : waters_) {
     glUniform1f(glGetUniformLocation(p, "uSlopeGain"), float(wave_gain_));
     glUniform1i(glGetUniformLocation(p, "uMode"), static_cast<int>(s.water));
     glUniform1f(glGetUniformLocation(p, "uScale"), float(water_scale_));
-    triangles += draw_field(p, layer->tex, kWaterTile);
+    add(total, layer->mesh->draw(frustum));
   }
-  return triangles;
+  return total;
 }
 
 bool Layers::is_soil_tile(const btCollisionObject* o) const {
@@ -366,11 +291,10 @@ std::optional<Eigen::Vector3d> Layers::pick(const Eigen::Vector3d& origin, const
   // Height of the drawn surfaces (soils, water) under (x, y); the plane z = 0 elsewhere.
   auto surface = [&](double x, double y) {
     for (const auto& s : soils_) {
-      const double fi = (x - s->tex.x0) / s->tex.cell, fj = (y - s->tex.y0) / s->tex.cell;
-      if (fi >= 0 && fj >= 0 && fi <= s->tex.nx - 1 && fj <= s->tex.ny - 1) {
-        const terrain::Terrain& soil = *s->contents.soil;
-        return soil.height(soil.column_i(x), soil.column_j(y));
-      }
+      const terrain::Terrain& soil = *s->contents.soil;
+      const std::int64_t i = soil.column_i(x), j = soil.column_j(y);
+      const terrain::ColumnRect& r = s->region;
+      if (i >= r.i0 && j >= r.j0 && i < r.i0 + r.nx && j < r.j0 + r.ny) return soil.height(i, j);
     }
     for (const auto& w : waters_)
       if (w->contents.surface->contains(x, y)) return w->contents.surface->height_at(x, y);

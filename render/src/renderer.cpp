@@ -32,7 +32,7 @@ Mat4 ortho(double r, double n, double f) {
   return m.cast<float>();
 }
 
-/// The sun: azimuth 315 degrees (north-west, as the software pictures' hillshade), 50 degrees up.
+/// The sun: azimuth 315 degrees (north-west), 50 degrees up.
 Eigen::Vector3d sun_direction() {
   const double az = 315.0 * std::numbers::pi / 180.0, alt = 50.0 * std::numbers::pi / 180.0;
   return {std::sin(az) * std::cos(alt), std::cos(az) * std::cos(alt), std::sin(alt)};
@@ -46,7 +46,7 @@ void set(GLuint p, const char* n, const Eigen::Vector3d& v) {
   glUniform3f(loc(p, n), float(v.x()), float(v.y()), float(v.z()));
 }
 
-/// The colour maps of the software pictures (image.h) as a 256 x 3 texture: rows diverging,
+/// The pictures' colour maps (image.h; their colour bars use the same) as a 256 x 3 texture: rows diverging,
 /// height, water.
 gl::Texture colour_lut() {
   std::vector<std::uint8_t> rgb;
@@ -83,6 +83,7 @@ struct Renderer::Impl {
   gl::Renderbuffer msaa_colour, msaa_depth;
   gl::Texture resolve_colour, shadow_depth;
   int width = 0, height = 0, samples = 0;
+  bool bodies_on = true;  // the frame's RenderSettings::bodies
   gl::VertexArray line_vao;
   gl::Buffer line_vbo;
   FrameStats stats;
@@ -94,15 +95,16 @@ struct Renderer::Impl {
   void colour_pass(const OrbitCamera& camera, double aspect, const Mat4& light, const RenderSettings& s,
                    const LineBatch* batch);
   void draw_lines(const Mat4& view_proj, const LineBatch& batch);
+  void draw_edges(const Frustum& frustum, const RenderSettings& s);
 };
 
 Renderer::Impl::Impl() {
   const std::string field_inputs = shaders::kFieldFragmentInputs;
   terrain =
-      gl::program(shaders::kFieldVertex, lit_fragment((field_inputs + shaders::kTerrainFragment).c_str()), "terrain");
-  water = gl::program(shaders::kFieldVertex, lit_fragment((field_inputs + shaders::kWaterFragment).c_str()), "water");
+      gl::program(shaders::kSurfaceVertex, lit_fragment((field_inputs + shaders::kTerrainFragment).c_str()), "terrain");
+  water = gl::program(shaders::kSurfaceVertex, lit_fragment((field_inputs + shaders::kWaterFragment).c_str()), "water");
   mesh = gl::program(shaders::kMeshVertex, lit_fragment(shaders::kMeshFragment), "mesh");
-  field_depth = gl::program(shaders::kFieldVertex, shaders::kDepthFragment, "field depth");
+  field_depth = gl::program(shaders::kSurfaceVertex, shaders::kDepthFragment, "surface depth");
   mesh_depth = gl::program(shaders::kMeshVertex, shaders::kDepthFragment, "mesh depth");
   sky = gl::program(shaders::kSkyVertex, lit_fragment(shaders::kSkyFragment), "sky");
   lines = gl::program(shaders::kLineVertex, shaders::kLineFragment, "lines");
@@ -181,10 +183,10 @@ void Renderer::Impl::shadow_pass(const Mat4& light) {
   glPolygonOffset(1.5f, 2.0f);
   glUseProgram(field_depth);
   set(field_depth, "uViewProj", light);
-  layers.draw_soils(field_depth, /*depth_only=*/true);
+  layers.draw_soils(field_depth, nullptr, /*depth_only=*/true);
   glUseProgram(mesh_depth);
   set(mesh_depth, "uViewProj", light);
-  layers.draw_bodies(mesh_depth, /*depth_only=*/true);
+  if (bodies_on) layers.draw_bodies(mesh_depth, /*depth_only=*/true);
   glDisable(GL_POLYGON_OFFSET_FILL);
 }
 
@@ -201,6 +203,20 @@ void Renderer::Impl::draw_lines(const Mat4& view_proj, const LineBatch& batch) {
   stats.lines = static_cast<std::int64_t>(batch.line_count());
 }
 
+void Renderer::Impl::draw_edges(const Frustum& frustum, const RenderSettings& s) {
+  // The meshes' triangles outlined over their filled surfaces (drawn at the same depth).
+  glDepthFunc(GL_LEQUAL);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+  glUseProgram(terrain);
+  set(terrain, "uEdges", 1);
+  layers.draw_soils(terrain, &frustum, false, s);
+  glUseProgram(water);
+  set(water, "uEdges", 1);
+  layers.draw_waters(water, &frustum, s);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glDepthFunc(GL_LESS);
+}
+
 void Renderer::Impl::colour_pass(const OrbitCamera& camera, double aspect, const Mat4& light, const RenderSettings& s,
                                  const LineBatch* batch) {
   const Mat4 view_proj = camera.projection(aspect) * camera.view();
@@ -208,7 +224,7 @@ void Renderer::Impl::colour_pass(const OrbitCamera& camera, double aspect, const
   glViewport(0, 0, width, height);
   glClearColor(1.0f, 1.0f, 1.0f, 1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  // Textures: 0 field, 1 base, 2 colour maps, 3 shadow map.
+  // Textures: 2 colour maps, 3 shadow map.
   glActiveTexture(GL_TEXTURE2);
   glBindTexture(GL_TEXTURE_2D, lut.get());
   glActiveTexture(GL_TEXTURE3);
@@ -224,8 +240,6 @@ void Renderer::Impl::colour_pass(const OrbitCamera& camera, double aspect, const
     set(p, "uShadowOn", s.shadows ? 1 : 0);
     set(p, "uShadowTexel", 1.0f / kShadowSize);
     set(p, "uLut", 2);
-    set(p, "uField", 0);
-    set(p, "uBase", 1);
   }
   if (s.sky) {
     glDisable(GL_DEPTH_TEST);
@@ -237,17 +251,25 @@ void Renderer::Impl::colour_pass(const OrbitCamera& camera, double aspect, const
     glDepthMask(GL_TRUE);
   }
   glEnable(GL_DEPTH_TEST);
+  const Frustum frustum(view_proj);
   glUseProgram(terrain);
-  stats.triangles = layers.draw_soils(terrain, false, s);
+  set(terrain, "uEdges", 0);
+  const ChunkDraw soils = layers.draw_soils(terrain, &frustum, false, s);
   glUseProgram(mesh);
-  stats.triangles += layers.draw_bodies(mesh, false);
-  stats.bodies = layers.bodies_drawn;
+  stats.triangles = s.bodies ? layers.draw_bodies(mesh, false) : 0;
+  stats.bodies = s.bodies ? layers.bodies_drawn : 0;
   glEnable(GL_BLEND);
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   glUseProgram(water);
   set(water, "uEye", camera.eye());
-  stats.triangles += layers.draw_waters(water, s);
+  set(water, "uEdges", 0);
+  const ChunkDraw waters = layers.draw_waters(water, &frustum, s);
   glDisable(GL_BLEND);
+  if (s.mesh_edges) draw_edges(frustum, s);
+  stats.surface_triangles = soils.triangles + waters.triangles;
+  stats.triangles += stats.surface_triangles;
+  stats.chunks_drawn = soils.drawn + waters.drawn;
+  stats.chunks_culled = soils.culled + waters.culled;
   stats.lines = 0;
   if (batch != nullptr) draw_lines(view_proj, *batch);
 }
@@ -258,21 +280,18 @@ Renderer::~Renderer() = default;
 void Renderer::set_contents(const scenes::SceneContents& contents) { impl_->layers.set(contents); }
 void Renderer::clear() { impl_->layers.clear(); }
 
-void Renderer::sync() {
-  impl_->layers.sync(impl_->stats);
-  gl::check("sync");
-}
-
 void Renderer::draw(const OrbitCamera& camera, int width, int height, const RenderSettings& settings,
                     const LineBatch* lines) {
   Impl& m = *impl_;
   m.ensure_targets(std::max(width, 1), std::max(height, 1), settings.samples);
+  m.layers.update(camera.eye(), camera.fov_deg, m.height, settings, m.stats);
   m.layers.prepare(settings, m.stats);
   const scenes::Bounds b = m.layers.bounds();
   const Eigen::Vector3d centre(0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1), m.layers.mid_height());
   const double radius = 0.5 * std::hypot(b.x1 - b.x0, b.y1 - b.y0) + 1.0;
   const Mat4 light = ortho(radius, 0.1, 4.0 * radius) * look_at(centre + 2.0 * radius * sun_direction(), centre);
   glDisable(GL_CULL_FACE);
+  m.bodies_on = settings.bodies;
   if (settings.shadows) m.shadow_pass(light);
   m.colour_pass(camera, double(m.width) / double(m.height), light, settings, lines);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, m.msaa_fbo.get());

@@ -33,7 +33,7 @@ vec3 sky_colour(vec3 dir) {
 }
 )";
 
-/// What the field vertex shader hands the terrain and water fragment shaders, and the
+/// What the surface vertex shader hands the terrain and water fragment shaders, and the
 /// colour maps (rows: 0 diverging, 1 height, 2 water).
 inline constexpr const char* kFieldFragmentInputs = R"(
 in vec3 vPos;
@@ -47,17 +47,14 @@ uniform sampler2D uLut;
 vec3 lut(float row, float t) { return texture(uLut, vec2(clamp(t, 0.0, 1.0) * (255.0 / 256.0) + 0.5 / 256.0, (row + 0.5) / 3.0)).rgb; }
 )";
 
-/// A height field drawn in tiles: cell (a, b) of the tile at uTileOrigin, heights (r) and a
-/// second value (g) in uField, untouched heights in uBase.
-inline constexpr const char* kFieldVertex = R"(
-layout(location = 0) in ivec2 aCell;
-uniform ivec2 uTileOrigin;
-uniform ivec2 uSize;
-uniform vec2 uOrigin;
-uniform float uCell;
+/// A soil or water mesh chunk: position, the surface's normal at the node, and per vertex
+/// (height - reference, a second value, the node's column i and j). Slopes are steepened by
+/// uSlopeGain for shading.
+inline constexpr const char* kSurfaceVertex = R"(
+layout(location = 0) in vec3 aPos;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in vec4 aExtra;
 uniform float uSlopeGain;
-uniform sampler2D uField;
-uniform sampler2D uBase;
 uniform mat4 uViewProj;
 uniform mat4 uLightViewProj;
 out vec3 vPos;
@@ -66,18 +63,12 @@ out float vValue;
 out float vDelta;
 out vec2 vColumn;
 out vec4 vLight;
-float h_at(ivec2 c) { return texelFetch(uField, clamp(c, ivec2(0), uSize - 1), 0).r; }
 void main() {
-  ivec2 c = clamp(uTileOrigin + aCell, ivec2(0), uSize - 1);
-  vec4 f = texelFetch(uField, c, 0);
-  ivec2 lo = max(c - 1, ivec2(0)), hi = min(c + 1, uSize - 1);
-  float gx = (h_at(ivec2(hi.x, c.y)) - h_at(ivec2(lo.x, c.y))) / max(float(hi.x - lo.x) * uCell, 1e-9);
-  float gy = (h_at(ivec2(c.x, hi.y)) - h_at(ivec2(c.x, lo.y))) / max(float(hi.y - lo.y) * uCell, 1e-9);
-  vNormal = normalize(vec3(-gx * uSlopeGain, -gy * uSlopeGain, 1.0));
-  vPos = vec3(uOrigin + vec2(c) * uCell, f.r);
-  vValue = f.g;
-  vDelta = f.r - texelFetch(uBase, c, 0).r;
-  vColumn = vec2(c);
+  vNormal = normalize(vec3(aNormal.xy * uSlopeGain, aNormal.z));
+  vPos = aPos;
+  vDelta = aExtra.x;
+  vValue = aExtra.y;
+  vColumn = aExtra.zw;
   vLight = uLightViewProj * vec4(vPos, 1.0);
   gl_Position = uViewProj * vec4(vPos, 1.0);
 }
@@ -89,8 +80,9 @@ uniform float uScale;
 uniform vec2 uHeightRange;
 uniform vec3 uTint;
 uniform int uTileColumns;     // 0: no tile borders
-uniform ivec2 uFirstColumn;   // global index of texel (0, 0)
+uniform int uEdges;           // 1: the mesh's edges pass
 void main() {
+  if (uEdges == 1) { oColour = vec4(0.12, 0.10, 0.08, 1.0); return; }
   vec3 n = normalize(vNormal);
   vec3 albedo = uTint;
   if (uMode == 1) albedo = lut(0.0, 0.5 + 0.5 * vDelta / uScale);
@@ -98,7 +90,7 @@ void main() {
   else if (uMode == 3) albedo = lut(1.0, (vPos.z - uHeightRange.x) / max(uHeightRange.y - uHeightRange.x, 1e-9));
   vec3 c = lit(albedo, n, vLight);
   if (uTileColumns > 0) {
-    vec2 g = (vColumn + vec2(uFirstColumn)) / float(uTileColumns);
+    vec2 g = vColumn / float(uTileColumns);
     vec2 w = fwidth(g) * 1.2;
     vec2 d = abs(fract(g - 0.5) - 0.5);
     if (d.x < w.x || d.y < w.y) c = mix(c, vec3(0.05, 0.05, 0.05), 0.7);
@@ -111,7 +103,9 @@ inline constexpr const char* kWaterFragment = R"(
 uniform int uMode;            // 0 natural, 1 height, 2 vertical velocity
 uniform float uScale;
 uniform vec3 uEye;
+uniform int uEdges;           // 1: the mesh's edges pass
 void main() {
+  if (uEdges == 1) { oColour = vec4(0.05, 0.12, 0.20, 0.9); return; }
   vec3 n = normalize(vNormal);
   vec3 v = normalize(uEye - vPos);
   float sun = sun_visibility(vLight, n);

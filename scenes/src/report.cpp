@@ -45,6 +45,12 @@ void write_scene(std::ostream& md, const std::filesystem::path& dir, const nlohm
   for (const auto& f : files)
     if (is_picture(f.get<std::string>()))
       md << "![" << name << " " << f.get<std::string>() << "](" << name << "/" << f.get<std::string>() << ")\n\n";
+  const nlohmann::json skipped = m.value("pictures_skipped", nlohmann::json::array());
+  if (!skipped.empty()) {
+    md << "**Pictures not drawn** (no OpenGL renderer: built without it or run with `--no-pictures`):";
+    for (const auto& f : skipped) md << " " << f.get<std::string>();
+    md << "\n\n";
+  }
   md << "Files:";
   for (const auto& f : files) md << " [" << f.get<std::string>() << "](" << name << "/" << f.get<std::string>() << ")";
   md << "\n\n| metric | value | meaning |\n|---|---|---|\n";
@@ -53,7 +59,7 @@ void write_scene(std::ostream& md, const std::filesystem::path& dir, const nlohm
     md << "| " << key << " | " << show(m[key]) << " | " << explain(scene, key) << " |\n";
   };
   for (const MetricHelp& h : common_metric_help())
-    if (m.contains(h.name) && h.name != "files" && h.name != "checks") row(h.name);
+    if (m.contains(h.name) && h.name != "files" && h.name != "checks" && h.name != "pictures_skipped") row(h.name);
   for (const auto& [key, value] : m.items()) {
     const auto& common = common_metric_help();
     const bool is_common =

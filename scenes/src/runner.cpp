@@ -11,7 +11,7 @@
 #include "shore/core/hash.h"
 #include "shore/scenes/film.h"
 #include "shore/scenes/mesh.h"
-#include "shore/scenes/render.h"
+#include "shore/scenes/picture.h"
 #include "shore/scenes/static_shares.h"
 
 namespace shore::scenes {
@@ -62,9 +62,22 @@ void SceneOptions::validate() const {
 
 int SceneOptions::substeps() const { return std::max(1, static_cast<int>(std::lround(seconds / substep))); }
 
-Drawing::Drawing(const SceneOptions& options, Image filmstrip) : options_(options), filmstrip_(std::move(filmstrip)) {}
+Drawing::Drawing(const SceneOptions& options, Image filmstrip, Painter* painter, SceneContents contents)
+    : options_(options), filmstrip_(std::move(filmstrip)), painter_(painter), contents_(std::move(contents)) {}
+
+void Drawing::view(const std::string& name, const View& view) {
+  if (painter_ == nullptr) {
+    skipped_.push_back(name);
+    return;
+  }
+  files_.push_back(write_png(options_.file(name), painter_->paint(contents_, view)));
+}
 
 void Drawing::png(const std::string& name, const Image& image) {
+  if (image.width() == 0 || image.height() == 0) {
+    skipped_.push_back(name);
+    return;
+  }
   files_.push_back(write_png(options_.file(name), image));
 }
 
@@ -88,7 +101,7 @@ SceneOptions resolve(const SceneType& scene, const Overrides& o) {
 }
 
 SceneResult run_scene(const SceneType& type, const SceneOptions& options, ProgressMode progress_mode,
-                      const DrawHook& draw_more) {
+                      Painter* painter) {
   options.validate();
   if (options.write_files) std::filesystem::create_directories(options.out_dir);
   Progress progress(type.name, progress_mode);
@@ -96,12 +109,13 @@ SceneResult run_scene(const SceneType& type, const SceneOptions& options, Progre
 
   // The loop: only the steps are timed; frames are taken between them.
   const int n = options.substeps();
-  const std::vector<int> film_at = options.write_files ? scene->film_substeps() : std::vector<int>{};
+  const std::vector<int> film_at =
+      options.write_files && painter != nullptr ? scene->film_substeps() : std::vector<int>{};
   std::vector<Image> frames;
   std::vector<std::string> labels;
   auto film = [&](int k) {
     if (std::find(film_at.begin(), film_at.end(), k) == film_at.end()) return;
-    frames.push_back(scene->film_frame());
+    frames.push_back(scene->film_frame(*painter));
     labels.push_back(time_label(k * options.substep));
   };
   film(0);
@@ -123,13 +137,14 @@ SceneResult run_scene(const SceneType& type, const SceneOptions& options, Progre
   result.metrics["precision"] = precision_name();
   nlohmann::json files = nlohmann::json::array();
   if (options.write_files) {
-    Drawing drawing(options, frames.empty() ? Image() : scenes::filmstrip(frames, labels, 3));
+    Drawing drawing(options, frames.empty() ? Image() : scenes::filmstrip(frames, labels, 3), painter,
+                    scene->contents());
     scene->draw(drawing);
-    if (draw_more) draw_more(*scene, drawing);
     result.files = drawing.files();
     for (const auto& f : result.files) files.push_back(f.filename().string());
     files.push_back("metrics.json");
     result.metrics["files"] = files;
+    result.metrics["pictures_skipped"] = drawing.skipped();
     write_metrics(options.file("metrics.json"), result.metrics);
     result.files.push_back(options.file("metrics.json"));
   } else {
@@ -155,6 +170,7 @@ const std::vector<MetricHelp>& common_metric_help() {
       {"precision", "btScalar precision of this build (float or double)"},
       {"checks", "comparisons with outside references: value, reference, tolerance, source"},
       {"files", "files written by the scene"},
+      {"pictures_skipped", "pictures not drawn for want of the OpenGL renderer (empty: all drawn)"},
   };
   return help;
 }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "shore/scenes/render.h"
 #include "shore/scenes/spray_view.h"
 
 namespace shore::scenes {
@@ -67,14 +66,6 @@ double max_of(const HeightGrid& g) {
       any = true;
     }
   return m;
-}
-
-Image soil_film_frame(const std::vector<Patch>& patches, const HeightGrid& frame, const HeightGrid& baseline,
-                      std::span<const btRigidBody* const> bodies, int min_pixels) {
-  const BodyEnvelopes env = body_envelopes(bodies, frame);
-  const std::vector<Dot> spray = spray_dots(patches);
-  return oblique_frame(sample(patches, frame, Field::height), baseline, &env, 2.0, min_pixels, "", 0.0, 35.0, false,
-                       &spray);
 }
 
 double tilt_from_vertical(const btRigidBody& body, int axis) {

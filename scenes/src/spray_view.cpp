@@ -66,14 +66,4 @@ std::vector<MetricHelp> with_spray_metrics(std::vector<MetricHelp> own) {
   return own;
 }
 
-std::vector<Dot> spray_dots(const std::vector<Patch>& patches) {
-  std::vector<Dot> dots;
-  for (const Patch& p : patches) {
-    if (p.soil == nullptr) continue;
-    for (const terrain::SprayParticle& s : p.soil->spray_particles())
-      if (p.region.contains(s.x, s.y)) dots.push_back({s.x, s.y, s.z, s.radius});
-  }
-  return dots;
-}
-
 }  // namespace shore::scenes

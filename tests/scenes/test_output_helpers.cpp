@@ -1,6 +1,6 @@
-// The scenes' output helpers against outside references: Lambert's law for the hillshade,
-// plane geometry for the mesh export, stb's own PNG reader for the PNG writer, Bullet's
-// ray test for the ground height, box geometry for the body envelopes.
+// The scenes' output helpers against outside references: plane geometry for the mesh
+// export, stb's own PNG reader for the PNG writer, Bullet's ray test for the ground height,
+// the colour maps for the pictures' colour bars.
 #include <gtest/gtest.h>
 
 #include <stb_image.h>
@@ -17,11 +17,10 @@
 #include <nlohmann/json.hpp>
 
 #include "shore/core/error.h"
-#include "shore/scenes/envelopes.h"
 #include "shore/scenes/height_grid.h"
 #include "shore/scenes/image.h"
 #include "shore/scenes/mesh.h"
-#include "shore/scenes/render.h"
+#include "shore/scenes/picture.h"
 #include "shore/scenes/report.h"
 #include "shore/scenes/rigid_ground.h"
 #include "shore/scenes/runner.h"
@@ -56,18 +55,6 @@ TEST(HeightGrid, BilinearSampleOfAPlaneIsExact) {
 TEST(HeightGrid, RejectsBadSizes) {
   EXPECT_THROW(HeightGrid(0, 3, 0.1, 0, 0), shore::InvalidSetting);
   EXPECT_THROW(HeightGrid(3, 3, -0.1, 0, 0), shore::InvalidSetting);
-}
-
-TEST(Hillshade, PlaneFollowsLambertsLaw) {
-  // z = s x: unit normal (-s, 0, 1) / sqrt(1 + s^2); light from azimuth az, altitude alt.
-  const double az = 315.0, alt = 45.0;
-  const double l_x = std::sin(az * std::numbers::pi / 180) * std::cos(alt * std::numbers::pi / 180);
-  const double l_z = std::sin(alt * std::numbers::pi / 180);
-  for (double s : {-0.8, -0.2, 0.0, 0.5}) {
-    const std::vector<double> h = hillshade(plane(6, 6, 0.05, s, 0.0, 0.0), az, alt);
-    const double expected = std::max(0.0, (-s * l_x + l_z) / std::sqrt(1 + s * s));
-    for (double v : h) EXPECT_NEAR(v, expected, 1e-12) << "slope " << s;
-  }
 }
 
 TEST(Colours, DivergingMapIsBlueForLoweredRedForRaisedNeutralForUntouched) {
@@ -231,21 +218,25 @@ TEST(Mesh, PlyHeaderCountsMatchItsBinaryBody) {
   EXPECT_EQ(fs::file_size(p), header.size() + 12u * 12u + 12u * 13u);
 }
 
-TEST(Render, PicturesHaveTheRequestedResolutionAndLegend) {
-  const HeightGrid g = plane(33, 17, 0.01, 0.1, 0.0, 0.0);
-  HeightGrid base = g;
-  base.at(10, 10) += 0.002;  // one column lowered by 2 mm
-  ReliefStyle style;
-  style.baseline = &base;
-  style.min_pixels = 256;
-  const Image top = render_relief(g, style);
-  EXPECT_GE(top.width(), 256);
-  const Image view = render_oblique(g, style);
-  EXPECT_GE(view.width(), 256);
-  const Image water = render_water(g, 0.0);
-  EXPECT_GE(water.width(), 256);
-  const Image strip = filmstrip({top, view}, {"a", "b"}, 2);
-  EXPECT_GE(strip.width(), top.width() + view.width());
+TEST(Picture, FramesAndFilmstripsHaveTheirSizeAndTheColourBarItsColours) {
+  const Image a(200, 100, Rgb{10, 20, 30}), b(150, 120, Rgb{40, 50, 60});
+  const Legend legend = deformation_legend(0.004);
+  EXPECT_EQ(legend.low, "-4.0 mm lowered");
+  EXPECT_EQ(legend.high, "raised +4.0 mm");
+  const Image framed = framed_picture(a, "title", &legend);
+  EXPECT_EQ(framed.width(), 480);             // at least 480 wide with a colour bar
+  EXPECT_EQ(framed.height(), 24 + 100 + 40);  // title strip, picture, colour bar
+  EXPECT_EQ(framed.at(100, 24 + 50), (Rgb{10, 20, 30}));
+  const int bar_y = 24 + 100 + 6 + 5;
+  int end = 6;  // the bar runs from x = 6 to its last non-white pixel, at least 256 long
+  while (end + 1 < framed.width() && !(framed.at(end + 1, bar_y) == Rgb{255, 255, 255})) ++end;
+  EXPECT_GE(end - 6 + 1, 256);
+  EXPECT_EQ(framed.at(6, bar_y), diverging_colour(-1.0));
+  EXPECT_EQ(framed.at(end, bar_y), diverging_colour(1.0));
+  const Image strip = filmstrip({a, b}, {"0 s", "1 s"}, 2);
+  EXPECT_EQ(strip.width(), 2 * (200 + 8) + 8);  // two cells as wide as the widest frame, gaps of 8
+  EXPECT_EQ(strip.height(), 120 + 22 + 2 * 8);  // as tall as the tallest, a label strip of 22
+  EXPECT_THROW((void)filmstrip({}, {}, 3), shore::InvalidSetting);
 }
 
 TEST(RigidGround, HeightMatchesBulletsTrianglesUnderARay) {
@@ -264,28 +255,6 @@ TEST(RigidGround, HeightMatchesBulletsTrianglesUnderARay) {
       w.world().rayTest(from, to, hit);
       ASSERT_TRUE(hit.hasHit());
       EXPECT_NEAR(ground.height_at(x, y), hit.m_hitPointWorld.z(), 1e-5) << x << ", " << y;
-    }
-}
-
-TEST(BodyEnvelopes, ABoxsEnvelopesAreItsFacesInsideItsFootprint) {
-  World w;
-  const double hx = 0.1, hz = 0.05;
-  const btRigidBody* box =
-      w.add_body(std::make_unique<btBoxShape>(btVector3(btScalar(hx), btScalar(hx), btScalar(hz))), 1.0,
-                 btVector3(0, 0, btScalar(0.5)), btQuaternion(btVector3(0, 0, 1), btScalar(std::numbers::pi / 4)));
-  const HeightGrid frame(41, 41, 0.02, -0.4, -0.4);  // the box's diamond footprint inside
-  const std::vector<const btRigidBody*> bodies = {box};
-  const BodyEnvelopes e = body_envelopes(bodies, frame);
-  for (int j = 0; j < frame.ny; ++j)
-    for (int i = 0; i < frame.nx; ++i) {
-      const double x = e.top.x(i), y = e.top.y(j);
-      const double l1 = std::abs(x) + std::abs(y);
-      if (l1 < hx * std::numbers::sqrt2 - 1e-6) {
-        EXPECT_NEAR(e.top.at(i, j), 0.5 + hz, 1e-6);
-        EXPECT_NEAR(e.bottom.at(i, j), 0.5 - hz, 1e-6);
-      } else if (l1 > hx * std::numbers::sqrt2 + 1e-6) {
-        EXPECT_TRUE(std::isnan(e.top.at(i, j))) << x << ", " << y;
-      }
     }
 }
 

@@ -1,10 +1,12 @@
 // The OpenGL renderer headless (EGL on Mesa): pictures of real scenes checked for size,
-// for not being blank, for the colour bar, and the soil upload for sending only what changed.
+// for not being blank, for the colour bar, the soil meshes for uploading only the chunks that changed and for
+// culling the chunks outside the view.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <memory>
 
+#include "picture_checks.h"
 #include "shore/render/headless.h"
 #include "shore/render/picture.h"
 #include "shore/render/renderer.h"
@@ -20,31 +22,19 @@ namespace {
 using shore::scenes::Image;
 using shore::scenes::Rgb;
 
-std::unique_ptr<shore::scenes::Scene> smoke_scene(const char* name, int substeps) {
-  const shore::scenes::SceneType& type = *shore::scenes::find_scene(name);
-  shore::scenes::Overrides o;
-  o.smoke = true;
-  o.write_files = false;
-  auto scene = type.create(shore::scenes::resolve(type, o));
-  for (int k = 0; k < substeps; ++k) scene->step();
-  return scene;
-}
+using shore::test::colour_distance;
+using shore::test::distinct_colours;
+using shore::test::smoke_scene;
 
-double colour_distance(Rgb a, Rgb b) { return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b); }
-
-/// Distinct colours among the picture's pixels (coarsely binned): a blank picture has 1.
-int distinct_colours(const Image& im, int y0, int y1) {
-  std::vector<bool> seen(4096, false);
-  int n = 0;
-  for (int y = y0; y < y1; ++y)
-    for (int x = 0; x < im.width(); ++x) {
-      const Rgb c = im.at(x, y);
-      const int bin = (c.r >> 4) << 8 | (c.g >> 4) << 4 | (c.b >> 4);
-      if (!seen[bin]) ++n;
-      seen[bin] = true;
-    }
-  return n;
-}
+/// The vehicle scene at its start, drawn by a renderer of its own headless context.
+struct VehicleRenderer {
+  std::unique_ptr<shore::scenes::Scene> scene = smoke_scene("vehicle", 0);
+  shore::render::HeadlessContext context;
+  shore::render::Renderer r;
+  shore::scenes::SceneContents c = scene->contents();
+  VehicleRenderer() { r.set_contents(c); }
+  ~VehicleRenderer() { r.clear(); }
+};
 
 TEST(RenderHeadless, VehiclePictureHasItsSizeContentAndColourBar) {
   auto scene = smoke_scene("vehicle", 120);
@@ -59,8 +49,7 @@ TEST(RenderHeadless, VehiclePictureHasItsSizeContentAndColourBar) {
   EXPECT_GT(distinct_colours(im, 24, 24 + 360), 40) << "the 3-D view is (nearly) blank";
   // The colour bar: its left end is the diverging map's "lowered" end, its right end "raised".
   const int bar_y = 24 + 360 + 6 + 5;
-  int end = 6;  // the bar runs from x = 6 to its last non-white pixel
-  while (end + 1 < im.width() && !(im.at(end + 1, bar_y) == Rgb{255, 255, 255})) ++end;
+  const int end = shore::test::colour_bar_end(im, bar_y);
   EXPECT_GE(end - 6 + 1, 256) << "the colour bar is at least 256 pixels long";
   EXPECT_LT(colour_distance(im.at(6, bar_y), shore::scenes::diverging_colour(-1.0)), 12);
   EXPECT_LT(colour_distance(im.at(end, bar_y), shore::scenes::diverging_colour(1.0)), 12);
@@ -79,24 +68,49 @@ TEST(RenderHeadless, PondPictureShowsWaterWithTheWaterColourBar) {
   EXPECT_LT(colour_distance(im.at(7, bar_y), shore::scenes::water_colour(-1.0)), 12);
 }
 
-TEST(RenderHeadless, SoilUploadsOnlyTheChangedColumns) {
-  auto scene = smoke_scene("vehicle", 0);
-  shore::render::HeadlessContext context;
-  shore::render::Renderer r;
-  const shore::scenes::SceneContents c = scene->contents();
-  r.set_contents(c);
-  r.sync();
+TEST(RenderHeadless, SoilMeshUploadsOnlyTheChangedChunks) {
+  VehicleRenderer v;
+  auto& [scene, context, r, c] = v;
+  const shore::render::OrbitCamera camera = shore::render::OrbitCamera::framing(c.bounds);
+  const shore::render::RenderSettings settings = shore::render::picture_settings(c);
+  r.draw(camera, 640, 360, settings);
   const auto whole = r.stats().whole_soil_bytes;
-  EXPECT_EQ(r.stats().soil_bytes, whole) << "the first sync uploads the whole field";
+  const auto first = r.stats().soil_bytes;
+  EXPECT_GT(first, 0) << "the first frame uploads the meshes";
+  EXPECT_LT(first, whole) << "a simplified mesh is smaller than the full-resolution one";
+  EXPECT_LT(r.stats().surface_triangles, r.stats().full_triangles);
+  r.draw(camera, 640, 360, settings);
+  EXPECT_EQ(r.stats().soil_bytes, 0) << "nothing changed, the camera did not move: nothing uploaded";
   std::int64_t most = 0, total = 0;
   for (int frame = 0; frame < 30; ++frame) {
     for (int k = 0; k < 4; ++k) scene->step();
-    r.sync();
+    r.draw(camera, 640, 360, settings);
     most = std::max(most, r.stats().soil_bytes);
     total += r.stats().soil_bytes;
   }
-  EXPECT_GT(total, 0) << "the wheels on the sand change columns";
+  EXPECT_GT(total, 0) << "the wheels on the sand change chunks";
   EXPECT_LT(most, whole / 4) << "a frame uploads a small part of the field";
+  r.clear();
+}
+
+TEST(RenderHeadless, ChunksOutsideTheViewAreCulled) {
+  VehicleRenderer v;
+  auto& [scene, context, r, c] = v;
+  shore::render::RenderSettings settings = shore::render::picture_settings(c);
+  settings.shadows = false;
+  shore::render::OrbitCamera wide = shore::render::OrbitCamera::framing(c.bounds);
+  r.draw(wide, 320, 180, settings);
+  EXPECT_EQ(r.stats().chunks_culled, 0) << "the framing view sees the whole scene";
+  // Close to the sand's near end, looking away from the rest of the field: most chunks are behind.
+  shore::render::OrbitCamera near = wide;
+  near.target = {std::max(c.soils.front().region.x0, c.bounds.x0) + 0.3, 0.0, 0.0};  // the sand's near end
+  near.yaw_deg = 0.0;  // the eye on the +x side of the target, looking towards -x: the rest is behind it
+  near.distance = 0.6;
+  near.pitch_deg = 20.0;
+  r.draw(near, 320, 180, settings);
+  EXPECT_GT(r.stats().chunks_culled, 0);
+  EXPECT_GT(r.stats().chunks_drawn, 0);
+  EXPECT_LT(r.stats().chunks_drawn, r.stats().surface_chunks);
   r.clear();
 }
 

@@ -7,7 +7,7 @@
 #include <imgui.h>
 
 #include "shore/scenes/image.h"
-#include "shore/scenes/render.h"
+#include "shore/scenes/picture.h"
 
 namespace shore::viewer {
 namespace {
@@ -105,7 +105,9 @@ void Panels::view_panel(Session& s) {
   ImGui::Checkbox("shadows", &s.settings.shadows);
   ImGui::SameLine();
   ImGui::Checkbox("follow", &s.follow);
-  ImGui::TextDisabled("spray particles: none yet in the soil model");
+  ImGui::Checkbox("spray", &s.overlays.spray);
+  ImGui::SameLine();
+  ImGui::Checkbox("mesh edges", &s.overlays.mesh_edges);
 }
 
 void Panels::stats_panel(Session& s) {
@@ -120,8 +122,12 @@ void Panels::stats_panel(Session& s) {
               double(s.soil_memory_bytes()) / 1e6);
   ImGui::Text("draw %.1f ms, %lld triangles, %lld lines", s.last_draw_ms(), static_cast<long long>(r.triangles),
               static_cast<long long>(r.lines));
-  ImGui::Text("uploaded %lld B of %lld B (whole soil)", static_cast<long long>(r.soil_bytes),
-              static_cast<long long>(r.whole_soil_bytes));
+  ImGui::Text("surfaces %lld of %lld triangles (full), chunks %d drawn, %d culled",
+              static_cast<long long>(r.surface_triangles), static_cast<long long>(r.full_triangles), r.chunks_drawn,
+              r.chunks_culled);
+  ImGui::Text("uploaded soil %lld B of %lld B (whole), water %lld B of %lld B", static_cast<long long>(r.soil_bytes),
+              static_cast<long long>(r.whole_soil_bytes), static_cast<long long>(r.water_bytes),
+              static_cast<long long>(r.whole_water_bytes));
   ImGui::Text("%.0f fps", ImGui::GetIO().Framerate);
 }
 

@@ -28,6 +28,8 @@ void RunReport::frame(const Session& s, double frame_ms) {
   draw_ms_.push_back(s.last_draw_ms());
   soil_bytes_.push_back(double(s.renderer().stats().soil_bytes));
   whole_soil_bytes_ = double(s.renderer().stats().whole_soil_bytes);
+  surface_triangles_.push_back(double(s.renderer().stats().surface_triangles));
+  full_triangles_ = double(s.renderer().stats().full_triangles);
 }
 
 void RunReport::write(const std::filesystem::path& file, const Session& s, int width, int height) const {
@@ -38,13 +40,15 @@ void RunReport::write(const std::filesystem::path& file, const Session& s, int w
   j["height"] = height;
   j["frame_ms_median"] = median(frame_ms_);
   j["draw_ms_median"] = median(draw_ms_);
-  // The first frame uploads every column; the steady state is what the later frames cost.
+  // The first frame uploads every chunk; the steady state is what the later frames cost.
   const std::vector<double> later(soil_bytes_.begin() + std::min<std::size_t>(1, soil_bytes_.size()),
                                   soil_bytes_.end());
   j["soil_bytes_first_frame"] = soil_bytes_.empty() ? 0.0 : soil_bytes_.front();
   j["soil_bytes_per_frame_mean"] = mean(later);
   j["soil_bytes_per_frame_max"] = later.empty() ? 0.0 : *std::max_element(later.begin(), later.end());
   j["whole_soil_bytes"] = whole_soil_bytes_;
+  j["surface_triangles_mean"] = mean(surface_triangles_);
+  j["full_triangles"] = full_triangles_;
   j["sim_seconds"] = s.sim_time();
   nlohmann::json bodies = nlohmann::json::array();
   if (s.contents().world != nullptr)

@@ -23,6 +23,8 @@ class RunReport {
   std::vector<double> frame_ms_, draw_ms_;
   std::vector<double> soil_bytes_;
   double whole_soil_bytes_ = 0;
+  std::vector<double> surface_triangles_;
+  double full_triangles_ = 0;
 };
 
 }  // namespace shore::viewer

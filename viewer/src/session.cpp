@@ -7,6 +7,7 @@
 
 #include "shore/bullet/debug_draw.h"
 #include "shore/core/error.h"
+#include "shore/render/painter.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/world.h"
 
@@ -126,13 +127,14 @@ void Session::collect_lines() {
   lines_.setDebugMode(overlays.buoyancy ? bullet::debug_draw::kContactBits | bullet::debug_draw::kForceBits : 0);
   for (const scenes::WaterContents& w : contents_.waters)
     if (w.coupling != nullptr) w.coupling->debugDraw(&lines_);
+  if (overlays.spray) render::spray_lines(contents_, contents_.bounds, 0.004, lines_);
 }
 
 void Session::draw(int width, int height) {
   const auto t0 = Clock::now();
-  renderer_->sync();
   collect_lines();
   settings.soil_tile_borders = overlays.soil_tiles;
+  settings.mesh_edges = overlays.mesh_edges;
   renderer_->draw(camera, width, height, settings, &lines_);
   draw_ms_ = ms_since(t0);
 }
@@ -257,9 +259,13 @@ void Session::apply(const ScriptAction& a) {
       overlays.tiles = v;
     else if (n == "soil_tiles")
       overlays.soil_tiles = v;
+    else if (n == "spray")
+      overlays.spray = v;
+    else if (n == "mesh")
+      overlays.mesh_edges = v;
     else
       throw InvalidSetting("viewer.script line " + std::to_string(a.line), n,
-                           "contacts, reactions, buoyancy, tiles, soil_tiles");
+                           "contacts, reactions, buoyancy, tiles, soil_tiles, spray, mesh");
   }
 }
 

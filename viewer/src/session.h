@@ -25,6 +25,8 @@ struct Overlays {
   bool buoyancy = false;    ///< buoyancy centres and forces
   bool tiles = false;       ///< Bullet tiles' outlines
   bool soil_tiles = false;  ///< soil storage tiles' borders (in the ground shader)
+  bool spray = true;        ///< the soils' spray particles in flight (dark crosses)
+  bool mesh_edges = false;  ///< the soil and water meshes' triangles (their level of detail)
 };
 
 /// Milliseconds of the last substep by part.

@@ -33,6 +33,9 @@ struct OrbitCamera {
   /// The camera at the default yaw and pitch nearest to the bounds (at height z) that
   /// shows all of them in a view of this aspect (width / height).
   static OrbitCamera framing(const scenes::Bounds& bounds, double z = 0.0, double aspect = 16.0 / 9.0);
+  /// Keeps yaw, pitch and field of view; looks at the bounds' centre (at height z) from
+  /// the nearest distance that shows all of them in a view of this aspect.
+  void frame(const scenes::Bounds& bounds, double z, double aspect);
 };
 
 }  // namespace shore::render

@@ -30,7 +30,7 @@ struct PictureOptions {
 scenes::Image scene_picture(scenes::Scene& scene, const PictureOptions& options = {});
 
 /// The picture of contents drawn with an existing renderer (a current context): the
-/// viewer's headless frames. Syncs the renderer first.
+/// viewer's headless frames.
 scenes::Image contents_picture(Renderer& renderer, const scenes::SceneContents& contents, const OrbitCamera& camera,
                                const PictureOptions& options);
 

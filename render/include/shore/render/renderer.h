@@ -1,14 +1,14 @@
 #pragma once
-// The OpenGL 3.3 renderer of Shore's scenes: the soils from their tiles (only the columns
-// the push-back reports changed are uploaded), the water surfaces with normals and
-// shading that make small waves visible, every Bullet body from its collision shape, one
+// The OpenGL 3.3 renderer of Shore's scenes: the soils and the water surfaces as meshes
+// simplified to a pixel bound for the frame's camera (shore::mesh, in chunks: only the
+// chunks that changed are uploaded, those outside the view are not drawn), the water with
+// normals and shading that make small waves visible, every Bullet body from its collision shape, one
 // directional light with a shadow map, MSAA and a sky gradient; debug lines on top.
 // The same renderer draws the viewer's window and the headless pictures (headless.h).
 //
 //   shore::render::Renderer r;            // a GL 3.3 core context must be current
-//   r.set_contents(scene->contents());    // hooks the soils' push-back
-//   r.sync();                             // after stepping: upload what changed
-//   r.draw(camera, 1280, 720, settings);  // into its own MSAA framebuffer
+//   r.set_contents(scene->contents());
+//   r.draw(camera, 1280, 720, settings);  // after stepping: meshes brought up to date, then drawn
 //   Image picture = r.read_image();       // or r.present(w, h) to the window
 
 #include <cstdint>
@@ -47,19 +47,28 @@ struct RenderSettings {
   bool shadows = true;             ///< the sun's shadow map
   int samples = 4;                 ///< MSAA samples (1: none; at most what the GL allows)
   bool sky = true;                 ///< sky gradient behind (false: white)
+  double max_error_pixels = 1.0;   ///< the soil and water meshes' projected error bound, pixels, > 0
+  bool mesh_edges = false;         ///< outline the soil and water meshes' triangles (their level of detail)
+  bool bodies = true;              ///< the world's bodies (false: soils and water alone)
 };
 
-/// What the last sync() and draw() did.
+/// What the last draw() did.
 struct FrameStats {
-  std::int64_t soil_bytes = 0;        ///< soil texture bytes uploaded by the last sync
-  std::int64_t whole_soil_bytes = 0;  ///< what uploading every drawn soil column would cost
-  std::int64_t water_bytes = 0;       ///< water texture bytes uploaded by the last sync
-  std::int64_t soil_columns = 0;      ///< drawn soil columns
-  std::int64_t triangles = 0;         ///< triangles drawn in the colour pass
-  int bodies = 0;                     ///< collision objects drawn
-  std::int64_t lines = 0;             ///< debug lines drawn
-  double ground_scale = 0.0;          ///< the colour scale used (m)
-  double water_scale = 0.0;           ///< the colour scale used (m or m/s)
+  std::int64_t soil_bytes = 0;         ///< soil mesh bytes (vertices and indices) uploaded for the last frame
+  std::int64_t whole_soil_bytes = 0;   ///< uploading the drawn soils' full-resolution meshes once
+  std::int64_t water_bytes = 0;        ///< water mesh bytes uploaded for the last frame
+  std::int64_t whole_water_bytes = 0;  ///< uploading the water's full-resolution meshes once
+  std::int64_t soil_columns = 0;       ///< drawn soil columns
+  std::int64_t triangles = 0;          ///< triangles drawn in the colour pass (surfaces and bodies)
+  std::int64_t surface_triangles = 0;  ///< of which soil and water
+  std::int64_t full_triangles = 0;     ///< the soils' and water's full-resolution triangles (two per cell)
+  int surface_chunks = 0;              ///< mesh chunks on the GPU
+  int chunks_drawn = 0;                ///< in the colour pass
+  int chunks_culled = 0;               ///< outside the view frustum, not drawn
+  int bodies = 0;                      ///< collision objects drawn
+  std::int64_t lines = 0;              ///< debug lines drawn
+  double ground_scale = 0.0;           ///< the colour scale used (m)
+  double water_scale = 0.0;            ///< the colour scale used (m or m/s)
 };
 
 class Renderer {
@@ -70,15 +79,15 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  /// Draws these contents from now on (drops the previous ones), uploads them whole and
-  /// listens to the soils' push-back for changed columns. The scene must outlive this
-  /// renderer or the next set_contents()/clear().
+  /// Draws these contents from now on (drops the previous ones): the first draw uploads
+  /// their meshes whole, later ones what changed (the soils' change generations, the
+  /// water's moved nodes, the camera's move). The scene must outlive this renderer or the
+  /// next set_contents()/clear().
   void set_contents(const scenes::SceneContents& contents);
-  /// Forgets the contents and stops listening.
+  /// Forgets the contents.
   void clear();
-  /// Uploads what changed since the last sync: the soils' pushed columns, the water.
-  void sync();
-  /// Renders a width x height frame into the renderer's framebuffer.
+  /// Brings the meshes up to date for the camera (uploading the changed chunks), then
+  /// renders a width x height frame into the renderer's framebuffer.
   void draw(const OrbitCamera& camera, int width, int height, const RenderSettings& settings,
             const LineBatch* lines = nullptr);
   /// Copies the last frame to the current default framebuffer (a window).

@@ -42,12 +42,11 @@ struct SceneResult {
 /// Runs a scene: validates options, creates out_dir, creates
 /// the scene and steps it options.substeps() times (timing the steps alone), takes the
 /// filmstrip, hashes the final state, fills the metrics, and with write_files draws the
-/// scene and writes out_dir/metrics.json. Scene errors propagate.
-/// draw_more (optional, with write_files): more pictures of the end of the run, after the
-/// scene's own (shore-demo's 3-D renderer).
-using DrawHook = std::function<void(Scene& scene, Drawing& out)>;
+/// scene and writes out_dir/metrics.json. Scene errors propagate. The pictures (the
+/// filmstrip too) are the painter's (shore-demo's: the OpenGL renderer); without one none
+/// are written and metrics["pictures_skipped"] lists them.
 SceneResult run_scene(const SceneType& scene, const SceneOptions& options, ProgressMode progress,
-                      const DrawHook& draw_more = {});
+                      Painter* painter = nullptr);
 
 /// Names of the common metrics, in report order, with their meaning.
 const std::vector<MetricHelp>& common_metric_help();

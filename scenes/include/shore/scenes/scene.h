@@ -26,6 +26,7 @@
 
 #include "shore/scenes/contents.h"
 #include "shore/scenes/image.h"
+#include "shore/scenes/picture.h"
 #include "shore/scenes/state.h"
 
 namespace shore::scenes {
@@ -59,20 +60,30 @@ struct SceneOptions {
 };
 
 /// Where a scene's draw() writes its pictures and meshes: options.file(name), each file
-/// listed in the order written.
+/// listed in the order written. Pictures are drawn by the painter (picture.h); without one
+/// they are not written but listed in skipped().
 class Drawing {
  public:
-  Drawing(const SceneOptions& options, Image filmstrip);
+  /// painter: null for no pictures; contents: what it draws (the scene's, at the end of the run).
+  Drawing(const SceneOptions& options, Image filmstrip, Painter* painter = nullptr, SceneContents contents = {});
+  /// The picture the view asks for, painted now, as `name`.
+  void view(const std::string& name, const View& view);
+  /// A picture painted earlier (an empty one, from a run without a painter, is skipped).
   void png(const std::string& name, const Image& image);
   void obj(const std::string& name, const HeightGrid& grid);
   /// The filmstrip the runner took (film_substeps), as filmstrip.png.
   void filmstrip();
   [[nodiscard]] const std::vector<std::filesystem::path>& files() const noexcept { return files_; }
+  /// The pictures not written for want of a painter.
+  [[nodiscard]] const std::vector<std::string>& skipped() const noexcept { return skipped_; }
 
  private:
   const SceneOptions& options_;
   Image filmstrip_;
+  Painter* painter_;
+  SceneContents contents_;
   std::vector<std::filesystem::path> files_;
+  std::vector<std::string> skipped_;
 };
 
 class Scene {
@@ -90,8 +101,8 @@ class Scene {
   virtual void measure(nlohmann::json& metrics) const = 0;
   /// Substeps after which the runner takes a filmstrip frame (0: before the first), in order.
   [[nodiscard]] virtual std::vector<int> film_substeps() const = 0;
-  /// A filmstrip frame of the world as it is now.
-  virtual Image film_frame() = 0;
+  /// A filmstrip frame of the world as it is now, drawn by the painter.
+  virtual Image film_frame(Painter& painter) = 0;
   /// The pictures and meshes of the end of the run.
   virtual void draw(Drawing& out) const = 0;
   /// What a viewer draws and drives live (contents.h); empty by default.

@@ -1,6 +1,6 @@
 #pragma once
-// Soils as the pictures and metrics of the soil scenes see them: sampled into grids,
-// drawn with the bodies over them, their volume and sinkage measures.
+// Soils as the meshes and metrics of the soil scenes see them: sampled into grids, their
+// volume and sinkage measures.
 
 #include <string>
 #include <vector>
@@ -8,7 +8,6 @@
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include "shore/bullet/terrain_tiles.h"
-#include "shore/scenes/envelopes.h"
 #include "shore/scenes/height_grid.h"
 #include "shore/scenes/image.h"
 #include "shore/scenes/scene.h"
@@ -50,12 +49,6 @@ double max_lowering(const HeightGrid& baseline, const HeightGrid& heights);
 
 /// Largest value of a grid (NaN ignored); 0 for an empty grid.
 double max_of(const HeightGrid& g);
-
-/// The soil scenes' filmstrip frame: the oblique relief of the patches over `frame`
-/// (heights exaggerated 2x, coloured by lowering from `baseline`) with the bodies and the
-/// soils' spray particles drawn.
-Image soil_film_frame(const std::vector<Patch>& patches, const HeightGrid& frame, const HeightGrid& baseline,
-                      std::span<const btRigidBody* const> bodies, int min_pixels);
 
 /// Angle (rad) between a body's local axis `axis` (0 x, 1 y, 2 z) and the world vertical.
 double tilt_from_vertical(const btRigidBody& body, int axis);

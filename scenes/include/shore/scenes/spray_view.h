@@ -1,13 +1,12 @@
 #pragma once
 // Spray as the soil scenes see it: what their soils threw, followed over the run for the
-// metrics (SprayMeter), and the particles in flight as dots for the pictures.
+// metrics (SprayMeter). (The pictures draw the particles in flight from the soils.)
 
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
-#include "shore/scenes/render.h"
 #include "shore/scenes/scene.h"
 #include "shore/scenes/soil_view.h"
 #include "shore/terrain/terrain.h"
@@ -33,9 +32,5 @@ class SprayMeter {
 const std::vector<MetricHelp>& spray_metric_help();
 /// A soil scene's own metric help followed by the spray_* metrics'.
 std::vector<MetricHelp> with_spray_metrics(std::vector<MetricHelp> own);
-
-/// The particles in flight of the patches' soils (each within its patch's region), as dots
-/// for the pictures.
-std::vector<Dot> spray_dots(const std::vector<Patch>& patches);
 
 }  // namespace shore::scenes
