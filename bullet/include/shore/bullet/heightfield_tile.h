@@ -79,7 +79,6 @@ class HeightfieldTile {
   /// gContactAddedCallback if it is unset; an application with its own callback calls
   /// adjust_internal_edge_contact from it.
   void smooth_internal_edges();
-  [[nodiscard]] bool has_smooth_edges() const noexcept { return edge_info_ != nullptr; }
 
  private:
   HeightfieldTileSettings settings_;
