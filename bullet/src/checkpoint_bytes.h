@@ -54,6 +54,24 @@ inline void put_window(ByteWriter& w, std::int64_t i0, std::int64_t j0, int nx, 
 }
 /// Reads put_window's form; FileError for a negative size or NaN values (the arrays' sizes
 /// are for the caller to check against nx * ny).
+/// Reads put_array's form of an older T whose fields were a prefix of T's (`Prefix` bytes
+/// each); the fields after it keep T's defaults.
+template <class T, std::size_t Prefix>
+void get_prefix_array(ByteReader& r, std::vector<T>& v, const char* what) {
+  static_assert(Prefix <= sizeof(T));
+  struct Raw {
+    unsigned char bytes[Prefix];
+  };
+  const auto count = r.get<std::uint64_t>(what);
+  if (count > r.remaining() / Prefix)
+    r.fail(std::string(what) + " claims " + std::to_string(count) + " values, more than the bytes left");
+  v.assign(static_cast<std::size_t>(count), T{});
+  for (T& x : v) {
+    const Raw raw = r.get<Raw>(what);
+    std::memcpy(static_cast<void*>(&x), raw.bytes, Prefix);
+  }
+}
+
 inline void get_window(ByteReader& r, std::int64_t& i0, std::int64_t& j0, int& nx, int& ny, std::vector<double>& lower,
                        std::vector<double>& upper);
 
@@ -63,17 +81,25 @@ inline void put_header(ByteWriter& w, const char (&magic)[8], std::uint32_t vers
   w.put(version), w.put(static_cast<std::uint32_t>(sizeof(btScalar)));
 }
 /// Checks put_header's bytes: FileError naming what the bytes should be, the version or the precision.
-inline void check_header(ByteReader& r, const char (&magic)[8], std::uint32_t version, const char* what) {
+/// Checks magic, version (oldest to newest) and precision; returns the version.
+inline std::uint32_t check_header(ByteReader& r, const char (&magic)[8], std::uint32_t oldest, std::uint32_t newest,
+                                  const char* what) {
   std::array<char, 8> m{};
   for (char& c : m) c = r.get<char>("magic");
   if (std::memcmp(m.data(), magic, sizeof magic) != 0)
     r.fail(std::string("not ") + what + " (magic " + std::string(magic, sizeof magic) + " missing)");
-  if (const auto v = r.get<std::uint32_t>("version"); v != version)
+  const auto v = r.get<std::uint32_t>("version");
+  if (v < oldest || v > newest)
     r.fail("unsupported version " + std::to_string(v) + " of " + what + " (this build reads " +
-           std::to_string(version) + ")");
+           (oldest == newest ? std::to_string(newest) : std::to_string(oldest) + " to " + std::to_string(newest)) +
+           ")");
   if (const auto scalar = r.get<std::uint32_t>("precision"); scalar != sizeof(btScalar))
     r.fail("written with " + std::to_string(8 * scalar) + "-bit Bullet scalars, this build uses " +
            std::to_string(8 * sizeof(btScalar)) + "-bit");
+  return v;
+}
+inline void check_header(ByteReader& r, const char (&magic)[8], std::uint32_t version, const char* what) {
+  (void)check_header(r, magic, version, version, what);
 }
 
 /// The body's collision shape type (-1: none): saved states check they meet the same body.

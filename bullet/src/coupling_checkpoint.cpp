@@ -20,7 +20,9 @@ namespace {
 using coupling_detail::shape_type;
 
 constexpr char kSoilMagic[8] = {'S', 'H', 'S', 'O', 'I', 'L', 'C', 'P'};
-constexpr std::uint32_t kSoilVersion = 1;
+// Version 2: contact elements and blocks carry the unloading spring (stiffness, preload);
+// version 1 states load with every element and block rigid, as they were stepped.
+constexpr std::uint32_t kSoilVersion = 2;
 
 void put_envelope(ByteWriter& w, const EnvelopeRaster& e) {
   coupling_detail::put_window(w, e.i0, e.j0, e.nx, e.ny, e.lower, e.upper);
@@ -66,7 +68,8 @@ std::vector<unsigned char> TerrainCoupling::save_state() const {
 
 void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const std::string& source) {
   ByteReader r(bytes, source);
-  coupling_detail::check_header(r, kSoilMagic, kSoilVersion, "a soil coupling's state");
+  const std::uint32_t version =
+      coupling_detail::check_header(r, kSoilMagic, 1, kSoilVersion, "a soil coupling's state");
   TerrainCouplingStats stats;
   get_totals(r, stats);
   const auto count = r.get<std::uint32_t>("body count");
@@ -86,7 +89,8 @@ void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const 
     if (!coupling_detail::finite(saved[k].envelope_pose))
       r.fail("body " + std::to_string(k) + "'s envelope pose is not finite");
     restore_contact(r, *saved[k].contact,
-                    static_cast<std::size_t>(saved[k].envelope.nx) * static_cast<std::size_t>(saved[k].envelope.ny));
+                    static_cast<std::size_t>(saved[k].envelope.nx) * static_cast<std::size_t>(saved[k].envelope.ny),
+                    version);
   }
   tiles_.restore_state(r);  // last in the bytes; changes the tiles only once all is read
   // Loading the soil marked every column changed. The run that was saved had taken its

@@ -10,8 +10,14 @@
 // body's approach and slip where the soil can, and yield where it cannot: the soil never
 // pulls and never reverses an approach. The same rule with one block is the momentum rule
 // Shore used before (p = -m v_z against S h).
+//
+// A block whose columns all unload elastically (Material::unload_modulus) is a spring
+// instead: its push at the substep's end is preload + stiffness x h x (approach speed at
+// the end), solved implicitly and bounded by [0, capacity]; it may push a body it does not
+// press, with the elastic energy its columns stored.
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -57,6 +63,12 @@ struct Block {
   double normal_impulse = 0.0, t1_impulse = 0.0, t2_impulse = 0.0;  ///< N s
   double mass_n = 0.0, mass_t1 = 0.0, mass_t2 = 0.0;                ///< effective masses, kg
   double start_n = 0.0, start_t1 = 0.0, start_t2 = 0.0;             ///< the rows' velocities at the substep's start
+  // (Last, so states saved before these fields read as a prefix.)
+  /// N/m: the elastic stiffness of its unloading columns along the normal; +infinity: it
+  /// holds rigidly up to capacity (some column is being pressed, a wall, bedrock, or the
+  /// soil is rigid-plastic).
+  double stiffness = std::numeric_limits<double>::infinity();
+  double preload = 0.0;  ///< N, the elastic push at the body's pose (finite stiffness)
 };
 
 struct SolverSettings {

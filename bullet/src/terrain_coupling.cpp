@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <utility>
 #include <vector>
 
@@ -138,12 +139,23 @@ void TerrainCoupling::save_contact(const BodyContact& c, ByteWriter& w) {
   w.put(static_cast<std::uint8_t>(c.resting)), w.put(static_cast<std::uint8_t>(c.has_end));
 }
 
-void TerrainCoupling::restore_contact(ByteReader& r, BodyContact& c, std::size_t envelope_columns) {
-  coupling_detail::get_any_array(r, c.patch.elements, "contact patch");
+void TerrainCoupling::restore_contact(ByteReader& r, BodyContact& c, std::size_t envelope_columns,
+                                      std::uint32_t version) {
+  // Version 1 elements and blocks end before the unloading spring's fields: they read as
+  // rigid ones, which they were.
+  constexpr std::size_t kElementV1 = offsetof(terrain::ContactElement, stiffness);
+  constexpr std::size_t kBlockV1 = offsetof(soil_detail::Block, stiffness);
+  if (version >= 2)
+    coupling_detail::get_any_array(r, c.patch.elements, "contact patch");
+  else
+    coupling_detail::get_prefix_array<terrain::ContactElement, kElementV1>(r, c.patch.elements, "contact patch");
   c.patch.patch_width = r.get<double>("contact patch"), c.patch.area = r.get<double>("contact patch");
   c.patch.touching_columns = r.get<int>("contact patch");
-  coupling_detail::get_any_array(r, c.blocks, "contact blocks");
-  coupling_detail::get_any_array(r, c.previous, "contact blocks");
+  for (auto* blocks : {&c.blocks, &c.previous})
+    if (version >= 2)
+      coupling_detail::get_any_array(r, *blocks, "contact blocks");
+    else
+      coupling_detail::get_prefix_array<soil_detail::Block, kBlockV1>(r, *blocks, "contact blocks");
   coupling_detail::get_any_array(r, c.shear, "shear displacement");
   r.get_array(c.shear_length, c.shear.size(), "shear displacement");
   c.last.force = coupling_detail::get_vector(r, "soil force"),
@@ -166,11 +178,12 @@ void TerrainCoupling::check_contact(const ByteReader& r, const BodyContact& c, s
                coupling_detail::finite(c.v_end) && coupling_detail::finite(c.w_end);
   for (const terrain::ContactElement& e : c.patch.elements)
     sound = sound && e.raster_index < static_cast<std::int64_t>(envelope_columns) &&
-            std::isfinite(e.x + e.y + e.z + e.nx + e.ny + e.nz + e.area) && !std::isnan(e.pressure);
+            std::isfinite(e.x + e.y + e.z + e.nx + e.ny + e.nz + e.area) && !std::isnan(e.pressure) &&
+            e.stiffness >= 0.0 && e.preload >= 0.0 && std::isfinite(e.preload);
   for (const auto* blocks : {&c.blocks, &c.previous})
     for (const soil_detail::Block& b : *blocks)
       sound = sound && std::isfinite(b.point.x + b.point.y + b.point.z + b.normal.x + b.normal.y + b.normal.z) &&
-              !std::isnan(b.capacity) &&
+              !std::isnan(b.capacity) && b.stiffness >= 0.0 && b.preload >= 0.0 && std::isfinite(b.preload) &&
               std::isfinite(b.cohesion + b.mobilised + b.normal_impulse + b.t1_impulse + b.t2_impulse + b.mass_n +
                             b.mass_t1 + b.mass_t2) &&
               std::isfinite(b.t1.x + b.t1.y + b.t1.z + b.t2.x + b.t2.y + b.t2.z + b.start_n + b.start_t1 + b.start_t2);

@@ -116,7 +116,27 @@ class PatchBuilder {
   [[nodiscard]] double column_x(std::int64_t i) const { return s_.origin_x + static_cast<double>(i) * s_.cell; }
   [[nodiscard]] double column_y(std::int64_t j) const { return s_.origin_y + static_cast<double>(j) * s_.cell; }
   [[nodiscard]] bool touches(double lower, std::size_t soil_index) const {
-    return lower <= soil_.top[soil_index] + s_.contact_tolerance;
+    return lower <= soil_.top[soil_index] + s_.contact_tolerance + rebound(soil_index);
+  }
+  /// How far a relieved column springs back (its elastic reach), m: p_yield(z) / k_u, with
+  /// Bekker's b bounded by the window (the footprint is not known yet; a wider b lowers
+  /// p_yield by k_c / b only). 0 for rigid-plastic soil, fresh columns and bedrock.
+  [[nodiscard]] double rebound(std::size_t soil_index) const {
+    const Material& m = s_.material;
+    const double z = soil_.sink[soil_index];
+    if (!(m.unload_modulus > 0.0) || !(z > 0.0) || m.rigid || soil_.top[soil_index] <= soil_.bed[soil_index])
+      return 0.0;
+    const double b = static_cast<double>(std::min(env_.nx, env_.ny)) * s_.cell;
+    return bekker::pressure(m, b, z) / (m.unload_modulus * z);
+  }
+  /// Gives `el` (its pressure already set) the elastic unloading branch where the body lies
+  /// at or above the column's top.
+  void set_unloading(std::size_t soil_index, ContactElement& el) const {
+    const Material& m = s_.material;
+    const double z = soil_.sink[soil_index], gap = el.z - soil_.top[soil_index];
+    if (!(m.unload_modulus > 0.0) || !(z > 0.0) || !(gap >= 0.0) || !(el.pressure < kInf)) return;
+    el.stiffness = m.unload_modulus * z;
+    el.preload = std::max(0.0, el.pressure - el.stiffness * gap);
   }
   [[nodiscard]] double shear_at(std::size_t raster_index) const { return shear_.empty() ? 0.0 : shear_[raster_index]; }
 
@@ -226,6 +246,7 @@ class PatchBuilder {
         el.y = column_y(j) + 0.5 * s_.cell * (loss_lo_y_[k] - (1.0 - fy_[k] - loss_lo_y_[k]));
         el.z = env_.lower[k];
         el.pressure = yield_pressure(soil_.at(i, j), el.z, shear_at(k));
+        set_unloading(soil_.at(i, j), el);
         out_.area += el.area * el.nz;
         out_.elements.push_back(el);
       }
@@ -247,6 +268,7 @@ class PatchBuilder {
       underside_normal(sx, sy, el);
       el.area = f.share * std::max(0.0, across) * cell_area / el.nz;
       el.pressure = yield_pressure(soil_.at(f.i, f.j), lower, shear_at(f.source));
+      set_unloading(soil_.at(f.i, f.j), el);
       out_.area += el.area * el.nz;
       out_.elements.push_back(el);
     }

@@ -30,6 +30,7 @@ void Material::validate() const {
   if (!(remould_shear_ratio >= 0.0 && remould_shear_ratio < 1.0))
     throw InvalidSetting(c.name("remould_shear_ratio"), detail::to_text(remould_shear_ratio), "must be in [0, 1)");
   c.positive("remould_length", remould_length);
+  c.non_negative("unload_modulus", unload_modulus);
   c.non_negative("friction", friction);
   c.positive("soil_depth", soil_depth);
   spray.validate(Check{c.name("spray")});

@@ -17,6 +17,7 @@
 //             particle_size, min_speed, jitter, drag (the material's); u8 enabled;
 //             i32 max_particles; u64 seed; f64 gravity, x_min, x_max, y_min, y_max,
 //             max_flight (older files load with spray off: they were stepped without it)
+//   (version 5 on) f64 unload_modulus (older files load with 0: rigid-plastic columns)
 //   f64 compacted, edited
 //   (version 2 on) u64 count of regions still eroding; per region i64 i0, j0; i32 nx, ny
 //   (version 4 on) spray state: i64 step; f64 lost; i64 created, landed, lost, clumps,
@@ -52,7 +53,7 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'T', 'R', 'N'};
-constexpr std::uint32_t kVersion = 4;
+constexpr std::uint32_t kVersion = 5;
 constexpr std::uint32_t kOldestVersion = 1;
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
 constexpr std::uint32_t kRealBytes = sizeof(double);
@@ -87,6 +88,7 @@ void write_settings(Writer& w, const TerrainSettings& s) {
        {m.cohesion, m.friction_angle, m.shear_modulus, m.remould_ratio, m.remould_shear_ratio, m.remould_length})
     w.put(v);
   write_spray_settings(w, s);
+  w.put(m.unload_modulus);
 }
 
 std::string hex(std::uint32_t v) {
@@ -156,6 +158,8 @@ TerrainSettings read_settings(Reader& hr, std::uint32_t version, std::shared_ptr
     read_spray_settings(hr, s);
   else
     s.spray.enabled = false;  // stepped without spray: it continues so
+  // Version 5 on: the unloading modulus; older files were stepped with rigid-plastic columns.
+  m.unload_modulus = version >= 5 ? hr.get<double>("material") : 0.0;
   s.base = std::move(base);
   try {
     s.validate();

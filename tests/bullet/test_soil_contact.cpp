@@ -82,6 +82,38 @@ TEST(SoilContact, AFrictionlessBoxSlidesDownRigidGroundAtGSinTheta) {
   }
 }
 
+TEST(SoilContact, WithUnloadingABoxSlidesDownSoftSlopesAtCoulombsRate) {
+  // Rigid-plastic columns hold a box pitched nose-down by its base friction as well as a
+  // level one, so it digs in along its own underside and trips from 35 degrees on
+  // (docs/terrain.md, "Unloading"). With Wong's elastic unloading the pressure follows the
+  // pose and the box slides at Coulomb's g (sin theta - tan phi cos theta), upright.
+  struct Case {
+    double slope_deg, phi_deg, tolerance;
+  };
+  for (const Case k : {Case{25, 0, 0.05}, Case{35, 28, 0.10}, Case{40, 28, 0.10}}) {
+    SlopeBoxCase c;
+    c.slope = k.slope_deg * kDeg;
+    c.run.material = rigid_plastic_sand();
+    c.run.material.cohesion = 0.0;
+    c.run.material.friction_angle = k.phi_deg * kDeg;
+    c.run.material.unload_modulus = 5e8;
+    const SlopeBoxResult r = run_slope_box(c);
+    const double want = kGravity * (std::sin(c.slope) - std::tan(k.phi_deg * kDeg) * std::cos(c.slope));
+    EXPECT_LT(rel(r.acceleration, want), k.tolerance) << k.slope_deg << " deg: " << r.acceleration << " vs " << want;
+    EXPECT_LT(r.max_tilt, 5 * kDeg) << k.slope_deg << " deg: tumbles";
+  }
+  // And it still holds below the friction angle.
+  SlopeBoxCase c;
+  c.slope = 25 * kDeg;
+  c.seconds = 2.0;
+  c.run.material = rigid_plastic_sand();
+  c.run.material.cohesion = 0.0;
+  c.run.material.unload_modulus = 5e8;
+  const SlopeBoxResult r = run_slope_box(c);
+  EXPECT_LT(std::abs(r.end_speed), 1e-3) << "creeps";
+  EXPECT_LT(r.distance, 0.5);
+}
+
 TEST(SoilContact, ABoxStaysOnASlopeLessSteepThanTheFrictionAngle) {
   // phi 28 degrees, c 0: the shear builds up over a few centimetres of slip and then holds.
   // Rigid-plastic sand holds up to phi; the sand preset softens as it is sheared (its

@@ -95,6 +95,50 @@ TEST(Contact, PlateAreaAndBekkerPressureDoNotDependOnWhereItsEdgesFall) {
   }
 }
 
+TEST(Contact, ARelievedColumnSpringsBackByWongsUnloadingLaw) {
+  // Press a 0.3 m plate 3 cm into sand with A_u = 5e8 Pa/m^2, then lift it by g: each
+  // column under it pushes with p_yield(z) - k_u g, k_u = A_u z (Wong's unloading line),
+  // and not at all once g exceeds p_yield / k_u.
+  TerrainSettings s;
+  s.material.alpha = 0.0;
+  s.material.unload_modulus = 5e8;
+  Terrain t(s);
+  const double z = 0.03, b = 0.3;
+  const RectangleProbe pressed(-0.155, -0.155, 0.145, 0.145, -z);
+  const shore::EnvelopeRaster env = pressed.envelope(t);
+  const Imprint im{&env};
+  t.step({&im, 1});
+  ASSERT_NEAR(t.sinkage(0, 0), z, 1e-12);
+  const double p_yield = bekker::pressure(s.material, b, z), k_u = s.material.unload_modulus * z;
+  const double reach = p_yield / k_u;  // 2.1 mm
+  for (const double share : {0.0, 0.25, 0.8, 1.2}) {
+    const double g = share * reach;
+    const RectangleProbe lifted(-0.155, -0.155, 0.145, 0.145, -z + g);
+    ContactPatch patch;
+    t.contact(lifted.envelope(t), {}, &lifted, patch);
+    const ContactElement* centre = nullptr;
+    for (const ContactElement& e : patch.elements)
+      if (!e.wall && e.i == 0 && e.j == 0) centre = &e;
+    if (share > 1.0) {
+      EXPECT_EQ(centre, nullptr) << "a column " << g << " m below the plate still touches";
+      continue;
+    }
+    ASSERT_NE(centre, nullptr) << share;
+    EXPECT_NEAR(centre->stiffness, k_u, 1e-9 * k_u);
+    EXPECT_NEAR(centre->pressure, p_yield, 1e-9 * p_yield) << share;
+    EXPECT_NEAR(centre->preload, p_yield - k_u * g, 1e-9 * p_yield) << share;
+  }
+  // Pressed further (below the column tops) the columns load plastically: rigid up to yield.
+  const RectangleProbe deeper(-0.155, -0.155, 0.145, 0.145, -z - 0.005);
+  ContactPatch patch;
+  t.contact(deeper.envelope(t), {}, &deeper, patch);
+  for (const ContactElement& e : patch.elements) {
+    if (!e.wall && e.i == 0 && e.j == 0) {
+      EXPECT_EQ(e.stiffness, kInf);
+    }
+  }
+}
+
 TEST(Contact, TheWallsOfAPlatesHoleResistAsBekkersCompactionResistance) {
   // Press a 0.3 m plate 4 cm into sand, then ask what the soil can do against it.
   TerrainSettings s;
@@ -201,6 +245,8 @@ TEST(Shear, MaterialsRejectBadShearParametersByName) {
   expect_bad([](Material& m) { m.remould_ratio = 1.0; }, "remould_ratio");
   expect_bad([](Material& m) { m.remould_shear_ratio = -0.1; }, "remould_shear_ratio");
   expect_bad([](Material& m) { m.remould_length = -0.01; }, "remould_length");
+  expect_bad([](Material& m) { m.unload_modulus = -1.0; }, "unload_modulus");
+  expect_bad([](Material& m) { m.unload_modulus = kInf; }, "unload_modulus");
   for (const char* name : {"sand", "mud", "snow", "rigid"}) EXPECT_NO_THROW(Material::preset(name).validate());
 }
 
@@ -233,6 +279,7 @@ TEST(Sinkage, ShearParametersSurviveSaveAndLoad) {
   s.material.remould_ratio = 0.4;
   s.material.remould_shear_ratio = 0.1;
   s.material.remould_length = 0.07;
+  s.material.unload_modulus = 4e8;
   const Terrain t(s);
   const auto file = std::filesystem::temp_directory_path() / "shore_shear_params.state";
   t.save(file);
@@ -244,6 +291,7 @@ TEST(Sinkage, ShearParametersSurviveSaveAndLoad) {
   EXPECT_EQ(m.remould_ratio, 0.4);
   EXPECT_EQ(m.remould_shear_ratio, 0.1);
   EXPECT_EQ(m.remould_length, 0.07);
+  EXPECT_EQ(m.unload_modulus, 4e8);
   std::filesystem::remove(file);
 }
 

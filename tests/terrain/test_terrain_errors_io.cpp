@@ -160,11 +160,12 @@ namespace {
 // Byte positions of a saved state of pressed_sand (layout at the top of terrain_io.cpp).
 constexpr std::size_t kReachAt = 76;  // f64 active_reach, after parallel_min_columns (version 2 on)
 constexpr std::size_t kSprayBytes = 8 * 8 + 1 + 4 + 8 + 6 * 8;       // spray settings (version 4 on)
+constexpr std::size_t kUnloadBytes = 8;                              // unload_modulus (version 5 on)
 constexpr std::size_t kQuietSprayState = 8 + 8 + 6 * 8 + 8 + 8 + 8;  // spray state of a soil that never sprayed
 
 /// The state's bytes rewritten as version 3: without the precision field (4 bytes after
-/// the byte-order mark), idle_tile_steps (i32 after active_reach), the spray settings
-/// (after the material's shear fields) and the spray state (after the eroding regions).
+/// the byte-order mark), idle_tile_steps (i32 after active_reach), the spray settings and
+/// the unloading modulus (after the material's shear fields) and the spray state (after the eroding regions).
 void strip_spray(std::vector<unsigned char>& bytes) {
   std::uint32_t real_bytes = 0;
   std::memcpy(&real_bytes, bytes.data() + 16, sizeof real_bytes);
@@ -172,7 +173,7 @@ void strip_spray(std::vector<unsigned char>& bytes) {
   bytes.erase(bytes.begin() + 16, bytes.begin() + 20);
   bytes.erase(bytes.begin() + kReachAt + 8, bytes.begin() + kReachAt + 12);
   const std::size_t spray_at = kReachAt + 8 + 4 + 4 + 10 * 8 + 1 + 6 * 8;
-  bytes.erase(bytes.begin() + spray_at, bytes.begin() + spray_at + kSprayBytes);
+  bytes.erase(bytes.begin() + spray_at, bytes.begin() + spray_at + kSprayBytes + kUnloadBytes);
   const std::size_t regions_at = spray_at + 2 * 8;
   std::uint64_t regions = 0;
   std::memcpy(&regions, bytes.data() + regions_at, sizeof regions);

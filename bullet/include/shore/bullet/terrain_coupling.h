@@ -213,7 +213,7 @@ class TerrainCoupling : public btActionInterface {
   struct BodyContact;  // the soil contact's state kept between substeps (terrain_coupling.cpp)
   // A contact's bytes in a checkpoint: next to BodyContact, so a new field is saved too.
   static void save_contact(const BodyContact& c, ByteWriter& w);
-  static void restore_contact(ByteReader& r, BodyContact& c, std::size_t envelope_columns);
+  static void restore_contact(ByteReader& r, BodyContact& c, std::size_t envelope_columns, std::uint32_t version);
   static void check_contact(const ByteReader& r, const BodyContact& c, std::size_t envelope_columns);
   struct Body {
     Body();

@@ -24,8 +24,14 @@
 // depth per unit of sideways travel: k z^(n+1) / (n + 1) per unit length of wall, z its
 // height above the underside, k = k_c / b + k_phi (Bekker's compaction resistance, turned
 // sideways). Walls carry no shear.
+//
+// Unloading (Material::unload_modulus A_u > 0): a column the body lies on or above, pressed
+// before to plastic sinkage z, is elastic: it pushes with p_yield(z) - k_u g, k_u = A_u z,
+// g how far the body's underside lies above its top, and counts as touched while that is
+// positive. Columns the body presses into (below their top) stay rigid-plastic.
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace shore::terrain {
@@ -50,6 +56,14 @@ struct ContactElement {
   /// reads and moves (a fringe element shares its covered neighbour's); -1 for walls.
   std::int32_t raster_index = -1;
   bool wall = false;  ///< the side of a rut or crater (horizontal normal, no shear)
+  // (Last, so states saved before these fields read as a prefix: docs/checkpoints.md.)
+  /// Pa/m: how the push changes as the body moves along the normal, where the column is
+  /// unloading elastically (Material::unload_modulus > 0 and the body at or above its top):
+  /// it pushes with preload + stiffness x (the body's further approach), within
+  /// [0, pressure]. +infinity: it holds rigidly whatever is asked, up to `pressure`
+  /// (columns being pressed, walls, bedrock, rigid-plastic soil).
+  double stiffness = std::numeric_limits<double>::infinity();
+  double preload = 0.0;  ///< Pa, the elastic push at the body's present pose (when stiffness is finite)
 };
 
 /// The soil's side of one body's contact.

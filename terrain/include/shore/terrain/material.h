@@ -39,6 +39,16 @@ struct Material {
   double remould_ratio = 0.55;
   double remould_shear_ratio = 0.22;
   double remould_length = 0.06;  ///< m, > 0
+  /// Unloading-reloading (Wong's k_u = A_u z, k_0 = 0): a column pressed to plastic sinkage
+  /// z and then relieved springs back elastically with stiffness k_u = unload_modulus x z
+  /// (Pa/m), so a body lifted by g off it still feels (p_yield(z) - k_u g) until it is
+  /// p_yield / k_u clear, and the pressure under a body follows its pose. Pa/m^2, >= 0;
+  /// 0: rigid-plastic columns (they hold anything up to their yield pressure without
+  /// deflecting). Off by default: at 5e8 (the order of Wong's A_u for sand) boxes slide down
+  /// soft slopes at Coulomb's rate instead of tumbling, but a sphere dropped into sand
+  /// rebounds and leaves a crater 20 % shallower than the rigid-plastic energy balance;
+  /// docs/terrain.md, "Unloading", gives the measurements.
+  double unload_modulus = 0.0;
 
   /// Bullet friction coefficient of rigid ground, and of soft ground for bodies Shore does
   /// not couple (they collide with the heightfield tiles through Bullet). Coupled bodies
