@@ -24,6 +24,8 @@ inline namespace SHORE_BULLET_ABI {
 namespace {
 using coupling_detail::Clock;
 using coupling_detail::seconds_since;
+/// The terrain couplings of each world (a body in two of them over overlapping regions).
+using Directory = coupling_detail::WorldDirectory<TerrainCoupling>;
 
 /// The body's true shape, without Bullet's collision margin: Shore, not Bullet, makes the
 /// contact of added bodies with soft soil (and a sharp cylinder rasterizes in closed form).
@@ -222,15 +224,10 @@ TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrai
   rigid_ = soil.settings().material.rigid;
   tiles_.set_collision_group(rigid_ ? int(btBroadphaseProxy::StaticFilter) : settings_.soil_filter_bit);
   world_.addAction(this);
-  coupling_detail::WorldDirectory<TerrainCoupling>::enter(&world_, this);
+  Directory::enter(&world_, this);
 }
 
 TerrainCoupling::~TerrainCoupling() { detach(); }
-
-namespace {
-using Directory = coupling_detail::WorldDirectory<TerrainCoupling>;
-
-}  // namespace
 
 bool TerrainCoupling::holds(const btRigidBody* body) const {
   return std::any_of(bodies_.begin(), bodies_.end(), [body](const Body& b) { return b.body == body; });
