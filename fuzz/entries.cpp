@@ -1,15 +1,19 @@
 #include "entries.h"
 
 #include "coupled_world.h"
+#include "delta_server.h"
 
 #include <cmath>
 #include <cstring>
 #include <limits>
 
+#include <zstd.h>
+
 #include "shore/core/envelope.h"
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
 #include "shore/terrain/height_source.h"
+#include "shore/terrain/soil_delta.h"
 #include "shore/terrain/terrain.h"
 
 namespace shore::fuzz {
@@ -161,6 +165,73 @@ bool checkpoint_seed_fits_build(std::span<const std::uint8_t> data) {
   return scalar == bullet::scalar_bytes();
 }
 
+std::vector<unsigned char> wrap_delta_payload(std::span<const std::uint8_t> fields) {
+  constexpr std::size_t kFields = 8 + 8 + 8;  // quantum, from, to
+  if (fields.size() < kFields) return {};
+  const std::span<const std::uint8_t> payload = fields.subspan(kFields);
+  // The container's layout (shore/terrain/soil_delta.h): magic, u32 version 1, u32 byte-order
+  // mark, the three fields, u64 raw size, u64 frame size, the zstd frame, u64 checksum.
+  std::vector<unsigned char> out = {'S', 'H', 'O', 'R', 'E', 'S', 'D', 'L'};
+  const auto put = [&out](const auto v) {
+    const auto* p = reinterpret_cast<const unsigned char*>(&v);
+    out.insert(out.end(), p, p + sizeof v);
+  };
+  put(std::uint32_t{1}), put(std::uint32_t{0x01020304u});
+  out.insert(out.end(), fields.begin(), fields.begin() + kFields);
+  put(std::uint64_t{payload.size()});
+  std::vector<unsigned char> frame(ZSTD_compressBound(payload.size()));
+  const std::size_t n = ZSTD_compress(frame.data(), frame.size(), payload.data(), payload.size(), 1);
+  require(ZSTD_isError(n) == 0, "zstd could not compress a payload");
+  put(std::uint64_t{n});
+  out.insert(out.end(), frame.begin(), frame.begin() + static_cast<std::ptrdiff_t>(n));
+  StateHash sum;
+  sum.add_bytes(out.data(), out.size());
+  put(sum.value());
+  return out;
+}
+
+namespace {
+const DeltaServer& delta_server() {
+  static const DeltaServer server;
+  return server;
+}
+
+/// Heights and sinkage of every column the replica lists as changed are finite.
+void require_finite_changes(const terrain::Terrain& t, std::uint64_t since) {
+  std::vector<double> h;
+  for (const terrain::ColumnRect& r : t.changed_since(since)) {
+    h.resize(static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny));
+    t.heights(r, h);
+    for (const double z : h) require(std::isfinite(z), "non-finite height applied");
+    for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
+      for (std::int64_t i = r.i0; i < r.i0 + r.nx; ++i) require(std::isfinite(t.sinkage(i, j)), "non-finite sinkage");
+  }
+}
+}  // namespace
+
+bool soil_delta(std::span<const std::uint8_t> data) {
+  if (data.empty()) return false;
+  const std::vector<unsigned char> delta =
+      (data[0] & 2) ? wrap_delta_payload(data.subspan(1)) : with_checksum_mode(data);
+  terrain::Terrain replica(delta_soil());
+  const DeltaServer& server = delta_server();
+  const std::uint64_t at = terrain::SoilDelta::apply(replica, server.first_snapshot(), 0);
+  require(at == server.first_generation(), "the first snapshot brought the wrong generation");
+  const std::uint64_t hash = replica.state_hash(), generation = replica.generation();
+  try {
+    (void)terrain::SoilDelta::apply(replica, delta, at);
+  } catch (const FileError&) {
+    require(replica.state_hash() == hash && replica.generation() == generation, "a refused delta changed the replica");
+    return false;
+  } catch (const InvalidSetting&) {
+    require(replica.state_hash() == hash && replica.generation() == generation, "a refused delta changed the replica");
+    return false;
+  }
+  require_finite_changes(replica, generation);
+  exercise(replica);
+  return true;
+}
+
 bool heightmap_png(std::span<const std::uint8_t> data) {
   if (data.empty()) return false;
   std::vector<unsigned char> png(data.begin() + 1, data.end());
@@ -200,6 +271,7 @@ const std::vector<Target>& targets() {
       {"coupled_checkpoint", coupled_checkpoint, checkpoint_seed_fits_build},
       {"heightmap_png", heightmap_png},
       {"heightmap_raw", heightmap_raw},
+      {"soil_delta", soil_delta},
       {"terrain_state", terrain_state},
   };
   return list;

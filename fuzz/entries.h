@@ -32,6 +32,14 @@ bool terrain_state(std::span<const std::uint8_t> data);
 /// stepped: the ball, soil and water must stay finite, and saving it again and restoring
 /// that into another fresh world must continue to the same state.
 bool coupled_checkpoint(std::span<const std::uint8_t> data);
+/// A soil delta (SoilDelta::apply) applied to a replica that mirrors a small pressed server
+/// (delta_server.h) at generation first_generation(). Byte 0 chooses the mode: bit 1 set,
+/// the rest is f64 quantum, u64 from, u64 to and then the delta's payload before
+/// compression, which is compressed and wrapped in a valid container (so mutations reach
+/// the decoder behind zstd and the checksum); else bit 0 as for terrain_state (odd: the
+/// checksum is appended). A refused delta must leave the replica unchanged; an accepted one
+/// must leave it finite, and it is stepped, saved and loaded again (round trip).
+bool soil_delta(std::span<const std::uint8_t> data);
 /// A PNG heightmap, 8 or 16 bits (Heightmap::from_png_bytes). Byte 0 chooses the mode: odd,
 /// every chunk's CRC in the rest is rewritten to match (so mutations reach the decoder
 /// behind the loader's CRC check); even, the rest is the file as it is.
@@ -51,8 +59,11 @@ struct Target {
 };
 /// coupled_checkpoint's seed_fits_build: the container's precision field is this build's.
 bool checkpoint_seed_fits_build(std::span<const std::uint8_t> data);
-/// Every target, in name order. A new loader (the checkpoint and delta formats of issue 20)
-/// adds its function here and in fuzz/CMakeLists.txt (fuzz/README.md).
+/// The soil delta container around a payload (soil_delta's mode 2; shore-fuzz-corpus
+/// writes such seeds): `fields` is f64 quantum, u64 from, u64 to, the rest the payload.
+std::vector<unsigned char> wrap_delta_payload(std::span<const std::uint8_t> fields);
+/// Every target, in name order. A new loader adds its function here, in
+/// fuzz/CMakeLists.txt and in scripts/fuzz.sh (fuzz/README.md).
 const std::vector<Target>& targets();
 
 }  // namespace shore::fuzz

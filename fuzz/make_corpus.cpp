@@ -3,8 +3,11 @@
 // kind each loader reads: terrain states of format versions 3 and 4 (with and without the
 // checksum the fuzz entry appends), PNG heightmaps of every colour type stb_image_write
 // writes plus a 16-bit one, raw float32 maps, checkpoints of a small coupled world (a
-// float build writes them: a double build refuses their precision).
+// float build writes them: a double build refuses their precision), soil deltas of a
+// small server (delta_server.h: a snapshot and increments, quantised and exact, whole and
+// as payloads).
 #include <stb_image_write.h>
+#include <zstd.h>
 
 #include <cstdint>
 #include <cstdio>
@@ -16,6 +19,7 @@
 #include <vector>
 
 #include "coupled_world.h"
+#include "delta_server.h"
 #include "png_writer.h"
 #include "shore/core/envelope.h"
 #include "shore/terrain/terrain.h"
@@ -108,6 +112,37 @@ void checkpoint_seeds(const fs::path& dir) {
   write(dir / "seed_mid_run_whole", entry_input(false, mid));
 }
 
+/// soil_delta's mode 2 input: mode byte 2, quantum, from, to (the delta's own header fields,
+/// bytes 16 to 40) and the payload its zstd frame holds.
+Bytes payload_input(const Bytes& delta) {
+  constexpr std::size_t kFieldsAt = 16, kFieldsEnd = 40, kFrameAt = 56;
+  const std::size_t frame = delta.size() - kFrameAt - 8;
+  const unsigned long long raw_size = ZSTD_getFrameContentSize(delta.data() + kFrameAt, frame);
+  if (raw_size == ZSTD_CONTENTSIZE_UNKNOWN || raw_size == ZSTD_CONTENTSIZE_ERROR)
+    throw std::runtime_error("a soil delta's frame without its size");
+  Bytes raw(raw_size);
+  if (ZSTD_decompress(raw.data(), raw.size(), delta.data() + kFrameAt, frame) != raw.size())
+    throw std::runtime_error("a soil delta's frame did not decompress");
+  Bytes out = {2};
+  out.insert(out.end(), delta.begin() + kFieldsAt, delta.begin() + kFieldsEnd);
+  out.insert(out.end(), raw.begin(), raw.end());
+  return out;
+}
+
+void soil_delta_seeds(const fs::path& dir) {
+  shore::fuzz::DeltaServer server;
+  server.press_again();
+  const std::uint64_t since = server.first_generation();
+  const Bytes step = shore::terrain::SoilDelta::encode(server.soil(), since, {});
+  const Bytes exact = shore::terrain::SoilDelta::encode(server.soil(), since, {.quantum = 0.0});
+  const Bytes snapshot = shore::terrain::SoilDelta::encode(server.soil(), 0, {.compression_level = 19});
+  write(dir / "seed_step", entry_input(true, step));
+  write(dir / "seed_step_exact", entry_input(true, exact));
+  write(dir / "seed_snapshot_whole", entry_input(false, snapshot));
+  write(dir / "seed_step_payload", payload_input(step));
+  write(dir / "seed_exact_payload", payload_input(exact));
+}
+
 void stb_write_to(void* context, void* data, int size) {
   auto* out = static_cast<Bytes*>(context);
   out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
@@ -156,6 +191,7 @@ int main(int argc, char** argv) {
   checkpoint_seeds(root / "coupled_checkpoint");
   png_seeds(root / "heightmap_png");
   raw_seeds(root / "heightmap_raw");
+  soil_delta_seeds(root / "soil_delta");
   std::printf("seeds written to %s\n", root.c_str());
   return 0;
 }

@@ -4,13 +4,17 @@
 # once, from the seeds of fuzz/corpus/<target>. New inputs go to build/fuzz/corpus/<target>
 # (not the repository); a crash is written to build/fuzz/crashes/<target>/ and fails the
 # run. Executions per target go to build/fuzz/fuzz_stats.json (shore-bench's reliability
-# sweep reports them). fuzz/README.md says what to do with a crash.
+# sweep reports them as reliability.fuzz_execs_per_target), marked as a CI run if
+# SHORE_FUZZ_RUN=ci (.ci/run sets it), else as a local one. fuzz/README.md says what to do
+# with a crash.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-${SHORE_FUZZ_SECONDS:-60}}
 [[ $seconds =~ ^[0-9]+$ && $seconds -gt 0 ]] || { echo "fuzz: seconds must be a positive integer, got '$seconds'" >&2; exit 2; }
 jobs=$(nproc 2>/dev/null || echo 2)
-targets=(coupled_checkpoint heightmap_png heightmap_raw terrain_state)
+run_kind=${SHORE_FUZZ_RUN:-local}
+[[ $run_kind == ci || $run_kind == local ]] || { echo "fuzz: SHORE_FUZZ_RUN must be 'ci' or 'local', got '$run_kind'" >&2; exit 2; }
+targets=(coupled_checkpoint heightmap_png heightmap_raw soil_delta terrain_state)
 
 scripts/install-deps.sh build fuzz
 cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
@@ -30,9 +34,10 @@ for t in "${targets[@]}"; do
     >"build/fuzz/$t.log" 2>&1 &
   pids+=($!)
 done
-failed=0
+failed=0 crashed=()
 for k in "${!targets[@]}"; do
-  if ! wait "${pids[$k]}"; then failed=1; echo "fuzz: fuzz_${targets[$k]} FAILED (build/fuzz/${targets[$k]}.log):" >&2
+  crashed+=(false)
+  if ! wait "${pids[$k]}"; then failed=1 crashed[$k]=true; echo "fuzz: fuzz_${targets[$k]} FAILED (build/fuzz/${targets[$k]}.log):" >&2
     grep -E "ERROR|SUMMARY|Test unit written" "build/fuzz/${targets[$k]}.log" >&2 || tail -20 "build/fuzz/${targets[$k]}.log" >&2
   fi
 done
@@ -47,11 +52,12 @@ done
 {
   echo "{"
   echo "  \"seconds_per_target\": $seconds,"
+  echo "  \"run\": \"$run_kind\","
   echo "  \"source\": \"./shore fuzz $seconds on $(hostname), $jobs cores, all targets at once, $(date -u +%Y-%m-%dT%H:%MZ)\","
   echo "  \"targets\": {"
   for k in "${!targets[@]}"; do
     sep=$([[ $k -lt $((${#targets[@]} - 1)) ]] && echo "," || true)
-    echo "    \"${targets[$k]}\": {\"executions\": ${runs[$k]}, \"executions_per_second\": ${rates[$k]}}$sep"
+    echo "    \"${targets[$k]}\": {\"executions\": ${runs[$k]}, \"executions_per_second\": ${rates[$k]}, \"crashed\": ${crashed[$k]}}$sep"
   done
   echo "  }"
   echo "}"

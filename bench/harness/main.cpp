@@ -7,13 +7,16 @@
 #pragma GCC diagnostic ignored "-Wnull-dereference"
 #include <CLI/CLI.hpp>
 
+#include <charconv>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <set>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "output.h"
@@ -59,6 +62,20 @@ void print_figures(const SweepResult& r) {
   }
 }
 
+/// An option's check whose message gives the value and what is allowed (CLI11 puts the
+/// option's name first; its own PositiveNumber says only "Number less or equal to 0").
+CLI::Validator whole_number_at_least_one(const std::string& allowed) {
+  return CLI::Validator(
+      [allowed](const std::string& text) -> std::string {
+        std::int64_t v = 0;
+        const char* end = text.data() + text.size();
+        const auto [at, error] = std::from_chars(text.data(), end, v);
+        if (error == std::errc() && at == end && v >= 1) return {};
+        return "'" + text + "' is not allowed: " + allowed;
+      },
+      "INT >= 1");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -79,7 +96,9 @@ int main(int argc, char** argv) {
   std::int64_t soak_substeps = 0;
   app.add_option("--soak-substeps", soak_substeps,
                  "substeps of the reliability sweep's soak (default 100,000; 5,000 with --quick)")
-      ->check(CLI::PositiveNumber);
+      ->check(whole_number_at_least_one(
+          "must be a whole number of substeps (of 1/240 s) >= 1; leave the option out for the default "
+          "(100,000; 5,000 with --quick)"));
   CLI11_PARSE(app, argc, argv);
 
   try {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include <LinearMath/btTransformUtil.h>
 
 #include "checkpoint_bytes.h"
+#include "coupling_directory.h"
 #include "coupling_util.h"
 #include "shore/bullet/envelope.h"
 #include "shore/core/error.h"
@@ -23,6 +25,8 @@ inline namespace SHORE_BULLET_ABI {
 namespace {
 using coupling_detail::Clock;
 using coupling_detail::seconds_since;
+/// The terrain couplings of each world (a body in two of them over overlapping regions).
+using Directory = coupling_detail::WorldDirectory<TerrainCoupling>;
 
 /// The body's true shape, without Bullet's collision margin: Shore, not Bullet, makes the
 /// contact of added bodies with soft soil (and a sharp cylinder rasterizes in closed form).
@@ -233,9 +237,28 @@ TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrai
   rigid_ = soil.settings().material.rigid;
   tiles_.set_collision_group(rigid_ ? int(btBroadphaseProxy::StaticFilter) : settings_.soil_filter_bit);
   world_.addAction(this);
+  Directory::enter(&world_, this);
 }
 
 TerrainCoupling::~TerrainCoupling() { detach(); }
+
+bool TerrainCoupling::holds(const btRigidBody* body) const {
+  return std::any_of(bodies_.begin(), bodies_.end(), [body](const Body& b) { return b.body == body; });
+}
+
+void TerrainCoupling::refuse_overlapping_coupling(const btRigidBody& body) const {
+  Directory::for_each_other(&world_, this, [&](const TerrainCoupling& other) {
+    if (!other.holds(&body) || !other.settings_.region.overlaps(settings_.region)) return;
+    throw InvalidSetting("bullet.TerrainCoupling.add_body(body)",
+                         coupling_detail::body_text(body) +
+                             ", already in another TerrainCoupling of this world whose region " +
+                             coupling_detail::region_text(other.settings_.region) + " overlaps this one's " +
+                             coupling_detail::region_text(settings_.region),
+                         "a body may be in several terrain couplings only if their regions are disjoint (else "
+                         "both soils would push it): remove_body it from the other first, or give the couplings "
+                         "disjoint regions");
+  });
+}
 
 void TerrainCoupling::detach() {
   if (detached_) return;
@@ -247,6 +270,7 @@ void TerrainCoupling::detach() {
   imprints_.clear();
   tiles_.remove_all();
   world_.removeAction(this);
+  Directory::leave(this);
   detached_ = true;
 }
 
@@ -256,6 +280,7 @@ void TerrainCoupling::add_body(btRigidBody* body, BodySoilSettings body_settings
     throw InvalidSetting("bullet.TerrainCoupling.add_body(body)", "after detach()",
                          "a detached coupling takes no bodies: make a new one");
   body_settings.validate();
+  refuse_overlapping_coupling(*body);
   Body b;
   b.body = body;
   b.settings = body_settings;

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "checkpoint_bytes.h"
+#include "coupling_directory.h"
 #include "coupling_util.h"
 #include "envelope_internal.h"
 #include "shore/bullet/envelope.h"
@@ -199,9 +200,39 @@ WaterCoupling::WaterCoupling(btDiscreteDynamicsWorld& world, water::Surface& sur
   settings_.fluid.density = surface.density();
   settings_.validate();
   world_.addAction(this);
+  coupling_detail::WorldDirectory<WaterCoupling>::enter(&world_, this);
 }
 
-WaterCoupling::~WaterCoupling() { world_.removeAction(this); }
+WaterCoupling::~WaterCoupling() {
+  coupling_detail::WorldDirectory<WaterCoupling>::leave(this);
+  world_.removeAction(this);
+}
+
+namespace {
+/// The rectangle a surface covers: node (i, j) stands for the cell of side h around it.
+Region area_of(const water::Surface& s) {
+  const double h = s.spacing();
+  return {s.node_x(0) - 0.5 * h, s.node_y(0) - 0.5 * h, s.node_x(s.nx() - 1) + 0.5 * h, s.node_y(s.ny() - 1) + 0.5 * h};
+}
+}  // namespace
+
+bool WaterCoupling::holds(const btRigidBody* body) const {
+  return std::any_of(bodies_.begin(), bodies_.end(),
+                     [body](const std::unique_ptr<Body>& b) { return b->body == body; });
+}
+
+void WaterCoupling::refuse_overlapping_coupling(const btRigidBody& body) const {
+  coupling_detail::WorldDirectory<WaterCoupling>::for_each_other(&world_, this, [&](const WaterCoupling& other) {
+    const Region mine = area_of(surface_), theirs = area_of(other.surface_);
+    if (!other.holds(&body) || !theirs.overlaps(mine)) return;
+    throw InvalidSetting("bullet.WaterCoupling.add_body(body)",
+                         coupling_detail::body_text(body) + ", already in another WaterCoupling of this world whose " +
+                             "water " + coupling_detail::region_text(theirs) + " overlaps this one's " +
+                             coupling_detail::region_text(mine),
+                         "a body may be in several water couplings only if their surfaces do not overlap (else "
+                         "both would float it): remove_body it from the other first");
+  });
+}
 
 namespace {
 /// The grid of sub-samples: sub-sample k at origin + (k + 1/2) h / S - h / 2.
@@ -237,6 +268,7 @@ void WaterCoupling::add_body(btRigidBody* body, bool disturb) {
   if (body->getCollisionShape() == nullptr)
     throw InvalidSetting("bullet.WaterCoupling.add_body shape", "null", "the body must have a collision shape");
   check_pose(*body);
+  refuse_overlapping_coupling(*body);
   auto b = std::make_unique<Body>();
   b->body = body;
   b->disturb = disturb;

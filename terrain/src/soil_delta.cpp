@@ -217,6 +217,14 @@ Header read_header(std::span<const unsigned char> delta) {
 }
 
 std::vector<unsigned char> decompress(std::span<const unsigned char> delta, const Header& h) {
+  // Checked before the payload's buffer is allocated, so a corrupt size cannot cost 2 GB
+  // (found by fuzz_soil_delta): zstd's best ratio is a 128 KiB block from 4 bytes (an RLE
+  // block), and the frame records its own content size.
+  constexpr std::uint64_t kMaxRatio = 131072 / 4;
+  if (h.raw_size > h.frame_size * kMaxRatio ||
+      ZSTD_getFrameContentSize(delta.data() + kHeaderBytes, h.frame_size) != h.raw_size)
+    refuse("corrupt (a payload of " + std::to_string(h.raw_size) + " bytes in a zstd frame of " +
+           std::to_string(h.frame_size) + " that says otherwise)");
   std::vector<unsigned char> raw(h.raw_size);
   const std::size_t got = ZSTD_decompress(raw.data(), raw.size(), delta.data() + kHeaderBytes, h.frame_size);
   if (ZSTD_isError(got) != 0) refuse(std::string("zstd: ") + ZSTD_getErrorName(got));
@@ -230,6 +238,13 @@ DecodedRect read_rect(RawReader& r, const TileStore& tiles, double quantum) {
   d.rect.nx = r.get<std::uint16_t>("a rectangle"), d.rect.ny = r.get<std::uint16_t>("a rectangle");
   const int n = tiles.n();
   const ColumnRect& c = d.rect;
+  // Past column 2^52 the state file refuses a tile (terrain_io.cpp); a margin wider than
+  // any tile keeps every column of the rectangle and its tile's origin inside (found by
+  // fuzz_soil_delta: a replica that could not be saved).
+  constexpr std::int64_t kMaxColumn = (std::int64_t{1} << 52) - 2048;
+  if (c.i0 < -kMaxColumn || c.i0 > kMaxColumn || c.j0 < -kMaxColumn || c.j0 > kMaxColumn)
+    refuse("corrupt (a rectangle at column (" + std::to_string(c.i0) + ", " + std::to_string(c.j0) +
+           "), beyond column index 2^52)");
   if (c.nx < 1 || c.ny < 1 || tiles.key_of(c.i0, c.j0) != tiles.key_of(c.i0 + c.nx - 1, c.j0 + c.ny - 1))
     throw InvalidSetting("terrain.SoilDelta.rectangle",
                          std::to_string(c.nx) + " x " + std::to_string(c.ny) + " at (" + std::to_string(c.i0) + ", " +
@@ -246,8 +261,13 @@ DecodedRect read_rect(RawReader& r, const TileStore& tiles, double quantum) {
     }
   r.sequence(values);
   for (std::size_t k = 0; k < values.size(); ++k) d.sinkage[k] = dequantise(values[k], quantum);
+  // The state file's bound (terrain_io.cpp): no ground lies farther from sea level, and a
+  // replica holding such a column could not be saved (found by fuzz_soil_delta).
+  constexpr double kMaxLevel = 1e7;
   for (std::size_t k = 0; k < values.size(); ++k)
-    if (!std::isfinite(d.height[k]) || !std::isfinite(d.sinkage[k])) refuse("corrupt (a non-finite column)");
+    if (!(std::fabs(d.height[k]) <= kMaxLevel) || !(std::fabs(d.sinkage[k]) <= kMaxLevel))
+      refuse("corrupt (a column of height " + detail::to_text(d.height[k]) + " m, sinkage " +
+             detail::to_text(d.sinkage[k]) + " m: non-finite or beyond +-1e7 m)");
   return d;
 }
 

@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <sstream>
+#include <string>
 
 #include <BulletCollision/CollisionShapes/btMultiSphereShape.h>
 #include <btBulletDynamicsCommon.h>
@@ -316,4 +318,139 @@ TEST(CouplingMisuse, MaterialChangesMidRunAreCheckedAndOutOfRangeIndicesRefusedO
   EXPECT_THROW((void)pond.height(-1, 0), shore::InvalidSetting);
   EXPECT_THROW((void)pond.height(0, 16), shore::InvalidSetting);
   EXPECT_THROW(pond.set_constraint(16, 16, water::NodeConstraint::fixed), shore::InvalidSetting);
+}
+
+namespace {
+/// The InvalidSetting add_body threw, or an empty message if it threw none.
+template <class Coupling>
+std::string refusal_of(Coupling& coupling, btRigidBody* body) {
+  try {
+    coupling.add_body(body);
+  } catch (const shore::InvalidSetting& e) {
+    return e.what();
+  }
+  return {};
+}
+
+bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+std::string address_of(const void* p) {
+  std::ostringstream s;
+  s << p;
+  return s.str();
+}
+}  // namespace
+
+// Two soils whose regions overlap would both push a body in both couplings: the second
+// add_body refuses it, naming the body and both regions, and changes nothing.
+TEST(CouplingMisuse, ABodyInTwoTerrainCouplingsOverOverlappingRegionsIsRefused) {
+  terrain::Terrain sand_soil(sand()), mud_soil(sand());
+  World world;
+  bullet::TerrainCouplingSettings west, east;
+  west.region = {-1.5, -1.5, 0.5, 1.5};
+  east.region = {0.0, -1.5, 1.5, 1.5};  // overlaps west over [0, 0.5)
+  bullet::TerrainCoupling a(world.world(), sand_soil, west);
+  bullet::TerrainCoupling b(world.world(), mud_soil, east);
+  btRigidBody* ball = world.add_body(std::make_unique<btSphereShape>(0.1f), 5.0, btVector3(0.3f, 0, 0.3f));
+  a.add_body(ball);
+  const int mask = ball->getBroadphaseHandle()->m_collisionFilterMask;
+  const std::string why = refusal_of(b, ball);
+  ASSERT_FALSE(why.empty()) << "the second add_body over an overlapping region was accepted";
+  EXPECT_TRUE(mentions(why, "bullet.TerrainCoupling.add_body(body)")) << why;
+  EXPECT_TRUE(mentions(why, address_of(ball))) << why;
+  EXPECT_TRUE(mentions(why, "SPHERE")) << why;
+  EXPECT_TRUE(mentions(why, "[-1.5, 0.5) x [-1.5, 1.5) m")) << why;
+  EXPECT_TRUE(mentions(why, "[0, 1.5) x [-1.5, 1.5) m")) << why;
+  EXPECT_TRUE(b.bodies().empty()) << "the refused add_body changed nothing";
+  ASSERT_EQ(a.bodies().size(), 1u);
+  EXPECT_EQ(ball->getBroadphaseHandle()->m_collisionFilterMask, mask);
+  EXPECT_TRUE(refusal_of(a, ball).empty()) << "adding it again to the same coupling still replaces its settings";
+  steps(world, 120);
+  EXPECT_GT(sand_soil.sinkage(sand_soil.column_i(0.3), 0), 1e-4) << "the first coupling still presses the soil";
+  EXPECT_EQ(mud_soil.sinkage(mud_soil.column_i(0.3), 0), 0.0) << "the refused one never did";
+  // Taken out of the first coupling, it may go to the second.
+  a.remove_body(ball);
+  EXPECT_TRUE(refusal_of(b, ball).empty());
+  EXPECT_FALSE(refusal_of(a, ball).empty()) << "now the first refuses it";
+}
+
+TEST(CouplingMisuse, TwoTerrainCouplingsOverTheWholePlaneRefuseASharedBody) {
+  terrain::Terrain one(sand()), two(sand());
+  World world;
+  bullet::TerrainCoupling a(world.world(), one);
+  bullet::TerrainCoupling b(world.world(), two);
+  btRigidBody* ball = world.add_body(std::make_unique<btSphereShape>(0.1f), 5.0, btVector3(0, 0, 0.3f));
+  b.add_body(ball);
+  const std::string why = refusal_of(a, ball);
+  EXPECT_TRUE(mentions(why, "everywhere (the default Region) overlaps this one's everywhere")) << why;
+}
+
+// Regions side by side (sharing an edge) are disjoint: a body in both couplings is how a
+// vehicle crosses from one soil to the next. Detached or destroyed couplings, and
+// couplings of another world, are not looked at.
+TEST(CouplingMisuse, ABodyMayBeInCouplingsOfDisjointRegionsOrOtherWorlds) {
+  terrain::Terrain one(sand()), two(sand()), three(sand());
+  World world, other_world;
+  bullet::TerrainCouplingSettings west, east;
+  west.region = {-1.28, -1.28, 0.0, 1.28};
+  east.region = {0.0, -1.28, 1.28, 1.28};
+  bullet::TerrainCoupling a(world.world(), one, west);
+  bullet::TerrainCoupling b(world.world(), two, east);
+  btRigidBody* ball = world.add_body(std::make_unique<btSphereShape>(0.1f), 5.0, btVector3(0, 0, 0.3f));
+  a.add_body(ball);
+  EXPECT_TRUE(refusal_of(b, ball).empty()) << "regions sharing an edge do not overlap";
+  steps(world, 60);
+  EXPECT_TRUE(finite(ball->getCenterOfMassPosition()));
+  EXPECT_GT(clearance_above_bedrock(*ball, one), 0.0);
+  {
+    auto everywhere = std::make_unique<bullet::TerrainCoupling>(world.world(), three);
+    EXPECT_FALSE(refusal_of(*everywhere, ball).empty());
+    everywhere->detach();
+    a.remove_body(ball);
+    b.remove_body(ball);
+    everywhere = std::make_unique<bullet::TerrainCoupling>(world.world(), three);
+    everywhere->add_body(ball);
+    everywhere.reset();  // destroyed while holding the ball: it leaves the world's list
+  }
+  EXPECT_TRUE(refusal_of(a, ball).empty()) << "a destroyed coupling is not looked at";
+  // A kinematic press outside every world (allowed) in couplings of two worlds.
+  OwnBody press(btVector3(3, 0, 0.05f));
+  press.body->setCollisionFlags(press.body->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+  press.body->setMassProps(0, btVector3(0, 0, 0));
+  bullet::TerrainCoupling here(world.world(), three);
+  bullet::TerrainCoupling there(other_world.world(), one);
+  here.add_body(press.body.get());
+  EXPECT_TRUE(refusal_of(there, press.body.get()).empty()) << "couplings of another world are not looked at";
+}
+
+// One body in a terrain and a water coupling (a beach) is fine, and in two water couplings
+// whose surfaces lie apart; where they overlap it would float twice, so the second refuses it.
+TEST(CouplingMisuse, ABodyInTwoWaterCouplingsOverOverlappingWaterIsRefused) {
+  water::PhysicalParameters phys;
+  phys.cell = 0.05;
+  water::SurfaceSettings near = water::SurfaceSettings::physical(phys, 16, 16);
+  near.origin_x = near.origin_y = -0.4;  // nodes -0.4 .. 0.35: cells [-0.425, 0.375)
+  water::SurfaceSettings far = near;
+  far.origin_x = 0.3;  // cells [0.275, 1.075): overlaps near
+  water::SurfaceSettings beside = near;
+  beside.origin_x = 0.5;  // cells [0.475, 1.275): apart from near
+  water::Surface pond(near), lake(far), sea(beside);
+  terrain::Terrain soil(sand());
+  World world;
+  bullet::TerrainCoupling ground(world.world(), soil);
+  bullet::WaterCoupling in_pond(world.world(), pond);
+  bullet::WaterCoupling in_lake(world.world(), lake);
+  bullet::WaterCoupling in_sea(world.world(), sea);
+  btRigidBody* ball = world.add_body(std::make_unique<btSphereShape>(0.1f), 0.5, btVector3(0.3f, 0, 0.3f));
+  ground.add_body(ball);
+  EXPECT_TRUE(refusal_of(in_pond, ball).empty()) << "a terrain and a water coupling may share a body";
+  const std::string why = refusal_of(in_lake, ball);
+  EXPECT_TRUE(mentions(why, "bullet.WaterCoupling.add_body(body)")) << why;
+  EXPECT_TRUE(mentions(why, address_of(ball))) << why;
+  EXPECT_TRUE(mentions(why, "water [-0.42")) << why;      // the pond's cells (rounded in the last digits)
+  EXPECT_TRUE(mentions(why, "this one's [0.27")) << why;  // the lake's
+  EXPECT_TRUE(in_lake.bodies().empty());
+  EXPECT_TRUE(refusal_of(in_sea, ball).empty()) << "surfaces apart do not overlap";
+  steps(world, 60);
+  EXPECT_TRUE(finite(ball->getCenterOfMassPosition()));
 }

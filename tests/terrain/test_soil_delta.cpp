@@ -4,10 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <vector>
 
 #include "shore/core/error.h"
+#include "shore/core/hash.h"
 #include "shore/terrain/soil_delta.h"
 #include "terrain_fixtures.h"
 
@@ -158,6 +161,22 @@ TEST_F(SoilDeltaRefusal, CorruptTruncatedReorderedForeign) {
   expect_refused(future, "unsupported version 9");
   EXPECT_NO_THROW(at = SoilDelta::apply(replica, second, at));
   EXPECT_EQ(heights_of(replica), heights_of(server));
+}
+
+// A payload size the zstd frame cannot hold (here 2 GiB, the most the header allows), with a
+// valid checksum: refused before its buffer is allocated (found by fuzz_soil_delta, where
+// such sizes cost gigabytes of memory per input).
+TEST_F(SoilDeltaRefusal, APayloadSizeTheFrameCannotHoldIsRefused) {
+  constexpr std::size_t kRawSizeAt = 8 + 4 + 4 + 8 + 8 + 8;  // magic, version, mark, quantum, from, to
+  for (const std::uint64_t raw_size : {std::uint64_t{1} << 31, std::uint64_t{1}}) {
+    auto resized = second;
+    std::memcpy(resized.data() + kRawSizeAt, &raw_size, sizeof raw_size);
+    StateHash sum;
+    sum.add_bytes(resized.data(), resized.size() - 8);
+    const std::uint64_t checksum = sum.value();
+    std::memcpy(resized.data() + resized.size() - 8, &checksum, sizeof checksum);
+    expect_refused(resized, "that says otherwise");
+  }
 }
 
 TEST(SoilDelta, BadSettingsAreNamed) {

@@ -6,9 +6,13 @@
 // The sponge is rebuilt from the settings; the pacer (which only picks a thread count) is
 // not saved: results never depend on it.
 
+#include <cmath>
 #include <string>
+#include <vector>
 
+#include "quantum.h"
 #include "shore/core/byte_io.h"
+#include "shore/core/error.h"
 #include "surface_state.h"
 
 namespace shore::water {
@@ -25,6 +29,33 @@ void put_tile(ByteWriter& w, const TileData& t) {
   w.put_array(t.flags);
   for (const TileData::Edges& e : t.edges)
     w.put_array(e.z), w.put_array(e.vz), w.put_array(e.x), w.put_array(e.y), w.put_array(e.vx), w.put_array(e.vy);
+}
+
+// Heights and vertical velocities are exact multiples of their quantum within +-2^51 of it
+// (quantum.h), which the kernels' exact sums rely on; a saved state holds no others (found
+// by fuzz_coupled_checkpoint: a velocity of ~2^62 quanta overflowed a kernel's row sum).
+void check_quantised(const ByteReader& r, const std::vector<double>& values, const quantum::Quantum& q,
+                     const char* what) {
+  for (const double x : values)
+    if (!(std::fabs(x) < q.limit) || quantum::round_to(x, q.magic) != x)
+      r.fail(std::string(what) + " " + detail::to_text(x) + " is not a multiple of its quantum " +
+             detail::to_text(q.q) + " within +-2^51 of it (corrupt)");
+}
+
+void check_finite(const ByteReader& r, const std::vector<float>& values, const char* what) {
+  for (const float x : values)
+    if (!std::isfinite(x)) r.fail(std::string("a non-finite ") + what + " (corrupt)");
+}
+
+void check_tile_values(const ByteReader& r, const TileData& t, const quantum::Quantum& qu, const quantum::Quantum& qv) {
+  check_quantised(r, t.uz, qu, "a node height");
+  check_quantised(r, t.vz, qv, "a node velocity");
+  for (const auto* v : {&t.ux, &t.uy, &t.vx, &t.vy}) check_finite(r, *v, "in-plane node value");
+  for (const TileData::Edges& e : t.edges) {
+    check_quantised(r, e.z, qu, "an edge height");
+    check_quantised(r, e.vz, qv, "an edge velocity");
+    for (const auto* v : {&e.x, &e.y, &e.vx, &e.vy}) check_finite(r, *v, "in-plane edge value");
+  }
 }
 
 // Reads into a tile that obtain() just made, so every array already has its size.
@@ -94,7 +125,9 @@ void Surface::restore_state(std::span<const unsigned char> bytes, const std::str
   for (std::uint64_t k = 0; k < count; ++k) {
     const int tx = r.get<std::int32_t>("tile"), ty = r.get<std::int32_t>("tile");
     if (!n.inside(tx, ty)) r.fail("tile (" + std::to_string(tx) + ", " + std::to_string(ty) + ") off the grid");
-    get_tile(r, n.obtain(settings_, tx, ty));
+    TileData& tile = n.obtain(settings_, tx, ty);
+    get_tile(r, tile);
+    check_tile_values(r, tile, n.qu, n.qv);
   }
   if (r.remaining() != 0) r.fail("bytes after the last tile (corrupt)");
   n.rebuild_awake_list();

@@ -9,7 +9,7 @@
 //   (soak_slowdown_wall).
 // - Extremes: each case of shore/scenes/extreme_cases.h, its sinkage against its reference.
 // - Fuzzing: executions per target of the last `./shore fuzz` run in this checkout
-//   (build/fuzz/fuzz_stats.json), stated as such; absent if it was never run.
+//   (build/fuzz/fuzz_stats.json), stated as a CI or a local run; absent if it was never run.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -111,25 +111,53 @@ void extremes(const SweepContext& ctx, SweepResult& out) {
       {"reliability.extreme_failures", "every extreme finite and above bedrock", double(bad), "<=", 0.0, "cases"});
 }
 
-void fuzz_stats(SweepResult& out) {
-  const std::filesystem::path file = std::filesystem::path(SHORE_SOURCE_DIR) / "build/fuzz/fuzz_stats.json";
+/// What build/fuzz/fuzz_stats.json says, or why it cannot be used (a run of scripts/fuzz.sh
+/// from before it wrote "run", or a file cut short).
+struct FuzzStats {
+  nlohmann::json targets;
+  std::string run, source, problem;
+};
+
+FuzzStats read_fuzz_stats(const std::filesystem::path& file) {
+  FuzzStats s;
   std::ifstream in(file);
   if (!in) {
-    out.note(
-        "Fuzzing: no build/fuzz/fuzz_stats.json in this checkout (run ./shore fuzz 60 first): "
-        "reliability.fuzz_execs_per_target not reported.");
+    s.problem = "no " + file.string() + " (run ./shore fuzz 60 first)";
+    return s;
+  }
+  try {
+    const nlohmann::json stats = nlohmann::json::parse(in);
+    s.targets = stats.at("targets");
+    s.run = stats.value("run", std::string("local"));
+    s.source = stats.at("source").get<std::string>();
+  } catch (const nlohmann::json::exception& e) {
+    s.problem = file.string() + " is not what ./shore fuzz writes (" + e.what() + ")";
+  }
+  return s;
+}
+
+void fuzz_stats(SweepResult& out) {
+  const FuzzStats stats = read_fuzz_stats(std::filesystem::path(SHORE_SOURCE_DIR) / "build/fuzz/fuzz_stats.json");
+  if (!stats.problem.empty()) {
+    out.note("Fuzzing: " + stats.problem + ": reliability.fuzz_execs_per_target not reported.");
     return;
   }
-  const nlohmann::json stats = nlohmann::json::parse(in);
+  Table& t = out.table("reliability_fuzz", {"target", "executions", "executions_per_second", "crashed"});
   double fewest = std::numeric_limits<double>::infinity();
-  for (const auto& [name, target] : stats.at("targets").items()) {
+  std::string crashed;
+  for (const auto& [name, target] : stats.targets.items()) {
     const double runs = target.at("executions").get<double>();
+    const bool crash = target.value("crashed", false);
+    t.add({name, runs, target.value("executions_per_second", 0.0), crash ? 1.0 : 0.0});
     out.figure("reliability.fuzz_execs." + name, runs, "executions");
     fewest = std::min(fewest, runs);
+    if (crash) crashed += (crashed.empty() ? "" : ", ") + name;
   }
   out.figure("reliability.fuzz_execs_per_target", fewest, "executions (fewest of the targets)");
-  out.note("Fuzzing: " + stats.at("source").get<std::string>() +
-           " (a local run, read from build/fuzz/fuzz_stats.json).");
+  out.figure("reliability.fuzz_from_ci", stats.run == "ci" ? 1.0 : 0.0, "1: the CI run, 0: a local run");
+  out.note("Fuzzing: executions per target from " + std::string(stats.run == "ci" ? "the CI run" : "a local run") +
+           ", " + stats.source + " (read from build/fuzz/fuzz_stats.json)" +
+           (crashed.empty() ? ", no crash." : "; crashed: " + crashed + "."));
 }
 
 void run(const SweepContext& ctx, SweepResult& out) {

@@ -45,8 +45,15 @@
 //   (a dynamic one gets the soil's contact instead of Bullet's tile contact).
 // - A sleeping body is woken when the soil under it changes (an edit, or another body).
 // - The world and the soil must outlive the coupling; to destroy the world first, call
-//   detach() before (the destructor then touches nothing). A body in two couplings whose
-//   regions overlap is pushed by both soils: give couplings disjoint regions.
+//   detach() before (the destructor then touches nothing).
+// - A body may be in several terrain couplings of one world only if their regions are
+//   disjoint (soils side by side, as in the vehicle scene; regions that only share an edge
+//   are disjoint): where two overlapped, both soils would push it. add_body of a body that
+//   another terrain coupling of the same world holds, with a region overlapping this one's,
+//   throws InvalidSetting naming the body (its address and shape) and both regions, and
+//   changes nothing; remove_body it from the other first. Couplings of other worlds, and
+//   detached ones, are not looked at. Being in a terrain coupling and a water coupling at
+//   once is fine (a body on a beach: water_coupling.h).
 
 #include <cstdint>
 #include <memory>
@@ -173,7 +180,8 @@ class TerrainCoupling : public btActionInterface {
   /// The body presses the soil (dynamic: by the momentum rule; kinematic: geometrically).
   /// Tiles under it are created at once. Throws InvalidSetting for a null body, a dynamic
   /// body not yet in the world, or (with deform) a shape that cannot be rasterized.
-  /// Adding a body again replaces its settings. Throws InvalidSetting after detach().
+  /// Adding a body again replaces its settings. Throws InvalidSetting after detach(), and
+  /// for a body another terrain coupling of this world holds over an overlapping region.
   void add_body(btRigidBody* body, BodySoilSettings body_settings = {});
   /// Does nothing for a body not added (or removed already).
   void remove_body(btRigidBody* body);
@@ -232,6 +240,10 @@ class TerrainCoupling : public btActionInterface {
     bool seen_in_world = false;  // the world held the body once (lost when it no longer does)
     std::unique_ptr<BodyContact> contact;
   };
+  [[nodiscard]] bool holds(const btRigidBody* body) const;
+  /// Throws InvalidSetting if another coupling of this world holds the body and its region
+  /// overlaps this one's.
+  void refuse_overlapping_coupling(const btRigidBody& body) const;
   bool body_is_sane(const btRigidBody& body) const;
   /// Checks a deforming body's shape again if it or its scaling changed since add_body.
   bool shape_still_fits(Body& b) const;

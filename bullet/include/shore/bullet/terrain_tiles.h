@@ -37,6 +37,8 @@ struct Region {
   [[nodiscard]] bool everywhere() const {
     return x0 <= -kUnbounded && y0 <= -kUnbounded && x1 >= kUnbounded && y1 >= kUnbounded;
   }
+  /// True if some point lies in both (edges are half-open: regions that only touch do not).
+  [[nodiscard]] bool overlaps(const Region& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
 };
 
 /// The tile size is the soil's: one tile per TerrainSettings::tile_columns columns a side.

@@ -32,6 +32,12 @@
 // body not added does nothing; a body taken out of the world or deleted without
 // remove_body is dropped at the next substep (stats().lost_bodies; see terrain_coupling.h
 // for the one case this cannot tell). The world and the surface must outlive the coupling.
+// A body may be in a water coupling and a terrain coupling at once (a body on a beach: the
+// soil bears it, the water floats it). It may be in several water couplings of one world
+// only if their surfaces do not overlap (each node standing for the cell of side h around
+// it), else both would float it: add_body of a body that another water coupling of the
+// same world holds over an overlapping surface throws InvalidSetting naming the body and
+// both surfaces' rectangles, and changes nothing.
 
 #include <cstdint>
 #include <memory>
@@ -84,7 +90,8 @@ class WaterCoupling : public btActionInterface {
 
   /// The body floats and disturbs the water. disturb = false: it floats without making waves.
   /// Throws InvalidSetting for a null body, a non-finite pose, an unsupported shape or one
-  /// of zero volume.
+  /// of zero volume, or one another water coupling of this world holds over an overlapping
+  /// surface.
   void add_body(btRigidBody* body, bool disturb = true);
   void remove_body(btRigidBody* body);
 
@@ -121,6 +128,10 @@ class WaterCoupling : public btActionInterface {
   struct Body;  ///< opaque: per-body shape and displacement state
 
  private:
+  [[nodiscard]] bool holds(const btRigidBody* body) const;
+  /// Throws InvalidSetting if another water coupling of this world holds the body and its
+  /// surface overlaps this one's.
+  void refuse_overlapping_coupling(const btRigidBody& body) const;
   /// Buoyancy and drag of one body for a substep of h, then its displacement.
   void float_body(Body& b, double h);
   /// Samples the body's envelopes at its pose and adds what it swept to the water.

@@ -1,0 +1,54 @@
+#pragma once
+// The server of the soil delta fuzz target and its seeds: soil with small tiles pressed
+// twice, the same way every time, so a delta encoded from it by shore-fuzz-corpus applies
+// to a replica built in the fuzzer (shore/terrain/soil_delta.h). The replica first applies
+// first_snapshot() (server generation 0 to after the first press), then the input.
+
+#include <cstdint>
+#include <vector>
+
+#include "shore/core/envelope.h"
+#include "shore/terrain/soil_delta.h"
+#include "shore/terrain/terrain.h"
+
+namespace shore::fuzz {
+
+inline terrain::TerrainSettings delta_soil() {
+  terrain::TerrainSettings s;
+  s.tile_columns = 4;
+  s.cell = 0.05;
+  s.max_erosion_passes = 1;
+  s.threads = 1;
+  return s;
+}
+
+/// A flat press 2 cm into the soil over columns [i0, i0 + 3) x [1, 4).
+inline void press_at(terrain::Terrain& t, int i0) {
+  shore::EnvelopeRaster env;
+  env.resize(i0, 1, 3, 3, false);
+  for (double& v : env.lower) v = -0.02;
+  const terrain::Imprint im{&env};
+  t.step({&im, 1});
+}
+
+class DeltaServer {
+ public:
+  DeltaServer() : soil_(delta_soil()) {
+    press_at(soil_, 1);
+    first_generation_ = soil_.generation();
+    first_ = terrain::SoilDelta::encode(soil_, 0, {});
+  }
+  /// The second press, for the seeds: deltas from first_generation() (or 0) to after it.
+  void press_again() { press_at(soil_, 3); }
+  [[nodiscard]] const terrain::Terrain& soil() const { return soil_; }
+  [[nodiscard]] std::uint64_t first_generation() const { return first_generation_; }
+  /// Generation 0 to first_generation(), quantised by the default 1e-4 m.
+  [[nodiscard]] const std::vector<unsigned char>& first_snapshot() const { return first_; }
+
+ private:
+  terrain::Terrain soil_;
+  std::uint64_t first_generation_ = 0;
+  std::vector<unsigned char> first_;
+};
+
+}  // namespace shore::fuzz
