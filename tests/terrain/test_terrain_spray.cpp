@@ -157,6 +157,39 @@ TEST(Spray, AParticleLandsWhereBallisticsSaysAndAddsItsVolumeThere) {
   }
 }
 
+// A flight is not sampled against the ground while it is above the highest soil top near
+// its path (spray_flight.h): a raised wall across the path must still catch the particle
+// where ballistics crosses the wall's top, within one column.
+TEST(Spray, AParticleDescendingOntoARaisedWallLandsOnItsTop) {
+  const double velocity[3] = {2.0, 1.0, 3.0};
+  for (const double drag : {0.0, 2.0}) {
+    SprayParticle p;
+    Terrain t = fling_one_particle(drag, velocity, p);
+    ASSERT_GT(p.volume, 0.0);
+    const double wall = 0.1;  // m, the wall's top
+    const auto [x, y] = ballistic_landing(p, drag, wall);
+    const std::int64_t ci = t.column_i(x), cj = t.column_j(y);
+    for (std::int64_t j = cj - 8; j <= cj + 8; ++j)
+      for (std::int64_t i = ci - 8; i <= ci + 24; ++i) t.set_height(i, j, t.base_height(i, j) + wall);
+    std::vector<double> before;
+    for (std::int64_t j = cj - 8; j <= cj + 8; ++j)
+      for (std::int64_t i = ci - 8; i <= ci + 24; ++i) before.push_back(t.height(i, j));
+    for (int k = 0; k < 200 && t.spray_counts().landed == 0; ++k) t.step({}, 0.01);
+    ASSERT_EQ(t.spray_counts().landed, 1) << "drag " << drag;
+    std::int64_t hit_i = 0, hit_j = 0;
+    double rise = 0.0;
+    std::size_t k = 0;
+    for (std::int64_t j = cj - 8; j <= cj + 8; ++j)
+      for (std::int64_t i = ci - 8; i <= ci + 24; ++i, ++k)
+        if (const double d = t.height(i, j) - before[k]; d > rise) rise = d, hit_i = i, hit_j = j;
+    const double cell = t.settings().cell;
+    EXPECT_LE(std::abs(t.column_x(hit_i) - x), cell)
+        << "drag " << drag << ": landed at column x " << t.column_x(hit_i) << ", ballistics " << x;
+    EXPECT_LE(std::abs(t.column_y(hit_j) - y), cell) << "drag " << drag;
+    EXPECT_NEAR(rise * cell * cell, p.volume, 1e-15 * p.volume + 1e-22) << "its whole volume, on that column";
+  }
+}
+
 TEST(Spray, VolumeIsExactAtEveryStepOfASpinningWheel) {
   Terrain t(sand());
   const SpinningWheel w;
