@@ -68,7 +68,7 @@ void SampleClock::reset(const FlightRules& rules, double duration) {
   for (std::vector<FlightTime>& row : rows_) row.clear();
 }
 
-const FlightTime* SampleClock::at(int samples, int m) {
+const FlightTime* SampleClock::row(int samples) {
   if (samples > kMaxSamples) return nullptr;
   if (rows_.size() <= static_cast<std::size_t>(samples)) rows_.resize(static_cast<std::size_t>(samples) + 1);
   std::vector<FlightTime>& row = rows_[static_cast<std::size_t>(samples)];
@@ -77,7 +77,7 @@ const FlightTime* SampleClock::at(int samples, int m) {
     for (int n = 1; n <= samples; ++n)  // the times fly() computes
       row.push_back(flight_time(duration_ * static_cast<double>(n) / static_cast<double>(samples), rules));
   }
-  return &row[static_cast<std::size_t>(m - 1)];
+  return row.data();
 }
 
 std::size_t SampleClock::bytes() const {
@@ -92,9 +92,9 @@ FlightEnd fly(Particle& p, double duration, const SprayGround& ground, const Fli
   // Samples every half column of horizontal travel (the horizontal speed only falls).
   const double travel = std::sqrt(p.vx * p.vx + p.vy * p.vy) * duration;
   const int samples = static_cast<int>(std::min(4096.0, std::ceil(travel / (0.5 * ground.cell())))) + 1;
-  const bool clocked = clock != nullptr && clock->duration() == duration && samples <= SampleClock::kMaxSamples;
+  const FlightTime* clocked = clock != nullptr && clock->duration() == duration ? clock->row(samples) : nullptr;
   const auto sample = [&](int m) {
-    if (clocked) return *clock->at(samples, m);
+    if (clocked != nullptr) return clocked[m - 1];
     return flight_time(duration * static_cast<double>(m) / static_cast<double>(samples), rules);
   };
   if (!ground.inside(p.x, p.y)) {

@@ -43,8 +43,9 @@ class SampleClock {
   /// Keeps the rows while the drag and the duration stay the same.
   void reset(const FlightRules& rules, double duration);
   [[nodiscard]] double duration() const { return duration_; }
-  /// The m-th (1..samples) of `samples` sample times; null if samples > kMaxSamples.
-  [[nodiscard]] const FlightTime* at(int samples, int m);
+  /// The `samples` sample times (the m-th, 1..samples, at [m - 1]); null if samples >
+  /// kMaxSamples.
+  [[nodiscard]] const FlightTime* row(int samples);
   [[nodiscard]] std::size_t bytes() const;
   static constexpr int kMaxSamples = 64;
 
