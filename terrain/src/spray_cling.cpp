@@ -123,12 +123,20 @@ void Cling::set_down(ClingCell& c, const Vec3& p, std::vector<Drop>& drops) {
 
 void Cling::shed(const ClingingBody& body, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
                  std::vector<Candidate>& candidates) {
-  const Vec3 p = m.to_world({c.rx, c.ry, c.rz});
-  const Vec3 u = m.velocity_at(p);
-  const double speed = length(u), half = 0.5 * rules.cell;
+  if (!(c.volume > 0.0)) return;
+  // Where the piece is and how fast it moves, only once it sheds a particle (most steps a
+  // piece sheds none).
+  Vec3 p{}, u{};
+  double speed = 0.0;
+  bool moving = false;
+  const double half = 0.5 * rules.cell;
   const CounterRandom rnd(rules.seed, static_cast<std::uint64_t>(rules.step), body.body, c.key);
   std::uint64_t n = 0;
   auto emit = [&](double volume) {
+    if (!moving) {
+      p = m.to_world({c.rx, c.ry, c.rz}), u = m.velocity_at(p), speed = length(u);
+      moving = true;
+    }
     const double flight = rules.dt * (1.0 - rnd.uniform(n, 0));  // created at a random time in the step
     Candidate k;
     Particle& s = k.start;
@@ -146,7 +154,6 @@ void Cling::shed(const ClingingBody& body, ClingCell& c, const BodyMotion& m, co
     c.volume -= volume;
     ++n;
   };
-  if (!(c.volume > 0.0)) return;
   // Sumner's n = dv phi particles, rounded at random (up with the probability of the
   // fraction), so the number shed keeps its expected value however small dv is; what the
   // rounding sheds early or late is evened out by `owed` in the next steps.

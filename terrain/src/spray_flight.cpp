@@ -17,16 +17,22 @@ double drag_factor(double k, double t) {
   return (1.0 - det::exp(-x)) / k;
 }
 
-/// The particle's state after t seconds of free flight.
-Particle advanced(const Particle& p, double t, const FlightRules& r) {
+FlightTime flight_time(double t, const FlightRules& r) {
+  if (r.drag == 0.0) return {t, t, 1.0};
+  const double a = drag_factor(r.drag, t);
+  return {t, a, 1.0 - r.drag * a};
+}
+
+/// The particle's state after f.t seconds of free flight.
+Particle advanced(const Particle& p, const FlightTime& f, const FlightRules& r) {
   Particle q = p;
-  const double g = r.gravity, k = r.drag;
+  const double g = r.gravity, k = r.drag, t = f.t;
   if (k == 0.0) {
     q.x = p.x + p.vx * t, q.y = p.y + p.vy * t, q.z = p.z + p.vz * t - 0.5 * g * t * t;
     q.vz = p.vz - g * t;
   } else {
-    const double a = drag_factor(k, t), e = 1.0 - k * a;  // e = e^(-k t)
-    const double fall = g / k;                            // terminal speed
+    const double a = f.a, e = f.e;  // e = e^(-k t)
+    const double fall = g / k;      // terminal speed
     q.x = p.x + p.vx * a, q.y = p.y + p.vy * a;
     q.z = p.z + (p.vz + fall) * a - fall * t;
     q.vx = p.vx * e, q.vy = p.vy * e, q.vz = (p.vz + fall) * e - fall;
@@ -40,26 +46,76 @@ double clearance(const Particle& q, const SprayGround& ground) {
   return q.z - ground.height(ground.column_i(q.x), ground.column_j(q.y));
 }
 
+/// Whether a path from `from` to `to` (both ends of one free flight, `from` inside the
+/// region) stays inside the region and above every column top near its extent. The samples
+/// between lie within the ends' box (x, y monotonic) and no lower than the lower end (z has
+/// no interior minimum), up to rounding far below kSlack.
+bool clear_of_ground(const Particle& from, const Particle& to, const SprayGround& ground, double ceiling) {
+  constexpr double kSlack = 1e-9;  // m per m of coordinate (and 1e-9 m)
+  const double sx = kSlack * (1.0 + std::abs(to.x)), sy = kSlack * (1.0 + std::abs(to.y));
+  if (!ground.inside(to.x - sx, to.y - sy) || !ground.inside(to.x + sx, to.y + sy)) return false;
+  const double low = std::min(from.z, to.z) - kSlack * (1.0 + std::max(std::abs(from.z), std::abs(to.z)));
+  if (low > ceiling) return true;
+  return low > ground.top_bound_over(std::min(from.x, to.x), std::min(from.y, to.y), std::max(from.x, to.x),
+                                     std::max(from.y, to.y));
+}
+
 }  // namespace
 
-FlightEnd fly(Particle& p, double duration, const SprayGround& ground, const FlightRules& rules) {
+void SampleClock::reset(const FlightRules& rules, double duration) {
+  if (rules.drag == drag_ && duration == duration_) return;
+  drag_ = rules.drag, duration_ = duration;
+  for (std::vector<FlightTime>& row : rows_) row.clear();
+}
+
+const FlightTime* SampleClock::row(int samples) {
+  if (samples > kMaxSamples) return nullptr;
+  if (rows_.size() <= static_cast<std::size_t>(samples)) rows_.resize(static_cast<std::size_t>(samples) + 1);
+  std::vector<FlightTime>& row = rows_[static_cast<std::size_t>(samples)];
+  if (row.empty()) {
+    const FlightRules rules{0.0, drag_, 0.0};
+    for (int n = 1; n <= samples; ++n)  // the times fly() computes
+      row.push_back(flight_time(duration_ * static_cast<double>(n) / static_cast<double>(samples), rules));
+  }
+  return row.data();
+}
+
+std::size_t SampleClock::bytes() const {
+  std::size_t b = rows_.capacity() * sizeof(std::vector<FlightTime>);
+  for (const std::vector<FlightTime>& row : rows_) b += row.capacity() * sizeof(FlightTime);
+  return b;
+}
+
+FlightEnd fly(Particle& p, double duration, const SprayGround& ground, const FlightRules& rules, SampleClock* clock,
+              double ceiling) {
   FlightEnd end;
   // Samples every half column of horizontal travel (the horizontal speed only falls).
   const double travel = std::sqrt(p.vx * p.vx + p.vy * p.vy) * duration;
   const int samples = static_cast<int>(std::min(4096.0, std::ceil(travel / (0.5 * ground.cell())))) + 1;
-  Particle before = p;
-  double above = clearance(p, ground);
+  const FlightTime* clocked = clock != nullptr && clock->duration() == duration ? clock->row(samples) : nullptr;
+  const auto sample = [&](int m) {
+    if (clocked != nullptr) return clocked[m - 1];
+    return flight_time(duration * static_cast<double>(m) / static_cast<double>(samples), rules);
+  };
   if (!ground.inside(p.x, p.y)) {
     end.fate = FlightEnd::Fate::lost;
     return end;
   }
+  Particle last = advanced(p, sample(samples), rules);
+  if (clear_of_ground(p, last, ground, ceiling)) {  // cannot land this time: what the samples would all find
+    p = last;
+    if (p.age > rules.max_flight) end.fate = FlightEnd::Fate::lost;
+    return end;
+  }
+  Particle before = p;
+  double above = clearance(p, ground);
   if (!(above > 0.0)) {  // starts in the soil: lands where it is
     end = {FlightEnd::Fate::landed, ground.column_i(p.x), ground.column_j(p.y)};
     return end;
   }
   for (int m = 1; m <= samples; ++m) {
-    const double t = duration * static_cast<double>(m) / static_cast<double>(samples);
-    const Particle now = advanced(p, t, rules);
+    const FlightTime at = sample(m);
+    const Particle now = m == samples ? last : advanced(p, at, rules);
     if (!ground.inside(now.x, now.y)) {
       p = now;
       end.fate = FlightEnd::Fate::lost;
@@ -68,10 +124,9 @@ FlightEnd fly(Particle& p, double duration, const SprayGround& ground, const Fli
     const double h = clearance(now, ground);
     if (!(h > 0.0)) {
       const double t0 = duration * static_cast<double>(m - 1) / static_cast<double>(samples);
-      const double cut = t0 + (t - t0) * (above / (above - h));
-      const Particle at = advanced(p, cut, rules);
-      p = at;
-      end = {FlightEnd::Fate::landed, ground.column_i(at.x), ground.column_j(at.y)};
+      const double cut = t0 + (at.t - t0) * (above / (above - h));
+      p = advanced(p, flight_time(cut, rules), rules);
+      end = {FlightEnd::Fate::landed, ground.column_i(p.x), ground.column_j(p.y)};
       return end;
     }
     before = now;

@@ -5,8 +5,19 @@
 // the linear crossing of (z - soil top) between two samples; the particle lands on the
 // column nearest that point. A path that leaves the spray's region, or a flight longer than
 // max_flight, is lost.
+//
+// Two shortcuts that change no result:
+//   - a flight whose path stays inside the region and above the highest column top under
+//     its whole extent (SprayGround::top_bound) cannot land and is not sampled: z(t) has no
+//     minimum inside a step (it is concave, or falls monotonically faster than terminal
+//     speed), x(t) and y(t) are monotonic, so the endpoints bound every sample;
+//   - the particles in flight at a step's start all fly the whole step: the drag factors of
+//     their sample times depend only on the number of samples, and SampleClock keeps them.
 
+#include <cstddef>
 #include <cstdint>
+#include <limits>
+#include <vector>
 
 #include "spray_ground.h"
 #include "spray_state.h"
@@ -19,13 +30,40 @@ struct FlightRules {
   double max_flight = 10.0;  ///< s
 };
 
+/// A time into a flight with its drag factors: a = (1 - e^(-k t)) / k, e = e^(-k t).
+struct FlightTime {
+  double t = 0.0, a = 0.0, e = 1.0;
+};
+
+/// The sample times of flights lasting exactly `duration()` seconds, with their drag
+/// factors, computed once per number of samples instead of once per particle (each needs a
+/// det::exp). Scratch: the values are those fly() would compute itself.
+class SampleClock {
+ public:
+  /// Keeps the rows while the drag and the duration stay the same.
+  void reset(const FlightRules& rules, double duration);
+  [[nodiscard]] double duration() const { return duration_; }
+  /// The `samples` sample times (the m-th, 1..samples, at [m - 1]); null if samples >
+  /// kMaxSamples.
+  [[nodiscard]] const FlightTime* row(int samples);
+  [[nodiscard]] std::size_t bytes() const;
+  static constexpr int kMaxSamples = 64;
+
+ private:
+  double drag_ = 0.0, duration_ = -1.0;
+  std::vector<std::vector<FlightTime>> rows_;  ///< rows_[samples], filled on first use
+};
+
 struct FlightEnd {
   enum class Fate { flying, landed, lost } fate = Fate::flying;
   std::int64_t i = 0, j = 0;  ///< the column landed on
 };
 
 /// Moves the particle on by `duration` seconds (its state becomes the end of the flight,
-/// or the landing point).
-FlightEnd fly(Particle& p, double duration, const SprayGround& ground, const FlightRules& rules);
+/// or the landing point). `clock`, if given and of this duration, supplies the drag factors.
+/// `ceiling`, if given, is an upper bound of every column top the flight can pass over
+/// (else the ground is asked).
+FlightEnd fly(Particle& p, double duration, const SprayGround& ground, const FlightRules& rules,
+              SampleClock* clock = nullptr, double ceiling = std::numeric_limits<double>::infinity());
 
 }  // namespace shore::terrain

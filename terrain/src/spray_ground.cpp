@@ -1,13 +1,16 @@
 #include "spray_ground.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace shore::terrain {
 
 SprayGround::SprayGround(TileStore& store, const TerrainSettings& s)
     : store_(store),
+      tops_(store),
       n_(store.n()),
       cell_(s.cell),
+      inverse_cell_(1.0 / s.cell),
       area_(s.cell * s.cell),
       origin_x_(s.origin_x),
       origin_y_(s.origin_y),
@@ -16,6 +19,32 @@ SprayGround::SprayGround(TileStore& store, const TerrainSettings& s)
       x_max_(s.spray.x_max),
       y_min_(s.spray.y_min),
       y_max_(s.spray.y_max) {}
+
+// The quotients a column index rounds, by a multiplication (within a few ulps of the
+// division column_i makes): truncated, each lies within a column of its nearest integer, so
+// two columns on each side cover the box's columns and their neighbours.
+bool SprayGround::columns_around(double x0, double y0, double x1, double y1, std::int64_t margin,
+                                 std::int64_t (&c)[4]) const {
+  const double q[4] = {(x0 - origin_x_) * inverse_cell_, (y0 - origin_y_) * inverse_cell_,
+                       (x1 - origin_x_) * inverse_cell_, (y1 - origin_y_) * inverse_cell_};
+  constexpr double kFar = 1e15;  // columns: beyond, no bound is worth it
+  for (int k = 0; k < 4; ++k) {
+    if (!(std::abs(q[k]) < kFar)) return false;
+    c[k] = static_cast<std::int64_t>(q[k]) + (k < 2 ? -margin : margin);
+  }
+  return true;
+}
+
+double SprayGround::top_bound_over(double x0, double y0, double x1, double y1) const {
+  std::int64_t c[4];
+  if (!columns_around(x0, y0, x1, y1, 2, c)) return std::numeric_limits<double>::infinity();
+  return tops_.bound(c[0], c[1], c[2], c[3]);
+}
+
+void SprayGround::cover(double x0, double y0, double x1, double y1) {
+  std::int64_t c[4];
+  if (columns_around(x0, y0, x1, y1, 3, c)) tops_.cover(c[0], c[1], c[2], c[3]);
+}
 
 double SprayGround::height_looked_up(std::int64_t i, std::int64_t j) const {
   const TileKey key = store_.key_of(i, j);
@@ -35,7 +64,9 @@ double SprayGround::set(std::int64_t i, std::int64_t j, Tile& t, std::size_t k, 
   const int n = store_.n();
   const int li = static_cast<int>(k % static_cast<std::size_t>(n)),
             lj = static_cast<int>(k / static_cast<std::size_t>(n));
-  store_.mark_changed(store_.key_of(i, j), t, li, lj, li, lj);
+  const TileKey key = store_.key_of(i, j);
+  if (moved > 0.0) tops_.raised(i, j, height);
+  store_.mark_changed(key, t, li, lj, li, lj);
   return moved * area_;
 }
 

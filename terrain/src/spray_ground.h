@@ -5,11 +5,14 @@
 // soil below keeps its bearing: a body pressing down to the new top feels what it felt at
 // the old one (as for deposits, stage "loosen" of the pipeline).
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
 #include "shore/terrain/terrain.h"
+#include "spray_tops.h"
 #include "tile_store.h"
 
 namespace shore::terrain {
@@ -33,6 +36,17 @@ class SprayGround {
       return last_->height[static_cast<std::size_t>(lj * n_ + li)];
     return height_looked_up(i, j);
   }
+  /// An upper bound of the soil top of every column nearest a point of the box
+  /// [x0, x1] x [y0, y1], and of the columns next to those (SoilTops::bound).
+  [[nodiscard]] double top_bound_over(double x0, double y0, double x1, double y1) const;
+  /// Where top_bound_over will mostly be asked this step: the box [x0, x1] x [y0, y1]
+  /// (elsewhere it answers +infinity).
+  void cover(double x0, double y0, double x1, double y1);
+  /// An upper bound of the soil top over that whole box (SoilTops::ceiling): cheaper than
+  /// top_bound_over for each of `flights` particles, else +infinity.
+  [[nodiscard]] double ceiling(std::size_t flights) const {
+    return tops_.ceiling(static_cast<std::int64_t>(std::min<std::size_t>(flights, std::size_t{1} << 30)) * 64);
+  }
   /// Heights of a rectangle, row-major (one tile lookup per run).
   void heights(const ColumnRect& r, std::span<double> out) const { store_.read(r, out, false); }
   /// Within the spray's region (SpraySettings bounds)?
@@ -49,6 +63,9 @@ class SprayGround {
   /// Sets the column's height (its tile created if need be), lowers its sinkage by the
   /// height moved and marks it changed; returns the m^3 the height moved by (signed).
   double set(std::int64_t i, std::int64_t j, Tile& t, std::size_t k, double height);
+  /// The columns whose quotients (x - origin) / cell truncate to those of the box's
+  /// corners, widened by `margin`: {i0, j0, i1, j1}. False if the box is too far out.
+  bool columns_around(double x0, double y0, double x1, double y1, std::int64_t margin, std::int64_t (&c)[4]) const;
   /// height() through the tile store, keeping the tile found.
   double height_looked_up(std::int64_t i, std::int64_t j) const;
   /// std::llround without the library call (the same value for every |x| < 2^62: the
@@ -62,10 +79,11 @@ class SprayGround {
     return k;
   }
   TileStore& store_;
+  SoilTops tops_;
   std::int64_t n_;
   mutable const Tile* last_ = nullptr;
   mutable std::int64_t last_i0_ = 0, last_j0_ = 0;  ///< last_'s first column
-  double cell_, area_, origin_x_, origin_y_, soil_depth_;
+  double cell_, inverse_cell_, area_, origin_x_, origin_y_, soil_depth_;
   double x_min_, x_max_, y_min_, y_max_;
 };
 

@@ -1,6 +1,7 @@
 #include "spray_stage.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numbers>
 #include <utility>
 
@@ -19,16 +20,31 @@ void Spray::step(TileStore& store, const TerrainSettings& s, std::span<const Imp
 }
 
 void Spray::fly_all(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report) {
+  clock_.reset(rules, dt);
+  cover_flights(ground, dt);
   std::size_t kept = 0;
   for (std::size_t k = 0; k < state.particles.size(); ++k) {  // oldest first; landings raise columns in this order
     Particle p = state.particles[k];
-    const FlightEnd end = fly(p, dt, ground, rules);
+    // the ceiling as raised by the landings so far
+    const FlightEnd end = fly(p, dt, ground, rules, &clock_, ground.ceiling(state.particles.size()));
     if (end.fate == FlightEnd::Fate::flying)
       state.particles[kept++] = p;
     else
       land(ground, p, end, report);
   }
   state.particles.resize(kept);
+}
+
+// The box every particle's path this step lies in (the horizontal speed only falls).
+void Spray::cover_flights(SprayGround& ground, double dt) const {
+  if (state.particles.empty()) return;
+  double x0 = state.particles[0].x, x1 = x0, y0 = state.particles[0].y, y1 = y0;
+  for (const Particle& p : state.particles) {
+    const double dx = std::abs(p.vx) * dt, dy = std::abs(p.vy) * dt;
+    x0 = std::min(x0, p.x - dx), x1 = std::max(x1, p.x + dx);
+    y0 = std::min(y0, p.y - dy), y1 = std::max(y1, p.y + dy);
+  }
+  ground.cover(x0, y0, x1, y1);
 }
 
 void Spray::land(SprayGround& ground, const Particle& p, const FlightEnd& end, StepReport& report) {
@@ -131,7 +147,7 @@ void Spray::settle(SprayGround& ground, const TerrainSettings& s, const FlightRu
 }
 
 std::size_t Spray::bytes() const {
-  return state.bytes() + cling_.bytes() + capacity_bytes(candidates_, drops_, order_, next_bodies_);
+  return state.bytes() + cling_.bytes() + clock_.bytes() + capacity_bytes(candidates_, drops_, order_, next_bodies_);
 }
 
 }  // namespace shore::terrain

@@ -33,6 +33,8 @@ class Spray {
 
  private:
   void fly_all(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report);
+  /// Gives the ground the box the particles in flight can reach this step.
+  void cover_flights(SprayGround& ground, double dt) const;
   void cling_all(SprayGround& ground, const TerrainSettings& s, const FlightRules& rules,
                  std::span<const Imprint> imprints, double dt, StepReport& report);
   void set_gone_down(SprayGround& ground, const ClingingBody& body);
@@ -43,6 +45,7 @@ class Spray {
   void land(SprayGround& ground, const Particle& p, const FlightEnd& end, StepReport& report);
 
   Cling cling_;
+  SampleClock clock_;  ///< drag factors of the particles flying whole steps
   std::vector<Candidate> candidates_;
   std::vector<Drop> drops_;
   std::vector<std::size_t> order_;

@@ -125,36 +125,68 @@ Terrain fling_one_particle(double drag, const double velocity[3], SprayParticle&
   return t;
 }
 
+/// The column of a rectangle whose height rose most since `before` (its heights, row-major).
+struct Rise {
+  std::int64_t i = 0, j = 0;
+  double height = 0.0;
+};
+
+std::vector<double> heights_of(const Terrain& t, const ColumnRect& r) {
+  std::vector<double> h;
+  for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
+    for (std::int64_t i = r.i0; i < r.i0 + r.nx; ++i) h.push_back(t.height(i, j));
+  return h;
+}
+
+Rise highest_rise(const Terrain& t, const ColumnRect& r, const std::vector<double>& before) {
+  Rise most;
+  std::size_t k = 0;
+  for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
+    for (std::int64_t i = r.i0; i < r.i0 + r.nx; ++i, ++k)
+      if (const double d = t.height(i, j) - before[k]; d > most.height) most = {i, j, d};
+  return most;
+}
+
+/// Flies the thrown particle until it lands (within 2 s); the column that rose within
+/// `r` must be where ballistics puts it, (x, y), within one column, and hold its volume.
+Rise expect_landing(Terrain& t, const ColumnRect& r, const SprayParticle& p, double x, double y, double drag) {
+  const std::vector<double> before = heights_of(t, r);
+  for (int k = 0; k < 200 && t.spray_counts().landed == 0; ++k) t.step({}, 0.01);
+  EXPECT_EQ(t.spray_counts().landed, 1) << "drag " << drag;
+  const Rise hit = highest_rise(t, r, before);
+  const double cell = t.settings().cell;
+  EXPECT_LE(std::abs(t.column_x(hit.i) - x), cell)
+      << "drag " << drag << ": landed at column x " << t.column_x(hit.i) << ", ballistics " << x;
+  EXPECT_LE(std::abs(t.column_y(hit.j) - y), cell) << "drag " << drag;
+  EXPECT_NEAR(hit.height * cell * cell, p.volume, 1e-15 * p.volume + 1e-22) << "its whole volume, on that column";
+  return hit;
+}
+
 }  // namespace
 
+// On flat ground, and onto a raised wall across the path: a flight is not sampled against
+// the ground while it is above the highest soil top near its path (spray_flight.h), and the
+// wall must still catch the particle where ballistics crosses the wall's top.
 TEST(Spray, AParticleLandsWhereBallisticsSaysAndAddsItsVolumeThere) {
   const double velocity[3] = {2.0, 1.0, 3.0};
-  for (const double drag : {0.0, 2.0}) {
-    SprayParticle p;
-    Terrain t = fling_one_particle(drag, velocity, p);
-    ASSERT_GT(p.volume, 0.0);
-    EXPECT_NEAR(p.vx, velocity[0] * (drag > 0 ? std::exp(-drag * 0.01) : 1.0), 0.05);
-    const auto [x, y] = ballistic_landing(p, drag, 0.0);
-    const VolumeTotals before = t.volume();
-    for (int k = 0; k < 200 && t.spray_counts().landed == 0; ++k) t.step({}, 0.01);
-    ASSERT_EQ(t.spray_counts().landed, 1);
-    // The column that rose: where ballistics puts the particle, within one column.
-    const std::int64_t ci = t.column_i(x), cj = t.column_j(y);
-    std::int64_t hit_i = 0, hit_j = 0;
-    double rise = 0.0;
-    for (std::int64_t j = cj - 3; j <= cj + 3; ++j)
-      for (std::int64_t i = ci - 3; i <= ci + 3; ++i)
-        if (const double d = t.height(i, j) - t.base_height(i, j); d > rise) rise = d, hit_i = i, hit_j = j;
-    const double cell = t.settings().cell;
-    EXPECT_LE(std::abs(t.column_x(hit_i) - x), cell)
-        << "drag " << drag << ": landed at column x " << t.column_x(hit_i) << ", ballistics " << x;
-    EXPECT_LE(std::abs(t.column_y(hit_j) - y), cell) << "drag " << drag;
-    EXPECT_NEAR(rise * cell * cell, p.volume, 1e-15 * p.volume + 1e-22) << "its whole volume, on that column";
-    EXPECT_EQ(t.volume().airborne, 0.0);
-    EXPECT_NEAR(t.volume().ground - before.ground, p.volume, 1e-18);
-    // Landed soil is loose: it lowers the column's sinkage by its height.
-    EXPECT_NEAR(t.sinkage(hit_i, hit_j), -rise, 1e-15);
-  }
+  for (const double wall : {0.0, 0.1})  // m, the top of the ground it lands on
+    for (const double drag : {0.0, 2.0}) {
+      SprayParticle p;
+      Terrain t = fling_one_particle(drag, velocity, p);
+      ASSERT_GT(p.volume, 0.0);
+      EXPECT_NEAR(p.vx, velocity[0] * (drag > 0 ? std::exp(-drag * 0.01) : 1.0), 0.05);
+      const auto [x, y] = ballistic_landing(p, drag, wall);
+      const ColumnRect r{t.column_i(x) - 8, t.column_j(y) - 8, 33, 17};
+      if (wall > 0.0)
+        for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
+          for (std::int64_t i = r.i0; i < r.i0 + r.nx; ++i) t.set_height(i, j, t.base_height(i, j) + wall);
+      const VolumeTotals before = t.volume();
+      const Rise hit = expect_landing(t, r, p, x, y, drag);
+      EXPECT_EQ(t.volume().airborne, 0.0);
+      EXPECT_NEAR(t.volume().ground - before.ground, p.volume, 1e-18);
+      // Landed soil is loose: it lowers the column's sinkage by its height.
+      EXPECT_NEAR(t.sinkage(hit.i, hit.j), -hit.height, 1e-15);
+    }
 }
 
 TEST(Spray, VolumeIsExactAtEveryStepOfASpinningWheel) {

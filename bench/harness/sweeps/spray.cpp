@@ -41,7 +41,7 @@ struct SprayRow {
 };
 
 SprayRow spinning_wheel(double seconds) {
-  SprayRow row{.name = "wheel_50pct_slip"};
+  SprayRow row{.name = "wheel_50pct_slip", .stats = {}, .watch = {}};
   scenes::DrivenWheelCase c;
   c.slip = 0.5;
   c.rim_speed = 2.0;
@@ -52,7 +52,7 @@ SprayRow spinning_wheel(double seconds) {
 }
 
 SprayRow impact_drop() {
-  SprayRow row{.name = "drop_8m_s_oblique"};
+  SprayRow row{.name = "drop_8m_s_oblique", .stats = {}, .watch = {}};
   scenes::SphereDropCase c;  // as the impact scene's oblique drop: 8 m/s at impact, 4 m/s of it sideways
   c.vx = 4.0;
   c.height = (64.0 - c.vx * c.vx) / (2.0 * 9.81);

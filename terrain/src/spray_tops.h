@@ -1,0 +1,45 @@
+#pragma once
+// Private: upper bounds of the soil top over square blocks of columns, for a flight's
+// landing test: a particle whose whole path in a step stays above the highest column top
+// under it cannot land in that step and needs no sampling against the ground
+// (spray_flight.h). The blocks tile a window of columns (where the particles in flight can
+// be this step, set by cover); each block's bound is its highest top when first asked (the
+// bounds live for one spray step, whose SprayGround owns them), raised whenever a column in
+// it is raised (SprayGround::set); a column lowered leaves the bound an upper bound.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "tile_store.h"
+
+namespace shore::terrain {
+
+class SoilTops {
+ public:
+  explicit SoilTops(const TileStore& store) : store_(store) {}
+  /// The window: columns [i0, i1] x [j0, j1]. Blocks have a side of 8 columns or more, so
+  /// that at most 64 x 64 of them cover it (a few kB, allocated here).
+  void cover(std::int64_t i0, std::int64_t j0, std::int64_t i1, std::int64_t j1);
+  /// An upper bound of the soil top over columns [i0, i1] x [j0, j1] (i0 <= i1, j0 <= j1);
+  /// +infinity unless the window holds them.
+  [[nodiscard]] double bound(std::int64_t i0, std::int64_t j0, std::int64_t i1, std::int64_t j1) const;
+  /// An upper bound of the soil top over the whole window (+infinity without one): all its
+  /// blocks, computed on the first call if the window holds no more than `most_columns`.
+  [[nodiscard]] double ceiling(std::int64_t most_columns) const;
+  /// The column (i, j) now has this height.
+  void raised(std::int64_t i, std::int64_t j, double height);
+
+ private:
+  [[nodiscard]] double block_bound(std::int64_t bx, std::int64_t by) const;
+
+  const TileStore& store_;
+  int shift_ = 3;                        ///< a block is 2^shift_ columns on a side
+  std::int64_t bx0_ = 0, by0_ = 0;       ///< the window's first block (column >> shift_)
+  std::int64_t nbx_ = 0, nby_ = 0;       ///< blocks across and along; 0: no window
+  mutable double ceiling_ = 0.0;         ///< NaN: not computed yet
+  mutable std::vector<double> block_;    ///< nbx_ * nby_ bounds, row-major; NaN: not computed yet
+  mutable std::vector<double> heights_;  ///< one block's heights (scratch)
+};
+
+}  // namespace shore::terrain
