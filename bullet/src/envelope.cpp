@@ -355,7 +355,10 @@ void EnvelopeRasterizer::draw_fresh(const btCollisionShape& shape, const btTrans
 
 double EnvelopeRasterizer::lower_at(const btCollisionShape& shape, const btTransform& pose, double x, double y) {
   EnvelopeRaster& r = cache_->point;
-  r.resize(0, 0, 1, 1, false);
+  if (r.i0 == 0 && r.j0 == 0 && r.nx == 1 && r.ny == 1 && r.lower.size() == 1 && r.upper.empty())
+    r.lower[0] = EnvelopeRaster::kNoLower;  // what resize would leave, without reallocating
+  else
+    r.resize(0, 0, 1, 1, false);
   const EnvelopeGrid at{x, y, grid_.cell};  // column (0, 0) of this grid stands at (x, y)
   EnvelopeOptions lower_only = options_;
   lower_only.upper = false;

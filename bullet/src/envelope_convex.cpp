@@ -55,7 +55,8 @@ SHORE_ENVELOPE_INLINE bool clip_slab(double o, double d, double h, double& lo, d
 
 /// Finite sharp cylinder: radial condition a s^2 + 2 b s + c <= 0 (a = sin^2 of the angle
 /// between line and axis), axial coordinate a0 + s da in [-h, h].
-SHORE_ENVELOPE_INLINE bool cylinder_interval(double a, double b, double c, double a0, double da, double h, double& lo, double& hi) noexcept {
+SHORE_ENVELOPE_INLINE bool cylinder_interval(double a, double b, double c, double a0, double da, double h, double& lo,
+                                             double& hi) noexcept {
   lo = -kInf;
   hi = kInf;
   if (a <= kParallel) {
