@@ -32,9 +32,11 @@ struct EnvelopeRasterizer::Cache {
   };
   std::unordered_map<const btCollisionShape*, Entry> hulls;
   EnvelopeRaster point;  ///< lower_at's one-column raster
-  /// The last pose to_frame accepted: the same pose again (a probe's many points on one
-  /// body) skips the finiteness and orthonormality checks, which cost more than the point.
+  /// The last pose to_frame accepted and its frame: the same pose again (a probe's many
+  /// points on one body) skips the finiteness and orthonormality checks and the conversion,
+  /// which cost more than the point.
   btTransform checked_pose;
+  Frame checked;
   bool has_checked_pose = false;
 };
 
@@ -47,11 +49,16 @@ constexpr double kMaxIndex = 1e15;
 
 void check_finite(const char* field, double v) { Check{"bullet.envelope"}.finite(field, v); }
 
-/// Checks a dimension of a shape: finite and >= 0 (> 0 if `strict`).
-void check_size(const btCollisionShape& shape, const char* what, double v, bool strict = false) {
-  if (std::isfinite(v) && v >= 0 && !(strict && v == 0)) return;  // the common case builds no message
+[[noreturn, gnu::cold, gnu::noinline]] void fail_size(const btCollisionShape& shape, const char* what, double v,
+                                                      bool strict) {
   throw InvalidSetting(std::string("shape ") + shape.getName() + " " + what, detail::to_text(v),
                        strict ? "must be finite and > 0" : "must be finite and >= 0");
+}
+
+/// Checks a dimension of a shape: finite and >= 0 (> 0 if `strict`). Inline: it runs for
+/// every probe point, and the common case builds no message.
+inline void check_size(const btCollisionShape& shape, const char* what, double v, bool strict = false) {
+  if (!(std::isfinite(v) && v >= 0 && !(strict && v == 0))) fail_size(shape, what, v, strict);
 }
 
 double shape_margin(const btCollisionShape& shape, bool include) {
@@ -164,9 +171,10 @@ class ShapeDrawer {
 
  private:
   Frame checked_frame(const btTransform& pose) {
-    if (cache_.has_checked_pose && same_pose(cache_.checked_pose, pose)) return envelope_detail::frame_of(pose);
+    if (cache_.has_checked_pose && same_pose(cache_.checked_pose, pose)) return cache_.checked;
     const Frame f = envelope_detail::to_frame(pose);
     cache_.checked_pose = pose;
+    cache_.checked = f;
     cache_.has_checked_pose = true;
     return f;
   }
@@ -347,7 +355,10 @@ void EnvelopeRasterizer::draw_fresh(const btCollisionShape& shape, const btTrans
 
 double EnvelopeRasterizer::lower_at(const btCollisionShape& shape, const btTransform& pose, double x, double y) {
   EnvelopeRaster& r = cache_->point;
-  r.resize(0, 0, 1, 1, false);
+  if (r.i0 == 0 && r.j0 == 0 && r.nx == 1 && r.ny == 1 && r.lower.size() == 1 && r.upper.empty())
+    r.lower[0] = EnvelopeRaster::kNoLower;  // what resize would leave, without reallocating
+  else
+    r.resize(0, 0, 1, 1, false);
   const EnvelopeGrid at{x, y, grid_.cell};  // column (0, 0) of this grid stands at (x, y)
   EnvelopeOptions lower_only = options_;
   lower_only.upper = false;

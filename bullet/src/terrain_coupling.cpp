@@ -101,16 +101,23 @@ terrain::Imprint moving_imprint(const EnvelopeRaster& envelope, const btRigidBod
 }
 
 /// Values kept per envelope column, moved from the old window to the new one (0 where new).
+/// The same window keeps them as they are; otherwise each row's overlap is copied at once.
 template <class T>
 void remap(std::vector<T>& values, const ColumnWindow& from, const EnvelopeRaster& to) {
+  const bool same = from.i0 == to.i0 && from.j0 == to.j0 && from.nx == to.nx && from.ny == to.ny;
+  if (same && values.size() == to.lower.size()) return;
   std::vector<T> moved(to.lower.size(), T{});
-  if (!values.empty())
-    for (int y = 0; y < to.ny; ++y)
-      for (int x = 0; x < to.nx; ++x) {
-        const std::int64_t i = to.i0 + x - from.i0, j = to.j0 + y - from.j0;
-        if (i < 0 || j < 0 || i >= from.nx || j >= from.ny) continue;
-        moved[static_cast<std::size_t>(y) * to.nx + x] = values[static_cast<std::size_t>(j * from.nx + i)];
-      }
+  if (!values.empty()) {
+    // Columns x of the new window whose old column i = to.i0 + x - from.i0 lies in [0, from.nx).
+    const std::int64_t x0 = std::max<std::int64_t>(0, from.i0 - to.i0);
+    const std::int64_t x1 = std::min<std::int64_t>(to.nx, from.i0 + from.nx - to.i0);
+    for (int y = 0; y < to.ny && x0 < x1; ++y) {
+      const std::int64_t j = to.j0 + y - from.j0;
+      if (j < 0 || j >= from.ny) continue;
+      const auto src = values.begin() + static_cast<std::ptrdiff_t>(j * from.nx + (to.i0 + x0 - from.i0));
+      std::copy(src, src + (x1 - x0), moved.begin() + static_cast<std::ptrdiff_t>(std::int64_t{y} * to.nx + x0));
+    }
+  }
   values.swap(moved);
 }
 }  // namespace

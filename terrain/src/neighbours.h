@@ -19,13 +19,14 @@ inline constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, -1, 1};
   return off;
 }
 
-/// The lowest (highest) of the 8 neighbours of *p in rows of w, as a balanced tree: min and
-/// max are exact, so the order does not change the value, only the dependency chain.
+/// The lowest (highest) of the 4 axis neighbours and of the 4 diagonal neighbours of *p in
+/// rows of w: min and max are exact, so the order does not change the values.
+struct NeighbourExtremes {
+  double axis, diagonal;
+};
 template <class Pick>
-[[nodiscard]] double neighbour_extreme(const double* p, std::ptrdiff_t w, Pick pick) {
-  const double a = pick(p[-1], p[1]), b = pick(p[-w], p[w]);
-  const double c = pick(p[-w - 1], p[w + 1]), d = pick(p[-w + 1], p[w - 1]);
-  return pick(pick(a, b), pick(c, d));
+[[nodiscard]] NeighbourExtremes neighbour_extremes(const double* p, std::ptrdiff_t w, Pick pick) {
+  return {pick(pick(p[-1], p[1]), pick(p[-w], p[w])), pick(pick(p[-w - 1], p[w + 1]), pick(p[-w + 1], p[w - 1]))};
 }
 
 }  // namespace shore::terrain

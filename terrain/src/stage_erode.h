@@ -50,10 +50,13 @@ struct ErosionLimits {
   double eps = 0.0;               ///< m: smaller moves are ignored
   double thr[8][2] = {};          ///< m: the height difference a pair may keep
   double steep_limit[8][2] = {};  ///< m: what a moving pair must exceed to count as steep
+  double give[8][2] = {};         ///< m: thr + eps, the drop a pair must exceed to flow
   double give_in[8] = {};         ///< m: what a giver must exceed toward a column under a body
-  /// m: a column less than this above (least_give_in: below) all its neighbours can neither
-  /// give nor be given to, so most columns are dismissed without the pair tests.
-  double least_give = 0.0, least_give_in = 0.0;
+  /// m, [0] toward the axis neighbours, [1] the diagonal ones: a column less than this above
+  /// (least_give_in: below) all its neighbours of that kind can neither give to nor be given
+  /// by them, so most columns are dismissed without the pair tests. (Per kind, because a
+  /// diagonal pair's limit is sqrt 2 times an axis pair's.)
+  double least_give[2] = {}, least_give_in[2] = {};
   double sigma = 0.0;  ///< share of the excess that moves per pass
 
   [[nodiscard]] static ErosionLimits from(const TerrainSettings& s);

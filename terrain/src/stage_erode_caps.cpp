@@ -14,7 +14,7 @@ void ErodeStage::compute_caps(const Region& region, std::span<const unsigned cha
                               std::span<const double> body) {
   const int w = region.w;
   const auto off = neighbour_offsets(w);
-  const double eps = lim_.eps, least_give_in = lim_.least_give_in;
+  const double eps = lim_.eps, least_axis = lim_.least_give_in[0], least_diagonal = lim_.least_give_in[1];
   double give_in[8];
   std::copy(std::begin(lim_.give_in), std::end(lim_.give_in), give_in);
   region.for_rows(0, region.h, [&](int y) {
@@ -23,8 +23,9 @@ void ErodeStage::compute_caps(const Region& region, std::span<const unsigned cha
       const double hk = region.ht[k];
       const double room = body[k] - hk;
       int count = 0;
-      const double highest = neighbour_extreme(&region.ht[k], w, [](double a, double b) { return std::max(a, b); });
-      if (room > eps && highest - hk > least_give_in)
+      const NeighbourExtremes highest =
+          neighbour_extremes(&region.ht[k], w, [](double a, double b) { return std::max(a, b); });
+      if (room > eps && (highest.axis - hk > least_axis || highest.diagonal - hk > least_diagonal))
 #pragma GCC unroll 8
         for (int d = 0; d < 8; ++d) {
           const std::size_t nk = k + off[d];

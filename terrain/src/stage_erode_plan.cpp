@@ -30,12 +30,14 @@ ErosionLimits ErosionLimits::from(const TerrainSettings& s) {
     lim.thr[d][1] = dist * det::tan(m.theta_in);
     const double stop = dist * det::tan(m.theta_stop);
     for (int c = 0; c < 2; ++c) lim.steep_limit[d][c] = std::max(lim.thr[d][c], stop) + stop_tolerance;
+    for (int c = 0; c < 2; ++c) lim.give[d][c] = lim.thr[d][c] + lim.eps;
     lim.give_in[d] = lim.thr[d][1] + lim.eps;
   }
-  lim.least_give = kInf, lim.least_give_in = kInf;
+  for (int kind = 0; kind < 2; ++kind) lim.least_give[kind] = kInf, lim.least_give_in[kind] = kInf;
   for (int d = 0; d < 8; ++d) {
-    lim.least_give = std::min({lim.least_give, lim.thr[d][0] + lim.eps, lim.thr[d][1] + lim.eps});
-    lim.least_give_in = std::min(lim.least_give_in, lim.give_in[d]);
+    const int kind = d < 4 ? 0 : 1;
+    lim.least_give[kind] = std::min({lim.least_give[kind], lim.give[d][0], lim.give[d][1]});
+    lim.least_give_in[kind] = std::min(lim.least_give_in[kind], lim.give_in[d]);
   }
   lim.sigma = m.sigma;
   return lim;

@@ -23,8 +23,9 @@ bool ErodeStage::compute_shares(const Region& region) {
     cand_.for_each_in_row(y, [&](int x) {
       const std::size_t k = region.at(x, y);
       const double h0 = region.ht[k];
-      const double lowest = neighbour_extreme(&region.ht[k], w, [](double a, double b) { return std::min(a, b); });
-      if (!(h0 - lowest > lim.least_give)) return;
+      const NeighbourExtremes lowest =
+          neighbour_extremes(&region.ht[k], w, [](double a, double b) { return std::min(a, b); });
+      if (!(h0 - lowest.axis > lim.least_give[0]) && !(h0 - lowest.diagonal > lim.least_give[1])) return;
       double excess_sum = 0.0;
       int count = 0;
       unsigned mk = 0, steep_mk = 0;
@@ -34,9 +35,8 @@ bool ErodeStage::compute_shares(const Region& region) {
         if (cap_[nk] == 0.0) continue;
         const double diff = h0 - region.ht[nk];
         const int c = cover_[nk];
-        const double t = lim.thr[d][c];
-        if (!(diff > t + lim.eps)) continue;
-        excess_sum += diff - t;
+        if (!(diff > lim.give[d][c])) continue;
+        excess_sum += diff - lim.thr[d][c];
         ++count;
         mk |= 1u << d;
         if (diff > lim.steep_limit[d][c]) steep_mk |= 1u << d;
