@@ -12,6 +12,7 @@
 #include "shore/scenes/film.h"
 #include "shore/scenes/mesh.h"
 #include "shore/scenes/picture.h"
+#include "shore/scenes/recording.h"
 #include "shore/scenes/static_shares.h"
 
 namespace shore::scenes {
@@ -100,12 +101,13 @@ SceneOptions resolve(const SceneType& scene, const Overrides& o) {
   return s;
 }
 
-SceneResult run_scene(const SceneType& type, const SceneOptions& options, ProgressMode progress_mode,
-                      Painter* painter) {
+SceneResult run_scene(const SceneType& type, const SceneOptions& options, ProgressMode progress_mode, Painter* painter,
+                      Recorder* recorder) {
   options.validate();
   if (options.write_files) std::filesystem::create_directories(options.out_dir);
   Progress progress(type.name, progress_mode);
   const std::unique_ptr<Scene> scene = type.create(options);
+  if (recorder != nullptr) recorder->begin(type, options, *scene);
 
   // The loop: only the steps are timed; frames are taken between them.
   const int n = options.substeps();
@@ -125,6 +127,7 @@ SceneResult run_scene(const SceneType& type, const SceneOptions& options, Progre
     scene->step();
     wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     scene->observe();
+    if (recorder != nullptr) recorder->after_substep(*scene, k);
     film(k);
     progress.update(static_cast<double>(k) / n);
   }
@@ -135,6 +138,10 @@ SceneResult run_scene(const SceneType& type, const SceneOptions& options, Progre
   result.metrics = common_metrics(type.name, options, n, wall, result.state_hash, non_finite_count(state));
   scene->measure(result.metrics);
   result.metrics["precision"] = precision_name();
+  if (recorder != nullptr) {
+    recorder->finish(result.state_hash);
+    result.metrics["recording_bytes"] = recorder->file_bytes();
+  }
   nlohmann::json files = nlohmann::json::array();
   if (options.write_files) {
     Drawing drawing(options, frames.empty() ? Image() : scenes::filmstrip(frames, labels, 3), painter,
@@ -171,6 +178,7 @@ const std::vector<MetricHelp>& common_metric_help() {
       {"checks", "comparisons with outside references: value, reference, tolerance, source"},
       {"files", "files written by the scene"},
       {"pictures_skipped", "pictures not drawn for want of the OpenGL renderer (empty: all drawn)"},
+      {"recording_bytes", "size of the recording written with --record (recording.h), bytes"},
   };
   return help;
 }
