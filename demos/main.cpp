@@ -71,8 +71,15 @@ int run_scenes(const std::vector<const SceneType*>& list, const Cli& cli) {
     std::fprintf(stderr, "shore-demo: %s ...\n", s->name.c_str());
     try {
       const SceneResult r = run_scene(*s, resolve(*s, cli.overrides), mode, painter.get(), recorder.get());
-      if (recorder) std::printf("recorded to %s: %zu bytes\n", cli.record.c_str(), recorder->file_bytes());
       const auto& m = r.metrics;
+      if (recorder) {
+        const Recorder::Sizes& z = recorder->sizes();
+        std::printf(
+            "recorded to %s: %zu bytes (%.0f per simulated second; uncompressed: initial state %zu, soil deltas "
+            "%zu, bodies %zu)\n",
+            cli.record.c_str(), z.file, static_cast<double>(z.file) / m["sim_seconds"].get<double>(), z.initial,
+            z.soil_deltas, z.bodies);
+      }
       std::printf("%-16s %6.2f s simulated in %6.3f s (x%.1f real time), hash %s, %zu files in %s\n", s->name.c_str(),
                   m["sim_seconds"].get<double>(), m["wall_seconds"].get<double>(), m["realtime_factor"].get<double>(),
                   m["state_hash"].get<std::string>().c_str(), r.files.size(),

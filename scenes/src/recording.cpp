@@ -152,7 +152,9 @@ void Recorder::begin(const SceneType& type, const SceneOptions& options, Scene& 
   w.put(static_cast<std::int32_t>(im.substeps));
   im.hash_at = w.bytes.size();  // the final state hash, written at finish()
   w.put(std::uint64_t{0});
-  put_bytes(w, save_checkpoint(scene).bytes());
+  const std::vector<unsigned char> initial = save_checkpoint(scene).bytes();
+  sizes_.initial = initial.size();
+  put_bytes(w, initial);
   w.put(static_cast<std::uint32_t>(c.soils.size()));
   for (const SoilContents& s : c.soils) {
     im.sent.push_back(s.soil->generation());
@@ -169,10 +171,14 @@ void Recorder::after_substep(Scene& scene, int k) {
   exact.quantum = 0.0;  // bit-identical columns, bookkeeping and spray (soil_delta.h)
   im.frames.put(static_cast<std::int32_t>(k));
   for (std::size_t s = 0; s < c.soils.size(); ++s) {
-    put_bytes(im.frames, terrain::SoilDelta::encode(*c.soils[s].soil, im.sent[s], exact));
+    const std::vector<unsigned char> delta = terrain::SoilDelta::encode(*c.soils[s].soil, im.sent[s], exact);
+    sizes_.soil_deltas += delta.size();
+    put_bytes(im.frames, delta);
     im.sent[s] = c.soils[s].soil->generation();
   }
+  const std::size_t before = im.frames.bytes.size();
   put_bodies(im.frames, *c.world);
+  sizes_.bodies += im.frames.bytes.size() - before;
   ++im.frame_count;
 }
 
@@ -198,7 +204,7 @@ void Recorder::finish(std::uint64_t state_hash) {
   std::memcpy(out.bytes.data() + frame_at - 8, &frame_size, sizeof frame_size);
   out.put(checksum(out.bytes.data(), out.bytes.size()));
   write_file_atomically(im.file, out.bytes, "recording");
-  file_bytes_ = out.bytes.size();
+  sizes_.file = out.bytes.size();
 }
 
 // ---- replaying ---------------------------------------------------------------------------

@@ -140,7 +140,9 @@ SceneResult run_scene(const SceneType& type, const SceneOptions& options, Progre
   result.metrics["precision"] = precision_name();
   if (recorder != nullptr) {
     recorder->finish(result.state_hash);
-    result.metrics["recording_bytes"] = recorder->file_bytes();
+    const Recorder::Sizes& z = recorder->sizes();
+    result.metrics["recording_bytes"] = {
+        {"file", z.file}, {"initial", z.initial}, {"soil_deltas", z.soil_deltas}, {"bodies", z.bodies}};
   }
   nlohmann::json files = nlohmann::json::array();
   if (options.write_files) {
@@ -178,7 +180,9 @@ const std::vector<MetricHelp>& common_metric_help() {
       {"checks", "comparisons with outside references: value, reference, tolerance, source"},
       {"files", "files written by the scene"},
       {"pictures_skipped", "pictures not drawn for want of the OpenGL renderer (empty: all drawn)"},
-      {"recording_bytes", "size of the recording written with --record (recording.h), bytes"},
+      {"recording_bytes",
+       "the recording written with --record (recording.h), bytes: the file; before its "
+       "compression, the initial checkpoint, the soil deltas, the body states"},
   };
   return help;
 }

@@ -53,13 +53,18 @@ class Recorder {
   void after_substep(Scene& scene, int k);
   /// After the run: writes the file atomically. FileError naming it if that fails.
   void finish(std::uint64_t state_hash);
-  /// Bytes of the file written by finish (0 before).
-  [[nodiscard]] std::size_t file_bytes() const noexcept { return file_bytes_; }
+  /// What the file holds, bytes: the whole file (written by finish; 0 before), and before
+  /// the outer compression the initial checkpoint, the soil deltas and the body states.
+  struct Sizes {
+    std::size_t file = 0, initial = 0, soil_deltas = 0, bodies = 0;
+  };
+  [[nodiscard]] const Sizes& sizes() const noexcept { return sizes_; }
+  [[nodiscard]] std::size_t file_bytes() const noexcept { return sizes_.file; }
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  std::size_t file_bytes_ = 0;
+  Sizes sizes_;
 };
 
 /// What replay() produced.
