@@ -113,11 +113,7 @@ int replay_file(const std::string& file, const Cli& cli) {
 nlohmann::json current_hashes(const std::vector<const SceneType*>& list) {
   nlohmann::json out = nlohmann::json::object();
   for (const SceneType* s : list) {
-    Overrides o;
-    o.smoke = true;
-    o.threads = 1;
-    o.write_files = false;
-    const SceneOptions opt = resolve(*s, o);
+    const SceneOptions opt = pinning_options(*s);
     const SceneResult r = run_scene(*s, opt, ProgressMode::quiet);
     out[s->name] = {{"state_hash", shore::to_hex(r.state_hash)},
                     {"substeps", opt.substeps()},

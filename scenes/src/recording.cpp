@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 
 #include "shore/bullet/body_state.h"
 #include "shore/core/byte_io.h"
@@ -63,7 +62,7 @@ class RecordReader : public ByteReader {
  private:
   std::span<const unsigned char> take(std::size_t size) {
     const std::span<const unsigned char> out = raw_.subspan(raw_.size() - remaining(), size);
-    for (std::size_t k = 0; k < size; ++k) (void)get<unsigned char>("bytes");
+    skip(size, "bytes");
     return out;
   }
   std::span<const unsigned char> raw_;
@@ -140,6 +139,8 @@ Recorder::~Recorder() = default;
 
 void Recorder::begin(const SceneType& type, const SceneOptions& options, Scene& scene) {
   Impl& im = *impl_;
+  if (!im.head.bytes.empty())
+    throw InvalidSetting("scenes.Recorder.begin", type.name, "a recorder records one run (make one per run)");
   const SceneContents c = recordable(scene, type.name);
   im.substeps = options.substeps();
   im.per_frame = std::max(1, static_cast<int>(std::lround(1.0 / (kFramesPerSecond * options.substep))));

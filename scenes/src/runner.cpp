@@ -101,6 +101,14 @@ SceneOptions resolve(const SceneType& scene, const Overrides& o) {
   return s;
 }
 
+SceneOptions pinning_options(const SceneType& scene) {
+  Overrides o;
+  o.smoke = true;
+  o.threads = 1;
+  o.write_files = false;
+  return resolve(scene, o);
+}
+
 SceneResult run_scene(const SceneType& type, const SceneOptions& options, ProgressMode progress_mode, Painter* painter,
                       Recorder* recorder) {
   options.validate();

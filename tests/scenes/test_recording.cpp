@@ -21,13 +21,7 @@ namespace {
 
 fs::path temp(const std::string& name) { return fs::path(testing::TempDir()) / ("shore_recording_" + name); }
 
-SceneOptions smoke_options(const std::string& name) {
-  Overrides o;
-  o.smoke = true;
-  o.threads = 1;
-  o.write_files = false;
-  return resolve(*find_scene(name), o);
-}
+SceneOptions smoke_options(const std::string& name) { return pinning_options(*find_scene(name)); }
 
 /// Records the smoke run of `name` to `file`; returns the run's final state hash.
 std::uint64_t record(const std::string& name, const fs::path& file) {

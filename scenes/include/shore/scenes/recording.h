@@ -35,7 +35,8 @@
 
 namespace shore::scenes {
 
-/// Records a run of one scene; run_scene calls begin, after_substep and finish.
+/// Records one run of one scene (one recorder per run); run_scene calls begin,
+/// after_substep and finish.
 class Recorder {
  public:
   /// Frames per simulated second (besides the filmstrip substeps and the last).

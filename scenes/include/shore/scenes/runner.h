@@ -33,6 +33,10 @@ struct Overrides {
 /// The scene's defaults with the overrides applied; out_dir = out_root / scene.name.
 SceneOptions resolve(const SceneType& scene, const Overrides& overrides);
 
+/// The smoke run on one thread without files: what the pinned hashes, the checkpoint and
+/// recording tests run.
+SceneOptions pinning_options(const SceneType& scene);
+
 /// What a run produced: the common metrics (common_metric_help) plus the scene's own, the
 /// files written (metrics.json last) and the state hash of the end of the run.
 struct SceneResult {
