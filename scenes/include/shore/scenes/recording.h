@@ -6,7 +6,9 @@
 // couplings, bodies, clock), then per frame (30 per simulated second, every filmstrip
 // substep and the last substep) each soil's exact delta since the previous frame
 // (soil_delta.h with quantum 0: heights, sinkages, volume bookkeeping and the spray state)
-// and every body's state (bullet::save_bodies: poses, velocities, activation). A replay
+// and every body's world transform and linear and angular velocity, in the order the scene
+// added them (World::bodies(); not bullet::save_bodies, whose collision-object order
+// changes as the couplings add and remove heightfield tiles during a run). A replay
 // does NOT step the physics: it restores the initial checkpoint into a fresh scene and
 // then only writes the recorded columns, spray and bodies into it, frame by frame. So its
 // state hash equals the run's only if the recording holds the whole hashed state (the
@@ -22,7 +24,7 @@
 // seconds, substep, cell; u32 length + material; u8 smoke; i32 substeps; u64 the run's final
 // state hash; u64 size + initial checkpoint (SHORECKP); u32 soils, per soil u64 its
 // generation at the start; u32 frames, per frame: i32 substep, per soil u64 size + delta,
-// u64 size + bodies.
+// u32 bodies, per body 18 btScalars (basis rows, origin, linear, angular velocity).
 
 #include <cstdint>
 #include <filesystem>
