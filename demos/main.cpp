@@ -1,5 +1,6 @@
 // shore-demo: headless Shore scenes. One subcommand per registered scene, "all" for every
-// scene, "pin" to check or update the pinned state hashes of the regression test.
+// scene, "pin" to check or update the pinned state hashes of the regression test,
+// "replay" to re-render a run recorded with --record (shore/scenes/recording.h).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -12,6 +13,7 @@
 
 #include "gl_pictures.h"
 #include "shore/core/hash.h"
+#include "shore/scenes/recording.h"
 #include "shore/scenes/report.h"
 #include "shore/scenes/runner.h"
 
@@ -24,6 +26,7 @@ struct Cli {
   Overrides overrides;
   std::string progress = "auto";
   bool pictures = true;  ///< the pictures, from the OpenGL renderer (when built)
+  std::string record;    ///< --record: the file the one scene run is recorded to
 };
 
 void add_common_options(CLI::App& app, Cli& cli) {
@@ -38,6 +41,9 @@ void add_common_options(CLI::App& app, Cli& cli) {
   app.add_option("--cell", o.cell, "grid spacing, m (default: the scene's)")->check(CLI::Range(1e-4, 1.0));
   app.add_flag("--smoke", o.smoke, "short run (the scene's smoke_seconds), as the tests do");
   app.add_flag("!--no-pictures", cli.pictures, "no pictures (they need the OpenGL renderer, headless through EGL)");
+  app.add_option("--record", cli.record,
+                 "record the run (one scene) to this file: its initial state, then per frame the soil deltas and "
+                 "body states; shore-demo replay <file> re-renders it");
   app.add_option("--progress", cli.progress, "progress on stderr: auto (bar on a terminal), bar, lines, quiet")
       ->check(CLI::IsMember({"auto", "bar", "lines", "quiet"}))
       ->capture_default_str();
@@ -55,12 +61,25 @@ std::string scene_help(const SceneType& s) {
 int run_scenes(const std::vector<const SceneType*>& list, const Cli& cli) {
   int failed = 0;
   const ProgressMode mode = parse_progress_mode(cli.progress);
+  if (!cli.record.empty() && list.size() != 1) {
+    std::fprintf(stderr, "shore-demo: --record records one scene, not %zu\n", list.size());
+    return 1;
+  }
   const std::unique_ptr<shore::scenes::Painter> painter = shore::demo::make_painter(cli.pictures);
+  std::unique_ptr<Recorder> recorder = cli.record.empty() ? nullptr : std::make_unique<Recorder>(cli.record);
   for (const SceneType* s : list) {
     std::fprintf(stderr, "shore-demo: %s ...\n", s->name.c_str());
     try {
-      const SceneResult r = run_scene(*s, resolve(*s, cli.overrides), mode, painter.get());
+      const SceneResult r = run_scene(*s, resolve(*s, cli.overrides), mode, painter.get(), recorder.get());
       const auto& m = r.metrics;
+      if (recorder) {
+        const Recorder::Sizes& z = recorder->sizes();
+        std::printf(
+            "recorded to %s: %zu bytes (%.0f per simulated second; uncompressed: initial state %zu, soil deltas "
+            "%zu, bodies %zu)\n",
+            cli.record.c_str(), z.file, static_cast<double>(z.file) / m["sim_seconds"].get<double>(), z.initial,
+            z.soil_deltas, z.bodies);
+      }
       std::printf("%-16s %6.2f s simulated in %6.3f s (x%.1f real time), hash %s, %zu files in %s\n", s->name.c_str(),
                   m["sim_seconds"].get<double>(), m["wall_seconds"].get<double>(), m["realtime_factor"].get<double>(),
                   m["state_hash"].get<std::string>().c_str(), r.files.size(),
@@ -76,15 +95,25 @@ int run_scenes(const std::vector<const SceneType*>& list, const Cli& cli) {
   return failed;
 }
 
+/// Replays a recording; 0 if its final state hash equals the recorded run's.
+int replay_file(const std::string& file, const Cli& cli) {
+  const std::unique_ptr<shore::scenes::Painter> painter = shore::demo::make_painter(cli.pictures);
+  const ReplayResult r =
+      replay(file, cli.overrides.out_root, cli.overrides.write_files, painter.get(), parse_progress_mode(cli.progress));
+  const bool same = r.state_hash == r.recorded_state_hash;
+  std::printf(
+      "replay %-9s %d frames, %6.2f s simulated, replayed in %6.3f s, hash %s %s the run's %s, %zu files in %s\n",
+      r.scene.c_str(), r.frames, r.sim_seconds, r.wall_seconds, shore::to_hex(r.state_hash).c_str(),
+      same ? "equals" : "DIFFERS from", shore::to_hex(r.recorded_state_hash).c_str(), r.files.size(),
+      (cli.overrides.out_root / r.scene).c_str());
+  return same ? 0 : 1;
+}
+
 /// Smoke-run state hashes of the chosen scenes (one thread, no files), keyed by name.
 nlohmann::json current_hashes(const std::vector<const SceneType*>& list) {
   nlohmann::json out = nlohmann::json::object();
   for (const SceneType* s : list) {
-    Overrides o;
-    o.smoke = true;
-    o.threads = 1;
-    o.write_files = false;
-    const SceneOptions opt = resolve(*s, o);
+    const SceneOptions opt = pinning_options(*s);
     const SceneResult r = run_scene(*s, opt, ProgressMode::quiet);
     out[s->name] = {{"state_hash", shore::to_hex(r.state_hash)},
                     {"substeps", opt.substeps()},
@@ -157,11 +186,16 @@ int main(int argc, char** argv) {
   pin_cmd->add_option("file", pin_file, "pinned-hash file")->capture_default_str();
   pin_cmd->add_flag("--update", pin_update, "write the current hashes for this build's precision");
   pin_cmd->add_option("--scene", pin_scenes, "only these scenes");
+  CLI::App* replay_cmd = app.add_subcommand(
+      "replay", "re-render a recording (--record) into <out>/<scene>/ and check its final state hash");
+  std::string replay_file_name;
+  replay_cmd->add_option("file", replay_file_name, "the recording")->required();
   for (auto& [scene, sub] : subs) {
     (void)scene;
     sub->fallthrough();
   }
   all->fallthrough();
+  replay_cmd->fallthrough();
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -170,6 +204,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (pin_cmd->parsed()) return pin(pin_file, pin_update, pin_scenes);
+    if (replay_cmd->parsed()) return replay_file(replay_file_name, cli);
     std::vector<const SceneType*> chosen;
     if (all->parsed())
       for (const SceneType& s : scenes()) chosen.push_back(&s);

@@ -32,6 +32,9 @@ int main(int argc, char** argv) {
   std::printf("  \"sync.delta_bytes_per_changed_column\": %.3f,\n", r.delta_bytes / columns);
   std::printf("  \"sync.encode_ms_per_sync\": %.4f,\n  \"sync.decode_ms_per_sync\": %.4f,\n",
               1e3 * r.encode_seconds / syncs, 1e3 * r.decode_seconds / syncs);
-  std::printf("  \"sync.replica_max_error_m\": %.3g\n}\n", r.max_error);
-  return r.max_error <= ds.quantum ? 0 : 1;
+  std::printf("  \"sync.replica_max_error_m\": %.3g,\n", r.max_error);
+  // Exact deltas carry the spray too: the replica's whole soil state hash must match.
+  std::printf("  \"sync.replica_same_soil_hash\": %s\n}\n", r.same_soil_hash ? "true" : "false");
+  const bool exact_ok = ds.quantum != 0.0 || r.same_soil_hash;
+  return r.max_error <= ds.quantum && exact_ok ? 0 : 1;
 }

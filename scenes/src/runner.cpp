@@ -12,6 +12,7 @@
 #include "shore/scenes/film.h"
 #include "shore/scenes/mesh.h"
 #include "shore/scenes/picture.h"
+#include "shore/scenes/recording.h"
 #include "shore/scenes/static_shares.h"
 
 namespace shore::scenes {
@@ -100,12 +101,21 @@ SceneOptions resolve(const SceneType& scene, const Overrides& o) {
   return s;
 }
 
-SceneResult run_scene(const SceneType& type, const SceneOptions& options, ProgressMode progress_mode,
-                      Painter* painter) {
+SceneOptions pinning_options(const SceneType& scene) {
+  Overrides o;
+  o.smoke = true;
+  o.threads = 1;
+  o.write_files = false;
+  return resolve(scene, o);
+}
+
+SceneResult run_scene(const SceneType& type, const SceneOptions& options, ProgressMode progress_mode, Painter* painter,
+                      Recorder* recorder) {
   options.validate();
   if (options.write_files) std::filesystem::create_directories(options.out_dir);
   Progress progress(type.name, progress_mode);
   const std::unique_ptr<Scene> scene = type.create(options);
+  if (recorder != nullptr) recorder->begin(type, options, *scene);
 
   // The loop: only the steps are timed; frames are taken between them.
   const int n = options.substeps();
@@ -125,6 +135,7 @@ SceneResult run_scene(const SceneType& type, const SceneOptions& options, Progre
     scene->step();
     wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     scene->observe();
+    if (recorder != nullptr) recorder->after_substep(*scene, k);
     film(k);
     progress.update(static_cast<double>(k) / n);
   }
@@ -135,6 +146,12 @@ SceneResult run_scene(const SceneType& type, const SceneOptions& options, Progre
   result.metrics = common_metrics(type.name, options, n, wall, result.state_hash, non_finite_count(state));
   scene->measure(result.metrics);
   result.metrics["precision"] = precision_name();
+  if (recorder != nullptr) {
+    recorder->finish(result.state_hash);
+    const Recorder::Sizes& z = recorder->sizes();
+    result.metrics["recording_bytes"] = {
+        {"file", z.file}, {"initial", z.initial}, {"soil_deltas", z.soil_deltas}, {"bodies", z.bodies}};
+  }
   nlohmann::json files = nlohmann::json::array();
   if (options.write_files) {
     Drawing drawing(options, frames.empty() ? Image() : scenes::filmstrip(frames, labels, 3), painter,
@@ -171,6 +188,9 @@ const std::vector<MetricHelp>& common_metric_help() {
       {"checks", "comparisons with outside references: value, reference, tolerance, source"},
       {"files", "files written by the scene"},
       {"pictures_skipped", "pictures not drawn for want of the OpenGL renderer (empty: all drawn)"},
+      {"recording_bytes",
+       "the recording written with --record (recording.h), bytes: the file; before its "
+       "compression, the initial checkpoint, the soil deltas, the body states"},
   };
   return help;
 }

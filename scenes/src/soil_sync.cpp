@@ -76,7 +76,11 @@ SyncResult sync_scene(const std::string& name, double seconds, const terrain::De
     ++r.syncs;
     for (Link& l : links) sync_once(l, settings, r);
   }
-  for (const Link& l : links) r.max_error = std::max(r.max_error, largest_error(l, contents.bounds));
+  r.same_soil_hash = true;
+  for (const Link& l : links) {
+    r.max_error = std::max(r.max_error, largest_error(l, contents.bounds));
+    r.same_soil_hash = r.same_soil_hash && l.server->state_hash() == l.replica->state_hash();
+  }
   r.sim_seconds = opt.substeps() * opt.substep;
   return r;
 }

@@ -1,7 +1,9 @@
 // Soil deltas (shore/terrain/soil_delta.h). Before compression, a delta is
 //   f64 compacted, edited (the server's volume bookkeeping); u32 rectangle count;
 //   per rectangle: i64 i0, j0; u16 nx, ny; then its heights and its sinkages, row-major,
-//   each as a coded sequence (below).
+//   each as a coded sequence (below);
+//   (version 2 on) u8 spray flag; if 1 (exact deltas), the spray state as the terrain's
+//   state file writes it (spray_io.h), to the end.
 // A value is an integer: quantised, round((height - base) / quantum) and
 // round(sinkage / quantum); exact, the double's bit pattern. A sequence codes each value's
 // difference from the one before (the first from 0), wrapping, zig-zag mapped and written
@@ -19,6 +21,7 @@
 #include "shore/core/byte_io.h"
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
+#include "spray_io.h"
 #include "terrain_impl.h"
 
 namespace shore::terrain {
@@ -26,7 +29,7 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'S', 'D', 'L'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;  // 1: no spray flag (still read)
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8 + 8 + 8 + 8;
 constexpr std::size_t kMaxRawBytes = std::size_t{1} << 31;
@@ -120,6 +123,8 @@ struct DecodedRect {
 struct Decoded {
   double compacted = 0.0, edited = 0.0;
   std::vector<DecodedRect> rects;
+  bool has_spray = false;
+  SprayState spray;
 };
 
 std::uint64_t checksum(const unsigned char* data, std::size_t size) {
@@ -165,6 +170,15 @@ std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_
     put_sequence(raw.bytes, sinkages);
     st.columns += heights.size();
   }
+  // Exact deltas carry the spray too: with it the replica's whole soil state, and so its
+  // state_hash, is the server's. Quantised ones do not (bodies on a replica read heights
+  // and sinkages only; the spray would cost more than the columns).
+  raw.put(static_cast<std::uint8_t>(settings.quantum == 0.0 ? 1 : 0));
+  if (settings.quantum == 0.0) {
+    Writer spray;
+    write_spray_state(spray, im.spray.state);
+    raw.bytes.insert(raw.bytes.end(), spray.bytes.begin(), spray.bytes.end());
+  }
   ByteWriter w;
   for (char c : kMagic) w.put(c);
   w.put(kVersion), w.put(kByteOrderMark), w.put(settings.quantum);
@@ -189,6 +203,7 @@ std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_
 namespace {
 
 struct Header {
+  std::uint32_t version = kVersion;
   double quantum = 0.0;
   std::uint64_t from = 0, to = 0, raw_size = 0, frame_size = 0;
 };
@@ -199,10 +214,12 @@ Header read_header(std::span<const unsigned char> delta) {
   if (delta.size() < kHeaderBytes + 8) refuse("truncated (" + std::to_string(delta.size()) + " bytes)");
   RawReader r(delta.subspan(sizeof kMagic, kHeaderBytes - sizeof kMagic));
   const auto version = r.get<std::uint32_t>("version");
-  if (version != kVersion)
-    refuse("unsupported version " + std::to_string(version) + " (this build reads " + std::to_string(kVersion) + ")");
+  if (version != 1 && version != kVersion)
+    refuse("unsupported version " + std::to_string(version) + " (this build reads 1 to " + std::to_string(kVersion) +
+           ")");
   if (r.get<std::uint32_t>("byte-order mark") != kByteOrderMark) refuse("written with the other byte order");
   Header h;
+  h.version = version;
   h.quantum = r.get<double>("header"), h.from = r.get<std::uint64_t>("header"), h.to = r.get<std::uint64_t>("header");
   h.raw_size = r.get<std::uint64_t>("header"), h.frame_size = r.get<std::uint64_t>("header");
   if (h.frame_size != delta.size() - kHeaderBytes - 8)
@@ -271,7 +288,23 @@ DecodedRect read_rect(RawReader& r, const TileStore& tiles, double quantum) {
   return d;
 }
 
-Decoded decode(std::span<const unsigned char> raw, const TileStore& tiles, double quantum) {
+/// The spray block of a version 2 delta, from where `r` stands to the end.
+void read_spray(RawReader& r, std::span<const unsigned char> raw, Decoded& d) {
+  const auto flag = r.get<std::uint8_t>("spray flag");
+  if (flag > 1) refuse("corrupt (spray flag " + std::to_string(flag) + ")");
+  d.has_spray = flag == 1;
+  const std::span<const unsigned char> rest = raw.subspan(raw.size() - r.remaining());
+  if (!d.has_spray) {
+    if (!rest.empty()) refuse("corrupt (bytes after the last rectangle)");
+    return;
+  }
+  Reader spray(rest, rest.size(), "in a soil delta");
+  read_spray_state(spray, d.spray);
+  if (spray.remaining() != 0) refuse("corrupt (bytes after the spray state)");
+}
+
+Decoded decode(std::span<const unsigned char> raw, const TileStore& tiles, const Header& h) {
+  const double quantum = h.quantum;
   RawReader r(raw);
   Decoded d;
   d.compacted = r.get<double>("bookkeeping"), d.edited = r.get<double>("bookkeeping");
@@ -279,6 +312,10 @@ Decoded decode(std::span<const unsigned char> raw, const TileStore& tiles, doubl
   const auto count = r.get<std::uint32_t>("rectangle count");
   if (count > raw.size() / 20) refuse("corrupt (rectangle count " + std::to_string(count) + ")");
   for (std::uint32_t k = 0; k < count; ++k) d.rects.push_back(read_rect(r, tiles, quantum));
+  if (h.version >= 2) {
+    read_spray(r, raw, d);
+    return d;
+  }
   if (!r.done()) refuse("corrupt (bytes after the last rectangle)");
   return d;
 }
@@ -292,7 +329,7 @@ std::uint64_t SoilDelta::apply(Terrain& replica, std::span<const unsigned char> 
            std::to_string(at));
   Terrain::Impl& im = *replica.impl_;
   // Everything is decoded and checked before the first column is written.
-  const Decoded d = decode(decompress(delta, h), im.tiles, h.quantum);
+  Decoded d = decode(decompress(delta, h), im.tiles, h);
   TileStore& tiles = im.tiles;
   tiles.advance_generation();
   for (const DecodedRect& r : d.rects)
@@ -303,6 +340,7 @@ std::uint64_t SoilDelta::apply(Terrain& replica, std::span<const unsigned char> 
       tiles.mark_changed(run.key, t, run.li, run.lj, run.li + run.count - 1, run.lj);
     });
   im.compacted = d.compacted, im.edited = d.edited;
+  if (d.has_spray) im.spray.state = std::move(d.spray);
   return h.to;
 }
 

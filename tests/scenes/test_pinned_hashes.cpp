@@ -41,12 +41,8 @@ TEST_P(PinnedHash, SmokeRunStateHashMatchesThePinnedValue) {
       << "scene '" << name << "' has no pinned state hash for the " << precision
       << " build. Run it, look at its pictures, then pin it on purpose with:\n  " << pin_command(name);
 
-  Overrides o;
-  o.smoke = true;
-  o.threads = 1;
-  o.write_files = false;
   const SceneType& scene = *find_scene(name);
-  const SceneOptions opt = resolve(scene, o);
+  const SceneOptions opt = pinning_options(scene);
   const SceneResult r = run_scene(scene, opt, ProgressMode::quiet);
   const nlohmann::json& want = pinned[name][precision];
   EXPECT_EQ(want["substeps"].get<int>(), opt.substeps())

@@ -26,13 +26,7 @@ using namespace shore::scenes;
 
 namespace {
 
-SceneOptions smoke_options(const std::string& name) {
-  Overrides o;
-  o.smoke = true;
-  o.threads = 1;
-  o.write_files = false;
-  return resolve(*find_scene(name), o);
-}
+SceneOptions smoke_options(const std::string& name) { return pinning_options(*find_scene(name)); }
 
 struct Continuation {
   std::uint64_t uninterrupted = 0, restored = 0;

@@ -16,6 +16,8 @@
 
 namespace shore::scenes {
 
+class Recorder;
+
 /// Command-line overrides; unset fields take the scene's defaults.
 struct Overrides {
   std::filesystem::path out_root = "out";
@@ -31,6 +33,10 @@ struct Overrides {
 /// The scene's defaults with the overrides applied; out_dir = out_root / scene.name.
 SceneOptions resolve(const SceneType& scene, const Overrides& overrides);
 
+/// The smoke run on one thread without files: what the pinned hashes, the checkpoint and
+/// recording tests run.
+SceneOptions pinning_options(const SceneType& scene);
+
 /// What a run produced: the common metrics (common_metric_help) plus the scene's own, the
 /// files written (metrics.json last) and the state hash of the end of the run.
 struct SceneResult {
@@ -45,8 +51,10 @@ struct SceneResult {
 /// scene and writes out_dir/metrics.json. Scene errors propagate. The pictures (the
 /// filmstrip too) are the painter's (shore-demo's: the OpenGL renderer); without one none
 /// are written and metrics["pictures_skipped"] lists them.
+/// With a recorder (recording.h), the run is recorded to its file and
+/// metrics["recording_bytes"] holds its size.
 SceneResult run_scene(const SceneType& scene, const SceneOptions& options, ProgressMode progress,
-                      Painter* painter = nullptr);
+                      Painter* painter = nullptr, Recorder* recorder = nullptr);
 
 /// Names of the common metrics, in report order, with their meaning.
 const std::vector<MetricHelp>& common_metric_help();

@@ -20,6 +20,9 @@ struct SyncResult {
   /// m, the replica's largest |height| or |sinkage| difference from the server over the
   /// scene's bounds after the run.
   double max_error = 0.0;
+  /// Every replica's Terrain::state_hash equals its server's after the run (expected in
+  /// exact mode, where deltas carry the spray and bookkeeping too; not when quantised).
+  bool same_soil_hash = false;
 };
 
 /// Runs `scene` (one thread, no files) for `seconds` with 20 Hz soil deltas of `settings`.

@@ -2,7 +2,10 @@
 // Soil deltas for network replicas: the columns a server's terrain changed since a
 // generation (Terrain::generation), their heights and sinkage (what the bearing law and the
 // contact read), quantised, delta and run-length coded rectangle by rectangle (at most one
-// per tile), compressed with zstd, versioned and checksummed.
+// per tile), compressed with zstd, versioned and checksummed. Exact deltas (quantum 0)
+// also carry the volume bookkeeping and the whole spray state (particles in flight, soil
+// clinging to bodies), so a replica driven only by them has the server's state_hash;
+// quantised ones carry columns and bookkeeping only.
 //
 // A replica is a Terrain built with the server's settings and base. It applies the deltas
 // in order; each names the server generation it starts from and the one it brings, so a
@@ -13,7 +16,7 @@
 //
 // Layout (docs/checkpoints.md): "SHORESDL", u32 version, u32 byte-order mark, f64 quantum,
 // u64 from, u64 to, u64 raw size, u64 compressed size, zstd frame, u64 FNV-1a of every byte
-// before it.
+// before it. Version 2 (this one) adds the spray block; version 1 deltas still apply.
 
 #include <cstddef>
 #include <cstdint>
@@ -26,7 +29,8 @@ namespace shore::terrain {
 
 struct DeltaSettings {
   /// m: heights and sinkage are sent as multiples of this, so a replica's columns lie within
-  /// quantum / 2 of the server's (+ rounding of the sum). 0: exact (bit-identical). Finite, >= 0.
+  /// quantum / 2 of the server's (+ rounding of the sum). 0: exact (bit-identical, and the
+  /// spray state travels too: the replica's Terrain::state_hash equals the server's). Finite, >= 0.
   double quantum = 1e-4;
   /// zstd level, in [1, 19]: higher is smaller and slower to encode (decoding is as fast).
   int compression_level = 3;
