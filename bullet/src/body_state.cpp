@@ -88,6 +88,11 @@ void apply_record(btDiscreteDynamicsWorld& world, btRigidBody& body, const BodyR
 }  // namespace
 
 std::vector<unsigned char> save_bodies(const btDiscreteDynamicsWorld& world) {
+  const std::vector<btRigidBody*> bodies = rigid_bodies(world);
+  return save_bodies(world, bodies);
+}
+
+std::vector<unsigned char> save_bodies(const btDiscreteDynamicsWorld& world, std::span<btRigidBody* const> bodies) {
   ByteWriter w;
   coupling_detail::put_header(w, kMagic, kVersion);
   w.put(ClockAccess::local_time(world));
@@ -95,7 +100,6 @@ std::vector<unsigned char> save_bodies(const btDiscreteDynamicsWorld& world) {
   const auto* solver = dynamic_cast<const btSequentialImpulseConstraintSolver*>(
       const_cast<btDiscreteDynamicsWorld&>(world).getConstraintSolver());
   w.put(static_cast<std::uint64_t>(solver ? solver->getRandSeed() : 0));
-  const std::vector<btRigidBody*> bodies = rigid_bodies(world);
   w.put(static_cast<std::uint32_t>(bodies.size()));
   for (const btRigidBody* b : bodies) {
     w.put(static_cast<std::int32_t>(coupling_detail::shape_type(*b)));
@@ -112,15 +116,21 @@ std::vector<unsigned char> save_bodies(const btDiscreteDynamicsWorld& world) {
 }
 
 void restore_bodies(btDiscreteDynamicsWorld& world, std::span<const unsigned char> bytes, const std::string& source) {
+  const std::vector<btRigidBody*> bodies = rigid_bodies(world);
+  restore_bodies(world, bodies, bytes, source);
+}
+
+void restore_bodies(btDiscreteDynamicsWorld& world, std::span<btRigidBody* const> bodies,
+                    std::span<const unsigned char> bytes, const std::string& source) {
   ByteReader r(bytes, source);
   coupling_detail::check_header(r, kMagic, kVersion, "Shore's Bullet body state");
   const auto local_time = r.get<btScalar>("world clock");
   if (!std::isfinite(local_time) || local_time < 0) r.fail("the world's clock is negative or not finite");
   const auto seed = r.get<std::uint64_t>("solver seed");
-  const std::vector<btRigidBody*> bodies = rigid_bodies(world);
   const auto count = r.get<std::uint32_t>("body count");
   if (count != bodies.size())
-    r.fail("holds " + std::to_string(count) + " rigid bodies, the world has " + std::to_string(bodies.size()));
+    r.fail("holds " + std::to_string(count) + " rigid bodies, the world has " + std::to_string(bodies.size()) +
+           " to restore");
   std::vector<BodyRecord> records;
   records.reserve(count);
   for (std::uint32_t k = 0; k < count; ++k) {

@@ -40,7 +40,7 @@ CheckpointWriter save_checkpoint(Scene& scene) {
     w.add(tag("WATER", k), c.waters[k].surface->save_state());
     if (c.waters[k].coupling) w.add(tag("WATERCP", k), c.waters[k].coupling->save_state());
   }
-  w.add("BODIES", bullet::save_bodies(c.world->world()));
+  w.add("BODIES", bullet::save_bodies(c.world->world(), c.world->bodies()));
   ByteWriter clock;
   clock.put(static_cast<std::int64_t>(c.clock ? *c.clock : -1));
   w.add("SCENE", std::move(clock.bytes));
@@ -59,7 +59,7 @@ void restore_checkpoint(Scene& scene, const CheckpointReader& r) {
     const std::string t = tag("WATER", k);
     c.waters[k].surface->restore_state(r.section(t), r.describe(t));
   }
-  bullet::restore_bodies(c.world->world(), r.section("BODIES"), r.describe("BODIES"));
+  bullet::restore_bodies(c.world->world(), c.world->bodies(), r.section("BODIES"), r.describe("BODIES"));
   for (std::size_t k = 0; k < c.soils.size(); ++k)
     if (c.soils[k].coupling) {
       const std::string t = tag("SOILCP", k);

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
+
 #include "shore/bullet/body_state.h"
 #include "shore/core/checkpoint_file.h"
 #include "shore/core/error.h"
@@ -155,6 +157,44 @@ TEST(SceneCheckpointErrors, TruncatedCouplingStatesAreRefusedAndLeaveTheCoupling
   } catch (const shore::FileError& e) {
     EXPECT_NE(std::string(e.what()).find("rigid bodies, the world has"), std::string::npos) << e.what();
   }
+}
+
+TEST(SceneCheckpointErrors, BodiesKeepTheirStatesWhenTheWorldsObjectOrderChanges) {
+  // Bullet removes a collision object by moving the last one into its slot, as Shore's
+  // couplings do with their soil tiles: two identical boxes then swap places in the world's
+  // order. Saved in the order the application added them, each gets its own state back.
+  auto build = [](World& w, bool with_tile) {
+    btCollisionObject* tile = nullptr;
+    if (with_tile) {
+      tile = new btCollisionObject();
+      tile->setCollisionShape(new btBoxShape(btVector3(1, 1, 1)));
+      w.world().addCollisionObject(tile);
+    }
+    w.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 1.0, btVector3(0, 0, 1));
+    w.add_body(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 1.0, btVector3(0, 0, 2));
+    return tile;
+  };
+  World saved(9.81);
+  btCollisionObject* tile = build(saved, true);
+  saved.world().removeCollisionObject(tile);  // [tile, A, B] becomes [B, A]
+  delete tile->getCollisionShape();
+  delete tile;
+  saved.bodies()[0]->setLinearVelocity(btVector3(1, 0, 0));
+  saved.bodies()[1]->setLinearVelocity(btVector3(-1, 0, 0));
+  ASSERT_EQ(btRigidBody::upcast(saved.world().getCollisionObjectArray()[0]), saved.bodies()[1]);
+
+  World fresh(9.81);
+  (void)build(fresh, false);
+  shore::bullet::restore_bodies(fresh.world(), fresh.bodies(),
+                                shore::bullet::save_bodies(saved.world(), saved.bodies()), "bodies");
+  EXPECT_EQ(fresh.bodies()[0]->getLinearVelocity().x(), 1);
+  EXPECT_EQ(fresh.bodies()[0]->getCenterOfMassPosition().z(), 1);
+  EXPECT_EQ(fresh.bodies()[1]->getLinearVelocity().x(), -1);
+  // In the world's order the boxes trade states.
+  World swapped(9.81);
+  (void)build(swapped, false);
+  shore::bullet::restore_bodies(swapped.world(), shore::bullet::save_bodies(saved.world()), "bodies");
+  EXPECT_EQ(swapped.bodies()[0]->getLinearVelocity().x(), -1);
 }
 
 }  // namespace

@@ -11,7 +11,7 @@
 //   ...
 //   shore::bullet::restore_bodies(fresh_world, reader.section("BODIES"), reader.describe("BODIES"));
 //
-// Saved per rigid body, in the world's collision object order, as raw btScalars (a
+// Saved per rigid body, in the order given (or the world's collision object order), as raw btScalars (a
 // checkpoint refuses the other precision): the world and interpolation transforms, the
 // linear and angular velocities and their interpolation copies, the activation state and
 // deactivation time, the hit fraction; the inverse world inertia follows from the pose.
@@ -48,6 +48,16 @@ inline namespace SHORE_BULLET_ABI {
 /// precision, or the world has another number of rigid bodies or another shape type or
 /// mass at some index.
 void restore_bodies(btDiscreteDynamicsWorld& world, std::span<const unsigned char> bytes, const std::string& source);
+
+/// The same for `bodies` in the order given (every one in `world`): the order the
+/// application added them, which stays put. The world's collision-object order does not:
+/// Bullet removes an object by moving the last one into its place, and Shore's couplings
+/// add and remove their soil tiles as bodies move, so two bodies of the same shape and mass
+/// could trade states through save_bodies(world) after tiles were removed. Prefer these.
+[[nodiscard]] std::vector<unsigned char> save_bodies(const btDiscreteDynamicsWorld& world,
+                                                     std::span<btRigidBody* const> bodies);
+void restore_bodies(btDiscreteDynamicsWorld& world, std::span<btRigidBody* const> bodies,
+                    std::span<const unsigned char> bytes, const std::string& source);
 
 /// Empties every contact manifold of the world (the points and their warm-starting
 /// impulses; the pairs stay). Returns the number of points removed.
