@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -146,7 +145,7 @@ TEST(Sleeping, DisturbancesAndWakeWakeTheirTiles) {
 
 // A 1 km x 1 km lake at 10 cm (100 million nodes): created at once, a splash in the middle
 // costs memory and time in proportion to the tiles it woke.
-TEST(Lake, CreationIsInstantAndMemoryFollowsTheWokenArea) {
+TEST(Lake, CreationAllocatesNothingDenseAndMemoryFollowsTheWokenArea) {
   PhysicalParameters p;
   p.cell = 0.1;
   p.depth = 2.0;
@@ -154,10 +153,9 @@ TEST(Lake, CreationIsInstantAndMemoryFollowsTheWokenArea) {
   set.mode = SurfaceMode::vertical_only;
   set.boundary = Boundary::open;
   set.threads = 1;
-  const auto t0 = std::chrono::steady_clock::now();
+  // Creation is instant because nothing dense is allocated (timed in shore-bench, not here:
+  // a wall-clock bound fails on a loaded machine).
   Surface lake(set);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  EXPECT_LT(seconds, 0.05) << "creation took " << seconds << " s";
   EXPECT_LT(lake.tile_stats().memory_bytes, std::size_t{1} << 20) << "an empty lake should cost under 1 MB";
   lake.disturb(Disturbance::point_height(500.0, 500.0, 0.5, 0.05));
   for (int k = 0; k < 240; ++k) lake.step(1.0 / 60);
