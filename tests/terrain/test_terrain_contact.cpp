@@ -95,6 +95,16 @@ TEST(Contact, PlateAreaAndBekkerPressureDoNotDependOnWhereItsEdgesFall) {
   }
 }
 
+/// The 0.3 m plate of the next tests, [-0.155, 0.145] on both axes, its bottom at `bottom`.
+RectangleProbe plate_at(double bottom) { return RectangleProbe(-0.155, -0.155, 0.145, 0.145, bottom); }
+
+/// Presses the plate `depth` into the soil in one step.
+void press_plate(Terrain& t, double depth) {
+  const shore::EnvelopeRaster env = plate_at(-depth).envelope(t);
+  const Imprint im{&env};
+  t.step({&im, 1});
+}
+
 TEST(Contact, ARelievedColumnSpringsBackByWongsUnloadingLaw) {
   // Press a 0.3 m plate 3 cm into sand with A_u = 5e8 Pa/m^2, then lift it by g: each
   // column under it pushes with p_yield(z) - k_u g, k_u = A_u z (Wong's unloading line),
@@ -104,16 +114,13 @@ TEST(Contact, ARelievedColumnSpringsBackByWongsUnloadingLaw) {
   s.material.unload_modulus = 5e8;
   Terrain t(s);
   const double z = 0.03, b = 0.3;
-  const RectangleProbe pressed(-0.155, -0.155, 0.145, 0.145, -z);
-  const shore::EnvelopeRaster env = pressed.envelope(t);
-  const Imprint im{&env};
-  t.step({&im, 1});
+  press_plate(t, z);
   ASSERT_NEAR(t.sinkage(0, 0), z, 1e-12);
   const double p_yield = bekker::pressure(s.material, b, z), k_u = s.material.unload_modulus * z;
   const double reach = p_yield / k_u;  // 2.1 mm
   for (const double share : {0.0, 0.25, 0.8, 1.2}) {
     const double g = share * reach;
-    const RectangleProbe lifted(-0.155, -0.155, 0.145, 0.145, -z + g);
+    const RectangleProbe lifted = plate_at(-z + g);
     ContactPatch patch;
     t.contact(lifted.envelope(t), {}, &lifted, patch);
     const ContactElement* centre = nullptr;
@@ -129,7 +136,7 @@ TEST(Contact, ARelievedColumnSpringsBackByWongsUnloadingLaw) {
     EXPECT_NEAR(centre->preload, p_yield - k_u * g, 1e-9 * p_yield) << share;
   }
   // Pressed further (below the column tops) the columns load plastically: rigid up to yield.
-  const RectangleProbe deeper(-0.155, -0.155, 0.145, 0.145, -z - 0.005);
+  const RectangleProbe deeper = plate_at(-z - 0.005);
   ContactPatch patch;
   t.contact(deeper.envelope(t), {}, &deeper, patch);
   for (const ContactElement& e : patch.elements) {
@@ -145,10 +152,9 @@ TEST(Contact, TheWallsOfAPlatesHoleResistAsBekkersCompactionResistance) {
   s.material.alpha = 0.0;  // no rim: the walls are the undisturbed ground
   Terrain t(s);
   const double z = 0.04, b = 0.3;
-  const RectangleProbe plate(-0.155, -0.155, 0.145, 0.145, -z);
+  press_plate(t, z);
+  const RectangleProbe plate = plate_at(-z);
   const shore::EnvelopeRaster env = plate.envelope(t);
-  const Imprint im{&env};
-  t.step({&im, 1});
   ContactPatch patch;
   t.contact(env, {}, &plate, patch);
   const Totals sum = totals(patch);
