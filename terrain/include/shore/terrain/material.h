@@ -56,8 +56,8 @@ struct Material {
   double friction = 0.6;
   double soil_depth = 1.0;  ///< m, > 0: deformable soil above bedrock
   bool rigid = false;       ///< true: the ground never deforms (rock, asphalt)
-  /// How fast bodies throw it into the air (shore/terrain/spray.h); the presets say why
-  /// they chose their values.
+  /// How fast bodies throw it into the air (shore/terrain/spray.h); docs/terrain.md,
+  /// "Spray", says why the presets chose their values.
   SprayMaterial spray;
 
   /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
