@@ -46,8 +46,9 @@ struct Material {
   /// 0: rigid-plastic columns (they hold anything up to their yield pressure without
   /// deflecting). Off by default: at 5e8 (the order of Wong's A_u for sand) boxes slide down
   /// soft slopes at Coulomb's rate instead of tumbling, but a sphere dropped into sand
-  /// rebounds and leaves a crater 20 % shallower than the rigid-plastic energy balance;
-  /// docs/terrain.md, "Unloading", gives the measurements.
+  /// climbs back out of its crater by 20 % of its depth (soil slumping under it is pushed
+  /// with full yield pressure: the spring lacks a memory of the pressure each column
+  /// carried); docs/terrain.md, "Unloading", gives the measurements.
   double unload_modulus = 0.0;
 
   /// Bullet friction coefficient of rigid ground, and of soft ground for bodies Shore does
