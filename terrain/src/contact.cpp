@@ -118,7 +118,8 @@ class PatchBuilder {
   [[nodiscard]] bool touches(double lower, std::size_t soil_index) const {
     return lower <= soil_.top[soil_index] + s_.contact_tolerance + rebound(soil_index);
   }
-  /// How far a relieved column springs back (its elastic reach), m: p_yield(z) / k_u, with
+  /// How far a relieved column springs back (its elastic reach), m: p_yield(z) / k_u, at
+  /// most its sinkage z (see unloading_stiffness), with
   /// Bekker's b bounded by the window (the footprint is not known yet; a wider b lowers
   /// p_yield by k_c / b only). 0 for rigid-plastic soil, fresh columns and bedrock.
   [[nodiscard]] double rebound(std::size_t soil_index) const {
@@ -127,7 +128,12 @@ class PatchBuilder {
     if (!(m.unload_modulus > 0.0) || !(z > 0.0) || m.rigid || soil_.top[soil_index] <= soil_.bed[soil_index])
       return 0.0;
     const double b = static_cast<double>(std::min(env_.nx, env_.ny)) * s_.cell;
-    return bekker::pressure(m, b, z) / (m.unload_modulus * z);
+    return std::min(bekker::pressure(m, b, z) / (m.unload_modulus * z), z);
+  }
+  /// Wong's k_u = A_u z, stiffened where it would let the column spring back above the
+  /// ground it was pressed from (more than its sinkage z: soft exponents n < 1 at small z).
+  [[nodiscard]] static double unloading_stiffness(const Material& m, double z, double pressure) {
+    return std::max(m.unload_modulus * z, pressure / z);
   }
   /// Gives `el` (its pressure already set) the elastic unloading branch where the body lies
   /// at or above the column's top.
@@ -135,7 +141,7 @@ class PatchBuilder {
     const Material& m = s_.material;
     const double z = soil_.sink[soil_index], gap = el.z - soil_.top[soil_index];
     if (!(m.unload_modulus > 0.0) || !(z > 0.0) || !(gap >= 0.0) || !(el.pressure < kInf)) return;
-    el.stiffness = m.unload_modulus * z;
+    el.stiffness = unloading_stiffness(m, z, el.pressure);
     el.preload = std::max(0.0, el.pressure - el.stiffness * gap);
   }
   [[nodiscard]] double shear_at(std::size_t raster_index) const { return shear_.empty() ? 0.0 : shear_[raster_index]; }

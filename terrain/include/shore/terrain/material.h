@@ -41,7 +41,8 @@ struct Material {
   double remould_length = 0.06;  ///< m, > 0
   /// Unloading-reloading (Wong's k_u = A_u z, k_0 = 0): a column pressed to plastic sinkage
   /// z and then relieved springs back elastically with stiffness k_u = unload_modulus x z
-  /// (Pa/m), so a body lifted by g off it still feels (p_yield(z) - k_u g) until it is
+  /// (Pa/m; at least p_yield / z, so it never springs back above the ground it was pressed
+  /// from), so a body lifted by g off it still feels (p_yield(z) - k_u g) until it is
   /// p_yield / k_u clear, and the pressure under a body follows its pose. Pa/m^2, >= 0;
   /// 0: rigid-plastic columns (they hold anything up to their yield pressure without
   /// deflecting). Off by default: at 5e8 (the order of Wong's A_u for sand) boxes slide down
