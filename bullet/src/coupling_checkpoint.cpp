@@ -22,7 +22,9 @@ using coupling_detail::shape_type;
 constexpr char kSoilMagic[8] = {'S', 'H', 'S', 'O', 'I', 'L', 'C', 'P'};
 // Version 2: contact elements and blocks carry the unloading spring (stiffness, preload);
 // version 1 states load with every element and block rigid, as they were stepped.
-constexpr std::uint32_t kSoilVersion = 2;
+// Version 3: each body's contact keeps the pressure its unloading columns carried; version 2
+// states load without that memory (the columns unload from their yield line, as they did).
+constexpr std::uint32_t kSoilVersion = 3;
 
 void put_envelope(ByteWriter& w, const EnvelopeRaster& e) {
   coupling_detail::put_window(w, e.i0, e.j0, e.nx, e.ny, e.lower, e.upper);

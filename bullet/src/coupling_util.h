@@ -23,12 +23,20 @@ inline double seconds_since(Clock::time_point t0) { return std::chrono::duration
 
 inline bool finite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
-/// False for a body with a non-finite pose or velocity, or moving faster than max_speed:
-/// such a body is skipped (and counted) rather than allowed to poison soil or water.
+/// How far from the origin a coupled body may be, m, along any axis: beyond it (a body
+/// flung away, a corrupt pose) no soil or water column index is representable, so the body
+/// is skipped like a non-finite one.
+inline constexpr double kMaxCoordinate = 1e9;
+
+/// False for a body with a non-finite pose or velocity, farther than kMaxCoordinate from the
+/// origin, or moving faster than max_speed: such a body is skipped (and counted) rather than
+/// allowed to poison soil or water.
 inline bool body_is_sane(const btRigidBody& body, double max_speed) {
   const btTransform& t = body.getWorldTransform();
   if (!finite(t.getOrigin()) || !finite(t.getBasis()[0]) || !finite(t.getBasis()[1]) || !finite(t.getBasis()[2]))
     return false;
+  for (int k = 0; k < 3; ++k)
+    if (!(std::fabs(double(t.getOrigin()[k])) <= kMaxCoordinate)) return false;
   const btVector3& v = body.getLinearVelocity();
   return finite(v) && finite(body.getAngularVelocity()) && v.length() <= max_speed;
 }

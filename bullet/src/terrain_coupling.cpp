@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -100,13 +101,18 @@ terrain::Imprint moving_imprint(const EnvelopeRaster& envelope, const btRigidBod
   return im;
 }
 
-/// Values kept per envelope column, moved from the old window to the new one (0 where new).
-/// The same window keeps them as they are; otherwise each row's overlap is copied at once.
+/// A column's carried pressure before it has one (BodyContact::carried).
+constexpr double kNoMemory = std::numeric_limits<double>::infinity();
+/// Elements whose stiffness lies below this unload elastically (ContactElement::stiffness).
+constexpr double kUnloading = std::numeric_limits<double>::infinity();
+
+/// Values kept per envelope column, moved from the old window to the new one (`fresh` where
+/// new). The same window keeps them as they are; otherwise each row's overlap is copied at once.
 template <class T>
-void remap(std::vector<T>& values, const ColumnWindow& from, const EnvelopeRaster& to) {
+void remap(std::vector<T>& values, const ColumnWindow& from, const EnvelopeRaster& to, T fresh = T{}) {
   const bool same = from.i0 == to.i0 && from.j0 == to.j0 && from.nx == to.nx && from.ny == to.ny;
   if (same && values.size() == to.lower.size()) return;
-  std::vector<T> moved(to.lower.size(), T{});
+  std::vector<T> moved(to.lower.size(), fresh);
   if (!values.empty()) {
     // Columns x of the new window whose old column i = to.i0 + x - from.i0 lies in [0, from.nx).
     const std::int64_t x0 = std::max<std::int64_t>(0, from.i0 - to.i0);
@@ -132,6 +138,13 @@ struct TerrainCoupling::BodyContact {
   // undoes itself.
   std::vector<soil_detail::Vec3> shear, next_shear;
   std::vector<double> shear_length, next_shear_length;  // |shear|: the soil's and the blocks' input
+  // Per envelope column, Pa: what the column pushed with at the end of the last substep while
+  // it unloaded elastically (+infinity: no memory; it was pressed, or out of contact). Wong's
+  // unloading starts from the pressure a column carried: soil laid under a body by erosion
+  // raises the column's top, and with it the elastic line, without loading it; the memory
+  // keeps that soil from pushing until the body presses it (without it a sphere dropped into
+  // sand climbed back out of its crater by 20 %: docs/terrain.md, "Unloading").
+  std::vector<double> carried, next_carried;
   SoilForce last;
   bool resting = false;  // the body was at rest: its blocks and patch still hold it
   // The body's velocities at the end of the last substep (the start of this one).
@@ -143,6 +156,7 @@ void TerrainCoupling::save_contact(const BodyContact& c, ByteWriter& w) {
   w.put_array(c.patch.elements);
   w.put(c.patch.patch_width), w.put(c.patch.area), w.put(c.patch.touching_columns);
   w.put_array(c.blocks), w.put_array(c.previous), w.put_array(c.shear), w.put_array(c.shear_length);
+  w.put_array(c.carried);
   coupling_detail::put_vector(w, c.last.force), coupling_detail::put_vector(w, c.last.torque);
   coupling_detail::put_vector(w, c.last.normal_force);
   w.put(c.last.contact_columns), w.put(static_cast<std::uint8_t>(c.last.yielded));
@@ -169,6 +183,10 @@ void TerrainCoupling::restore_contact(ByteReader& r, BodyContact& c, std::size_t
       coupling_detail::get_prefix_array<soil_detail::Block, kBlockV1>(r, *blocks, "contact blocks");
   coupling_detail::get_any_array(r, c.shear, "shear displacement");
   r.get_array(c.shear_length, c.shear.size(), "shear displacement");
+  if (version >= 3)
+    coupling_detail::get_any_array(r, c.carried, "carried pressure");
+  else
+    c.carried.clear();  // no memory: the columns unload from their yield line, as they did
   c.last.force = coupling_detail::get_vector(r, "soil force"),
   c.last.torque = coupling_detail::get_vector(r, "soil force");
   c.last.normal_force = coupling_detail::get_vector(r, "soil force");
@@ -185,6 +203,11 @@ void TerrainCoupling::check_contact(const ByteReader& r, const BodyContact& c, s
   if (!c.shear.empty() && c.shear.size() != envelope_columns)
     r.fail("shear displacement of " + std::to_string(c.shear.size()) + " columns, the envelope has " +
            std::to_string(envelope_columns));
+  if (!c.carried.empty() && c.carried.size() != envelope_columns)
+    r.fail("carried pressure of " + std::to_string(c.carried.size()) + " columns, the envelope has " +
+           std::to_string(envelope_columns));
+  for (const double p : c.carried)
+    if (!(p >= 0.0)) r.fail("a carried pressure of " + detail::to_text(p) + " Pa (must be >= 0 or +infinity)");
   bool sound = coupling_detail::finite(c.last.force) && coupling_detail::finite(c.last.torque) &&
                coupling_detail::finite(c.v_end) && coupling_detail::finite(c.w_end);
   for (const terrain::ContactElement& e : c.patch.elements)
@@ -417,6 +440,7 @@ void TerrainCoupling::rasterize(Body& b) {
   BodyContact& c = *b.contact;
   remap(c.shear, old, b.envelope);
   remap(c.shear_length, old, b.envelope);
+  remap(c.carried, old, b.envelope, kNoMemory);
   b.contact->resting = false;
 }
 
@@ -451,10 +475,54 @@ void TerrainCoupling::gather_contact(Body& b) {
   BodyContact& c = *b.contact;
   const ShapeProbe probe(rasterizer_, *b.body->getCollisionShape(), b.envelope_pose);
   soil_.contact(b.envelope, c.shear_length, settings_.contact.sub_cell_coverage ? &probe : nullptr, c.patch);
+  limit_to_carried(b);
   std::swap(c.previous, c.blocks);
   soil_detail::gather_blocks(c.patch.elements, soil_.settings().material, c.shear_length,
                              settings_.contact.block_columns, c.blocks);
   soil_detail::warm_start(c.previous, c.blocks);
+}
+
+namespace {
+/// The raster index of an element's own column (-1 for walls and for fringe elements, which
+/// lie on the uncovered neighbour of the column whose index they carry).
+std::int64_t own_column(const EnvelopeRaster& env, const terrain::ContactElement& e) {
+  if (e.wall || e.raster_index < 0 || !env.contains(e.i, e.j)) return -1;
+  const auto k = static_cast<std::int64_t>(env.index(e.i, e.j));
+  return k == e.raster_index ? k : -1;
+}
+}  // namespace
+
+// An unloading column pushes at most with what it carried at the end of the last substep.
+void TerrainCoupling::limit_to_carried(Body& b) {
+  BodyContact& c = *b.contact;
+  if (c.carried.size() != b.envelope.lower.size()) return;
+  for (terrain::ContactElement& e : c.patch.elements) {
+    if (!(e.stiffness < kUnloading)) continue;
+    const std::int64_t k = own_column(b.envelope, e);
+    if (k >= 0) e.preload = std::min(e.preload, c.carried[static_cast<std::size_t>(k)]);
+  }
+}
+
+// What each unloading column pushes with at the end of the substep: its spring at the body's
+// final approach speed over it, within [0, its yield pressure]; columns pressed or out of
+// contact keep no memory.
+void TerrainCoupling::advance_carried(Body& b, const soil_detail::RigidBody& rb, double h) {
+  BodyContact& c = *b.contact;
+  c.next_carried.assign(b.envelope.lower.size(), kNoMemory);
+  bool any = false;
+  for (const terrain::ContactElement& e : c.patch.elements) {
+    if (!(e.stiffness < kUnloading)) continue;
+    const std::int64_t k = own_column(b.envelope, e);
+    if (k < 0) continue;
+    const soil_detail::Vec3 n{e.nx, e.ny, e.nz};
+    const double approach = -soil_detail::dot(rb.point_velocity({e.x, e.y, e.z}), n);
+    c.next_carried[static_cast<std::size_t>(k)] = std::clamp(e.preload + e.stiffness * h * approach, 0.0, e.pressure);
+    any = true;
+  }
+  if (any)
+    c.carried.swap(c.next_carried);
+  else
+    c.carried.clear();
 }
 
 // Each touching column's shear displacement grows by the slip of the body over it; columns
@@ -551,7 +619,7 @@ bool TerrainCoupling::react(Body& b, double h) {
   c.last.normal_force = to_bt(r.normal_impulse * (1.0 / h));
   c.last.contact_columns = c.patch.touching_columns;
   c.last.yielded = r.yielded;
-  if (!c.resting) advance_shear(b, rb, h);
+  if (!c.resting) advance_shear(b, rb, h), advance_carried(b, rb, h);
   return r.yielded;
 }
 

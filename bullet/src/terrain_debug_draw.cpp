@@ -34,9 +34,10 @@ EnvelopeGrid soil_grid(const terrain::Terrain& soil) {
   return {soil.settings().origin_x, soil.settings().origin_y, soil.settings().cell};
 }
 
-/// The soil's bearing under the body's lower envelope at its present pose (its contact
-/// columns), clipped to the coupling's region; empty if the body cannot be drawn.
-terrain::Bearing contact_of(const terrain::Terrain& soil, const Region& region, const btRigidBody& body) {
+/// The soil's contact under the body's lower envelope at its present pose (the columns
+/// the soil pushes from, as the coupling's solve sees them: within the unloading columns'
+/// elastic reach too), clipped to the coupling's region; empty if the body cannot be drawn.
+terrain::ContactPatch contact_of(const terrain::Terrain& soil, const Region& region, const btRigidBody& body) {
   const btCollisionShape& shape = *body.getCollisionShape();
   const EnvelopeGrid grid = soil_grid(soil);
   if (!pose_rasterizable(body.getWorldTransform(), shape_reach(shape), grid)) return {};
@@ -47,7 +48,9 @@ terrain::Bearing contact_of(const terrain::Terrain& soil, const Region& region, 
       for (int a = 0; a < env.nx; ++a)
         if (!region.contains(soil.column_x(env.i0 + a), soil.column_y(env.j0 + b)))
           env.lower[env.index(env.i0 + a, env.j0 + b)] = EnvelopeRaster::kNoLower;
-  return soil.bearing(env);
+  terrain::ContactPatch patch;
+  soil.contact(env, {}, nullptr, patch);
+  return patch;
 }
 
 btVector3 column_top(const terrain::Terrain& soil, std::int64_t i, std::int64_t j) {
@@ -56,20 +59,22 @@ btVector3 column_top(const terrain::Terrain& soil, std::int64_t i, std::int64_t 
 
 void draw_body_contact(btIDebugDraw& d, const TerrainCoupling& coupling, const terrain::Terrain& soil,
                        const btRigidBody& body, int mode) {
-  const terrain::Bearing bearing = contact_of(soil, coupling.settings().region, body);
-  if (bearing.columns.empty()) return;
+  const terrain::ContactPatch patch = contact_of(soil, coupling.settings().region, body);
+  if (patch.elements.empty()) return;
   const double half = 0.35 * soil.settings().cell;
   const double mass = body.getInvMass() > 0 ? 1.0 / body.getInvMass() : 0.0;
   const double g = -body.getGravity().z() > 0 ? -body.getGravity().z() : 9.81;
   btVector3 centre(0, 0, 0);
   double weight = 0.0;
-  for (const terrain::ColumnForce& c : bearing.columns) {
-    const btVector3 top = column_top(soil, c.i, c.j);
+  for (const terrain::ContactElement& e : patch.elements) {
+    if (e.wall) continue;
+    const btVector3 top = column_top(soil, e.i, e.j);
+    const double force = e.pressure * e.area * e.nz;  // the most it bears, vertically
     if (mode & debug_draw::kContactBits) debug_draw::cross(d, top, half, debug_draw::kContactColour);
-    if ((mode & debug_draw::kForceBits) && std::isfinite(c.force) && c.force > 0.0)
-      d.drawLine(top, top + debug_draw::force_arrow(btVector3(0, 0, btScalar(c.force)), mass, g),
+    if ((mode & debug_draw::kForceBits) && std::isfinite(force) && force > 0.0)
+      d.drawLine(top, top + debug_draw::force_arrow(btVector3(0, 0, btScalar(force)), mass, g),
                  debug_draw::kCapacityColour);
-    const double w = std::isfinite(c.force) && c.force > 0.0 ? c.force : 1.0;
+    const double w = std::isfinite(force) && force > 0.0 ? force : 1.0;
     centre += top * btScalar(w);
     weight += w;
   }

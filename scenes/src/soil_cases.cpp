@@ -113,7 +113,8 @@ double plastic_work_in(const terrain::Terrain& soil, const terrain::ColumnRect& 
   const double k = m.bekker_kc / b + m.bekker_kphi, n = m.bekker_n, area = soil.settings().cell * soil.settings().cell;
   double w = 0.0;
   for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
-    for (std::int64_t i = r.i0; i < r.i0 + r.nx; ++i) w += area * k * std::pow(soil.sinkage(i, j), n + 1) / (n + 1);
+    for (std::int64_t i = r.i0; i < r.i0 + r.nx; ++i)  // loose soil (negative sinkage) stores none
+      w += area * k * std::pow(std::max(0.0, soil.sinkage(i, j)), n + 1) / (n + 1);
   return w;
 }
 }  // namespace
@@ -251,7 +252,10 @@ SphereDropResult run_sphere_drop(const SphereDropCase& c) {
   ball->setLinearVelocity(btVector3(btScalar(c.vx), 0, 0));
   ball->setAngularVelocity(btVector3(0, btScalar(c.spin), 0));
   const auto steps = static_cast<std::int64_t>(std::lround(c.seconds / h));
-  for (std::int64_t k = 0; k < steps; ++k) rig.advance(out.stats);
+  for (std::int64_t k = 0; k < steps; ++k) {
+    rig.advance(out.stats);
+    out.max_depth = std::max(out.max_depth, -(double(ball->getCenterOfMassPosition().z()) - R));
+  }
   out.depth = -(ball->getCenterOfMassPosition().z() - R);
   out.reference = sphere_drop_reference_depth(c.run.material, c.diameter, c.mass, c.height);
   out.energy_lost = c.mass * kGravity * (c.height + out.depth);

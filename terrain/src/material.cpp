@@ -52,6 +52,7 @@ Material Material::mud() {
   m.cohesion = 2.07e3;
   m.friction_angle = 10.0 * std::numbers::pi / 180.0;
   m.shear_modulus = 0.01;
+  m.unload_modulus = 0.0;  // rigid-plastic: see Material::unload_modulus
   m.friction = 0.4;
   m.spray.adhesion = 0.004;
   m.spray.half_life = 0.3;
@@ -78,6 +79,7 @@ Material Material::snow() {
   m.cohesion = 1.03e3;
   m.friction_angle = 19.7 * std::numbers::pi / 180.0;
   m.shear_modulus = 0.025;
+  m.unload_modulus = 0.0;  // rigid-plastic: see Material::unload_modulus
   m.friction = 0.2;
   m.spray.adhesion = 0.002;
   m.spray.half_life = 0.1;

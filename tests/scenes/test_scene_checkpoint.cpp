@@ -198,3 +198,40 @@ TEST(SceneCheckpointErrors, BodiesKeepTheirStatesWhenTheWorldsObjectOrderChanges
 }
 
 }  // namespace
+
+// Saved body states Bullet cannot step (an orientation that is no rotation turns the inertia
+// into NaN in one step; the fuzzer found it) or that no coupling can index are refused,
+// naming what is wrong, and leave the bodies as they were.
+TEST(SceneCheckpointErrors, BodyStatesBulletCannotStepAreRefused) {
+  const std::unique_ptr<Scene> beach = find_scene("beach")->create(smoke_options("beach"));
+  const SceneContents c = beach->contents();
+  btRigidBody* body = nullptr;
+  for (int k = 0; k < c.world->world().getNumCollisionObjects() && !body; ++k)
+    if (btRigidBody* b = btRigidBody::upcast(c.world->world().getCollisionObjectArray()[k]); b && b->getInvMass() > 0)
+      body = b;
+  ASSERT_NE(body, nullptr);
+  const std::vector<unsigned char> good = shore::bullet::save_bodies(c.world->world());
+  const btTransform pose = body->getWorldTransform();
+  const btVector3 v = body->getLinearVelocity();
+  auto refused_with = [&](const char* what) {
+    const std::vector<unsigned char> bad = shore::bullet::save_bodies(c.world->world());
+    body->setWorldTransform(pose), body->setLinearVelocity(v);
+    try {
+      shore::bullet::restore_bodies(c.world->world(), bad, "bodies");
+      ADD_FAILURE() << "accepted: " << what;
+    } catch (const shore::FileError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(shore::bullet::save_bodies(c.world->world()), good) << what;
+  };
+  btTransform sheared = pose;
+  sheared.getBasis()[1][1] = btScalar(-4.95e27);
+  body->setWorldTransform(sheared);
+  refused_with("not a rotation");
+  btTransform far = pose;
+  far.setOrigin(btVector3(btScalar(1e30), 0, 0));
+  body->setWorldTransform(far);
+  refused_with("farther than 1e9 m");
+  body->setLinearVelocity(btVector3(0, btScalar(2e6), 0));
+  refused_with("faster than 1e6 m/s");
+}

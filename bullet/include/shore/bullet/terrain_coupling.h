@@ -25,8 +25,9 @@
 //   keep eroding soil out from under them, and cost almost nothing (their contact is kept).
 // - A body driven below bedrock in one substep is lifted back (counted in stats().rescues).
 // - add_body() checks the body's shape once (InvalidSetting if it cannot be rasterized or
-//   has no size); a body with a broken pose (non-finite, not a rotation) or faster than
-//   max_speed is skipped for that substep and counted in stats().skipped_bodies.
+//   has no size); a body with a broken pose (non-finite, not a rotation, farther than 1e9 m
+//   from the origin along an axis) or faster than max_speed is skipped for that substep and
+//   counted in stats().skipped_bodies.
 // Bodies that are not added collide with the soil's tiles through Bullet as with rigid ground.
 //
 // Lifetimes and misuse (issue 21; tests/bullet/test_coupling_misuse.cpp):
@@ -265,6 +266,8 @@ class TerrainCoupling : public btActionInterface {
   /// Builds the body's contact blocks from the soil at its envelope.
   void gather_contact(Body& b);
   void advance_shear(Body& b, const soil_detail::RigidBody& rb, double h);
+  void limit_to_carried(Body& b);
+  void advance_carried(Body& b, const soil_detail::RigidBody& rb, double h);
   /// True if the body has moved away from the pose its envelope was made at.
   [[nodiscard]] bool drifted(const Body& b) const;
   void rescue_fallen_bodies();

@@ -25,8 +25,9 @@
 // a body's water.
 //
 // add_body() checks the body: a finite pose, a shape the water can take, a positive volume
-// (InvalidSetting naming what is wrong). A body whose pose breaks later, or faster than
-// max_speed, is skipped for that substep and counted in stats().skipped_bodies.
+// (InvalidSetting naming what is wrong). A body whose pose breaks later (non-finite, not a
+// rotation, farther than 1e9 m from the origin along an axis), or faster than max_speed, is
+// skipped for that substep and counted in stats().skipped_bodies.
 //
 // Lifetimes: add_body of a body already added replaces it (added once); remove_body of a
 // body not added does nothing; a body taken out of the world or deleted without

@@ -213,6 +213,7 @@ struct SphereDropCase {
 };
 struct SphereDropResult {
   double depth = 0.0;         ///< m, final depth of the sphere's bottom below the original surface
+  double max_depth = 0.0;     ///< m, the deepest it went (less the elastic rebound of unloading soil: depth)
   double reference = 0.0;     ///< m, energy balance of the column model (sphere_drop_reference_depth)
   double energy_lost = 0.0;   ///< J, m g (height + depth)
   double plastic_work = 0.0;  ///< J, sum over soil columns of cell^2 * integral of p_yield dz

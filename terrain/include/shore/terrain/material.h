@@ -43,14 +43,18 @@ struct Material {
   /// z and then relieved springs back elastically with stiffness k_u = unload_modulus x z
   /// (Pa/m; at least p_yield / z, so it never springs back above the ground it was pressed
   /// from), so a body lifted by g off it still feels (p_yield(z) - k_u g) until it is
-  /// p_yield / k_u clear, and the pressure under a body follows its pose. Pa/m^2, >= 0;
-  /// 0: rigid-plastic columns (they hold anything up to their yield pressure without
-  /// deflecting). Off by default: at 5e8 (the order of Wong's A_u for sand) boxes slide down
-  /// soft slopes at Coulomb's rate instead of tumbling, but a sphere dropped into sand
-  /// climbs back out of its crater by 20 % of its depth (soil slumping under it is pushed
-  /// with full yield pressure: the spring lacks a memory of the pressure each column
-  /// carried); docs/terrain.md, "Unloading", gives the measurements.
-  double unload_modulus = 0.0;
+  /// p_yield / k_u clear, and the pressure under a body follows its pose: a box slides down
+  /// a soft slope at Coulomb's rate instead of tumbling (docs/terrain.md, "Unloading"). A
+  /// column pushes at most with what it carried at the end of the last substep (the soil
+  /// coupling keeps that per column), so soil that erosion lays under a body carries nothing
+  /// until the body presses it. Pa/m^2, >= 0; 0: rigid-plastic columns (they hold anything up
+  /// to their yield pressure without deflecting). Default (sand) 5.03e8, the order of Wong's
+  /// A_u for sand (Theory of Ground Vehicles, response to repetitive loading): its reach
+  /// p_yield / k_u is about 2 mm at 0.1 m of sinkage. Mud and snow presets: 0. At the
+  /// clayey soils' A_u (about 1.4e8) the reach is the whole sinkage at the few millimetres a
+  /// game's loads press mud (released plates rest 6.5 % high, measured) and snow compacts
+  /// without springing back; neither is calibrated yet.
+  double unload_modulus = 5.03e8;
 
   /// Bullet friction coefficient of rigid ground, and of soft ground for bodies Shore does
   /// not couple (they collide with the heightfield tiles through Bullet). Coupled bodies
