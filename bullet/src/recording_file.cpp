@@ -158,7 +158,10 @@ Recording read_recording(std::span<const unsigned char> file, const std::string&
   rec.scene = r.string("the scene name");
   rec.seconds = r.get<double>("options"), rec.substep = r.get<double>("options"), rec.cell = r.get<double>("options");
   rec.material = r.string("options");
-  rec.smoke = r.get<std::uint8_t>("options") != 0;
+  const auto smoke = r.get<std::uint8_t>("options");
+  // (found by fuzz_recording: any nonzero byte read as true and was written back as 1)
+  if (smoke > 1) r.fail("corrupt options (smoke flag " + std::to_string(smoke) + ", allowed 0 or 1)");
+  rec.smoke = smoke == 1;
   rec.substeps = r.get<std::int32_t>("substeps");
   if (rec.substeps < 1) r.fail("corrupt (" + std::to_string(rec.substeps) + " substeps)");
   rec.state_hash = r.get<std::uint64_t>("the final state hash");
