@@ -9,6 +9,7 @@
 
 #include <zstd.h>
 
+#include "shore/bullet/recording_file.h"
 #include "shore/core/envelope.h"
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
@@ -266,11 +267,77 @@ bool heightmap_raw(std::span<const std::uint8_t> data) {
   }
 }
 
+std::vector<unsigned char> wrap_recording_payload(std::span<const std::uint8_t> fields) {
+  if (fields.size() < 4) return {};
+  const std::span<const std::uint8_t> payload = fields.subspan(4);
+  // The container's layout (shore/bullet/recording_file.h): magic, u32 version 2, u32
+  // byte-order mark, u32 scalar bytes (the field given), u64 raw size, u64 frame size, the
+  // zstd frame, u64 checksum.
+  std::vector<unsigned char> out = {'S', 'H', 'O', 'R', 'E', 'R', 'E', 'C'};
+  const auto put = [&out](const auto v) {
+    const auto* p = reinterpret_cast<const unsigned char*>(&v);
+    out.insert(out.end(), p, p + sizeof v);
+  };
+  put(std::uint32_t{2}), put(std::uint32_t{0x01020304u});
+  out.insert(out.end(), fields.begin(), fields.begin() + 4);
+  put(std::uint64_t{payload.size()});
+  std::vector<unsigned char> frame(ZSTD_compressBound(payload.size()));
+  const std::size_t n = ZSTD_compress(frame.data(), frame.size(), payload.data(), payload.size(), 1);
+  require(ZSTD_isError(n) == 0, "zstd could not compress a payload");
+  put(std::uint64_t{n});
+  out.insert(out.end(), frame.begin(), frame.begin() + static_cast<std::ptrdiff_t>(n));
+  StateHash sum;
+  sum.add_bytes(out.data(), out.size());
+  put(sum.value());
+  return out;
+}
+
+bool recording_seed_fits_build(std::span<const std::uint8_t> data) {
+  // mode 2: the scalar bytes field follows the mode byte; else the file's precision field
+  const std::size_t at = (!data.empty() && (data[0] & 2)) ? 1 : 1 + 8 + 4 + 4;
+  if (data.size() < at + 4) return false;
+  std::uint32_t scalar = 0;
+  std::memcpy(&scalar, data.data() + at, sizeof scalar);
+  return scalar == bullet::scalar_bytes();
+}
+
+bool recording(std::span<const std::uint8_t> data) {
+  if (data.empty()) return false;
+  const std::vector<unsigned char> file =
+      (data[0] & 2) ? wrap_recording_payload(data.subspan(1)) : with_checksum_mode(data);
+  try {
+    const bullet::Recording rec = bullet::read_recording(file, "fuzz input");
+    // What a replay reads besides the scene's own loaders (checkpoint, soil deltas, water
+    // states: fuzzed by their targets): every frame's body states and water state chain.
+    std::vector<bullet::StateChain> water(rec.waters);
+    int last = 0;
+    for (const bullet::Recording::Frame& f : rec.frames) {
+      require(f.substep > last && f.substep <= rec.substeps, "a frame out of order accepted");
+      last = f.substep;
+      require(f.soil_deltas.size() == rec.soil_generations.size() && f.water_diffs.size() == rec.waters,
+              "a frame with another number of soils or waters accepted");
+      require(f.bodies.size() == std::size_t{f.body_count} * bullet::Recording::kBodyScalars * sizeof(btScalar),
+              "a frame's body section of the wrong size accepted");
+      for (std::uint32_t w = 0; w < rec.waters; ++w)
+        require(water[w].next(f.water_diffs[w]).size() == f.water_diffs[w].size(), "a water state of the wrong size");
+      (void)rec.body_scalars(f, "fuzz input");
+    }
+    require(last == rec.substeps, "a recording without its last frame accepted");
+    // Written again, it reads back to the same bytes.
+    const bullet::Recording again = bullet::read_recording(bullet::write_recording(rec, 1), "fuzz round trip");
+    require(again.raw == rec.raw, "a recording written again reads back otherwise");
+    return true;
+  } catch (const FileError&) {
+    return false;
+  }
+}
+
 const std::vector<Target>& targets() {
   static const std::vector<Target> list = {
       {"coupled_checkpoint", coupled_checkpoint, checkpoint_seed_fits_build},
       {"heightmap_png", heightmap_png},
       {"heightmap_raw", heightmap_raw},
+      {"recording", recording, recording_seed_fits_build},
       {"soil_delta", soil_delta},
       {"terrain_state", terrain_state},
   };

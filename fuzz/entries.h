@@ -40,6 +40,15 @@ bool coupled_checkpoint(std::span<const std::uint8_t> data);
 /// checksum is appended). A refused delta must leave the replica unchanged; an accepted one
 /// must leave it finite, and it is stepped, saved and loaded again (round trip).
 bool soil_delta(std::span<const std::uint8_t> data);
+/// A scene recording's file (bullet::read_recording: container, layout and sizes; what its
+/// nested checkpoint, soil deltas and water states hold is read by their own loaders when a
+/// replay applies them, fuzzed by the targets above). Byte 0 chooses the mode: bit 1 set,
+/// the rest is u32 scalar bytes and then the raw layout before compression, which is
+/// compressed and wrapped in a valid container (so mutations reach the layout behind zstd
+/// and the checksum); else bit 0 as for terrain_state (odd: the checksum is appended). An
+/// accepted recording's frames must be in order and of the stated sizes, its water states
+/// must rebuild (StateChain), and written again it must read back to the same bytes.
+bool recording(std::span<const std::uint8_t> data);
 /// A PNG heightmap, 8 or 16 bits (Heightmap::from_png_bytes). Byte 0 chooses the mode: odd,
 /// every chunk's CRC in the rest is rewritten to match (so mutations reach the decoder
 /// behind the loader's CRC check); even, the rest is the file as it is.
@@ -62,6 +71,11 @@ bool checkpoint_seed_fits_build(std::span<const std::uint8_t> data);
 /// The soil delta container around a payload (soil_delta's mode 2; shore-fuzz-corpus
 /// writes such seeds): `fields` is f64 quantum, u64 from, u64 to, the rest the payload.
 std::vector<unsigned char> wrap_delta_payload(std::span<const std::uint8_t> fields);
+/// recording's seed_fits_build: the precision field (mode 2: the scalar bytes field) is this build's.
+bool recording_seed_fits_build(std::span<const std::uint8_t> data);
+/// The recording container around a raw layout (recording's mode 2; shore-fuzz-corpus
+/// writes such seeds): `fields` is u32 scalar bytes, the rest the raw layout.
+std::vector<unsigned char> wrap_recording_payload(std::span<const std::uint8_t> fields);
 /// Every target, in name order. A new loader adds its function here, in
 /// fuzz/CMakeLists.txt and in scripts/fuzz.sh (fuzz/README.md).
 const std::vector<Target>& targets();

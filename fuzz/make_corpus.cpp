@@ -5,7 +5,7 @@
 // writes plus a 16-bit one, raw float32 maps, checkpoints of a small coupled world (a
 // float build writes them: a double build refuses their precision), soil deltas of a
 // small server (delta_server.h: a snapshot and increments, quantised and exact, whole and
-// as payloads).
+// as payloads), recordings' layouts (whole, without the checksum, as a raw payload).
 #include <stb_image_write.h>
 #include <zstd.h>
 
@@ -21,6 +21,8 @@
 #include "coupled_world.h"
 #include "delta_server.h"
 #include "png_writer.h"
+#include "shore/bullet/body_state.h"
+#include "shore/bullet/recording_file.h"
 #include "shore/core/envelope.h"
 #include "shore/terrain/terrain.h"
 
@@ -143,6 +145,56 @@ void soil_delta_seeds(const fs::path& dir) {
   write(dir / "seed_exact_payload", payload_input(exact));
 }
 
+/// A small recording's layout (shore/bullet/recording_file.h): one soil, one water, two
+/// bodies, three frames. The nested parts are short stand-ins (their own loaders are fuzzed
+/// by their own targets): what this loader reads is the layout around them, and the water
+/// states' XOR chain (a state that grows, changes in a few bytes, then shrinks).
+void recording_seeds(const fs::path& dir) {
+  shore::bullet::Recording rec;
+  rec.scene = "pond";
+  rec.seconds = 0.05, rec.substep = 1.0 / 60.0, rec.cell = 0.1, rec.material = "sand", rec.smoke = true;
+  rec.substeps = 3;
+  rec.state_hash = 0x0123456789abcdefull;
+  const Bytes initial = {'S', 'H', 'O', 'R', 'E', 'C', 'K', 'P', 1, 0, 0, 0};
+  rec.initial = initial;
+  rec.soil_generations = {7};
+  rec.waters = 1;
+  std::vector<Bytes> owned;
+  owned.reserve(16);
+  shore::bullet::StateChain chain;
+  const Bytes delta = {'S', 'H', 'O', 'R', 'E', 'S', 'D', 'L', 1, 0, 0, 0, 4, 3, 2, 1};
+  for (int k = 1; k <= 3; ++k) {
+    shore::bullet::Recording::Frame f;
+    f.substep = k;
+    f.soil_deltas = {delta};
+    std::vector<btScalar> bodies;
+    for (int b = 0; b < 2; ++b) {
+      const btScalar state[18] = {1, 0, 0, 0, 1, 0, 0, 0, 1, btScalar(b), 0, btScalar(0.1 * k), 0, 0, btScalar(-k),
+                                  0, 0, 0};
+      bodies.insert(bodies.end(), state, state + 18);
+    }
+    const auto* p = reinterpret_cast<const unsigned char*>(bodies.data());
+    owned.emplace_back(p, p + bodies.size() * sizeof(btScalar));
+    f.bodies = owned.back();
+    f.body_count = 2;
+    Bytes water(k == 3 ? 24 : 40, 0);
+    for (std::size_t i = 0; i < water.size(); ++i) water[i] = static_cast<unsigned char>(i * (k == 2 ? 5 : 3));
+    owned.push_back(chain.encode(water));
+    f.water_diffs = {owned.back()};
+    rec.frames.push_back(std::move(f));
+  }
+  const Bytes file = shore::bullet::write_recording(rec);
+  write(dir / "seed_three_frames", entry_input(true, file));
+  write(dir / "seed_three_frames_whole", entry_input(false, file));
+  const shore::bullet::Recording back = shore::bullet::read_recording(file, "seed");
+  Bytes payload = {2};  // recording's mode 2: u32 scalar bytes, then the raw layout
+  const std::uint32_t scalar = shore::bullet::scalar_bytes();
+  const auto* p = reinterpret_cast<const unsigned char*>(&scalar);
+  payload.insert(payload.end(), p, p + sizeof scalar);
+  payload.insert(payload.end(), back.raw.begin(), back.raw.end());
+  write(dir / "seed_three_frames_payload", payload);
+}
+
 void stb_write_to(void* context, void* data, int size) {
   auto* out = static_cast<Bytes*>(context);
   out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
@@ -192,6 +244,7 @@ int main(int argc, char** argv) {
   png_seeds(root / "heightmap_png");
   raw_seeds(root / "heightmap_raw");
   soil_delta_seeds(root / "soil_delta");
+  recording_seeds(root / "recording");
   std::printf("seeds written to %s\n", root.c_str());
   return 0;
 }

@@ -1,13 +1,12 @@
 #include "shore/scenes/recording.h"
 
-#include <zstd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 
 #include "shore/bullet/body_state.h"
+#include "shore/bullet/recording_file.h"
 #include "shore/core/byte_io.h"
 #include "shore/core/checkpoint_file.h"
 #include "shore/core/error.h"
@@ -22,61 +21,14 @@
 namespace shore::scenes {
 namespace {
 
-constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'R', 'E', 'C'};
-constexpr std::uint32_t kVersion = 1;
-constexpr std::uint32_t kByteOrderMark = 0x01020304u;
-constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 4 + 8 + 8;
-constexpr std::uint64_t kMaxRawBytes = std::uint64_t{1} << 36;
-constexpr int kCompressionLevel = 3;
-
-std::uint64_t checksum(const unsigned char* data, std::size_t size) {
-  StateHash h;
-  h.add_bytes(data, size);
-  return h.value();
-}
-
-void put_string(ByteWriter& w, const std::string& s) {
-  w.put(static_cast<std::uint32_t>(s.size()));
-  w.bytes.insert(w.bytes.end(), s.begin(), s.end());
-}
-void put_bytes(ByteWriter& w, const std::vector<unsigned char>& b) {
-  w.put(static_cast<std::uint64_t>(b.size()));
-  w.bytes.insert(w.bytes.end(), b.begin(), b.end());
-}
-
-/// Reads the raw (decompressed) bytes of a recording, naming it in every error.
-class RecordReader : public ByteReader {
- public:
-  RecordReader(std::span<const unsigned char> raw, const std::string& source) : ByteReader(raw, source), raw_(raw) {}
-  std::string string(const char* what) {
-    const auto size = get<std::uint32_t>(what);
-    if (size > remaining()) fail(std::string("truncated (ends inside ") + what + ")");
-    return {reinterpret_cast<const char*>(take(size).data()), size};
-  }
-  std::span<const unsigned char> bytes(const char* what) {
-    const auto size = get<std::uint64_t>(what);
-    if (size > remaining()) fail(std::string("truncated (ends inside ") + what + ")");
-    return take(size);
-  }
-
- private:
-  std::span<const unsigned char> take(std::size_t size) {
-    const std::span<const unsigned char> out = raw_.subspan(raw_.size() - remaining(), size);
-    skip(size, "bytes");
-    return out;
-  }
-  std::span<const unsigned char> raw_;
-};
-
-// A body's recorded state: its world transform (basis rows, origin) and its linear and
-// angular velocity, as btScalars: what the state hash and the pictures read.
-constexpr int kBodyScalars = 18;
+using bullet::Recording;
 
 /// Every body of the world in the order the scene added them (scenes::World::bodies()), not
 /// the dynamics world's collision-object order, which changes as the couplings add and
-/// remove their heightfield tiles during a run.
+/// remove their heightfield tiles during a run: per body its world transform (basis rows,
+/// origin) and linear and angular velocity, as btScalars (what the state hash and the
+/// pictures read).
 void put_bodies(ByteWriter& w, const World& world) {
-  w.put(static_cast<std::uint32_t>(world.bodies().size()));
   for (const btRigidBody* b : world.bodies()) {
     const btTransform& t = b->getWorldTransform();
     for (int r = 0; r < 3; ++r)
@@ -87,16 +39,10 @@ void put_bodies(ByteWriter& w, const World& world) {
   }
 }
 
-/// Reads them all, checks them, then sets them (the world untouched on an error).
-void apply_bodies(ByteReader& r, World& world) {
-  const auto count = r.get<std::uint32_t>("the body count");
-  if (count != world.bodies().size())
-    r.fail("holds " + std::to_string(count) + " bodies, the scene has " + std::to_string(world.bodies().size()));
-  std::vector<btScalar> v(static_cast<std::size_t>(count) * kBodyScalars);
-  for (btScalar& x : v)
-    if (!std::isfinite(static_cast<double>(x = r.get<btScalar>("a body")))) r.fail("corrupt (a non-finite body state)");
-  for (std::uint32_t k = 0; k < count; ++k) {
-    const btScalar* p = v.data() + static_cast<std::size_t>(k) * kBodyScalars;
+/// Sets the recorded states (already checked finite and of the scene's count).
+void apply_bodies(const std::vector<btScalar>& v, World& world) {
+  for (std::size_t k = 0; k < world.bodies().size(); ++k) {
+    const btScalar* p = v.data() + k * Recording::kBodyScalars;
     btRigidBody& b = *world.bodies()[k];
     const btTransform t(btMatrix3x3(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]),
                         btVector3(p[9], p[10], p[11]));
@@ -108,14 +54,19 @@ void apply_bodies(ByteReader& r, World& world) {
   }
 }
 
-/// The scene's contents, refused (InvalidSetting) if they cannot be recorded.
+/// The scene's contents, refused (InvalidSetting) if they cannot be recorded: no world, or
+/// water surfaces that the state hash covers but the contents do not give (so a replay
+/// could not write them).
 SceneContents recordable(Scene& scene, const std::string& name) {
   SceneContents c = scene.contents();
   const std::string field = "scenes.Recorder(scene " + name + ")";
   if (c.world == nullptr) throw InvalidSetting(field, "no world", "a recorded scene must show its world");
-  if (!c.waters.empty() || !scene.state().waters.empty())
-    throw InvalidSetting(field, "has water",
-                         "scenes with water are not recorded: water gets no deltas and a replay re-simulates nothing");
+  const std::vector<const water::Surface*> hashed = scene.state().waters;
+  bool same = hashed.size() == c.waters.size();
+  for (std::size_t k = 0; same && k < hashed.size(); ++k) same = hashed[k] == c.waters[k].surface;
+  if (!same)
+    throw InvalidSetting(field, std::to_string(hashed.size()) + " hashed water surfaces",
+                         "the scene's contents must give the same surfaces, in the same order, to be recorded");
   return c;
 }
 
@@ -125,13 +76,14 @@ SceneContents recordable(Scene& scene, const std::string& name) {
 
 struct Recorder::Impl {
   std::filesystem::path file;
-  ByteWriter head;    // everything before the frames
-  ByteWriter frames;  // the frames
-  std::uint32_t frame_count = 0;
-  std::vector<std::uint64_t> sent;  // per soil: the generation its last delta brought
+  Recording rec;
+  std::vector<unsigned char> initial;
+  std::vector<std::vector<unsigned char>> owned;  // the frames' bytes, which rec's spans point into
+  std::vector<std::uint64_t> sent;                // per soil: the generation its last delta brought
+  std::vector<bullet::StateChain> water;          // per water: the last recorded state
   std::vector<int> film;
-  int substeps = 0, per_frame = 1;
-  std::size_t hash_at = 0;  // where in `head` the final state hash goes
+  int per_frame = 1;
+  bool begun = false;
 };
 
 Recorder::Recorder(std::filesystem::path file) : impl_(std::make_unique<Impl>()) { impl_->file = std::move(file); }
@@ -139,142 +91,131 @@ Recorder::~Recorder() = default;
 
 void Recorder::begin(const SceneType& type, const SceneOptions& options, Scene& scene) {
   Impl& im = *impl_;
-  if (!im.head.bytes.empty())
+  if (im.begun)
     throw InvalidSetting("scenes.Recorder.begin", type.name, "a recorder records one run (make one per run)");
   const SceneContents c = recordable(scene, type.name);
-  im.substeps = options.substeps();
+  im.begun = true;
+  Recording& rec = im.rec;
+  rec.scene = type.name;
+  rec.seconds = options.seconds, rec.substep = options.substep, rec.cell = options.cell;
+  rec.material = options.material;
+  rec.smoke = options.smoke;
+  rec.substeps = options.substeps();
   im.per_frame = std::max(1, static_cast<int>(std::lround(1.0 / (kFramesPerSecond * options.substep))));
   im.film = scene.film_substeps();
-  ByteWriter& w = im.head;
-  put_string(w, type.name);
-  w.put(options.seconds), w.put(options.substep), w.put(options.cell);
-  put_string(w, options.material);
-  w.put(static_cast<std::uint8_t>(options.smoke ? 1 : 0));
-  w.put(static_cast<std::int32_t>(im.substeps));
-  im.hash_at = w.bytes.size();  // the final state hash, written at finish()
-  w.put(std::uint64_t{0});
-  const std::vector<unsigned char> initial = save_checkpoint(scene).bytes();
-  sizes_.initial = initial.size();
-  put_bytes(w, initial);
-  w.put(static_cast<std::uint32_t>(c.soils.size()));
+  im.initial = save_checkpoint(scene).bytes();
+  rec.initial = im.initial;
+  sizes_.initial = im.initial.size();
   for (const SoilContents& s : c.soils) {
     im.sent.push_back(s.soil->generation());
-    w.put(im.sent.back());
+    rec.soil_generations.push_back(im.sent.back());
   }
+  rec.waters = static_cast<std::uint32_t>(c.waters.size());
+  im.water.resize(c.waters.size());
 }
 
 void Recorder::after_substep(Scene& scene, int k) {
   Impl& im = *impl_;
   const bool film = std::find(im.film.begin(), im.film.end(), k) != im.film.end();
-  if (k % im.per_frame != 0 && !film && k != im.substeps) return;
+  if (k % im.per_frame != 0 && !film && k != im.rec.substeps) return;
   const SceneContents c = scene.contents();
   terrain::DeltaSettings exact;
   exact.quantum = 0.0;  // bit-identical columns, bookkeeping and spray (soil_delta.h)
-  im.frames.put(static_cast<std::int32_t>(k));
+  Recording::Frame f;
+  f.substep = k;
+  auto keep = [&](std::vector<unsigned char> bytes) {
+    im.owned.push_back(std::move(bytes));
+    return std::span<const unsigned char>(im.owned.back());
+  };
   for (std::size_t s = 0; s < c.soils.size(); ++s) {
-    const std::vector<unsigned char> delta = terrain::SoilDelta::encode(*c.soils[s].soil, im.sent[s], exact);
-    sizes_.soil_deltas += delta.size();
-    put_bytes(im.frames, delta);
+    f.soil_deltas.push_back(keep(terrain::SoilDelta::encode(*c.soils[s].soil, im.sent[s], exact)));
+    sizes_.soil_deltas += f.soil_deltas.back().size();
     im.sent[s] = c.soils[s].soil->generation();
   }
-  const std::size_t before = im.frames.bytes.size();
-  put_bodies(im.frames, *c.world);
-  sizes_.bodies += im.frames.bytes.size() - before;
-  ++im.frame_count;
+  ByteWriter bodies;
+  put_bodies(bodies, *c.world);
+  f.body_count = static_cast<std::uint32_t>(c.world->bodies().size());
+  sizes_.bodies += bodies.bytes.size();
+  f.bodies = keep(std::move(bodies.bytes));
+  for (std::size_t w = 0; w < c.waters.size(); ++w) {
+    f.water_diffs.push_back(keep(im.water[w].encode(c.waters[w].surface->save_state())));
+    sizes_.water_states += f.water_diffs.back().size();
+  }
+  im.rec.frames.push_back(std::move(f));
 }
 
 void Recorder::finish(std::uint64_t state_hash) {
   Impl& im = *impl_;
-  ByteWriter raw = std::move(im.head);
-  std::memcpy(raw.bytes.data() + im.hash_at, &state_hash, sizeof state_hash);
-  raw.put(im.frame_count);
-  raw.bytes.insert(raw.bytes.end(), im.frames.bytes.begin(), im.frames.bytes.end());
-
-  ByteWriter out;
-  for (char ch : kMagic) out.put(ch);
-  out.put(kVersion), out.put(kByteOrderMark), out.put(bullet::scalar_bytes());
-  out.put(static_cast<std::uint64_t>(raw.bytes.size()));
-  const std::size_t frame_at = out.bytes.size() + 8;
-  out.bytes.resize(frame_at + ZSTD_compressBound(raw.bytes.size()));
-  const std::size_t frame = ZSTD_compress(out.bytes.data() + frame_at, out.bytes.size() - frame_at, raw.bytes.data(),
-                                          raw.bytes.size(), kCompressionLevel);
-  if (ZSTD_isError(frame) != 0)
-    throw FileError("recording " + im.file.string() + ": zstd failed (" + ZSTD_getErrorName(frame) + ")");
-  out.bytes.resize(frame_at + frame);
-  const auto frame_size = static_cast<std::uint64_t>(frame);
-  std::memcpy(out.bytes.data() + frame_at - 8, &frame_size, sizeof frame_size);
-  out.put(checksum(out.bytes.data(), out.bytes.size()));
-  write_file_atomically(im.file, out.bytes, "recording");
-  sizes_.file = out.bytes.size();
+  im.rec.state_hash = state_hash;
+  const std::vector<unsigned char> bytes = [&] {
+    try {
+      return bullet::write_recording(im.rec);
+    } catch (const FileError& e) {
+      throw FileError(im.file.string() + ": " + e.what());
+    }
+  }();
+  write_file_atomically(im.file, bytes, "recording");
+  sizes_.file = bytes.size();
+  // Measured: what the water frames take after the outer compression (the others' bytes
+  // compressed alike would not add up to the file: zstd finds matches across them).
+  if (im.rec.waters > 0) {
+    Recording without = bullet::Recording();
+    without.scene = im.rec.scene, without.material = im.rec.material;
+    without.seconds = im.rec.seconds, without.substep = im.rec.substep, without.cell = im.rec.cell;
+    without.smoke = im.rec.smoke, without.substeps = im.rec.substeps, without.state_hash = state_hash;
+    without.initial = im.rec.initial, without.soil_generations = im.rec.soil_generations;
+    for (const Recording::Frame& f : im.rec.frames) {
+      Recording::Frame g;
+      g.substep = f.substep, g.soil_deltas = f.soil_deltas, g.bodies = f.bodies, g.body_count = f.body_count;
+      without.frames.push_back(std::move(g));
+    }
+    sizes_.water_compressed = bytes.size() - std::min(bytes.size(), bullet::write_recording(without).size());
+  }
 }
 
 // ---- replaying ---------------------------------------------------------------------------
 
 namespace {
 
-/// The checked, decompressed raw bytes of a recording file.
-std::vector<unsigned char> read_recording(const std::filesystem::path& file, std::size_t& file_bytes) {
-  const std::vector<unsigned char> bytes = read_file_bytes(file, "recording");
-  file_bytes = bytes.size();
-  ByteReader r(bytes, "recording " + file.string());
-  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
-    r.fail("not a Shore recording (magic \"SHOREREC\" missing)");
-  if (bytes.size() < kHeaderBytes + 8) r.fail("truncated (" + std::to_string(bytes.size()) + " bytes)");
-  for (std::size_t k = 0; k < sizeof kMagic; ++k) (void)r.get<char>("magic");
-  const auto version = r.get<std::uint32_t>("version");
-  if (version != kVersion)
-    r.fail("unsupported recording version " + std::to_string(version) + " (this build reads " +
-           std::to_string(kVersion) + ")");
-  if (r.get<std::uint32_t>("byte-order mark") != kByteOrderMark) r.fail("written with the other byte order");
-  const auto scalar = r.get<std::uint32_t>("precision");
-  const auto raw_size = r.get<std::uint64_t>("header"), frame_size = r.get<std::uint64_t>("header");
-  if (frame_size != bytes.size() - kHeaderBytes - 8)
-    r.fail("truncated or padded (a compressed body of " + std::to_string(frame_size) + " bytes in a file of " +
-           std::to_string(bytes.size()) + ")");
-  std::uint64_t stored = 0;
-  std::memcpy(&stored, bytes.data() + bytes.size() - 8, sizeof stored);
-  if (stored != checksum(bytes.data(), bytes.size() - 8)) r.fail("checksum mismatch (corrupt)");
-  if (scalar != bullet::scalar_bytes())
-    r.fail("written by a build with " + std::to_string(8 * scalar) + "-bit Bullet scalars, this one uses " +
-           std::to_string(8 * bullet::scalar_bytes()) + "-bit (SHORE_DOUBLE_PRECISION differs)");
-  if (raw_size > kMaxRawBytes) r.fail("corrupt header (raw size " + std::to_string(raw_size) + ")");
-  std::vector<unsigned char> raw(raw_size);
-  const std::size_t got = ZSTD_decompress(raw.data(), raw.size(), bytes.data() + kHeaderBytes, frame_size);
-  if (ZSTD_isError(got) != 0) r.fail(std::string("zstd: ") + ZSTD_getErrorName(got));
-  if (got != raw.size()) r.fail("corrupt (decompressed size differs from the header's)");
-  return raw;
-}
-
 /// The run's options as recorded; out_dir = out_root / scene.
-SceneOptions read_options(RecordReader& r, const std::filesystem::path& out_root, const std::string& scene) {
+SceneOptions read_options(const Recording& rec, const std::filesystem::path& out_root, const std::string& source) {
   SceneOptions o;
-  o.out_dir = out_root / scene;
+  o.out_dir = out_root / rec.scene;
   o.threads = 1;
-  o.seconds = r.get<double>("options"), o.substep = r.get<double>("options"), o.cell = r.get<double>("options");
-  o.material = r.string("options");
-  o.smoke = r.get<std::uint8_t>("options") != 0;
+  o.seconds = rec.seconds, o.substep = rec.substep, o.cell = rec.cell;
+  o.material = rec.material;
+  o.smoke = rec.smoke;
   try {
     o.validate();
   } catch (const InvalidSetting& e) {
-    r.fail(std::string("corrupt options (") + e.what() + ")");
+    throw FileError(source + ": corrupt options (" + e.what() + ")");
   }
+  if (rec.substeps != o.substeps()) throw FileError(source + ": corrupt (substeps do not match the options)");
   return o;
 }
 
-/// Applies one frame's soil deltas and bodies to the replaying scene.
-void apply_frame(RecordReader& r, const SceneContents& c, std::vector<std::uint64_t>& at, int k,
-                 const std::string& source) {
-  const std::string where = source + ", frame at substep " + std::to_string(k);
+/// Applies one frame's soil deltas, bodies and water states to the replaying scene.
+void apply_frame(const Recording& rec, const Recording::Frame& f, const SceneContents& c,
+                 std::vector<std::uint64_t>& at, std::vector<bullet::StateChain>& water, const std::string& source) {
+  const std::string where = source + ", frame at substep " + std::to_string(f.substep);
   for (std::size_t s = 0; s < c.soils.size(); ++s) {
-    const std::span<const unsigned char> delta = r.bytes("a soil delta");
     try {
-      at[s] = terrain::SoilDelta::apply(*c.soils[s].soil, delta, at[s]);
+      at[s] = terrain::SoilDelta::apply(*c.soils[s].soil, f.soil_deltas[s], at[s]);
     } catch (const std::exception& e) {  // FileError or InvalidSetting: the delta does not fit
       throw FileError(where + ", soil " + std::to_string(s) + ": " + e.what());
     }
   }
-  apply_bodies(r, *c.world);
-  if (c.clock) *c.clock = k;
+  if (f.body_count != c.world->bodies().size())
+    throw FileError(where + ": holds " + std::to_string(f.body_count) + " bodies, the scene has " +
+                    std::to_string(c.world->bodies().size()));
+  const std::vector<btScalar> bodies = rec.body_scalars(f, source);
+  for (std::size_t w = 0; w < c.waters.size(); ++w) {
+    const std::string what = where + ", water " + std::to_string(w);
+    const std::vector<unsigned char>& state = water[w].next(f.water_diffs[w]);
+    c.waters[w].surface->restore_state(state, what);  // FileError naming `what`, the surface unchanged
+  }
+  apply_bodies(bodies, *c.world);
+  if (c.clock) *c.clock = f.substep;
 }
 
 /// metrics.json of a replay, listed last in res.files.
@@ -304,28 +245,32 @@ ReplayResult replay(const std::filesystem::path& file, const std::filesystem::pa
                     Painter* painter, ProgressMode progress_mode) {
   const auto t0 = std::chrono::steady_clock::now();
   ReplayResult res;
-  const std::vector<unsigned char> raw = read_recording(file, res.file_bytes);
   const std::string source = "recording " + file.string();
-  RecordReader r(raw, source);
-  res.scene = r.string("the scene name");
+  const Recording rec = [&] {
+    const std::vector<unsigned char> bytes = read_file_bytes(file, "recording");
+    res.file_bytes = bytes.size();
+    return bullet::read_recording(bytes, source);
+  }();
+  res.scene = rec.scene;
   const SceneType* type = find_scene(res.scene);
-  if (type == nullptr) r.fail("names no scene of this build (" + res.scene + ")");
-  SceneOptions opt = read_options(r, out_root, res.scene);
+  if (type == nullptr) throw FileError(source + ": names no scene of this build (" + res.scene + ")");
+  SceneOptions opt = read_options(rec, out_root, source);
   opt.write_files = write_files;
-  const auto substeps = r.get<std::int32_t>("substeps");
-  if (substeps != opt.substeps()) r.fail("corrupt (substeps do not match the options)");
-  res.recorded_state_hash = r.get<std::uint64_t>("the final state hash");
-  const std::span<const unsigned char> initial = r.bytes("the initial checkpoint");
+  const int substeps = rec.substeps;
+  res.recorded_state_hash = rec.state_hash;
 
   const std::unique_ptr<Scene> scene = type->create(opt);
-  restore_checkpoint(*scene, CheckpointReader({initial.begin(), initial.end()}, file.string() + " (initial state)",
-                                              bullet::scalar_bytes()));
+  restore_checkpoint(*scene, CheckpointReader({rec.initial.begin(), rec.initial.end()},
+                                              file.string() + " (initial state)", bullet::scalar_bytes()));
   const SceneContents c = recordable(*scene, res.scene);
-  const auto soils = r.get<std::uint32_t>("soil count");
-  if (soils != c.soils.size())
-    r.fail("holds " + std::to_string(soils) + " soils, the scene has " + std::to_string(c.soils.size()));
-  std::vector<std::uint64_t> at(soils);
-  for (auto& g : at) g = r.get<std::uint64_t>("a soil's generation");
+  if (rec.soil_generations.size() != c.soils.size())
+    throw FileError(source + ": holds " + std::to_string(rec.soil_generations.size()) + " soils, the scene has " +
+                    std::to_string(c.soils.size()));
+  if (rec.waters != c.waters.size())
+    throw FileError(source + ": holds " + std::to_string(rec.waters) + " water surfaces, the scene has " +
+                    std::to_string(c.waters.size()));
+  std::vector<std::uint64_t> at = rec.soil_generations;
+  std::vector<bullet::StateChain> water(c.waters.size());
 
   const bool film = write_files && painter != nullptr;
   const std::vector<int> film_at = film ? scene->film_substeps() : std::vector<int>{};
@@ -341,19 +286,12 @@ ReplayResult replay(const std::filesystem::path& file, const std::filesystem::pa
   };
   take_film(0);
   Progress progress(res.scene + " replay", progress_mode);
-  res.frames = static_cast<int>(r.get<std::uint32_t>("frame count"));
-  int last = 0;
-  for (int f = 0; f < res.frames; ++f) {
-    const auto k = r.get<std::int32_t>("a frame's substep");
-    if (k <= last || k > substeps)
-      r.fail("corrupt (frame at substep " + std::to_string(k) + " after " + std::to_string(last) + ")");
-    apply_frame(r, c, at, k, source);
-    take_film(last = k);
-    progress.update(static_cast<double>(k) / substeps);
+  res.frames = static_cast<int>(rec.frames.size());
+  for (const Recording::Frame& f : rec.frames) {
+    apply_frame(rec, f, c, at, water, source);
+    take_film(f.substep);
+    progress.update(static_cast<double>(f.substep) / substeps);
   }
-  if (r.remaining() != 0) r.fail("corrupt (bytes after the last frame)");
-  if (last != substeps)
-    r.fail("truncated (the last frame is at substep " + std::to_string(last) + " of " + std::to_string(substeps) + ")");
   res.sim_seconds = substeps * opt.substep;
   res.state_hash = state_hash(scene->state());
   res.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - picture_seconds;

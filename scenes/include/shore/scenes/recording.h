@@ -3,28 +3,23 @@
 //
 // What a recording carries, so that a replay's final state hash equal to the run's means
 // something: the scene's name and options, its initial checkpoint (checkpoint.h: soils,
-// couplings, bodies, clock), then per frame (30 per simulated second, every filmstrip
+// water, couplings, bodies, clock), then per frame (30 per simulated second, every filmstrip
 // substep and the last substep) each soil's exact delta since the previous frame
-// (soil_delta.h with quantum 0: heights, sinkages, volume bookkeeping and the spray state)
-// and every body's world transform and linear and angular velocity, in the order the scene
+// (soil_delta.h with quantum 0: heights, sinkages, volume bookkeeping and the spray state),
+// every body's world transform and linear and angular velocity, in the order the scene
 // added them (World::bodies(); not bullet::save_bodies, whose collision-object order
-// changes as the couplings add and remove heightfield tiles during a run). A replay
-// does NOT step the physics: it restores the initial checkpoint into a fresh scene and
-// then only writes the recorded columns, spray and bodies into it, frame by frame. So its
-// state hash equals the run's only if the recording holds the whole hashed state (the
-// test compares them, and a replay that misses any soil column, spray particle or body
-// would differ), and its pictures show exactly the recorded states.
+// changes as the couplings add and remove heightfield tiles during a run), and each water
+// surface's whole state (Surface::save_state) XORed with the previous frame's, so that what
+// did not change is zeros for the file's zstd. A replay does NOT step the physics: it
+// restores the initial checkpoint into a fresh scene and then only writes the recorded
+// columns, spray, water and bodies into it, frame by frame. So its state hash equals the
+// run's only if the recording holds the whole hashed state (the test compares them, and a
+// replay that misses any soil column, spray particle, water node or body would differ),
+// and its pictures show exactly the recorded states. The water couplings' own state (not
+// hashed, read only by the next step) is not recorded per frame.
 //
-// Scenes with water are refused: water gets no deltas (it is re-simulated from the same
-// inputs, docs/checkpoints.md), and a replay re-simulates nothing.
-//
-// File layout: "SHOREREC", u32 version (1), u32 byte-order mark 0x01020304, u32 scalar bytes
-// (sizeof(btScalar) of the writer), u64 raw size, u64 compressed size, zstd frame of the
-// raw bytes, u64 FNV-1a of every byte before it. Raw bytes: u32 length + scene name; f64
-// seconds, substep, cell; u32 length + material; u8 smoke; i32 substeps; u64 the run's final
-// state hash; u64 size + initial checkpoint (SHORECKP); u32 soils, per soil u64 its
-// generation at the start; u32 frames, per frame: i32 substep, per soil u64 size + delta,
-// u32 bodies, per body 18 btScalars (basis rows, origin, linear, angular velocity).
+// File layout: shore/bullet/recording_file.h (version 2; version 1 files, without water,
+// are refused with a message saying so).
 
 #include <cstdint>
 #include <filesystem>
@@ -50,16 +45,18 @@ class Recorder {
   Recorder& operator=(const Recorder&) = delete;
 
   /// Before the first substep: the initial checkpoint. InvalidSetting if the scene shows no
-  /// world or has water (see above).
+  /// world, or hashes water surfaces its contents do not give.
   void begin(const SceneType& type, const SceneOptions& options, Scene& scene);
   /// After substep k (1-based): a frame if k is a frame substep.
   void after_substep(Scene& scene, int k);
   /// After the run: writes the file atomically. FileError naming it if that fails.
   void finish(std::uint64_t state_hash);
   /// What the file holds, bytes: the whole file (written by finish; 0 before), and before
-  /// the outer compression the initial checkpoint, the soil deltas and the body states.
+  /// the outer compression the initial checkpoint, the soil deltas, the body states and the
+  /// water states (XORed); water_compressed: how much larger the file is for its water
+  /// frames (the file compressed without them, subtracted; written by finish).
   struct Sizes {
-    std::size_t file = 0, initial = 0, soil_deltas = 0, bodies = 0;
+    std::size_t file = 0, initial = 0, soil_deltas = 0, bodies = 0, water_states = 0, water_compressed = 0;
   };
   [[nodiscard]] const Sizes& sizes() const noexcept { return sizes_; }
   [[nodiscard]] std::size_t file_bytes() const noexcept { return sizes_.file; }
@@ -86,7 +83,8 @@ struct ReplayResult {
 /// painter) and metrics.json go to out_root / <scene> (the recording's scene). FileError
 /// naming the file and the cause for a file that is missing, not a recording, truncated,
 /// corrupt (checksum, zstd, sizes), of another version, byte order or btScalar precision,
-/// or whose contents do not fit the scene (a delta or body section refused).
+/// or whose contents do not fit the scene (a delta, body or water section refused, naming
+/// the frame by its substep).
 ReplayResult replay(const std::filesystem::path& file, const std::filesystem::path& out_root, bool write_files,
                     Painter* painter, ProgressMode progress);
 

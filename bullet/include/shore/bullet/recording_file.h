@@ -1,0 +1,95 @@
+#pragma once
+// The file of a scene recording (shore/scenes/recording.h records and replays it;
+// docs/checkpoints.md, "Replays"): its container and layout, written and read without a
+// scene, so that the loader can be fuzzed on its own (fuzz_recording). What the nested
+// parts hold (the initial checkpoint, the soil deltas, the water states) is read by their
+// own loaders when a replay applies them.
+//
+// File: "SHOREREC", u32 version (2), u32 byte-order mark 0x01020304, u32 scalar bytes
+// (sizeof(btScalar) of the writer), u64 raw size, u64 compressed size, zstd frame of the
+// raw bytes, u64 FNV-1a of every byte before it. Raw bytes: u32 length + scene name; f64
+// seconds, substep, cell; u32 length + material; u8 smoke; i32 substeps; u64 the run's final
+// state hash; u64 size + initial checkpoint (SHORECKP); u32 soils, per soil u64 its
+// generation at the start; u32 waters; u32 frames, per frame: i32 substep, per soil u64 size
+// + delta, u32 bodies, per body 18 btScalars (basis rows, origin, linear, angular velocity),
+// per water u64 size + that water's state (Surface::save_state) XOR the previous frame's
+// (0 past the previous state's end; the first frame's previous state is empty), its bytes
+// grouped by place in an 8-byte word (byte k into plane k % 8, the planes in order).
+// Version 1 (no water) is refused with a message saying so.
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <LinearMath/btScalar.h>
+
+#include "shore/bullet/config.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+
+/// A recording's contents. When read, the spans point into `raw` (keep the object alive and
+/// do not copy it: a copy's spans would point into the original).
+struct Recording {
+  /// Scalars per body and frame: basis rows, origin, linear and angular velocity.
+  static constexpr int kBodyScalars = 18;
+
+  struct Frame {
+    int substep = 0;
+    std::vector<std::span<const unsigned char>> soil_deltas;  ///< one per soil
+    std::span<const unsigned char> bodies;                    ///< count * kBodyScalars btScalars
+    std::uint32_t body_count = 0;
+    std::vector<std::span<const unsigned char>> water_diffs;  ///< one per water: its XOR (see above)
+  };
+
+  std::string scene;
+  double seconds = 0.0, substep = 0.0, cell = 0.0;
+  std::string material;
+  bool smoke = false;
+  int substeps = 0;
+  std::uint64_t state_hash = 0;  ///< the run's final one
+  std::span<const unsigned char> initial;
+  std::vector<std::uint64_t> soil_generations;
+  std::uint32_t waters = 0;
+  std::vector<Frame> frames;
+  std::vector<unsigned char> raw;  ///< the decompressed bytes the spans point into
+
+  Recording() = default;
+  Recording(Recording&&) = default;
+  Recording& operator=(Recording&&) = default;
+  Recording(const Recording&) = delete;
+  Recording& operator=(const Recording&) = delete;
+
+  /// The body states of frame f, as btScalars (FileError naming `source` if any is not finite).
+  [[nodiscard]] std::vector<btScalar> body_scalars(const Frame& f, const std::string& source) const;
+};
+
+/// Writes the file's bytes: the header, one zstd frame of the raw layout (frames' spans
+/// as given, water_diffs already XORed) and the checksum. FileError if zstd fails.
+[[nodiscard]] std::vector<unsigned char> write_recording(const Recording& rec, int compression_level = 3);
+
+/// Reads a recording file's bytes. FileError naming `source` and the cause for bytes that
+/// are not a recording, truncated or padded, corrupt (checksum, zstd, sizes), of another
+/// version, byte order or btScalar precision, frames out of order or past the substeps,
+/// another number of soils or waters in a frame, or bytes after the last frame. Every
+/// size read is checked against what is left, so memory stays within a bounded multiple
+/// of the input's size (zstd's best ratio).
+[[nodiscard]] Recording read_recording(std::span<const unsigned char> file, const std::string& source);
+
+/// Rebuilds the water states of successive frames from their XOR (above), and makes those
+/// bytes. Exact: next(encode(s)) is s, bit for bit, whatever the bytes and lengths.
+class StateChain {
+ public:
+  /// The next state from the next frame's bytes (as long as they are).
+  const std::vector<unsigned char>& next(std::span<const unsigned char> frame);
+  /// This frame's bytes for `state`, and `state` becomes the previous one.
+  std::vector<unsigned char> encode(const std::vector<unsigned char>& state);
+  [[nodiscard]] const std::vector<unsigned char>& state() const noexcept { return prev_; }
+
+ private:
+  std::vector<unsigned char> prev_;
+};
+
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet
