@@ -52,20 +52,6 @@ namespace {
 /// The draw that rounds a piece's number of particles (apart from the candidates' draws).
 constexpr std::uint64_t kRounding = std::uint64_t{1} << 40;
 
-/// floor(owed / vp + u) (owed >= 0, u in [0, 1)), with owed * inverse (inverse = 1 / vp)
-/// where that floors the same: the product lies within 3 ulps of the quotient and the sum
-/// rounds monotonically, so a sum farther than 2^-44 (1 + sum) from every integer floors as
-/// the quotient's would. Closer, the division decides.
-double particles_due(double owed, double vp, double inverse, double u) {
-  const double near = owed * inverse + u;
-  if (near < 0x1.0p40) {
-    const double whole = static_cast<double>(static_cast<std::int64_t>(near));  // floor: near >= 0
-    const double rest = near - whole;                                           // exact
-    if (std::min(rest, 1.0 - rest) > 0x1.0p-44 * (1.0 + near)) return whole;
-  }
-  return std::floor(owed / vp + u);
-}
-
 ClingCell* find(std::vector<ClingCell>& cells, std::uint64_t key) {
   const auto at =
       std::lower_bound(cells.begin(), cells.end(), key, [](const ClingCell& c, std::uint64_t k) { return c.key < k; });
@@ -73,22 +59,6 @@ ClingCell* find(std::vector<ClingCell>& cells, std::uint64_t key) {
 }
 
 constexpr std::uint64_t kKeyMask = (std::uint64_t{1} << 21) - 1;
-
-/// Whether |u| < min_speed, as length(u) < min_speed decides it (the same answer): sqrt is
-/// correctly rounded and monotonic, so |u|^2 clear of min_speed^2 by a relative 2^-40
-/// (thousands of ulps) decides it without the root; only in between is the root taken.
-struct SpeedTest {
-  explicit SpeedTest(double min_speed)
-      : least(min_speed), below(min_speed * min_speed * (1.0 - 0x1.0p-40)),
-        above(min_speed * min_speed * (1.0 + 0x1.0p-40)) {}
-  [[nodiscard]] bool slower(const Vec3& u) const {
-    const double s = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];  // as length() sums it
-    if (s < below) return true;
-    if (s > above) return false;
-    return std::sqrt(s) < least;
-  }
-  double least, below, above;
-};
 
 }  // namespace
 
@@ -124,6 +94,20 @@ ClingCell* PieceIndex::find(std::vector<ClingCell>& cells, std::uint64_t key) co
 }
 
 std::size_t PieceIndex::bytes() const { return capacity_bytes(start_); }
+
+/// floor(owed / vp + u) (owed >= 0, u in [0, 1)), with owed * inverse (inverse = 1 / vp)
+/// where that floors the same: the product lies within 3 ulps of the quotient and the sum
+/// rounds monotonically, so a sum farther than 2^-44 (1 + sum) from every integer floors as
+/// the quotient's would. Closer, the division decides.
+double particles_due(double owed, double vp, double inverse, double u) {
+  const double near = owed * inverse + u;
+  if (near < 0x1.0p40) {
+    const double whole = static_cast<double>(static_cast<std::int64_t>(near));  // floor: near >= 0
+    const double rest = near - whole;                                           // exact
+    if (std::min(rest, 1.0 - rest) > 0x1.0p-44 * (1.0 + near)) return whole;
+  }
+  return std::floor(owed / vp + u);
+}
 
 namespace {
 

@@ -116,6 +116,10 @@ class Cling {
 /// The cube of the body frame a point lies in, packed in 64 bits (21 per axis).
 std::uint64_t cling_key(const Vec3& body_point, double cell);
 
+/// floor(owed / vp + u) for owed >= 0 and u in [0, 1), the same, mostly with owed * inverse
+/// (inverse = 1 / vp) instead of the division.
+double particles_due(double owed, double vp, double inverse, double u);
+
 /// cling_key for one cell size, the same keys with a multiplication for most divisions.
 struct ClingKeys {
   explicit ClingKeys(double cell_size) : cell(cell_size), inverse_cell(1.0 / cell_size) {}
