@@ -9,10 +9,9 @@
 namespace shore::terrain {
 
 namespace {
+constexpr std::int64_t kKeyHalf = ClingKeys::kHalf;
+}  // namespace
 
-constexpr std::int64_t kKeyHalf = std::int64_t{1} << 20;
-
-/// floor(x / cell), clamped to the key's 21 bits, as cling_key makes it.
 std::uint64_t key_part(double x, double cell) {
   const double q = x / cell;
   std::int64_t clamped = 0;
@@ -25,26 +24,8 @@ std::uint64_t key_part(double x, double cell) {
   return static_cast<std::uint64_t>(clamped + kKeyHalf);
 }
 
-}  // namespace
-
 std::uint64_t cling_key(const Vec3& b, double cell) {
   return key_part(b[0], cell) | (key_part(b[1], cell) << 21) | (key_part(b[2], cell) << 42);
-}
-
-// The same part by a multiplication where it gives the same integer: x * (1 / cell) lies
-// within 3 ulps of x / cell, and floor (then the clamp) is monotonic with steps only at
-// integers, so a product farther than 2^-44 |q| from every integer floors as the quotient
-// does. Closer, or far out (|q| >= 2^40, clamped anyway), the division decides.
-std::uint64_t ClingKeys::part(double x) const {
-  const double q = x * inverse_cell;
-  if (std::abs(q) < 0x1.0p40) {
-    auto t = static_cast<std::int64_t>(q);
-    if (static_cast<double>(t) > q) --t;                 // floor
-    const double rest = q - static_cast<double>(t);  // in [0, 1], exact but for q in (-1, 0)
-    if (std::min(rest, 1.0 - rest) > 0x1.0p-44 * std::abs(q))
-      return static_cast<std::uint64_t>(std::clamp(t, -kKeyHalf, kKeyHalf - 1) + kKeyHalf);
-  }
-  return key_part(x, cell);
 }
 
 namespace {
@@ -94,20 +75,6 @@ ClingCell* PieceIndex::find(std::vector<ClingCell>& cells, std::uint64_t key) co
 }
 
 std::size_t PieceIndex::bytes() const { return capacity_bytes(start_); }
-
-/// floor(owed / vp + u) (owed >= 0, u in [0, 1)), with owed * inverse (inverse = 1 / vp)
-/// where that floors the same: the product lies within 3 ulps of the quotient and the sum
-/// rounds monotonically, so a sum farther than 2^-44 (1 + sum) from every integer floors as
-/// the quotient's would. Closer, the division decides.
-double particles_due(double owed, double vp, double inverse, double u) {
-  const double near = owed * inverse + u;
-  if (near < 0x1.0p40) {
-    const double whole = static_cast<double>(static_cast<std::int64_t>(near));  // floor: near >= 0
-    const double rest = near - whole;                                           // exact
-    if (std::min(rest, 1.0 - rest) > 0x1.0p-44 * (1.0 + near)) return whole;
-  }
-  return std::floor(owed / vp + u);
-}
 
 namespace {
 

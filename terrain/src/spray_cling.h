@@ -19,6 +19,8 @@
 // Whether a candidate flies (Sumner's (|v + w x r| / s)^gamma test) is the caller's, who
 // also lays the soil that is set down.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -116,9 +118,19 @@ class Cling {
 /// The cube of the body frame a point lies in, packed in 64 bits (21 per axis).
 std::uint64_t cling_key(const Vec3& body_point, double cell);
 
-/// floor(owed / vp + u) for owed >= 0 and u in [0, 1), the same, mostly with owed * inverse
-/// (inverse = 1 / vp) instead of the division.
-double particles_due(double owed, double vp, double inverse, double u);
+/// floor(owed / vp + u) (owed >= 0, u in [0, 1)), with owed * inverse (inverse = 1 / vp)
+/// where that floors the same: the product lies within 3 ulps of the quotient and the sum
+/// rounds monotonically, so a sum farther than 2^-44 (1 + sum) from every integer floors as
+/// the quotient's would. Closer, the division decides.
+inline double particles_due(double owed, double vp, double inverse, double u) {
+  const double near = owed * inverse + u;
+  if (near < 0x1.0p40) {
+    const double whole = static_cast<double>(static_cast<std::int64_t>(near));  // floor: near >= 0
+    const double rest = near - whole;                                           // exact
+    if (std::min(rest, 1.0 - rest) > 0x1.0p-44 * (1.0 + near)) return whole;
+  }
+  return std::floor(owed / vp + u);
+}
 
 /// cling_key for one cell size, the same keys with a multiplication for most divisions.
 struct ClingKeys {
@@ -126,6 +138,26 @@ struct ClingKeys {
   [[nodiscard]] std::uint64_t of(const Vec3& b) const { return part(b[0]) | (part(b[1]) << 21) | (part(b[2]) << 42); }
   [[nodiscard]] std::uint64_t part(double x) const;
   double cell, inverse_cell;
+  static constexpr std::int64_t kHalf = std::int64_t{1} << 20;
 };
+
+/// floor(x / cell), clamped to the key's 21 bits, as cling_key makes it.
+std::uint64_t key_part(double x, double cell);
+
+// The same part by a multiplication where it gives the same integer: x * (1 / cell) lies
+// within 3 ulps of x / cell, and floor (then the clamp) is monotonic with steps only at
+// integers, so a product farther than 2^-44 |q| from every integer floors as the quotient
+// does. Closer, or far out (|q| >= 2^40, clamped anyway), the division decides.
+inline std::uint64_t ClingKeys::part(double x) const {
+  const double q = x * inverse_cell;
+  if (std::abs(q) < 0x1.0p40) {
+    auto t = static_cast<std::int64_t>(q);
+    if (static_cast<double>(t) > q) --t;                 // floor
+    const double rest = q - static_cast<double>(t);  // in [0, 1], exact but for q in (-1, 0)
+    if (std::min(rest, 1.0 - rest) > 0x1.0p-44 * std::abs(q))
+      return static_cast<std::uint64_t>(std::clamp(t, -kHalf, kHalf - 1) + kHalf);
+  }
+  return key_part(x, cell);
+}
 
 }  // namespace shore::terrain

@@ -32,7 +32,7 @@ Particle advanced(const Particle& p, const FlightTime& f, const FlightRules& r) 
     q.vz = p.vz - g * t;
   } else {
     const double a = f.a, e = f.e;  // e = e^(-k t)
-    const double fall = g / k;      // terminal speed
+    const double fall = r.fall;     // terminal speed, g / k
     q.x = p.x + p.vx * a, q.y = p.y + p.vy * a;
     q.z = p.z + (p.vz + fall) * a - fall * t;
     q.vx = p.vx * e, q.vy = p.vy * e, q.vz = (p.vz + fall) * e - fall;

@@ -25,9 +25,13 @@
 namespace shore::terrain {
 
 struct FlightRules {
+  FlightRules() = default;
+  FlightRules(double g, double k, double longest)
+      : gravity(g), drag(k), max_flight(longest), fall(k != 0.0 ? g / k : 0.0) {}
   double gravity = 9.81;     ///< m/s^2
   double drag = 0.0;         ///< 1/s
   double max_flight = 10.0;  ///< s
+  double fall = 0.0;         ///< m/s, the terminal speed gravity / drag (with drag), divided once
 };
 
 /// A time into a flight with its drag factors: a = (1 - e^(-k t)) / k, e = e^(-k t).
