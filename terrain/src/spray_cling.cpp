@@ -205,7 +205,8 @@ void Cling::shed(std::uint64_t body_key, ClingCell& c, const BodyMotion& m, cons
   // rounding sheds early or late is evened out by `owed` in the next steps.
   const double vp = rules.particle_volume;
   c.owed += std::max(0.0, c.volume - c.owed) * rules.shed_share;
-  const double whole = particles_due(std::max(0.0, c.owed), vp, rules.inverse_particle_volume, rnd.uniform(kRounding, 0));
+  const double whole =
+      particles_due(std::max(0.0, c.owed), vp, rules.inverse_particle_volume, rnd.uniform(kRounding, 0));
   for (double k = 0.0; k < whole && c.volume > 0.0; k += 1.0) {
     emit(std::min(vp, c.volume));
     c.owed -= vp;

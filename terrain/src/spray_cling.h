@@ -33,14 +33,14 @@ namespace shore::terrain {
 
 /// What a material, the terrain and the step's time make of the rule.
 struct ClingRules {
-  double dt = 0.0;               ///< s
-  double cell = 0.0;             ///< m, the column spacing (a piece is a cube of this side)
-  double tolerance = 0.0;        ///< m, a column is touched when the body lies this close to its top
-  double capacity = 0.0;         ///< m^3 a piece holds, adhesion x cell^2
-  double min_speed = 0.0;        ///< m/s
-  double particle_volume = 0.0;  ///< m^3
+  double dt = 0.0;                       ///< s
+  double cell = 0.0;                     ///< m, the column spacing (a piece is a cube of this side)
+  double tolerance = 0.0;                ///< m, a column is touched when the body lies this close to its top
+  double capacity = 0.0;                 ///< m^3 a piece holds, adhesion x cell^2
+  double min_speed = 0.0;                ///< m/s
+  double particle_volume = 0.0;          ///< m^3
   double inverse_particle_volume = 0.0;  ///< 1 / particle_volume
-  double shed_share = 0.0;       ///< 1 - 2^(-dt / half_life): share of what clings that drops off this step
+  double shed_share = 0.0;               ///< 1 - 2^(-dt / half_life): share of what clings that drops off this step
   double jitter = 0.0;
   std::uint64_t seed = 0;
   std::int64_t step = 0;
@@ -76,7 +76,7 @@ class PieceIndex {
     return ((key >> 42) - z0_) * ny_ + (((key >> 21) & ((std::uint64_t{1} << 21) - 1)) - y0_);
   }
   std::uint64_t z0_ = 0, y0_ = 0, ny_ = 0, rows_ = 0;  ///< rows_ 0: bisect
-  std::vector<std::uint32_t> start_;                  ///< rows_ + 1 entries
+  std::vector<std::uint32_t> start_;                   ///< rows_ + 1 entries
 };
 
 class Cling {
@@ -152,7 +152,7 @@ inline std::uint64_t ClingKeys::part(double x) const {
   const double q = x * inverse_cell;
   if (std::abs(q) < 0x1.0p40) {
     auto t = static_cast<std::int64_t>(q);
-    if (static_cast<double>(t) > q) --t;                 // floor
+    if (static_cast<double>(t) > q) --t;             // floor
     const double rest = q - static_cast<double>(t);  // in [0, 1], exact but for q in (-1, 0)
     if (std::min(rest, 1.0 - rest) > 0x1.0p-44 * std::abs(q))
       return static_cast<std::uint64_t>(std::clamp(t, -kHalf, kHalf - 1) + kHalf);

@@ -18,7 +18,8 @@ using Vec3 = std::array<double, 3>;
 /// (thousands of ulps) decides it without the root; only in between is the root taken.
 struct SpeedTest {
   explicit SpeedTest(double min_speed)
-      : least(min_speed), below(min_speed * min_speed * (1.0 - 0x1.0p-40)),
+      : least(min_speed),
+        below(min_speed * min_speed * (1.0 - 0x1.0p-40)),
         above(min_speed * min_speed * (1.0 + 0x1.0p-40)) {}
   [[nodiscard]] bool slower(const Vec3& u) const {
     const double s = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];  // as length() sums it

@@ -108,9 +108,9 @@ void run(const SweepContext& ctx, SweepResult& out) {
   const SprayRow wheel = spinning_wheel(wheel_seconds);
   ctx.progress("oblique 8 m/s drop");
   const SprayRow drop = impact_drop();
-  Table& t = out.table("spray", {"case", "spray_share_of_step", "spray_share_one_run", "ms_per_substep",
-                                 "particles_created", "particles_peak", "peak_bytes", "airborne_peak_m3",
-                                 "volume_error_rel_max"});
+  Table& t =
+      out.table("spray", {"case", "spray_share_of_step", "spray_share_one_run", "ms_per_substep", "particles_created",
+                          "particles_peak", "peak_bytes", "airborne_peak_m3", "volume_error_rel_max"});
   double worst_share = 0.0, worst_error = 0.0;
   for (const SprayRow* r : {&wheel, &drop}) {
     t.add({r->name, r->share, r->single_share, r->stats.ms_per_substep(), double(r->stats.spray.created),
