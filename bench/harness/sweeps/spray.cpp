@@ -73,7 +73,8 @@ struct SprayRow {
 };
 
 SprayRow spinning_wheel(double seconds) {
-  SprayRow row{.name = "wheel_50pct_slip"};
+  SprayRow row;
+  row.name = "wheel_50pct_slip";
   for (int k = 0; k < SprayRow::kRuns; ++k) {
     scenes::DrivenWheelCase c;
     c.slip = 0.5;
@@ -88,7 +89,8 @@ SprayRow spinning_wheel(double seconds) {
 }
 
 SprayRow impact_drop() {
-  SprayRow row{.name = "drop_8m_s_oblique"};
+  SprayRow row;
+  row.name = "drop_8m_s_oblique";
   for (int k = 0; k < SprayRow::kRuns; ++k) {
     scenes::SphereDropCase c;  // as the impact scene's oblique drop: 8 m/s at impact, 4 m/s of it sideways
     c.vx = 4.0;
