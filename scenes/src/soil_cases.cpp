@@ -46,7 +46,8 @@ struct SoilRig {
         ground(world.world(), soil, coupling_settings(run)),
         h(run.substep),
         body_spray(run.body_spray),
-        after_substep(run.after_substep) {}
+        after_substep(run.after_substep),
+        substep_seconds(run.substep_seconds) {}
 
   /// A body that never sleeps, pressing the soil.
   btRigidBody* add(std::unique_ptr<btCollisionShape> shape, double mass, const btVector3& at) {
@@ -83,7 +84,9 @@ struct SoilRig {
   void advance(RunStats& stats) {
     const auto t0 = Clock::now();
     world.step(h);
-    stats.wall_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    stats.wall_seconds += seconds;
+    if (substep_seconds != nullptr) substep_seconds->push_back(seconds);
     stats.add_coupling_times(ground.stats());
     ++stats.substeps;
     if (after_substep) after_substep(soil, ground);
@@ -104,6 +107,7 @@ struct SoilRig {
   double h;  // s, the substep
   bool body_spray;
   std::function<void(const terrain::Terrain&, const bullet::TerrainCoupling&)> after_substep;
+  std::vector<double>* substep_seconds;
 };
 
 /// Plastic work stored in the soil: sum over columns of cell^2 * integral_0^z p_yield dz,

@@ -8,20 +8,24 @@
 
 namespace shore::terrain {
 
+namespace {
+constexpr std::int64_t kKeyHalf = ClingKeys::kHalf;
+}  // namespace
+
+std::uint64_t key_part(double x, double cell) {
+  const double q = x / cell;
+  std::int64_t clamped = 0;
+  if (std::abs(q) < 4.6e18) {  // floor without the library call: truncate, then step down below zero
+    const auto t = static_cast<std::int64_t>(q);
+    clamped = std::clamp(static_cast<double>(t) > q ? t - 1 : t, -kKeyHalf, kKeyHalf - 1);
+  } else {
+    clamped = static_cast<std::int64_t>(std::clamp(std::floor(q), -double(kKeyHalf), double(kKeyHalf - 1)));
+  }
+  return static_cast<std::uint64_t>(clamped + kKeyHalf);
+}
+
 std::uint64_t cling_key(const Vec3& b, double cell) {
-  constexpr std::int64_t kHalf = std::int64_t{1} << 20;
-  auto part = [&](double x) {
-    const double q = x / cell;
-    std::int64_t clamped = 0;
-    if (std::abs(q) < 4.6e18) {  // floor without the library call: truncate, then step down below zero
-      const auto t = static_cast<std::int64_t>(q);
-      clamped = std::clamp(static_cast<double>(t) > q ? t - 1 : t, -kHalf, kHalf - 1);
-    } else {
-      clamped = static_cast<std::int64_t>(std::clamp(std::floor(q), -double(kHalf), double(kHalf - 1)));
-    }
-    return static_cast<std::uint64_t>(clamped + kHalf);
-  };
-  return part(b[0]) | (part(b[1]) << 21) | (part(b[2]) << 42);
+  return key_part(b[0], cell) | (key_part(b[1], cell) << 21) | (key_part(b[2], cell) << 42);
 }
 
 namespace {
@@ -34,6 +38,45 @@ ClingCell* find(std::vector<ClingCell>& cells, std::uint64_t key) {
       std::lower_bound(cells.begin(), cells.end(), key, [](const ClingCell& c, std::uint64_t k) { return c.key < k; });
   return at != cells.end() && at->key == key ? &*at : nullptr;
 }
+
+constexpr std::uint64_t kKeyMask = (std::uint64_t{1} << 21) - 1;
+
+}  // namespace
+
+// Rows of (z, y) cubes over the keys' box, each pointing at its run of the sorted list; too
+// sparse a box (more rows than 4 per piece) is searched by bisection instead.
+void PieceIndex::build(const std::vector<ClingCell>& cells) {
+  rows_ = 0;
+  if (cells.empty()) return;
+  std::uint64_t y0 = kKeyMask, y1 = 0;
+  for (const ClingCell& c : cells) {
+    const std::uint64_t y = (c.key >> 21) & kKeyMask;
+    y0 = std::min(y0, y), y1 = std::max(y1, y);
+  }
+  z0_ = cells.front().key >> 42, y0_ = y0, ny_ = y1 - y0 + 1;
+  const std::uint64_t rows = ((cells.back().key >> 42) - z0_ + 1) * ny_;
+  if (rows > 4 * cells.size() + 64) return;
+  start_.assign(rows + 1, 0);
+  // start_[r] = the first piece of a row >= r: counted, then summed.
+  for (const ClingCell& c : cells) ++start_[row(c.key) + 1];
+  for (std::size_t r = 1; r <= rows; ++r) start_[r] += start_[r - 1];
+  rows_ = rows;
+}
+
+ClingCell* PieceIndex::find(std::vector<ClingCell>& cells, std::uint64_t key) const {
+  if (rows_ == 0) return cells.empty() ? nullptr : shore::terrain::find(cells, key);
+  const std::uint64_t z = key >> 42, y = (key >> 21) & kKeyMask;
+  if (z < z0_ || y < y0_ || y - y0_ >= ny_) return nullptr;
+  const std::uint64_t r = (z - z0_) * ny_ + (y - y0_);
+  if (r >= rows_) return nullptr;
+  for (std::uint32_t k = start_[r], end = start_[r + 1]; k < end; ++k)  // a row's few pieces, by x
+    if (cells[k].key >= key) return cells[k].key == key ? &cells[k] : nullptr;
+  return nullptr;
+}
+
+std::size_t PieceIndex::bytes() const { return capacity_bytes(start_); }
+
+namespace {
 
 /// The largest distance from the body's centre to a point of its envelope, squared.
 double reach_squared(const Imprint& im, const SprayGround& g) {
@@ -60,6 +103,9 @@ void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, co
                   const ClingRules& rules, std::vector<Drop>& drops) {
   const EnvelopeRaster& env = *im.envelope;
   fresh_.clear();
+  index_.build(body.cells);
+  const ClingKeys keys(ground.cell());
+  const SpeedTest speed(rules.min_speed);
   heights_.resize(env.lower.size());
   ground.heights({env.i0, env.j0, env.nx, env.ny}, heights_);
   for (int y = 0; y < env.ny; ++y)
@@ -72,8 +118,8 @@ void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, co
       const std::int64_t i = env.i0 + x, j = env.j0 + y;
       const Vec3 p{ground.x_of(i), ground.y_of(j), e};
       const Vec3 r = m.to_body(p);
-      const std::uint64_t key = cling_key(r, ground.cell());
-      if (length(m.velocity_at(p)) < rules.min_speed) {
+      const std::uint64_t key = keys.of(r);
+      if (speed.slower(m.velocity_at(p))) {
         if (ClingCell* c = piece(body, key); c != nullptr) set_down(*c, p, drops);
         continue;
       }
@@ -94,7 +140,7 @@ void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, co
 }
 
 ClingCell* Cling::piece(ClingingBody& body, std::uint64_t key) {
-  if (ClingCell* c = find(body.cells, key); c != nullptr) return c;
+  if (ClingCell* c = index_.find(body.cells, key); c != nullptr) return c;
   for (ClingCell& c : fresh_)  // a few per step (a contact patch's worth on the first)
     if (c.key == key) return &c;
   return nullptr;
@@ -121,7 +167,7 @@ void Cling::set_down(ClingCell& c, const Vec3& p, std::vector<Drop>& drops) {
   c.volume = c.owed = c.pending = 0.0;
 }
 
-void Cling::shed(const ClingingBody& body, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
+void Cling::shed(std::uint64_t body_key, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
                  std::vector<Candidate>& candidates) {
   if (!(c.volume > 0.0)) return;
   // Where the piece is and how fast it moves, only once it sheds a particle (most steps a
@@ -130,7 +176,7 @@ void Cling::shed(const ClingingBody& body, ClingCell& c, const BodyMotion& m, co
   double speed = 0.0;
   bool moving = false;
   const double half = 0.5 * rules.cell;
-  const CounterRandom rnd(rules.seed, static_cast<std::uint64_t>(rules.step), body.body, c.key);
+  const CounterRandom rnd = CounterRandom::of_piece(body_key, c.key);
   std::uint64_t n = 0;
   auto emit = [&](double volume) {
     if (!moving) {
@@ -159,7 +205,8 @@ void Cling::shed(const ClingingBody& body, ClingCell& c, const BodyMotion& m, co
   // rounding sheds early or late is evened out by `owed` in the next steps.
   const double vp = rules.particle_volume;
   c.owed += std::max(0.0, c.volume - c.owed) * rules.shed_share;
-  const double whole = std::floor(std::max(0.0, c.owed) / vp + rnd.uniform(kRounding, 0));
+  const double whole =
+      particles_due(std::max(0.0, c.owed), vp, rules.inverse_particle_volume, rnd.uniform(kRounding, 0));
   for (double k = 0.0; k < whole && c.volume > 0.0; k += 1.0) {
     emit(std::min(vp, c.volume));
     c.owed -= vp;
@@ -185,13 +232,15 @@ double Cling::step(ClingingBody& body, const Imprint& im, SprayGround& ground, c
   // they carry their load away from the column they last touched, and shed.
   const double band = 0.5 * rules.cell + rules.tolerance;
   const double area = rules.cell * rules.cell;
+  const SpeedTest speed(rules.min_speed);
+  const std::uint64_t body_key = CounterRandom::body_key(rules.seed, static_cast<std::uint64_t>(rules.step), body.body);
   double picked = 0.0;
   for (ClingCell& c : body.cells) {
     if (c.touched == rules.step) continue;
     const Vec3 p = m.to_world({c.rx, c.ry, c.rz});
     const double top = ground.height(ground.column_i(p[0]), ground.column_j(p[1]));
     if (p[2] <= top + band) {
-      if (length(m.velocity_at(p)) < rules.min_speed) set_down(c, p, drops);
+      if (speed.slower(m.velocity_at(p))) set_down(c, p, drops);
       continue;
     }
     if (c.pending > 0.0) {
@@ -200,7 +249,7 @@ double Cling::step(ClingingBody& body, const Imprint& im, SprayGround& ground, c
       picked += taken;
       c.pending = 0.0;
     }
-    shed(body, c, m, rules, candidates);
+    shed(body_key, c, m, rules, candidates);
   }
   std::erase_if(body.cells, [](const ClingCell& c) { return !(c.volume > 0.0) && !(c.pending > 0.0); });
   for (int k = 0; k < 3; ++k) body.c[k] = m.c[static_cast<std::size_t>(k)];
@@ -217,6 +266,6 @@ void Cling::set_all_down(const ClingingBody& body, std::vector<Drop>& drops) {
   }
 }
 
-std::size_t Cling::bytes() const { return capacity_bytes(heights_, fresh_); }
+std::size_t Cling::bytes() const { return capacity_bytes(heights_, fresh_) + index_.bytes(); }
 
 }  // namespace shore::terrain

@@ -19,6 +19,8 @@
 // Whether a candidate flies (Sumner's (|v + w x r| / s)^gamma test) is the caller's, who
 // also lays the soil that is set down.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -31,13 +33,14 @@ namespace shore::terrain {
 
 /// What a material, the terrain and the step's time make of the rule.
 struct ClingRules {
-  double dt = 0.0;               ///< s
-  double cell = 0.0;             ///< m, the column spacing (a piece is a cube of this side)
-  double tolerance = 0.0;        ///< m, a column is touched when the body lies this close to its top
-  double capacity = 0.0;         ///< m^3 a piece holds, adhesion x cell^2
-  double min_speed = 0.0;        ///< m/s
-  double particle_volume = 0.0;  ///< m^3
-  double shed_share = 0.0;       ///< 1 - 2^(-dt / half_life): share of what clings that drops off this step
+  double dt = 0.0;                       ///< s
+  double cell = 0.0;                     ///< m, the column spacing (a piece is a cube of this side)
+  double tolerance = 0.0;                ///< m, a column is touched when the body lies this close to its top
+  double capacity = 0.0;                 ///< m^3 a piece holds, adhesion x cell^2
+  double min_speed = 0.0;                ///< m/s
+  double particle_volume = 0.0;          ///< m^3
+  double inverse_particle_volume = 0.0;  ///< 1 / particle_volume
+  double shed_share = 0.0;               ///< 1 - 2^(-dt / half_life): share of what clings that drops off this step
   double jitter = 0.0;
   std::uint64_t seed = 0;
   std::int64_t step = 0;
@@ -55,6 +58,25 @@ struct Candidate {
 /// that does not fly).
 struct Drop {
   double x = 0.0, y = 0.0, volume = 0.0;
+};
+
+/// Where a body's pieces are in its sorted list, without a search: the keys' (z, y) rows
+/// over the box they span, each with the start of its run in the list (a few pieces, in
+/// order of x). Built once a step for the list as it stands; a list too sparse for rows
+/// (more than 4 per piece) is bisected instead.
+class PieceIndex {
+ public:
+  void build(const std::vector<ClingCell>& cells);
+  /// The piece of this key in `cells` (the list it was built for), or null.
+  [[nodiscard]] ClingCell* find(std::vector<ClingCell>& cells, std::uint64_t key) const;
+  [[nodiscard]] std::size_t bytes() const;
+
+ private:
+  [[nodiscard]] std::uint64_t row(std::uint64_t key) const {
+    return ((key >> 42) - z0_) * ny_ + (((key >> 21) & ((std::uint64_t{1} << 21) - 1)) - y0_);
+  }
+  std::uint64_t z0_ = 0, y0_ = 0, ny_ = 0, rows_ = 0;  ///< rows_ 0: bisect
+  std::vector<std::uint32_t> start_;                   ///< rows_ + 1 entries
 };
 
 class Cling {
@@ -78,13 +100,15 @@ class Cling {
              const ClingRules& rules, std::vector<Drop>& drops);
   /// The piece's soil straight down below p, at once; the piece then holds nothing.
   void set_down(ClingCell& c, const Vec3& p, std::vector<Drop>& drops);
-  void shed(const ClingingBody& body, ClingCell& cell, const BodyMotion& m, const ClingRules& rules,
+  /// `body_key`: CounterRandom::body_key of the body's (seed, step, body).
+  void shed(std::uint64_t body_key, ClingCell& cell, const BodyMotion& m, const ClingRules& rules,
             std::vector<Candidate>& candidates);
   /// The piece of this key, among the body's pieces or those first touched this step.
   ClingCell* piece(ClingingBody& body, std::uint64_t key);
   /// Puts the pieces first touched this step into the body's list, which stays sorted by key.
   void merge_fresh(ClingingBody& body);
   std::vector<double> heights_;  ///< soil tops under the envelope
+  PieceIndex index_;             ///< of the body's pieces, during touch
   /// Pieces first touched in this step's touch, merged into the body's sorted list at its
   /// end: one pass over the list instead of an insertion (and a shift of the list) each.
   /// The list comes out the same as with the insertions: sorted by key, keys unique.
@@ -93,5 +117,47 @@ class Cling {
 
 /// The cube of the body frame a point lies in, packed in 64 bits (21 per axis).
 std::uint64_t cling_key(const Vec3& body_point, double cell);
+
+/// floor(owed / vp + u) (owed >= 0, u in [0, 1)), with owed * inverse (inverse = 1 / vp)
+/// where that floors the same: the product lies within 3 ulps of the quotient and the sum
+/// rounds monotonically, so a sum farther than 2^-44 (1 + sum) from every integer floors as
+/// the quotient's would. Closer, the division decides.
+inline double particles_due(double owed, double vp, double inverse, double u) {
+  const double near = owed * inverse + u;
+  if (near < 0x1.0p40) {
+    const double whole = static_cast<double>(static_cast<std::int64_t>(near));  // floor: near >= 0
+    const double rest = near - whole;                                           // exact
+    if (std::min(rest, 1.0 - rest) > 0x1.0p-44 * (1.0 + near)) return whole;
+  }
+  return std::floor(owed / vp + u);
+}
+
+/// cling_key for one cell size, the same keys with a multiplication for most divisions.
+struct ClingKeys {
+  explicit ClingKeys(double cell_size) : cell(cell_size), inverse_cell(1.0 / cell_size) {}
+  [[nodiscard]] std::uint64_t of(const Vec3& b) const { return part(b[0]) | (part(b[1]) << 21) | (part(b[2]) << 42); }
+  [[nodiscard]] std::uint64_t part(double x) const;
+  double cell, inverse_cell;
+  static constexpr std::int64_t kHalf = std::int64_t{1} << 20;
+};
+
+/// floor(x / cell), clamped to the key's 21 bits, as cling_key makes it.
+std::uint64_t key_part(double x, double cell);
+
+// The same part by a multiplication where it gives the same integer: x * (1 / cell) lies
+// within 3 ulps of x / cell, and floor (then the clamp) is monotonic with steps only at
+// integers, so a product farther than 2^-44 |q| from every integer floors as the quotient
+// does. Closer, or far out (|q| >= 2^40, clamped anyway), the division decides.
+inline std::uint64_t ClingKeys::part(double x) const {
+  const double q = x * inverse_cell;
+  if (std::abs(q) < 0x1.0p40) {
+    auto t = static_cast<std::int64_t>(q);
+    if (static_cast<double>(t) > q) --t;             // floor
+    const double rest = q - static_cast<double>(t);  // in [0, 1], exact but for q in (-1, 0)
+    if (std::min(rest, 1.0 - rest) > 0x1.0p-44 * std::abs(q))
+      return static_cast<std::uint64_t>(std::clamp(t, -kHalf, kHalf - 1) + kHalf);
+  }
+  return key_part(x, cell);
+}
 
 }  // namespace shore::terrain

@@ -32,7 +32,7 @@ Particle advanced(const Particle& p, const FlightTime& f, const FlightRules& r) 
     q.vz = p.vz - g * t;
   } else {
     const double a = f.a, e = f.e;  // e = e^(-k t)
-    const double fall = g / k;      // terminal speed
+    const double fall = r.fall;     // terminal speed, g / k
     q.x = p.x + p.vx * a, q.y = p.y + p.vy * a;
     q.z = p.z + (p.vz + fall) * a - fall * t;
     q.vx = p.vx * e, q.vy = p.vy * e, q.vz = (p.vz + fall) * e - fall;
@@ -62,10 +62,25 @@ bool clear_of_ground(const Particle& from, const Particle& to, const SprayGround
 
 }  // namespace
 
-void SampleClock::reset(const FlightRules& rules, double duration) {
-  if (rules.drag == drag_ && duration == duration_) return;
-  drag_ = rules.drag, duration_ = duration;
+void SampleClock::reset(const FlightRules& rules, double duration, double cell) {
+  if (rules.drag == drag_ && duration == duration_ && cell == cell_) return;
+  drag_ = rules.drag, duration_ = duration, cell_ = cell;
   for (std::vector<FlightTime>& row : rows_) row.clear();
+  const FlightRules drag_only{0.0, drag_, 0.0};
+  end_ = flight_time(duration_, drag_only);  // duration * 1 / 1
+  // The first sample count whose last time duration * n / n is not the duration; fly()
+  // samples at most 4097 times.
+  int first_other = kMostSamples + 1;
+  for (int n = 2; n <= kMostSamples; ++n)
+    if (duration_ * static_cast<double>(n) / static_cast<double>(n) != duration_) {
+      first_other = n;
+      break;
+    }
+  // fly() takes ceil(travel / (cell / 2)) + 1 samples, travel = sqrt(vx^2 + vy^2) duration;
+  // ceil(q) <= k for q <= k: the root and three roundings stay far inside the 2^-30 margin.
+  const double k = static_cast<double>(first_other - 2), top = k * (0.5 * cell_) / duration_;
+  same_end_below_ =
+      first_other > kMostSamples ? std::numeric_limits<double>::infinity() : top * top * (1.0 - 0x1.0p-30);
 }
 
 const FlightTime* SampleClock::row(int samples) {
@@ -89,24 +104,33 @@ std::size_t SampleClock::bytes() const {
 FlightEnd fly(Particle& p, double duration, const SprayGround& ground, const FlightRules& rules, SampleClock* clock,
               double ceiling) {
   FlightEnd end;
-  // Samples every half column of horizontal travel (the horizontal speed only falls).
-  const double travel = std::sqrt(p.vx * p.vx + p.vy * p.vy) * duration;
-  const int samples = static_cast<int>(std::min(4096.0, std::ceil(travel / (0.5 * ground.cell())))) + 1;
-  const FlightTime* clocked = clock != nullptr && clock->duration() == duration ? clock->row(samples) : nullptr;
-  const auto sample = [&](int m) {
-    if (clocked != nullptr) return clocked[m - 1];
-    return flight_time(duration * static_cast<double>(m) / static_cast<double>(samples), rules);
-  };
   if (!ground.inside(p.x, p.y)) {
     end.fate = FlightEnd::Fate::lost;
     return end;
   }
-  Particle last = advanced(p, sample(samples), rules);
+  const bool clocked_here = clock != nullptr && clock->duration() == duration;
+  // Samples every half column of horizontal travel (the horizontal speed only falls); counted
+  // only once the flight may land, where the end of the flight does not depend on it.
+  int samples = 0;
+  const FlightTime* clocked = nullptr;
+  const auto count_samples = [&] {
+    const double travel = std::sqrt(p.vx * p.vx + p.vy * p.vy) * duration;
+    samples = static_cast<int>(std::min(4096.0, std::ceil(travel / (0.5 * ground.cell())))) + 1;
+    clocked = clocked_here ? clock->row(samples) : nullptr;
+  };
+  const auto sample = [&](int m) {
+    if (clocked != nullptr) return clocked[m - 1];
+    return flight_time(duration * static_cast<double>(m) / static_cast<double>(samples), rules);
+  };
+  const bool known_end = clocked_here && clock->ends_at_end(p.vx, p.vy);
+  if (!known_end) count_samples();
+  const Particle last = advanced(p, known_end ? clock->end() : sample(samples), rules);
   if (clear_of_ground(p, last, ground, ceiling)) {  // cannot land this time: what the samples would all find
     p = last;
     if (p.age > rules.max_flight) end.fate = FlightEnd::Fate::lost;
     return end;
   }
+  if (known_end) count_samples();
   Particle before = p;
   double above = clearance(p, ground);
   if (!(above > 0.0)) {  // starts in the soil: lands where it is

@@ -25,9 +25,13 @@
 namespace shore::terrain {
 
 struct FlightRules {
+  FlightRules() = default;
+  FlightRules(double g, double k, double longest)
+      : gravity(g), drag(k), max_flight(longest), fall(k != 0.0 ? g / k : 0.0) {}
   double gravity = 9.81;     ///< m/s^2
   double drag = 0.0;         ///< 1/s
   double max_flight = 10.0;  ///< s
+  double fall = 0.0;         ///< m/s, the terminal speed gravity / drag (with drag), divided once
 };
 
 /// A time into a flight with its drag factors: a = (1 - e^(-k t)) / k, e = e^(-k t).
@@ -40,17 +44,26 @@ struct FlightTime {
 /// det::exp). Scratch: the values are those fly() would compute itself.
 class SampleClock {
  public:
-  /// Keeps the rows while the drag and the duration stay the same.
-  void reset(const FlightRules& rules, double duration);
+  /// Keeps the rows while the drag, the duration and the cell stay the same.
+  void reset(const FlightRules& rules, double duration, double cell);
   [[nodiscard]] double duration() const { return duration_; }
+  /// Whether a flight with this horizontal velocity ends at end() whatever its number of
+  /// samples (fly() times the last sample duration * n / n, which is the duration itself for
+  /// every n below the first that rounds otherwise): decided on vx^2 + vy^2, no root.
+  [[nodiscard]] bool ends_at_end(double vx, double vy) const { return vx * vx + vy * vy <= same_end_below_; }
+  /// The drag factors at the whole duration.
+  [[nodiscard]] const FlightTime& end() const { return end_; }
   /// The `samples` sample times (the m-th, 1..samples, at [m - 1]); null if samples >
   /// kMaxSamples.
   [[nodiscard]] const FlightTime* row(int samples);
   [[nodiscard]] std::size_t bytes() const;
   static constexpr int kMaxSamples = 64;
+  static constexpr int kMostSamples = 4097;  ///< the most fly() takes
 
  private:
-  double drag_ = 0.0, duration_ = -1.0;
+  double drag_ = 0.0, duration_ = -1.0, cell_ = 0.0;
+  double same_end_below_ = 0.0;  ///< m^2/s^2, see ends_at_end
+  FlightTime end_;
   std::vector<std::vector<FlightTime>> rows_;  ///< rows_[samples], filled on first use
 };
 

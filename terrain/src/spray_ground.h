@@ -21,8 +21,9 @@ class SprayGround {
  public:
   SprayGround(TileStore& store, const TerrainSettings& s);
 
-  [[nodiscard]] std::int64_t column_i(double x) const { return nearest((x - origin_x_) / cell_); }
-  [[nodiscard]] std::int64_t column_j(double y) const { return nearest((y - origin_y_) / cell_); }
+  /// The nearest column, as nearest((x - origin) / cell) rounds it (the same integer).
+  [[nodiscard]] std::int64_t column_i(double x) const { return column_of(x - origin_x_); }
+  [[nodiscard]] std::int64_t column_j(double y) const { return column_of(y - origin_y_); }
   [[nodiscard]] double x_of(std::int64_t i) const { return origin_x_ + static_cast<double>(i) * cell_; }
   [[nodiscard]] double y_of(std::int64_t j) const { return origin_y_ + static_cast<double>(j) * cell_; }
   [[nodiscard]] double cell() const { return cell_; }
@@ -68,6 +69,23 @@ class SprayGround {
   bool columns_around(double x0, double y0, double x1, double y1, std::int64_t margin, std::int64_t (&c)[4]) const;
   /// height() through the tile store, keeping the tile found.
   double height_looked_up(std::int64_t i, std::int64_t j) const;
+  /// nearest(d / cell_) by a multiplication where that gives the same integer: d * (1 /
+  /// cell_) lies within 3 ulps of d / cell_ (two roundings of 1/2 ulp each, and that of the
+  /// reciprocal), and nearest() is monotonic with steps only at half-integers, so a product
+  /// farther than kGuard * |q| from any half-integer rounds as the quotient does. Closer (a
+  /// column boundary hit within rounding, rare), or far out, the division decides.
+  [[nodiscard]] std::int64_t column_of(double d) const {
+    const double q = d * inverse_cell_;
+    if (std::abs(q) < kFastColumns) {
+      const auto k = static_cast<std::int64_t>(q);  // truncated toward zero
+      const double rest = q - static_cast<double>(k);
+      if (std::abs(std::abs(rest) - 0.5) > kGuard * std::abs(q)) return k + (rest >= 0.5) - (rest <= -0.5);
+    }
+    return nearest(d / cell_);
+  }
+  /// Of |q|: far above the 3 ulps (3 * 2^-52 |q|) the product may be off by.
+  static constexpr double kGuard = 0x1.0p-44;
+  static constexpr double kFastColumns = 0x1.0p40;
   /// std::llround without the library call (the same value for every |x| < 2^62: the
   /// nearest integer, halves away from zero; x - trunc(x) is exact).
   static std::int64_t nearest(double x) {

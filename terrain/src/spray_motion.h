@@ -13,6 +13,23 @@ using Vec3 = std::array<double, 3>;
 
 [[nodiscard]] inline double length(const Vec3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
+/// Whether |u| < min_speed, as length(u) < min_speed decides it (the same answer): sqrt is
+/// correctly rounded and monotonic, so |u|^2 clear of min_speed^2 by a relative 2^-40
+/// (thousands of ulps) decides it without the root; only in between is the root taken.
+struct SpeedTest {
+  explicit SpeedTest(double min_speed)
+      : least(min_speed),
+        below(min_speed * min_speed * (1.0 - 0x1.0p-40)),
+        above(min_speed * min_speed * (1.0 + 0x1.0p-40)) {}
+  [[nodiscard]] bool slower(const Vec3& u) const {
+    const double s = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];  // as length() sums it
+    if (s < below) return true;
+    if (s > above) return false;
+    return std::sqrt(s) < least;
+  }
+  double least, below, above;
+};
+
 struct BodyMotion {
   Vec3 v{}, w{}, c{};
   double q[4] = {1.0, 0.0, 0.0, 0.0};                  ///< normalised (w, x, y, z)

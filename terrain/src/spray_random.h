@@ -21,7 +21,17 @@ namespace shore::terrain {
 class CounterRandom {
  public:
   CounterRandom(std::uint64_t seed, std::uint64_t step, std::uint64_t body, std::uint64_t piece) noexcept
-      : key_(mix64(mix64(mix64(mix64(seed) ^ step) ^ body) ^ piece)) {}
+      : key_(mix64(body_key(seed, step, body) ^ piece)) {}
+  /// The part of the key (seed, step, body) fix, to be mixed with each piece's.
+  [[nodiscard]] static constexpr std::uint64_t body_key(std::uint64_t seed, std::uint64_t step,
+                                                        std::uint64_t body) noexcept {
+    return mix64(mix64(mix64(seed) ^ step) ^ body);
+  }
+  /// The numbers of (seed, step, body, piece) from body_key(seed, step, body): the same as
+  /// the four-part constructor's.
+  [[nodiscard]] static CounterRandom of_piece(std::uint64_t body_key, std::uint64_t piece) noexcept {
+    return CounterRandom(mix64(body_key ^ piece));
+  }
   /// In [0, 1), 53 random bits.
   [[nodiscard]] double uniform(std::uint64_t candidate, std::uint64_t draw) const noexcept {
     const std::uint64_t bits = mix64(key_ ^ mix64(candidate * 16u + draw));
@@ -33,6 +43,7 @@ class CounterRandom {
   }
 
  private:
+  explicit CounterRandom(std::uint64_t key) noexcept : key_(key) {}
   std::uint64_t key_;
 };
 

@@ -20,7 +20,7 @@ void Spray::step(TileStore& store, const TerrainSettings& s, std::span<const Imp
 }
 
 void Spray::fly_all(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report) {
-  clock_.reset(rules, dt);
+  clock_.reset(rules, dt, ground.cell());
   cover_flights(ground, dt);
   std::size_t kept = 0;
   for (std::size_t k = 0; k < state.particles.size(); ++k) {  // oldest first; landings raise columns in this order
@@ -85,6 +85,7 @@ void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, const Fligh
   r.capacity = m.adhesion * s.cell * s.cell;
   r.min_speed = m.min_speed;
   r.particle_volume = m.particle_volume();
+  r.inverse_particle_volume = 1.0 / r.particle_volume;
   r.shed_share = 1.0 - det::exp(-std::numbers::ln2 * dt / m.half_life);
   r.jitter = m.jitter;
   r.seed = s.spray.seed;

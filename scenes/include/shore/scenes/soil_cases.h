@@ -8,6 +8,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/terrain/height_source.h"
@@ -31,6 +32,8 @@ struct SoilRun {
   /// Called after every substep (untimed): tests check the volume at every step,
   /// benchmarks follow the spray's peaks. Empty: nothing.
   std::function<void(const terrain::Terrain&, const bullet::TerrainCoupling&)> after_substep;
+  /// If set, each substep's wall time (s, as summed into RunStats::wall_seconds) is appended.
+  std::vector<double>* substep_seconds = nullptr;
 };
 
 /// Results common to every case.

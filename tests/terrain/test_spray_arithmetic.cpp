@@ -1,0 +1,172 @@
+// Spray's cheaper arithmetic gives what the plain formulas give (private headers of
+// terrain/src): the column a point falls in (llround of the division), a body-frame cube's
+// key (floor of the division), the slow-piece test (the root), the particles a piece owes
+// (floor of the division plus a uniform number), the index of a body's pieces (bisection of
+// the sorted list), and the end of a flight whatever its number of samples. The points are
+// the hard ones: exact multiples of the cell and of half cells, a few ulps either side, and
+// random ones.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "spray_cling.h"
+#include "spray_flight.h"
+#include "spray_ground.h"
+#include "spray_motion.h"
+#include "tile_store.h"
+
+using namespace shore::terrain;
+
+namespace {
+
+/// Values around each multiple of `step` (k = -n..n): the multiple and 3 ulps either side.
+std::vector<double> around_multiples(double step, int n) {
+  std::vector<double> out;
+  for (int k = -n; k <= n; ++k) {
+    double x = static_cast<double>(k) * step, lo = x, hi = x;
+    out.push_back(x);
+    for (int u = 0; u < 3; ++u) {
+      lo = std::nextafter(lo, -INFINITY), hi = std::nextafter(hi, INFINITY);
+      out.push_back(lo), out.push_back(hi);
+    }
+  }
+  return out;
+}
+
+/// Random values in [-span, span].
+std::vector<double> random_values(double span, int n, unsigned seed) {
+  std::mt19937_64 gen(seed);
+  std::uniform_real_distribution<double> d(-span, span);
+  std::vector<double> out;
+  for (int k = 0; k < n; ++k) out.push_back(d(gen));
+  return out;
+}
+
+}  // namespace
+
+TEST(SprayArithmetic, ColumnsAreTheRoundedQuotients) {
+  for (const double cell : {0.01, 0.02, 0.005, 0.1, 1.0 / 3.0, 0.0123}) {
+    TerrainSettings s;
+    s.cell = cell;
+    s.origin_x = 0.37, s.origin_y = -2.0 * cell;
+    TileStore store(s);
+    const SprayGround ground(store, s);
+    std::vector<double> xs = around_multiples(0.5 * cell, 400);
+    for (const double x : random_values(1e3, 20000, 7)) xs.push_back(x);
+    for (const double d : xs) {
+      const double x = d + s.origin_x, y = d + s.origin_y;
+      ASSERT_EQ(ground.column_i(x), std::llround((x - s.origin_x) / cell)) << "cell " << cell << ", x " << x;
+      ASSERT_EQ(ground.column_j(y), std::llround((y - s.origin_y) / cell)) << "cell " << cell << ", y " << y;
+    }
+  }
+}
+
+TEST(SprayArithmetic, PieceKeysAreTheFlooredQuotients) {
+  for (const double cell : {0.01, 0.02, 0.005, 0.1, 1.0 / 3.0, 0.0123}) {
+    const ClingKeys keys(cell);
+    std::vector<double> xs = around_multiples(cell, 300);
+    for (const double x : random_values(5.0, 20000, 11)) xs.push_back(x);
+    xs.push_back(1e9), xs.push_back(-1e9);  // far out: clamped
+    for (std::size_t k = 0; k + 2 < xs.size(); ++k) {
+      const Vec3 b{xs[k], xs[k + 1], xs[k + 2]};
+      std::uint64_t expected = 0;
+      for (int a = 0; a < 3; ++a) {
+        const double f = std::clamp(std::floor(b[static_cast<std::size_t>(a)] / cell), -1048576.0, 1048575.0);
+        expected |= static_cast<std::uint64_t>(static_cast<std::int64_t>(f) + 1048576) << (21 * a);
+      }
+      ASSERT_EQ(keys.of(b), expected) << "cell " << cell << ", " << b[0] << " " << b[1] << " " << b[2];
+      ASSERT_EQ(cling_key(b, cell), expected);
+    }
+  }
+}
+
+TEST(SprayArithmetic, SlowPiecesAreThoseUnderMinSpeedByTheRoot) {
+  for (const double min_speed : {0.3, 0.5, 1.0, 0.0, 2.5}) {
+    const SpeedTest test(min_speed);
+    std::vector<double> speeds = around_multiples(min_speed > 0 ? min_speed : 1e-3, 3);
+    for (const double v : random_values(3.0, 5000, 3)) speeds.push_back(v);
+    for (const double v : speeds)
+      for (const Vec3& u : {Vec3{v, 0, 0}, Vec3{0.6 * v, 0.8 * v, 0}, Vec3{v / 3, v / 3, v / 3}}) {
+        const double root = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+        ASSERT_EQ(test.slower(u), root < min_speed) << "min speed " << min_speed << ", speed " << root;
+      }
+  }
+}
+
+TEST(SprayArithmetic, ParticlesDueAreTheFlooredQuotientPlusTheDraw) {
+  for (const double vp : {3.35e-8, 4.0 / 3.0 * M_PI * 8e-9, 9.05e-7, 1.0 / 7.0}) {
+    const double inverse = 1.0 / vp;
+    std::vector<double> owed = around_multiples(vp, 40);
+    for (const double o : random_values(30 * vp, 5000, 5)) owed.push_back(std::abs(o));
+    std::mt19937_64 gen(9);
+    for (const double o : owed) {
+      if (o < 0) continue;
+      for (const double u : {0.0, 0.5, std::nextafter(1.0, 0.0), std::ldexp(static_cast<double>(gen() >> 11), -53)}) {
+        // owed a hair under a whole number of particles, and the draw that makes it whole
+        const double q = o / vp, tight = std::nextafter(std::ceil(q) - q, 1.0);
+        for (const double draw : {u, tight < 1.0 ? tight : u})
+          ASSERT_EQ(particles_due(o, vp, inverse, draw), std::floor(o / vp + draw)) << o << " " << vp << " " << draw;
+      }
+    }
+  }
+}
+
+TEST(SprayArithmetic, ThePieceIndexFindsWhatBisectionFinds) {
+  std::mt19937_64 gen(21);
+  for (const int spread : {3, 20, 400}) {  // dense rows, sparse ones, too sparse for rows
+    std::vector<ClingCell> cells;
+    std::vector<std::uint64_t> keys;
+    for (int k = 0; k < 300; ++k) {
+      const std::uint64_t x = 1000 + gen() % 7, y = 2000 + gen() % static_cast<std::uint64_t>(spread),
+                          z = 3000 + gen() % static_cast<std::uint64_t>(spread);
+      keys.push_back(x | (y << 21) | (z << 42));
+    }
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    for (const std::uint64_t key : keys) cells.push_back(ClingCell{.key = key});
+    PieceIndex index;
+    index.build(cells);
+    for (const std::uint64_t key : keys) {
+      const ClingCell* c = index.find(cells, key);
+      ASSERT_NE(c, nullptr);
+      EXPECT_EQ(c->key, key);
+    }
+    for (int k = 0; k < 3000; ++k) {  // misses: around the box and inside it
+      const std::uint64_t x = 995 + gen() % 17, y = 1995 + gen() % static_cast<std::uint64_t>(spread + 10),
+                          z = 2995 + gen() % static_cast<std::uint64_t>(spread + 10);
+      const std::uint64_t key = x | (y << 21) | (z << 42);
+      const bool there = std::binary_search(keys.begin(), keys.end(), key);
+      const ClingCell* c = index.find(cells, key);
+      EXPECT_EQ(c != nullptr, there) << x << " " << y << " " << z;
+    }
+  }
+  PieceIndex empty;
+  std::vector<ClingCell> none;
+  empty.build(none);
+  EXPECT_EQ(empty.find(none, 12345), nullptr);
+}
+
+// fly() times its last sample at duration * n / n for n samples; the clock says when that is
+// the duration itself, without counting n.
+TEST(SprayArithmetic, AFlightEndsAtTheDurationWhereTheClockSaysSo) {
+  for (const double dt : {1.0 / 240, 0.005, 1.0 / 300, 0.01, 1.0 / 60})
+    for (const double cell : {0.01, 0.02, 0.005}) {
+      SampleClock clock;
+      clock.reset(FlightRules{9.81, 0.6, 10.0}, dt, cell);
+      int claimed = 0;
+      for (double v = 0.0; v < 2000.0; v = v * 1.01 + 0.01)
+        for (const double f : {1.0, std::nextafter(1.0, 0.0), std::nextafter(1.0, 2.0)}) {
+          const double vx = 0.6 * v * f, vy = 0.8 * v;
+          if (!clock.ends_at_end(vx, vy)) continue;
+          ++claimed;
+          const double travel = std::sqrt(vx * vx + vy * vy) * dt;
+          const int n = static_cast<int>(std::min(4096.0, std::ceil(travel / (0.5 * cell)))) + 1;
+          ASSERT_EQ(dt * static_cast<double>(n) / static_cast<double>(n), dt) << dt << " " << cell << " " << v;
+        }
+      EXPECT_GT(claimed, 0) << "the clock knows the end of slow flights, dt " << dt;
+    }
+}
