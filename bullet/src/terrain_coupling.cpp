@@ -602,7 +602,8 @@ bool TerrainCoupling::react(Body& b, double h) {
   const soil_detail::SolverSettings solver{
       settings_.contact.block_columns, c.resting ? settings_.contact.resting_iterations : settings_.contact.iterations,
       c.resting};
-  const soil_detail::SolveResult r = soil_detail::solve(rb, start, c.blocks, soil_.settings().material, h, solver);
+  soil_detail::SolveResult r = soil_detail::solve(rb, start, c.blocks, soil_.settings().material, h, solver);
+  if (r.stuck) stop_sway(body, rb, r);
   body.setLinearVelocity(to_bt(rb.v));
   body.setAngularVelocity(to_bt(rb.w));
   // Re-integrate this substep's pose with the corrected velocity.
@@ -621,6 +622,21 @@ bool TerrainCoupling::react(Body& b, double h) {
   c.last.yielded = r.yielded;
   if (!c.resting) advance_shear(b, rb, h), advance_carried(b, rb, h);
   return r.yielded;
+}
+
+// A body the soil holds that the solve leaves moving slower than rest_speed and rest_spin
+// (unloading columns are springs: a settled body keeps swaying by far less than that) is
+// stopped: the soil takes what is left, as hold_at_rest does. The next substep then needs the
+// force this one ended with and hold_at_rest holds it; left swaying, it was solved every
+// substep (5 times the cost of a held body).
+void TerrainCoupling::stop_sway(const btRigidBody& body, soil_detail::RigidBody& rb,
+                                soil_detail::SolveResult& r) const {
+  const double speed = std::sqrt(soil_detail::dot(rb.v, rb.v)), spin = std::sqrt(soil_detail::dot(rb.w, rb.w));
+  if (!(speed <= settings_.rest_speed && spin <= settings_.rest_spin) || !(rb.inv_mass > 0.0)) return;
+  const btVector3 stop_spin = body.getInvInertiaTensorWorld().inverse() * (-to_bt(rb.w));
+  r.impulse = r.impulse - rb.v * (1.0 / rb.inv_mass);
+  r.angular_impulse = r.angular_impulse + soil_detail::Vec3{stop_spin.x(), stop_spin.y(), stop_spin.z()};
+  rb.v = rb.w = {};
 }
 
 void TerrainCoupling::keep_above_bedrock(Body& b) {

@@ -78,7 +78,8 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 namespace soil_detail {
 struct RigidBody;
-}
+struct SolveResult;
+}  // namespace soil_detail
 
 /// Per-body choices.
 struct BodySoilSettings {
@@ -267,6 +268,7 @@ class TerrainCoupling : public btActionInterface {
   void gather_contact(Body& b);
   void advance_shear(Body& b, const soil_detail::RigidBody& rb, double h);
   void limit_to_carried(Body& b);
+  void stop_sway(const btRigidBody& body, soil_detail::RigidBody& rb, soil_detail::SolveResult& r) const;
   void advance_carried(Body& b, const soil_detail::RigidBody& rb, double h);
   /// True if the body has moved away from the pose its envelope was made at.
   [[nodiscard]] bool drifted(const Body& b) const;
