@@ -166,19 +166,19 @@ bool checkpoint_seed_fits_build(std::span<const std::uint8_t> data) {
   return scalar == bullet::scalar_bytes();
 }
 
-std::vector<unsigned char> wrap_delta_payload(std::span<const std::uint8_t> fields) {
-  constexpr std::size_t kFields = 8 + 8 + 8;  // quantum, from, to
-  if (fields.size() < kFields) return {};
-  const std::span<const std::uint8_t> payload = fields.subspan(kFields);
-  // The container's layout (shore/terrain/soil_delta.h): magic, u32 version 1, u32 byte-order
-  // mark, the three fields, u64 raw size, u64 frame size, the zstd frame, u64 checksum.
-  std::vector<unsigned char> out = {'S', 'H', 'O', 'R', 'E', 'S', 'D', 'L'};
+namespace {
+/// A zstd container as Shore's soil deltas and recordings write it: 8 magic bytes, u32
+/// version, u32 byte-order mark, the header fields as given, u64 raw size, u64 frame size,
+/// the zstd frame of the payload, u64 checksum of every byte before it.
+std::vector<unsigned char> zstd_container(const char (&magic)[9], std::uint32_t version,
+                                          std::span<const std::uint8_t> header, std::span<const std::uint8_t> payload) {
+  std::vector<unsigned char> out(magic, magic + 8);
   const auto put = [&out](const auto v) {
     const auto* p = reinterpret_cast<const unsigned char*>(&v);
     out.insert(out.end(), p, p + sizeof v);
   };
-  put(std::uint32_t{1}), put(std::uint32_t{0x01020304u});
-  out.insert(out.end(), fields.begin(), fields.begin() + kFields);
+  put(version), put(std::uint32_t{0x01020304u});
+  out.insert(out.end(), header.begin(), header.end());
   put(std::uint64_t{payload.size()});
   std::vector<unsigned char> frame(ZSTD_compressBound(payload.size()));
   const std::size_t n = ZSTD_compress(frame.data(), frame.size(), payload.data(), payload.size(), 1);
@@ -189,6 +189,14 @@ std::vector<unsigned char> wrap_delta_payload(std::span<const std::uint8_t> fiel
   sum.add_bytes(out.data(), out.size());
   put(sum.value());
   return out;
+}
+}  // namespace
+
+std::vector<unsigned char> wrap_delta_payload(std::span<const std::uint8_t> fields) {
+  constexpr std::size_t kFields = 8 + 8 + 8;  // quantum, from, to
+  if (fields.size() < kFields) return {};
+  // The container's layout (shore/terrain/soil_delta.h): version 1, the three fields.
+  return zstd_container("SHORESDL", 1, fields.first(kFields), fields.subspan(kFields));
 }
 
 namespace {
@@ -269,27 +277,9 @@ bool heightmap_raw(std::span<const std::uint8_t> data) {
 
 std::vector<unsigned char> wrap_recording_payload(std::span<const std::uint8_t> fields) {
   if (fields.size() < 4) return {};
-  const std::span<const std::uint8_t> payload = fields.subspan(4);
-  // The container's layout (shore/bullet/recording_file.h): magic, u32 version 2, u32
-  // byte-order mark, u32 scalar bytes (the field given), u64 raw size, u64 frame size, the
-  // zstd frame, u64 checksum.
-  std::vector<unsigned char> out = {'S', 'H', 'O', 'R', 'E', 'R', 'E', 'C'};
-  const auto put = [&out](const auto v) {
-    const auto* p = reinterpret_cast<const unsigned char*>(&v);
-    out.insert(out.end(), p, p + sizeof v);
-  };
-  put(std::uint32_t{2}), put(std::uint32_t{0x01020304u});
-  out.insert(out.end(), fields.begin(), fields.begin() + 4);
-  put(std::uint64_t{payload.size()});
-  std::vector<unsigned char> frame(ZSTD_compressBound(payload.size()));
-  const std::size_t n = ZSTD_compress(frame.data(), frame.size(), payload.data(), payload.size(), 1);
-  require(ZSTD_isError(n) == 0, "zstd could not compress a payload");
-  put(std::uint64_t{n});
-  out.insert(out.end(), frame.begin(), frame.begin() + static_cast<std::ptrdiff_t>(n));
-  StateHash sum;
-  sum.add_bytes(out.data(), out.size());
-  put(sum.value());
-  return out;
+  // The container's layout (shore/bullet/recording_file.h): version 2, u32 scalar bytes (the
+  // field given).
+  return zstd_container("SHOREREC", 2, fields.first(4), fields.subspan(4));
 }
 
 bool recording_seed_fits_build(std::span<const std::uint8_t> data) {
