@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "checkpoint_bytes.h"
+#include "envelope_internal.h"
 #include "shore/core/byte_io.h"
 #include "shore/core/error.h"
 
@@ -50,17 +51,10 @@ struct BodyRecord {
 /// Beyond this (m/s, rad/s) a saved velocity is corrupt: nothing a game simulates moves so.
 constexpr double kMaxSavedSpeed = 1e6;
 
-bool within(const btVector3& v, double bound) {
-  return std::fabs(double(v.x())) <= bound && std::fabs(double(v.y())) <= bound && std::fabs(double(v.z())) <= bound;
-}
-
-/// Orthonormal with determinant +1, to a float's accuracy (a saved pose went through btScalar).
-bool is_rotation(const btMatrix3x3& m) {
-  const btMatrix3x3 p = m * m.transpose();
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (!(std::fabs(double(p[i][j]) - (i == j ? 1.0 : 0.0)) <= 1e-3)) return false;
-  return double(m.determinant()) > 0.0;
+/// A rotation, as the couplings take one (kMaxBasisDeviation), and not a reflection.
+bool is_rotation(const btTransform& t) {
+  return envelope_detail::basis_deviation(envelope_detail::frame_of(t)) <= kMaxBasisDeviation &&
+         double(t.getBasis().determinant()) > 0.0;
 }
 
 BodyRecord read_record(ByteReader& r) {
@@ -82,13 +76,13 @@ BodyRecord read_record(ByteReader& r) {
   if (b.activation < ACTIVE_TAG || b.activation > DISABLE_SIMULATION)
     r.fail("a body's activation state " + std::to_string(b.activation) + " is not one of Bullet's (1 to 5)");
   for (const btTransform* t : {&b.pose, &b.interpolation_pose}) {
-    if (!is_rotation(t->getBasis()))
+    if (!is_rotation(*t))
       r.fail("a body's orientation is not a rotation (corrupt: Bullet would turn its inertia into NaN)");
-    if (!within(t->getOrigin(), coupling_detail::kMaxCoordinate))
+    if (!coupling_detail::within(t->getOrigin(), coupling_detail::kMaxCoordinate))
       r.fail("a body lies farther than 1e9 m from the origin (corrupt)");
   }
   for (const btVector3* v : {&b.v, &b.w, &b.interpolation_v, &b.interpolation_w})
-    if (!within(*v, kMaxSavedSpeed)) r.fail("a body moves faster than 1e6 m/s or rad/s (corrupt)");
+    if (!coupling_detail::within(*v, kMaxSavedSpeed)) r.fail("a body moves faster than 1e6 m/s or rad/s (corrupt)");
   return b;
 }
 

@@ -28,6 +28,11 @@ inline bool finite(const btVector3& v) { return std::isfinite(v.x()) && std::isf
 /// is skipped like a non-finite one.
 inline constexpr double kMaxCoordinate = 1e9;
 
+/// Whether every component of v lies within [-bound, bound] (false for NaN).
+inline bool within(const btVector3& v, double bound) {
+  return std::fabs(double(v.x())) <= bound && std::fabs(double(v.y())) <= bound && std::fabs(double(v.z())) <= bound;
+}
+
 /// False for a body with a non-finite pose or velocity, farther than kMaxCoordinate from the
 /// origin, or moving faster than max_speed: such a body is skipped (and counted) rather than
 /// allowed to poison soil or water.
@@ -35,8 +40,7 @@ inline bool body_is_sane(const btRigidBody& body, double max_speed) {
   const btTransform& t = body.getWorldTransform();
   if (!finite(t.getOrigin()) || !finite(t.getBasis()[0]) || !finite(t.getBasis()[1]) || !finite(t.getBasis()[2]))
     return false;
-  for (int k = 0; k < 3; ++k)
-    if (!(std::fabs(double(t.getOrigin()[k])) <= kMaxCoordinate)) return false;
+  if (!within(t.getOrigin(), kMaxCoordinate)) return false;
   const btVector3& v = body.getLinearVelocity();
   return finite(v) && finite(body.getAngularVelocity()) && v.length() <= max_speed;
 }
