@@ -116,7 +116,12 @@ class PatchBuilder {
   [[nodiscard]] double column_x(std::int64_t i) const { return s_.origin_x + static_cast<double>(i) * s_.cell; }
   [[nodiscard]] double column_y(std::int64_t j) const { return s_.origin_y + static_cast<double>(j) * s_.cell; }
   [[nodiscard]] bool touches(double lower, std::size_t soil_index) const {
-    return lower <= soil_.top[soil_index] + s_.contact_tolerance + rebound(soil_index);
+    const double reach = soil_.top[soil_index] + s_.contact_tolerance;
+    // The elastic reach (a pow) only where it decides: it is >= 0 and <= the sinkage, and
+    // rounding is monotonic, so these two answers are the full test's.
+    if (lower <= reach) return true;
+    if (lower > reach + soil_.sink[soil_index]) return false;
+    return lower <= reach + rebound(soil_index);
   }
   /// How far a relieved column springs back (its elastic reach), m: p_yield(z) / k_u, at
   /// most its sinkage z (see unloading_stiffness), with
