@@ -86,7 +86,10 @@ Bytes as_version_3(Bytes v5) {
 
 /// The fuzz entry's input: mode byte (1: append the checksum) and the file.
 Bytes entry_input(bool append_checksum, Bytes file) {
-  if (append_checksum) file.resize(file.size() - 8);
+  if (append_checksum) {
+    if (file.size() < 8) throw std::runtime_error("a seed file shorter than its checksum");
+    file.resize(file.size() - 8);
+  }
   file.insert(file.begin(), static_cast<unsigned char>(append_checksum ? 1 : 0));
   return file;
 }
