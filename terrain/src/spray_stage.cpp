@@ -24,13 +24,13 @@ void Spray::fly_all(SprayGround& ground, const FlightRules& rules, double dt, St
   cover_flights(ground, dt);
   std::size_t kept = 0;
   for (std::size_t k = 0; k < state.particles.size(); ++k) {  // oldest first; landings raise columns in this order
-    Particle p = state.particles[k];
+    Particle& p = state.particles[k];  // moved in place (kept <= k: no particle still to fly is overwritten)
     // the ceiling as raised by the landings so far
     const FlightEnd end = fly(p, dt, ground, rules, &clock_, ground.ceiling(state.particles.size()));
-    if (end.fate == FlightEnd::Fate::flying)
-      state.particles[kept++] = p;
-    else
+    if (end.fate != FlightEnd::Fate::flying)
       land(ground, p, end, report);
+    else if (kept++ != k)
+      state.particles[kept - 1] = p;
   }
   state.particles.resize(kept);
 }

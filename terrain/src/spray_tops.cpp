@@ -4,6 +4,10 @@
 #include <cmath>
 #include <limits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace shore::terrain {
 
 void SoilTops::cover(std::int64_t i0, std::int64_t j0, std::int64_t i1, std::int64_t j1) {
@@ -29,19 +33,34 @@ double SoilTops::compute_ceiling(std::int64_t most_columns) const {
 namespace {
 
 /// The highest of `side` rows of `side` heights (side a multiple of 8) starting `stride`
-/// apart: eight running maxima side by side, which the compiler keeps in vector registers,
-/// then the highest of those. The maximum is exact whatever the grouping (a NaN is skipped
-/// as before); only which of two equal zeros is kept may differ, and the bound is only ever
-/// compared.
+/// apart: eight running maxima side by side (two to a vector register where SSE2 is
+/// there), then the highest of those. The maximum is exact whatever the grouping (a NaN is
+/// skipped as before); only which of two equal zeros is kept may differ, and the bound is
+/// only ever compared.
 double highest(const double* first, std::size_t stride, int side) {
   constexpr int kLanes = 8;
   double lane[kLanes];
+#if defined(__SSE2__)
+  const __m128d lowest = _mm_set1_pd(-std::numeric_limits<double>::infinity());
+  __m128d m0 = lowest, m1 = lowest, m2 = lowest, m3 = lowest;  // named: kept in registers
+  for (int y = 0; y < side; ++y) {
+    const double* row = first + static_cast<std::size_t>(y) * stride;
+    for (int x = 0; x < side; x += kLanes) {  // _mm_max_pd(a, b): a > b ? a : b, as below
+      m0 = _mm_max_pd(_mm_loadu_pd(row + x), m0);
+      m1 = _mm_max_pd(_mm_loadu_pd(row + x + 2), m1);
+      m2 = _mm_max_pd(_mm_loadu_pd(row + x + 4), m2);
+      m3 = _mm_max_pd(_mm_loadu_pd(row + x + 6), m3);
+    }
+  }
+  _mm_storeu_pd(lane, m0), _mm_storeu_pd(lane + 2, m1), _mm_storeu_pd(lane + 4, m2), _mm_storeu_pd(lane + 6, m3);
+#else
   for (double& l : lane) l = -std::numeric_limits<double>::infinity();
   for (int y = 0; y < side; ++y) {
     const double* row = first + static_cast<std::size_t>(y) * stride;
     for (int x = 0; x < side; x += kLanes)
       for (int l = 0; l < kLanes; ++l) lane[l] = row[x + l] > lane[l] ? row[x + l] : lane[l];
   }
+#endif
   double top = -std::numeric_limits<double>::infinity();
   for (const double l : lane) top = l > top ? l : top;
   return top;
