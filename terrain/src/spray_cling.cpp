@@ -56,10 +56,13 @@ void PieceIndex::build(const std::vector<ClingCell>& cells) {
   z0_ = cells.front().key >> 42, y0_ = y0, ny_ = y1 - y0 + 1;
   const std::uint64_t rows = ((cells.back().key >> 42) - z0_ + 1) * ny_;
   if (rows > 4 * cells.size() + 64) return;
-  start_.assign(rows + 1, 0);
-  // start_[r] = the first piece of a row >= r: counted, then summed.
-  for (const ClingCell& c : cells) ++start_[row(c.key) + 1];
-  for (std::size_t r = 1; r <= rows; ++r) start_[r] += start_[r - 1];
+  start_.resize(rows + 1);
+  // start_[r] = the first piece of a row >= r, in one pass: the list is sorted by key, so by
+  // row too ((z, y) lead the key), and each entry is written once.
+  std::uint64_t r = 0;
+  for (std::size_t k = 0; k < cells.size(); ++k)
+    for (const std::uint64_t last = row(cells[k].key); r <= last; ++r) start_[r] = static_cast<std::uint32_t>(k);
+  for (; r <= rows; ++r) start_[r] = static_cast<std::uint32_t>(cells.size());
   rows_ = rows;
 }
 

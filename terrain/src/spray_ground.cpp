@@ -25,13 +25,13 @@ SprayGround::SprayGround(TileStore& store, const TerrainSettings& s)
 // two columns on each side cover the box's columns and their neighbours.
 bool SprayGround::columns_around(double x0, double y0, double x1, double y1, std::int64_t margin,
                                  std::int64_t (&c)[4]) const {
-  const double q[4] = {(x0 - origin_x_) * inverse_cell_, (y0 - origin_y_) * inverse_cell_,
-                       (x1 - origin_x_) * inverse_cell_, (y1 - origin_y_) * inverse_cell_};
+  const double qx0 = (x0 - origin_x_) * inverse_cell_, qy0 = (y0 - origin_y_) * inverse_cell_;
+  const double qx1 = (x1 - origin_x_) * inverse_cell_, qy1 = (y1 - origin_y_) * inverse_cell_;
   constexpr double kFar = 1e15;  // columns: beyond, no bound is worth it
-  for (int k = 0; k < 4; ++k) {
-    if (!(std::abs(q[k]) < kFar)) return false;
-    c[k] = static_cast<std::int64_t>(q[k]) + (k < 2 ? -margin : margin);
-  }
+  // Written out, not looped over an array: asked for many flights each step.
+  if (!(std::abs(qx0) < kFar && std::abs(qy0) < kFar && std::abs(qx1) < kFar && std::abs(qy1) < kFar)) return false;
+  c[0] = static_cast<std::int64_t>(qx0) - margin, c[1] = static_cast<std::int64_t>(qy0) - margin;
+  c[2] = static_cast<std::int64_t>(qx1) + margin, c[3] = static_cast<std::int64_t>(qy1) + margin;
   return true;
 }
 
@@ -48,11 +48,13 @@ void SprayGround::cover(double x0, double y0, double x1, double y1) {
 
 double SprayGround::height_looked_up(std::int64_t i, std::int64_t j) const {
   const TileKey key = store_.key_of(i, j);
-  const Tile* t = store_.find(key);
+  SeenTile& seen = seen_[seen_slot(key)];
+  const Tile* t = seen.tile != nullptr && seen.tx == key.tx && seen.ty == key.ty ? seen.tile : store_.find(key);
   if (t == nullptr) return store_.base_at(i, j);
+  seen = {key.tx, key.ty, t};
   last_ = t;
   last_i0_ = key.tx * n_, last_j0_ = key.ty * n_;
-  return t->height[store_.local(i, j)];
+  return t->height[static_cast<std::size_t>((j - last_j0_) * n_ + (i - last_i0_))];
 }
 
 double SprayGround::set(std::int64_t i, std::int64_t j, Tile& t, std::size_t k, double height) {

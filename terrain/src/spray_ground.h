@@ -6,6 +6,7 @@
 // the old one (as for deposits, stage "loosen" of the pipeline).
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -96,8 +97,20 @@ class SprayGround {
     if (rest <= -0.5) --k;
     return k;
   }
+  /// A tile found this step, kept in seen_ by the low bits of its key.
+  struct SeenTile {
+    std::int64_t tx = 0, ty = 0;
+    const Tile* tile = nullptr;
+  };
+  [[nodiscard]] static std::size_t seen_slot(const TileKey& key) {
+    return static_cast<std::size_t>((key.tx & 3) | ((key.ty & 3) << 2));
+  }
   TileStore& store_;
   SoilTops tops_;
+  /// Flights in different tiles take turns at height(): each would miss last_ and hash its
+  /// tile again (tiles are never released during a spray step, so the pointers stay good;
+  /// a column with no tile is still looked up each time).
+  mutable std::array<SeenTile, 16> seen_{};
   std::int64_t n_;
   mutable const Tile* last_ = nullptr;
   mutable std::int64_t last_i0_ = 0, last_j0_ = 0;  ///< last_'s first column
