@@ -7,6 +7,7 @@ namespace shore::terrain {
 
 SprayGround::SprayGround(TileStore& store, const TerrainSettings& s)
     : store_(store),
+      index_(store),
       tops_(store),
       n_(store.n()),
       cell_(s.cell),
@@ -47,7 +48,7 @@ void SprayGround::cover(double x0, double y0, double x1, double y1) {
 }
 
 double SprayGround::height_looked_up(std::int64_t i, std::int64_t j) const {
-  const TileKey key = store_.key_of(i, j);
+  const TileKey key = index_.key_of(i, j);
   SeenTile& seen = seen_[seen_slot(key)];
   const Tile* t = seen.tile != nullptr && seen.tx == key.tx && seen.ty == key.ty ? seen.tile : store_.find(key);
   if (t == nullptr) return store_.base_at(i, j);
@@ -57,16 +58,13 @@ double SprayGround::height_looked_up(std::int64_t i, std::int64_t j) const {
   return t->height[static_cast<std::size_t>((j - last_j0_) * n_ + (i - last_i0_))];
 }
 
-double SprayGround::set(std::int64_t i, std::int64_t j, Tile& t, std::size_t k, double height) {
+double SprayGround::set(std::int64_t i, std::int64_t j, const TileKey& key, Tile& t, std::size_t k, double height) {
   const double before = t.height[k];
   if (height == before) return 0.0;
   t.height[k] = height;
   const double moved = height - before;
   t.sinkage[k] -= std::abs(moved);
-  const int n = store_.n();
-  const int li = static_cast<int>(k % static_cast<std::size_t>(n)),
-            lj = static_cast<int>(k / static_cast<std::size_t>(n));
-  const TileKey key = store_.key_of(i, j);
+  const int li = static_cast<int>(i - key.tx * n_), lj = static_cast<int>(j - key.ty * n_);
   if (moved > 0.0) tops_.raised(i, j, height);
   store_.mark_changed(key, t, li, lj, li, lj);
   return moved * area_;
@@ -74,18 +72,20 @@ double SprayGround::set(std::int64_t i, std::int64_t j, Tile& t, std::size_t k, 
 
 double SprayGround::take(std::int64_t i, std::int64_t j, double depth) {
   if (!(depth > 0.0)) return 0.0;
-  Tile& t = store_.tile(store_.key_of(i, j));
-  const std::size_t k = store_.local(i, j);
+  const TileKey key = index_.key_of(i, j);
+  Tile& t = store_.tile(key);
+  const std::size_t k = index_.local(i, j);
   const double top = t.height[k], bed = t.base[k] - soil_depth_;
   if (!(top > bed)) return 0.0;
-  return -set(i, j, t, k, std::max(top - depth, bed));
+  return -set(i, j, key, t, k, std::max(top - depth, bed));
 }
 
 double SprayGround::lay(std::int64_t i, std::int64_t j, double volume) {
   if (!(volume > 0.0)) return 0.0;
-  Tile& t = store_.tile(store_.key_of(i, j));
-  const std::size_t k = store_.local(i, j);
-  return set(i, j, t, k, t.height[k] + volume / area_);
+  const TileKey key = index_.key_of(i, j);
+  Tile& t = store_.tile(key);
+  const std::size_t k = index_.local(i, j);
+  return set(i, j, key, t, k, t.height[k] + volume / area_);
 }
 
 }  // namespace shore::terrain

@@ -13,6 +13,7 @@
 #include <span>
 
 #include "shore/terrain/terrain.h"
+#include "spray_tile_index.h"
 #include "spray_tops.h"
 #include "tile_store.h"
 
@@ -62,9 +63,10 @@ class SprayGround {
   double lay(std::int64_t i, std::int64_t j, double volume);
 
  private:
-  /// Sets the column's height (its tile created if need be), lowers its sinkage by the
-  /// height moved and marks it changed; returns the m^3 the height moved by (signed).
-  double set(std::int64_t i, std::int64_t j, Tile& t, std::size_t k, double height);
+  /// Sets the column's height (in its tile t of this key, at local index k), lowers its
+  /// sinkage by the height moved and marks it changed; returns the m^3 the height moved by
+  /// (signed).
+  double set(std::int64_t i, std::int64_t j, const TileKey& key, Tile& t, std::size_t k, double height);
   /// The columns whose quotients (x - origin) / cell truncate to those of the box's
   /// corners, widened by `margin`: {i0, j0, i1, j1}. False if the box is too far out.
   bool columns_around(double x0, double y0, double x1, double y1, std::int64_t margin, std::int64_t (&c)[4]) const;
@@ -106,6 +108,7 @@ class SprayGround {
     return static_cast<std::size_t>((key.tx & 3) | ((key.ty & 3) << 2));
   }
   TileStore& store_;
+  TileIndex index_;
   SoilTops tops_;
   /// Flights in different tiles take turns at height(): each would miss last_ and hash its
   /// tile again (tiles are never released during a spray step, so the pointers stay good;

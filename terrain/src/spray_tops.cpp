@@ -74,9 +74,9 @@ double SoilTops::compute_block(std::int64_t bx, std::int64_t by) const {
   const ColumnRect r{(bx0_ + bx) << shift_, (by0_ + by) << shift_, side, side};
   const int n = store_.n();
   if (n % side == 0) {  // the block lies in one tile: its rows straight from the tile
-    const TileKey key = store_.key_of(r.i0, r.j0);
+    const TileKey key = index_.key_of(r.i0, r.j0);
     if (const Tile* t = store_.find(key); t != nullptr)
-      return b = highest(t->height.data() + store_.local(r.i0, r.j0), static_cast<std::size_t>(n), side);
+      return b = highest(t->height.data() + index_.local(r.i0, r.j0), static_cast<std::size_t>(n), side);
   }
   heights_.resize(static_cast<std::size_t>(side) * static_cast<std::size_t>(side));
   store_.read(r, heights_, false);

@@ -14,13 +14,14 @@
 #include <limits>
 #include <vector>
 
+#include "spray_tile_index.h"
 #include "tile_store.h"
 
 namespace shore::terrain {
 
 class SoilTops {
  public:
-  explicit SoilTops(const TileStore& store) : store_(store) {}
+  explicit SoilTops(const TileStore& store) : store_(store), index_(store) {}
   /// The window: columns [i0, i1] x [j0, j1]. Blocks have a side of 8 columns or more, so
   /// that at most 64 x 64 of them cover it (a few kB, allocated here).
   void cover(std::int64_t i0, std::int64_t j0, std::int64_t i1, std::int64_t j1);
@@ -55,6 +56,7 @@ class SoilTops {
   [[nodiscard]] double compute_block(std::int64_t bx, std::int64_t by) const;
 
   const TileStore& store_;
+  TileIndex index_;
   int shift_ = 3;                        ///< a block is 2^shift_ columns on a side
   std::int64_t bx0_ = 0, by0_ = 0;       ///< the window's first block (column >> shift_)
   std::int64_t nbx_ = 0, nby_ = 0;       ///< blocks across and along; 0: no window
