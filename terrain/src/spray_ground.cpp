@@ -21,27 +21,6 @@ SprayGround::SprayGround(TileStore& store, const TerrainSettings& s)
       y_min_(s.spray.y_min),
       y_max_(s.spray.y_max) {}
 
-// The quotients a column index rounds, by a multiplication (within a few ulps of the
-// division column_i makes): truncated, each lies within a column of its nearest integer, so
-// two columns on each side cover the box's columns and their neighbours.
-bool SprayGround::columns_around(double x0, double y0, double x1, double y1, std::int64_t margin,
-                                 std::int64_t (&c)[4]) const {
-  const double qx0 = (x0 - origin_x_) * inverse_cell_, qy0 = (y0 - origin_y_) * inverse_cell_;
-  const double qx1 = (x1 - origin_x_) * inverse_cell_, qy1 = (y1 - origin_y_) * inverse_cell_;
-  constexpr double kFar = 1e15;  // columns: beyond, no bound is worth it
-  // Written out, not looped over an array: asked for many flights each step.
-  if (!(std::abs(qx0) < kFar && std::abs(qy0) < kFar && std::abs(qx1) < kFar && std::abs(qy1) < kFar)) return false;
-  c[0] = static_cast<std::int64_t>(qx0) - margin, c[1] = static_cast<std::int64_t>(qy0) - margin;
-  c[2] = static_cast<std::int64_t>(qx1) + margin, c[3] = static_cast<std::int64_t>(qy1) + margin;
-  return true;
-}
-
-double SprayGround::top_bound_over(double x0, double y0, double x1, double y1) const {
-  std::int64_t c[4];
-  if (!columns_around(x0, y0, x1, y1, 2, c)) return std::numeric_limits<double>::infinity();
-  return tops_.bound(c[0], c[1], c[2], c[3]);
-}
-
 void SprayGround::cover(double x0, double y0, double x1, double y1) {
   std::int64_t c[4];
   if (columns_around(x0, y0, x1, y1, 3, c)) tops_.cover(c[0], c[1], c[2], c[3]);
