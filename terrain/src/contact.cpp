@@ -100,10 +100,6 @@ class PatchBuilder {
   }
 
  private:
-  /// Whether the envelope covers column (i, j), for columns of the window and its ring.
-  [[nodiscard]] bool covered(std::int64_t i, std::int64_t j) const {
-    return covered_[static_cast<std::size_t>((j - env_.j0 + 1) * (env_.nx + 2) + (i - env_.i0 + 1))] != 0;
-  }
   void mark_covered() {
     covered_.assign(static_cast<std::size_t>(env_.nx + 2) * static_cast<std::size_t>(env_.ny + 2), 0);
     highest_top_ = -kInf;
@@ -112,11 +108,26 @@ class PatchBuilder {
       for (int x = 0; x < env_.nx; ++x)
         covered_[static_cast<std::size_t>((y + 1) * (env_.nx + 2) + x + 1)] =
             env_.lower[static_cast<std::size_t>(y) * env_.nx + x] < kInf ? 1 : 0;
+    // Bit d of open_sides_: neighbour d (kSx, kSy) is not covered. Most of a footprint is
+    // inside it, and there the edge and wall loops need not look at the neighbours.
+    const std::size_t stride = static_cast<std::size_t>(env_.nx) + 2;
+    open_sides_.resize(env_.lower.size());
+    for (int y = 0; y < env_.ny; ++y) {
+      const unsigned char* mid = covered_.data() + static_cast<std::size_t>(y + 1) * stride + 1;
+      for (int x = 0; x < env_.nx; ++x)
+        open_sides_[static_cast<std::size_t>(y) * env_.nx + x] = static_cast<unsigned char>(
+            (mid[x + 1] ? 0 : 1) | (mid[x - 1] ? 0 : 2) | (mid[x + stride] ? 0 : 4) | (mid[x - stride] ? 0 : 8));
+    }
   }
   [[nodiscard]] double column_x(std::int64_t i) const { return s_.origin_x + static_cast<double>(i) * s_.cell; }
   [[nodiscard]] double column_y(std::int64_t j) const { return s_.origin_y + static_cast<double>(j) * s_.cell; }
   [[nodiscard]] bool touches(double lower, std::size_t soil_index) const {
-    return lower <= soil_.top[soil_index] + s_.contact_tolerance + rebound(soil_index);
+    const double reach = soil_.top[soil_index] + s_.contact_tolerance;
+    // The elastic reach (a pow) only where it decides: it is >= 0 and <= the sinkage, and
+    // rounding is monotonic, so these two answers are the full test's.
+    if (lower <= reach) return true;
+    if (lower > reach + soil_.sink[soil_index]) return false;
+    return lower <= reach + rebound(soil_index);
   }
   /// How far a relieved column springs back (its elastic reach), m: p_yield(z) / k_u, at
   /// most its sinkage z (see unloading_stiffness), with
@@ -161,12 +172,13 @@ class PatchBuilder {
         if (!(e < kInf) || !touches(e, soil_.at(i, j))) continue;
         touching_[k] = 1;
         ++out_.touching_columns;
+        if (open_sides_[k] == 0) continue;
         for (int d = 0; d < 4; ++d) cover_edge(k, i, j, d);
       }
   }
 
   void cover_edge(std::size_t k, std::int64_t i, std::int64_t j, int d) {
-    if (covered(i + kSx[d], j + kSy[d])) return;
+    if (!(open_sides_[k] & (1u << d))) return;  // the neighbour is covered
     const double t = edge_position(probe_, column_x(i), column_y(j), kSx[d] * s_.cell, kSy[d] * s_.cell);
     const double loss = std::max(0.0, 0.5 - t), gain = std::max(0.0, t - 0.5);
     const bool along_x = kSx[d] != 0;
@@ -212,23 +224,25 @@ class PatchBuilder {
   /// Unit normal of the underside at raster column (x, y): its slopes from the covered
   /// neighbours (one-sided at the footprint's edge).
   void underside_normal(int x, int y, ContactElement& el) const {
-    const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
-    const double e = env_.lower[env_.index(i, j)];
-    // The slope along one axis: the central difference where the surface is smooth; where
-    // the two one-sided slopes disagree (an edge of a box: the bottom on one side, a face
-    // on the other) the gentler one, which belongs to the surface the column touches.
-    auto slope = [&](int sx, int sy) {
-      const bool up = covered(i + sx, j + sy), down = covered(i - sx, j - sy);
-      const double s_up = up ? (env_.lower[env_.index(i + sx, j + sy)] - e) / s_.cell : 0.0;
-      const double s_down = down ? (e - env_.lower[env_.index(i - sx, j - sy)]) / s_.cell : 0.0;
+    const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
+    const double e = env_.lower[k];
+    const unsigned open = open_sides_[k];
+    // The slope along one axis (step: the raster offset of the next column along it; its
+    // open-side bits: up, then down): the central difference where the surface is smooth;
+    // where the two one-sided slopes disagree (an edge of a box: the bottom on one side, a
+    // face on the other) the gentler one, which belongs to the surface the column touches.
+    auto slope = [&](std::size_t step, unsigned up_bit, unsigned down_bit) {
+      const bool up = !(open & up_bit), down = !(open & down_bit);
+      const double s_up = up ? (env_.lower[k + step] - e) / s_.cell : 0.0;
+      const double s_down = down ? (e - env_.lower[k - step]) / s_.cell : 0.0;
       if (up != down) return up ? s_up : s_down;
       if (!up) return 0.0;
       if (std::fabs(s_up - s_down) <= 0.5 * std::max(std::fabs(s_up), std::fabs(s_down)) + kCreaseSlope)
         return 0.5 * (s_up + s_down);
       return std::fabs(s_up) < std::fabs(s_down) ? s_up : s_down;
     };
-    const double gx = std::clamp(slope(1, 0), -kMaxSlope, kMaxSlope),
-                 gy = std::clamp(slope(0, 1), -kMaxSlope, kMaxSlope);
+    const double gx = std::clamp(slope(1, 1, 2), -kMaxSlope, kMaxSlope),
+                 gy = std::clamp(slope(static_cast<std::size_t>(env_.nx), 4, 8), -kMaxSlope, kMaxSlope);
     const double norm = std::sqrt(gx * gx + gy * gy + 1.0);
     el.nx = -gx / norm, el.ny = -gy / norm, el.nz = 1.0 / norm;
   }
@@ -289,11 +303,11 @@ class PatchBuilder {
         const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
         const double e = env_.lower[k];
         // No soil beside the body stands above it here (a wheel's upper part, say).
-        if (!(e + s_.contact_tolerance < highest_top_)) continue;
+        if (open_sides_[k] == 0 || !(e + s_.contact_tolerance < highest_top_)) continue;
         const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
         for (int d = 0; d < 4; ++d) {
           const std::int64_t ui = i + kSx[d], uj = j + kSy[d];
-          if (covered(ui, uj) || !soil_.inside(ui, uj)) continue;
+          if (!(open_sides_[k] & (1u << d)) || !soil_.inside(ui, uj)) continue;
           const std::size_t u = soil_.at(ui, uj);
           const double height = soil_.top[u] - e;
           if (!(height > s_.contact_tolerance)) continue;
@@ -319,8 +333,9 @@ class PatchBuilder {
   const SoilWindow& soil_;
   ContactPatch& out_;
   std::vector<double> fx_, fy_, loss_lo_x_, loss_lo_y_;
-  std::vector<unsigned char> covered_;  // the window and a one-column ring, row-major
-  double highest_top_ = -kInf;          // m, the highest soil top in the window and its ring
+  std::vector<unsigned char> covered_;     // the window and a one-column ring, row-major
+  double highest_top_ = -kInf;             // m, the highest soil top in the window and its ring
+  std::vector<unsigned char> open_sides_;  // per raster column, see mark_covered
   std::vector<unsigned char> touching_;
   std::vector<Fringe> fringe_;
 };

@@ -30,22 +30,25 @@ double worst_ulps(F mine, G libm, double lo, double hi, int samples) {
   return worst;
 }
 
-TEST(DetMath, ExpAndLogAgreeWithTheCLibraryWithinFourUlps) {
+TEST(DetMath, ExpAndLogAgreeWithTheCLibraryWithinOneUlp) {
+  // The C library's exp and log are within an ulp of the exact value, and so are these
+  // (at most 0.503 ulp against 50-digit decimal arithmetic over 15,000 random points when
+  // the table method went in), so the two differ by at most one ulp.
   EXPECT_LE(worst_ulps(
                 shore::det::exp, [](double x) { return std::exp(x); }, -700.0, 700.0, 20011),
-            4.0);
+            1.0);
   EXPECT_LE(worst_ulps(
                 shore::det::exp, [](double x) { return std::exp(x); }, -1.0, 1.0, 20011),
-            2.0);
+            1.0);
   EXPECT_LE(worst_ulps(
                 shore::det::log, [](double x) { return std::log(x); }, 1e-300, 1e-290, 2001),
-            4.0);
+            1.0);
   EXPECT_LE(worst_ulps(
                 shore::det::log, [](double x) { return std::log(x); }, 1e-6, 10.0, 20011),
-            4.0);
+            1.0);
   EXPECT_LE(worst_ulps(
                 shore::det::log, [](double x) { return std::log(x); }, 0.5, 2.0, 20011),
-            4.0);
+            1.0);
 }
 
 TEST(DetMath, PowAgreesWithTheCLibraryOverBekkersRange) {
@@ -56,7 +59,7 @@ TEST(DetMath, PowAgreesWithTheCLibraryOverBekkersRange) {
       const double z = 1e-6 * std::pow(1e6, k / 4000.0);
       worst = std::max(worst, ulps(shore::det::pow(z, n), std::pow(z, n)));
     }
-  EXPECT_LE(worst, 2.0);
+  EXPECT_LE(worst, 1.0);
   EXPECT_EQ(shore::det::pow(0.0, 1.1), 0.0);
   EXPECT_EQ(shore::det::pow(0.0, 0.0), 1.0);
   EXPECT_EQ(shore::det::pow(3.0, 0.0), 1.0);
@@ -142,7 +145,7 @@ std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
 TEST(DetMath, PinnedBitsHoldOnEveryMachine) {
   // Values from the reference build. They change only if the arithmetic does: a compiler
   // contracting a * b + c into a fused multiply-add, or an edit of the polynomials.
-  EXPECT_EQ(bits(shore::det::pow(0.0437, 1.1)), 0x3fa05c510f221f24ull);
+  EXPECT_EQ(bits(shore::det::pow(0.0437, 1.1)), 0x3fa05c510f221f23ull);  // (a fused build gives ...24)
   EXPECT_EQ(bits(shore::det::exp(-1.234567)), 0x3fd29f19b75f99c4ull);
   EXPECT_EQ(bits(shore::det::log(0.0123)), 0xc01197b635f81342ull);
   EXPECT_EQ(bits(shore::det::tan(0.436)), 0x3fddd15b70bd972dull);

@@ -10,13 +10,18 @@
 // everywhere, evaluated in a fixed order. Shore builds them with -ffp-contract=off (see
 // cmake/ShoreDeterminism.cmake) so no compiler fuses a multiply and an add.
 //
-// Accuracy: within a few units in the last place of the C library's results over the
-// ranges Shore uses (tests/core/test_det_math.cpp); speed is comparable.
+// Accuracy: exp, log and pow within about half a unit in the last place of the exact value
+// (table-driven, Tang's method; the tables are exact hexadecimal constants written by
+// scripts/det_math_tables.py), so within one of the C library's; the others within a few
+// units of the C library's over the ranges Shore uses (tests/core/test_det_math.cpp).
+// exp costs about 80 instructions, pow about 265.
 
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+
+#include "shore/core/det_math_tables.h"
 
 namespace shore::det {
 
@@ -46,6 +51,15 @@ struct InverseFactorials {
   }
 };
 inline constexpr InverseFactorials kInvFact{};
+
+/// (-1)^(n+1) / n for n in [1, 10], the Taylor coefficients of ln(1 + r), by the compiler.
+struct LogSeries {
+  double v[11] = {};
+  constexpr LogSeries() {
+    for (int n = 1; n < 11; ++n) v[n] = ((n & 1) ? 1.0 : -1.0) / n;
+  }
+};
+inline constexpr LogSeries kLogSeries{};
 
 /// sin(r) for |r| <= pi/4: Taylor series through r^17 (next term < 1e-19).
 inline double sin_kernel(double r) {
@@ -112,41 +126,6 @@ inline double mantissa_exponent(double x, int& e) {
   return std::bit_cast<double>((bits & ~(std::uint64_t{0x7ff} << 52)) | (std::uint64_t{1022} << 52));
 }
 
-/// e^(x + tail) for |tail| << 1 ulp of x's reduced argument (the low part of a product).
-inline double exp_with_tail(double x, double tail) {
-  if (x != x) return x;
-  if (x > 709.782712893384) return std::numeric_limits<double>::infinity();
-  if (x < -745.1332191019412) return 0.0;
-  const double k = std::floor(x * kInvLn2 + 0.5);
-  const double r = ((x - k * kLn2Hi) - k * kLn2Lo) + tail;  // |r| <= ln2 / 2
-  // Taylor series through r^14 (next term < 1e-18 relative).
-  double p = kInvFact.v[14];
-  for (int n = 13; n >= 2; --n) p = kInvFact.v[n] + r * p;
-  const double e = 1.0 + (r + (r * r) * p);
-  return times_power_of_two(e, static_cast<int>(k));
-}
-
-/// ln x = hi + lo for finite x > 0, the pair good to ~1e-17 absolute beyond hi's rounding.
-inline void log_parts(double x, double& hi, double& lo) {
-  int e = 0;
-  double m = mantissa_exponent(x, e);  // x = m 2^e, m in [0.5, 1)
-  if (m < 0.70710678118654752440) {
-    m *= 2.0;
-    --e;
-  }
-  // ln m = 2 atanh(s), s = (m - 1) / (m + 1), |s| <= 0.1716: series through s^25.
-  const double s = (m - 1.0) / (m + 1.0);
-  const double z = s * s;
-  double p = 1.0 / 25.0;
-  for (int k = 23; k >= 3; k -= 2) p = 1.0 / k + z * p;
-  const double log_m = 2.0 * s + (2.0 * s * z) * p;
-  const double de = static_cast<double>(e);
-  const double big = de * kLn2Hi;  // exact: kLn2Hi has 32 trailing zero bits
-  const double small = de * kLn2Lo + log_m;
-  hi = big + small;
-  lo = small - (hi - big);  // exact remainder of the sum (|big| >= |small| or big == 0)
-}
-
 /// a * b = p + err exactly (Dekker's product; needs -ffp-contract=off, which Shore builds with).
 inline void two_product(double a, double b, double& p, double& err) {
   constexpr double kSplit = 134217729.0;  // 2^27 + 1
@@ -155,6 +134,72 @@ inline void two_product(double a, double b, double& p, double& err) {
   const double bh = cb - (cb - b), bl = b - bh;
   p = a * b;
   err = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+}
+
+/// a + b = s + err exactly (Knuth's sum, any order of magnitudes).
+inline void two_sum(double a, double b, double& s, double& err) {
+  s = a + b;
+  const double bb = s - a;
+  err = (a - (s - bb)) + (b - bb);
+}
+
+/// e^(x + tail) for |tail| << 1 ulp of x's reduced argument (the low part of a product).
+/// Tang's method: x = (64 k + j) ln2 / 64 + r, e^x = 2^k 2^(j/64) e^r, with 2^(j/64) from
+/// a table (det_math_tables.h) and e^r - 1 from its Taylor series, |r| <= ln2 / 128.
+inline double exp_with_tail(double x, double tail) {
+  if (x != x) return x;
+  if (x > 709.782712893384) return std::numeric_limits<double>::infinity();
+  if (x < -745.1332191019412) return 0.0;
+  // ln2 / 64 in two parts: the high part keeps kLn2Hi's 32 trailing zero bits, so n times
+  // it is exact for |n| < 2^32.
+  constexpr double kStepHi = kLn2Hi / 64, kStepLo = kLn2Lo / 64;
+  // n = floor(x 64 / ln2 + 1/2), by truncation and a step down for negative fractions.
+  const double nearest = x * (64 * kInvLn2) + 0.5;
+  std::int64_t steps = static_cast<std::int64_t>(nearest);
+  if (static_cast<double>(steps) > nearest) --steps;
+  const auto n = static_cast<double>(steps);
+  const double r = ((x - n * kStepHi) - n * kStepLo) + tail;
+  const int j = static_cast<int>(steps & 63);
+  const int k = static_cast<int>((steps - j) / 64);
+  // e^r - 1 = r + r^2 (1/2 + r/6 + ... + r^5/7!): the next term is below 3e-20 of r.
+  double q = kInvFact.v[7];
+#pragma GCC unroll 5
+  for (int m = 6; m >= 2; --m) q = kInvFact.v[m] + r * q;
+  const double em1 = r + (r * r) * q;
+  const HiLo& t = kExp2Table[j];
+  const double e = t.hi + (t.hi * em1 + t.lo * (1.0 + em1));
+  return times_power_of_two(e, k);
+}
+
+/// ln x = hi + lo for finite x > 0, the pair good to ~1e-19 absolute beyond hi's rounding.
+/// x = m 2^e with m in [sqrt 1/2, sqrt 2); m is multiplied by a table's inv close to 1/m
+/// (10 significant bits, so the product is exact as two doubles), leaving
+/// ln x = e ln2 - ln(inv) + ln(1 + r), |r| < 0.0125, the last from its Taylor series.
+inline void log_parts(double x, double& hi, double& lo) {
+  int e = 0;
+  double m = mantissa_exponent(x, e);  // x = m 2^e, m in [0.5, 1)
+  if (m < 0.70710678118654752440) {
+    m *= 2.0;
+    --e;
+  }
+  const int i = static_cast<int>(m * 64.0 + 0.5);  // floor: positive
+  const LogEntry& t = kLogTable[i - kLogTableFirst];
+  double p = 0.0, p_err = 0.0;
+  two_product(m, t.inv, p, p_err);
+  const double r = p - 1.0;  // exact (p within 2 % of 1); r + p_err is m inv - 1 exactly
+  // ln(1 + r) - r = r^2 (-1/2 + r/3 - r^2/4 + ... + r^8/10): the next term is below 1e-21 of r.
+  double c = kLogSeries.v[10];
+#pragma GCC unroll 8
+  for (int n = 9; n >= 2; --n) c = kLogSeries.v[n] + r * c;
+  const double tail = (r * r) * c;
+  const double de = static_cast<double>(e);
+  double s1 = 0.0, e1 = 0.0, s2 = 0.0, e2 = 0.0;
+  two_sum(de * kLn2Hi, t.neg_ln, s1, e1);  // de * kLn2Hi is exact (32 trailing zero bits)
+  two_sum(s1, r, s2, e2);
+  // ln(1 + r + p_err) = ln(1 + r) + p_err / (1 + r), the quotient to first order in r.
+  const double small = ((e1 + e2) + (t.neg_ln_lo + de * kLn2Lo)) + ((p_err - p_err * r) + tail);
+  hi = s2 + small;
+  lo = small - (hi - s2);  // |s2| >= |small| or s2 == 0
 }
 
 }  // namespace detail
