@@ -3,9 +3,8 @@
 // key (floor of the division), the slow-piece test (the root), the particles a piece owes
 // (floor of the division plus a uniform number), the index of a body's pieces (bisection of
 // the sorted list), the end of a flight whatever its number of samples, and a column's tile
-// and place in it by shifts. The points are
-// the hard ones: exact multiples of the cell and of half cells, a few ulps either side, and
-// random ones.
+// and place in it by shifts. The points are the hard ones: exact multiples of the cell and
+// of half cells, a few ulps either side, and random ones.
 #include <gtest/gtest.h>
 
 #include <algorithm>
