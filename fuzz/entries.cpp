@@ -195,8 +195,9 @@ std::vector<unsigned char> zstd_container(const char (&magic)[9], std::uint32_t 
 std::vector<unsigned char> wrap_delta_payload(std::span<const std::uint8_t> fields) {
   constexpr std::size_t kFields = 8 + 8 + 8;  // quantum, from, to
   if (fields.size() < kFields) return {};
-  // The container's layout (shore/terrain/soil_delta.h): version 1, the three fields.
-  return zstd_container("SHORESDL", 1, fields.first(kFields), fields.subspan(kFields));
+  // The container's layout (shore/terrain/soil_delta.h): version 2 (the one the encoder
+  // writes, so mutations reach its spray block too), the three fields.
+  return zstd_container("SHORESDL", 2, fields.first(kFields), fields.subspan(kFields));
 }
 
 namespace {

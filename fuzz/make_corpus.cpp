@@ -1,6 +1,7 @@
 // shore-fuzz-corpus <folder>: writes the fuzzers' seed corpus, <folder>/<target>/seed_*,
-// from scratch (the committed fuzz/corpus was made by it). Small valid inputs of every
-// kind each loader reads: terrain states of format versions 3 and 4 (with and without the
+// from scratch (the committed fuzz/corpus was made by it; its seed_v4_* files by the
+// version that wrote format 4, kept so the v4 reader stays fuzzed). Small valid inputs of every
+// kind each loader reads: terrain states of format versions 3 and 5 (with and without the
 // checksum the fuzz entry appends), PNG heightmaps of every colour type stb_image_write
 // writes plus a 16-bit one, raw float32 maps, checkpoints of a small coupled world (a
 // float build writes them: a double build refuses their precision), soil deltas of a
@@ -53,33 +54,34 @@ shore::terrain::Terrain pressed_state() {
   return t;
 }
 
-/// A version 4 file as version 3 wrote it: no precision field (bytes 16-19), no
-/// idle_tile_steps (the 4 bytes after active_reach), no spray settings (after the
-/// material's shear fields) and no spray state (after the eroding regions; only a soil that
-/// never sprayed can be converted). Layout at the top of terrain/src/terrain_io.cpp.
-Bytes as_version_3(Bytes v4) {
-  v4.erase(v4.begin() + 88, v4.begin() + 92);
-  v4.erase(v4.begin() + 16, v4.begin() + 20);
+/// A version 5 file as version 3 wrote it: no precision field (bytes 16-19), no
+/// idle_tile_steps (the 4 bytes after active_reach), no spray settings and no
+/// unload_modulus (after the material's shear fields) and no spray state (after the eroding
+/// regions; only a soil that never sprayed can be converted). Layout at the top of
+/// terrain/src/terrain_io.cpp.
+Bytes as_version_3(Bytes v5) {
+  v5.erase(v5.begin() + 88, v5.begin() + 92);
+  v5.erase(v5.begin() + 16, v5.begin() + 20);
   auto read_u64 = [&](std::size_t at) {
     std::uint64_t v = 0;
-    std::memcpy(&v, v4.data() + at, sizeof v);
+    std::memcpy(&v, v5.data() + at, sizeof v);
     return v;
   };
   std::uint32_t name_length = 0;
-  std::memcpy(&name_length, v4.data() + 84, sizeof name_length);  // after f64 active_reach at 76
+  std::memcpy(&name_length, v5.data() + 84, sizeof name_length);  // after f64 active_reach at 76
   const std::size_t spray_at = 88 + name_length + 10 * 8 + 1 + 6 * 8;
-  constexpr std::size_t kSpraySettings = 8 * 8 + 1 + 4 + 8 + 6 * 8;
-  v4.erase(v4.begin() + static_cast<std::ptrdiff_t>(spray_at),
-           v4.begin() + static_cast<std::ptrdiff_t>(spray_at + kSpraySettings));
+  constexpr std::size_t kSpraySettings = 8 * 8 + 1 + 4 + 8 + 6 * 8 + 8;  // and unload_modulus (version 5)
+  v5.erase(v5.begin() + static_cast<std::ptrdiff_t>(spray_at),
+           v5.begin() + static_cast<std::ptrdiff_t>(spray_at + kSpraySettings));
   const std::size_t regions_at = spray_at + 2 * 8;  // after f64 compacted, edited
   const std::size_t state_at = regions_at + 8 + 24 * read_u64(regions_at);
   constexpr std::size_t kQuietState = 8 + 8 + 6 * 8 + 8 + 8 + 8;  // no particles, no bodies
   if (read_u64(state_at + kQuietState - 16) != 0 || read_u64(state_at + kQuietState - 8) != 0)
     throw std::runtime_error("the seed soil sprayed: cannot write it as version 3");
-  v4.erase(v4.begin() + static_cast<std::ptrdiff_t>(state_at),
-           v4.begin() + static_cast<std::ptrdiff_t>(state_at + kQuietState));
-  v4[8] = 3;
-  return v4;
+  v5.erase(v5.begin() + static_cast<std::ptrdiff_t>(state_at),
+           v5.begin() + static_cast<std::ptrdiff_t>(state_at + kQuietState));
+  v5[8] = 3;
+  return v5;
 }
 
 /// The fuzz entry's input: mode byte (1: append the checksum) and the file.
@@ -90,17 +92,17 @@ Bytes entry_input(bool append_checksum, Bytes file) {
 }
 
 void terrain_seeds(const fs::path& dir) {
-  const Bytes v4 = pressed_state().save_bytes();
-  write(dir / "seed_v4_pressed", entry_input(true, v4));
-  write(dir / "seed_v4_pressed_whole", entry_input(false, v4));
-  Bytes v3 = as_version_3(v4);
+  const Bytes v5 = pressed_state().save_bytes();
+  write(dir / "seed_v5_pressed", entry_input(true, v5));
+  write(dir / "seed_v5_pressed_whole", entry_input(false, v5));
+  Bytes v3 = as_version_3(v5);
   write(dir / "seed_v3_pressed", entry_input(true, v3));  // checksum recomputed by the entry
   shore::terrain::TerrainSettings s;
   s.tile_columns = 4;
   s.material = shore::terrain::Material::snow();
   shore::terrain::Terrain edited(s);
   edited.set_height(-3, 2, 0.25);
-  write(dir / "seed_v4_edited_snow", entry_input(true, edited.save_bytes()));
+  write(dir / "seed_v5_edited_snow", entry_input(true, edited.save_bytes()));
 }
 
 /// A coupled world mid-run: the ball has pressed the soil and entered the water.

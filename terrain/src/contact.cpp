@@ -84,11 +84,37 @@ struct Fringe {
   std::size_t source;  ///< raster index of the covered neighbour
 };
 
+/// A patch's working arrays, kept between calls (one set per thread) so a body's contact
+/// each substep reuses them instead of allocating and zeroing a window's worth again.
+struct PatchScratch {
+  SoilWindow soil;                                   // the window and a one-column ring
+  std::vector<double> fx, fy, loss_lo_x, loss_lo_y;  // per raster column, see cover_footprint
+  std::vector<unsigned char> covered;                // the window and its ring, row-major
+  std::vector<unsigned char> open_sides;             // per raster column, see mark_covered
+  std::vector<unsigned char> touching;               // per raster column
+  std::vector<Fringe> fringe;
+};
+
 class PatchBuilder {
  public:
   PatchBuilder(const TerrainSettings& s, const EnvelopeRaster& env, std::span<const double> shear,
-               const SurfaceProbe* probe, const SoilWindow& soil, ContactPatch& out)
-      : s_(s), env_(env), shear_(shear), probe_(probe), soil_(soil), out_(out) {}
+               const SurfaceProbe* probe, PatchScratch& scratch, ContactPatch& out)
+      : s_(s),
+        env_(env),
+        shear_(shear),
+        probe_(probe),
+        soil_(scratch.soil),
+        out_(out),
+        fx_(scratch.fx),
+        fy_(scratch.fy),
+        loss_lo_x_(scratch.loss_lo_x),
+        loss_lo_y_(scratch.loss_lo_y),
+        covered_(scratch.covered),
+        open_sides_(scratch.open_sides),
+        touching_(scratch.touching),
+        fringe_(scratch.fringe) {
+    fringe_.clear();
+  }
 
   void build() {
     mark_covered();
@@ -162,7 +188,8 @@ class PatchBuilder {
   // that reaches into an uncovered neighbour's cell becomes a fringe.
   void cover_footprint() {
     const std::size_t size = env_.lower.size();
-    fx_.assign(size, 1.0), fy_.assign(size, 1.0), loss_lo_x_.assign(size, 0.0), loss_lo_y_.assign(size, 0.0);
+    // Only touching columns' shares are ever read: they are set there, below.
+    fx_.resize(size), fy_.resize(size), loss_lo_x_.resize(size), loss_lo_y_.resize(size);
     touching_.assign(size, 0);
     for (int y = 0; y < env_.ny; ++y)
       for (int x = 0; x < env_.nx; ++x) {
@@ -171,6 +198,7 @@ class PatchBuilder {
         const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
         if (!(e < kInf) || !touches(e, soil_.at(i, j))) continue;
         touching_[k] = 1;
+        fx_[k] = fy_[k] = 1.0, loss_lo_x_[k] = loss_lo_y_[k] = 0.0;
         ++out_.touching_columns;
         if (open_sides_[k] == 0) continue;
         for (int d = 0; d < 4; ++d) cover_edge(k, i, j, d);
@@ -332,12 +360,12 @@ class PatchBuilder {
   const SurfaceProbe* probe_;
   const SoilWindow& soil_;
   ContactPatch& out_;
-  std::vector<double> fx_, fy_, loss_lo_x_, loss_lo_y_;
-  std::vector<unsigned char> covered_;     // the window and a one-column ring, row-major
-  double highest_top_ = -kInf;             // m, the highest soil top in the window and its ring
-  std::vector<unsigned char> open_sides_;  // per raster column, see mark_covered
-  std::vector<unsigned char> touching_;
-  std::vector<Fringe> fringe_;
+  std::vector<double>&fx_, &fy_, &loss_lo_x_, &loss_lo_y_;
+  std::vector<unsigned char>& covered_;     // the window and a one-column ring, row-major
+  double highest_top_ = -kInf;              // m, the highest soil top in the window and its ring
+  std::vector<unsigned char>& open_sides_;  // per raster column, see mark_covered
+  std::vector<unsigned char>& touching_;
+  std::vector<Fringe>& fringe_;
 };
 
 }  // namespace
@@ -350,10 +378,11 @@ void Terrain::contact(const EnvelopeRaster& envelope, std::span<const double> sh
                          "must be 0 or the envelope's nx * ny = " + detail::to_text(envelope.lower.size()));
   out.clear();
   if (envelope.nx == 0 || envelope.ny == 0) return;
-  SoilWindow soil;  // the window and a one-column ring (fringes and walls lie there)
+  thread_local PatchScratch scratch;
+  // The window and a one-column ring (fringes and walls lie there).
   read_soil(impl_->tiles, impl_->s.material.soil_depth,
-            {envelope.i0 - 1, envelope.j0 - 1, envelope.nx + 2, envelope.ny + 2}, soil);
-  PatchBuilder(impl_->s, envelope, shear, probe, soil, out).build();
+            {envelope.i0 - 1, envelope.j0 - 1, envelope.nx + 2, envelope.ny + 2}, scratch.soil);
+  PatchBuilder(impl_->s, envelope, shear, probe, scratch, out).build();
 }
 
 }  // namespace shore::terrain
