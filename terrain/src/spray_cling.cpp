@@ -56,10 +56,13 @@ void PieceIndex::build(const std::vector<ClingCell>& cells) {
   z0_ = cells.front().key >> 42, y0_ = y0, ny_ = y1 - y0 + 1;
   const std::uint64_t rows = ((cells.back().key >> 42) - z0_ + 1) * ny_;
   if (rows > 4 * cells.size() + 64) return;
-  start_.assign(rows + 1, 0);
-  // start_[r] = the first piece of a row >= r: counted, then summed.
-  for (const ClingCell& c : cells) ++start_[row(c.key) + 1];
-  for (std::size_t r = 1; r <= rows; ++r) start_[r] += start_[r - 1];
+  start_.resize(rows + 1);
+  // start_[r] = the first piece of a row >= r, in one pass: the list is sorted by key, so by
+  // row too ((z, y) lead the key), and each entry is written once.
+  std::uint64_t r = 0;
+  for (std::size_t k = 0; k < cells.size(); ++k)
+    for (const std::uint64_t last = row(cells[k].key); r <= last; ++r) start_[r] = static_cast<std::uint32_t>(k);
+  for (; r <= rows; ++r) start_[r] = static_cast<std::uint32_t>(cells.size());
   rows_ = rows;
 }
 
@@ -170,21 +173,30 @@ void Cling::set_down(ClingCell& c, const Vec3& p, std::vector<Drop>& drops) {
 void Cling::shed(std::uint64_t body_key, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
                  std::vector<Candidate>& candidates) {
   if (!(c.volume > 0.0)) return;
-  // Where the piece is and how fast it moves, only once it sheds a particle (most steps a
-  // piece sheds none).
-  Vec3 p{}, u{};
-  double speed = 0.0;
-  bool moving = false;
-  const double half = 0.5 * rules.cell;
   const CounterRandom rnd = CounterRandom::of_piece(body_key, c.key);
+  // Sumner's n = dv phi particles, rounded at random (up with the probability of the
+  // fraction), so the number shed keeps its expected value however small dv is; what the
+  // rounding sheds early or late is evened out by `owed` in the next steps.
+  const double vp = rules.particle_volume;
+  c.owed += std::max(0.0, c.volume - c.owed) * rules.shed_share;
+  const double whole =
+      particles_due(std::max(0.0, c.owed), vp, rules.inverse_particle_volume, rnd.uniform(kRounding, 0));
+  // Most steps a piece sheds nothing (neither a whole particle nor its last half): it then
+  // needs no more than this.
+  if (!(0.0 < whole) && !(c.volume < 0.5 * vp)) return;
+  emit(rnd, whole, c, m, rules, candidates);
+}
+
+void Cling::emit(const CounterRandom& rnd, double whole, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
+                 std::vector<Candidate>& candidates) {
+  // Where the piece is and how fast it moves, once for all its candidates.
+  const Vec3 p = m.to_world({c.rx, c.ry, c.rz}), u = m.velocity_at(p);
+  const double speed = length(u);
+  const double half = 0.5 * rules.cell;
   std::uint64_t n = 0;
-  auto emit = [&](double volume) {
-    if (!moving) {
-      p = m.to_world({c.rx, c.ry, c.rz}), u = m.velocity_at(p), speed = length(u);
-      moving = true;
-    }
+  auto one = [&](double volume) {
     const double flight = rules.dt * (1.0 - rnd.uniform(n, 0));  // created at a random time in the step
-    Candidate k;
+    Candidate& k = candidates.emplace_back();
     Particle& s = k.start;
     s.x = p[0] - u[0] * flight + half * rnd.symmetric(n, 1);
     s.y = p[1] - u[1] * flight + half * rnd.symmetric(n, 2);
@@ -196,22 +208,15 @@ void Cling::shed(std::uint64_t body_key, ClingCell& c, const BodyMotion& m, cons
     k.flight = flight;
     k.speed = speed;
     k.chance = rnd.uniform(n, 7);
-    candidates.push_back(k);
     c.volume -= volume;
     ++n;
   };
-  // Sumner's n = dv phi particles, rounded at random (up with the probability of the
-  // fraction), so the number shed keeps its expected value however small dv is; what the
-  // rounding sheds early or late is evened out by `owed` in the next steps.
   const double vp = rules.particle_volume;
-  c.owed += std::max(0.0, c.volume - c.owed) * rules.shed_share;
-  const double whole =
-      particles_due(std::max(0.0, c.owed), vp, rules.inverse_particle_volume, rnd.uniform(kRounding, 0));
   for (double k = 0.0; k < whole && c.volume > 0.0; k += 1.0) {
-    emit(std::min(vp, c.volume));
+    one(std::min(vp, c.volume));
     c.owed -= vp;
   }
-  if (c.volume > 0.0 && c.volume < 0.5 * vp) emit(c.volume);  // less than half a particle is left: it goes too
+  if (c.volume > 0.0 && c.volume < 0.5 * vp) one(c.volume);  // less than half a particle is left: it goes too
   if (!(c.volume > 0.0)) c.volume = c.owed = 0.0;
 }
 

@@ -27,6 +27,7 @@
 #include "shore/terrain/terrain.h"
 #include "spray_ground.h"
 #include "spray_motion.h"
+#include "spray_random.h"
 #include "spray_state.h"
 
 namespace shore::terrain {
@@ -103,6 +104,10 @@ class Cling {
   /// `body_key`: CounterRandom::body_key of the body's (seed, step, body).
   void shed(std::uint64_t body_key, ClingCell& cell, const BodyMotion& m, const ClingRules& rules,
             std::vector<Candidate>& candidates);
+  /// The candidates of a piece that sheds this step: `whole` particles, and the rest if less
+  /// than half a particle is left.
+  static void emit(const CounterRandom& rnd, double whole, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
+                   std::vector<Candidate>& candidates);
   /// The piece of this key, among the body's pieces or those first touched this step.
   ClingCell* piece(ClingingBody& body, std::uint64_t key);
   /// Puts the pieces first touched this step into the body's list, which stays sorted by key.

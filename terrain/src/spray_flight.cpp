@@ -23,8 +23,9 @@ FlightTime flight_time(double t, const FlightRules& r) {
   return {t, a, 1.0 - r.drag * a};
 }
 
-/// The particle's state after f.t seconds of free flight.
-Particle advanced(const Particle& p, const FlightTime& f, const FlightRules& r) {
+/// The particle's state after f.t seconds of free flight (inline: once or twice per particle
+/// and step, and once per sample).
+[[gnu::always_inline]] inline Particle advanced(const Particle& p, const FlightTime& f, const FlightRules& r) {
   Particle q = p;
   const double g = r.gravity, k = r.drag, t = f.t;
   if (k == 0.0) {
@@ -101,45 +102,43 @@ std::size_t SampleClock::bytes() const {
   return b;
 }
 
-FlightEnd fly(Particle& p, double duration, const SprayGround& ground, const FlightRules& rules, SampleClock* clock,
-              double ceiling) {
-  FlightEnd end;
-  if (!ground.inside(p.x, p.y)) {
-    end.fate = FlightEnd::Fate::lost;
-    return end;
-  }
-  const bool clocked_here = clock != nullptr && clock->duration() == duration;
-  // Samples every half column of horizontal travel (the horizontal speed only falls); counted
-  // only once the flight may land, where the end of the flight does not depend on it.
+namespace {
+
+/// The samples a flight takes, every half column of horizontal travel (the horizontal speed
+/// only falls), and their drag factors if the clock keeps them (else null: computed each).
+struct Sampling {
   int samples = 0;
   const FlightTime* clocked = nullptr;
-  const auto count_samples = [&] {
-    const double travel = std::sqrt(p.vx * p.vx + p.vy * p.vy) * duration;
-    samples = static_cast<int>(std::min(4096.0, std::ceil(travel / (0.5 * ground.cell())))) + 1;
-    clocked = clocked_here ? clock->row(samples) : nullptr;
-  };
-  const auto sample = [&](int m) {
-    if (clocked != nullptr) return clocked[m - 1];
-    return flight_time(duration * static_cast<double>(m) / static_cast<double>(samples), rules);
-  };
-  const bool known_end = clocked_here && clock->ends_at_end(p.vx, p.vy);
-  if (!known_end) count_samples();
-  const Particle last = advanced(p, known_end ? clock->end() : sample(samples), rules);
-  if (clear_of_ground(p, last, ground, ceiling)) {  // cannot land this time: what the samples would all find
-    p = last;
-    if (p.age > rules.max_flight) end.fate = FlightEnd::Fate::lost;
-    return end;
-  }
-  if (known_end) count_samples();
+};
+
+/// `clock`: the clock of this flight's duration, or null.
+Sampling count_samples(const Particle& p, double duration, const SprayGround& ground, SampleClock* clock) {
+  const double travel = std::sqrt(p.vx * p.vx + p.vy * p.vy) * duration;
+  const int samples = static_cast<int>(std::min(4096.0, std::ceil(travel / (0.5 * ground.cell())))) + 1;
+  return {samples, clock != nullptr ? clock->row(samples) : nullptr};
+}
+
+/// The m-th sample time (1..samples) of a flight of `duration` seconds.
+FlightTime sample_time(const Sampling& s, int m, double duration, const FlightRules& rules) {
+  if (s.clocked != nullptr) return s.clocked[m - 1];
+  return flight_time(duration * static_cast<double>(m) / static_cast<double>(s.samples), rules);
+}
+
+/// A flight that may land: its path sampled against the ground, from p (inside the region)
+/// to `last` (its state at the last sample). Out of fly() so that the flights that cannot
+/// land (most of them) pay for none of it.
+FlightEnd sampled(Particle& p, const Particle& last, double duration, const Sampling& s, const SprayGround& ground,
+                  const FlightRules& rules) {
+  FlightEnd end;
   Particle before = p;
   double above = clearance(p, ground);
   if (!(above > 0.0)) {  // starts in the soil: lands where it is
     end = {FlightEnd::Fate::landed, ground.column_i(p.x), ground.column_j(p.y)};
     return end;
   }
-  for (int m = 1; m <= samples; ++m) {
-    const FlightTime at = sample(m);
-    const Particle now = m == samples ? last : advanced(p, at, rules);
+  for (int m = 1; m <= s.samples; ++m) {
+    const FlightTime at = sample_time(s, m, duration, rules);
+    const Particle now = m == s.samples ? last : advanced(p, at, rules);
     if (!ground.inside(now.x, now.y)) {
       p = now;
       end.fate = FlightEnd::Fate::lost;
@@ -147,7 +146,7 @@ FlightEnd fly(Particle& p, double duration, const SprayGround& ground, const Fli
     }
     const double h = clearance(now, ground);
     if (!(h > 0.0)) {
-      const double t0 = duration * static_cast<double>(m - 1) / static_cast<double>(samples);
+      const double t0 = duration * static_cast<double>(m - 1) / static_cast<double>(s.samples);
       const double cut = t0 + (at.t - t0) * (above / (above - h));
       p = advanced(p, flight_time(cut, rules), rules);
       end = {FlightEnd::Fate::landed, ground.column_i(p.x), ground.column_j(p.y)};
@@ -159,6 +158,31 @@ FlightEnd fly(Particle& p, double duration, const SprayGround& ground, const Fli
   p = before;
   if (p.age > rules.max_flight) end.fate = FlightEnd::Fate::lost;
   return end;
+}
+
+}  // namespace
+
+FlightEnd fly(Particle& p, double duration, const SprayGround& ground, const FlightRules& rules, SampleClock* clock,
+              double ceiling) {
+  FlightEnd end;
+  if (!ground.inside(p.x, p.y)) {
+    end.fate = FlightEnd::Fate::lost;
+    return end;
+  }
+  SampleClock* const here = clock != nullptr && clock->duration() == duration ? clock : nullptr;
+  // The samples are counted only once the flight may land, where the end of the flight does
+  // not depend on them.
+  const bool known_end = here != nullptr && here->ends_at_end(p.vx, p.vy);
+  Sampling s;
+  if (!known_end) s = count_samples(p, duration, ground, here);
+  const Particle last = advanced(p, known_end ? here->end() : sample_time(s, s.samples, duration, rules), rules);
+  if (clear_of_ground(p, last, ground, ceiling)) {  // cannot land this time: what the samples would all find
+    p = last;
+    if (p.age > rules.max_flight) end.fate = FlightEnd::Fate::lost;
+    return end;
+  }
+  if (known_end) s = count_samples(p, duration, ground, here);
+  return sampled(p, last, duration, s, ground, rules);
 }
 
 }  // namespace shore::terrain

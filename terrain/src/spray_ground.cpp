@@ -7,6 +7,7 @@ namespace shore::terrain {
 
 SprayGround::SprayGround(TileStore& store, const TerrainSettings& s)
     : store_(store),
+      index_(store),
       tops_(store),
       n_(store.n()),
       cell_(s.cell),
@@ -20,51 +21,29 @@ SprayGround::SprayGround(TileStore& store, const TerrainSettings& s)
       y_min_(s.spray.y_min),
       y_max_(s.spray.y_max) {}
 
-// The quotients a column index rounds, by a multiplication (within a few ulps of the
-// division column_i makes): truncated, each lies within a column of its nearest integer, so
-// two columns on each side cover the box's columns and their neighbours.
-bool SprayGround::columns_around(double x0, double y0, double x1, double y1, std::int64_t margin,
-                                 std::int64_t (&c)[4]) const {
-  const double q[4] = {(x0 - origin_x_) * inverse_cell_, (y0 - origin_y_) * inverse_cell_,
-                       (x1 - origin_x_) * inverse_cell_, (y1 - origin_y_) * inverse_cell_};
-  constexpr double kFar = 1e15;  // columns: beyond, no bound is worth it
-  for (int k = 0; k < 4; ++k) {
-    if (!(std::abs(q[k]) < kFar)) return false;
-    c[k] = static_cast<std::int64_t>(q[k]) + (k < 2 ? -margin : margin);
-  }
-  return true;
-}
-
-double SprayGround::top_bound_over(double x0, double y0, double x1, double y1) const {
-  std::int64_t c[4];
-  if (!columns_around(x0, y0, x1, y1, 2, c)) return std::numeric_limits<double>::infinity();
-  return tops_.bound(c[0], c[1], c[2], c[3]);
-}
-
 void SprayGround::cover(double x0, double y0, double x1, double y1) {
   std::int64_t c[4];
   if (columns_around(x0, y0, x1, y1, 3, c)) tops_.cover(c[0], c[1], c[2], c[3]);
 }
 
 double SprayGround::height_looked_up(std::int64_t i, std::int64_t j) const {
-  const TileKey key = store_.key_of(i, j);
-  const Tile* t = store_.find(key);
+  const TileKey key = index_.key_of(i, j);
+  SeenTile& seen = seen_[seen_slot(key)];
+  const Tile* t = seen.tile != nullptr && seen.tx == key.tx && seen.ty == key.ty ? seen.tile : store_.find(key);
   if (t == nullptr) return store_.base_at(i, j);
+  seen = {key.tx, key.ty, t};
   last_ = t;
   last_i0_ = key.tx * n_, last_j0_ = key.ty * n_;
-  return t->height[store_.local(i, j)];
+  return t->height[static_cast<std::size_t>((j - last_j0_) * n_ + (i - last_i0_))];
 }
 
-double SprayGround::set(std::int64_t i, std::int64_t j, Tile& t, std::size_t k, double height) {
+double SprayGround::set(std::int64_t i, std::int64_t j, const TileKey& key, Tile& t, std::size_t k, double height) {
   const double before = t.height[k];
   if (height == before) return 0.0;
   t.height[k] = height;
   const double moved = height - before;
   t.sinkage[k] -= std::abs(moved);
-  const int n = store_.n();
-  const int li = static_cast<int>(k % static_cast<std::size_t>(n)),
-            lj = static_cast<int>(k / static_cast<std::size_t>(n));
-  const TileKey key = store_.key_of(i, j);
+  const int li = static_cast<int>(i - key.tx * n_), lj = static_cast<int>(j - key.ty * n_);
   if (moved > 0.0) tops_.raised(i, j, height);
   store_.mark_changed(key, t, li, lj, li, lj);
   return moved * area_;
@@ -72,18 +51,20 @@ double SprayGround::set(std::int64_t i, std::int64_t j, Tile& t, std::size_t k, 
 
 double SprayGround::take(std::int64_t i, std::int64_t j, double depth) {
   if (!(depth > 0.0)) return 0.0;
-  Tile& t = store_.tile(store_.key_of(i, j));
-  const std::size_t k = store_.local(i, j);
+  const TileKey key = index_.key_of(i, j);
+  Tile& t = store_.tile(key);
+  const std::size_t k = index_.local(i, j);
   const double top = t.height[k], bed = t.base[k] - soil_depth_;
   if (!(top > bed)) return 0.0;
-  return -set(i, j, t, k, std::max(top - depth, bed));
+  return -set(i, j, key, t, k, std::max(top - depth, bed));
 }
 
 double SprayGround::lay(std::int64_t i, std::int64_t j, double volume) {
   if (!(volume > 0.0)) return 0.0;
-  Tile& t = store_.tile(store_.key_of(i, j));
-  const std::size_t k = store_.local(i, j);
-  return set(i, j, t, k, t.height[k] + volume / area_);
+  const TileKey key = index_.key_of(i, j);
+  Tile& t = store_.tile(key);
+  const std::size_t k = index_.local(i, j);
+  return set(i, j, key, t, k, t.height[k] + volume / area_);
 }
 
 }  // namespace shore::terrain

@@ -6,12 +6,15 @@
 // the old one (as for deposits, stage "loosen" of the pipeline).
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 
 #include "shore/terrain/terrain.h"
+#include "spray_tile_index.h"
 #include "spray_tops.h"
 #include "tile_store.h"
 
@@ -39,7 +42,12 @@ class SprayGround {
   }
   /// An upper bound of the soil top of every column nearest a point of the box
   /// [x0, x1] x [y0, y1], and of the columns next to those (SoilTops::bound).
-  [[nodiscard]] double top_bound_over(double x0, double y0, double x1, double y1) const;
+  /// Inline: asked for most flights that come below the ceiling.
+  [[nodiscard]] double top_bound_over(double x0, double y0, double x1, double y1) const {
+    std::int64_t c[4];
+    if (!columns_around(x0, y0, x1, y1, 2, c)) return std::numeric_limits<double>::infinity();
+    return tops_.bound(c[0], c[1], c[2], c[3]);
+  }
   /// Where top_bound_over will mostly be asked this step: the box [x0, x1] x [y0, y1]
   /// (elsewhere it answers +infinity).
   void cover(double x0, double y0, double x1, double y1);
@@ -61,12 +69,24 @@ class SprayGround {
   double lay(std::int64_t i, std::int64_t j, double volume);
 
  private:
-  /// Sets the column's height (its tile created if need be), lowers its sinkage by the
-  /// height moved and marks it changed; returns the m^3 the height moved by (signed).
-  double set(std::int64_t i, std::int64_t j, Tile& t, std::size_t k, double height);
+  /// Sets the column's height (in its tile t of this key, at local index k), lowers its
+  /// sinkage by the height moved and marks it changed; returns the m^3 the height moved by
+  /// (signed).
+  double set(std::int64_t i, std::int64_t j, const TileKey& key, Tile& t, std::size_t k, double height);
   /// The columns whose quotients (x - origin) / cell truncate to those of the box's
   /// corners, widened by `margin`: {i0, j0, i1, j1}. False if the box is too far out.
-  bool columns_around(double x0, double y0, double x1, double y1, std::int64_t margin, std::int64_t (&c)[4]) const;
+  /// By a multiplication (within a few ulps of the division column_i makes): truncated, each
+  /// quotient lies within a column of its nearest integer, so two columns on each side cover
+  /// the box's columns and their neighbours.
+  bool columns_around(double x0, double y0, double x1, double y1, std::int64_t margin, std::int64_t (&c)[4]) const {
+    const double qx0 = (x0 - origin_x_) * inverse_cell_, qy0 = (y0 - origin_y_) * inverse_cell_;
+    const double qx1 = (x1 - origin_x_) * inverse_cell_, qy1 = (y1 - origin_y_) * inverse_cell_;
+    constexpr double kFar = 1e15;  // columns: beyond, no bound is worth it
+    if (!(std::abs(qx0) < kFar && std::abs(qy0) < kFar && std::abs(qx1) < kFar && std::abs(qy1) < kFar)) return false;
+    c[0] = static_cast<std::int64_t>(qx0) - margin, c[1] = static_cast<std::int64_t>(qy0) - margin;
+    c[2] = static_cast<std::int64_t>(qx1) + margin, c[3] = static_cast<std::int64_t>(qy1) + margin;
+    return true;
+  }
   /// height() through the tile store, keeping the tile found.
   double height_looked_up(std::int64_t i, std::int64_t j) const;
   /// nearest(d / cell_) by a multiplication where that gives the same integer: d * (1 /
@@ -96,8 +116,21 @@ class SprayGround {
     if (rest <= -0.5) --k;
     return k;
   }
+  /// A tile found this step, kept in seen_ by the low bits of its key.
+  struct SeenTile {
+    std::int64_t tx = 0, ty = 0;
+    const Tile* tile = nullptr;
+  };
+  [[nodiscard]] static std::size_t seen_slot(const TileKey& key) {
+    return static_cast<std::size_t>((key.tx & 3) | ((key.ty & 3) << 2));
+  }
   TileStore& store_;
+  TileIndex index_;
   SoilTops tops_;
+  /// Flights in different tiles take turns at height(): each would miss last_ and hash its
+  /// tile again (tiles are never released during a spray step, so the pointers stay good;
+  /// a column with no tile is still looked up each time).
+  mutable std::array<SeenTile, 16> seen_{};
   std::int64_t n_;
   mutable const Tile* last_ = nullptr;
   mutable std::int64_t last_i0_ = 0, last_j0_ = 0;  ///< last_'s first column

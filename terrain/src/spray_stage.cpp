@@ -2,11 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <numbers>
 #include <utility>
 
 #include "capacity_bytes.h"
 #include "shore/core/det_math.h"
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace shore::terrain {
 
@@ -24,13 +29,13 @@ void Spray::fly_all(SprayGround& ground, const FlightRules& rules, double dt, St
   cover_flights(ground, dt);
   std::size_t kept = 0;
   for (std::size_t k = 0; k < state.particles.size(); ++k) {  // oldest first; landings raise columns in this order
-    Particle p = state.particles[k];
+    Particle& p = state.particles[k];  // moved in place (kept <= k: no particle still to fly is overwritten)
     // the ceiling as raised by the landings so far
     const FlightEnd end = fly(p, dt, ground, rules, &clock_, ground.ceiling(state.particles.size()));
-    if (end.fate == FlightEnd::Fate::flying)
-      state.particles[kept++] = p;
-    else
+    if (end.fate != FlightEnd::Fate::flying)
       land(ground, p, end, report);
+    else if (kept++ != k)
+      state.particles[kept - 1] = p;
   }
   state.particles.resize(kept);
 }
@@ -39,11 +44,29 @@ void Spray::fly_all(SprayGround& ground, const FlightRules& rules, double dt, St
 void Spray::cover_flights(SprayGround& ground, double dt) const {
   if (state.particles.empty()) return;
   double x0 = state.particles[0].x, x1 = x0, y0 = state.particles[0].y, y1 = y0;
+#if defined(__SSE2__)
+  // x and y side by side, the same operations: _mm_min_pd(v, m) is v < m ? v : m, as
+  // std::min(m, v); _mm_max_pd(v, m) is v > m ? v : m, as std::max(m, v); clearing the
+  // sign bit is std::abs.
+  static_assert(offsetof(Particle, y) == offsetof(Particle, x) + sizeof(double) &&
+                offsetof(Particle, vy) == offsetof(Particle, vx) + sizeof(double));
+  const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff)), step = _mm_set1_pd(dt);
+  __m128d low = _mm_set_pd(y0, x0), high = low;
+  for (const Particle& p : state.particles) {
+    const __m128d at = _mm_loadu_pd(&p.x), reach = _mm_mul_pd(_mm_and_pd(_mm_loadu_pd(&p.vx), magnitude), step);
+    low = _mm_min_pd(_mm_sub_pd(at, reach), low);
+    high = _mm_max_pd(_mm_add_pd(at, reach), high);
+  }
+  double lo[2], hi[2];
+  _mm_storeu_pd(lo, low), _mm_storeu_pd(hi, high);
+  x0 = lo[0], y0 = lo[1], x1 = hi[0], y1 = hi[1];
+#else
   for (const Particle& p : state.particles) {
     const double dx = std::abs(p.vx) * dt, dy = std::abs(p.vy) * dt;
     x0 = std::min(x0, p.x - dx), x1 = std::max(x1, p.x + dx);
     y0 = std::min(y0, p.y - dy), y1 = std::max(y1, p.y + dy);
   }
+#endif
   ground.cover(x0, y0, x1, y1);
 }
 

@@ -4,6 +4,10 @@
 #include <cmath>
 #include <limits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace shore::terrain {
 
 void SoilTops::cover(std::int64_t i0, std::int64_t j0, std::int64_t i1, std::int64_t j1) {
@@ -17,8 +21,7 @@ void SoilTops::cover(std::int64_t i0, std::int64_t j0, std::int64_t i1, std::int
   ceiling_ = std::numeric_limits<double>::quiet_NaN();
 }
 
-double SoilTops::ceiling(std::int64_t most_columns) const {
-  if (!std::isnan(ceiling_)) return ceiling_;
+double SoilTops::compute_ceiling(std::int64_t most_columns) const {
   ceiling_ = std::numeric_limits<double>::infinity();
   if (nbx_ == 0 || (nbx_ * nby_) << (2 * shift_) > most_columns) return ceiling_;
   double top = -std::numeric_limits<double>::infinity();
@@ -27,38 +30,57 @@ double SoilTops::ceiling(std::int64_t most_columns) const {
   return ceiling_ = top;
 }
 
-double SoilTops::block_bound(std::int64_t bx, std::int64_t by) const {
-  double& b = block_[static_cast<std::size_t>(by * nbx_ + bx)];
-  if (!std::isnan(b)) return b;
-  const int side = 1 << shift_;
-  const ColumnRect r{(bx0_ + bx) << shift_, (by0_ + by) << shift_, side, side};
+namespace {
+
+/// The highest of `side` rows of `side` heights (side a multiple of 8) starting `stride`
+/// apart: eight running maxima side by side (two to a vector register where SSE2 is
+/// there), then the highest of those. The maximum is exact whatever the grouping (a NaN is
+/// skipped as before); only which of two equal zeros is kept may differ, and the bound is
+/// only ever compared.
+double highest(const double* first, std::size_t stride, int side) {
+  constexpr int kLanes = 8;
+  double lane[kLanes];
+#if defined(__SSE2__)
+  const __m128d lowest = _mm_set1_pd(-std::numeric_limits<double>::infinity());
+  __m128d m0 = lowest, m1 = lowest, m2 = lowest, m3 = lowest;  // named: kept in registers
+  for (int y = 0; y < side; ++y) {
+    const double* row = first + static_cast<std::size_t>(y) * stride;
+    for (int x = 0; x < side; x += kLanes) {  // _mm_max_pd(a, b): a > b ? a : b, as below
+      m0 = _mm_max_pd(_mm_loadu_pd(row + x), m0);
+      m1 = _mm_max_pd(_mm_loadu_pd(row + x + 2), m1);
+      m2 = _mm_max_pd(_mm_loadu_pd(row + x + 4), m2);
+      m3 = _mm_max_pd(_mm_loadu_pd(row + x + 6), m3);
+    }
+  }
+  _mm_storeu_pd(lane, m0), _mm_storeu_pd(lane + 2, m1), _mm_storeu_pd(lane + 4, m2), _mm_storeu_pd(lane + 6, m3);
+#else
+  for (double& l : lane) l = -std::numeric_limits<double>::infinity();
+  for (int y = 0; y < side; ++y) {
+    const double* row = first + static_cast<std::size_t>(y) * stride;
+    for (int x = 0; x < side; x += kLanes)
+      for (int l = 0; l < kLanes; ++l) lane[l] = row[x + l] > lane[l] ? row[x + l] : lane[l];
+  }
+#endif
   double top = -std::numeric_limits<double>::infinity();
+  for (const double l : lane) top = l > top ? l : top;
+  return top;
+}
+
+}  // namespace
+
+double SoilTops::compute_block(std::int64_t bx, std::int64_t by) const {
+  double& b = block_[static_cast<std::size_t>(by * nbx_ + bx)];
+  const int side = 1 << shift_;  // shift_ >= 3: a multiple of 8
+  const ColumnRect r{(bx0_ + bx) << shift_, (by0_ + by) << shift_, side, side};
   const int n = store_.n();
   if (n % side == 0) {  // the block lies in one tile: its rows straight from the tile
-    const TileKey key = store_.key_of(r.i0, r.j0);
-    if (const Tile* t = store_.find(key); t != nullptr) {
-      const std::size_t first = store_.local(r.i0, r.j0);
-      for (int y = 0; y < side; ++y) {
-        const double* row = t->height.data() + first + static_cast<std::size_t>(y) * static_cast<std::size_t>(n);
-        for (int x = 0; x < side; ++x) top = row[x] > top ? row[x] : top;
-      }
-      return b = top;
-    }
+    const TileKey key = index_.key_of(r.i0, r.j0);
+    if (const Tile* t = store_.find(key); t != nullptr)
+      return b = highest(t->height.data() + index_.local(r.i0, r.j0), static_cast<std::size_t>(n), side);
   }
   heights_.resize(static_cast<std::size_t>(side) * static_cast<std::size_t>(side));
   store_.read(r, heights_, false);
-  for (const double h : heights_) top = h > top ? h : top;
-  return b = top;
-}
-
-double SoilTops::bound(std::int64_t i0, std::int64_t j0, std::int64_t i1, std::int64_t j1) const {
-  const std::int64_t x0 = (i0 >> shift_) - bx0_, x1 = (i1 >> shift_) - bx0_;
-  const std::int64_t y0 = (j0 >> shift_) - by0_, y1 = (j1 >> shift_) - by0_;
-  if (x0 < 0 || y0 < 0 || x1 >= nbx_ || y1 >= nby_) return std::numeric_limits<double>::infinity();
-  double top = -std::numeric_limits<double>::infinity();
-  for (std::int64_t y = y0; y <= y1; ++y)
-    for (std::int64_t x = x0; x <= x1; ++x) top = std::max(top, block_bound(x, y));
-  return top;
+  return b = highest(heights_.data(), static_cast<std::size_t>(side), side);
 }
 
 void SoilTops::raised(std::int64_t i, std::int64_t j, double height) {

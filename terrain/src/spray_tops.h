@@ -7,33 +7,56 @@
 // bounds live for one spray step, whose SprayGround owns them), raised whenever a column in
 // it is raised (SprayGround::set); a column lowered leaves the bound an upper bound.
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
+#include "spray_tile_index.h"
 #include "tile_store.h"
 
 namespace shore::terrain {
 
 class SoilTops {
  public:
-  explicit SoilTops(const TileStore& store) : store_(store) {}
+  explicit SoilTops(const TileStore& store) : store_(store), index_(store) {}
   /// The window: columns [i0, i1] x [j0, j1]. Blocks have a side of 8 columns or more, so
   /// that at most 64 x 64 of them cover it (a few kB, allocated here).
   void cover(std::int64_t i0, std::int64_t j0, std::int64_t i1, std::int64_t j1);
   /// An upper bound of the soil top over columns [i0, i1] x [j0, j1] (i0 <= i1, j0 <= j1);
-  /// +infinity unless the window holds them.
-  [[nodiscard]] double bound(std::int64_t i0, std::int64_t j0, std::int64_t i1, std::int64_t j1) const;
+  /// +infinity unless the window holds them. Asked for most flights that come near the soil,
+  /// hence inline.
+  [[nodiscard]] double bound(std::int64_t i0, std::int64_t j0, std::int64_t i1, std::int64_t j1) const {
+    const std::int64_t x0 = (i0 >> shift_) - bx0_, x1 = (i1 >> shift_) - bx0_;
+    const std::int64_t y0 = (j0 >> shift_) - by0_, y1 = (j1 >> shift_) - by0_;
+    if (x0 < 0 || y0 < 0 || x1 >= nbx_ || y1 >= nby_) return std::numeric_limits<double>::infinity();
+    double top = -std::numeric_limits<double>::infinity();
+    for (std::int64_t y = y0; y <= y1; ++y)
+      for (std::int64_t x = x0; x <= x1; ++x) top = std::max(top, block_bound(x, y));
+    return top;
+  }
   /// An upper bound of the soil top over the whole window (+infinity without one): all its
   /// blocks, computed on the first call if the window holds no more than `most_columns`.
-  [[nodiscard]] double ceiling(std::int64_t most_columns) const;
+  /// Asked once per particle, so the answer once known costs no call.
+  [[nodiscard]] double ceiling(std::int64_t most_columns) const {
+    return std::isnan(ceiling_) ? compute_ceiling(most_columns) : ceiling_;
+  }
   /// The column (i, j) now has this height.
   void raised(std::int64_t i, std::int64_t j, double height);
 
  private:
-  [[nodiscard]] double block_bound(std::int64_t bx, std::int64_t by) const;
+  [[nodiscard]] double compute_ceiling(std::int64_t most_columns) const;
+  /// The block's bound, computed on first use.
+  [[nodiscard]] double block_bound(std::int64_t bx, std::int64_t by) const {
+    const double b = block_[static_cast<std::size_t>(by * nbx_ + bx)];
+    return std::isnan(b) ? compute_block(bx, by) : b;
+  }
+  [[nodiscard]] double compute_block(std::int64_t bx, std::int64_t by) const;
 
   const TileStore& store_;
+  TileIndex index_;
   int shift_ = 3;                        ///< a block is 2^shift_ columns on a side
   std::int64_t bx0_ = 0, by0_ = 0;       ///< the window's first block (column >> shift_)
   std::int64_t nbx_ = 0, nby_ = 0;       ///< blocks across and along; 0: no window

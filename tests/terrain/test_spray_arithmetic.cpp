@@ -2,9 +2,9 @@
 // terrain/src): the column a point falls in (llround of the division), a body-frame cube's
 // key (floor of the division), the slow-piece test (the root), the particles a piece owes
 // (floor of the division plus a uniform number), the index of a body's pieces (bisection of
-// the sorted list), and the end of a flight whatever its number of samples. The points are
-// the hard ones: exact multiples of the cell and of half cells, a few ulps either side, and
-// random ones.
+// the sorted list), the end of a flight whatever its number of samples, and a column's tile
+// and place in it by shifts. The points are the hard ones: exact multiples of the cell and
+// of half cells, a few ulps either side, and random ones.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,6 +17,7 @@
 #include "spray_flight.h"
 #include "spray_ground.h"
 #include "spray_motion.h"
+#include "spray_tile_index.h"
 #include "tile_store.h"
 
 using namespace shore::terrain;
@@ -169,4 +170,24 @@ TEST(SprayArithmetic, AFlightEndsAtTheDurationWhereTheClockSaysSo) {
         }
       EXPECT_GT(claimed, 0) << "the clock knows the end of slow flights, dt " << dt;
     }
+}
+
+// Spray's tile keys and local indices (shifts and masks for a power-of-two tile side) are
+// the store's (floor divisions), on both sides of zero and for a side that is no power of two.
+TEST(SprayArithmetic, TileKeysAndLocalIndicesAreTheStoresOwn) {
+  for (const int side : {64, 16, 4, 48, 100}) {
+    TerrainSettings s;
+    s.tile_columns = side;
+    const TileStore store(s);
+    const TileIndex index(store);
+    for (std::int64_t i = -3 * side - 5; i <= 3 * side + 5; i += 7)
+      for (std::int64_t j = -2 * side - 3; j <= 2 * side + 3; j += 5) {
+        ASSERT_EQ(index.key_of(i, j), store.key_of(i, j)) << side << " " << i << " " << j;
+        ASSERT_EQ(index.local(i, j), store.local(i, j)) << side << " " << i << " " << j;
+      }
+    for (const std::int64_t far : {std::int64_t{1} << 40, -(std::int64_t{1} << 40) - 1}) {
+      EXPECT_EQ(index.key_of(far, -far), store.key_of(far, -far)) << side;
+      EXPECT_EQ(index.local(far, -far), store.local(far, -far)) << side;
+    }
+  }
 }
