@@ -139,10 +139,13 @@ class PatchBuilder {
     const std::size_t stride = static_cast<std::size_t>(env_.nx) + 2;
     open_sides_.resize(env_.lower.size());
     for (int y = 0; y < env_.ny; ++y) {
-      const unsigned char* mid = covered_.data() + static_cast<std::size_t>(y + 1) * stride + 1;
+      // Rows y - 1, y and y + 1 of the window in the ring's frame (column x at index x + 1).
+      const unsigned char* below = covered_.data() + static_cast<std::size_t>(y) * stride;
+      const unsigned char* row = below + stride;
+      const unsigned char* above = row + stride;
       for (int x = 0; x < env_.nx; ++x)
         open_sides_[static_cast<std::size_t>(y) * env_.nx + x] = static_cast<unsigned char>(
-            (mid[x + 1] ? 0 : 1) | (mid[x - 1] ? 0 : 2) | (mid[x + stride] ? 0 : 4) | (mid[x - stride] ? 0 : 8));
+            (row[x + 2] ? 0 : 1) | (row[x] ? 0 : 2) | (above[x + 1] ? 0 : 4) | (below[x + 1] ? 0 : 8));
     }
   }
   [[nodiscard]] double column_x(std::int64_t i) const { return s_.origin_x + static_cast<double>(i) * s_.cell; }
