@@ -1,11 +1,11 @@
 #include "soil_solver.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 
 #include "shore/core/det_math.h"
+#include "shore/core/floor_div.h"
 #include "shore/terrain/shear.h"
 
 namespace shore::bullet {
@@ -23,24 +23,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // the slides by 23-33 %.
 constexpr double kDampingRatio = 0.3;
 constexpr std::int64_t kKeyOffset = std::int64_t{1} << 27;
-
-std::int64_t floor_div(std::int64_t a, std::int64_t b) {
-  const std::int64_t q = a / b;
-  return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
-}
-
-/// floor(column / block size) for one block size: an arithmetic shift when the size is a
-/// power of two (the default 4), which spares a 64-bit division per element and use.
-struct BlockIndex {
-  std::int64_t size;
-  int shift = -1;
-  explicit BlockIndex(std::int64_t b) : size(b) {
-    if ((b & (b - 1)) == 0) shift = std::countr_zero(static_cast<std::uint64_t>(b));
-  }
-  [[nodiscard]] std::int64_t operator()(std::int64_t column) const {
-    return shift >= 0 ? column >> shift : floor_div(column, size);
-  }
-};
 
 /// Bottom elements are kind 0; walls 1 to 4 by the side they push from.
 int kind_of(const terrain::ContactElement& e) {
@@ -156,7 +138,7 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, const terr
                    std::span<const double> shear_displacement, int block_columns, std::vector<Block>& blocks) {
   blocks.clear();
   if (elements.empty()) return;
-  const BlockIndex block_of(std::max(1, block_columns));
+  const FloorDivider block_of(std::max(1, block_columns));
   std::int64_t bx0 = std::numeric_limits<std::int64_t>::max(), by0 = bx0;
   std::int64_t bx1 = std::numeric_limits<std::int64_t>::min(), by1 = bx1;
   for (const terrain::ContactElement& e : elements) {

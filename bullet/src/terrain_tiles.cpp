@@ -8,16 +8,10 @@
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 
 #include "shore/core/error.h"
+#include "shore/core/floor_div.h"
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
-
-namespace {
-std::int64_t floor_div(std::int64_t a, std::int64_t b) {
-  const std::int64_t q = a / b;
-  return (a % b != 0 && (a < 0) != (b < 0)) ? q - 1 : q;
-}
-}  // namespace
 
 void TerrainTilesSettings::validate() const {
   const Check c{"bullet.TerrainTilesSettings"};

@@ -3,15 +3,12 @@
 #include <algorithm>
 
 #include "shore/core/error.h"
+#include "shore/core/floor_div.h"
 
 namespace shore::mesh::detail {
 namespace {
 
-/// a / b rounded down and up (b != 0).
-std::int64_t floor_div(std::int64_t a, std::int64_t b) {
-  const std::int64_t q = a / b;
-  return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
-}
+/// a / b rounded up (b != 0).
 std::int64_t ceil_div(std::int64_t a, std::int64_t b) { return -floor_div(-a, b); }
 
 /// Columns [lo, hi] of row j inside the closed counter-clockwise lattice triangle q.

@@ -14,16 +14,11 @@
 #include <unordered_map>
 #include <vector>
 
+#include "shore/core/floor_div.h"
 #include "shore/terrain/height_source.h"
 #include "shore/terrain/terrain.h"
 
 namespace shore::terrain {
-
-/// a / b rounded toward -infinity (b > 0).
-[[nodiscard]] inline std::int64_t floor_div(std::int64_t a, std::int64_t b) {
-  const std::int64_t q = a / b;
-  return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
-}
 
 struct TileKey {
   std::int64_t tx = 0, ty = 0;
