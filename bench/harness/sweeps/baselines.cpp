@@ -10,6 +10,7 @@
 //   written), and against the memory floor (a STREAM-style triad in the same run).
 // - 1 against 2 threads for the soil step and the water kernel.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -24,6 +25,7 @@
 #include "shore/scenes/terrain_step_cases.h"
 #include "shore/scenes/water_kernel_cases.h"
 #include "shore/scenes/world.h"
+#include "shore/water/surface.h"
 #include "sweep.h"
 #include "sweep_util.h"
 
@@ -144,6 +146,33 @@ void envelope_vs_rays(const SweepContext& ctx, SweepResult& out) {
       "for these shapes; ray_vs_envelope_mean_abs_mm is the single-precision ray test's departure from it.");
 }
 
+/// The fast kernel case of scenes/water_kernel_cases.h (same surface, disturbance, dt and
+/// timing) with tiles of `tile` nodes per side instead of the default 32. Sleeping is off
+/// in these cases, so the tile is only the unit of work and of the gathered block: the
+/// results are the same bits for any tile side (tests/water/test_surface_tiles.cpp), and
+/// the difference in time is the kernel's fixed cost per tile and per tile row.
+scenes::KernelThroughput dense_tiles(scenes::KernelVariant v, int n, int threads, int tile, double min_s) {
+  water::SurfaceSettings s = scenes::kernel_case_settings(v, n, threads);
+  s.sleep.tile = tile;
+  water::Surface surf(s);
+  surf.disturb(water::Disturbance::point_height(0.5 * (n - 1), 0.5 * (n - 1), 3.0, 1.0));
+  surf.step(0.3);  // warm-up: first touch, workspace, the guard's first measure
+  scenes::KernelThroughput t;
+  const auto t0 = std::chrono::steady_clock::now();
+  double elapsed = 0.0;
+  do {
+    t.substeps = surf.step(0.3).substeps;
+    ++t.steps;
+    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  } while (elapsed < min_s || t.steps < 3);
+  t.variant = v;
+  t.n = n;
+  t.threads = threads;
+  t.seconds_per_step = elapsed / static_cast<double>(t.steps);
+  t.node_steps_per_second = static_cast<double>(n) * n / t.seconds_per_step;
+  return t;
+}
+
 /// The fast water kernel against the reference kernel, the memory floor, and 1 vs 2 threads.
 void water_kernels(const SweepContext& ctx, SweepResult& out) {
   namespace wb = scenes;
@@ -153,9 +182,9 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
   ctx.progress("triad bandwidth (float arrays of 128 MB), 1 and 2 threads");
   const double bw[3] = {0.0, wb::triad_bandwidth(std::size_t{1} << 25, 1, min_s),
                         wb::triad_bandwidth(std::size_t{1} << 25, 2, min_s)};
-  auto add = [&](const wb::KernelThroughput& r) {
+  auto add = [&](const wb::KernelThroughput& r, const std::string& suffix = "") {
     const double floor = wb::floor_node_steps_per_second(r.variant, bw[r.threads]);
-    t.add({wb::kernel_variant_name(r.variant), double(r.n), double(r.threads), r.seconds_per_step * 1e3,
+    t.add({wb::kernel_variant_name(r.variant) + suffix, double(r.n), double(r.threads), r.seconds_per_step * 1e3,
            r.node_steps_per_second, floor, r.node_steps_per_second / floor});
     return r;
   };
@@ -177,6 +206,20 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
               .op = ">=",
               .threshold = 5.0,
               .unit = "x"});
+  // The same cases with tiles of 128 (sleeping is off here, so only the unit of work
+  // changes, not the bits): how much of the default case is the fixed cost per tile row.
+  constexpr int kDenseTile = 128;
+  const std::string dense = "_tile" + std::to_string(kDenseTile);
+  ctx.progress("water 256^2: fast kernels with tiles of " + std::to_string(kDenseTile));
+  const wb::KernelThroughput fast256_dense =
+      add(dense_tiles(wb::KernelVariant::fast_3d, 256, 1, kDenseTile, min_s), dense);
+  const wb::KernelThroughput vfast256_dense =
+      add(dense_tiles(wb::KernelVariant::vertical_only, 256, 1, kDenseTile, min_s), dense);
+  out.figure("water.fast_vs_reference_256" + dense, fast256_dense.node_steps_per_second / ref256.node_steps_per_second,
+             "x (3-D, 256 x 256, 1 thread, tiles of 128 instead of the default 32; not the target's case)");
+  out.figure("water.fast_vs_reference_256_vertical" + dense,
+             vfast256_dense.node_steps_per_second / vref256.node_steps_per_second,
+             "x (vertical-only, 256 x 256, 1 thread, tiles of 128)");
 
   ctx.progress("water 2048^2: fast kernels against the memory floor, 1 and 2 threads");
   double fraction[3] = {0, 0, 0};
@@ -186,6 +229,15 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
     add(wb::measure_kernel_throughput(wb::KernelVariant::vertical_only, 2048, threads, min_s));
   }
   const int headline_threads = std::clamp(ctx.max_threads, 1, 2);
+  {
+    ctx.progress("water 2048^2: fast 3-D kernel with tiles of " + std::to_string(kDenseTile));
+    const wb::KernelThroughput r =
+        add(dense_tiles(wb::KernelVariant::fast_3d, 2048, headline_threads, kDenseTile, min_s), dense);
+    out.figure("water.memory_floor_ratio_2048" + dense,
+               r.node_steps_per_second / wb::floor_node_steps_per_second(r.variant, bw[headline_threads]),
+               "fraction of the triad floor (3-D, 2048 x 2048, " + std::to_string(headline_threads) +
+                   " thread(s), tiles of 128; not the target's case)");
+  }
   out.figure("water.memory_floor_ratio_2048", fraction[headline_threads],
              "fraction of the triad floor (3-D, 2048 x 2048, " + std::to_string(headline_threads) +
                  " thread(s), 65 B per node-step)");
