@@ -1,7 +1,8 @@
 // coupling: what the Bullet plugin costs per substep, and how right it is. Water: bodies
 // floating in a pool (shore::scenes::run_pool) against Archimedes' draft, across water
 // resolution and substep. Soil: the plugin's own time for one towed wheel (envelope, soil
-// step, tile update separately) and the four-wheel vehicle's real-time factor (the vehicle
+// step, tile update separately), what the settings that trade its accuracy for speed buy,
+// and the four-wheel vehicle's real-time factor (the vehicle
 // scene).
 #include <algorithm>
 #include <cmath>
@@ -212,6 +213,71 @@ void wheel_plugin_time(const SweepContext& ctx, SweepResult& out) {
       "the median plugin time is reported.");
 }
 
+/// The towed wheel's cost and accuracy against the settings that trade one for the other:
+/// the erosion pass cap, the contact solver's sweeps, the contact block size and spray.
+/// Each row is the tow phase (towed run minus held run) of the sand wheel at 1 cm, 1/240 s,
+/// one thread; the defaults run first and last, so drift of the machine's load shows.
+void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
+  struct Setting {
+    const char* name;
+    int erosion_passes, iterations, block_columns;
+    bool spray;
+  };
+  const terrain::TerrainSettings soil_defaults;
+  const bullet::SoilContactSettings contact_defaults;
+  const Setting defaults{"defaults", soil_defaults.max_erosion_passes, contact_defaults.iterations,
+                         contact_defaults.block_columns, true};
+  const std::vector<Setting> settings = {
+      defaults,
+      {"half the solver sweeps", defaults.erosion_passes, defaults.iterations / 2, defaults.block_columns, true},
+      {"erosion cap 2", 2, defaults.iterations, defaults.block_columns, true},
+      {"blocks twice as wide", defaults.erosion_passes, defaults.iterations, 2 * defaults.block_columns, true},
+      {"all three", 2, defaults.iterations / 2, 2 * defaults.block_columns, true},
+      {"all three, spray off", 2, defaults.iterations / 2, 2 * defaults.block_columns, false},
+      {"defaults (again)", defaults.erosion_passes, defaults.iterations, defaults.block_columns, true},
+  };
+  Table& t = out.table("coupling_wheel_settings",
+                       {"setting", "erosion_passes", "solver_iterations", "block_columns", "spray",
+                        "tow_whole_ms_per_substep", "vs_defaults", "sinkage_error_pct", "resistance_error_pct"});
+  const int repeats = ctx.quick ? 1 : 3;
+  double first_default = 0.0;
+  for (const Setting& g : settings) {
+    scenes::WheelCase c;
+    c.run.material = terrain::Material::sand();
+    c.run.cell = 0.01;
+    c.run.substep = 1.0 / 240;
+    c.run.threads = 1;
+    c.run.max_erosion_passes = g.erosion_passes;
+    c.run.contact.iterations = g.iterations;
+    c.run.contact.block_columns = g.block_columns;
+    c.run.spray.enabled = g.spray;
+    ctx.progress(std::string("towed wheel cost against settings: ") + g.name);
+    std::vector<double> ms;
+    scenes::WheelResult towed;
+    for (int k = 0; k < repeats; ++k) {
+      c.towed = true;
+      towed = scenes::run_wheel(c);
+      c.towed = false;
+      const scenes::WheelResult held = scenes::run_wheel(c);
+      const double n = std::max(1.0, double(towed.stats.substeps - held.stats.substeps));
+      ms.push_back(1e3 * (towed.stats.wall_seconds - held.stats.wall_seconds) / n);
+    }
+    std::sort(ms.begin(), ms.end());
+    const double median = ms[ms.size() / 2];
+    if (first_default == 0.0) first_default = median;
+    t.add({g.name, double(g.erosion_passes), double(g.iterations), double(g.block_columns), g.spray ? "on" : "off",
+           median, median / first_default, error_pct(towed.sinkage, towed.reference_sinkage),
+           error_pct(towed.resistance, towed.reference_resistance)});
+  }
+  out.note(
+      "Wheel cost against settings: the towed sand wheel of plugin.wheel_ms_per_substep (D 0.8 m, b 0.3 m, 4 kN, "
+      "1 cm, 1/240 s, one thread), its tow phase's whole step (Bullet + Shore, median of 3 towed/held pairs; 1 in "
+      "--quick) with the erosion pass cap (TerrainSettings::max_erosion_passes), the contact solver's sweeps "
+      "(SoilContactSettings::iterations), the contact block (block_columns) and spray changed from their "
+      "defaults, and the rolling sinkage and compaction resistance against Bekker's. vs_defaults is the time over "
+      "the first defaults row; the defaults run again last to show the machine's drift.");
+}
+
 void vehicle(const SweepContext& ctx, SweepResult& out) {
   ctx.progress("vehicle, 2 cm sand and mud, 1/240 s");
   const scenes::SceneType& scene = *scenes::find_scene("vehicle");
@@ -308,6 +374,7 @@ void drag_sweep(const SweepContext& ctx, SweepResult& out) {
 void run(const SweepContext& ctx, SweepResult& out) {
   drag_sweep(ctx, out);
   wheel_plugin_time(ctx, out);
+  wheel_cost_settings(ctx, out);
   vehicle(ctx, out);
   floating_sweep(ctx, out);
 }
