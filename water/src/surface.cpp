@@ -152,24 +152,27 @@ void Surface::State::rebuild_awake_list() {
 
 void Surface::State::refresh_edges(TileData& t, int parity) const {
   TileData::Edges& e = t.edges[static_cast<std::size_t>(parity)];
-  const auto put = [&](int side, int k, int i, int j) {
-    const std::size_t from = t.at(i, j, T), to = static_cast<std::size_t>(side * T + k);
-    e.z[to] = t.uz[from];
-    if (full) {
-      e.x[to] = t.ux[from];
-      e.y[to] = t.uy[from];
-      e.vx[to] = t.vx[from];
-      e.vy[to] = t.vy[from];
-      e.vz[to] = t.vz[from];
+  // Component by component, rows as plain copies (it runs for every tile and substep).
+  const std::size_t south = static_cast<std::size_t>(kernel::kSouth * T),
+                    north = static_cast<std::size_t>(kernel::kNorth * T);
+  const std::size_t west = static_cast<std::size_t>(kernel::kWest * T),
+                    east = static_cast<std::size_t>(kernel::kEast * T);
+  const std::size_t top = t.at(0, t.h - 1, T);
+  const auto edges = [&](const auto& from, auto& to) {
+    std::copy_n(from.data(), t.w, to.data() + south);
+    std::copy_n(from.data() + top, t.w, to.data() + north);
+    for (int j = 0; j < t.h; ++j) {
+      to[west + static_cast<std::size_t>(j)] = from[t.at(0, j, T)];
+      to[east + static_cast<std::size_t>(j)] = from[t.at(t.w - 1, j, T)];
     }
   };
-  for (int i = 0; i < t.w; ++i) {
-    put(kernel::kSouth, i, i, 0);
-    put(kernel::kNorth, i, i, t.h - 1);
-  }
-  for (int j = 0; j < t.h; ++j) {
-    put(kernel::kWest, j, 0, j);
-    put(kernel::kEast, j, t.w - 1, j);
+  edges(t.uz, e.z);
+  if (full) {
+    edges(t.ux, e.x);
+    edges(t.uy, e.y);
+    edges(t.vx, e.vx);
+    edges(t.vy, e.vy);
+    edges(t.vz, e.vz);
   }
 }
 
