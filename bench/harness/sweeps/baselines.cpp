@@ -146,42 +146,8 @@ void envelope_vs_rays(const SweepContext& ctx, SweepResult& out) {
       "for these shapes; ray_vs_envelope_mean_abs_mm is the single-precision ray test's departure from it.");
 }
 
-/// The fast kernel case of scenes/water_kernel_cases.h (same surface, disturbance, dt and
-/// timing loop) with tiles of `tile` nodes per side (the default is 32), timed in its steady
-/// state: two steps untimed, not one. The first touches the memory and makes the workspace;
-/// with threads > 1 the surface's pacer runs the first call on the team and the second on
-/// one thread to measure both (shore/core/pacer.h), and that serial call, timed, was a
-/// third of the 2048^2 case's 3 to 10 timed steps (a two-thread figure slowed towards the
-/// one-thread one). Later re-tries of the slower mode (every 16 calls and more) stay in.
-/// Sleeping is off in these cases, so the tile is only the unit of work and of the gathered
-/// block: the results are the same bits for any tile side
-/// (tests/water/test_surface_tiles.cpp), and the difference in time is the kernel's fixed
-/// cost per tile and per tile row.
 /// The default tile side (water::SleepSettings::tile): the targets' case.
 constexpr int kDefaultTile = water::SleepSettings{}.tile;
-
-scenes::KernelThroughput fast_case(scenes::KernelVariant v, int n, int threads, int tile, double min_s) {
-  water::SurfaceSettings s = scenes::kernel_case_settings(v, n, threads);
-  s.sleep.tile = tile;
-  water::Surface surf(s);
-  surf.disturb(water::Disturbance::point_height(0.5 * (n - 1), 0.5 * (n - 1), 3.0, 1.0));
-  surf.step(0.3);  // warm-up: first touch, workspace, the guard's first measure, the pacer's parallel call
-  surf.step(0.3);  // the pacer's serial call
-  scenes::KernelThroughput t;
-  const auto t0 = std::chrono::steady_clock::now();
-  double elapsed = 0.0;
-  do {
-    t.substeps = surf.step(0.3).substeps;
-    ++t.steps;
-    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  } while (elapsed < min_s || t.steps < 3);
-  t.variant = v;
-  t.n = n;
-  t.threads = threads;
-  t.seconds_per_step = elapsed / static_cast<double>(t.steps);
-  t.node_steps_per_second = static_cast<double>(n) * n / t.seconds_per_step;
-  return t;
-}
 
 /// The fast water kernel against the reference kernel, the memory floor, and 1 vs 2 threads.
 void water_kernels(const SweepContext& ctx, SweepResult& out) {
@@ -199,10 +165,12 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
     return r;
   };
   ctx.progress("water 256^2: fast vs reference kernels, 1 thread");
-  const wb::KernelThroughput fast256 = add(fast_case(wb::KernelVariant::fast_3d, 256, 1, kDefaultTile, min_s));
+  const wb::KernelThroughput fast256 =
+      add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 256, 1, min_s, kDefaultTile));
   const wb::KernelThroughput ref256 =
       add(wb::measure_kernel_throughput(wb::KernelVariant::reference_3d, 256, 1, min_s));
-  const wb::KernelThroughput vfast256 = add(fast_case(wb::KernelVariant::vertical_only, 256, 1, kDefaultTile, min_s));
+  const wb::KernelThroughput vfast256 =
+      add(wb::measure_kernel_throughput(wb::KernelVariant::vertical_only, 256, 1, min_s, kDefaultTile));
   const wb::KernelThroughput vref256 =
       add(wb::measure_kernel_throughput(wb::KernelVariant::reference_vertical, 256, 1, min_s));
   const double speedup = fast256.node_steps_per_second / ref256.node_steps_per_second;
@@ -221,9 +189,9 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
   const std::string dense = "_tile" + std::to_string(kDenseTile);
   ctx.progress("water 256^2: fast kernels with tiles of " + std::to_string(kDenseTile));
   const wb::KernelThroughput fast256_dense =
-      add(fast_case(wb::KernelVariant::fast_3d, 256, 1, kDenseTile, min_s), dense);
+      add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 256, 1, min_s, kDenseTile), dense);
   const wb::KernelThroughput vfast256_dense =
-      add(fast_case(wb::KernelVariant::vertical_only, 256, 1, kDenseTile, min_s), dense);
+      add(wb::measure_kernel_throughput(wb::KernelVariant::vertical_only, 256, 1, min_s, kDenseTile), dense);
   out.figure("water.fast_vs_reference_256" + dense, fast256_dense.node_steps_per_second / ref256.node_steps_per_second,
              "x (3-D, 256 x 256, 1 thread, tiles of 128 instead of the default 32; not the target's case)");
   out.figure("water.fast_vs_reference_256_vertical" + dense,
@@ -233,15 +201,16 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
   ctx.progress("water 2048^2: fast kernels against the memory floor, 1 and 2 threads");
   double fraction[3] = {0, 0, 0};
   for (int threads : {1, 2}) {
-    const wb::KernelThroughput r = add(fast_case(wb::KernelVariant::fast_3d, 2048, threads, kDefaultTile, min_s));
+    const wb::KernelThroughput r =
+        add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 2048, threads, min_s, kDefaultTile));
     fraction[threads] = r.node_steps_per_second / wb::floor_node_steps_per_second(r.variant, bw[threads]);
-    add(fast_case(wb::KernelVariant::vertical_only, 2048, threads, kDefaultTile, min_s));
+    add(wb::measure_kernel_throughput(wb::KernelVariant::vertical_only, 2048, threads, min_s, kDefaultTile));
   }
   const int headline_threads = std::clamp(ctx.max_threads, 1, 2);
   {
     ctx.progress("water 2048^2: fast 3-D kernel with tiles of " + std::to_string(kDenseTile));
-    const wb::KernelThroughput r =
-        add(fast_case(wb::KernelVariant::fast_3d, 2048, headline_threads, kDenseTile, min_s), dense);
+    const wb::KernelThroughput r = add(
+        wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 2048, headline_threads, min_s, kDenseTile), dense);
     out.figure("water.memory_floor_ratio_2048" + dense,
                r.node_steps_per_second / wb::floor_node_steps_per_second(r.variant, bw[headline_threads]),
                "fraction of the triad floor (3-D, 2048 x 2048, " + std::to_string(headline_threads) +
@@ -262,8 +231,10 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
               .unit = "of floor"});
 
   ctx.progress("water 1024^2: 1 vs 2 threads");
-  const wb::KernelThroughput one = add(fast_case(wb::KernelVariant::fast_3d, 1024, 1, kDefaultTile, min_s));
-  const wb::KernelThroughput two = add(fast_case(wb::KernelVariant::fast_3d, 1024, 2, kDefaultTile, min_s));
+  const wb::KernelThroughput one =
+      add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 1024, 1, min_s, kDefaultTile));
+  const wb::KernelThroughput two =
+      add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 1024, 2, min_s, kDefaultTile));
   out.figure("baseline.water_1024_2t_vs_1t_speedup", two.node_steps_per_second / one.node_steps_per_second,
              "x (fast 3-D, 1024 x 1024)");
   out.note(

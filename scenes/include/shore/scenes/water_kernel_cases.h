@@ -41,8 +41,12 @@ struct KernelThroughput {
 };
 
 /// A surface of n x n nodes (paper lattice, fixed edges, a disturbance in the middle) stepped
-/// at dt = 0.3 (one substep for every variant) for at least min_seconds after a warm-up.
-KernelThroughput measure_kernel_throughput(KernelVariant v, int n, int threads, double min_seconds = 0.3);
+/// at dt = 0.3 (one substep for every variant) for at least min_seconds after two untimed
+/// steps. tile > 0: the fast variants' tiles of tile x tile nodes instead of the default
+/// (water::SleepSettings::tile). Sleeping is off in these cases, so the tile is only the unit
+/// of work: the results are the same bits for any tile side, and the difference in time is
+/// the kernel's fixed cost per tile and per tile row.
+KernelThroughput measure_kernel_throughput(KernelVariant v, int n, int threads, double min_seconds = 0.3, int tile = 0);
 
 /// STREAM-style triad bandwidth in bytes per second over arrays of `floats` floats each.
 double triad_bandwidth(std::size_t floats, int threads, double min_seconds = 0.3);
