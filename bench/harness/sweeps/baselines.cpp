@@ -10,7 +10,6 @@
 //   written), and against the memory floor (a STREAM-style triad in the same run).
 // - 1 against 2 threads for the soil step and the water kernel.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -25,7 +24,6 @@
 #include "shore/scenes/terrain_step_cases.h"
 #include "shore/scenes/water_kernel_cases.h"
 #include "shore/scenes/world.h"
-#include "shore/water/surface.h"
 #include "sweep.h"
 #include "sweep_util.h"
 
@@ -146,9 +144,6 @@ void envelope_vs_rays(const SweepContext& ctx, SweepResult& out) {
       "for these shapes; ray_vs_envelope_mean_abs_mm is the single-precision ray test's departure from it.");
 }
 
-/// The default tile side (water::SleepSettings::tile): the targets' case.
-constexpr int kDefaultTile = water::SleepSettings{}.tile;
-
 /// The fast water kernel against the reference kernel, the memory floor, and 1 vs 2 threads.
 void water_kernels(const SweepContext& ctx, SweepResult& out) {
   namespace wb = scenes;
@@ -165,12 +160,11 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
     return r;
   };
   ctx.progress("water 256^2: fast vs reference kernels, 1 thread");
-  const wb::KernelThroughput fast256 =
-      add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 256, 1, min_s, kDefaultTile));
+  const wb::KernelThroughput fast256 = add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 256, 1, min_s));
   const wb::KernelThroughput ref256 =
       add(wb::measure_kernel_throughput(wb::KernelVariant::reference_3d, 256, 1, min_s));
   const wb::KernelThroughput vfast256 =
-      add(wb::measure_kernel_throughput(wb::KernelVariant::vertical_only, 256, 1, min_s, kDefaultTile));
+      add(wb::measure_kernel_throughput(wb::KernelVariant::vertical_only, 256, 1, min_s));
   const wb::KernelThroughput vref256 =
       add(wb::measure_kernel_throughput(wb::KernelVariant::reference_vertical, 256, 1, min_s));
   const double speedup = fast256.node_steps_per_second / ref256.node_steps_per_second;
@@ -201,10 +195,9 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
   ctx.progress("water 2048^2: fast kernels against the memory floor, 1 and 2 threads");
   double fraction[3] = {0, 0, 0};
   for (int threads : {1, 2}) {
-    const wb::KernelThroughput r =
-        add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 2048, threads, min_s, kDefaultTile));
+    const wb::KernelThroughput r = add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 2048, threads, min_s));
     fraction[threads] = r.node_steps_per_second / wb::floor_node_steps_per_second(r.variant, bw[threads]);
-    add(wb::measure_kernel_throughput(wb::KernelVariant::vertical_only, 2048, threads, min_s, kDefaultTile));
+    add(wb::measure_kernel_throughput(wb::KernelVariant::vertical_only, 2048, threads, min_s));
   }
   const int headline_threads = std::clamp(ctx.max_threads, 1, 2);
   {
@@ -231,10 +224,8 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
               .unit = "of floor"});
 
   ctx.progress("water 1024^2: 1 vs 2 threads");
-  const wb::KernelThroughput one =
-      add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 1024, 1, min_s, kDefaultTile));
-  const wb::KernelThroughput two =
-      add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 1024, 2, min_s, kDefaultTile));
+  const wb::KernelThroughput one = add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 1024, 1, min_s));
+  const wb::KernelThroughput two = add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 1024, 2, min_s));
   out.figure("baseline.water_1024_2t_vs_1t_speedup", two.node_steps_per_second / one.node_steps_per_second,
              "x (fast 3-D, 1024 x 1024)");
   out.note(

@@ -2,8 +2,7 @@
 // floating in a pool (shore::scenes::run_pool) against Archimedes' draft, across water
 // resolution and substep. Soil: the plugin's own time for one towed wheel (envelope, soil
 // step, tile update separately), what the settings that trade its accuracy for speed buy,
-// and the four-wheel vehicle's real-time factor (the vehicle
-// scene).
+// and the four-wheel vehicle's real-time factor (the vehicle scene).
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -141,15 +140,21 @@ struct PluginTimes {
         substeps(double(s.substeps)) {}
 };
 
-void wheel_plugin_time(const SweepContext& ctx, SweepResult& out) {
-  // run_wheel times the whole run: 2 s of load ramp and 0.5 s of settling with the wheel
-  // held, then the tow. The held phase is run again alone (the same code path, the same
-  // substeps) and subtracted, which leaves the towing phase.
+/// The towed wheel of the plugin figures: the sand preset at 1 cm and 1/240 s, one thread.
+scenes::WheelCase sand_wheel_case() {
   scenes::WheelCase c;
   c.run.material = terrain::Material::sand();
   c.run.cell = 0.01;
   c.run.substep = 1.0 / 240;
   c.run.threads = 1;
+  return c;
+}
+
+void wheel_plugin_time(const SweepContext& ctx, SweepResult& out) {
+  // run_wheel times the whole run: 2 s of load ramp and 0.5 s of settling with the wheel
+  // held, then the tow. The held phase is run again alone (the same code path, the same
+  // substeps) and subtracted, which leaves the towing phase.
+  scenes::WheelCase c = sand_wheel_case();
   // Three towed/held pairs; the pair with the median plugin time is reported, so one
   // burst of load on a shared machine does not decide the figure.
   struct Pair {
@@ -242,11 +247,7 @@ void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
   const int repeats = ctx.quick ? 1 : 3;
   double first_default = 0.0;
   for (const Setting& g : settings) {
-    scenes::WheelCase c;
-    c.run.material = terrain::Material::sand();
-    c.run.cell = 0.01;
-    c.run.substep = 1.0 / 240;
-    c.run.threads = 1;
+    scenes::WheelCase c = sand_wheel_case();
     c.run.max_erosion_passes = g.erosion_passes;
     c.run.contact.iterations = g.iterations;
     c.run.contact.block_columns = g.block_columns;
