@@ -117,6 +117,7 @@ class PatchBuilder {
   }
 
   void build() {
+    find_candidates();
     mark_covered();
     cover_footprint();
     out_.patch_width = patch_width();
@@ -126,24 +127,55 @@ class PatchBuilder {
   }
 
  private:
-  void mark_covered() {
-    covered_.assign(static_cast<std::size_t>(env_.nx + 2) * static_cast<std::size_t>(env_.ny + 2), 0);
+  // The box of raster columns that can touch the soil or stand beside a wall: the rest of a
+  // body's footprint (a wheel's upper half, say) lies too high above every column of the
+  // window to do either, and every later loop skips it. A column touches only where its
+  // underside lies at most (top + tolerance) + its sinkage above its own column (the elastic
+  // reach is at most the sinkage, see touches), so at most `reach_` (that sum's largest value
+  // in the window, rounded the same way); a wall needs soil beside it higher than underside +
+  // tolerance, so at most the highest top.
+  void find_candidates() {
     highest_top_ = -kInf;
-    for (double t : soil_.top) highest_top_ = std::max(highest_top_, t);
-    for (int y = 0; y < env_.ny; ++y)
+    double reach = -kInf;
+    for (std::size_t k = 0; k < soil_.top.size(); ++k) {
+      highest_top_ = std::max(highest_top_, soil_.top[k]);
+      reach = std::max(reach, (soil_.top[k] + s_.contact_tolerance) + std::max(0.0, soil_.sink[k]));
+    }
+    x0_ = env_.nx, x1_ = 0, y0_ = env_.ny, y1_ = 0;
+    for (int y = 0; y < env_.ny; ++y) {
+      const double* row = env_.lower.data() + static_cast<std::size_t>(y) * env_.nx;
+      int first = -1, last = -1;
       for (int x = 0; x < env_.nx; ++x)
-        covered_[static_cast<std::size_t>((y + 1) * (env_.nx + 2) + x + 1)] =
+        if (row[x] <= reach || row[x] + s_.contact_tolerance < highest_top_) {
+          if (first < 0) first = x;
+          last = x;
+        }
+      if (first < 0) continue;
+      x0_ = std::min(x0_, first), x1_ = std::max(x1_, last + 1);
+      y0_ = std::min(y0_, y), y1_ = y + 1;
+    }
+    if (x0_ >= x1_) x0_ = x1_ = y0_ = y1_ = 0;
+  }
+
+  void mark_covered() {
+    const std::size_t stride = static_cast<std::size_t>(env_.nx) + 2;
+    covered_.assign(stride * static_cast<std::size_t>(env_.ny + 2), 0);
+    if (x0_ >= x1_) return;
+    // The candidates and a one-column ring around them (their neighbours' coverage).
+    const int rx0 = std::max(0, x0_ - 1), rx1 = std::min(env_.nx, x1_ + 1);
+    for (int y = std::max(0, y0_ - 1); y < std::min(env_.ny, y1_ + 1); ++y)
+      for (int x = rx0; x < rx1; ++x)
+        covered_[static_cast<std::size_t>(y + 1) * stride + static_cast<std::size_t>(x + 1)] =
             env_.lower[static_cast<std::size_t>(y) * env_.nx + x] < kInf ? 1 : 0;
     // Bit d of open_sides_: neighbour d (kSx, kSy) is not covered. Most of a footprint is
     // inside it, and there the edge and wall loops need not look at the neighbours.
-    const std::size_t stride = static_cast<std::size_t>(env_.nx) + 2;
     open_sides_.resize(env_.lower.size());
-    for (int y = 0; y < env_.ny; ++y) {
+    for (int y = y0_; y < y1_; ++y) {
       // Rows y - 1, y and y + 1 of the window in the ring's frame (column x at index x + 1).
       const unsigned char* below = covered_.data() + static_cast<std::size_t>(y) * stride;
       const unsigned char* row = below + stride;
       const unsigned char* above = row + stride;
-      for (int x = 0; x < env_.nx; ++x)
+      for (int x = x0_; x < x1_; ++x)
         open_sides_[static_cast<std::size_t>(y) * env_.nx + x] = static_cast<unsigned char>(
             (row[x + 2] ? 0 : 1) | (row[x] ? 0 : 2) | (above[x + 1] ? 0 : 4) | (below[x + 1] ? 0 : 8));
     }
@@ -194,8 +226,8 @@ class PatchBuilder {
     // Only touching columns' shares are ever read: they are set there, below.
     fx_.resize(size), fy_.resize(size), loss_lo_x_.resize(size), loss_lo_y_.resize(size);
     touching_.assign(size, 0);
-    for (int y = 0; y < env_.ny; ++y)
-      for (int x = 0; x < env_.nx; ++x) {
+    for (int y = y0_; y < y1_; ++y)
+      for (int x = x0_; x < x1_; ++x) {
         const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
         const double e = env_.lower[k];
         const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
@@ -227,8 +259,8 @@ class PatchBuilder {
   // tallest column (exact for a rectangle whatever its edges' offsets).
   double patch_width() const {
     std::vector<double> row(static_cast<std::size_t>(env_.ny), 0.0), col(static_cast<std::size_t>(env_.nx), 0.0);
-    for (int y = 0; y < env_.ny; ++y)
-      for (int x = 0; x < env_.nx; ++x) {
+    for (int y = y0_; y < y1_; ++y)
+      for (int x = x0_; x < x1_; ++x) {
         const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
         if (!touching_[k]) continue;
         row[static_cast<std::size_t>(y)] += fx_[k];
@@ -280,8 +312,8 @@ class PatchBuilder {
 
   void add_bottom_elements() {
     const double cell_area = s_.cell * s_.cell;
-    for (int y = 0; y < env_.ny; ++y)
-      for (int x = 0; x < env_.nx; ++x) {
+    for (int y = y0_; y < y1_; ++y)
+      for (int x = x0_; x < x1_; ++x) {
         const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
         if (!touching_[k]) continue;
         const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
@@ -329,8 +361,8 @@ class PatchBuilder {
   void add_walls() {
     const Material& m = s_.material;
     const double k_modulus = m.bekker_kc / out_.patch_width + m.bekker_kphi;
-    for (int y = 0; y < env_.ny; ++y)
-      for (int x = 0; x < env_.nx; ++x) {
+    for (int y = y0_; y < y1_; ++y)
+      for (int x = x0_; x < x1_; ++x) {
         const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
         const double e = env_.lower[k];
         // No soil beside the body stands above it here (a wheel's upper part, say).
@@ -366,6 +398,7 @@ class PatchBuilder {
   std::vector<double>&fx_, &fy_, &loss_lo_x_, &loss_lo_y_;
   std::vector<unsigned char>& covered_;     // the window and a one-column ring, row-major
   double highest_top_ = -kInf;              // m, the highest soil top in the window and its ring
+  int x0_ = 0, x1_ = 0, y0_ = 0, y1_ = 0;   // raster columns [x0_, x1_) x rows [y0_, y1_): the candidates' box
   std::vector<unsigned char>& open_sides_;  // per raster column, see mark_covered
   std::vector<unsigned char>& touching_;
   std::vector<Fringe>& fringe_;
