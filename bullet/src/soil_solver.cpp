@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "shore/core/det_math.h"
 #include "shore/core/floor_div.h"
@@ -115,12 +116,6 @@ void friction_directions(Block& b) {
   b.t2 = cross(n, b.t1);
 }
 
-double effective_mass(const RigidBody& body, Vec3 r, Vec3 u) {
-  const Vec3 ru = cross(r, u);
-  const double k = body.inv_mass + dot(ru, body.apply_inv_inertia(ru));
-  return k > 0.0 ? 1.0 / k : 0.0;
-}
-
 }  // namespace
 
 Vec3 RigidBody::apply_inv_inertia(Vec3 a) const {
@@ -197,6 +192,36 @@ double friction_limit(const Block& b, double normal, double tan_phi, double h) {
   return b.cohesion * h + tan_phi * b.mobilised * normal;
 }
 
+/// One row of a block (its normal or a friction direction u at the block's point, arm r from
+/// the centre of mass), as the sweeps use it: the row's speed is u . v + (r x u) . w, and a
+/// unit impulse along it changes v by u / m and w by I^-1 (r x u). Computed once per substep,
+/// so a sweep costs a few products per row instead of the point's velocity and the impulse's
+/// moment each time.
+struct Row {
+  Vec3 u, arm, turn;  // direction, r x u, I^-1 (r x u)
+
+  void set(const RigidBody& body, Vec3 r, Vec3 dir) {
+    u = dir;
+    arm = cross(r, dir);
+    turn = body.apply_inv_inertia(arm);
+  }
+  [[nodiscard]] double speed(const RigidBody& body) const { return dot(u, body.v) + dot(arm, body.w); }
+  void push(RigidBody& body, double impulse) const {
+    body.v = body.v + u * (impulse * body.inv_mass);
+    body.w = body.w + turn * impulse;
+  }
+  /// The effective mass along the row, kg: 1 / (1/m + (r x u) . I^-1 (r x u)).
+  [[nodiscard]] double mass(const RigidBody& body) const {
+    const double k = body.inv_mass + dot(arm, turn);
+    return k > 0.0 ? 1.0 / k : 0.0;
+  }
+};
+
+/// A block's three rows: its normal and its two friction directions.
+struct BlockRows {
+  Row n, t1, t2;
+};
+
 void clamp_warm_start(RigidBody& body, std::span<Block> blocks, double tan_phi, double h) {
   for (Block& b : blocks) {
     b.normal_impulse = std::clamp(b.normal_impulse, 0.0, b.capacity * h);
@@ -221,34 +246,40 @@ double wanted_normal_impulse(const Block& b, double u, double h) {
   return b.mass_n > 0.0 ? (h * b.preload - kh2 * u_free) / (1.0 + kh2 / b.mass_n) : h * b.preload;
 }
 
-void normal_row(RigidBody& body, Block& b, double h) {
-  const double u = dot(body.point_velocity(b.point), b.normal);
-  const double next = std::clamp(wanted_normal_impulse(b, u, h), 0.0, b.capacity * h);
-  body.apply_impulse(b.normal * (next - b.normal_impulse), b.point);
+void normal_row(RigidBody& body, Block& b, const Row& row, double h) {
+  const double next = std::clamp(wanted_normal_impulse(b, row.speed(body), h), 0.0, b.capacity * h);
+  row.push(body, next - b.normal_impulse);
   b.normal_impulse = next;
 }
 
-void friction_rows(RigidBody& body, Block& b, double tan_phi, double h) {
+void friction_rows(RigidBody& body, Block& b, const BlockRows& rows, double tan_phi, double h) {
   if (b.wall) return;
-  const Vec3 pv = body.point_velocity(b.point);
-  double n1 = b.t1_impulse - dot(pv, b.t1) * b.mass_t1;
-  double n2 = b.t2_impulse - dot(pv, b.t2) * b.mass_t2;
+  double n1 = b.t1_impulse - rows.t1.speed(body) * b.mass_t1;
+  double n2 = b.t2_impulse - rows.t2.speed(body) * b.mass_t2;
   const double limit = friction_limit(b, b.normal_impulse, tan_phi, h);
   const double size = std::sqrt(n1 * n1 + n2 * n2);
   if (size > limit) {
     const double scale = limit > 0.0 ? limit / size : 0.0;
     n1 *= scale, n2 *= scale;
   }
-  body.apply_impulse(b.t1 * (n1 - b.t1_impulse) + b.t2 * (n2 - b.t2_impulse), b.point);
+  rows.t1.push(body, n1 - b.t1_impulse);
+  rows.t2.push(body, n2 - b.t2_impulse);
   b.t1_impulse = n1, b.t2_impulse = n2;
 }
 
 /// One sweep over the rows, forward or backward: alternating the order keeps Gauss-Seidel
 /// from favouring the blocks solved first (a box would settle tilted toward them).
-void sweep(RigidBody& body, std::span<Block> blocks, double tan_phi, double h, bool backward) {
+void sweep(RigidBody& body, std::span<Block> blocks, std::span<const BlockRows> rows, double tan_phi, double h,
+           bool backward) {
   const std::size_t n = blocks.size();
-  for (std::size_t k = 0; k < n; ++k) normal_row(body, blocks[backward ? n - 1 - k : k], h);
-  for (std::size_t k = 0; k < n; ++k) friction_rows(body, blocks[backward ? n - 1 - k : k], tan_phi, h);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t at = backward ? n - 1 - k : k;
+    normal_row(body, blocks[at], rows[at].n, h);
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t at = backward ? n - 1 - k : k;
+    friction_rows(body, blocks[at], rows[at], tan_phi, h);
+  }
 }
 
 }  // namespace
@@ -258,18 +289,24 @@ SolveResult solve(RigidBody& body, const RigidBody& start, std::span<Block> bloc
   SolveResult out;
   if (blocks.empty()) return out;
   const double tan_phi = det::tan(m.friction_angle);
-  for (Block& b : blocks) {
+  thread_local std::vector<BlockRows> rows;  // kept between calls: no allocation per substep
+  rows.resize(blocks.size());
+  for (std::size_t k = 0; k < blocks.size(); ++k) {
+    Block& b = blocks[k];
+    const Vec3 r = b.point - body.com;
+    rows[k].n.set(body, r, b.normal);
+    rows[k].t1.set(body, r, b.t1);
+    rows[k].t2.set(body, r, b.t2);
     if (!settings.keep_masses) {
-      const Vec3 r = b.point - body.com;
-      b.mass_n = effective_mass(body, r, b.normal);
-      b.mass_t1 = effective_mass(body, r, b.t1);
-      b.mass_t2 = effective_mass(body, r, b.t2);
+      b.mass_n = rows[k].n.mass(body);
+      b.mass_t1 = rows[k].t1.mass(body);
+      b.mass_t2 = rows[k].t2.mass(body);
     }
     const Vec3 pv = start.point_velocity(b.point);
     b.start_n = dot(pv, b.normal), b.start_t1 = dot(pv, b.t1), b.start_t2 = dot(pv, b.t2);
   }
   clamp_warm_start(body, blocks, tan_phi, h);
-  for (int it = 0; it < settings.iterations; ++it) sweep(body, blocks, tan_phi, h, it % 2 == 1);
+  for (int it = 0; it < settings.iterations; ++it) sweep(body, blocks, rows, tan_phi, h, it % 2 == 1);
 
   // Work on the soil: each impulse times the mean velocity along it over the substep, from
   // the start of the substep (before the engine's forces) to its end. It is the kinetic
