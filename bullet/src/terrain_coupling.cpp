@@ -126,6 +126,19 @@ void remap(std::vector<T>& values, const ColumnWindow& from, const EnvelopeRaste
   }
   values.swap(moved);
 }
+
+/// Raster indices of the old window moved to the new one (those that left it dropped), as
+/// remap moves the values they point at.
+void remap_indices(std::vector<std::uint32_t>& indices, const ColumnWindow& from, const EnvelopeRaster& to) {
+  if (from.i0 == to.i0 && from.j0 == to.j0 && from.nx == to.nx && from.ny == to.ny) return;
+  std::size_t kept = 0;
+  for (const std::uint32_t k : indices) {
+    const std::int64_t i = from.i0 + k % static_cast<std::uint32_t>(from.nx);
+    const std::int64_t j = from.j0 + k / static_cast<std::uint32_t>(from.nx);
+    if (to.contains(i, j)) indices[kept++] = static_cast<std::uint32_t>(to.index(i, j));
+  }
+  indices.resize(kept);
+}
 }  // namespace
 
 /// What a body's soil contact keeps between substeps.
@@ -136,15 +149,24 @@ struct TerrainCoupling::BodyContact {
   // as a vector while the column is in contact; Janosi-Hanamoto's j is its length, which
   // also remoulds the soil, terrain::shear::remoulding). As a vector, slip that reverses
   // undoes itself.
-  std::vector<soil_detail::Vec3> shear, next_shear;
-  std::vector<double> shear_length, next_shear_length;  // |shear|: the soil's and the blocks' input
+  std::vector<soil_detail::Vec3> shear;
+  std::vector<double> shear_length;  // |shear|: the soil's and the blocks' input
   // Per envelope column, Pa: what the column pushed with at the end of the last substep while
   // it unloaded elastically (+infinity: no memory; it was pressed, or out of contact). Wong's
   // unloading starts from the pressure a column carried: soil laid under a body by erosion
   // raises the column's top, and with it the elastic line, without loading it; the memory
   // keeps that soil from pushing until the body presses it (without it a sphere dropped into
   // sand climbed back out of its crater by 20 %: docs/terrain.md, "Unloading").
-  std::vector<double> carried, next_carried;
+  std::vector<double> carried;
+  // The raster indices whose shear or carried value may differ from fresh (zero, no memory):
+  // the columns touched last substep, remapped with the window. A substep clears just these
+  // instead of refilling arrays the window's size (a wheel's window is 3 times its patch).
+  // kept_valid false (a restored state): unknown, so the next substep refills.
+  std::vector<std::uint32_t> kept;
+  bool kept_valid = false;
+  // Scratch of advance_memory: this substep's new values, by raster index, in element order.
+  std::vector<std::pair<std::uint32_t, soil_detail::Vec3>> new_shear;
+  std::vector<std::pair<std::uint32_t, double>> new_carried;
   SoilForce last;
   bool resting = false;  // the body was at rest: its blocks and patch still hold it
   // The body's velocities at the end of the last substep (the start of this one).
@@ -194,6 +216,7 @@ void TerrainCoupling::restore_contact(ByteReader& r, BodyContact& c, std::size_t
   c.v_end = coupling_detail::get_vector(r, "contact velocities"),
   c.w_end = coupling_detail::get_vector(r, "contact velocities");
   c.resting = r.get<std::uint8_t>("contact flags") != 0, c.has_end = r.get<std::uint8_t>("contact flags") != 0;
+  c.kept.clear(), c.kept_valid = false;
   check_contact(r, c, envelope_columns);
 }
 
@@ -441,6 +464,7 @@ void TerrainCoupling::rasterize(Body& b) {
   remap(c.shear, old, b.envelope);
   remap(c.shear_length, old, b.envelope);
   remap(c.carried, old, b.envelope, kNoMemory);
+  remap_indices(c.kept, old, b.envelope);
   b.contact->resting = false;
 }
 
@@ -503,48 +527,51 @@ void TerrainCoupling::limit_to_carried(Body& b) {
   }
 }
 
-// What each unloading column pushes with at the end of the substep: its spring at the body's
-// final approach speed over it, within [0, its yield pressure]; columns pressed or out of
-// contact keep no memory.
-void TerrainCoupling::advance_carried(Body& b, const soil_detail::RigidBody& rb, double h) {
+// What each touching column keeps for the next substep. Its shear displacement grows by the
+// slip of the body over it (a fringe element moves its covered column's, after the column's
+// own); columns out of contact start from zero. An unloading column keeps what it pushes with
+// at the end of the substep: its spring at the body's final approach speed over it, within
+// [0, its yield pressure]; columns pressed or out of contact keep no memory.
+void TerrainCoupling::advance_memory(Body& b, const soil_detail::RigidBody& rb, double h) {
   BodyContact& c = *b.contact;
-  c.next_carried.assign(b.envelope.lower.size(), kNoMemory);
-  bool any = false;
-  for (const terrain::ContactElement& e : c.patch.elements) {
-    if (!(e.stiffness < kUnloading)) continue;
-    const std::int64_t k = own_column(b.envelope, e);
-    if (k < 0) continue;
-    const soil_detail::Vec3 n{e.nx, e.ny, e.nz};
-    const double approach = -soil_detail::dot(rb.point_velocity({e.x, e.y, e.z}), n);
-    c.next_carried[static_cast<std::size_t>(k)] = std::clamp(e.preload + e.stiffness * h * approach, 0.0, e.pressure);
-    any = true;
-  }
-  if (any)
-    c.carried.swap(c.next_carried);
-  else
-    c.carried.clear();
-}
-
-// Each touching column's shear displacement grows by the slip of the body over it; columns
-// out of contact start from zero.
-void TerrainCoupling::advance_shear(Body& b, const soil_detail::RigidBody& rb, double h) {
-  BodyContact& c = *b.contact;
-  const std::size_t size = b.envelope.lower.size();
-  c.next_shear.assign(size, {});
-  c.next_shear_length.assign(size, 0.0);
+  const EnvelopeRaster& env = b.envelope;
+  const std::size_t size = env.lower.size();
   const bool had = c.shear.size() == size;
+  // The new values first, from the old ones (nothing is cleared before all are read).
+  c.new_shear.clear(), c.new_carried.clear();
   for (const terrain::ContactElement& e : c.patch.elements) {
-    if (e.wall || e.raster_index < 0 || !b.envelope.contains(e.i, e.j)) continue;
+    if (e.wall || e.raster_index < 0 || !env.contains(e.i, e.j)) continue;
     const soil_detail::Vec3 n{e.nx, e.ny, e.nz};
     const soil_detail::Vec3 u = rb.point_velocity({e.x, e.y, e.z});
-    const auto k = static_cast<std::size_t>(e.raster_index);
+    const auto k = static_cast<std::uint32_t>(e.raster_index);
     const soil_detail::Vec3 slip = u - n * soil_detail::dot(u, n);
-    const soil_detail::Vec3 j = (had ? c.shear[k] : soil_detail::Vec3{}) + slip * h;
-    c.next_shear[k] = j;
-    c.next_shear_length[k] = std::sqrt(soil_detail::dot(j, j));
+    c.new_shear.emplace_back(k, (had ? c.shear[k] : soil_detail::Vec3{}) + slip * h);
+    if (e.stiffness < kUnloading && own_column(env, e) >= 0)
+      c.new_carried.emplace_back(k, std::clamp(e.preload + e.stiffness * h * -soil_detail::dot(u, n), 0.0, e.pressure));
   }
-  c.shear.swap(c.next_shear);
-  c.shear_length.swap(c.next_shear_length);
+  // Back to fresh: only the entries kept last substep, when they are known; else all of them.
+  const bool sparse = had && c.kept_valid;
+  if (sparse) {
+    for (const std::uint32_t k : c.kept) c.shear[k] = {}, c.shear_length[k] = 0.0;
+  } else {
+    c.shear.assign(size, {});
+    c.shear_length.assign(size, 0.0);
+  }
+  if (c.new_carried.empty()) {
+    c.carried.clear();
+  } else if (sparse && c.carried.size() == size) {
+    for (const std::uint32_t k : c.kept) c.carried[k] = kNoMemory;
+  } else {
+    c.carried.assign(size, kNoMemory);
+  }
+  c.kept.clear();
+  for (const auto& [k, j] : c.new_shear) {
+    c.shear[k] = j;
+    c.shear_length[k] = std::sqrt(soil_detail::dot(j, j));
+    c.kept.push_back(k);
+  }
+  for (const auto& [k, p] : c.new_carried) c.carried[k] = p;  // k is among the shear's
+  c.kept_valid = true;
 }
 
 // A body at rest needs from the soil what it needed last substep: the same impulse cancels
@@ -620,7 +647,7 @@ bool TerrainCoupling::react(Body& b, double h) {
   c.last.normal_force = to_bt(r.normal_impulse * (1.0 / h));
   c.last.contact_columns = c.patch.touching_columns;
   c.last.yielded = r.yielded;
-  if (!c.resting) advance_shear(b, rb, h), advance_carried(b, rb, h);
+  if (!c.resting) advance_memory(b, rb, h);
   return r.yielded;
 }
 

@@ -266,10 +266,11 @@ class TerrainCoupling : public btActionInterface {
   bool hold_at_rest(Body& b, double substep);
   /// Builds the body's contact blocks from the soil at its envelope.
   void gather_contact(Body& b);
-  void advance_shear(Body& b, const soil_detail::RigidBody& rb, double h);
   void limit_to_carried(Body& b);
   void stop_sway(const btRigidBody& body, soil_detail::RigidBody& rb, soil_detail::SolveResult& r) const;
-  void advance_carried(Body& b, const soil_detail::RigidBody& rb, double h);
+  /// What each touching column keeps for the next substep: its shear displacement and, where
+  /// it unloads elastically, the pressure it carried.
+  void advance_memory(Body& b, const soil_detail::RigidBody& rb, double h);
   /// True if the body has moved away from the pose its envelope was made at.
   [[nodiscard]] bool drifted(const Body& b) const;
   void rescue_fallen_bodies();
