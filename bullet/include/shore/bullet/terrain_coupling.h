@@ -101,7 +101,7 @@ struct SoilContactSettings {
   /// block_columns x block_columns columns (1: per column, exact but slower), in [1, 64].
   int block_columns = 4;
   /// Projected Gauss-Seidel sweeps over the blocks per substep, warm-started, in [1, 1000].
-  int iterations = 12;
+  int iterations = 6;
   /// Sweeps for a body at rest, whose contact is kept from the last substep and whose solve
   /// starts from last substep's impulses (they already hold it), in [1, 1000].
   int resting_iterations = 2;
