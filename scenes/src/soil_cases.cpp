@@ -27,6 +27,7 @@ terrain::TerrainSettings soil_settings(const SoilRun& run) {
   s.threads = run.threads;
   s.max_erosion_passes = run.max_erosion_passes;
   s.active_reach = run.active_reach;
+  s.active_margin = run.active_margin;
   s.base = run.base;
   s.spray = run.spray;
   return s;

@@ -25,6 +25,7 @@ struct SoilRun {
   int threads = 1;                                                         ///< threads of the soil
   int max_erosion_passes = terrain::TerrainSettings{}.max_erosion_passes;  ///< erosion pass cap per substep
   double active_reach = terrain::TerrainSettings{}.active_reach;           ///< m, see TerrainSettings
+  int active_margin = terrain::TerrainSettings{}.active_margin;            ///< columns, see TerrainSettings
   bullet::SoilContactSettings contact;                                     ///< how the soil's push is solved
   std::shared_ptr<const terrain::HeightSource> base;                       ///< untouched ground; null: flat at 0
   terrain::SpraySettings spray;                                            ///< the soil's spray (on by default)
