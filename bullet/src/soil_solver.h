@@ -73,7 +73,7 @@ struct Block {
 
 struct SolverSettings {
   int block_columns = 4;  ///< columns per block side
-  int iterations = 12;    ///< PGS sweeps over the rows
+  int iterations = 6;     ///< PGS sweeps over the rows (SoilContactSettings::iterations)
   /// The blocks' effective masses are still right (the body has not moved since they were
   /// computed: a body at rest re-solving its kept contact).
   bool keep_masses = false;
