@@ -106,12 +106,15 @@ constexpr double kNoMemory = std::numeric_limits<double>::infinity();
 /// Elements whose stiffness lies below this unload elastically (ContactElement::stiffness).
 constexpr double kUnloading = std::numeric_limits<double>::infinity();
 
+bool same_window(const ColumnWindow& from, const EnvelopeRaster& to) {
+  return from.i0 == to.i0 && from.j0 == to.j0 && from.nx == to.nx && from.ny == to.ny;
+}
+
 /// Values kept per envelope column, moved from the old window to the new one (`fresh` where
 /// new). The same window keeps them as they are; otherwise each row's overlap is copied at once.
 template <class T>
 void remap(std::vector<T>& values, const ColumnWindow& from, const EnvelopeRaster& to, T fresh = T{}) {
-  const bool same = from.i0 == to.i0 && from.j0 == to.j0 && from.nx == to.nx && from.ny == to.ny;
-  if (same && values.size() == to.lower.size()) return;
+  if (same_window(from, to) && values.size() == to.lower.size()) return;
   std::vector<T> moved(to.lower.size(), fresh);
   if (!values.empty()) {
     // Columns x of the new window whose old column i = to.i0 + x - from.i0 lies in [0, from.nx).
@@ -130,7 +133,7 @@ void remap(std::vector<T>& values, const ColumnWindow& from, const EnvelopeRaste
 /// Raster indices of the old window moved to the new one (those that left it dropped), as
 /// remap moves the values they point at.
 void remap_indices(std::vector<std::uint32_t>& indices, const ColumnWindow& from, const EnvelopeRaster& to) {
-  if (from.i0 == to.i0 && from.j0 == to.j0 && from.nx == to.nx && from.ny == to.ny) return;
+  if (same_window(from, to)) return;
   std::size_t kept = 0;
   for (const std::uint32_t k : indices) {
     const std::int64_t i = from.i0 + k % static_cast<std::uint32_t>(from.nx);
@@ -546,7 +549,7 @@ void TerrainCoupling::advance_memory(Body& b, const soil_detail::RigidBody& rb, 
     const auto k = static_cast<std::uint32_t>(e.raster_index);
     const soil_detail::Vec3 slip = u - n * soil_detail::dot(u, n);
     c.new_shear.emplace_back(k, (had ? c.shear[k] : soil_detail::Vec3{}) + slip * h);
-    if (e.stiffness < kUnloading && own_column(env, e) >= 0)
+    if (e.stiffness < kUnloading && env.index(e.i, e.j) == k)  // its own column (a fringe's is not)
       c.new_carried.emplace_back(k, std::clamp(e.preload + e.stiffness * h * -soil_detail::dot(u, n), 0.0, e.pressure));
   }
   // Back to fresh: only the entries kept last substep, when they are known; else all of them.

@@ -131,7 +131,7 @@ class PatchBuilder {
   // body's footprint (a wheel's upper half, say) lies too high above every column of the
   // window to do either, and every later loop skips it. A column touches only where its
   // underside lies at most (top + tolerance) + its sinkage above its own column (the elastic
-  // reach is at most the sinkage, see touches), so at most `reach_` (that sum's largest value
+  // reach is at most the sinkage, see touches), so at most `reach` (that sum's largest value
   // in the window, rounded the same way); a wall needs soil beside it higher than underside +
   // tolerance, so at most the highest top.
   void find_candidates() {
@@ -155,6 +155,14 @@ class PatchBuilder {
       y0_ = std::min(y0_, y), y1_ = y + 1;
     }
     if (x0_ >= x1_) x0_ = x1_ = y0_ = y1_ = 0;
+  }
+
+  /// Calls fn(x, y, k) for every raster column of the candidates' box, row by row (k: its
+  /// raster index).
+  template <class Fn>
+  void for_each_candidate(Fn&& fn) const {
+    for (int y = y0_; y < y1_; ++y)
+      for (int x = x0_; x < x1_; ++x) fn(x, y, static_cast<std::size_t>(y) * env_.nx + x);
   }
 
   void mark_covered() {
@@ -226,18 +234,16 @@ class PatchBuilder {
     // Only touching columns' shares are ever read: they are set there, below.
     fx_.resize(size), fy_.resize(size), loss_lo_x_.resize(size), loss_lo_y_.resize(size);
     touching_.assign(size, 0);
-    for (int y = y0_; y < y1_; ++y)
-      for (int x = x0_; x < x1_; ++x) {
-        const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
-        const double e = env_.lower[k];
-        const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
-        if (!(e < kInf) || !touches(e, soil_.at(i, j))) continue;
-        touching_[k] = 1;
-        fx_[k] = fy_[k] = 1.0, loss_lo_x_[k] = loss_lo_y_[k] = 0.0;
-        ++out_.touching_columns;
-        if (open_sides_[k] == 0) continue;
-        for (int d = 0; d < 4; ++d) cover_edge(k, i, j, d);
-      }
+    for_each_candidate([&](int x, int y, std::size_t k) {
+      const double e = env_.lower[k];
+      const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
+      if (!(e < kInf) || !touches(e, soil_.at(i, j))) return;
+      touching_[k] = 1;
+      fx_[k] = fy_[k] = 1.0, loss_lo_x_[k] = loss_lo_y_[k] = 0.0;
+      ++out_.touching_columns;
+      if (open_sides_[k] == 0) return;
+      for (int d = 0; d < 4; ++d) cover_edge(k, i, j, d);
+    });
   }
 
   void cover_edge(std::size_t k, std::int64_t i, std::int64_t j, int d) {
@@ -259,13 +265,11 @@ class PatchBuilder {
   // tallest column (exact for a rectangle whatever its edges' offsets).
   double patch_width() const {
     std::vector<double> row(static_cast<std::size_t>(env_.ny), 0.0), col(static_cast<std::size_t>(env_.nx), 0.0);
-    for (int y = y0_; y < y1_; ++y)
-      for (int x = x0_; x < x1_; ++x) {
-        const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
-        if (!touching_[k]) continue;
-        row[static_cast<std::size_t>(y)] += fx_[k];
-        col[static_cast<std::size_t>(x)] += fy_[k];
-      }
+    for_each_candidate([&](int x, int y, std::size_t k) {
+      if (!touching_[k]) return;
+      row[static_cast<std::size_t>(y)] += fx_[k];
+      col[static_cast<std::size_t>(x)] += fy_[k];
+    });
     for (const Fringe& f : fringe_) {
       const auto x = static_cast<std::size_t>(f.source % static_cast<std::size_t>(env_.nx));
       const auto y = static_cast<std::size_t>(f.source / static_cast<std::size_t>(env_.nx));
@@ -312,27 +316,25 @@ class PatchBuilder {
 
   void add_bottom_elements() {
     const double cell_area = s_.cell * s_.cell;
-    for (int y = y0_; y < y1_; ++y)
-      for (int x = x0_; x < x1_; ++x) {
-        const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
-        if (!touching_[k]) continue;
-        const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
-        ContactElement el;
-        el.i = i, el.j = j;
-        el.raster_index = static_cast<std::int32_t>(k);
-        underside_normal(x, y, el);
-        // The body's surface over the covered part of the cell: the plan area over the
-        // normal's vertical share, so the soil's push has Bekker's vertical component.
-        el.area = std::max(0.0, fx_[k]) * std::max(0.0, fy_[k]) * cell_area / el.nz;
-        // Centroid of the covered part of the cell.
-        el.x = column_x(i) + 0.5 * s_.cell * (loss_lo_x_[k] - (1.0 - fx_[k] - loss_lo_x_[k]));
-        el.y = column_y(j) + 0.5 * s_.cell * (loss_lo_y_[k] - (1.0 - fy_[k] - loss_lo_y_[k]));
-        el.z = env_.lower[k];
-        el.pressure = yield_pressure(soil_.at(i, j), el.z, shear_at(k));
-        set_unloading(soil_.at(i, j), el);
-        out_.area += el.area * el.nz;
-        out_.elements.push_back(el);
-      }
+    for_each_candidate([&](int x, int y, std::size_t k) {
+      if (!touching_[k]) return;
+      const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
+      ContactElement el;
+      el.i = i, el.j = j;
+      el.raster_index = static_cast<std::int32_t>(k);
+      underside_normal(x, y, el);
+      // The body's surface over the covered part of the cell: the plan area over the
+      // normal's vertical share, so the soil's push has Bekker's vertical component.
+      el.area = std::max(0.0, fx_[k]) * std::max(0.0, fy_[k]) * cell_area / el.nz;
+      // Centroid of the covered part of the cell.
+      el.x = column_x(i) + 0.5 * s_.cell * (loss_lo_x_[k] - (1.0 - fx_[k] - loss_lo_x_[k]));
+      el.y = column_y(j) + 0.5 * s_.cell * (loss_lo_y_[k] - (1.0 - fy_[k] - loss_lo_y_[k]));
+      el.z = env_.lower[k];
+      el.pressure = yield_pressure(soil_.at(i, j), el.z, shear_at(k));
+      set_unloading(soil_.at(i, j), el);
+      out_.area += el.area * el.nz;
+      out_.elements.push_back(el);
+    });
   }
 
   void add_fringe_elements() {
@@ -361,32 +363,30 @@ class PatchBuilder {
   void add_walls() {
     const Material& m = s_.material;
     const double k_modulus = m.bekker_kc / out_.patch_width + m.bekker_kphi;
-    for (int y = y0_; y < y1_; ++y)
-      for (int x = x0_; x < x1_; ++x) {
-        const std::size_t k = static_cast<std::size_t>(y) * env_.nx + x;
-        const double e = env_.lower[k];
-        // No soil beside the body stands above it here (a wheel's upper part, say).
-        if (open_sides_[k] == 0 || !(e + s_.contact_tolerance < highest_top_)) continue;
-        const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
-        for (int d = 0; d < 4; ++d) {
-          const std::int64_t ui = i + kSx[d], uj = j + kSy[d];
-          if (!(open_sides_[k] & (1u << d)) || !soil_.inside(ui, uj)) continue;
-          const std::size_t u = soil_.at(ui, uj);
-          const double height = soil_.top[u] - e;
-          if (!(height > s_.contact_tolerance)) continue;
-          ContactElement el;
-          el.i = ui, el.j = uj;
-          el.wall = true;
-          el.nx = -kSx[d], el.ny = -kSy[d], el.nz = 0.0;
-          el.area = s_.cell * height;
-          el.pressure =
-              (m.rigid || soil_.bed[u] > e) ? kInf : k_modulus * det::pow(height, m.bekker_n) / (m.bekker_n + 1.0);
-          el.x = column_x(i) + 0.5 * kSx[d] * s_.cell;
-          el.y = column_y(j) + 0.5 * kSy[d] * s_.cell;
-          el.z = e + 0.5 * height;
-          out_.elements.push_back(el);
-        }
+    for_each_candidate([&](int x, int y, std::size_t k) {
+      const double e = env_.lower[k];
+      // No soil beside the body stands above it here (a wheel's upper part, say).
+      if (open_sides_[k] == 0 || !(e + s_.contact_tolerance < highest_top_)) return;
+      const std::int64_t i = env_.i0 + x, j = env_.j0 + y;
+      for (int d = 0; d < 4; ++d) {
+        const std::int64_t ui = i + kSx[d], uj = j + kSy[d];
+        if (!(open_sides_[k] & (1u << d)) || !soil_.inside(ui, uj)) continue;
+        const std::size_t u = soil_.at(ui, uj);
+        const double height = soil_.top[u] - e;
+        if (!(height > s_.contact_tolerance)) continue;
+        ContactElement el;
+        el.i = ui, el.j = uj;
+        el.wall = true;
+        el.nx = -kSx[d], el.ny = -kSy[d], el.nz = 0.0;
+        el.area = s_.cell * height;
+        el.pressure =
+            (m.rigid || soil_.bed[u] > e) ? kInf : k_modulus * det::pow(height, m.bekker_n) / (m.bekker_n + 1.0);
+        el.x = column_x(i) + 0.5 * kSx[d] * s_.cell;
+        el.y = column_y(j) + 0.5 * kSy[d] * s_.cell;
+        el.z = e + 0.5 * height;
+        out_.elements.push_back(el);
       }
+    });
   }
 
   const TerrainSettings& s_;
