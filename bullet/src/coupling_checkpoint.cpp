@@ -24,7 +24,10 @@ constexpr char kSoilMagic[8] = {'S', 'H', 'S', 'O', 'I', 'L', 'C', 'P'};
 // version 1 states load with every element and block rigid, as they were stepped.
 // Version 3: each body's contact keeps the pressure its unloading columns carried; version 2
 // states load without that memory (the columns unload from their yield line, as they did).
-constexpr std::uint32_t kSoilVersion = 3;
+// Version 4: the soil's clock (TerrainCouplingSettings::soil_interval: substeps and seconds
+// since its last step, soil_steps) and whether each body's envelope has been pressed; older
+// states load as if the soil had just stepped (it stepped every substep then).
+constexpr std::uint32_t kSoilVersion = 4;
 
 void put_envelope(ByteWriter& w, const EnvelopeRaster& e) {
   coupling_detail::put_window(w, e.i0, e.j0, e.nx, e.ny, e.lower, e.upper);
@@ -45,11 +48,13 @@ EnvelopeRaster get_envelope(ByteReader& r) {
 void put_totals(ByteWriter& w, const TerrainCouplingStats& s) {
   w.put(s.substeps), w.put(s.skipped_bodies), w.put(s.yields), w.put(s.rescues), w.put(s.vertices_pushed);
   w.put(s.plastic_work), w.put(s.shear_work);
+  w.put(s.soil_steps);
 }
-void get_totals(ByteReader& r, TerrainCouplingStats& s) {
+void get_totals(ByteReader& r, TerrainCouplingStats& s, std::uint32_t version) {
   for (std::int64_t* v : {&s.substeps, &s.skipped_bodies, &s.yields, &s.rescues, &s.vertices_pushed})
     *v = r.get<std::int64_t>("statistics");
   s.plastic_work = r.get<double>("statistics"), s.shear_work = r.get<double>("statistics");
+  if (version >= 4) s.soil_steps = r.get<std::int64_t>("statistics");
 }
 }  // namespace
 
@@ -57,11 +62,13 @@ std::vector<unsigned char> TerrainCoupling::save_state() const {
   ByteWriter w;
   coupling_detail::put_header(w, kSoilMagic, kSoilVersion);
   put_totals(w, stats_);
+  w.put(static_cast<std::int32_t>(substeps_since_soil_)), w.put(time_since_soil_);
   w.put(static_cast<std::uint32_t>(bodies_.size()));
   for (const Body& b : bodies_) {
     w.put(static_cast<std::int32_t>(shape_type(*b.body))), w.put(static_cast<std::uint8_t>(b.settings.deform));
     put_envelope(w, b.envelope);
     coupling_detail::put_transform(w, b.envelope_pose);
+    w.put(static_cast<std::uint8_t>(b.pressed));
     save_contact(*b.contact, w);
   }
   tiles_.save_state(w);
@@ -73,7 +80,16 @@ void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const 
   const std::uint32_t version =
       coupling_detail::check_header(r, kSoilMagic, 1, kSoilVersion, "a soil coupling's state");
   TerrainCouplingStats stats;
-  get_totals(r, stats);
+  get_totals(r, stats, version);
+  int substeps_since_soil = 0;
+  double time_since_soil = 0.0;
+  if (version >= 4) {
+    substeps_since_soil = r.get<std::int32_t>("substeps since the soil's step");
+    time_since_soil = r.get<double>("time since the soil's step");
+    if (substeps_since_soil < 0 || !(time_since_soil >= 0.0) || !std::isfinite(time_since_soil))
+      r.fail("the soil's clock (" + std::to_string(substeps_since_soil) + " substeps, " +
+             std::to_string(time_since_soil) + " s since its step) is not a clock");
+  }
   const auto count = r.get<std::uint32_t>("body count");
   if (count != bodies_.size())
     r.fail("holds " + std::to_string(count) + " bodies, the coupling has " + std::to_string(bodies_.size()) +
@@ -90,6 +106,7 @@ void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const 
     saved[k].envelope_pose = coupling_detail::get_transform(r, "envelope pose");
     if (!coupling_detail::finite(saved[k].envelope_pose))
       r.fail("body " + std::to_string(k) + "'s envelope pose is not finite");
+    saved[k].pressed = version < 4 || r.get<std::uint8_t>("body's envelope pressed") != 0;
     restore_contact(r, *saved[k].contact,
                     static_cast<std::size_t>(saved[k].envelope.nx) * static_cast<std::size_t>(saved[k].envelope.ny),
                     version);
@@ -100,10 +117,13 @@ void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const 
   // these keeps them from waking the bodies at rest (which would change the continuation).
   (void)soil_.take_changed();
   stats_ = stats;  // the totals; the last substep's timings start again
+  substeps_since_soil_ = substeps_since_soil;
+  time_since_soil_ = time_since_soil;
   for (std::uint32_t k = 0; k < count; ++k) {
     Body& b = bodies_[k];
     b.envelope = std::move(saved[k].envelope);
     b.envelope_pose = saved[k].envelope_pose;
+    b.pressed = saved[k].pressed;
     std::swap(b.contact, saved[k].contact);
   }
 }

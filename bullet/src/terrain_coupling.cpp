@@ -278,6 +278,7 @@ void TerrainCouplingSettings::validate() const {
   c.positive("max_speed", max_speed);
   c.positive("rest_speed", rest_speed);
   c.positive("rest_spin", rest_spin);
+  c.in_closed("soil_interval", soil_interval, 0.0, 0.125);
 }
 
 TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrain& soil,
@@ -462,6 +463,7 @@ void TerrainCoupling::rasterize(Body& b) {
   const ColumnWindow old{b.envelope.i0, b.envelope.j0, b.envelope.nx, b.envelope.ny};
   b.envelope_pose = b.body->getWorldTransform();
   rasterizer_.rasterize(*b.body->getCollisionShape(), b.envelope_pose, b.envelope);
+  b.pressed = false;
   clip_to_region(b.envelope);
   BodyContact& c = *b.contact;
   remap(c.shear, old, b.envelope);
@@ -729,6 +731,28 @@ void TerrainCoupling::rescue_fallen_bodies() {
   }
 }
 
+bool TerrainCoupling::soil_due(double substep) {
+  // The whole number of substeps nearest to the interval (at least one): at 1/240 s and the
+  // default 1/120 s, every second substep. Counted, not timed, so no rounding of summed
+  // substeps can skip or add a soil step.
+  const double per_step = std::floor(settings_.soil_interval / substep + 0.5);
+  ++substeps_since_soil_;
+  time_since_soil_ += substep;
+  return static_cast<double>(substeps_since_soil_) >= per_step;
+}
+
+void TerrainCoupling::step_soil() {
+  const auto t0 = Clock::now();
+  const terrain::StepReport report = soil_.step(imprints_, time_since_soil_);
+  substeps_since_soil_ = 0;
+  time_since_soil_ = 0.0;
+  ++stats_.soil_steps;
+  for (Body& b : bodies_) b.pressed = true;
+  stats_.active_columns = report.active_columns;
+  stats_.erosion_passes = report.erosion_passes;
+  stats_.terrain_seconds += seconds_since(t0);
+}
+
 void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   const double h = substep;
   ++stats_.substeps;
@@ -769,10 +793,12 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
       // it cannot slide under it. It presses nothing and activates no soil by itself, and
       // keeps its contact for the next substep.
       b.contact->resting = !b.envelope.lower.empty();
-      if (!b.envelope.lower.empty()) {
+      if (b.pressed && !b.envelope.lower.empty()) {
         terrain::Imprint hold{&b.envelope};
         hold.hold = true;
         imprints_.push_back(hold);
+      } else if (!b.envelope.lower.empty()) {  // made since the soil's last step: pressed once
+        imprints_.push_back(moving_imprint(b.envelope, body, b.settings.spray));
       }
       continue;
     }
@@ -788,11 +814,8 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
     imprints_.push_back(moving_imprint(b.envelope, body, b.settings.spray));
   }
 
-  t0 = Clock::now();
-  const terrain::StepReport report = soil_.step(imprints_, h);
-  stats_.active_columns = report.active_columns;
-  stats_.erosion_passes = report.erosion_passes;
-  stats_.terrain_seconds += seconds_since(t0);
+  stats_.active_columns = stats_.erosion_passes = 0;
+  if (soil_due(h)) step_soil();
 
   t0 = Clock::now();
   const std::vector<terrain::ColumnRect> changed = soil_.take_changed();

@@ -36,6 +36,7 @@ terrain::TerrainSettings soil_settings(const SoilRun& run) {
 bullet::TerrainCouplingSettings coupling_settings(const SoilRun& run) {
   bullet::TerrainCouplingSettings s;
   s.contact = run.contact;
+  s.soil_interval = run.soil_interval;
   return s;
 }
 

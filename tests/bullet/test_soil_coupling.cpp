@@ -2,8 +2,11 @@
 // balance of the column model (the cases and their references: scenes/include/shore/scenes/soil_cases.h).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
+#include "shore/bullet/terrain_coupling.h"
 #include "shore/scenes/soil_cases.h"
 #include "shore/terrain/bekker.h"
 
@@ -78,6 +81,33 @@ TEST(SoilCoupling, TowedWheelBearsOnTheFrontHalfAndLeavesARut) {
   EXPECT_GT(r.resistance, r.reference_resistance / 1.5) << "resistance " << r.resistance;
   EXPECT_LT(r.resistance, r.reference_resistance * 1.5) << "resistance " << r.resistance;
   EXPECT_GT(r.rut_depth, 0.5 * r.sinkage) << "rut " << r.rut_depth;
+}
+
+// The soil deforms once per soil_interval (in whole substeps) while its push is solved every
+// substep from the body's pose over the soil as it stands, so how deep a body sinks and how
+// hard the soil resists a rolling wheel keep Bekker's values at any interval: every substep
+// (0), at the default 120 Hz, and at 60 Hz (every fourth 1/240 s substep).
+TEST(SoilCoupling, BearingFollowsBekkerWhateverTheSoilInterval) {
+  for (const double interval : {0.0, 1.0 / 120, 1.0 / 60}) {
+    WheelCase c;
+    c.towed = true;
+    c.run.material = compacting(Material::sand());
+    c.run.soil_interval = interval;
+    std::int64_t substeps = 0, soil_steps = 0;
+    c.run.after_substep = [&](const shore::terrain::Terrain&, const shore::bullet::TerrainCoupling& coupling) {
+      substeps = coupling.stats().substeps, soil_steps = coupling.stats().soil_steps;
+    };
+    const WheelResult r = run_wheel(c);
+    const std::int64_t per_step = std::max(1L, std::lround(interval / c.run.substep));
+    EXPECT_EQ(soil_steps, substeps / per_step) << "interval " << interval;
+    EXPECT_LT(rel(r.sinkage, r.reference_sinkage), 0.10) << "interval " << interval << ": sinkage " << r.sinkage;
+    EXPECT_LT(rel(r.resistance, r.reference_resistance), 0.15)
+        << "interval " << interval << ": resistance " << r.resistance;
+    PlateCase p;
+    p.run.soil_interval = interval;
+    const PlateResult plate = run_plate(p);
+    EXPECT_LT(rel(plate.sinkage, plate.reference), 0.05) << "interval " << interval << ": plate " << plate.sinkage;
+  }
 }
 
 // A sphere (D 0.2 m, 10 kg) dropped from 1 m: crater depth from the energy balance, the

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
 
 #include "bad_bodies.h"
 #include "shore/bullet/heightfield_tile.h"
@@ -222,6 +223,19 @@ TEST(SoilRobustness, CouplingSettingsAreValidated) {
   bullet::TerrainCouplingSettings s;
   s.rest_speed = 0.0;
   EXPECT_THROW(bullet::TerrainCoupling(world.world(), soil, s), shore::InvalidSetting);
+  // The soil's interval: named, with its value and the range allowed.
+  for (const double bad : {-1e-3, 0.25, std::numeric_limits<double>::quiet_NaN()}) {
+    bullet::TerrainCouplingSettings t;
+    t.soil_interval = bad;
+    try {
+      bullet::TerrainCoupling refused(world.world(), soil, t);
+      ADD_FAILURE() << "soil_interval " << bad << " accepted";
+    } catch (const shore::InvalidSetting& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("bullet.TerrainCouplingSettings.soil_interval"), std::string::npos) << what;
+      EXPECT_NE(what.find("[0, 0.125]"), std::string::npos) << what;
+    }
+  }
   bullet::TerrainCoupling ground(world.world(), soil);
   btRigidBody* ball = world.add_body(std::make_unique<btSphereShape>(0.1f), 1.0, btVector3(0, 0, 0.3f));
   EXPECT_THROW(ground.add_body(ball, {.ccd_motion_share = 0.0}), shore::InvalidSetting);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -16,6 +17,7 @@
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 
 #include "shore/bullet/body_state.h"
+#include "shore/bullet/terrain_coupling.h"
 #include "shore/core/checkpoint_file.h"
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
@@ -38,10 +40,11 @@ struct Continuation {
 /// Runs `name` for save_at substeps, checkpoints it (through a file), runs it on to the
 /// end of its smoke run; restores a fresh scene from the file and runs it to the same end.
 /// clear_contacts: both runs continue from no Bullet contact points (body_state.h).
-Continuation continue_from(const std::string& name, double save_share, bool clear_contacts) {
+/// nudge: substeps added to the save point.
+Continuation continue_from(const std::string& name, double save_share, bool clear_contacts, int nudge = 0) {
   const SceneOptions opt = smoke_options(name);
   const SceneType& type = *find_scene(name);
-  const int total = opt.substeps(), save_at = static_cast<int>(save_share * total);
+  const int total = opt.substeps(), save_at = static_cast<int>(save_share * total) + nudge;
   const std::filesystem::path file =
       std::filesystem::path(testing::TempDir()) / ("shore_scene_checkpoint_" + name + ".ckp");
   Continuation out;
@@ -67,9 +70,9 @@ Continuation continue_from(const std::string& name, double save_share, bool clea
 
 /// The state hash of a fresh scene run from the save point's substep count without a
 /// restore: the control that shows a restore is what makes the hashes equal.
-std::uint64_t unrestored_hash(const std::string& name, double save_share) {
+std::uint64_t unrestored_hash(const std::string& name, double save_share, int nudge = 0) {
   const SceneOptions opt = smoke_options(name);
-  const int total = opt.substeps(), save_at = static_cast<int>(save_share * total);
+  const int total = opt.substeps(), save_at = static_cast<int>(save_share * total) + nudge;
   const std::unique_ptr<Scene> fresh = find_scene(name)->create(opt);
   for (int k = save_at; k < total; ++k) fresh->step();
   return state_hash(fresh->state());
@@ -84,6 +87,19 @@ TEST_P(SceneCheckpoint, RestoredMidRunInAFreshWorldContinuesBitIdentically) {
   EXPECT_EQ(c.contact_points_at_save, 0) << "this scene's bodies touch through Bullet at the save point";
   EXPECT_EQ(shore::to_hex(c.uninterrupted), shore::to_hex(c.restored));
   EXPECT_NE(c.uninterrupted, unrestored_hash(GetParam(), 0.4)) << "the continuation does not depend on the restore";
+}
+
+// The soil steps every second substep at the impact scene's 1/240 s (soil_interval): saved
+// just after a soil step and just before the next, the restored run keeps the soil's clock
+// (and which envelopes are still to be pressed) and continues bit-identically either way.
+TEST(SceneCheckpointSoilClock, RestoredOnEitherSideOfASoilStepContinuesBitIdentically) {
+  const SceneOptions opt = smoke_options("impact");
+  ASSERT_EQ(std::lround(shore::bullet::TerrainCouplingSettings{}.soil_interval / opt.substep), 2);
+  for (const int nudge : {0, 1}) {
+    const Continuation c = continue_from("impact", 0.4, false, nudge);
+    EXPECT_EQ(shore::to_hex(c.uninterrupted), shore::to_hex(c.restored)) << "saved " << nudge << " substeps later";
+    EXPECT_NE(c.uninterrupted, unrestored_hash("impact", 0.4, nudge));
+  }
 }
 
 // impact: bodies dropped into soil, spray in flight at the save point; pond: a floating body

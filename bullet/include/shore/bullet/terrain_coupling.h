@@ -129,6 +129,15 @@ struct TerrainCouplingSettings {
   bool cover_all_bodies = true;
   /// Lift a body whose lowest point fell below bedrock back onto the surface (counted).
   bool rescue_fallthrough = true;
+  /// s: how often the soil deforms. Bodies' imprints are pressed, the displaced soil moved
+  /// and eroded, spray stepped and the tiles' heights pushed once per round(soil_interval /
+  /// substep) substeps (at least 1), with their summed time; the soil's push on each body is
+  /// still found and solved every substep, from the body's pose over the soil as it stands
+  /// (a column the body has entered since bears its sinkage plus how deep the body lies below
+  /// its top), so bearing, sinkage and resistance keep Bekker's law. In [0, 0.125]; 0: every
+  /// substep. The default steps the soil at 120 Hz: every second substep at 1/240 s, every
+  /// substep at 1/120 s and longer (docs/terrain.md, "Soil interval").
+  double soil_interval = 1.0 / 120;
   /// Broadphase filter bit of soft-soil tiles. Shore owns the normal contact of added
   /// bodies with soft soil, so this bit is cleared from their collision mask (and restored
   /// by remove_body); other bodies collide with the tiles through Bullet as with rigid
@@ -147,6 +156,7 @@ struct TerrainCouplingStats {
   /// remove_body; total).
   std::int64_t lost_bodies = 0;
   std::int64_t vertices_pushed = 0;  ///< heightfield vertices written (total)
+  std::int64_t soil_steps = 0;       ///< substeps in which the soil deformed (total; soil_interval)
   /// J, total: work the coupled bodies did on the soil, pressing and shearing it (the
   /// kinetic energy the soil's impulses took from them).
   double plastic_work = 0.0;
@@ -156,7 +166,7 @@ struct TerrainCouplingStats {
   double terrain_seconds = 0.0;
   double push_seconds = 0.0;
   double reaction_seconds = 0.0;
-  int active_columns = 0;
+  int active_columns = 0;  ///< columns the soil step worked on (0 in a substep without one)
   int erosion_passes = 0;
   int resting_bodies = 0;  ///< bodies at rest that kept their contact this substep (cheap)
 };
@@ -234,6 +244,7 @@ class TerrainCoupling : public btActionInterface {
     BodySoilSettings settings;
     EnvelopeRaster envelope;  // at envelope_pose: this substep's imprint, the next one's contact
     btTransform envelope_pose;
+    bool pressed = true;  // the soil has stepped with the envelope since it was made (soil_interval)
     double reach = 0.0;  // m, from check_rasterizable
     // The shape and scaling reach was found for; shape_fits: the soil can take it.
     const btCollisionShape* shape = nullptr;
@@ -276,6 +287,10 @@ class TerrainCoupling : public btActionInterface {
   void rescue_fallen_bodies();
   void keep_above_bedrock(Body& b);
   void wake_bodies_over(const std::vector<terrain::ColumnRect>& changed);
+  /// Advances the soil's clock by one substep; true when the soil steps in it.
+  bool soil_due(double substep);
+  /// Steps the soil with this substep's imprints and the time since its last step.
+  void step_soil();
 
   std::vector<double> base_scratch_;  // untouched ground under an envelope
 
@@ -287,6 +302,9 @@ class TerrainCoupling : public btActionInterface {
   std::vector<Body> bodies_;
   std::vector<terrain::Imprint> imprints_;
   TerrainCouplingStats stats_;
+  // The soil's clock (soil_interval): substeps and seconds since its last step.
+  int substeps_since_soil_ = 0;
+  double time_since_soil_ = 0.0;
   bool rigid_ = false;
   bool detached_ = false;
 };

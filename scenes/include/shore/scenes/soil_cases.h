@@ -27,6 +27,7 @@ struct SoilRun {
   double active_reach = terrain::TerrainSettings{}.active_reach;           ///< m, see TerrainSettings
   int active_margin = terrain::TerrainSettings{}.active_margin;            ///< columns, see TerrainSettings
   bullet::SoilContactSettings contact;                                     ///< how the soil's push is solved
+  double soil_interval = bullet::TerrainCouplingSettings{}.soil_interval;  ///< s, how often the soil deforms
   std::shared_ptr<const terrain::HeightSource> base;                       ///< untouched ground; null: flat at 0
   terrain::SpraySettings spray;                                            ///< the soil's spray (on by default)
   bool body_spray = true;  ///< the case's bodies throw soil (BodySoilSettings::spray)
