@@ -27,7 +27,11 @@ constexpr char kSoilMagic[8] = {'S', 'H', 'S', 'O', 'I', 'L', 'C', 'P'};
 // Version 4: the soil's clock (TerrainCouplingSettings::soil_interval: substeps and seconds
 // since its last step, soil_steps) and whether each body's envelope has been pressed; older
 // states load as if the soil had just stepped (it stepped every substep then).
-constexpr std::uint32_t kSoilVersion = 4;
+// Version 5: contacts that follow their bodies between soil steps
+// (SoilContactSettings::follow_drift): each element's pressure rate, each block's capacity
+// rate and approach, each contact's drift, whether each envelope is newer than its contact,
+// contacts_followed; older states load with their contacts built afresh at the next substep.
+constexpr std::uint32_t kSoilVersion = 5;
 
 void put_envelope(ByteWriter& w, const EnvelopeRaster& e) {
   coupling_detail::put_window(w, e.i0, e.j0, e.nx, e.ny, e.lower, e.upper);
@@ -49,12 +53,14 @@ void put_totals(ByteWriter& w, const TerrainCouplingStats& s) {
   w.put(s.substeps), w.put(s.skipped_bodies), w.put(s.yields), w.put(s.rescues), w.put(s.vertices_pushed);
   w.put(s.plastic_work), w.put(s.shear_work);
   w.put(s.soil_steps);
+  w.put(s.contacts_followed);
 }
 void get_totals(ByteReader& r, TerrainCouplingStats& s, std::uint32_t version) {
   for (std::int64_t* v : {&s.substeps, &s.skipped_bodies, &s.yields, &s.rescues, &s.vertices_pushed})
     *v = r.get<std::int64_t>("statistics");
   s.plastic_work = r.get<double>("statistics"), s.shear_work = r.get<double>("statistics");
   if (version >= 4) s.soil_steps = r.get<std::int64_t>("statistics");
+  if (version >= 5) s.contacts_followed = r.get<std::int64_t>("statistics");
 }
 }  // namespace
 
@@ -68,7 +74,7 @@ std::vector<unsigned char> TerrainCoupling::save_state() const {
     w.put(static_cast<std::int32_t>(shape_type(*b.body))), w.put(static_cast<std::uint8_t>(b.settings.deform));
     put_envelope(w, b.envelope);
     coupling_detail::put_transform(w, b.envelope_pose);
-    w.put(static_cast<std::uint8_t>(b.pressed));
+    w.put(static_cast<std::uint8_t>(b.pressed)), w.put(static_cast<std::uint8_t>(b.envelope_fresh));
     save_contact(*b.contact, w);
   }
   tiles_.save_state(w);
@@ -107,6 +113,7 @@ void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const 
     if (!coupling_detail::finite(saved[k].envelope_pose))
       r.fail("body " + std::to_string(k) + "'s envelope pose is not finite");
     saved[k].pressed = version < 4 || r.get<std::uint8_t>("body's envelope pressed") != 0;
+    saved[k].envelope_fresh = version < 5 || r.get<std::uint8_t>("body's envelope fresh") != 0;
     restore_contact(r, *saved[k].contact,
                     static_cast<std::size_t>(saved[k].envelope.nx) * static_cast<std::size_t>(saved[k].envelope.ny),
                     version);
@@ -124,6 +131,7 @@ void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const 
     b.envelope = std::move(saved[k].envelope);
     b.envelope_pose = saved[k].envelope_pose;
     b.pressed = saved[k].pressed;
+    b.envelope_fresh = saved[k].envelope_fresh;
     std::swap(b.contact, saved[k].contact);
   }
 }

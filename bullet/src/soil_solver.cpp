@@ -53,6 +53,7 @@ struct Tally {
   Vec3 weighted_point, area_point, infinite_point;  // sum of w p, A p, p (bedrock)
   double cohesion = 0.0, weight_mobilised = 0.0, area_mobilised = 0.0;
   double stiffness = 0.0, preload = 0.0;  // sums of k_u A and preload A over elastic elements
+  double rate = 0.0;                      // sum of dp/dz A / n_z: capacity per metre of approach
   bool holds_rigidly = false;             // some element holds rigidly
 
   void add(const terrain::ContactElement& e, double mobilisation, double c) {
@@ -76,6 +77,8 @@ struct Tally {
       return;
     }
     const double w = e.pressure * e.area;
+    // Pressing a column further by dz along the vertical takes the body dz n_z along the normal.
+    if (!e.wall && e.nz > 0.0) rate += e.pressure_rate * e.area / e.nz;
     weight += w;
     force = force + n * w;
     weighted_point = weighted_point + p * w;
@@ -95,11 +98,13 @@ struct Tally {
       b.mobilised = area > 0.0 ? area_mobilised / area : 0.0;
     } else if (weight > 0.0) {
       b.capacity = length(force);
+      b.capacity_rate = rate;
       b.point = weighted_point * (1.0 / weight);
       b.normal = normalized(force);
       b.mobilised = weight_mobilised / weight;
     } else {  // fresh soil: it bears nothing yet; the body's area decides
       b.capacity = 0.0;
+      b.capacity_rate = rate;  // but will once pressed
       b.point = area > 0.0 ? area_point * (1.0 / area) : area_point;
       b.normal = normalized(area_normal);
       b.mobilised = area > 0.0 ? area_mobilised / area : 0.0;
@@ -169,6 +174,29 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, const terr
         friction_directions(blocks.back());
         t = Tally{};
       }
+}
+
+double follow_body(std::span<Block> blocks, const RigidBody& body, double h) {
+  double largest = 0.0;
+  for (Block& b : blocks) {
+    const Vec3 d = body.point_velocity(b.point) * h;
+    largest = std::max(largest, length(d));
+    // The point stays where the soil is: moving it with the body's material (a ball's spin
+    // carries its surface around) would lengthen the lever of a stiff push and throw the
+    // body out (measured on the stiffest soil).
+    const double approach = -dot(d, b.normal), deepest = b.deepest;
+    b.approach += approach;
+    b.deepest = std::max(b.deepest, b.approach);
+    if (b.capacity < kInf) b.capacity += b.capacity_rate * (b.deepest - deepest);
+    if (b.stiffness < kInf) b.preload = std::clamp(b.preload + b.stiffness * approach, 0.0, b.capacity);
+  }
+  return largest;
+}
+
+double largest_point_speed(std::span<const Block> blocks, const RigidBody& body) {
+  double largest = 0.0;
+  for (const Block& b : blocks) largest = std::max(largest, length(body.point_velocity(b.point)));
+  return largest;
 }
 
 void warm_start(std::span<const Block> previous, std::span<Block> blocks) {

@@ -69,6 +69,11 @@ struct Block {
   /// soil is rigid-plastic).
   double stiffness = std::numeric_limits<double>::infinity();
   double preload = 0.0;  ///< N, the elastic push at the body's pose (finite stiffness)
+  /// N/m: how fast capacity grows as the body approaches along the normal (its columns'
+  /// Bekker dp/dz; 0 on bedrock and for walls), for follow_body.
+  double capacity_rate = 0.0;
+  double approach = 0.0;  ///< m the body has approached along the normal since the block was built (follow_body)
+  double deepest = 0.0;   ///< m, the most `approach` has been
 };
 
 struct SolverSettings {
@@ -96,6 +101,18 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, const terr
 
 /// Warm start: the impulses the same blocks ended the last substep with (both sorted by key).
 void warm_start(std::span<const Block> previous, std::span<Block> blocks);
+
+/// Keeps blocks built at an earlier pose for the body's pose one substep of motion later:
+/// each block's point moves by d = (v + w x r) h with the body's velocities, and its
+/// capacity and elastic push follow the approach -d . n to first order: the capacity grows
+/// by capacity_rate times the approach beyond the deepest reached since the block was built
+/// (plastic soil keeps its strength where the body backs off), the elastic push by stiffness
+/// times the approach either way. The point where the soil pushes stays. Returns the
+/// largest |d|, m.
+double follow_body(std::span<Block> blocks, const RigidBody& body, double h);
+
+/// The largest speed of a block's point with the body's velocities, m/s.
+double largest_point_speed(std::span<const Block> blocks, const RigidBody& body);
 
 /// Solves the substep's soil impulses on the body (velocities updated in place). start:
 /// the body at the start of the substep, before the engine's forces of this substep (its

@@ -172,6 +172,9 @@ struct TerrainCoupling::BodyContact {
   std::vector<std::pair<std::uint32_t, double>> new_carried;
   SoilForce last;
   bool resting = false;  // the body was at rest: its blocks and patch still hold it
+  // m: how far the blocks' points have moved with the body since the blocks were built (a
+  // bound: the sum of each substep's largest move), for follow_drift.
+  double drift = 0.0;
   // The body's velocities at the end of the last substep (the start of this one).
   btVector3 v_end{0, 0, 0}, w_end{0, 0, 0};
   bool has_end = false;
@@ -187,23 +190,31 @@ void TerrainCoupling::save_contact(const BodyContact& c, ByteWriter& w) {
   w.put(c.last.contact_columns), w.put(static_cast<std::uint8_t>(c.last.yielded));
   coupling_detail::put_vector(w, c.v_end), coupling_detail::put_vector(w, c.w_end);
   w.put(static_cast<std::uint8_t>(c.resting)), w.put(static_cast<std::uint8_t>(c.has_end));
+  w.put(c.drift);
 }
 
 void TerrainCoupling::restore_contact(ByteReader& r, BodyContact& c, std::size_t envelope_columns,
                                       std::uint32_t version) {
   // Version 1 elements and blocks end before the unloading spring's fields: they read as
-  // rigid ones, which they were.
+  // rigid ones, which they were. Versions 2 to 4 end before the rates of following
+  // (follow_drift): they read with none, and the next substep builds the contact afresh.
   constexpr std::size_t kElementV1 = offsetof(terrain::ContactElement, stiffness);
   constexpr std::size_t kBlockV1 = offsetof(soil_detail::Block, stiffness);
-  if (version >= 2)
+  constexpr std::size_t kElementV4 = offsetof(terrain::ContactElement, pressure_rate);
+  constexpr std::size_t kBlockV4 = offsetof(soil_detail::Block, capacity_rate);
+  if (version >= 5)
     coupling_detail::get_any_array(r, c.patch.elements, "contact patch");
+  else if (version >= 2)
+    coupling_detail::get_prefix_array<terrain::ContactElement, kElementV4>(r, c.patch.elements, "contact patch");
   else
     coupling_detail::get_prefix_array<terrain::ContactElement, kElementV1>(r, c.patch.elements, "contact patch");
   c.patch.patch_width = r.get<double>("contact patch"), c.patch.area = r.get<double>("contact patch");
   c.patch.touching_columns = r.get<int>("contact patch");
   for (auto* blocks : {&c.blocks, &c.previous})
-    if (version >= 2)
+    if (version >= 5)
       coupling_detail::get_any_array(r, *blocks, "contact blocks");
+    else if (version >= 2)
+      coupling_detail::get_prefix_array<soil_detail::Block, kBlockV4>(r, *blocks, "contact blocks");
     else
       coupling_detail::get_prefix_array<soil_detail::Block, kBlockV1>(r, *blocks, "contact blocks");
   coupling_detail::get_any_array(r, c.shear, "shear displacement");
@@ -219,6 +230,7 @@ void TerrainCoupling::restore_contact(ByteReader& r, BodyContact& c, std::size_t
   c.v_end = coupling_detail::get_vector(r, "contact velocities"),
   c.w_end = coupling_detail::get_vector(r, "contact velocities");
   c.resting = r.get<std::uint8_t>("contact flags") != 0, c.has_end = r.get<std::uint8_t>("contact flags") != 0;
+  c.drift = version >= 5 ? r.get<double>("contact drift") : 0.0;
   c.kept.clear(), c.kept_valid = false;
   check_contact(r, c, envelope_columns);
 }
@@ -239,16 +251,20 @@ void TerrainCoupling::check_contact(const ByteReader& r, const BodyContact& c, s
   for (const terrain::ContactElement& e : c.patch.elements)
     sound = sound && e.raster_index < static_cast<std::int64_t>(envelope_columns) &&
             std::isfinite(e.x + e.y + e.z + e.nx + e.ny + e.nz + e.area) && !std::isnan(e.pressure) &&
-            e.stiffness >= 0.0 && e.preload >= 0.0 && std::isfinite(e.preload);
+            e.stiffness >= 0.0 && e.preload >= 0.0 && std::isfinite(e.preload) && e.pressure_rate >= 0.0 &&
+            std::isfinite(e.pressure_rate);
   for (const auto* blocks : {&c.blocks, &c.previous})
     for (const soil_detail::Block& b : *blocks)
-      sound = sound && std::isfinite(b.point.x + b.point.y + b.point.z + b.normal.x + b.normal.y + b.normal.z) &&
-              !std::isnan(b.capacity) && b.stiffness >= 0.0 && b.preload >= 0.0 && std::isfinite(b.preload) &&
-              std::isfinite(b.cohesion + b.mobilised + b.normal_impulse + b.t1_impulse + b.t2_impulse + b.mass_n +
-                            b.mass_t1 + b.mass_t2) &&
-              std::isfinite(b.t1.x + b.t1.y + b.t1.z + b.t2.x + b.t2.y + b.t2.z + b.start_n + b.start_t1 + b.start_t2);
+      sound =
+          sound && std::isfinite(b.point.x + b.point.y + b.point.z + b.normal.x + b.normal.y + b.normal.z) &&
+          !std::isnan(b.capacity) && b.stiffness >= 0.0 && b.preload >= 0.0 && std::isfinite(b.preload) &&
+          std::isfinite(b.cohesion + b.mobilised + b.normal_impulse + b.t1_impulse + b.t2_impulse + b.mass_n +
+                        b.mass_t1 + b.mass_t2) &&
+          std::isfinite(b.t1.x + b.t1.y + b.t1.z + b.t2.x + b.t2.y + b.t2.z + b.start_n + b.start_t1 + b.start_t2) &&
+          b.capacity_rate >= 0.0 && std::isfinite(b.capacity_rate + b.approach + b.deepest);
   for (std::size_t k = 0; k < c.shear.size(); ++k)
     sound = sound && std::isfinite(c.shear[k].x + c.shear[k].y + c.shear[k].z + c.shear_length[k]);
+  sound = sound && c.drift >= 0.0 && std::isfinite(c.drift);
   if (!sound) r.fail("the soil contact's state holds a non-finite value or an index beyond the envelope");
 }
 
@@ -262,6 +278,8 @@ void SoilContactSettings::validate() const {
   c.in_closed("block_columns", block_columns, 1, 64);
   c.in_closed("iterations", iterations, 1, 1000);
   c.in_closed("resting_iterations", resting_iterations, 1, 1000);
+  c.in_closed("follow_drift", follow_drift, 0.0, 2.0);
+  c.non_negative("follow_speed", follow_speed);
 }
 
 void BodySoilSettings::validate() const {
@@ -464,6 +482,7 @@ void TerrainCoupling::rasterize(Body& b) {
   b.envelope_pose = b.body->getWorldTransform();
   rasterizer_.rasterize(*b.body->getCollisionShape(), b.envelope_pose, b.envelope);
   b.pressed = false;
+  b.envelope_fresh = true;
   clip_to_region(b.envelope);
   BodyContact& c = *b.contact;
   remap(c.shear, old, b.envelope);
@@ -504,6 +523,8 @@ void TerrainCoupling::gather_contact(Body& b) {
   BodyContact& c = *b.contact;
   const ShapeProbe probe(rasterizer_, *b.body->getCollisionShape(), b.envelope_pose);
   soil_.contact(b.envelope, c.shear_length, settings_.contact.sub_cell_coverage ? &probe : nullptr, c.patch);
+  b.envelope_fresh = false;
+  c.drift = 0.0;
   limit_to_carried(b);
   std::swap(c.previous, c.blocks);
   soil_detail::gather_blocks(c.patch.elements, soil_.settings().material, c.shear_length,
@@ -544,15 +565,18 @@ void TerrainCoupling::advance_memory(Body& b, const soil_detail::RigidBody& rb, 
   const bool had = c.shear.size() == size;
   // The new values first, from the old ones (nothing is cleared before all are read).
   c.new_shear.clear(), c.new_carried.clear();
-  for (const terrain::ContactElement& e : c.patch.elements) {
+  for (terrain::ContactElement& e : c.patch.elements) {
     if (e.wall || e.raster_index < 0 || !env.contains(e.i, e.j)) continue;
     const soil_detail::Vec3 n{e.nx, e.ny, e.nz};
     const soil_detail::Vec3 u = rb.point_velocity({e.x, e.y, e.z});
     const auto k = static_cast<std::uint32_t>(e.raster_index);
     const soil_detail::Vec3 slip = u - n * soil_detail::dot(u, n);
     c.new_shear.emplace_back(k, (had ? c.shear[k] : soil_detail::Vec3{}) + slip * h);
-    if (e.stiffness < kUnloading && env.index(e.i, e.j) == k)  // its own column (a fringe's is not)
-      c.new_carried.emplace_back(k, std::clamp(e.preload + e.stiffness * h * -soil_detail::dot(u, n), 0.0, e.pressure));
+    if (!(e.stiffness < kUnloading)) continue;
+    // The spring at the end of the substep: what the column carries on, and where a patch
+    // kept for the next substep (follow_drift) starts from.
+    e.preload = std::clamp(e.preload + e.stiffness * h * -soil_detail::dot(u, n), 0.0, e.pressure);
+    if (env.index(e.i, e.j) == k) c.new_carried.emplace_back(k, e.preload);  // its own column (a fringe's is not)
   }
   // Back to fresh: only the entries kept last substep, when they are known; else all of them.
   const bool sparse = had && c.kept_valid;
@@ -621,15 +645,19 @@ bool TerrainCoupling::react(Body& b, double h) {
   // The soil where the body stood at the start of this substep (the envelope kept from the
   // end of the previous one): Bullet has since applied gravity and integrated freely, since
   // it does not collide this body with soft tiles. A body at rest keeps its last contact.
-  if (c.resting)
-    ++stats_.resting_bodies;
-  else
-    gather_contact(b);
-  if (c.blocks.empty()) return false;
-
   soil_detail::RigidBody rb = solver_body(body);
   soil_detail::RigidBody start = rb;
   if (c.has_end) start.v = to_vec(c.v_end), start.w = to_vec(c.w_end);
+  if (c.resting) {
+    ++stats_.resting_bodies;
+  } else if (b.envelope_fresh || !c.has_end) {
+    gather_contact(b);
+  } else {  // kept since the substep before (no soil step, little drift): it moves with the body
+    c.drift += soil_detail::follow_body(c.blocks, start, h);
+    ++stats_.contacts_followed;
+  }
+  if (c.blocks.empty()) return false;
+
   const btVector3 v0 = body.getLinearVelocity(), w0 = body.getAngularVelocity();
   const soil_detail::SolverSettings solver{
       settings_.contact.block_columns, c.resting ? settings_.contact.resting_iterations : settings_.contact.iterations,
@@ -705,6 +733,7 @@ void TerrainCoupling::wake_bodies_over(const std::vector<terrain::ColumnRect>& c
       if (r.i0 <= e.i0 + e.nx && e.i0 <= r.i0 + r.nx && r.j0 <= e.j0 + e.ny && e.j0 <= r.j0 + r.ny) {
         if (!b.body->isActive()) b.body->activate(true);
         b.contact->resting = false;
+        b.envelope_fresh = true;  // its contact is gathered again from the changed soil
         break;
       }
   }
@@ -729,6 +758,15 @@ void TerrainCoupling::rescue_fallen_bodies() {
     body.activate(true);
     ++stats_.rescues;
   }
+}
+
+bool TerrainCoupling::needs_envelope(const Body& b, double substep) const {
+  const BodyContact& c = *b.contact;
+  const double tolerance = settings_.contact.follow_drift * soil_.settings().cell;
+  if (c.blocks.empty() || !(tolerance > 0.0)) return true;
+  if (!(double(b.body->getLinearVelocity().length()) >= settings_.contact.follow_speed)) return true;
+  // Where its contact will have moved by the next substep's solve.
+  return c.drift + soil_detail::largest_point_speed(c.blocks, solver_body(*b.body)) * substep > tolerance;
 }
 
 bool TerrainCoupling::soil_due(double substep) {
@@ -765,6 +803,7 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   stats_.push_seconds += seconds_since(t0);
 
   imprints_.clear();
+  const bool soil_steps = soil_due(h);
   for (Body& b : bodies_) {
     btRigidBody& body = *b.body;
     if (!body_is_sane(body) || (b.settings.deform && !shape_still_fits(b))) {
@@ -802,6 +841,8 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
       }
       continue;
     }
+    // Between soil steps a body whose contact can follow it needs no new envelope.
+    if (!soil_steps && !needs_envelope(b, h)) continue;
     if (!can_rasterize(b)) {  // a pose the envelope cannot take (not a rotation, say): skip, never poison the grid
       ++stats_.skipped_bodies;
       b.envelope.lower.clear();
@@ -815,7 +856,7 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   }
 
   stats_.active_columns = stats_.erosion_passes = 0;
-  if (soil_due(h)) step_soil();
+  if (soil_steps) step_soil();
 
   t0 = Clock::now();
   const std::vector<terrain::ColumnRect> changed = soil_.take_changed();

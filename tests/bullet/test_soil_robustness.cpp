@@ -223,17 +223,32 @@ TEST(SoilRobustness, CouplingSettingsAreValidated) {
   bullet::TerrainCouplingSettings s;
   s.rest_speed = 0.0;
   EXPECT_THROW(bullet::TerrainCoupling(world.world(), soil, s), shore::InvalidSetting);
-  // The soil's interval: named, with its value and the range allowed.
-  for (const double bad : {-1e-3, 0.25, std::numeric_limits<double>::quiet_NaN()}) {
+  // The soil's interval and the contact's following: named, with the value and what is allowed.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  struct Bad {
+    void (*set)(bullet::TerrainCouplingSettings&, double);
+    double value;
+    const char *field, *allowed;
+  };
+  const auto interval = [](bullet::TerrainCouplingSettings& t, double v) { t.soil_interval = v; };
+  const auto drift = [](bullet::TerrainCouplingSettings& t, double v) { t.contact.follow_drift = v; };
+  const auto speed = [](bullet::TerrainCouplingSettings& t, double v) { t.contact.follow_speed = v; };
+  for (const Bad& bad : {Bad{interval, -1e-3, "bullet.TerrainCouplingSettings.soil_interval", "[0, 0.125]"},
+                         Bad{interval, 0.25, "bullet.TerrainCouplingSettings.soil_interval", "[0, 0.125]"},
+                         Bad{interval, nan, "bullet.TerrainCouplingSettings.soil_interval", "[0, 0.125]"},
+                         Bad{drift, 2.5, "bullet.SoilContactSettings.follow_drift", "[0, 2]"},
+                         Bad{drift, nan, "bullet.SoilContactSettings.follow_drift", "[0, 2]"},
+                         Bad{speed, -1.0, "bullet.SoilContactSettings.follow_speed", ">= 0"},
+                         Bad{speed, nan, "bullet.SoilContactSettings.follow_speed", ">= 0"}}) {
     bullet::TerrainCouplingSettings t;
-    t.soil_interval = bad;
+    bad.set(t, bad.value);
     try {
       bullet::TerrainCoupling refused(world.world(), soil, t);
-      ADD_FAILURE() << "soil_interval " << bad << " accepted";
+      ADD_FAILURE() << bad.field << " = " << bad.value << " accepted";
     } catch (const shore::InvalidSetting& e) {
       const std::string what = e.what();
-      EXPECT_NE(what.find("bullet.TerrainCouplingSettings.soil_interval"), std::string::npos) << what;
-      EXPECT_NE(what.find("[0, 0.125]"), std::string::npos) << what;
+      EXPECT_NE(what.find(bad.field), std::string::npos) << what;
+      EXPECT_NE(what.find(bad.allowed), std::string::npos) << what;
     }
   }
   bullet::TerrainCoupling ground(world.world(), soil);

@@ -89,16 +89,21 @@ TEST_P(SceneCheckpoint, RestoredMidRunInAFreshWorldContinuesBitIdentically) {
   EXPECT_NE(c.uninterrupted, unrestored_hash(GetParam(), 0.4)) << "the continuation does not depend on the restore";
 }
 
-// The soil steps every second substep at the impact scene's 1/240 s (soil_interval): saved
-// just after a soil step and just before the next, the restored run keeps the soil's clock
-// (and which envelopes are still to be pressed) and continues bit-identically either way.
+// The soil steps every second substep at these scenes' 1/240 s (soil_interval), and a moving
+// body's contact follows it in between (follow_drift): saved just after a soil step and just
+// before the next, the restored run keeps the soil's clock, which envelopes are still to be
+// pressed and the followed contacts, and continues bit-identically either way. impact:
+// bodies dropping and settling; tracks: a bicycle rolling.
 TEST(SceneCheckpointSoilClock, RestoredOnEitherSideOfASoilStepContinuesBitIdentically) {
-  const SceneOptions opt = smoke_options("impact");
-  ASSERT_EQ(std::lround(shore::bullet::TerrainCouplingSettings{}.soil_interval / opt.substep), 2);
-  for (const int nudge : {0, 1}) {
-    const Continuation c = continue_from("impact", 0.4, false, nudge);
-    EXPECT_EQ(shore::to_hex(c.uninterrupted), shore::to_hex(c.restored)) << "saved " << nudge << " substeps later";
-    EXPECT_NE(c.uninterrupted, unrestored_hash("impact", 0.4, nudge));
+  for (const char* name : {"impact", "tracks"}) {
+    const SceneOptions opt = smoke_options(name);
+    ASSERT_EQ(std::lround(shore::bullet::TerrainCouplingSettings{}.soil_interval / opt.substep), 2) << name;
+    for (const int nudge : {0, 1}) {
+      const Continuation c = continue_from(name, 0.4, false, nudge);
+      EXPECT_EQ(shore::to_hex(c.uninterrupted), shore::to_hex(c.restored))
+          << name << " saved " << nudge << " substeps later";
+      EXPECT_NE(c.uninterrupted, unrestored_hash(name, 0.4, nudge)) << name;
+    }
   }
 }
 

@@ -64,6 +64,11 @@ struct ContactElement {
   /// (columns being pressed, walls, bedrock, rigid-plastic soil).
   double stiffness = std::numeric_limits<double>::infinity();
   double preload = 0.0;  ///< Pa, the elastic push at the body's present pose (when stiffness is finite)
+  /// Pa/m: how fast `pressure` grows as the body presses further into the column: Bekker's
+  /// dp/dz = n p / z where the column is pressed 2 cells or deeper, the secant over the next
+  /// half cell above that (0 for walls and bedrock), so a solver may keep the patch for a
+  /// substep while the body moves a little (bullet::SoilContactSettings::follow_drift).
+  double pressure_rate = 0.0;
 };
 
 /// The soil's side of one body's contact.
