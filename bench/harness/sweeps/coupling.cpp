@@ -155,16 +155,18 @@ void wheel_plugin_time(const SweepContext& ctx, SweepResult& out) {
   // held, then the tow. The held phase is run again alone (the same code path, the same
   // substeps) and subtracted, which leaves the towing phase.
   scenes::WheelCase c = sand_wheel_case();
-  // Three towed/held pairs; the pair with the median plugin time is reported, so one
-  // burst of load on a shared machine does not decide the figure.
+  // Five towed/held pairs; the pair with the median plugin time is reported, so bursts of
+  // load on a shared machine do not decide the figure (with three, one burst in two runs
+  // moved it by a third).
   struct Pair {
     scenes::WheelResult towed, held;
     double plugin = 0;
   };
-  std::vector<Pair> pairs(3);
+  std::vector<Pair> pairs(5);
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     c.towed = true;
-    ctx.progress("towed wheel, 1 cm sand, 1/240 s (plugin time), run " + std::to_string(k + 1) + " of 3");
+    ctx.progress("towed wheel, 1 cm sand, 1/240 s (plugin time), run " + std::to_string(k + 1) + " of " +
+                 std::to_string(pairs.size()));
     pairs[k].towed = scenes::run_wheel(c);
     c.towed = false;
     ctx.progress("the same wheel held (load ramp and settling only), to subtract");
@@ -172,8 +174,9 @@ void wheel_plugin_time(const SweepContext& ctx, SweepResult& out) {
     pairs[k].plugin = pairs[k].towed.stats.plugin_seconds - pairs[k].held.stats.plugin_seconds;
   }
   std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.plugin < b.plugin; });
-  const scenes::WheelResult& towed = pairs[1].towed;
-  const PluginTimes all(towed.stats), pre(pairs[1].held.stats);
+  const Pair& median = pairs[pairs.size() / 2];
+  const scenes::WheelResult& towed = median.towed;
+  const PluginTimes all(towed.stats), pre(median.held.stats);
   const double n = std::max(1.0, all.substeps - pre.substeps);
   auto per_substep = [&](double PluginTimes::*part) { return 1e3 * (all.*part - pre.*part) / n; };
   const double plugin = per_substep(&PluginTimes::plugin), envelope = per_substep(&PluginTimes::envelope),
@@ -214,12 +217,13 @@ void wheel_plugin_time(const SweepContext& ctx, SweepResult& out) {
       "thread: 2 s of load ramp and 0.5 s of settling with the wheel held, then 2 m towed at 1 m/s. The towing "
       "phase's time is the whole run's minus that of the held phase run alone (the same substeps): Shore's own "
       "time per substep (envelope rasterization, soil step, tile cover and push, reaction) and the whole "
-      "stepSimulation. The whole-run average is listed beside it. Three towed/held pairs are run; the one with "
+      "stepSimulation. The whole-run average is listed beside it. Five towed/held pairs are run; the one with "
       "the median plugin time is reported.");
 }
 
 /// The towed wheel's cost and accuracy against the settings that trade one for the other:
-/// the erosion pass cap, the contact solver's sweeps, the contact block size and spray.
+/// the erosion pass cap, the contact solver's sweeps, the contact block size, spray, how often
+/// the soil steps and whether contacts follow their bodies between soil steps.
 /// Each row is the tow phase (towed run minus held run) of the sand wheel at 1 cm, 1/240 s,
 /// one thread; the defaults run first and last, so drift of the machine's load shows.
 void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
@@ -227,27 +231,41 @@ void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
     const char* name;
     int erosion_passes, iterations, block_columns;
     bool spray;
+    double soil_interval, follow_drift;
   };
   const terrain::TerrainSettings soil_defaults;
-  const bullet::SoilContactSettings contact_defaults;
-  const Setting defaults{"defaults", soil_defaults.max_erosion_passes, contact_defaults.iterations,
-                         contact_defaults.block_columns, true};
-  // The defaults before 2026-12-04 were an erosion cap of 8 and 12 solver sweeps: what they
-  // bought is the first rows' difference.
+  const bullet::TerrainCouplingSettings coupling_defaults;
+  const bullet::SoilContactSettings& contact_defaults = coupling_defaults.contact;
+  const Setting d{"defaults",
+                  soil_defaults.max_erosion_passes,
+                  contact_defaults.iterations,
+                  contact_defaults.block_columns,
+                  true,
+                  coupling_defaults.soil_interval,
+                  contact_defaults.follow_drift};
+  // Each row changes the defaults in one respect (or two, named). The defaults before
+  // 2026-12-04 were an erosion cap of 8 and 12 solver sweeps, with the soil and the contact
+  // every substep (soil_interval 0, which follow_drift then does not matter for).
   const std::vector<Setting> settings = {
-      defaults,
-      {"former defaults (erosion cap 8, 12 sweeps)", 8, 12, defaults.block_columns, true},
-      {"erosion cap 8", 8, defaults.iterations, defaults.block_columns, true},
-      {"twice the solver sweeps", defaults.erosion_passes, 2 * defaults.iterations, defaults.block_columns, true},
-      {"blocks twice as wide", defaults.erosion_passes, defaults.iterations, 2 * defaults.block_columns, true},
-      {"spray off", defaults.erosion_passes, defaults.iterations, defaults.block_columns, false},
-      {"blocks twice as wide, spray off", defaults.erosion_passes, defaults.iterations, 2 * defaults.block_columns,
-       false},
-      {"defaults (again)", defaults.erosion_passes, defaults.iterations, defaults.block_columns, true},
+      d,
+      {"former defaults (erosion cap 8, 12 sweeps, soil every substep)", 8, 12, d.block_columns, true, 0.0,
+       d.follow_drift},
+      {"soil and contact every substep (soil_interval 0)", d.erosion_passes, d.iterations, d.block_columns, true, 0.0,
+       d.follow_drift},
+      {"contact built every substep (follow_drift 0)", d.erosion_passes, d.iterations, d.block_columns, true,
+       d.soil_interval, 0.0},
+      {"erosion cap 8", 8, d.iterations, d.block_columns, true, d.soil_interval, d.follow_drift},
+      {"twice the solver sweeps", d.erosion_passes, 2 * d.iterations, d.block_columns, true, d.soil_interval,
+       d.follow_drift},
+      {"blocks twice as wide", d.erosion_passes, d.iterations, 2 * d.block_columns, true, d.soil_interval,
+       d.follow_drift},
+      {"spray off", d.erosion_passes, d.iterations, d.block_columns, false, d.soil_interval, d.follow_drift},
+      {"defaults (again)", d.erosion_passes, d.iterations, d.block_columns, true, d.soil_interval, d.follow_drift},
   };
   Table& t = out.table("coupling_wheel_settings",
-                       {"setting", "erosion_passes", "solver_iterations", "block_columns", "spray",
-                        "tow_whole_ms_per_substep", "vs_defaults", "sinkage_error_pct", "resistance_error_pct"});
+                       {"setting", "erosion_passes", "solver_iterations", "block_columns", "spray", "soil_interval_s",
+                        "follow_drift_cells", "tow_whole_ms_per_substep", "vs_defaults", "sinkage_error_pct",
+                        "resistance_error_pct"});
   const int repeats = ctx.quick ? 1 : 3;
   double first_default = 0.0;
   for (const Setting& g : settings) {
@@ -256,6 +274,8 @@ void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
     c.run.contact.iterations = g.iterations;
     c.run.contact.block_columns = g.block_columns;
     c.run.spray.enabled = g.spray;
+    c.run.soil_interval = g.soil_interval;
+    c.run.contact.follow_drift = g.follow_drift;
     ctx.progress(std::string("towed wheel cost against settings: ") + g.name);
     std::vector<double> ms;
     scenes::WheelResult towed;
@@ -271,15 +291,16 @@ void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
     const double median = ms[ms.size() / 2];
     if (first_default == 0.0) first_default = median;
     t.add({g.name, double(g.erosion_passes), double(g.iterations), double(g.block_columns), g.spray ? "on" : "off",
-           median, median / first_default, error_pct(towed.sinkage, towed.reference_sinkage),
+           g.soil_interval, g.follow_drift, median, median / first_default, error_pct(towed.sinkage, towed.reference_sinkage),
            error_pct(towed.resistance, towed.reference_resistance)});
   }
   out.note(
       "Wheel cost against settings: the towed sand wheel of plugin.wheel_ms_per_substep (D 0.8 m, b 0.3 m, 4 kN, "
       "1 cm, 1/240 s, one thread), its tow phase's whole step (Bullet + Shore, median of 3 towed/held pairs; 1 in "
       "--quick) with the erosion pass cap (TerrainSettings::max_erosion_passes), the contact solver's sweeps "
-      "(SoilContactSettings::iterations), the contact block (block_columns) and spray changed from their "
-      "defaults, and the rolling sinkage and compaction resistance against Bekker's. vs_defaults is the time over "
+      "(SoilContactSettings::iterations), the contact block (block_columns), spray, the soil's interval "
+      "(TerrainCouplingSettings::soil_interval) and the contact's following (SoilContactSettings::follow_drift) "
+      "changed from their defaults, and the rolling sinkage and compaction resistance against Bekker's. vs_defaults is the time over "
       "the first defaults row; the defaults run again last to show the machine's drift.");
 }
 
