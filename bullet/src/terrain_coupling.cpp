@@ -645,18 +645,21 @@ bool TerrainCoupling::react(Body& b, double h) {
   // The soil where the body stood at the start of this substep (the envelope kept from the
   // end of the previous one): Bullet has since applied gravity and integrated freely, since
   // it does not collide this body with soft tiles. A body at rest keeps its last contact.
+  // Kept since the substep before (no soil step, little drift): the contact moves with the body.
+  const bool follow = !c.resting && !b.envelope_fresh && c.has_end;
+  if (c.resting)
+    ++stats_.resting_bodies;
+  else if (!follow)
+    gather_contact(b);
+  if (c.blocks.empty()) return false;
+
   soil_detail::RigidBody rb = solver_body(body);
   soil_detail::RigidBody start = rb;
   if (c.has_end) start.v = to_vec(c.v_end), start.w = to_vec(c.w_end);
-  if (c.resting) {
-    ++stats_.resting_bodies;
-  } else if (b.envelope_fresh || !c.has_end) {
-    gather_contact(b);
-  } else {  // kept since the substep before (no soil step, little drift): it moves with the body
+  if (follow) {
     c.drift += soil_detail::follow_body(c.blocks, start, h);
     ++stats_.contacts_followed;
   }
-  if (c.blocks.empty()) return false;
 
   const btVector3 v0 = body.getLinearVelocity(), w0 = body.getAngularVelocity();
   const soil_detail::SolverSettings solver{

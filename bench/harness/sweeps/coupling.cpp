@@ -236,13 +236,9 @@ void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
   const terrain::TerrainSettings soil_defaults;
   const bullet::TerrainCouplingSettings coupling_defaults;
   const bullet::SoilContactSettings& contact_defaults = coupling_defaults.contact;
-  const Setting d{"defaults",
-                  soil_defaults.max_erosion_passes,
-                  contact_defaults.iterations,
-                  contact_defaults.block_columns,
-                  true,
-                  coupling_defaults.soil_interval,
-                  contact_defaults.follow_drift};
+  const Setting d{
+      "defaults", soil_defaults.max_erosion_passes, contact_defaults.iterations,  contact_defaults.block_columns,
+      true,       coupling_defaults.soil_interval,  contact_defaults.follow_drift};
   // Each row changes the defaults in one respect (or two, named). The defaults before
   // 2026-12-04 were an erosion cap of 8 and 12 solver sweeps, with the soil and the contact
   // every substep (soil_interval 0, which follow_drift then does not matter for).
@@ -262,10 +258,10 @@ void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
       {"spray off", d.erosion_passes, d.iterations, d.block_columns, false, d.soil_interval, d.follow_drift},
       {"defaults (again)", d.erosion_passes, d.iterations, d.block_columns, true, d.soil_interval, d.follow_drift},
   };
-  Table& t = out.table("coupling_wheel_settings",
-                       {"setting", "erosion_passes", "solver_iterations", "block_columns", "spray", "soil_interval_s",
-                        "follow_drift_cells", "tow_whole_ms_per_substep", "vs_defaults", "sinkage_error_pct",
-                        "resistance_error_pct"});
+  Table& t =
+      out.table("coupling_wheel_settings", {"setting", "erosion_passes", "solver_iterations", "block_columns", "spray",
+                                            "soil_interval_s", "follow_drift_cells", "tow_whole_ms_per_substep",
+                                            "vs_defaults", "sinkage_error_pct", "resistance_error_pct"});
   const int repeats = ctx.quick ? 1 : 3;
   double first_default = 0.0;
   for (const Setting& g : settings) {
@@ -291,8 +287,8 @@ void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
     const double median = ms[ms.size() / 2];
     if (first_default == 0.0) first_default = median;
     t.add({g.name, double(g.erosion_passes), double(g.iterations), double(g.block_columns), g.spray ? "on" : "off",
-           g.soil_interval, g.follow_drift, median, median / first_default, error_pct(towed.sinkage, towed.reference_sinkage),
-           error_pct(towed.resistance, towed.reference_resistance)});
+           g.soil_interval, g.follow_drift, median, median / first_default,
+           error_pct(towed.sinkage, towed.reference_sinkage), error_pct(towed.resistance, towed.reference_resistance)});
   }
   out.note(
       "Wheel cost against settings: the towed sand wheel of plugin.wheel_ms_per_substep (D 0.8 m, b 0.3 m, 4 kN, "
@@ -300,7 +296,8 @@ void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
       "--quick) with the erosion pass cap (TerrainSettings::max_erosion_passes), the contact solver's sweeps "
       "(SoilContactSettings::iterations), the contact block (block_columns), spray, the soil's interval "
       "(TerrainCouplingSettings::soil_interval) and the contact's following (SoilContactSettings::follow_drift) "
-      "changed from their defaults, and the rolling sinkage and compaction resistance against Bekker's. vs_defaults is the time over "
+      "changed from their defaults, and the rolling sinkage and compaction resistance against Bekker's. vs_defaults is "
+      "the time over "
       "the first defaults row; the defaults run again last to show the machine's drift.");
 }
 
