@@ -209,7 +209,7 @@ const DeltaServer& delta_server() {
 /// Heights and sinkage of every column the replica lists as changed are finite.
 void require_finite_changes(const terrain::Terrain& t, std::uint64_t since) {
   std::vector<double> h;
-  for (const terrain::ColumnRect& r : t.changed_since(since)) {
+  for (const shore::GridRect& r : t.changed_since(since)) {
     h.resize(static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny));
     t.heights(r, h);
     for (const double z : h) require(std::isfinite(z), "non-finite height applied");

@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
     const shore::EnvelopeRaster env = sphere(server, 0.5 + kSpeed * kStep * k, 0.0, kRadius - 0.03, kRadius);
     Imprint imprint;
     imprint.envelope = &env;
-    imprint.vx = kSpeed;
+    imprint.velocity.x = kSpeed;
     server.step(std::span<const Imprint>(&imprint, 1));
     if (k % 5 != 4) continue;
     DeltaStats st;

@@ -22,39 +22,33 @@ void FluidSettings::validate() const {
 namespace water_detail {
 namespace {
 
-using envelope_detail::cross;
-using envelope_detail::dot;
-using envelope_detail::norm;
-
-btVector3 bt(V3 v) { return {btScalar(v.x), btScalar(v.y), btScalar(v.z)}; }
-
 /// Drag on area a moving at u: -(1/2 rho C_d a |u| + rho k a) u.
-V3 drag_on(double area, V3 u, const FluidSettings& f) {
+Vec3 drag_on(double area, Vec3 u, const FluidSettings& f) {
   const double speed = norm(u);
   return u * (-(0.5 * f.density * f.quadratic_drag * area * speed + f.density * f.linear_drag * area));
 }
 
 /// The velocity of a point of the body relative to the water there.
-V3 relative(const Motion& m, V3 p, double water_vz) { return m.v + cross(m.w, p - m.com) - V3{0, 0, water_vz}; }
+Vec3 relative(const Motion& m, Vec3 p, double water_vz) { return m.v + cross(m.w, p - m.com) - Vec3{0, 0, water_vz}; }
 
 /// Drag over the closed wet surface of the polyhedra: every quadrature point (and the cut)
 /// by its own velocity, on half its area projected along it (half, because front and back
 /// both count: for a translation the sum is the projected area A exactly, for a spin only the
 /// normal motion of the surface acts). Adds force and torque about the centre of mass.
-void surface_drag(const Submerged& wet, const WaterPlane& w, const Motion& m, const FluidSettings& f, V3& force,
-                  V3& torque) {
-  const auto element = [&](V3 at, V3 area) {
-    const V3 u = relative(m, at, w.vz);
+void surface_drag(const Submerged& wet, const WaterPlane& w, const Motion& m, const FluidSettings& f, Vec3& force,
+                  Vec3& torque) {
+  const auto element = [&](Vec3 at, Vec3 area) {
+    const Vec3 u = relative(m, at, w.vz);
     const double speed = norm(u);
     if (!(speed > 0.0)) return;
-    const V3 fd = drag_on(0.5 * std::abs(dot(area, u)) / speed, u, f);
+    const Vec3 fd = drag_on(0.5 * std::abs(dot(area, u)) / speed, u, f);
     force = force + fd;
     torque = torque + cross(at - m.com, fd);
   };
   for (const WetFace& face : wet.faces) {
     const double a = norm(face.area);
     if (!(a > 0.0)) continue;
-    const V3 n = face.area * (1.0 / a);
+    const Vec3 n = face.area * (1.0 / a);
     for (int k = face.first_point; k < face.first_point + face.points; ++k)
       element(wet.points[std::size_t(k)].at, n * wet.points[std::size_t(k)].weight);
   }
@@ -63,38 +57,38 @@ void surface_drag(const Submerged& wet, const WaterPlane& w, const Motion& m, co
 
 }  // namespace
 
-BodyWater water_forces(const Submerged& wet, double sampled_volume, V3 sampled_moment, const WaterPlane& w,
+BodyWater water_forces(const Submerged& wet, double sampled_volume, Vec3 sampled_moment, const WaterPlane& w,
                        const FluidSettings& fluid, const Motion& m, double h) {
   BodyWater out;
   out.water_level = w.height(m.com.x, m.com.y);
   const double volume = wet.volume + sampled_volume;
   if (!(volume > 0.0)) return out;
-  const V3 cb = (wet.moment + sampled_moment) * (1.0 / volume);
+  const Vec3 cb = (wet.moment + sampled_moment) * (1.0 / volume);
   out.submerged_volume = volume;
-  out.centre_of_buoyancy = bt(cb);
-  const V3 lift{0, 0, fluid.density * fluid.gravity * volume};
-  const V3 lift_torque = cross(cb - m.com, lift);
+  out.centre_of_buoyancy = to_bt(cb);
+  const Vec3 lift{0, 0, fluid.density * fluid.gravity * volume};
+  const Vec3 lift_torque = cross(cb - m.com, lift);
   // The velocity Bullet hands the coupling is the one the body moved with in this substep
   // (gravity added, buoyancy not yet): drag acts on it. Polyhedra: over their surface;
   // balls: their centre's motion (a spin moves no surface along its normal); meshes: the
   // area of a ball of their wet volume at their centre of buoyancy.
-  V3 drag{}, drag_torque{};
+  Vec3 drag{}, drag_torque{};
   surface_drag(wet, w, m, fluid, drag, drag_torque);
   for (const WetBall& b : wet.balls) {
-    const V3 u = relative(m, b.centre, w.vz);
+    const Vec3 u = relative(m, b.centre, w.vz);
     const double speed = norm(u);
     if (!(speed > 0.0)) continue;
     const WetBall one[1] = {b};
     Submerged alone;
     alone.balls.assign(one, one + 1);
-    const V3 fd = drag_on(projected_area(alone, w, u * (1.0 / speed)), u, fluid);
+    const Vec3 fd = drag_on(projected_area(alone, w, u * (1.0 / speed)), u, fluid);
     drag = drag + fd;
     drag_torque = drag_torque + cross(b.centre - m.com, fd);
   }
-  const V3 uc = relative(m, cb, w.vz);
+  const Vec3 uc = relative(m, cb, w.vz);
   const double speed = norm(uc);
   if (sampled_volume > 0.0 && speed > 0.0) {
-    const V3 fd = drag_on(det::pow(sampled_volume, 2.0 / 3.0), uc, fluid);
+    const Vec3 fd = drag_on(det::pow(sampled_volume, 2.0 / 3.0), uc, fluid);
     drag = drag + fd;
     drag_torque = drag_torque + cross(cb - m.com, fd);
   }
@@ -104,13 +98,13 @@ BodyWater water_forces(const Submerged& wet, double sampled_volume, V3 sampled_m
   if (m.mass > 0.0) {
     const double dv = norm(drag) * h / m.mass;
     if (dv > speed) drag = drag * (speed / std::max(dv, 1e-300));
-    const double spin = norm(m.w), dw = (m.inv_inertia * bt(drag_torque)).length() * h;
+    const double spin = norm(m.w), dw = (m.inv_inertia * to_bt(drag_torque)).length() * h;
     if (dw > spin) drag_torque = drag_torque * (spin / std::max(dw, 1e-300));
   }
-  out.buoyancy = bt(lift);
-  out.drag = bt(drag);
-  out.force = bt(lift + drag);
-  out.torque = bt(lift_torque + drag_torque);
+  out.buoyancy = to_bt(lift);
+  out.drag = to_bt(drag);
+  out.force = to_bt(lift + drag);
+  out.torque = to_bt(lift_torque + drag_torque);
   return out;
 }
 }  // namespace water_detail

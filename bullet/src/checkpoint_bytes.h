@@ -17,6 +17,7 @@
 #include "coupling_util.h"
 #include "shore/bullet/config.h"
 #include "shore/core/byte_io.h"
+#include "shore/core/envelope.h"
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
@@ -47,10 +48,9 @@ inline bool finite(const btTransform& t) {
 
 /// A window of columns (first index in x and y, size) with its lower and upper values:
 /// the couplings' envelopes.
-inline void put_window(ByteWriter& w, std::int64_t i0, std::int64_t j0, int nx, int ny,
-                       const std::vector<double>& lower, const std::vector<double>& upper) {
-  w.put(i0), w.put(j0), w.put(nx), w.put(ny);
-  w.put_array(lower), w.put_array(upper);
+inline void put_window(ByteWriter& w, const EnvelopeRaster& e) {
+  w.put(e.i0), w.put(e.j0), w.put(e.nx), w.put(e.ny);
+  w.put_array(e.lower), w.put_array(e.upper);
 }
 /// Reads put_window's form; FileError for a negative size or NaN values (the arrays' sizes
 /// are for the caller to check against nx * ny).
@@ -71,9 +71,6 @@ void get_prefix_array(ByteReader& r, std::vector<T>& v, const char* what) {
     std::memcpy(static_cast<void*>(&x), raw.bytes, Prefix);
   }
 }
-
-inline void get_window(ByteReader& r, std::int64_t& i0, std::int64_t& j0, int& nx, int& ny, std::vector<double>& lower,
-                       std::vector<double>& upper);
 
 /// A state's header: 8 magic bytes, u32 version, u32 sizeof(btScalar).
 inline void put_header(ByteWriter& w, const char (&magic)[8], std::uint32_t version) {
@@ -119,18 +116,17 @@ void get_any_array(ByteReader& r, std::vector<T>& v, const char* what) {
   for (T& x : v) x = r.get<T>(what);
 }
 
-inline void get_window(ByteReader& r, std::int64_t& i0, std::int64_t& j0, int& nx, int& ny, std::vector<double>& lower,
-                       std::vector<double>& upper) {
-  i0 = r.get<std::int64_t>("envelope"), j0 = r.get<std::int64_t>("envelope");
-  nx = r.get<int>("envelope"), ny = r.get<int>("envelope");
-  if (nx < 0 || ny < 0 || nx > (1 << 20) || ny > (1 << 20))
-    r.fail("envelope of size " + std::to_string(nx) + " x " + std::to_string(ny) + " (0 to 2^20 columns a side)");
+inline void get_window(ByteReader& r, EnvelopeRaster& e) {
+  e.i0 = r.get<std::int64_t>("envelope"), e.j0 = r.get<std::int64_t>("envelope");
+  e.nx = r.get<int>("envelope"), e.ny = r.get<int>("envelope");
+  if (e.nx < 0 || e.ny < 0 || e.nx > (1 << 20) || e.ny > (1 << 20))
+    r.fail("envelope of size " + std::to_string(e.nx) + " x " + std::to_string(e.ny) + " (0 to 2^20 columns a side)");
   constexpr std::int64_t kMaxColumn = std::int64_t{1} << 52;  // the soil's own bound on column indices
-  if (i0 < -kMaxColumn || i0 > kMaxColumn || j0 < -kMaxColumn || j0 > kMaxColumn)
-    r.fail("envelope at column (" + std::to_string(i0) + ", " + std::to_string(j0) + ") beyond index 2^52");
-  get_any_array(r, lower, "envelope");
-  get_any_array(r, upper, "envelope");
-  for (const auto* values : {&lower, &upper})
+  if (e.i0 < -kMaxColumn || e.i0 > kMaxColumn || e.j0 < -kMaxColumn || e.j0 > kMaxColumn)
+    r.fail("envelope at column (" + std::to_string(e.i0) + ", " + std::to_string(e.j0) + ") beyond index 2^52");
+  get_any_array(r, e.lower, "envelope");
+  get_any_array(r, e.upper, "envelope");
+  for (const auto* values : {&e.lower, &e.upper})
     for (double v : *values)
       if (std::isnan(v)) r.fail("envelope holds NaN");
 }

@@ -33,13 +33,11 @@ constexpr char kSoilMagic[8] = {'S', 'H', 'S', 'O', 'I', 'L', 'C', 'P'};
 // contacts_followed; older states load with their contacts built afresh at the next substep.
 constexpr std::uint32_t kSoilVersion = 5;
 
-void put_envelope(ByteWriter& w, const EnvelopeRaster& e) {
-  coupling_detail::put_window(w, e.i0, e.j0, e.nx, e.ny, e.lower, e.upper);
-}
+void put_envelope(ByteWriter& w, const EnvelopeRaster& e) { coupling_detail::put_window(w, e); }
 
 EnvelopeRaster get_envelope(ByteReader& r) {
   EnvelopeRaster e;
-  coupling_detail::get_window(r, e.i0, e.j0, e.nx, e.ny, e.lower, e.upper);
+  coupling_detail::get_window(r, e);
   const auto cells = static_cast<std::size_t>(e.nx) * static_cast<std::size_t>(e.ny);
   if (e.lower.size() != cells && !e.lower.empty())  // empty: the body left the soil's region
     r.fail("envelope holds " + std::to_string(e.lower.size()) + " columns, its window " + std::to_string(cells));

@@ -22,8 +22,7 @@ inline namespace SHORE_BULLET_ABI {
 using envelope_detail::Canvas;
 using envelope_detail::Frame;
 using envelope_detail::HullMesh;
-using envelope_detail::to_v3;
-using envelope_detail::V3;
+using envelope_detail::Vec3;
 
 struct EnvelopeRasterizer::Cache {
   struct Entry {
@@ -67,18 +66,18 @@ double shape_margin(const btCollisionShape& shape, bool include) {
   return include ? m : 0.0;
 }
 
-std::vector<V3> scaled_points(const btCollisionShape& shape) {
-  std::vector<V3> pts;
+std::vector<Vec3> scaled_points(const btCollisionShape& shape) {
+  std::vector<Vec3> pts;
   if (shape.getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
     const auto& hull = static_cast<const btConvexHullShape&>(shape);
     pts.reserve(static_cast<std::size_t>(hull.getNumPoints()));
-    for (int k = 0; k < hull.getNumPoints(); ++k) pts.push_back(to_v3(hull.getScaledPoint(k)));
+    for (int k = 0; k < hull.getNumPoints(); ++k) pts.push_back(to_vec3(hull.getScaledPoint(k)));
   } else {
     const auto& cloud = static_cast<const btConvexPointCloudShape&>(shape);
     pts.reserve(static_cast<std::size_t>(cloud.getNumPoints()));
-    for (int k = 0; k < cloud.getNumPoints(); ++k) pts.push_back(to_v3(cloud.getScaledPoint(k)));
+    for (int k = 0; k < cloud.getNumPoints(); ++k) pts.push_back(to_vec3(cloud.getScaledPoint(k)));
   }
-  for (const V3& p : pts) {
+  for (const Vec3& p : pts) {
     check_size(shape, "point coordinate magnitude", std::abs(p.x) + std::abs(p.y) + std::abs(p.z));
   }
   return pts;
@@ -109,7 +108,7 @@ class ShapeDrawer {
         return;
       }
       case BOX_SHAPE_PROXYTYPE: {
-        const V3 half = to_v3(static_cast<const btBoxShape&>(shape).getHalfExtentsWithMargin());
+        const Vec3 half = to_vec3(static_cast<const btBoxShape&>(shape).getHalfExtentsWithMargin());
         check_size(shape, "half extent x", half.x);
         check_size(shape, "half extent y", half.y);
         check_size(shape, "half extent z", half.z);
@@ -122,7 +121,7 @@ class ShapeDrawer {
         const double h = capsule.getHalfHeight();
         check_size(shape, "radius", r);
         check_size(shape, "half height", h);
-        const V3 u = f.axis(capsule.getUpAxis());
+        const Vec3 u = f.axis(capsule.getUpAxis());
         envelope_detail::draw_cylinder(cv_, f.t, u, h, r);
         envelope_detail::draw_ball(cv_, f.t + u * h, r);
         envelope_detail::draw_ball(cv_, f.t - u * h, r);
@@ -132,7 +131,7 @@ class ShapeDrawer {
         const auto& cylinder = static_cast<const btCylinderShape&>(shape);
         const int up = cylinder.getUpAxis();
         const double r = cylinder.getRadius();
-        const double h = to_v3(cylinder.getHalfExtentsWithMargin())[up];
+        const double h = to_vec3(cylinder.getHalfExtentsWithMargin())[up];
         check_size(shape, "radius", r);
         check_size(shape, "half height", h);
         envelope_detail::draw_rounded_cylinder(cv_, f, up, r, h, shape_margin(shape, with_margin));
@@ -190,10 +189,10 @@ class ShapeDrawer {
   }
 
   const HullMesh& hull_of(const btCollisionShape& shape) {
-    const std::vector<V3> pts = scaled_points(shape);
+    const std::vector<Vec3> pts = scaled_points(shape);
     StateHash h;
     h.add(pts.size());
-    if (!pts.empty()) h.add_bytes(pts.data(), pts.size() * sizeof(V3));
+    if (!pts.empty()) h.add_bytes(pts.data(), pts.size() * sizeof(Vec3));
     auto& entry = cache_.hulls[&shape];
     if (entry.points_hash != h.value() || (entry.hull.vertices.empty() && !pts.empty())) {
       entry.hull = envelope_detail::triangulate_hull(pts);
@@ -212,25 +211,25 @@ int count_covered(const EnvelopeRaster& out) {
   return n;
 }
 
-void check_window(const ColumnWindow& w, std::int64_t max_columns) {
-  const Check c{"bullet.ColumnWindow"};
+void check_window(const GridRect& w, std::int64_t max_columns) {
+  const Check c{"bullet.GridRect"};
   c.at_least("nx", w.nx, 0);
   c.at_least("ny", w.ny, 0);
   const double columns = static_cast<double>(w.nx) * static_cast<double>(w.ny);
   if (columns > static_cast<double>(max_columns))
-    throw InvalidSetting("bullet.ColumnWindow nx*ny", detail::to_text(columns),
+    throw InvalidSetting("bullet.GridRect nx*ny", detail::to_text(columns),
                          "must be <= EnvelopeOptions.max_columns (" + detail::to_text(max_columns) + ")");
   if (std::abs(static_cast<double>(w.i0)) > kMaxIndex || std::abs(static_cast<double>(w.j0)) > kMaxIndex)
-    throw InvalidSetting("bullet.ColumnWindow i0/j0", detail::to_text(w.i0) + ", " + detail::to_text(w.j0),
+    throw InvalidSetting("bullet.GridRect i0/j0", detail::to_text(w.i0) + ", " + detail::to_text(w.j0),
                          "must be within +-1e15");
 }
 
 /// The shape's world AABB, checked finite.
-void checked_aabb(const btCollisionShape& shape, const btTransform& pose, V3& mn, V3& mx) {
+void checked_aabb(const btCollisionShape& shape, const btTransform& pose, Vec3& mn, Vec3& mx) {
   btVector3 bmn, bmx;
   shape.getAabb(pose, bmn, bmx);
-  mn = to_v3(bmn);
-  mx = to_v3(bmx);
+  mn = to_vec3(bmn);
+  mx = to_vec3(bmx);
   for (int k = 0; k < 3; ++k) {
     if (!std::isfinite(mn[k]) || !std::isfinite(mx[k]))
       throw InvalidSetting(std::string("bullet.envelope AABB of shape ") + shape.getName(),
@@ -247,7 +246,7 @@ Frame frame_of(const btTransform& pose) noexcept {
   const btMatrix3x3& b = pose.getBasis();
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) f.r[r][c] = static_cast<double>(b[r][c]);
-  f.t = to_v3(pose.getOrigin());
+  f.t = to_vec3(pose.getOrigin());
   return f;
 }
 
@@ -299,9 +298,9 @@ EnvelopeRasterizer& EnvelopeRasterizer::operator=(EnvelopeRasterizer&&) noexcept
 
 void EnvelopeRasterizer::clear_cache() noexcept { cache_->hulls.clear(); }
 
-ColumnWindow EnvelopeRasterizer::window_of(const btCollisionShape& shape, const btTransform& pose) const {
+GridRect EnvelopeRasterizer::window_of(const btCollisionShape& shape, const btTransform& pose) const {
   (void)envelope_detail::to_frame(pose);
-  V3 mn, mx;
+  Vec3 mn, mx;
   checked_aabb(shape, pose, mn, mx);
   const double fi0 = std::floor((mn.x - grid_.origin_x) / grid_.cell);
   const double fi1 = std::ceil((mx.x - grid_.origin_x) / grid_.cell);
@@ -317,7 +316,7 @@ ColumnWindow EnvelopeRasterizer::window_of(const btCollisionShape& shape, const 
     throw InvalidSetting(std::string("bullet.envelope window of shape ") + shape.getName(),
                          detail::to_text(columns) + " columns",
                          "must be <= EnvelopeOptions.max_columns (" + detail::to_text(options_.max_columns) + ")");
-  ColumnWindow w;
+  GridRect w;
   w.i0 = static_cast<std::int64_t>(fi0);
   w.j0 = static_cast<std::int64_t>(fj0);
   w.nx = static_cast<int>(fi1 - fi0 + 1);
@@ -326,17 +325,17 @@ ColumnWindow EnvelopeRasterizer::window_of(const btCollisionShape& shape, const 
 }
 
 int EnvelopeRasterizer::rasterize(const btCollisionShape& shape, const btTransform& pose, EnvelopeRaster& out) {
-  const ColumnWindow w = window_of(shape, pose);
+  const GridRect w = window_of(shape, pose);
   out.resize(w.i0, w.j0, w.nx, w.ny, options_.upper);
   draw_fresh(shape, pose, out);
   return count_covered(out);
 }
 
-int EnvelopeRasterizer::rasterize(const btCollisionShape& shape, const btTransform& pose, const ColumnWindow& window,
+int EnvelopeRasterizer::rasterize(const btCollisionShape& shape, const btTransform& pose, const GridRect& window,
                                   EnvelopeRaster& out) {
   check_window(window, options_.max_columns);
   (void)envelope_detail::to_frame(pose);
-  V3 mn, mx;
+  Vec3 mn, mx;
   checked_aabb(shape, pose, mn, mx);
   out.resize(window.i0, window.j0, window.nx, window.ny, options_.upper);
   draw_fresh(shape, pose, out);
@@ -373,7 +372,7 @@ int EnvelopeRasterizer::accumulate(const btCollisionShape& shape, const btTransf
   if (inout.lower.size() != n || (!inout.upper.empty() && inout.upper.size() != n))
     throw InvalidSetting("bullet.envelope raster sizes", detail::to_text(inout.lower.size()),
                          "lower (and upper if present) must hold nx*ny = " + detail::to_text(n) + " values");
-  V3 mn, mx;
+  Vec3 mn, mx;
   checked_aabb(shape, pose, mn, mx);
   // Draw into a scratch copy so that an error half way leaves `inout` untouched.
   EnvelopeRaster scratch = inout;
@@ -431,7 +430,7 @@ int rasterize_envelope(const btCollisionShape& shape, const btTransform& pose, c
 }
 
 int rasterize_envelope(const btCollisionShape& shape, const btTransform& pose, const EnvelopeGrid& grid,
-                       const EnvelopeOptions& options, const ColumnWindow& window, EnvelopeRaster& out) {
+                       const EnvelopeOptions& options, const GridRect& window, EnvelopeRaster& out) {
   EnvelopeRasterizer r(grid, options);
   return r.rasterize(shape, pose, window, out);
 }

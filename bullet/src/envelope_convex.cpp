@@ -68,7 +68,7 @@ SHORE_ENVELOPE_INLINE bool cylinder_interval(double a, double b, double c, doubl
 }
 
 /// Cone along local z, apex at z = za, radius k * (za - z), base plane z = zb.
-bool cone_interval(V3 o, V3 d, double za, double zb, double k, double& lo, double& hi) noexcept {
+bool cone_interval(Vec3 o, Vec3 d, double za, double zb, double k, double& lo, double& hi) noexcept {
   double slo = -kInf;
   double shi = kInf;
   if (!clip_slab(o.z - 0.5 * (za + zb), d.z, 0.5 * (za - zb), slo, shi)) return false;
@@ -123,10 +123,10 @@ bool cone_interval(V3 o, V3 d, double za, double zb, double k, double& lo, doubl
 /// within margin of the core: g(s) = dist(core) - margin is convex along the line, so Newton
 /// from outside never overshoots. False if the line misses (g stops decreasing above 0).
 template <class Dist>
-bool newton_to_surface(const Dist& dist, V3 o, V3 d, double margin, double s, double s_end, double dir,
+bool newton_to_surface(const Dist& dist, Vec3 o, Vec3 d, double margin, double s, double s_end, double dir,
                        double& hit) noexcept {
   for (int it = 0; it < kNewtonIterations; ++it) {
-    V3 diff;
+    Vec3 diff;
     const double r = dist(o + d * s, diff);
     const double g = r - margin;
     if (g <= kNewtonTolerance) {
@@ -145,7 +145,8 @@ bool newton_to_surface(const Dist& dist, V3 o, V3 d, double margin, double s, do
 /// one, to the rounded solid: Newton from lo up to the entry and (upper envelope wanted)
 /// from hi down to the exit. False if the line misses the rounded solid.
 template <class Dist>
-bool round_interval(const Dist& core_distance, V3 o, V3 d, double margin, bool upper, double& lo, double& hi) noexcept {
+bool round_interval(const Dist& core_distance, Vec3 o, Vec3 d, double margin, bool upper, double& lo,
+                    double& hi) noexcept {
   double entry = 0;
   if (!newton_to_surface(core_distance, o, d, margin, lo, hi, +1.0, entry)) return false;
   double exit = entry;
@@ -169,7 +170,7 @@ Frame with_axis_as_z(const Frame& f, int up) noexcept {
 }
 
 /// World half extents of a cylinder along unit axis u (half length h, radius r).
-V3 cylinder_extent(V3 u, double h, double r) noexcept {
+Vec3 cylinder_extent(Vec3 u, double h, double r) noexcept {
   auto ext = [&](double uk) { return h * std::abs(uk) + r * std::sqrt(std::max(0.0, 1.0 - uk * uk)); };
   return {ext(u.x), ext(u.y), ext(u.z)};
 }
@@ -177,16 +178,16 @@ V3 cylinder_extent(V3 u, double h, double r) noexcept {
 /// Calls fn(o, d, lo, hi) for every column within ext of f.t, with the column's vertical
 /// line o + s d in local coordinates (s = world z - f.t.z); merges [lo, hi] where it returns true.
 template <class Fn>
-void for_each_local_column(Canvas& cv, const Frame& f, V3 ext, Fn&& fn) {
+void for_each_local_column(Canvas& cv, const Frame& f, Vec3 ext, Fn&& fn) {
   std::int64_t ilo = 0, ihi = 0, jlo = 0, jhi = 0;
   if (!cv.span_i(f.t.x - ext.x, f.t.x + ext.x, ilo, ihi) || !cv.span_j(f.t.y - ext.y, f.t.y + ext.y, jlo, jhi)) return;
-  const V3 d = f.to_local_dir({0, 0, 1});
-  const V3 step = f.to_local_dir({cv.cell(), 0, 0});
+  const Vec3 d = f.to_local_dir({0, 0, 1});
+  const Vec3 step = f.to_local_dir({cv.cell(), 0, 0});
   const double x0 = cv.x(ilo) - f.t.x;
   for (std::int64_t j = jlo; j <= jhi; ++j) {
-    const V3 row = f.to_local_dir({x0, cv.y(j) - f.t.y, 0});
+    const Vec3 row = f.to_local_dir({x0, cv.y(j) - f.t.y, 0});
     for (std::int64_t i = ilo; i <= ihi; ++i) {
-      const V3 o = row + step * static_cast<double>(i - ilo);
+      const Vec3 o = row + step * static_cast<double>(i - ilo);
       double lo = 0;
       double hi = 0;
       if (fn(o, d, lo, hi)) cv.put(i, j, f.t.z + lo, f.t.z + hi);
@@ -196,7 +197,7 @@ void for_each_local_column(Canvas& cv, const Frame& f, V3 ext, Fn&& fn) {
 
 }  // namespace
 
-void draw_ball(Canvas& cv, V3 c, double r) {
+void draw_ball(Canvas& cv, Vec3 c, double r) {
   std::int64_t ilo = 0, ihi = 0, jlo = 0, jhi = 0;
   if (!cv.span_j(c.y - r, c.y + r, jlo, jhi)) return;
   const double r2 = r * r;
@@ -216,8 +217,8 @@ void draw_ball(Canvas& cv, V3 c, double r) {
   }
 }
 
-void draw_cylinder(Canvas& cv, V3 c, V3 u, double h, double r) {
-  const V3 ext = cylinder_extent(u, h, r);
+void draw_cylinder(Canvas& cv, Vec3 c, Vec3 u, double h, double r) {
+  const Vec3 ext = cylinder_extent(u, h, r);
   std::int64_t ilo = 0, ihi = 0, jlo = 0, jhi = 0;
   if (!cv.span_i(c.x - ext.x, c.x + ext.x, ilo, ihi) || !cv.span_j(c.y - ext.y, c.y + ext.y, jlo, jhi)) return;
   // Line (x, y, c.z + s): w0 = (x - c.x, y - c.y, 0), axial a0 + s u.z, radial part
@@ -227,9 +228,9 @@ void draw_cylinder(Canvas& cv, V3 c, V3 u, double h, double r) {
   for (std::int64_t j = jlo; j <= jhi; ++j) {
     const double wy = cv.y(j) - c.y;
     for (std::int64_t i = ilo; i <= ihi; ++i) {
-      const V3 w0{cv.x(i) - c.x, wy, 0};
+      const Vec3 w0{cv.x(i) - c.x, wy, 0};
       const double a0 = dot(w0, u);
-      const V3 perp0 = w0 - u * a0;
+      const Vec3 perp0 = w0 - u * a0;
       double lo = 0;
       double hi = 0;
       if (cylinder_interval(a, -a0 * u.z, dot(perp0, perp0) - r2, a0, u.z, h, lo, hi)) cv.put(i, j, c.z + lo, c.z + hi);
@@ -237,12 +238,12 @@ void draw_cylinder(Canvas& cv, V3 c, V3 u, double h, double r) {
   }
 }
 
-void draw_box(Canvas& cv, const Frame& f, V3 half) {
-  V3 ext;
+void draw_box(Canvas& cv, const Frame& f, Vec3 half) {
+  Vec3 ext;
   ext.x = std::abs(f.r[0][0]) * half.x + std::abs(f.r[0][1]) * half.y + std::abs(f.r[0][2]) * half.z;
   ext.y = std::abs(f.r[1][0]) * half.x + std::abs(f.r[1][1]) * half.y + std::abs(f.r[1][2]) * half.z;
   ext.z = 0;
-  for_each_local_column(cv, f, ext, [&](V3 o, V3 d, double& lo, double& hi) {
+  for_each_local_column(cv, f, ext, [&](Vec3 o, Vec3 d, double& lo, double& hi) {
     lo = -kInf;
     hi = kInf;
     return clip_slab(o.x, d.x, half.x, lo, hi) && clip_slab(o.y, d.y, half.y, lo, hi) &&
@@ -258,7 +259,7 @@ void draw_rounded_cylinder(Canvas& cv, const Frame& f, int up, double r, double 
   const Frame g = with_axis_as_z(f, up);
   const double rc = std::max(r - margin, 0.0);
   const double hc = std::max(h - margin, 0.0);
-  auto core_distance = [rc, hc](V3 p, V3& diff) {
+  auto core_distance = [rc, hc](Vec3 p, Vec3& diff) {
     const double rho = std::sqrt(p.x * p.x + p.y * p.y);
     const double over = rho - rc;
     const double s = (over > 0 && rho > 0) ? over / rho : 0.0;
@@ -267,7 +268,7 @@ void draw_rounded_cylinder(Canvas& cv, const Frame& f, int up, double r, double 
     return norm(diff);
   };
   const bool upper = cv.upper();
-  for_each_local_column(cv, g, cylinder_extent(g.axis(2), h, r), [&](V3 o, V3 d, double& lo, double& hi) {
+  for_each_local_column(cv, g, cylinder_extent(g.axis(2), h, r), [&](Vec3 o, Vec3 d, double& lo, double& hi) {
     // The sharp cylinder contains the rounded one and shares its flat and curved faces:
     // start there and let Newton round the rims.
     if (!cylinder_interval(d.x * d.x + d.y * d.y, o.x * d.x + o.y * d.y, o.x * o.x + o.y * o.y - r * r, o.z, d.z, h, lo,
@@ -281,10 +282,11 @@ void draw_cone(Canvas& cv, const Frame& f, int up, double radius, double height,
   const Frame g = with_axis_as_z(f, up);
   const double half = 0.5 * height;
   const double k = radius / height;
-  const V3 ext = cylinder_extent(g.axis(2), half + margin, radius + margin);
+  const Vec3 ext = cylinder_extent(g.axis(2), half + margin, radius + margin);
   if (margin <= 0) {
-    for_each_local_column(
-        cv, g, ext, [&](V3 o, V3 d, double& lo, double& hi) { return cone_interval(o, d, half, -half, k, lo, hi); });
+    for_each_local_column(cv, g, ext, [&](Vec3 o, Vec3 d, double& lo, double& hi) {
+      return cone_interval(o, d, half, -half, k, lo, hi);
+    });
     return;
   }
   // The cone swept by a ball lies inside the cone whose faces are moved out by the margin:
@@ -293,7 +295,7 @@ void draw_cone(Canvas& cv, const Frame& f, int up, double radius, double height,
   const double sin_half_angle = radius / std::sqrt(radius * radius + height * height);
   const double apex = half + margin / sin_half_angle;
   const double base = -half - margin;
-  auto core_distance = [radius, height, half](V3 p, V3& diff) {
+  auto core_distance = [radius, height, half](Vec3 p, Vec3& diff) {
     const double rho = std::sqrt(p.x * p.x + p.y * p.y);
     if (p.z >= -half && p.z <= half && rho * height <= radius * (half - p.z)) {
       diff = {};
@@ -318,7 +320,7 @@ void draw_cone(Canvas& cv, const Frame& f, int up, double radius, double height,
     return norm(diff);
   };
   const bool upper = cv.upper();
-  for_each_local_column(cv, g, ext, [&](V3 o, V3 d, double& lo, double& hi) {
+  for_each_local_column(cv, g, ext, [&](Vec3 o, Vec3 d, double& lo, double& hi) {
     return cone_interval(o, d, apex, base, k, lo, hi) && round_interval(core_distance, o, d, margin, upper, lo, hi);
   });
 }

@@ -17,42 +17,32 @@
 #include <BulletCollision/CollisionShapes/btConcaveShape.h>
 #include <LinearMath/btTransform.h>
 
+#include "bt_convert.h"
 #include "shore/bullet/envelope.h"
+#include "shore/core/vec3.h"
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 namespace envelope_detail {
 
-struct V3 {
-  double x = 0, y = 0, z = 0;
-  [[nodiscard]] double operator[](int k) const noexcept { return k == 0 ? x : (k == 1 ? y : z); }
-};
-inline V3 operator+(V3 a, V3 b) noexcept { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline V3 operator-(V3 a, V3 b) noexcept { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline V3 operator*(V3 a, double s) noexcept { return {a.x * s, a.y * s, a.z * s}; }
-inline double dot(V3 a, V3 b) noexcept { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline V3 cross(V3 a, V3 b) noexcept { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-inline double norm(V3 a) noexcept { return std::sqrt(dot(a, a)); }
-inline V3 to_v3(const btVector3& v) noexcept {
-  return {static_cast<double>(v.x()), static_cast<double>(v.y()), static_cast<double>(v.z())};
-}
+using shore::Vec3;
 
 /// A rigid pose in double precision: world = r * local + t.
 struct Frame {
   double r[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  V3 t;
+  Vec3 t;
 
-  [[nodiscard]] V3 to_world(V3 p) const noexcept {
+  [[nodiscard]] Vec3 to_world(Vec3 p) const noexcept {
     return {r[0][0] * p.x + r[0][1] * p.y + r[0][2] * p.z + t.x, r[1][0] * p.x + r[1][1] * p.y + r[1][2] * p.z + t.y,
             r[2][0] * p.x + r[2][1] * p.y + r[2][2] * p.z + t.z};
   }
   /// Local coordinates of a world direction (or of a world offset from t).
-  [[nodiscard]] V3 to_local_dir(V3 w) const noexcept {
+  [[nodiscard]] Vec3 to_local_dir(Vec3 w) const noexcept {
     return {r[0][0] * w.x + r[1][0] * w.y + r[2][0] * w.z, r[0][1] * w.x + r[1][1] * w.y + r[2][1] * w.z,
             r[0][2] * w.x + r[1][2] * w.y + r[2][2] * w.z};
   }
   /// World direction of local axis k.
-  [[nodiscard]] V3 axis(int k) const noexcept { return {r[0][k], r[1][k], r[2][k]}; }
+  [[nodiscard]] Vec3 axis(int k) const noexcept { return {r[0][k], r[1][k], r[2][k]}; }
 };
 
 /// Converts a Bullet pose, unchecked.
@@ -121,11 +111,11 @@ class Canvas {
 // ---- analytic primitives (envelope_convex.cpp) -------------------------------------------
 
 /// Ball of radius r at world centre c.
-void draw_ball(Canvas& cv, V3 c, double r);
+void draw_ball(Canvas& cv, Vec3 c, double r);
 /// Sharp finite cylinder: world centre c, unit axis u, half length h along u, radius r.
-void draw_cylinder(Canvas& cv, V3 c, V3 u, double h, double r);
+void draw_cylinder(Canvas& cv, Vec3 c, Vec3 u, double h, double r);
 /// Box of half extents `half` in the frame.
-void draw_box(Canvas& cv, const Frame& f, V3 half);
+void draw_box(Canvas& cv, const Frame& f, Vec3 half);
 /// Cylinder along local axis `up`, radius r, half height h, rims rounded by `margin`
 /// (the core of radius r - margin and half height h - margin swept by a ball of margin).
 void draw_rounded_cylinder(Canvas& cv, const Frame& f, int up, double r, double h, double margin);
@@ -136,19 +126,19 @@ void draw_cone(Canvas& cv, const Frame& f, int up, double radius, double height,
 // ---- triangles (envelope_mesh.cpp) ---------------------------------------------------------
 
 /// Flat triangle in world coordinates.
-void draw_triangle(Canvas& cv, V3 a, V3 b, V3 c);
+void draw_triangle(Canvas& cv, Vec3 a, Vec3 b, Vec3 c);
 /// Triangle swept by a ball of radius m: both offset faces, three edge cylinders, three balls.
-void draw_swept_triangle(Canvas& cv, V3 a, V3 b, V3 c, double m);
+void draw_swept_triangle(Canvas& cv, Vec3 a, Vec3 b, Vec3 c, double m);
 
 /// A closed convex hull as triangles (outward winding not assumed) and unique edges.
 struct HullMesh {
-  std::vector<V3> vertices;               ///< local coordinates
+  std::vector<Vec3> vertices;             ///< local coordinates
   std::vector<std::array<int, 3>> faces;  ///< triangles, indices into vertices
   std::vector<std::array<int, 2>> edges;  ///< each hull edge once
-  V3 inside;                              ///< a point inside (centroid of the vertices)
+  Vec3 inside;                            ///< a point inside (centroid of the vertices)
 };
 /// Exact hull of the points (vertices are input points, bit for bit).
-HullMesh triangulate_hull(const std::vector<V3>& points);
+HullMesh triangulate_hull(const std::vector<Vec3>& points);
 /// The hull at frame f, swept by a ball of margin (0: the sharp hull).
 void draw_hull(Canvas& cv, const Frame& f, const HullMesh& hull, double margin);
 /// Triangles of a concave shape that can reach the canvas window, swept by margin if > 0.

@@ -20,13 +20,13 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Twice the signed area of (p, q, (x, y)) in the xy plane, evaluated the same way for the
 /// edge (p, q) and the edge (q, p) (up to sign).
-double edge_function(V3 p, V3 q, double x, double y) noexcept {
+double edge_function(Vec3 p, Vec3 q, double x, double y) noexcept {
   if (p.x < q.x || (p.x == q.x && p.y < q.y)) return (q.x - p.x) * (y - p.y) - (q.y - p.y) * (x - p.x);
   return -((p.x - q.x) * (y - q.y) - (p.y - q.y) * (x - q.x));
 }
 
 /// x range where the horizontal line at y crosses the segment (p, q), merged into [lo, hi].
-void merge_row_crossing(V3 p, V3 q, double y, double& lo, double& hi) noexcept {
+void merge_row_crossing(Vec3 p, Vec3 q, double y, double& lo, double& hi) noexcept {
   if ((y < p.y && y < q.y) || (y > p.y && y > q.y)) return;
   if (p.y == q.y) {
     lo = std::min({lo, p.x, q.x});
@@ -38,13 +38,13 @@ void merge_row_crossing(V3 p, V3 q, double y, double& lo, double& hi) noexcept {
   hi = std::max(hi, x);
 }
 
-V3 normalized(V3 v) noexcept {
+Vec3 normalized(Vec3 v) noexcept {
   const double n = norm(v);
-  return n > 0 ? v * (1.0 / n) : V3{};
+  return n > 0 ? v * (1.0 / n) : Vec3{};
 }
 
-void draw_edge(Canvas& cv, V3 p, V3 q, double radius) {
-  const V3 axis = q - p;
+void draw_edge(Canvas& cv, Vec3 p, Vec3 q, double radius) {
+  const Vec3 axis = q - p;
   const double length = norm(axis);
   if (length <= 0) return;
   draw_cylinder(cv, (p + q) * 0.5, axis * (1.0 / length), 0.5 * length, radius);
@@ -54,9 +54,9 @@ class TriangleSink : public btTriangleCallback {
  public:
   TriangleSink(Canvas& cv, const Frame& f, double margin) : cv_(cv), f_(f), margin_(margin) {}
   void processTriangle(btVector3* triangle, int, int) override {
-    const V3 a = f_.to_world(to_v3(triangle[0]));
-    const V3 b = f_.to_world(to_v3(triangle[1]));
-    const V3 c = f_.to_world(to_v3(triangle[2]));
+    const Vec3 a = f_.to_world(to_vec3(triangle[0]));
+    const Vec3 b = f_.to_world(to_vec3(triangle[1]));
+    const Vec3 c = f_.to_world(to_vec3(triangle[2]));
     if (margin_ > 0)
       draw_swept_triangle(cv_, a, b, c, margin_);
     else
@@ -71,7 +71,7 @@ class TriangleSink : public btTriangleCallback {
 
 }  // namespace
 
-void draw_triangle(Canvas& cv, V3 a, V3 b, V3 c) {
+void draw_triangle(Canvas& cv, Vec3 a, Vec3 b, Vec3 c) {
   const double area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
   if (area == 0 || !std::isfinite(area)) return;  // seen edge-on: its edges belong to neighbours
   const double sign = area > 0 ? 1.0 : -1.0;
@@ -99,8 +99,8 @@ void draw_triangle(Canvas& cv, V3 a, V3 b, V3 c) {
   }
 }
 
-void draw_swept_triangle(Canvas& cv, V3 a, V3 b, V3 c, double m) {
-  const V3 n = normalized(cross(b - a, c - a)) * m;
+void draw_swept_triangle(Canvas& cv, Vec3 a, Vec3 b, Vec3 c, double m) {
+  const Vec3 n = normalized(cross(b - a, c - a)) * m;
   if (dot(n, n) > 0) {
     draw_triangle(cv, a + n, b + n, c + n);
     draw_triangle(cv, a - n, b - n, c - n);
@@ -113,12 +113,12 @@ void draw_swept_triangle(Canvas& cv, V3 a, V3 b, V3 c, double m) {
   draw_ball(cv, c, m);
 }
 
-HullMesh triangulate_hull(const std::vector<V3>& points) {
+HullMesh triangulate_hull(const std::vector<Vec3>& points) {
   HullMesh hull;
   if (points.empty()) return hull;
   std::vector<double> coords;
   coords.reserve(points.size() * 3);
-  for (const V3& p : points) coords.insert(coords.end(), {p.x, p.y, p.z});
+  for (const Vec3& p : points) coords.insert(coords.end(), {p.x, p.y, p.z});
   btConvexHullComputer computer;
   computer.compute(coords.data(), static_cast<int>(3 * sizeof(double)), static_cast<int>(points.size()), btScalar(0),
                    btScalar(0));
@@ -151,7 +151,7 @@ HullMesh triangulate_hull(const std::vector<V3>& points) {
 }
 
 void draw_hull(Canvas& cv, const Frame& f, const HullMesh& hull, double margin) {
-  std::vector<V3> world(hull.vertices.size());
+  std::vector<Vec3> world(hull.vertices.size());
   for (std::size_t v = 0; v < world.size(); ++v) world[v] = f.to_world(hull.vertices[v]);
   if (margin <= 0) {
     for (const auto& t : hull.faces) draw_triangle(cv, world[t[0]], world[t[1]], world[t[2]]);
@@ -159,22 +159,22 @@ void draw_hull(Canvas& cv, const Frame& f, const HullMesh& hull, double margin) 
   }
   // Hull swept by a ball = union of the faces pushed out by the margin, the edges as
   // cylinders and the vertices as balls (every point of the boundary is on one of them).
-  const V3 inside = f.to_world(hull.inside);
+  const Vec3 inside = f.to_world(hull.inside);
   for (const auto& t : hull.faces) {
-    const V3 a = world[t[0]], b = world[t[1]], c = world[t[2]];
-    const V3 n = normalized(cross(b - a, c - a));
+    const Vec3 a = world[t[0]], b = world[t[1]], c = world[t[2]];
+    const Vec3 n = normalized(cross(b - a, c - a));
     const double side = dot(n, a - inside);
     const double scale = norm(b - a) + norm(c - a);
     if (std::abs(side) <= 1e-12 * scale) {  // flat hull: both sides are outside
       draw_triangle(cv, a + n * margin, b + n * margin, c + n * margin);
       draw_triangle(cv, a - n * margin, b - n * margin, c - n * margin);
     } else {
-      const V3 out = n * (side > 0 ? margin : -margin);
+      const Vec3 out = n * (side > 0 ? margin : -margin);
       draw_triangle(cv, a + out, b + out, c + out);
     }
   }
   for (const auto& e : hull.edges) draw_edge(cv, world[e[0]], world[e[1]], margin);
-  for (const V3& v : world) draw_ball(cv, v, margin);
+  for (const Vec3& v : world) draw_ball(cv, v, margin);
 }
 
 void draw_concave(Canvas& cv, const Frame& f, const btConcaveShape& shape, double world_z_min, double world_z_max,
@@ -185,12 +185,12 @@ void draw_concave(Canvas& cv, const Frame& f, const btConcaveShape& shape, doubl
   const double xs[2] = {cv.x_min() - pad, cv.x_max() + pad};
   const double ys[2] = {cv.y_min() - pad, cv.y_max() + pad};
   const double zs[2] = {world_z_min - pad, world_z_max + pad};
-  V3 lo{kInf, kInf, kInf};
-  V3 hi{-kInf, -kInf, -kInf};
+  Vec3 lo{kInf, kInf, kInf};
+  Vec3 hi{-kInf, -kInf, -kInf};
   for (double x : xs)
     for (double y : ys)
       for (double z : zs) {
-        const V3 p = f.to_local_dir(V3{x, y, z} - f.t);
+        const Vec3 p = f.to_local_dir(Vec3{x, y, z} - f.t);
         lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
         hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
       }

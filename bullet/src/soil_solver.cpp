@@ -28,9 +28,9 @@ constexpr std::int64_t kKeyOffset = std::int64_t{1} << 27;
 /// Bottom elements are kind 0; walls 1 to 4 by the side they push from.
 int kind_of(const terrain::ContactElement& e) {
   if (!e.wall) return 0;
-  if (e.nx > 0.5) return 1;
-  if (e.nx < -0.5) return 2;
-  return e.ny > 0.5 ? 3 : 4;
+  if (e.normal.x > 0.5) return 1;
+  if (e.normal.x < -0.5) return 2;
+  return e.normal.y > 0.5 ? 3 : 4;
 }
 
 double length(Vec3 a) { return std::sqrt(dot(a, a)); }
@@ -58,7 +58,7 @@ struct Tally {
 
   void add(const terrain::ContactElement& e, double mobilisation, double c) {
     used = true;
-    const Vec3 p{e.x, e.y, e.z}, n{e.nx, e.ny, e.nz};
+    const Vec3 p = e.point, n = e.normal;
     area += e.area;
     area_normal = area_normal + n * e.area;
     area_point = area_point + p * e.area;
@@ -78,7 +78,7 @@ struct Tally {
     }
     const double w = e.pressure * e.area;
     // Pressing a column further by dz along the vertical takes the body dz n_z along the normal.
-    if (!e.wall && e.nz > 0.0) rate += e.pressure_rate * e.area / e.nz;
+    if (!e.wall && e.normal.z > 0.0) rate += e.pressure_rate * e.area / e.normal.z;
     weight += w;
     force = force + n * w;
     weighted_point = weighted_point + p * w;

@@ -13,6 +13,7 @@
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <LinearMath/btTransformUtil.h>
 
+#include "bt_convert.h"
 #include "checkpoint_bytes.h"
 #include "coupling_directory.h"
 #include "coupling_util.h"
@@ -70,14 +71,11 @@ void check_has_area(const btCollisionShape& shape) {
                          "must cover some area (a zero-size box, ball or line cannot bear on soil)");
 }
 
-soil_detail::Vec3 to_vec(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
-btVector3 to_bt(const soil_detail::Vec3& v) { return {btScalar(v.x), btScalar(v.y), btScalar(v.z)}; }
-
 soil_detail::RigidBody solver_body(const btRigidBody& body) {
   soil_detail::RigidBody rb;
-  rb.v = to_vec(body.getLinearVelocity());
-  rb.w = to_vec(body.getAngularVelocity());
-  rb.com = to_vec(body.getCenterOfMassPosition());
+  rb.v = to_vec3(body.getLinearVelocity());
+  rb.w = to_vec3(body.getAngularVelocity());
+  rb.com = to_vec3(body.getCenterOfMassPosition());
   rb.inv_mass = body.getInvMass();
   const btMatrix3x3& inv = body.getInvInertiaTensorWorld();
   for (int r = 0; r < 3; ++r)
@@ -92,9 +90,9 @@ terrain::Imprint moving_imprint(const EnvelopeRaster& envelope, const btRigidBod
   terrain::Imprint im{&envelope};
   const btVector3 v = body.getLinearVelocity(), w = body.getAngularVelocity(), c = body.getCenterOfMassPosition();
   const btQuaternion q = body.getOrientation();
-  im.vx = v.x(), im.vy = v.y(), im.vz = v.z(), im.wx = w.x(), im.wy = w.y(), im.wz = w.z();
-  im.cx = c.x(), im.cy = c.y(), im.cz = c.z();
-  im.qw = q.w(), im.qx = q.x(), im.qy = q.y(), im.qz = q.z();
+  im.velocity = {v.x(), v.y(), v.z()}, im.angular_velocity = {w.x(), w.y(), w.z()};
+  im.centre = {c.x(), c.y(), c.z()};
+  im.orientation = {q.w(), q.x(), q.y(), q.z()};
   const btBroadphaseProxy* proxy = body.getBroadphaseHandle();
   im.body = proxy ? static_cast<std::uint64_t>(proxy->m_uniqueId) : 0;
   im.spray = spray && proxy != nullptr;  // a body outside the world has no stable key: it does not spray
@@ -106,14 +104,14 @@ constexpr double kNoMemory = std::numeric_limits<double>::infinity();
 /// Elements whose stiffness lies below this unload elastically (ContactElement::stiffness).
 constexpr double kUnloading = std::numeric_limits<double>::infinity();
 
-bool same_window(const ColumnWindow& from, const EnvelopeRaster& to) {
+bool same_window(const GridRect& from, const EnvelopeRaster& to) {
   return from.i0 == to.i0 && from.j0 == to.j0 && from.nx == to.nx && from.ny == to.ny;
 }
 
 /// Values kept per envelope column, moved from the old window to the new one (`fresh` where
 /// new). The same window keeps them as they are; otherwise each row's overlap is copied at once.
 template <class T>
-void remap(std::vector<T>& values, const ColumnWindow& from, const EnvelopeRaster& to, T fresh = T{}) {
+void remap(std::vector<T>& values, const GridRect& from, const EnvelopeRaster& to, T fresh = T{}) {
   if (same_window(from, to) && values.size() == to.lower.size()) return;
   std::vector<T> moved(to.lower.size(), fresh);
   if (!values.empty()) {
@@ -132,7 +130,7 @@ void remap(std::vector<T>& values, const ColumnWindow& from, const EnvelopeRaste
 
 /// Raster indices of the old window moved to the new one (those that left it dropped), as
 /// remap moves the values they point at.
-void remap_indices(std::vector<std::uint32_t>& indices, const ColumnWindow& from, const EnvelopeRaster& to) {
+void remap_indices(std::vector<std::uint32_t>& indices, const GridRect& from, const EnvelopeRaster& to) {
   if (same_window(from, to)) return;
   std::size_t kept = 0;
   for (const std::uint32_t k : indices) {
@@ -152,7 +150,7 @@ struct TerrainCoupling::BodyContact {
   // as a vector while the column is in contact; Janosi-Hanamoto's j is its length, which
   // also remoulds the soil, terrain::shear::remoulding). As a vector, slip that reverses
   // undoes itself.
-  std::vector<soil_detail::Vec3> shear;
+  std::vector<Vec3> shear;
   std::vector<double> shear_length;  // |shear|: the soil's and the blocks' input
   // Per envelope column, Pa: what the column pushed with at the end of the last substep while
   // it unloaded elastically (+infinity: no memory; it was pressed, or out of contact). Wong's
@@ -168,7 +166,7 @@ struct TerrainCoupling::BodyContact {
   std::vector<std::uint32_t> kept;
   bool kept_valid = false;
   // Scratch of advance_memory: this substep's new values, by raster index, in element order.
-  std::vector<std::pair<std::uint32_t, soil_detail::Vec3>> new_shear;
+  std::vector<std::pair<std::uint32_t, Vec3>> new_shear;
   std::vector<std::pair<std::uint32_t, double>> new_carried;
   SoilForce last;
   bool resting = false;  // the body was at rest: its blocks and patch still hold it
@@ -249,15 +247,14 @@ void TerrainCoupling::check_contact(const ByteReader& r, const BodyContact& c, s
   bool sound = coupling_detail::finite(c.last.force) && coupling_detail::finite(c.last.torque) &&
                coupling_detail::finite(c.v_end) && coupling_detail::finite(c.w_end);
   for (const terrain::ContactElement& e : c.patch.elements)
-    sound = sound && e.raster_index < static_cast<std::int64_t>(envelope_columns) &&
-            std::isfinite(e.x + e.y + e.z + e.nx + e.ny + e.nz + e.area) && !std::isnan(e.pressure) &&
-            e.stiffness >= 0.0 && e.preload >= 0.0 && std::isfinite(e.preload) && e.pressure_rate >= 0.0 &&
-            std::isfinite(e.pressure_rate);
+    sound = sound && e.raster_index < static_cast<std::int64_t>(envelope_columns) && finite(e.point) &&
+            finite(e.normal) && std::isfinite(e.area) && !std::isnan(e.pressure) && e.stiffness >= 0.0 &&
+            e.preload >= 0.0 && std::isfinite(e.preload) && e.pressure_rate >= 0.0 && std::isfinite(e.pressure_rate);
   for (const auto* blocks : {&c.blocks, &c.previous})
     for (const soil_detail::Block& b : *blocks)
       sound =
-          sound && std::isfinite(b.point.x + b.point.y + b.point.z + b.normal.x + b.normal.y + b.normal.z) &&
-          !std::isnan(b.capacity) && b.stiffness >= 0.0 && b.preload >= 0.0 && std::isfinite(b.preload) &&
+          sound && finite(b.point) && finite(b.normal) && !std::isnan(b.capacity) && b.stiffness >= 0.0 &&
+          b.preload >= 0.0 && std::isfinite(b.preload) &&
           std::isfinite(b.cohesion + b.mobilised + b.normal_impulse + b.t1_impulse + b.t2_impulse + b.mass_n +
                         b.mass_t1 + b.mass_t2) &&
           std::isfinite(b.t1.x + b.t1.y + b.t1.z + b.t2.x + b.t2.y + b.t2.z + b.start_n + b.start_t1 + b.start_t2) &&
@@ -478,7 +475,7 @@ bool TerrainCoupling::overlaps_region(const btRigidBody& body) const {
 }
 
 void TerrainCoupling::rasterize(Body& b) {
-  const ColumnWindow old{b.envelope.i0, b.envelope.j0, b.envelope.nx, b.envelope.ny};
+  const GridRect old{b.envelope.i0, b.envelope.j0, b.envelope.nx, b.envelope.ny};
   b.envelope_pose = b.body->getWorldTransform();
   rasterizer_.rasterize(*b.body->getCollisionShape(), b.envelope_pose, b.envelope);
   b.pressed = false;
@@ -567,15 +564,15 @@ void TerrainCoupling::advance_memory(Body& b, const soil_detail::RigidBody& rb, 
   c.new_shear.clear(), c.new_carried.clear();
   for (terrain::ContactElement& e : c.patch.elements) {
     if (e.wall || e.raster_index < 0 || !env.contains(e.i, e.j)) continue;
-    const soil_detail::Vec3 n{e.nx, e.ny, e.nz};
-    const soil_detail::Vec3 u = rb.point_velocity({e.x, e.y, e.z});
+    const Vec3 n = e.normal;
+    const Vec3 u = rb.point_velocity(e.point);
     const auto k = static_cast<std::uint32_t>(e.raster_index);
-    const soil_detail::Vec3 slip = u - n * soil_detail::dot(u, n);
-    c.new_shear.emplace_back(k, (had ? c.shear[k] : soil_detail::Vec3{}) + slip * h);
+    const Vec3 slip = u - n * dot(u, n);
+    c.new_shear.emplace_back(k, (had ? c.shear[k] : Vec3{}) + slip * h);
     if (!(e.stiffness < kUnloading)) continue;
     // The spring at the end of the substep: what the column carries on, and where a patch
     // kept for the next substep (follow_drift) starts from.
-    e.preload = std::clamp(e.preload + e.stiffness * h * -soil_detail::dot(u, n), 0.0, e.pressure);
+    e.preload = std::clamp(e.preload + e.stiffness * h * -dot(u, n), 0.0, e.pressure);
     if (env.index(e.i, e.j) == k) c.new_carried.emplace_back(k, e.preload);  // its own column (a fringe's is not)
   }
   // Back to fresh: only the entries kept last substep, when they are known; else all of them.
@@ -596,7 +593,7 @@ void TerrainCoupling::advance_memory(Body& b, const soil_detail::RigidBody& rb, 
   c.kept.clear();
   for (const auto& [k, j] : c.new_shear) {
     c.shear[k] = j;
-    c.shear_length[k] = std::sqrt(soil_detail::dot(j, j));
+    c.shear_length[k] = std::sqrt(dot(j, j));
     c.kept.push_back(k);
   }
   for (const auto& [k, p] : c.new_carried) c.carried[k] = p;  // k is among the shear's
@@ -655,7 +652,7 @@ bool TerrainCoupling::react(Body& b, double h) {
 
   soil_detail::RigidBody rb = solver_body(body);
   soil_detail::RigidBody start = rb;
-  if (c.has_end) start.v = to_vec(c.v_end), start.w = to_vec(c.w_end);
+  if (c.has_end) start.v = to_vec3(c.v_end), start.w = to_vec3(c.w_end);
   if (follow) {
     c.drift += soil_detail::follow_body(c.blocks, start, h);
     ++stats_.contacts_followed;
@@ -694,11 +691,11 @@ bool TerrainCoupling::react(Body& b, double h) {
 // substep (5 times the cost of a held body).
 void TerrainCoupling::stop_sway(const btRigidBody& body, soil_detail::RigidBody& rb,
                                 soil_detail::SolveResult& r) const {
-  const double speed = std::sqrt(soil_detail::dot(rb.v, rb.v)), spin = std::sqrt(soil_detail::dot(rb.w, rb.w));
+  const double speed = std::sqrt(dot(rb.v, rb.v)), spin = std::sqrt(dot(rb.w, rb.w));
   if (!(speed <= settings_.rest_speed && spin <= settings_.rest_spin) || !(rb.inv_mass > 0.0)) return;
   const btVector3 stop_spin = body.getInvInertiaTensorWorld().inverse() * (-to_bt(rb.w));
   r.impulse = r.impulse - rb.v * (1.0 / rb.inv_mass);
-  r.angular_impulse = r.angular_impulse + soil_detail::Vec3{stop_spin.x(), stop_spin.y(), stop_spin.z()};
+  r.angular_impulse = r.angular_impulse + Vec3{stop_spin.x(), stop_spin.y(), stop_spin.z()};
   rb.v = rb.w = {};
 }
 
@@ -725,14 +722,14 @@ void TerrainCoupling::keep_above_bedrock(Body& b) {
   ++stats_.rescues;
 }
 
-void TerrainCoupling::wake_bodies_over(const std::vector<terrain::ColumnRect>& changed) {
+void TerrainCoupling::wake_bodies_over(const std::vector<GridRect>& changed) {
   // Soft-soil bodies have no Bullet contact with the tiles, so nothing else wakes them; a
   // body at rest over soil that changed (the ring around its envelope too: walls) gathers
   // its contact afresh.
   for (Body& b : bodies_) {
     if (b.envelope.lower.empty()) continue;
     const EnvelopeRaster& e = b.envelope;
-    for (const terrain::ColumnRect& r : changed)
+    for (const GridRect& r : changed)
       if (r.i0 <= e.i0 + e.nx && e.i0 <= r.i0 + r.nx && r.j0 <= e.j0 + e.ny && e.j0 <= r.j0 + r.ny) {
         if (!b.body->isActive()) b.body->activate(true);
         b.contact->resting = false;
@@ -862,7 +859,7 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   if (soil_steps) step_soil();
 
   t0 = Clock::now();
-  const std::vector<terrain::ColumnRect> changed = soil_.take_changed();
+  const std::vector<GridRect> changed = soil_.take_changed();
   stats_.vertices_pushed += tiles_.push(changed);
   wake_bodies_over(changed);
   if (settings_.rescue_fallthrough) rescue_fallen_bodies();

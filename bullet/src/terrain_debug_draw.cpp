@@ -69,7 +69,7 @@ void draw_body_contact(btIDebugDraw& d, const TerrainCoupling& coupling, const t
   for (const terrain::ContactElement& e : patch.elements) {
     if (e.wall) continue;
     const btVector3 top = column_top(soil, e.i, e.j);
-    const double force = e.pressure * e.area * e.nz;  // the most it bears, vertically
+    const double force = e.pressure * e.area * e.normal.z;  // the most it bears, vertically
     if (mode & debug_draw::kContactBits) debug_draw::cross(d, top, half, debug_draw::kContactColour);
     if ((mode & debug_draw::kForceBits) && std::isfinite(force) && force > 0.0)
       d.drawLine(top, top + debug_draw::force_arrow(btVector3(0, 0, btScalar(force)), mass, g),

@@ -128,7 +128,7 @@ std::int64_t TerrainTiles::copy_rect(Tile& tile, std::int64_t ci0, std::int64_t 
   const std::int64_t a0 = std::max<std::int64_t>(ci0 - tile.i0, 0), a1 = std::min<std::int64_t>(ci1 - tile.i0, T);
   const std::int64_t b0 = std::max<std::int64_t>(cj0 - tile.j0, 0), b1 = std::min<std::int64_t>(cj1 - tile.j0, T);
   if (a0 > a1 || b0 > b1) return 0;
-  const terrain::ColumnRect rect{tile.i0 + a0, tile.j0 + b0, int(a1 - a0 + 1), int(b1 - b0 + 1)};
+  const GridRect rect{tile.i0 + a0, tile.j0 + b0, int(a1 - a0 + 1), int(b1 - b0 + 1)};
   const auto width = static_cast<std::size_t>(rect.nx);
   scratch_.resize(width * static_cast<std::size_t>(rect.ny));
   soil_.heights(rect, scratch_);
@@ -143,7 +143,7 @@ std::int64_t TerrainTiles::copy_rect(Tile& tile, std::int64_t ci0, std::int64_t 
   return static_cast<std::int64_t>(scratch_.size());
 }
 
-std::int64_t TerrainTiles::push(std::span<const terrain::ColumnRect> changed) {
+std::int64_t TerrainTiles::push(std::span<const GridRect> changed) {
   if (observer_ && !changed.empty()) observer_(changed);
   const int T = soil_.settings().tile_columns;
   const double cell = soil_.settings().cell;
@@ -158,7 +158,7 @@ std::int64_t TerrainTiles::push(std::span<const terrain::ColumnRect> changed) {
       drop_stale_contacts(soil_.column_x(i0) - cell, soil_.column_y(j0) - cell, soil_.column_x(i1) + cell,
                           soil_.column_y(j1) + cell);
     }
-  for (const terrain::ColumnRect& r : changed) {
+  for (const GridRect& r : changed) {
     if (r.nx <= 0 || r.ny <= 0) continue;
     const std::int64_t ci1 = r.i0 + r.nx - 1, cj1 = r.j0 + r.ny - 1;
     // Every tile holding a vertex of the rectangle (shared edges belong to two tiles).

@@ -23,17 +23,12 @@ inline namespace SHORE_BULLET_ABI {
 using coupling_detail::Clock;
 using coupling_detail::seconds_since;
 using envelope_detail::Frame;
-using envelope_detail::V3;
+using envelope_detail::Vec3;
 using water_detail::Part;
 
-/// The body's sub-sample envelopes: sub-sample k (x) of node i = k / S sits at
-/// x_i + ((k mod S + 1/2) / S - 1/2) h, likewise l (y). Columns the body does not cover
-/// hold lower = +inf.
-struct SubEnvelope {
-  std::int64_t k0 = 0, l0 = 0;
-  int nk = 0, nl = 0;
-  std::vector<double> lower, upper;
-};
+/// The body's sub-sample envelopes are EnvelopeRasters on the sub-sample grid (sub_grid):
+/// sub-sample k (x) of node i = k / S sits at x_i + ((k mod S + 1/2) / S - 1/2) h, likewise
+/// l (y). Columns the body does not cover hold lower = +inf.
 
 struct WaterCoupling::Workspace {
   std::vector<Frame> frames;
@@ -46,8 +41,8 @@ struct WaterCoupling::Body {
   bool disturb = true;
   bool seen_in_world = false;  // the world held the body once (lost when it no longer does)
   water_detail::WaterShape shape;
-  SubEnvelope reference;  // envelopes at the pose the displacement was last taken from
-  SubEnvelope current;
+  EnvelopeRaster reference;  // envelopes at the pose the displacement was last taken from
+  EnvelopeRaster current;
   btTransform reference_pose;
   bool have_reference = false;
   BodyWater last;
@@ -65,9 +60,6 @@ EnvelopeOptions nominal_with_upper() {
   o.include_margin = false;
   return o;
 }
-
-V3 v3(const btVector3& v) { return {double(v.x()), double(v.y()), double(v.z())}; }
-btVector3 bt(V3 v) { return {btScalar(v.x), btScalar(v.y), btScalar(v.z)}; }
 
 /// One volume-conserving [1 2 1]/4 pass in x then y over a rectangular field (edges fold
 /// back onto themselves).
@@ -93,35 +85,25 @@ void smooth(std::vector<double>& f, int nx, int ny, std::vector<double>& tmp) {
     }
 }
 
-/// Nodes [i0, i1] x [j0, j1] under the world box, clamped to the grid.
-struct NodeWindow {
-  int i0 = 0, j0 = 0, i1 = -1, j1 = -1;
-  [[nodiscard]] int w() const { return i1 - i0 + 1; }
-  [[nodiscard]] int h() const { return j1 - j0 + 1; }
-};
-NodeWindow window_under(const water::Surface& s, const btVector3& lo, const btVector3& hi, int pad) {
+/// The nodes under the world box, padded by `pad` nodes, clamped to the grid.
+GridRect window_under(const water::Surface& s, const btVector3& lo, const btVector3& hi, int pad) {
   const Eigen::Vector2d a = s.grid_coordinates(lo.x(), lo.y()), b = s.grid_coordinates(hi.x(), hi.y());
   const auto clamp = [](double g, int n) { return static_cast<int>(std::clamp(g, 0.0, double(n - 1))); };
-  NodeWindow w;
-  w.i0 = clamp(std::floor(a.x()) - pad, s.nx());
-  w.i1 = clamp(std::ceil(b.x()) + pad, s.nx());
-  w.j0 = clamp(std::floor(a.y()) - pad, s.ny());
-  w.j1 = clamp(std::ceil(b.y()) + pad, s.ny());
-  return w;
+  return GridRect::spanning(clamp(std::floor(a.x()) - pad, s.nx()), clamp(std::floor(a.y()) - pad, s.ny()),
+                            clamp(std::ceil(b.x()) + pad, s.nx()), clamp(std::ceil(b.y()) + pad, s.ny()));
 }
 
 /// The least-squares plane through the heights of the window's nodes outside `inner`
 /// (the nodes under the body's bounding box): the level the body sits in, free of the
 /// surface under the body itself, which its own displacement raises. Also the mean
 /// vertical velocity there.
-water_detail::WaterPlane fit_plane(const water::Surface& s, const NodeWindow& win, const NodeWindow& inner,
+water_detail::WaterPlane fit_plane(const water::Surface& s, const GridRect& win, const GridRect& inner,
                                    const std::vector<double>& z, const std::vector<double>& vz) {
-  const int w = win.w(), h = win.h();
+  const int w = win.nx, h = win.ny;
   double n = 0, sx = 0, sy = 0, sz = 0, sxx = 0, syy = 0, sxy = 0, sxz = 0, syz = 0, sv = 0;
   for (int b = 0; b < h; ++b)
     for (int a = 0; a < w; ++a) {
-      const int i = win.i0 + a, j = win.j0 + b;
-      if (i >= inner.i0 && i <= inner.i1 && j >= inner.j0 && j <= inner.j1) continue;
+      if (inner.contains(win.i0 + a, win.j0 + b)) continue;
       const double x = a - 0.5 * (w - 1), y = b - 0.5 * (h - 1);
       const double v = z[std::size_t(b) * std::size_t(w) + std::size_t(a)];
       n += 1;
@@ -167,7 +149,7 @@ void envelope_row(const water_detail::WaterShape& shape, const std::vector<Frame
     if (part.kind == Part::Kind::polyhedron) {
       water_detail::chord_row(planes[p], x0, dx, n, y, lo.data(), hi.data());
     } else {
-      const V3 c = frames[p].t;
+      const Vec3 c = frames[p].t;
       const double ry = part.radius * part.radius - (y - c.y) * (y - c.y);
       for (int k = 0; k < n; ++k) {
         const double r2 = ry - (x0 + k * dx - c.x) * (x0 + k * dx - c.x);
@@ -341,7 +323,7 @@ btTransform to_transform(const Frame& f) {
   t.setBasis(btMatrix3x3(btScalar(f.r[0][0]), btScalar(f.r[0][1]), btScalar(f.r[0][2]), btScalar(f.r[1][0]),
                          btScalar(f.r[1][1]), btScalar(f.r[1][2]), btScalar(f.r[2][0]), btScalar(f.r[2][1]),
                          btScalar(f.r[2][2])));
-  t.setOrigin(bt(f.t));
+  t.setOrigin(to_bt(f.t));
   return t;
 }
 
@@ -364,7 +346,7 @@ void submerge(const water_detail::WaterShape& shape, const std::vector<Frame>& f
 /// first moment.
 void submerge_sampled(const water_detail::WaterShape& shape, const std::vector<Frame>& frames,
                       const water_detail::WaterPlane& plane, EnvelopeRasterizer& rasterizer, double& volume,
-                      V3& moment) {
+                      Vec3& moment) {
   EnvelopeRaster r;
   const EnvelopeGrid& g = rasterizer.grid();
   for (std::size_t p = 0; p < shape.parts.size(); ++p) {
@@ -379,7 +361,7 @@ void submerge_sampled(const water_detail::WaterShape& shape, const std::vector<F
         if (!(top > r.lower[q])) continue;
         const double dv = (top - r.lower[q]) * g.cell * g.cell;
         volume += dv;
-        moment = moment + V3{x, y, 0.5 * (top + r.lower[q])} * dv;
+        moment = moment + Vec3{x, y, 0.5 * (top + r.lower[q])} * dv;
       }
   }
 }
@@ -402,26 +384,26 @@ void WaterCoupling::sample_envelopes(Body& b) {
   const EnvelopeGrid grid = sub_grid(surface_, per);
   const auto sub = [&](double x, double origin) { return (x - origin) / grid.cell; };
   const std::int64_t kmax = std::int64_t(surface_.nx()) * per - 1, lmax = std::int64_t(surface_.ny()) * per - 1;
-  SubEnvelope& e = b.current;
-  e.k0 = std::clamp<std::int64_t>(std::int64_t(std::floor(sub(lo.x(), grid.origin_x))), 0, kmax);
-  e.l0 = std::clamp<std::int64_t>(std::int64_t(std::floor(sub(lo.y(), grid.origin_y))), 0, lmax);
+  EnvelopeRaster& e = b.current;
+  e.i0 = std::clamp<std::int64_t>(std::int64_t(std::floor(sub(lo.x(), grid.origin_x))), 0, kmax);
+  e.j0 = std::clamp<std::int64_t>(std::int64_t(std::floor(sub(lo.y(), grid.origin_y))), 0, lmax);
   const std::int64_t k1 = std::clamp<std::int64_t>(std::int64_t(std::ceil(sub(hi.x(), grid.origin_x))), 0, kmax);
   const std::int64_t l1 = std::clamp<std::int64_t>(std::int64_t(std::ceil(sub(hi.y(), grid.origin_y))), 0, lmax);
-  e.nk = int(k1 - e.k0 + 1);
-  e.nl = int(l1 - e.l0 + 1);
-  const std::size_t n = std::size_t(e.nk) * std::size_t(e.nl);
+  e.nx = int(k1 - e.i0 + 1);
+  e.ny = int(l1 - e.j0 + 1);
+  const std::size_t n = std::size_t(e.nx) * std::size_t(e.ny);
   e.lower.assign(n, EnvelopeRaster::kNoLower);
   e.upper.assign(n, EnvelopeRaster::kNoUpper);
   Workspace& w = *work_;
   part_frames(b.shape, envelope_detail::frame_of(pose), w.frames, w.planes);
-  for (int l = 0; l < e.nl; ++l) {
-    const std::size_t row = std::size_t(l) * std::size_t(e.nk);
-    envelope_row(b.shape, w.frames, w.planes, grid.origin_x + double(e.k0) * grid.cell, grid.cell, e.nk,
-                 grid.origin_y + double(e.l0 + l) * grid.cell, e.lower.data() + row, e.upper.data() + row, w.lo, w.hi);
+  for (int l = 0; l < e.ny; ++l) {
+    const std::size_t row = std::size_t(l) * std::size_t(e.nx);
+    envelope_row(b.shape, w.frames, w.planes, grid.origin_x + double(e.i0) * grid.cell, grid.cell, e.nx,
+                 grid.origin_y + double(e.j0 + l) * grid.cell, e.lower.data() + row, e.upper.data() + row, w.lo, w.hi);
   }
   if (!b.rasterizer) return;
   EnvelopeRaster r;  // sampled parts: their raster on the same grid, merged
-  r.resize(e.k0, e.l0, e.nk, e.nl, true);
+  r.resize(e.i0, e.j0, e.nx, e.ny, true);
   for (std::size_t p = 0; p < b.shape.parts.size(); ++p)
     if (b.shape.parts[p].kind == Part::Kind::sampled)
       b.rasterizer->accumulate(*b.shape.parts[p].shape, to_transform(w.frames[p]), r);
@@ -444,38 +426,36 @@ void WaterCoupling::displace(Body& b) {
   if (b.have_reference) {
     // Nodes of both envelopes, padded for the smoothing.
     const int per = settings_.fluid.samples_per_cell, pad = settings_.smoothing_passes + 1;
-    const SubEnvelope& e = b.current;
+    const EnvelopeRaster& e = b.current;
     const auto node0 = [per](std::int64_t k) { return int(k / per); };
-    NodeWindow win;
-    win.i0 = std::max(0, std::min(node0(e.k0), node0(b.reference.k0)) - pad);
-    win.j0 = std::max(0, std::min(node0(e.l0), node0(b.reference.l0)) - pad);
-    win.i1 =
-        std::min(surface_.nx() - 1, std::max(node0(e.k0 + e.nk - 1), node0(b.reference.k0 + b.reference.nk - 1)) + pad);
-    win.j1 =
-        std::min(surface_.ny() - 1, std::max(node0(e.l0 + e.nl - 1), node0(b.reference.l0 + b.reference.nl - 1)) + pad);
+    const GridRect win =
+        GridRect::spanning(std::max(0, std::min(node0(e.i0), node0(b.reference.i0)) - pad),
+                           std::max(0, std::min(node0(e.j0), node0(b.reference.j0)) - pad),
+                           std::min(surface_.nx() - 1, std::max(node0(e.i1() - 1), node0(b.reference.i1() - 1)) + pad),
+                           std::min(surface_.ny() - 1, std::max(node0(e.j1() - 1), node0(b.reference.j1() - 1)) + pad));
     Workspace& w = *work_;
-    surface_.heights_above_rest(win.i0, win.j0, win.w(), win.h(), w.heights);
+    surface_.heights_above_rest(win.i0, win.j0, win.nx, win.ny, w.heights);
     w.ds.assign(w.heights.size(), 0.0);
     const double rest = surface_.settings().rest_height, share = 1.0 / (double(per) * per);
-    const auto accumulate = [&](const SubEnvelope& s, double sign) {
-      for (int l = 0; l < s.nl; ++l) {
-        const int j = node0(s.l0 + l) - win.j0;
-        const double* lower = s.lower.data() + std::size_t(l) * std::size_t(s.nk);
-        const double* upper = s.upper.data() + std::size_t(l) * std::size_t(s.nk);
-        double* out = w.ds.data() + std::size_t(j) * std::size_t(win.w());
-        const double* water = w.heights.data() + std::size_t(j) * std::size_t(win.w());
-        for (int k = 0; k < s.nk; ++k) {
+    const auto accumulate = [&](const EnvelopeRaster& s, double sign) {
+      for (int l = 0; l < s.ny; ++l) {
+        const int j = node0(s.j0 + l) - win.j0;
+        const double* lower = s.lower.data() + std::size_t(l) * std::size_t(s.nx);
+        const double* upper = s.upper.data() + std::size_t(l) * std::size_t(s.nx);
+        double* out = w.ds.data() + std::size_t(j) * std::size_t(win.nx);
+        const double* water = w.heights.data() + std::size_t(j) * std::size_t(win.nx);
+        for (int k = 0; k < s.nx; ++k) {
           if (!(lower[k] < EnvelopeRaster::kNoLower)) continue;
-          const int i = node0(s.k0 + k) - win.i0;
+          const int i = node0(s.i0 + k) - win.i0;
           out[i] += sign * share * std::clamp(rest + water[i] - lower[k], 0.0, upper[k] - lower[k]);
         }
       }
     };
     accumulate(e, 1.0);
     accumulate(b.reference, -1.0);
-    for (int p = 0; p < settings_.smoothing_passes; ++p) smooth(w.ds, win.w(), win.h(), w.smooth);
+    for (int p = 0; p < settings_.smoothing_passes; ++p) smooth(w.ds, win.nx, win.ny, w.smooth);
     for (double& d : w.ds) d *= settings_.displacement_gain;
-    stats_.displaced_volume += surface_.add_heights(win.i0, win.j0, win.w(), win.h(), w.ds);
+    stats_.displaced_volume += surface_.add_heights(win.i0, win.j0, win.nx, win.ny, w.ds);
   }
   std::swap(b.reference, b.current);
   b.reference_pose = pose;
@@ -492,20 +472,20 @@ void WaterCoupling::float_body(Body& b, double h) {
   }
   btVector3 lo, hi;
   body.getCollisionShape()->getAabb(body.getWorldTransform(), lo, hi);
-  const NodeWindow inner = window_under(surface_, lo, hi, 0), win = window_under(surface_, lo, hi, 2);
+  const GridRect inner = window_under(surface_, lo, hi, 0), win = window_under(surface_, lo, hi, 2);
   Workspace& w = *work_;
-  surface_.heights_above_rest(win.i0, win.j0, win.w(), win.h(), w.heights);
-  surface_.vertical_velocities(win.i0, win.j0, win.w(), win.h(), w.velocities);
+  surface_.heights_above_rest(win.i0, win.j0, win.nx, win.ny, w.heights);
+  surface_.vertical_velocities(win.i0, win.j0, win.nx, win.ny, w.velocities);
   const water_detail::WaterPlane plane = fit_plane(surface_, win, inner, w.heights, w.velocities);
   part_frames(b.shape, f, w.frames, w.planes);
   submerge(b.shape, w.frames, plane, b.wet);
   double sampled_volume = 0.0;
-  V3 sampled_moment{};
+  Vec3 sampled_moment{};
   if (b.shape.sampled) submerge_sampled(b.shape, w.frames, plane, *b.rasterizer, sampled_volume, sampled_moment);
   water_detail::Motion m;
-  m.com = v3(body.getCenterOfMassPosition());
-  m.v = v3(body.getLinearVelocity());
-  m.w = v3(body.getAngularVelocity());
+  m.com = to_vec3(body.getCenterOfMassPosition());
+  m.v = to_vec3(body.getLinearVelocity());
+  m.w = to_vec3(body.getAngularVelocity());
   m.mass = body.getInvMass() > 0 ? 1.0 / double(body.getInvMass()) : 0.0;
   m.inv_inertia = body.getInvInertiaTensorWorld();
   b.last = water_detail::water_forces(b.wet, sampled_volume, sampled_moment, plane, settings_.fluid, m, h);
@@ -554,14 +534,12 @@ BodyWater get_body_water(ByteReader& r) {
   return b;
 }
 
-void put_sub_envelope(ByteWriter& w, const SubEnvelope& e) {
-  coupling_detail::put_window(w, e.k0, e.l0, e.nk, e.nl, e.lower, e.upper);
-}
+void put_sub_envelope(ByteWriter& w, const EnvelopeRaster& e) { coupling_detail::put_window(w, e); }
 
-SubEnvelope get_sub_envelope(ByteReader& r) {
-  SubEnvelope e;
-  coupling_detail::get_window(r, e.k0, e.l0, e.nk, e.nl, e.lower, e.upper);
-  const std::size_t n = std::size_t(e.nk) * std::size_t(e.nl);
+EnvelopeRaster get_sub_envelope(ByteReader& r) {
+  EnvelopeRaster e;
+  coupling_detail::get_window(r, e);
+  const std::size_t n = std::size_t(e.nx) * std::size_t(e.ny);
   if (e.lower.size() != n || e.upper.size() != n)
     r.fail("envelope holds " + std::to_string(e.lower.size()) + " samples, its window " + std::to_string(n));
   return e;
@@ -595,7 +573,7 @@ void WaterCoupling::restore_state(std::span<const unsigned char> bytes, const st
     r.fail("holds " + std::to_string(count) + " bodies, the coupling has " + std::to_string(bodies_.size()) +
            " (add the same bodies in the same order)");
   struct Saved {
-    SubEnvelope reference;
+    EnvelopeRaster reference;
     btTransform pose;
     bool have_reference = false;
     BodyWater last;
@@ -609,10 +587,10 @@ void WaterCoupling::restore_state(std::span<const unsigned char> bytes, const st
              (disturb ? "" : " not") + " disturbing; the coupling's has " +
              std::to_string(shape_type(*bodies_[k]->body)) + (bodies_[k]->disturb ? "" : " not") + " disturbing");
     saved[k].reference = get_sub_envelope(r);
-    const SubEnvelope& e = saved[k].reference;
+    const EnvelopeRaster& e = saved[k].reference;
     const int per = settings_.fluid.samples_per_cell;
-    if (!e.lower.empty() && (e.k0 < 0 || e.l0 < 0 || e.k0 + e.nk > std::int64_t(surface_.nx()) * per ||
-                             e.l0 + e.nl > std::int64_t(surface_.ny()) * per))
+    if (!e.lower.empty() && (e.i0 < 0 || e.j0 < 0 || e.i0 + e.nx > std::int64_t(surface_.nx()) * per ||
+                             e.j0 + e.ny > std::int64_t(surface_.ny()) * per))
       r.fail("body " + std::to_string(k) + "'s envelope lies outside the water grid");
     saved[k].pose = coupling_detail::get_transform(r, "envelope pose");
     if (!coupling_detail::finite(saved[k].pose)) r.fail("body " + std::to_string(k) + "'s envelope pose is not finite");

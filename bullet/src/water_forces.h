@@ -13,9 +13,9 @@ namespace water_detail {
 
 /// The body's state the drag needs.
 struct Motion {
-  V3 com;                   ///< centre of mass, world
-  V3 v;                     ///< linear velocity
-  V3 w;                     ///< angular velocity
+  Vec3 com;                 ///< centre of mass, world
+  Vec3 v;                   ///< linear velocity
+  Vec3 w;                   ///< angular velocity
   double mass = 0.0;        ///< kg; 0: kinematic or static (the forces are reported, not limited)
   btMatrix3x3 inv_inertia;  ///< world inverse inertia tensor
 };
@@ -23,7 +23,7 @@ struct Motion {
 /// Forces on the body from `wet` (its analytic parts) and `sampled_volume` /
 /// `sampled_moment` (its sampled parts) under water plane w, over a substep h: drag scaled
 /// down where it would reverse the relative velocity or spin within the substep.
-BodyWater water_forces(const Submerged& wet, double sampled_volume, V3 sampled_moment, const WaterPlane& w,
+BodyWater water_forces(const Submerged& wet, double sampled_volume, Vec3 sampled_moment, const WaterPlane& w,
                        const FluidSettings& fluid, const Motion& m, double h);
 
 }  // namespace water_detail

@@ -23,11 +23,6 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 namespace water_detail {
 
-using envelope_detail::cross;
-using envelope_detail::dot;
-using envelope_detail::norm;
-using envelope_detail::to_v3;
-
 namespace {
 
 constexpr double kPi = det::detail::kPi;
@@ -54,12 +49,12 @@ void finish(Polyhedron& p) {
   p.normals.clear();
   p.offsets.clear();
   for (const auto& f : p.faces) {
-    V3 a{};
+    Vec3 a{};
     for (std::size_t k = 1; k + 1 < f.size(); ++k)
       a = a + cross(p.vertices[std::size_t(f[k])] - p.vertices[std::size_t(f[0])],
                     p.vertices[std::size_t(f[k + 1])] - p.vertices[std::size_t(f[0])]);
     const double len = norm(a);
-    const V3 n = len > 0.0 ? a * (1.0 / len) : V3{0, 0, 1};
+    const Vec3 n = len > 0.0 ? a * (1.0 / len) : Vec3{0, 0, 1};
     p.normals.push_back(n);
     p.offsets.push_back(dot(n, p.vertices[std::size_t(f[0])]));
   }
@@ -74,7 +69,7 @@ double volume_of(const Polyhedron& p) {
   return v;
 }
 
-Polyhedron box(V3 h) {
+Polyhedron box(Vec3 h) {
   Polyhedron p;
   for (int k = 0; k < 8; ++k) p.vertices.push_back({k & 1 ? h.x : -h.x, k & 2 ? h.y : -h.y, k & 4 ? h.z : -h.z});
   p.faces = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
@@ -116,22 +111,22 @@ std::vector<int> merged_face(const std::vector<std::array<int, 3>>& triangles, c
 /// 34, not 124. Clipping it under the water, its drag points and the chord rows of its
 /// displacement then visit each face once (the volume and the projected area are the same
 /// sums, regrouped).
-Polyhedron hull(const std::vector<V3>& points) {
+Polyhedron hull(const std::vector<Vec3>& points) {
   const envelope_detail::HullMesh m = envelope_detail::triangulate_hull(points);
   Polyhedron p;
   p.vertices = m.vertices;
   double size = 0.0;
-  for (const V3& v : m.vertices) size = std::max(size, norm(v - m.inside));
+  for (const Vec3& v : m.vertices) size = std::max(size, norm(v - m.inside));
   const double tolerance = 1e-9 * size;
   std::vector<std::array<int, 3>> triangles;
-  std::vector<V3> normal;
+  std::vector<Vec3> normal;
   for (const auto& t : m.faces) {
-    const V3 a = m.vertices[std::size_t(t[0])], b = m.vertices[std::size_t(t[1])], c = m.vertices[std::size_t(t[2])];
-    const V3 n = cross(b - a, c - a);
+    const Vec3 a = m.vertices[std::size_t(t[0])], b = m.vertices[std::size_t(t[1])], c = m.vertices[std::size_t(t[2])];
+    const Vec3 n = cross(b - a, c - a);
     const bool outward = dot(n, a - m.inside) >= 0.0;
     triangles.push_back(outward ? t : std::array<int, 3>{t[0], t[2], t[1]});
     const double len = norm(n);
-    normal.push_back(len > 0.0 ? n * ((outward ? 1.0 : -1.0) / len) : V3{});
+    normal.push_back(len > 0.0 ? n * ((outward ? 1.0 : -1.0) / len) : Vec3{});
   }
   // Groups in the order of their first triangle; a triangle joins the first group whose
   // plane holds its three vertices and faces its way.
@@ -140,7 +135,7 @@ Polyhedron hull(const std::vector<V3>& points) {
     bool joined = false;
     for (auto& g : groups) {
       const std::size_t first = std::size_t(g.front());
-      const V3 n = normal[first];
+      const Vec3 n = normal[first];
       const double d = dot(n, m.vertices[std::size_t(triangles[first][0])]);
       bool in_plane = dot(n, normal[t]) > 0.5;
       for (int v : triangles[t]) in_plane = in_plane && std::abs(dot(n, m.vertices[std::size_t(v)]) - d) <= tolerance;
@@ -168,7 +163,7 @@ Polyhedron hull(const std::vector<V3>& points) {
 }
 
 /// Local coordinates with axis `up` as the third.
-V3 on_axis(int up, double radial_a, double radial_b, double along) {
+Vec3 on_axis(int up, double radial_a, double radial_b, double along) {
   switch (up) {
     case 0:
       return {along, radial_a, radial_b};
@@ -183,7 +178,7 @@ V3 on_axis(int up, double radial_a, double radial_b, double along) {
 /// hull and scaled radially to the solid's exact volume.
 Polyhedron revolution(int up, const std::vector<std::pair<double, double>>& rings, double exact_volume) {
   const auto points = [&](double scale) {
-    std::vector<V3> pts;
+    std::vector<Vec3> pts;
     for (const auto& [along, radius] : rings) {
       if (radius <= 0.0) {
         pts.push_back(on_axis(up, 0.0, 0.0, along));
@@ -220,7 +215,7 @@ void prepare(const btCollisionShape& shape, const Frame& local, int depth, Water
       return;
     }
     case BOX_SHAPE_PROXYTYPE: {
-      const V3 h = to_v3(static_cast<const btBoxShape&>(shape).getHalfExtentsWithMargin());
+      const Vec3 h = to_vec3(static_cast<const btBoxShape&>(shape).getHalfExtentsWithMargin());
       check_positive(shape, "half extent x", h.x);
       check_positive(shape, "half extent y", h.y);
       check_positive(shape, "half extent z", h.z);
@@ -231,15 +226,15 @@ void prepare(const btCollisionShape& shape, const Frame& local, int depth, Water
     }
     case CONVEX_HULL_SHAPE_PROXYTYPE:
     case CONVEX_POINT_CLOUD_SHAPE_PROXYTYPE: {
-      std::vector<V3> pts;
+      std::vector<Vec3> pts;
       if (shape.getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
         const auto& h = static_cast<const btConvexHullShape&>(shape);
-        for (int k = 0; k < h.getNumPoints(); ++k) pts.push_back(to_v3(h.getScaledPoint(k)));
+        for (int k = 0; k < h.getNumPoints(); ++k) pts.push_back(to_vec3(h.getScaledPoint(k)));
       } else {
         const auto& h = static_cast<const btConvexPointCloudShape&>(shape);
-        for (int k = 0; k < h.getNumPoints(); ++k) pts.push_back(to_v3(h.getScaledPoint(k)));
+        for (int k = 0; k < h.getNumPoints(); ++k) pts.push_back(to_vec3(h.getScaledPoint(k)));
       }
-      for (const V3& p : pts)
+      for (const Vec3& p : pts)
         check_positive(shape, "point coordinate magnitude", 1.0 + std::abs(p.x) + std::abs(p.y) + std::abs(p.z));
       part.poly = hull(pts);
       part.volume = volume_of(part.poly);
@@ -250,7 +245,7 @@ void prepare(const btCollisionShape& shape, const Frame& local, int depth, Water
     case CYLINDER_SHAPE_PROXYTYPE: {
       const auto& c = static_cast<const btCylinderShape&>(shape);
       const int up = c.getUpAxis();
-      const double r = c.getRadius(), h = to_v3(c.getHalfExtentsWithMargin())[up];
+      const double r = c.getRadius(), h = to_vec3(c.getHalfExtentsWithMargin())[up];
       check_positive(shape, "radius", r);
       check_positive(shape, "half height", h);
       part.volume = 2.0 * kPi * r * r * h;
@@ -335,14 +330,14 @@ WaterPlane make_plane(double x0, double y0, double z0, double sx, double sy, dou
   w.sx = sx;
   w.sy = sy;
   w.vz = vz;
-  const V3 n{-sx, -sy, 1.0};
+  const Vec3 n{-sx, -sy, 1.0};
   w.n = n * (1.0 / norm(n));
-  w.d = dot(w.n, V3{x0, y0, z0});
+  w.d = dot(w.n, Vec3{x0, y0, z0});
   return w;
 }
 
 void add_polyhedron(const Polyhedron& p, const Frame& f, const WaterPlane& w, Submerged& out) {
-  std::vector<V3> world(p.vertices.size());
+  std::vector<Vec3> world(p.vertices.size());
   std::vector<double> depth(p.vertices.size());  // signed distance above the plane (<= 0: wet)
   bool any_wet = false;
   for (std::size_t k = 0; k < world.size(); ++k) {
@@ -351,8 +346,8 @@ void add_polyhedron(const Polyhedron& p, const Frame& f, const WaterPlane& w, Su
     any_wet = any_wet || depth[k] < 0.0;
   }
   if (!any_wet) return;
-  const V3 p0 = w.n * w.d;  // on the plane: the cut face adds no tetrahedra
-  std::vector<V3> q;
+  const Vec3 p0 = w.n * w.d;  // on the plane: the cut face adds no tetrahedra
+  std::vector<Vec3> q;
   for (const auto& face : p.faces) {
     q.clear();
     for (std::size_t k = 0; k < face.size(); ++k) {  // Sutherland-Hodgman against n . x <= d
@@ -365,14 +360,14 @@ void add_polyhedron(const Polyhedron& p, const Frame& f, const WaterPlane& w, Su
       }
     }
     if (q.size() < 3) continue;
-    V3 area{}, weighted{};
+    Vec3 area{}, weighted{};
     double twice = 0.0;
     const int first = static_cast<int>(out.points.size());
     for (std::size_t k = 1; k + 1 < q.size(); ++k) {
       const double vol = dot(q[0] - p0, cross(q[k] - p0, q[k + 1] - p0)) / 6.0;
       out.volume += vol;
       out.moment = out.moment + (p0 + q[0] + q[k] + q[k + 1]) * (0.25 * vol);
-      const V3 a = cross(q[k] - q[0], q[k + 1] - q[0]);
+      const Vec3 a = cross(q[k] - q[0], q[k + 1] - q[0]);
       area = area + a;
       const double s = norm(a);
       twice += s;
@@ -391,19 +386,19 @@ void add_polyhedron(const Polyhedron& p, const Frame& f, const WaterPlane& w, Su
 
 void add_revolution(const Polyhedron& p, const Frame& f, int axis, const WaterPlane& w, Submerged& out) {
   const double v0 = out.volume;
-  const V3 m0 = out.moment;
+  const Vec3 m0 = out.moment;
   add_polyhedron(p, f, w, out);
   const double v = out.volume - v0;
   if (!(v > 0.0)) return;
-  const V3 c = (out.moment - m0) * (1.0 / v);
-  const V3 a = f.axis(axis), side = cross(V3{0, 0, 1}, a);
+  const Vec3 c = (out.moment - m0) * (1.0 / v);
+  const Vec3 a = f.axis(axis), side = cross(Vec3{0, 0, 1}, a);
   const double len = norm(side);
   if (len < 1e-9) return;  // a vertical axis: buoyancy has no moment about it anyway
-  const V3 e = side * (1.0 / len);
+  const Vec3 e = side * (1.0 / len);
   out.moment = out.moment - e * (dot(e, c - f.t) * v);
 }
 
-void add_ball(V3 c, double r, const WaterPlane& w, Submerged& out) {
+void add_ball(Vec3 c, double r, const WaterPlane& w, Submerged& out) {
   const double depth = w.d - dot(w.n, c);
   const double h = std::clamp(r + depth, 0.0, 2.0 * r);  // height of the wet cap
   if (h <= 0.0) return;
@@ -440,7 +435,7 @@ double strip(double rho, double lo, double hi) {
 /// The projection along u of the part of a ball below the plane: its disc where the line
 /// along u through a point meets the wet cap, in closed form (a circular segment, and the
 /// projected cut ellipse's share).
-double ball_projected(const WetBall& b, const WaterPlane& w, V3 u) {
+double ball_projected(const WetBall& b, const WaterPlane& w, Vec3 u) {
   const double r = b.radius, depth = b.depth;
   if (depth >= r) return kPi * r * r;
   if (depth <= -r) return 0.0;
@@ -457,7 +452,7 @@ double ball_projected(const WetBall& b, const WaterPlane& w, V3 u) {
 }
 }  // namespace
 
-double projected_area(const Submerged& s, const WaterPlane& w, V3 u) {
+double projected_area(const Submerged& s, const WaterPlane& w, Vec3 u) {
   double a = std::abs(dot(s.cut, u));
   for (const WetFace& f : s.faces) a += std::abs(dot(f.area, u));
   a *= 0.5;
@@ -469,7 +464,7 @@ void world_planes(const Polyhedron& p, const Frame& f, WorldPlanes& out) {
   out.n.resize(p.normals.size());
   out.d.resize(p.normals.size());
   for (std::size_t k = 0; k < p.normals.size(); ++k) {
-    const V3 n = f.to_world(p.normals[k]) - f.t;
+    const Vec3 n = f.to_world(p.normals[k]) - f.t;
     out.n[k] = n;
     out.d[k] = p.offsets[k] + dot(n, f.t);
   }
@@ -478,7 +473,7 @@ void world_planes(const Polyhedron& p, const Frame& f, WorldPlanes& out) {
 void chord_row(const WorldPlanes& p, double x0, double dx, int n, double y, double* __restrict lo,
                double* __restrict hi) {
   for (std::size_t f = 0; f < p.n.size(); ++f) {
-    const V3 nf = p.n[f];
+    const Vec3 nf = p.n[f];
     const double base = p.d[f] - nf.y * y - nf.x * x0, step = -nf.x * dx;  // rest(k) = base + k step: n_z z <= rest
     if (std::abs(nf.z) < 1e-12) {
       for (int k = 0; k < n; ++k)

@@ -24,14 +24,14 @@ inline namespace SHORE_BULLET_ABI {
 namespace water_detail {
 
 using envelope_detail::Frame;
-using envelope_detail::V3;
+using envelope_detail::Vec3;
 
 /// A convex polyhedron in its part's coordinates: faces wound counter-clockwise seen from
 /// outside, with outward unit normals and plane offsets (n . x <= offset inside).
 struct Polyhedron {
-  std::vector<V3> vertices;
+  std::vector<Vec3> vertices;
   std::vector<std::vector<int>> faces;
-  std::vector<V3> normals;
+  std::vector<Vec3> normals;
   std::vector<double> offsets;
 };
 
@@ -58,7 +58,7 @@ WaterShape prepare_shape(const btCollisionShape& shape);
 
 /// The water surface under a body: z = z0 + sx (x - x0) + sy (y - y0), as n . X <= d.
 struct WaterPlane {
-  V3 n{0, 0, 1};  ///< unit, up
+  Vec3 n{0, 0, 1};  ///< unit, up
   double d = 0.0;
   double z0 = 0.0, x0 = 0.0, y0 = 0.0, sx = 0.0, sy = 0.0;
   double vz = 0.0;  ///< m/s, the water's mean vertical velocity there
@@ -70,18 +70,18 @@ WaterPlane make_plane(double x0, double y0, double z0, double sx, double sy, dou
 /// quadrature points over it (the midpoints of its fan triangles' edges, a third of each
 /// triangle's area each: exact for quadratics), for drag that varies over the face.
 struct WetFace {
-  V3 area;
-  V3 centroid;
+  Vec3 area;
+  Vec3 centroid;
   int first_point = 0;  ///< into Submerged::points
   int points = 0;
 };
 struct FacePoint {
-  V3 at;
+  Vec3 at;
   double weight = 0.0;  ///< m^2
 };
 /// A submerged ball: centre, radius and depth of the centre below the plane.
 struct WetBall {
-  V3 centre;
+  Vec3 centre;
   double radius = 0.0;
   double depth = 0.0;
 };
@@ -89,9 +89,9 @@ struct WetBall {
 /// The parts of a body below the plane (world).
 struct Submerged {
   double volume = 0.0;  ///< m^3
-  V3 moment;            ///< m^4, the integral of x over the submerged volume
-  V3 cut;               ///< m^2, vector area of the water plane's cut through the polyhedra
-  V3 cut_points;        ///< sum of the points where the faces' edges cross the plane
+  Vec3 moment;          ///< m^4, the integral of x over the submerged volume
+  Vec3 cut;             ///< m^2, vector area of the water plane's cut through the polyhedra
+  Vec3 cut_points;      ///< sum of the points where the faces' edges cross the plane
   int cut_count = 0;    ///< how many
   std::vector<WetFace> faces;
   std::vector<FacePoint> points;
@@ -117,15 +117,15 @@ void add_polyhedron(const Polyhedron& p, const Frame& f, const WaterPlane& w, Su
 /// turn it towards a facet.
 void add_revolution(const Polyhedron& p, const Frame& f, int axis, const WaterPlane& w, Submerged& out);
 /// Adds the submerged cap of a ball (world centre c, radius r).
-void add_ball(V3 c, double r, const WaterPlane& w, Submerged& out);
+void add_ball(Vec3 c, double r, const WaterPlane& w, Submerged& out);
 
 /// The area (m^2) the submerged parts present to a flow along the unit direction u.
-double projected_area(const Submerged& s, const WaterPlane& w, V3 u);
+double projected_area(const Submerged& s, const WaterPlane& w, Vec3 u);
 
 /// The face planes of a polyhedron at world frame f, prepared once per pose for its
 /// vertical chords.
 struct WorldPlanes {
-  std::vector<V3> n;
+  std::vector<Vec3> n;
   std::vector<double> d;
 };
 void world_planes(const Polyhedron& p, const Frame& f, WorldPlanes& out);

@@ -31,14 +31,15 @@ bool row_span(const std::array<Node, 3>& q, std::int64_t j, std::int64_t& lo, st
 
 }  // namespace
 
-void Block::read(const Field& field, const Domain& d, NodeRect r, std::int64_t* counter) {
-  const std::int64_t i1 = std::min(r.i0 + r.ni, d.ni), j1 = std::min(r.j0 + r.nj, d.nj);
+void Block::read(const Field& field, const Domain& d, GridRect r, std::int64_t* counter) {
+  const std::int64_t i1 = std::min(r.i0 + r.nx, d.ni), j1 = std::min(r.j0 + r.ny, d.nj);
   r.i0 = std::max<std::int64_t>(r.i0, 0), r.j0 = std::max<std::int64_t>(r.j0, 0);
-  r.ni = std::max<std::int64_t>(i1 - r.i0, 0), r.nj = std::max<std::int64_t>(j1 - r.j0, 0);
+  r.nx = static_cast<int>(std::max<std::int64_t>(i1 - r.i0, 0)),
+  r.ny = static_cast<int>(std::max<std::int64_t>(j1 - r.j0, 0));
   r_ = r;
-  xyz_.assign(3 * static_cast<std::size_t>(r.ni * r.nj), 0.0);
-  if (r.ni > 0 && r.nj > 0) field.positions(r, xyz_);
-  if (counter) *counter += r.ni * r.nj;
+  xyz_.assign(3 * r.size(), 0.0);
+  if (r.nx > 0 && r.ny > 0) field.positions(r, xyz_);
+  if (counter) *counter += static_cast<std::int64_t>(r.size());
 }
 
 Interpolant::Interpolant(const std::array<Node, 3>& q, const std::array<Vec3, 3>& p) : q_(q), p_(p) {

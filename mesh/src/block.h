@@ -11,11 +11,12 @@
 #include <vector>
 
 #include "bintree.h"
+#include "shore/core/vec3.h"
 #include "shore/mesh/field.h"
 
 namespace shore::mesh::detail {
 
-using Vec3 = std::array<double, 3>;
+using shore::Vec3;
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -31,21 +32,17 @@ struct Domain {
 class Block {
  public:
   /// Reads r ∩ domain from the field; adds the count of nodes read to *counter.
-  void read(const Field& field, const Domain& d, NodeRect r, std::int64_t* counter);
-  [[nodiscard]] bool holds(Node n) const {
-    return n.i >= r_.i0 && n.j >= r_.j0 && n.i < r_.i0 + r_.ni && n.j < r_.j0 + r_.nj;
-  }
-  [[nodiscard]] const double* at(Node n) const {
-    return &xyz_[3 * static_cast<std::size_t>((n.j - r_.j0) * r_.ni + (n.i - r_.i0))];
-  }
+  void read(const Field& field, const Domain& d, GridRect r, std::int64_t* counter);
+  [[nodiscard]] bool holds(Node n) const { return r_.contains(n.i, n.j); }
+  [[nodiscard]] const double* at(Node n) const { return &xyz_[3 * r_.index(n.i, n.j)]; }
   [[nodiscard]] Vec3 position(Node n) const {
     const double* p = at(n);
     return {p[0], p[1], p[2]};
   }
-  [[nodiscard]] const NodeRect& rect() const { return r_; }
+  [[nodiscard]] const GridRect& rect() const { return r_; }
 
  private:
-  NodeRect r_;
+  GridRect r_;
   std::vector<double> xyz_;
 };
 
@@ -53,10 +50,13 @@ class Block {
 inline bool is_hole(const double* p) { return !std::isfinite(p[2]); }
 
 /// Distance from p to q: vertical for a height field, else 3-D.
-inline double distance(const double* p, const Vec3& q, bool height_field) {
-  if (height_field) return std::abs(p[2] - q[2]);
-  const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+inline double distance(const Vec3& p, const Vec3& q, bool height_field) {
+  if (height_field) return std::abs(p.z - q.z);
+  const double dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
   return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+inline double distance(const double* p, const Vec3& q, bool height_field) {
+  return distance(Vec3{p[0], p[1], p[2]}, q, height_field);
 }
 
 /// The linear interpolant of a lattice triangle's corner positions, at any grid point.

@@ -30,9 +30,9 @@ void MeshSettings::validate() const {
 
 void Camera::validate() const {
   const Check c{"mesh.Camera"};
-  c.finite("x", x);
-  c.finite("y", y);
-  c.finite("z", z);
+  c.finite("position.x", position.x);
+  c.finite("position.y", position.y);
+  c.finite("position.z", position.z);
   if (!(fov_y_deg > 0.0 && fov_y_deg < 180.0))
     throw InvalidSetting(c.name("fov_y_deg"), shore::detail::to_text(fov_y_deg), "must be in (0, 180)");
   c.at_least("viewport_height", viewport_height, 1);
@@ -92,8 +92,8 @@ void ChunkedMesh::Impl::allocate(std::uint64_t index) {
   it->second.queued.assign(n, 0u);
 }
 
-void ChunkedMesh::Impl::apply_changes(const std::vector<NodeRect>& rects,
-                                      std::map<std::uint64_t, NodeRect>& error_dirty) {
+void ChunkedMesh::Impl::apply_changes(const std::vector<GridRect>& rects,
+                                      std::map<std::uint64_t, GridRect>& error_dirty) {
   const std::int64_t chunks_per_side = S / C;
   // The chunks whose closed square meets [i_lo, i_hi] x [j_lo, j_hi].
   auto each_chunk = [&](std::int64_t i_lo, std::int64_t j_lo, std::int64_t i_hi, std::int64_t j_hi, auto&& fn) {
@@ -104,21 +104,20 @@ void ChunkedMesh::Impl::apply_changes(const std::vector<NodeRect>& rects,
     for (std::int64_t cy = cy0; cy <= cy1; ++cy)
       for (std::int64_t cx = cx0; cx <= cx1; ++cx) fn(cx, cy);
   };
-  for (const NodeRect& raw : rects) {
+  for (const GridRect& raw : rects) {
     const std::int64_t i_lo = std::max<std::int64_t>(raw.i0, 0), j_lo = std::max<std::int64_t>(raw.j0, 0);
-    const std::int64_t i_hi = std::min(raw.i0 + raw.ni, dom.ni) - 1, j_hi = std::min(raw.j0 + raw.nj, dom.nj) - 1;
+    const std::int64_t i_hi = std::min(raw.i0 + raw.nx, dom.ni) - 1, j_hi = std::min(raw.j0 + raw.ny, dom.nj) - 1;
     if (i_hi < i_lo || j_hi < j_lo) continue;
     each_chunk(i_lo, j_lo, i_hi, j_hi, [&](std::int64_t cx, std::int64_t cy) {
       const std::uint64_t index = chunk_index(cx, cy);
       const detail::Node o{cx * C, cy * C};
-      const NodeRect part{std::max(i_lo, o.i), std::max(j_lo, o.j), std::min(i_hi, o.i + C) - std::max(i_lo, o.i) + 1,
-                          std::min(j_hi, o.j + C) - std::max(j_lo, o.j) + 1};
+      const GridRect part = GridRect::spanning(std::max(i_lo, o.i), std::max(j_lo, o.j), std::min(i_hi, o.i + C),
+                                               std::min(j_hi, o.j + C));
       auto [it, fresh] = error_dirty.try_emplace(index, part);
       if (!fresh) {
-        NodeRect& r = it->second;
-        const std::int64_t a0 = std::min(r.i0, part.i0), b0 = std::min(r.j0, part.j0);
-        const std::int64_t a1 = std::max(r.i0 + r.ni, part.i0 + part.ni), b1 = std::max(r.j0 + r.nj, part.j0 + part.nj);
-        r = {a0, b0, a1 - a0, b1 - b0};
+        GridRect& r = it->second;
+        r = GridRect::spanning(std::min(r.i0, part.i0), std::min(r.j0, part.j0), std::max(r.i1(), part.i1()) - 1,
+                               std::max(r.j1(), part.j1()) - 1);
       }
       // A chunk with detail, and its neighbours (saturation crosses chunk sides), keep errors.
       for (std::int64_t dy = -1; dy <= 1; ++dy)
@@ -135,7 +134,7 @@ void ChunkedMesh::Impl::apply_changes(const std::vector<NodeRect>& rects,
     // Normals read the neighbours: one node more changes what the chunks around show.
     const std::int64_t gi0 = std::max<std::int64_t>(i_lo - 1, 0), gj0 = std::max<std::int64_t>(j_lo - 1, 0);
     const std::int64_t gi1 = std::min(i_hi + 1, dom.ni - 1), gj1 = std::min(j_hi + 1, dom.nj - 1);
-    dirty_output.push_back({gi0, gj0, gi1 - gi0 + 1, gj1 - gj0 + 1});
+    dirty_output.push_back(GridRect::spanning(gi0, gj0, gi1, gj1));
     each_chunk(gi0, gj0, gi1, gj1,
                [&](std::int64_t cx, std::int64_t cy) { dirty_output_chunks.insert(chunk_index(cx, cy)); });
   }
@@ -146,7 +145,7 @@ const detail::Block& ChunkedMesh::Impl::chunk_block(std::uint64_t index) {
   if (it != blocks.end()) return it->second;
   const Node o = chunk_origin(index);
   Block& b = blocks[index];
-  b.read(*field, dom, {o.i - 1, o.j - 1, C + 3, C + 3}, &nodes_read);
+  b.read(*field, dom, GridRect{o.i, o.j, static_cast<int>(C) + 1, static_cast<int>(C) + 1}.grown(1), &nodes_read);
   return b;
 }
 
@@ -186,10 +185,11 @@ const MeshUpdate& ChunkedMesh::update(Field& field, const Camera* camera) {
   m.dirty_output.clear();
   m.dirty_output_chunks.clear();
 
-  std::vector<NodeRect> rects;
+  std::vector<GridRect> rects;
   field.take_changes(rects);
-  if (first && !m.base) rects.assign(1, NodeRect{0, 0, m.dom.ni, m.dom.nj});  // every node is read once
-  std::map<std::uint64_t, NodeRect> error_dirty;
+  if (first && !m.base)
+    rects.assign(1, GridRect{0, 0, static_cast<int>(m.dom.ni), static_cast<int>(m.dom.nj)});  // every node is read once
+  std::map<std::uint64_t, GridRect> error_dirty;
   m.apply_changes(rects, error_dirty);
 
   std::vector<std::uint64_t> dirty;
@@ -235,7 +235,7 @@ TriangleMesh merge(const ChunkedMesh& mesh, const Field& field) {
   std::vector<double> p(3);
   for (auto& [node, slot] : index) {
     slot = next++;
-    const NodeRect r{static_cast<std::int64_t>(node % ni), static_cast<std::int64_t>(node / ni), 1, 1};
+    const GridRect r{static_cast<std::int64_t>(node % ni), static_cast<std::int64_t>(node / ni), 1, 1};
     field.positions(r, p);
     out.positions.insert(out.positions.end(), p.begin(), p.end());
     const std::array<float, 3>& n = normal.at(node);

@@ -53,7 +53,7 @@ double ChunkedMesh::Impl::bound_over(const std::array<Node, 3>& piece, const det
     for (int k = 0; k < n; ++k) {
       const auto& x = poly[static_cast<std::size_t>(k)];
       const detail::Vec3 a = plane(x[0], x[1]);
-      w = std::max(w, detail::distance(a.data(), l.at(x[0], x[1]), height_field));
+      w = std::max(w, detail::distance(a, l.at(x[0], x[1]), height_field));
     }
     return w;
   };
@@ -167,7 +167,7 @@ detail::Box ChunkedMesh::Impl::base_box(Node origin, std::int64_t side) const {
   const std::int64_t i1 = std::min(origin.i + side, dom.ni - 1), j1 = std::min(origin.j + side, dom.nj - 1);
   if (!base || origin.i > i1 || origin.j > j1) return b;
   for (const std::int64_t i : {origin.i, i1})
-    for (const std::int64_t j : {origin.j, j1}) b.add(base->at(static_cast<double>(i), static_cast<double>(j)).data());
+    for (const std::int64_t j : {origin.j, j1}) b.add(base->at(static_cast<double>(i), static_cast<double>(j)));
   return b;
 }
 

@@ -11,7 +11,7 @@ using detail::Tri;
 double ChunkedMesh::Impl::quantised_distance(const Box& b) const {
   if (b.empty()) return detail::kInf;
   double d2 = 0.0;
-  const double eye[3] = {camera->x, camera->y, camera->z};
+  const double eye[3] = {camera->position.x, camera->position.y, camera->position.z};
   for (std::size_t k = 0; k < 3; ++k) {
     const double gap = std::max({b.lo[k] - eye[k], eye[k] - b.hi[k], 0.0});
     d2 += gap * gap;
@@ -113,9 +113,9 @@ void ChunkedMesh::Impl::fine_leaves(std::uint64_t index, const detail::Signature
 
 bool ChunkedMesh::Impl::output_dirty(const ChunkKey& key) const {
   if (key.cells == C) return dirty_output_chunks.count(chunk_of({key.i0, key.j0})) > 0;
-  for (const NodeRect& r : dirty_output)
-    if (r.i0 <= key.i0 + key.cells && r.i0 + r.ni - 1 >= key.i0 && r.j0 <= key.j0 + key.cells &&
-        r.j0 + r.nj - 1 >= key.j0)
+  for (const GridRect& r : dirty_output)
+    if (r.i0 <= key.i0 + key.cells && r.i0 + r.nx - 1 >= key.i0 && r.j0 <= key.j0 + key.cells &&
+        r.j0 + r.ny - 1 >= key.j0)
       return true;
   return false;
 }

@@ -9,14 +9,14 @@ namespace shore::mesh {
 using detail::ChunkData;
 using detail::Tri;
 
-void ChunkedMesh::Impl::compute_errors(std::uint64_t index, const NodeRect& changed, RankQueue& seeds) {
+void ChunkedMesh::Impl::compute_errors(std::uint64_t index, const GridRect& changed, RankQueue& seeds) {
   const Node o = chunk_origin(index);
   ChunkData& cd = data.at(index);
   const Block& b = chunk_block(index);
   std::array<Tri, 2> halves;
   const int n = detail::diamond({o.i + C / 2, o.j + C / 2}, S, halves);
   std::vector<Tri> stack(halves.begin(), halves.begin() + n);
-  const std::int64_t ci1 = changed.i0 + changed.ni - 1, cj1 = changed.j0 + changed.nj - 1;
+  const std::int64_t ci1 = changed.i0 + changed.nx - 1, cj1 = changed.j0 + changed.ny - 1;
   while (!stack.empty()) {
     const Tri t = stack.back();
     stack.pop_back();

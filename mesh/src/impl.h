@@ -35,10 +35,13 @@ struct Box {
   void add(const double* p) {
     for (std::size_t k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
   }
+  void add(const Vec3& p) {
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+  }
   void add(const Box& b) {
     if (b.empty()) return;
-    add(b.lo.data());
-    add(b.hi.data());
+    add(b.lo);
+    add(b.hi);
   }
   friend bool operator==(const Box&, const Box&) = default;
 };
@@ -142,7 +145,7 @@ struct ChunkedMesh::Impl {
   const Camera* camera = nullptr;
   double pixels_per_radian = 0.0;
   std::int64_t nodes_read = 0;
-  std::vector<NodeRect> dirty_output;  ///< changed rectangles grown by one node (normals)
+  std::vector<GridRect> dirty_output;  ///< changed rectangles grown by one node (normals)
   std::set<std::uint64_t> dirty_output_chunks;
   std::map<std::uint64_t, Block> blocks;  ///< chunk blocks read this update (with a 1-node halo)
   std::map<std::uint64_t, detail::Vec3> node_positions;
@@ -177,7 +180,7 @@ struct ChunkedMesh::Impl {
 
   // ---- update steps (chunked_mesh.cpp) ----
   void initialise(const Field& f);
-  void apply_changes(const std::vector<NodeRect>& rects, std::map<std::uint64_t, NodeRect>& error_dirty);
+  void apply_changes(const std::vector<GridRect>& rects, std::map<std::uint64_t, GridRect>& error_dirty);
   void allocate(std::uint64_t index);
   const Block& chunk_block(std::uint64_t index);
   [[nodiscard]] detail::Vec3 node_position(Node n);
@@ -191,7 +194,7 @@ struct ChunkedMesh::Impl {
   void enqueue(RankQueue& queue, Node v);
   /// The errors of the chunk's triangles that meet the changed nodes; the vertices whose
   /// error changed go into seeds.
-  void compute_errors(std::uint64_t index, const NodeRect& changed, RankQueue& seeds);
+  void compute_errors(std::uint64_t index, const GridRect& changed, RankQueue& seeds);
   void summarise(std::uint64_t index);
   /// Saturates the queued fine vertices and, rank by rank, the parents of those that
   /// changed; returns the chunks whose centre changed (their parents are coarse).

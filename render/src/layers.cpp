@@ -133,11 +133,8 @@ void Layers::update(const Eigen::Vector3d& eye, double fov_y_deg, int viewport_h
     mesh_error_pixels_ = bound;
     build_surfaces();
   }
-  const mesh::Camera camera{.x = eye.x(),
-                            .y = eye.y(),
-                            .z = eye.z(),
-                            .fov_y_deg = fov_y_deg,
-                            .viewport_height = std::max(viewport_height, 1)};
+  const mesh::Camera camera{
+      .position = {eye.x(), eye.y(), eye.z()}, .fov_y_deg = fov_y_deg, .viewport_height = std::max(viewport_height, 1)};
   stats.soil_bytes = stats.water_bytes = stats.whole_soil_bytes = stats.whole_water_bytes = stats.soil_columns = 0;
   stats.full_triangles = stats.surface_chunks = 0;
   for (auto& layer : soils_) {
@@ -293,7 +290,7 @@ std::optional<Eigen::Vector3d> Layers::pick(const Eigen::Vector3d& origin, const
     for (const auto& s : soils_) {
       const terrain::Terrain& soil = *s->contents.soil;
       const std::int64_t i = soil.column_i(x), j = soil.column_j(y);
-      const terrain::ColumnRect& r = s->region;
+      const shore::GridRect& r = s->region;
       if (i >= r.i0 && j >= r.j0 && i < r.i0 + r.nx && j < r.j0 + r.ny) return soil.height(i, j);
     }
     for (const auto& w : waters_)

@@ -21,7 +21,7 @@ namespace shore::render {
 
 struct SoilLayer {
   scenes::SoilContents contents;
-  terrain::ColumnRect region;  // the drawn columns
+  shore::GridRect region;  // the drawn columns
   std::unique_ptr<SurfaceMesh> mesh;
   double max_delta = 0, max_sinkage = 0, zmin = 0, zmax = 0;  // over the vertices uploaded so far
 };

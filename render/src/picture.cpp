@@ -115,9 +115,11 @@ void spray_lines(const scenes::SceneContents& contents, const scenes::Bounds& r,
   const btVector3 ink(0.10f, 0.08f, 0.06f);
   for (const scenes::SoilContents& s : contents.soils)
     for (const terrain::SprayParticle& p : s.soil->spray_particles()) {
-      if (p.x < r.x0 || p.x > r.x1 || p.y < r.y0 || p.y > r.y1 || !s.region.contains(p.x, p.y)) continue;
+      if (p.position.x < r.x0 || p.position.x > r.x1 || p.position.y < r.y0 || p.position.y > r.y1 ||
+          !s.region.contains(p.position.x, p.position.y))
+        continue;
       const auto h = btScalar(0.5 * std::max(2.0 * p.radius, least));
-      const btVector3 c(btScalar(p.x), btScalar(p.y), btScalar(p.z));
+      const btVector3 c(btScalar(p.position.x), btScalar(p.position.y), btScalar(p.position.z));
       out.drawLine(c - btVector3(h, 0, 0), c + btVector3(h, 0, 0), ink);
       out.drawLine(c - btVector3(0, h, 0), c + btVector3(0, h, 0), ink);
       out.drawLine(c - btVector3(0, 0, h), c + btVector3(0, 0, h), ink);

@@ -43,7 +43,7 @@ std::shared_ptr<btCollisionShape> ellipsoid_hull(double ax, double ay, double az
 /// The columns a method is run on: the envelope's window.
 struct Columns {
   shore::bullet::EnvelopeGrid grid;
-  shore::bullet::ColumnWindow window;
+  shore::GridRect window;
   double z_from = 0, z_to = 0;
   [[nodiscard]] double x(int i) const { return grid.origin_x + double(window.i0 + i) * grid.cell; }
   [[nodiscard]] double y(int j) const { return grid.origin_y + double(window.j0 + j) * grid.cell; }

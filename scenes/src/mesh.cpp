@@ -16,17 +16,17 @@
 
 namespace shore::scenes {
 
-void HeightGridField::positions(const mesh::NodeRect& r, std::span<double> out) const {
+void HeightGridField::positions(const shore::GridRect& r, std::span<double> out) const {
   std::size_t k = 0;
-  for (std::int64_t j = r.j0; j < r.j0 + r.nj; ++j)
-    for (std::int64_t i = r.i0; i < r.i0 + r.ni; ++i) {
+  for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
+    for (std::int64_t i = r.i0; i < r.i0 + r.nx; ++i) {
       out[k++] = grid_->x(static_cast<int>(i));
       out[k++] = grid_->y(static_cast<int>(j));
       out[k++] = grid_->at(static_cast<int>(i), static_cast<int>(j));
     }
 }
 
-void HeightGridField::take_changes(std::vector<mesh::NodeRect>& out) {
+void HeightGridField::take_changes(std::vector<shore::GridRect>& out) {
   out.clear();
   if (first_) out.push_back({0, 0, grid_->nx, grid_->ny});
   first_ = false;

@@ -16,7 +16,7 @@ std::unique_ptr<water::Surface> seed_water() {
 }
 
 mesh::Camera seed_water_camera() {
-  return {.x = 24.5, .y = -20.0, .z = 20.0, .fov_y_deg = 60.0, .viewport_height = 1080};
+  return {.position = {24.5, -20.0, 20.0}, .fov_y_deg = 60.0, .viewport_height = 1080};
 }
 
 namespace {
@@ -67,7 +67,7 @@ LargeField large_field(double side_m, double rut_m) {
 }
 
 mesh::Camera large_field_camera(const LargeField& f) {
-  return {.x = 0.5 * (f.rut_x0 + f.rut_x1), .y = f.rut_y, .z = 2.0, .fov_y_deg = 60.0, .viewport_height = 1080};
+  return {.position = {0.5 * (f.rut_x0 + f.rut_x1), f.rut_y, 2.0}, .fov_y_deg = 60.0, .viewport_height = 1080};
 }
 
 RollingWheel::RollingWheel(terrain::Terrain& soil, double x0, double y, double speed, double substep)

@@ -114,7 +114,7 @@ struct SoilRig {
 
 /// Plastic work stored in the soil: sum over columns of cell^2 * integral_0^z p_yield dz,
 /// with b the given patch width (rigid-plastic: all of it is dissipated).
-double plastic_work_in(const terrain::Terrain& soil, const terrain::ColumnRect& r, double b) {
+double plastic_work_in(const terrain::Terrain& soil, const shore::GridRect& r, double b) {
   const terrain::Material& m = soil.settings().material;
   const double k = m.bekker_kc / b + m.bekker_kphi, n = m.bekker_n, area = soil.settings().cell * soil.settings().cell;
   double w = 0.0;

@@ -12,18 +12,14 @@ namespace shore::terrain {
 
 namespace {
 
-struct Box {
-  std::int64_t i0, j0, i1, j1;        // inclusive
-  bool touches(const Box& o) const {  // overlapping or adjacent (their halos would overlap)
-    return i0 <= o.i1 + 2 && o.i0 <= i1 + 2 && j0 <= o.j1 + 2 && o.j0 <= j1 + 2;
-  }
-};
+/// Overlapping or adjacent: their halos (a column on every side) would overlap.
+bool touches(const GridRect& a, const GridRect& b) { return overlap(a.grown(1), b, /*touching=*/true); }
 
 }  // namespace
 
 // Columns the body overhangs by more than active_reach can neither be pressed this step nor
 // catch soil that would reach the body, so they need no work.
-ColumnRect ActiveRegions::reach_box(const TileStore& store, const TerrainSettings& s, const Imprint& im) {
+GridRect ActiveRegions::reach_box(const TileStore& store, const TerrainSettings& s, const Imprint& im) {
   const EnvelopeRaster& env = *im.envelope;
   const bool all = std::isinf(s.active_reach);
   if (!all) {
@@ -45,38 +41,34 @@ ColumnRect ActiveRegions::reach_box(const TileStore& store, const TerrainSetting
 }
 
 // Sorted, so the processing order never depends on the order of the imprints.
-std::vector<ColumnRect> ActiveRegions::plan(std::span<const ColumnRect> reached, std::span<const ColumnRect> carried,
-                                            int margin) {
-  std::vector<Box> boxes;
-  const std::int64_t m = margin;
-  auto add = [&](const ColumnRect& r) {
-    if (r.nx > 0 && r.ny > 0) boxes.push_back({r.i0 - m, r.j0 - m, r.i0 + r.nx - 1 + m, r.j0 + r.ny - 1 + m});
+std::vector<GridRect> ActiveRegions::plan(std::span<const GridRect> reached, std::span<const GridRect> carried,
+                                          int margin) {
+  std::vector<GridRect> boxes;
+  auto add = [&](const GridRect& r) {
+    if (!r.empty()) boxes.push_back(r.grown(margin));
   };
-  for (const ColumnRect& r : reached) add(r);
-  for (const ColumnRect& r : carried) add(r);
+  for (const GridRect& r : reached) add(r);
+  for (const GridRect& r : carried) add(r);
   for (bool merged = true; merged;) {
     merged = false;
     for (std::size_t a = 0; a < boxes.size() && !merged; ++a)
       for (std::size_t b = a + 1; b < boxes.size() && !merged; ++b)
-        if (boxes[a].touches(boxes[b])) {
-          boxes[a] = {std::min(boxes[a].i0, boxes[b].i0), std::min(boxes[a].j0, boxes[b].j0),
-                      std::max(boxes[a].i1, boxes[b].i1), std::max(boxes[a].j1, boxes[b].j1)};
+        if (touches(boxes[a], boxes[b])) {
+          boxes[a] = bounding(boxes[a], boxes[b]);
           boxes.erase(boxes.begin() + static_cast<std::ptrdiff_t>(b));
           merged = true;
         }
   }
   std::sort(boxes.begin(), boxes.end(),
-            [](const Box& a, const Box& b) { return std::tie(a.j0, a.i0) < std::tie(b.j0, b.i0); });
-  std::vector<ColumnRect> regions;
-  for (const Box& b : boxes) {
-    const std::int64_t w = b.i1 - b.i0 + 1, h = b.j1 - b.j0 + 1;
+            [](const GridRect& a, const GridRect& b) { return std::tie(a.j0, a.i0) < std::tie(b.j0, b.i0); });
+  for (const GridRect& b : boxes) {
+    const std::int64_t w = b.nx, h = b.ny;
     // Each side on its own first: the product of two huge sides would overflow.
     if (w + 2 > kMaxRegionColumns || h + 2 > kMaxRegionColumns || (w + 2) * (h + 2) > kMaxRegionColumns)
       throw InvalidSetting("terrain.Imprint.envelope", detail::to_text(w) + " x " + detail::to_text(h) + " columns",
                            "active region must hold at most " + detail::to_text(kMaxRegionColumns) + " columns");
-    regions.push_back({b.i0, b.j0, static_cast<int>(w), static_cast<int>(h)});
   }
-  return regions;
+  return boxes;
 }
 
 std::size_t ActiveRegions::bytes() const { return capacity_bytes(heights_); }

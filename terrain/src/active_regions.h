@@ -17,11 +17,11 @@ class ActiveRegions {
  public:
   /// Bounding box of the columns an imprint covers within active_reach of the soil top; nx
   /// = 0 if none.
-  [[nodiscard]] ColumnRect reach_box(const TileStore& store, const TerrainSettings& s, const Imprint& im);
+  [[nodiscard]] GridRect reach_box(const TileStore& store, const TerrainSettings& s, const Imprint& im);
   /// The step's regions (without halo) from the reach boxes and the carried boxes, in a
   /// fixed order. Throws InvalidSetting if one would exceed kMaxRegionColumns.
-  [[nodiscard]] static std::vector<ColumnRect> plan(std::span<const ColumnRect> reached,
-                                                    std::span<const ColumnRect> carried, int margin);
+  [[nodiscard]] static std::vector<GridRect> plan(std::span<const GridRect> reached, std::span<const GridRect> carried,
+                                                  int margin);
   [[nodiscard]] std::size_t bytes() const;
 
  private:

@@ -43,7 +43,7 @@ struct ColumnBits {
     return std::any_of(bits.begin(), bits.end(), [](std::uint64_t b) { return b != 0; });
   }
   /// Bounding box of the set columns, in this set's coordinates; nx = 0 if none.
-  [[nodiscard]] ColumnRect bounds() const {
+  [[nodiscard]] GridRect bounds() const {
     int x0 = w, y0 = h, x1 = -1, y1 = -1;
     for (int y = 0; y < h; ++y)
       for_each_in_row(y, [&](int x) {

@@ -39,7 +39,7 @@ constexpr int kSy[4] = {0, 0, 1, -1};
 
 /// Soil state of a rectangle of columns, row-major.
 struct SoilWindow {
-  ColumnRect r;
+  GridRect r;
   std::vector<double> top, sink, bed;
 
   [[nodiscard]] bool inside(std::int64_t i, std::int64_t j) const {
@@ -50,7 +50,7 @@ struct SoilWindow {
   }
 };
 
-void read_soil(const TileStore& store, double soil_depth, const ColumnRect& r, SoilWindow& out) {
+void read_soil(const TileStore& store, double soil_depth, const GridRect& r, SoilWindow& out) {
   out.r = r;
   const std::size_t size = static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny);
   out.top.resize(size), out.sink.resize(size), out.bed.resize(size);
@@ -224,7 +224,7 @@ class PatchBuilder {
   /// at or above the column's top.
   void set_unloading(std::size_t soil_index, ContactElement& el) const {
     const Material& m = s_.material;
-    const double z = soil_.sink[soil_index], gap = el.z - soil_.top[soil_index];
+    const double z = soil_.sink[soil_index], gap = el.point.z - soil_.top[soil_index];
     if (!(m.unload_modulus > 0.0) || !(z > 0.0) || !(gap >= 0.0) || !(el.pressure < kInf)) return;
     el.stiffness = unloading_stiffness(m, z, el.pressure);
     el.preload = std::max(0.0, el.pressure - el.stiffness * gap);
@@ -302,7 +302,7 @@ class PatchBuilder {
   void set_pressure_rate(std::size_t soil_index, double j, ContactElement& el) const {
     if (!(el.pressure < kInf)) return;
     const Material& m = s_.material;
-    const double z = sinkage_at(soil_index, el.z), step = kRateStep * s_.cell;
+    const double z = sinkage_at(soil_index, el.point.z), step = kRateStep * s_.cell;
     if (z >= kRateTangentSteps * step) {
       el.pressure_rate = m.bekker_n * el.pressure / z;
       return;
@@ -334,7 +334,7 @@ class PatchBuilder {
     const double gx = std::clamp(slope(1, 1, 2), -kMaxSlope, kMaxSlope),
                  gy = std::clamp(slope(static_cast<std::size_t>(env_.nx), 4, 8), -kMaxSlope, kMaxSlope);
     const double norm = std::sqrt(gx * gx + gy * gy + 1.0);
-    el.nx = -gx / norm, el.ny = -gy / norm, el.nz = 1.0 / norm;
+    el.normal.x = -gx / norm, el.normal.y = -gy / norm, el.normal.z = 1.0 / norm;
   }
 
   void add_bottom_elements() {
@@ -348,15 +348,15 @@ class PatchBuilder {
       underside_normal(x, y, el);
       // The body's surface over the covered part of the cell: the plan area over the
       // normal's vertical share, so the soil's push has Bekker's vertical component.
-      el.area = std::max(0.0, fx_[k]) * std::max(0.0, fy_[k]) * cell_area / el.nz;
+      el.area = std::max(0.0, fx_[k]) * std::max(0.0, fy_[k]) * cell_area / el.normal.z;
       // Centroid of the covered part of the cell.
-      el.x = column_x(i) + 0.5 * s_.cell * (loss_lo_x_[k] - (1.0 - fx_[k] - loss_lo_x_[k]));
-      el.y = column_y(j) + 0.5 * s_.cell * (loss_lo_y_[k] - (1.0 - fy_[k] - loss_lo_y_[k]));
-      el.z = env_.lower[k];
-      el.pressure = yield_pressure(soil_.at(i, j), el.z, shear_at(k));
+      el.point.x = column_x(i) + 0.5 * s_.cell * (loss_lo_x_[k] - (1.0 - fx_[k] - loss_lo_x_[k]));
+      el.point.y = column_y(j) + 0.5 * s_.cell * (loss_lo_y_[k] - (1.0 - fy_[k] - loss_lo_y_[k]));
+      el.point.z = env_.lower[k];
+      el.pressure = yield_pressure(soil_.at(i, j), el.point.z, shear_at(k));
       set_pressure_rate(soil_.at(i, j), shear_at(k), el);
       set_unloading(soil_.at(i, j), el);
-      out_.area += el.area * el.nz;
+      out_.area += el.area * el.normal.z;
       out_.elements.push_back(el);
     });
   }
@@ -373,13 +373,13 @@ class PatchBuilder {
       el.raster_index = static_cast<std::int32_t>(f.source);
       // Across the edge the strip is as wide as the covered neighbour's cell.
       const double across = f.j == env_.j0 + sy ? fy_[f.source] : fx_[f.source];
-      el.x = f.cx, el.y = f.cy, el.z = lower;
+      el.point.x = f.cx, el.point.y = f.cy, el.point.z = lower;
       underside_normal(sx, sy, el);
-      el.area = f.share * std::max(0.0, across) * cell_area / el.nz;
+      el.area = f.share * std::max(0.0, across) * cell_area / el.normal.z;
       el.pressure = yield_pressure(soil_.at(f.i, f.j), lower, shear_at(f.source));
       set_pressure_rate(soil_.at(f.i, f.j), shear_at(f.source), el);
       set_unloading(soil_.at(f.i, f.j), el);
-      out_.area += el.area * el.nz;
+      out_.area += el.area * el.normal.z;
       out_.elements.push_back(el);
     }
   }
@@ -402,13 +402,13 @@ class PatchBuilder {
         ContactElement el;
         el.i = ui, el.j = uj;
         el.wall = true;
-        el.nx = -kSx[d], el.ny = -kSy[d], el.nz = 0.0;
+        el.normal.x = -kSx[d], el.normal.y = -kSy[d], el.normal.z = 0.0;
         el.area = s_.cell * height;
         el.pressure =
             (m.rigid || soil_.bed[u] > e) ? kInf : k_modulus * det::pow(height, m.bekker_n) / (m.bekker_n + 1.0);
-        el.x = column_x(i) + 0.5 * kSx[d] * s_.cell;
-        el.y = column_y(j) + 0.5 * kSy[d] * s_.cell;
-        el.z = e + 0.5 * height;
+        el.point.x = column_x(i) + 0.5 * kSx[d] * s_.cell;
+        el.point.y = column_y(j) + 0.5 * kSy[d] * s_.cell;
+        el.point.z = e + 0.5 * height;
         out_.elements.push_back(el);
       }
     });

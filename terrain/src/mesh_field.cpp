@@ -6,7 +6,7 @@
 
 namespace shore::terrain {
 
-TerrainField::TerrainField(const Terrain& terrain, ColumnRect region) : terrain_(&terrain), region_(region) {
+TerrainField::TerrainField(const Terrain& terrain, GridRect region) : terrain_(&terrain), region_(region) {
   const Check c{"terrain.TerrainField.region"};
   c.at_least("nx", region.nx, 2);
   c.at_least("ny", region.ny, 2);
@@ -21,29 +21,29 @@ TerrainField::TerrainField(const Terrain& terrain, ColumnRect region) : terrain_
   }
 }
 
-void TerrainField::positions(const mesh::NodeRect& r, std::span<double> out) const {
-  if (out.size() != static_cast<std::size_t>(3 * r.ni * r.nj))
+void TerrainField::positions(const GridRect& r, std::span<double> out) const {
+  if (out.size() != 3 * r.size())
     throw InvalidSetting("terrain.TerrainField.positions(out).size", shore::detail::to_text(out.size()),
                          "must be 3 ni nj of the rectangle");
-  std::vector<double> z(static_cast<std::size_t>(r.ni * r.nj));
-  terrain_->heights({region_.i0 + r.i0, region_.j0 + r.j0, static_cast<int>(r.ni), static_cast<int>(r.nj)}, z);
+  std::vector<double> z(r.size());
+  terrain_->heights({region_.i0 + r.i0, region_.j0 + r.j0, r.nx, r.ny}, z);
   std::size_t k = 0;
-  for (std::int64_t j = r.j0; j < r.j0 + r.nj; ++j)
-    for (std::int64_t i = r.i0; i < r.i0 + r.ni; ++i, ++k) {
-      const std::array<double, 3> p = grid_.at(static_cast<double>(i), static_cast<double>(j));
+  for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
+    for (std::int64_t i = r.i0; i < r.i0 + r.nx; ++i, ++k) {
+      const Vec3 p = grid_.at(static_cast<double>(i), static_cast<double>(j));
       out[3 * k] = p[0];
       out[3 * k + 1] = p[1];
       out[3 * k + 2] = z[k];
     }
 }
 
-void TerrainField::take_changes(std::vector<mesh::NodeRect>& out) {
+void TerrainField::take_changes(std::vector<GridRect>& out) {
   out.clear();
   const std::uint64_t now = terrain_->generation();
   if (first_ && !flat_) {
     out.push_back({0, 0, region_.nx, region_.ny});
   } else {
-    for (const ColumnRect& c : terrain_->changed_since(first_ ? 0 : seen_)) {
+    for (const GridRect& c : terrain_->changed_since(first_ ? 0 : seen_)) {
       const std::int64_t i0 = std::max(c.i0, region_.i0), j0 = std::max(c.j0, region_.j0);
       const std::int64_t i1 = std::min(c.i0 + c.nx, region_.i0 + region_.nx);
       const std::int64_t j1 = std::min(c.j0 + c.ny, region_.j0 + region_.ny);

@@ -35,7 +35,7 @@ bool paced(const TerrainSettings& s, std::int64_t columns) {
   return thread_count(s) > 1 && s.parallel_min_columns > 0 && columns >= s.parallel_min_columns;
 }
 
-std::int64_t halo_columns(const ColumnRect& region) {
+std::int64_t halo_columns(const GridRect& region) {
   return static_cast<std::int64_t>(region.nx + 2) * static_cast<std::int64_t>(region.ny + 2);
 }
 
@@ -43,7 +43,7 @@ using Clock = std::chrono::steady_clock;
 
 }  // namespace
 
-void Pipeline::gather(TileStore& store, const TerrainSettings& s, const ColumnRect& region) {
+void Pipeline::gather(TileStore& store, const TerrainSettings& s, const GridRect& region) {
   const int threads = thread_count(s);
   const std::int64_t columns = halo_columns(region);
   const bool parallel =
@@ -57,7 +57,7 @@ void Pipeline::record(const TerrainSettings& s, std::int64_t columns, double sec
   if (paced(s, columns)) pacer_.record(region_.team != nullptr, seconds / static_cast<double>(columns));
 }
 
-StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, const ColumnRect& region,
+StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, const GridRect& region,
                          std::span<const Imprint> imprints) {
   const Clock::time_point t0 = Clock::now();
   gather(store, s, region);
@@ -80,7 +80,7 @@ StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, const Colum
   return report;
 }
 
-StepReport Pipeline::relax(TileStore& store, const TerrainSettings& s, const ColumnRect& region) {
+StepReport Pipeline::relax(TileStore& store, const TerrainSettings& s, const GridRect& region) {
   const Clock::time_point t0 = Clock::now();
   gather(store, s, region);
   imprint_.no_bodies(region_);

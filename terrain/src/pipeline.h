@@ -32,17 +32,16 @@ namespace shore::terrain {
 class Pipeline {
  public:
   /// One step over `region` (halo excluded) for all imprints.
-  StepReport run(TileStore& store, const TerrainSettings& s, const ColumnRect& region,
-                 std::span<const Imprint> imprints);
+  StepReport run(TileStore& store, const TerrainSettings& s, const GridRect& region, std::span<const Imprint> imprints);
   /// Erosion alone, to rest, over `region` (Terrain::relax).
-  StepReport relax(TileStore& store, const TerrainSettings& s, const ColumnRect& region);
+  StepReport relax(TileStore& store, const TerrainSettings& s, const GridRect& region);
   /// After run or relax: the slopes the pass cap left too steep (ErodeStage::still_flowing).
-  [[nodiscard]] const ColumnRect& still_flowing() const { return erode_.still_flowing(); }
+  [[nodiscard]] const GridRect& still_flowing() const { return erode_.still_flowing(); }
   [[nodiscard]] std::size_t bytes() const;
 
  private:
   /// Gathers the region (plus halo) and decides whether its rows fork onto the team.
-  void gather(TileStore& store, const TerrainSettings& s, const ColumnRect& region);
+  void gather(TileStore& store, const TerrainSettings& s, const GridRect& region);
   /// After a step or relax of `columns`: tells the pacer how long it took.
   void record(const TerrainSettings& s, std::int64_t columns, double seconds);
 

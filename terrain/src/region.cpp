@@ -6,7 +6,7 @@
 
 namespace shore::terrain {
 
-void Region::prepare(const ColumnRect& with_halo, Team* rows_team) {
+void Region::prepare(const GridRect& with_halo, Team* rows_team) {
   si0 = with_halo.i0, sj0 = with_halo.j0, w = with_halo.nx, h = with_halo.ny;
   team = rows_team;
 }
@@ -36,7 +36,7 @@ void Region::scatter(TileStore& store) const {
       }
     std::memcpy(&t.height[dst], &ht[src], sizeof(double) * run.count);
     std::memcpy(&t.sinkage[dst], &sink[src], sizeof(double) * run.count);
-    if (first >= 0) store.mark_changed(run.key, t, run.li + first, run.lj, run.li + last, run.lj);
+    if (first >= 0) store.mark_changed(run.key, t, GridRect::spanning(run.li + first, run.lj, run.li + last, run.lj));
   });
 }
 

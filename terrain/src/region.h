@@ -32,7 +32,7 @@ struct Region {
   std::vector<double> bed;         ///< bedrock, m
 
   /// Takes the rectangle (halo included) and the team its rows run on (nullptr: serial).
-  void prepare(const ColumnRect& with_halo, Team* rows_team);
+  void prepare(const GridRect& with_halo, Team* rows_team);
   void gather(TileStore& store, double soil_depth);  ///< creates the tiles it touches
   void scatter(TileStore& store) const;              ///< and marks what changed
 

@@ -116,7 +116,7 @@ double dequantise(std::uint64_t value, double quantum) {
 
 // One rectangle's decoded columns.
 struct DecodedRect {
-  ColumnRect rect;
+  GridRect rect;
   std::vector<double> height, sinkage;
 };
 
@@ -147,13 +147,13 @@ std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_
                                              DeltaStats* stats) {
   settings.validate();
   const Terrain::Impl& im = *server.impl_;
-  const std::vector<ColumnRect> rects = im.tiles.changed_since(since);
+  const std::vector<GridRect> rects = im.tiles.changed_since(since);
   ByteWriter raw;
   raw.put(im.compacted), raw.put(im.edited);
   raw.put(static_cast<std::uint32_t>(rects.size()));
   std::vector<std::uint64_t> heights, sinkages;
   DeltaStats st;
-  for (const ColumnRect& r : rects) {
+  for (const GridRect& r : rects) {
     raw.put(r.i0), raw.put(r.j0);
     raw.put(static_cast<std::uint16_t>(r.nx)), raw.put(static_cast<std::uint16_t>(r.ny));
     heights.assign(static_cast<std::size_t>(r.nx) * r.ny, 0);
@@ -254,7 +254,7 @@ DecodedRect read_rect(RawReader& r, const TileStore& tiles, double quantum) {
   d.rect.i0 = r.get<std::int64_t>("a rectangle"), d.rect.j0 = r.get<std::int64_t>("a rectangle");
   d.rect.nx = r.get<std::uint16_t>("a rectangle"), d.rect.ny = r.get<std::uint16_t>("a rectangle");
   const int n = tiles.n();
-  const ColumnRect& c = d.rect;
+  const GridRect& c = d.rect;
   // Past column 2^52 the state file refuses a tile (terrain_io.cpp); a margin wider than
   // any tile keeps every column of the rectangle and its tile's origin inside (found by
   // fuzz_soil_delta: a replica that could not be saved).
@@ -337,7 +337,7 @@ std::uint64_t SoilDelta::apply(Terrain& replica, std::span<const unsigned char> 
       const std::size_t from = static_cast<std::size_t>(run.y) * r.rect.nx + run.x;
       std::memcpy(t.height.data() + run.local, r.height.data() + from, run.count * sizeof(double));
       std::memcpy(t.sinkage.data() + run.local, r.sinkage.data() + from, run.count * sizeof(double));
-      tiles.mark_changed(run.key, t, run.li, run.lj, run.li + run.count - 1, run.lj);
+      tiles.mark_changed(run.key, t, {run.li, run.lj, run.count, 1});
     });
   im.compacted = d.compacted, im.edited = d.edited;
   if (d.has_spray) im.spray.state = std::move(d.spray);

@@ -86,12 +86,12 @@ double reach_squared(const Imprint& im, const SprayGround& g) {
   const EnvelopeRaster& env = *im.envelope;
   double most = 0.0;
   for (int y = 0; y < env.ny; ++y) {
-    const double dy = g.y_of(env.j0 + y) - im.cy;
+    const double dy = g.y_of(env.j0 + y) - im.centre.y;
     for (int x = 0; x < env.nx; ++x) {
       const std::size_t k =
           static_cast<std::size_t>(y) * static_cast<std::size_t>(env.nx) + static_cast<std::size_t>(x);
       if (!env.covers(k)) continue;
-      const double dx = g.x_of(env.i0 + x) - im.cx, dz = env.lower[k] - im.offset - im.cz;
+      const double dx = g.x_of(env.i0 + x) - im.centre.x, dz = env.lower[k] - im.offset - im.centre.z;
       most = std::max(most, dx * dx + dy * dy + dz * dz);
     }
   }
@@ -134,7 +134,7 @@ void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, co
       }
       ClingCell& c = *found;
       c.touched = rules.step;
-      c.rx = r[0], c.ry = r[1], c.rz = r[2];
+      c.local.x = r[0], c.local.y = r[1], c.local.z = r[2];
       c.i = i, c.j = j;
       c.owed = 0.0;
       c.pending = std::max(0.0, rules.capacity - c.volume);
@@ -190,7 +190,7 @@ void Cling::shed(std::uint64_t body_key, ClingCell& c, const BodyMotion& m, cons
 void Cling::emit(const CounterRandom& rnd, double whole, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
                  std::vector<Candidate>& candidates) {
   // Where the piece is and how fast it moves, once for all its candidates.
-  const Vec3 p = m.to_world({c.rx, c.ry, c.rz}), u = m.velocity_at(p);
+  const Vec3 p = m.to_world(c.local), u = m.velocity_at(p);
   const double speed = length(u);
   const double half = 0.5 * rules.cell;
   std::uint64_t n = 0;
@@ -198,12 +198,12 @@ void Cling::emit(const CounterRandom& rnd, double whole, ClingCell& c, const Bod
     const double flight = rules.dt * (1.0 - rnd.uniform(n, 0));  // created at a random time in the step
     Candidate& k = candidates.emplace_back();
     Particle& s = k.start;
-    s.x = p[0] - u[0] * flight + half * rnd.symmetric(n, 1);
-    s.y = p[1] - u[1] * flight + half * rnd.symmetric(n, 2);
-    s.z = p[2] - u[2] * flight + half * rnd.symmetric(n, 3);
-    s.vx = u[0] + rules.jitter * speed * rnd.symmetric(n, 4);
-    s.vy = u[1] + rules.jitter * speed * rnd.symmetric(n, 5);
-    s.vz = u[2] + rules.jitter * speed * rnd.symmetric(n, 6);
+    s.position.x = p[0] - u[0] * flight + half * rnd.symmetric(n, 1);
+    s.position.y = p[1] - u[1] * flight + half * rnd.symmetric(n, 2);
+    s.position.z = p[2] - u[2] * flight + half * rnd.symmetric(n, 3);
+    s.velocity.x = u[0] + rules.jitter * speed * rnd.symmetric(n, 4);
+    s.velocity.y = u[1] + rules.jitter * speed * rnd.symmetric(n, 5);
+    s.velocity.z = u[2] + rules.jitter * speed * rnd.symmetric(n, 6);
     s.volume = volume;
     k.flight = flight;
     k.speed = speed;
@@ -222,8 +222,11 @@ void Cling::emit(const CounterRandom& rnd, double whole, ClingCell& c, const Bod
 
 bool Cling::can_start(const Imprint& im, const SprayGround& ground, const ClingRules& rules) {
   if (rules.capacity <= 0.0) return false;
-  const double v = std::sqrt(im.vx * im.vx + im.vy * im.vy + im.vz * im.vz);
-  const double spin = std::sqrt(im.wx * im.wx + im.wy * im.wy + im.wz * im.wz);
+  const double v =
+      std::sqrt(im.velocity.x * im.velocity.x + im.velocity.y * im.velocity.y + im.velocity.z * im.velocity.z);
+  const double spin =
+      std::sqrt(im.angular_velocity.x * im.angular_velocity.x + im.angular_velocity.y * im.angular_velocity.y +
+                im.angular_velocity.z * im.angular_velocity.z);
   return v + (spin > 0.0 ? spin * std::sqrt(reach_squared(im, ground)) : 0.0) >= rules.min_speed;
 }
 
@@ -242,7 +245,7 @@ double Cling::step(ClingingBody& body, const Imprint& im, SprayGround& ground, c
   double picked = 0.0;
   for (ClingCell& c : body.cells) {
     if (c.touched == rules.step) continue;
-    const Vec3 p = m.to_world({c.rx, c.ry, c.rz});
+    const Vec3 p = m.to_world(c.local);
     const double top = ground.height(ground.column_i(p[0]), ground.column_j(p[1]));
     if (p[2] <= top + band) {
       if (speed.slower(m.velocity_at(p))) set_down(c, p, drops);
@@ -257,16 +260,16 @@ double Cling::step(ClingingBody& body, const Imprint& im, SprayGround& ground, c
     shed(body_key, c, m, rules, candidates);
   }
   std::erase_if(body.cells, [](const ClingCell& c) { return !(c.volume > 0.0) && !(c.pending > 0.0); });
-  for (int k = 0; k < 3; ++k) body.c[k] = m.c[static_cast<std::size_t>(k)];
-  for (int k = 0; k < 4; ++k) body.q[k] = m.q[k];
+  body.centre = m.c;
+  body.orientation = m.q;
   return picked;
 }
 
 void Cling::set_all_down(const ClingingBody& body, std::vector<Drop>& drops) {
-  const BodyMotion m(body.c, body.q);
+  const BodyMotion m(body.centre, body.orientation);
   for (const ClingCell& c : body.cells) {
     if (!(c.volume > 0.0)) continue;
-    const Vec3 p = m.to_world({c.rx, c.ry, c.rz});
+    const Vec3 p = m.to_world(c.local);
     drops.push_back({p[0], p[1], c.volume});
   }
 }

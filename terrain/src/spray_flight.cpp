@@ -29,14 +29,15 @@ FlightTime flight_time(double t, const FlightRules& r) {
   Particle q = p;
   const double g = r.gravity, k = r.drag, t = f.t;
   if (k == 0.0) {
-    q.x = p.x + p.vx * t, q.y = p.y + p.vy * t, q.z = p.z + p.vz * t - 0.5 * g * t * t;
-    q.vz = p.vz - g * t;
+    q.position.x = p.position.x + p.velocity.x * t, q.position.y = p.position.y + p.velocity.y * t,
+    q.position.z = p.position.z + p.velocity.z * t - 0.5 * g * t * t;
+    q.velocity.z = p.velocity.z - g * t;
   } else {
     const double a = f.a, e = f.e;  // e = e^(-k t)
     const double fall = r.fall;     // terminal speed, g / k
-    q.x = p.x + p.vx * a, q.y = p.y + p.vy * a;
-    q.z = p.z + (p.vz + fall) * a - fall * t;
-    q.vx = p.vx * e, q.vy = p.vy * e, q.vz = (p.vz + fall) * e - fall;
+    q.position.x = p.position.x + p.velocity.x * a, q.position.y = p.position.y + p.velocity.y * a;
+    q.position.z = p.position.z + (p.velocity.z + fall) * a - fall * t;
+    q.velocity.x = p.velocity.x * e, q.velocity.y = p.velocity.y * e, q.velocity.z = (p.velocity.z + fall) * e - fall;
   }
   q.age = p.age + t;
   return q;
@@ -44,7 +45,7 @@ FlightTime flight_time(double t, const FlightRules& r) {
 
 /// How far above the soil top a flight point is (negative: below it).
 double clearance(const Particle& q, const SprayGround& ground) {
-  return q.z - ground.height(ground.column_i(q.x), ground.column_j(q.y));
+  return q.position.z - ground.height(ground.column_i(q.position.x), ground.column_j(q.position.y));
 }
 
 /// Whether a path from `from` to `to` (both ends of one free flight, `from` inside the
@@ -53,12 +54,15 @@ double clearance(const Particle& q, const SprayGround& ground) {
 /// no interior minimum), up to rounding far below kSlack.
 bool clear_of_ground(const Particle& from, const Particle& to, const SprayGround& ground, double ceiling) {
   constexpr double kSlack = 1e-9;  // m per m of coordinate (and 1e-9 m)
-  const double sx = kSlack * (1.0 + std::abs(to.x)), sy = kSlack * (1.0 + std::abs(to.y));
-  if (!ground.inside(to.x - sx, to.y - sy) || !ground.inside(to.x + sx, to.y + sy)) return false;
-  const double low = std::min(from.z, to.z) - kSlack * (1.0 + std::max(std::abs(from.z), std::abs(to.z)));
+  const double sx = kSlack * (1.0 + std::abs(to.position.x)), sy = kSlack * (1.0 + std::abs(to.position.y));
+  if (!ground.inside(to.position.x - sx, to.position.y - sy) || !ground.inside(to.position.x + sx, to.position.y + sy))
+    return false;
+  const double low = std::min(from.position.z, to.position.z) -
+                     kSlack * (1.0 + std::max(std::abs(from.position.z), std::abs(to.position.z)));
   if (low > ceiling) return true;
-  return low > ground.top_bound_over(std::min(from.x, to.x), std::min(from.y, to.y), std::max(from.x, to.x),
-                                     std::max(from.y, to.y));
+  return low > ground.top_bound_over(std::min(from.position.x, to.position.x), std::min(from.position.y, to.position.y),
+                                     std::max(from.position.x, to.position.x),
+                                     std::max(from.position.y, to.position.y));
 }
 
 }  // namespace
@@ -113,7 +117,7 @@ struct Sampling {
 
 /// `clock`: the clock of this flight's duration, or null.
 Sampling count_samples(const Particle& p, double duration, const SprayGround& ground, SampleClock* clock) {
-  const double travel = std::sqrt(p.vx * p.vx + p.vy * p.vy) * duration;
+  const double travel = std::sqrt(p.velocity.x * p.velocity.x + p.velocity.y * p.velocity.y) * duration;
   const int samples = static_cast<int>(std::min(4096.0, std::ceil(travel / (0.5 * ground.cell())))) + 1;
   return {samples, clock != nullptr ? clock->row(samples) : nullptr};
 }
@@ -133,13 +137,13 @@ FlightEnd sampled(Particle& p, const Particle& last, double duration, const Samp
   Particle before = p;
   double above = clearance(p, ground);
   if (!(above > 0.0)) {  // starts in the soil: lands where it is
-    end = {FlightEnd::Fate::landed, ground.column_i(p.x), ground.column_j(p.y)};
+    end = {FlightEnd::Fate::landed, ground.column_i(p.position.x), ground.column_j(p.position.y)};
     return end;
   }
   for (int m = 1; m <= s.samples; ++m) {
     const FlightTime at = sample_time(s, m, duration, rules);
     const Particle now = m == s.samples ? last : advanced(p, at, rules);
-    if (!ground.inside(now.x, now.y)) {
+    if (!ground.inside(now.position.x, now.position.y)) {
       p = now;
       end.fate = FlightEnd::Fate::lost;
       return end;
@@ -149,7 +153,7 @@ FlightEnd sampled(Particle& p, const Particle& last, double duration, const Samp
       const double t0 = duration * static_cast<double>(m - 1) / static_cast<double>(s.samples);
       const double cut = t0 + (at.t - t0) * (above / (above - h));
       p = advanced(p, flight_time(cut, rules), rules);
-      end = {FlightEnd::Fate::landed, ground.column_i(p.x), ground.column_j(p.y)};
+      end = {FlightEnd::Fate::landed, ground.column_i(p.position.x), ground.column_j(p.position.y)};
       return end;
     }
     before = now;
@@ -165,14 +169,14 @@ FlightEnd sampled(Particle& p, const Particle& last, double duration, const Samp
 FlightEnd fly(Particle& p, double duration, const SprayGround& ground, const FlightRules& rules, SampleClock* clock,
               double ceiling) {
   FlightEnd end;
-  if (!ground.inside(p.x, p.y)) {
+  if (!ground.inside(p.position.x, p.position.y)) {
     end.fate = FlightEnd::Fate::lost;
     return end;
   }
   SampleClock* const here = clock != nullptr && clock->duration() == duration ? clock : nullptr;
   // The samples are counted only once the flight may land, where the end of the flight does
   // not depend on them.
-  const bool known_end = here != nullptr && here->ends_at_end(p.vx, p.vy);
+  const bool known_end = here != nullptr && here->ends_at_end(p.velocity.x, p.velocity.y);
   Sampling s;
   if (!known_end) s = count_samples(p, duration, ground, here);
   const Particle last = advanced(p, known_end ? here->end() : sample_time(s, s.samples, duration, rules), rules);

@@ -45,7 +45,7 @@ double SprayGround::set(std::int64_t i, std::int64_t j, const TileKey& key, Tile
   t.sinkage[k] -= std::abs(moved);
   const int li = static_cast<int>(i - key.tx * n_), lj = static_cast<int>(j - key.ty * n_);
   if (moved > 0.0) tops_.raised(i, j, height);
-  store_.mark_changed(key, t, li, lj, li, lj);
+  store_.mark_changed(key, t, {li, lj, 1, 1});
   return moved * area_;
 }
 

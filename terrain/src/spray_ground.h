@@ -57,7 +57,7 @@ class SprayGround {
     return tops_.ceiling(static_cast<std::int64_t>(std::min<std::size_t>(flights, std::size_t{1} << 30)) * 64);
   }
   /// Heights of a rectangle, row-major (one tile lookup per run).
-  void heights(const ColumnRect& r, std::span<double> out) const { store_.read(r, out, false); }
+  void heights(const GridRect& r, std::span<double> out) const { store_.read(r, out, false); }
   /// Within the spray's region (SpraySettings bounds)?
   [[nodiscard]] bool inside(double x, double y) const {
     return x >= x_min_ && x <= x_max_ && y >= y_min_ && y <= y_max_;

@@ -47,16 +47,18 @@ void write_spray_state(Writer& w, const SprayState& st) {
   w.put(c.picked_volume);
   w.put(static_cast<std::uint64_t>(st.particles.size()));
   for (const Particle& p : st.particles)
-    for (double v : {p.x, p.y, p.z, p.vx, p.vy, p.vz, p.volume, p.age}) w.put(v);
+    for (double v :
+         {p.position.x, p.position.y, p.position.z, p.velocity.x, p.velocity.y, p.velocity.z, p.volume, p.age})
+      w.put(v);
   w.put(static_cast<std::uint64_t>(st.bodies.size()));
   for (const ClingingBody& b : st.bodies) {
     w.put(b.body);
-    for (double v : b.c) w.put(v);
-    for (double v : b.q) w.put(v);
+    for (double v : {b.centre.x, b.centre.y, b.centre.z}) w.put(v);
+    for (double v : {b.orientation.w, b.orientation.x, b.orientation.y, b.orientation.z}) w.put(v);
     w.put(static_cast<std::uint64_t>(b.cells.size()));
     for (const ClingCell& cell : b.cells) {
       w.put(cell.key);
-      for (double v : {cell.rx, cell.ry, cell.rz, cell.volume, cell.owed, cell.pending}) w.put(v);
+      for (double v : {cell.local.x, cell.local.y, cell.local.z, cell.volume, cell.owed, cell.pending}) w.put(v);
       for (std::int64_t v : {cell.i, cell.j, cell.touched}) w.put(v);
     }
   }
@@ -70,15 +72,16 @@ void read_bodies(Reader& r, SprayState& st) {
     ClingingBody b;
     b.body = r.get<std::uint64_t>("spray bodies");
     if (!st.bodies.empty() && !(st.bodies.back().body < b.body)) r.fail("spray bodies out of order (corrupt)");
-    for (double& v : b.c) need_finite(r, v = r.get<double>("spray bodies"), "a spray body");
-    for (double& v : b.q) need_finite(r, v = r.get<double>("spray bodies"), "a spray body");
+    for (double* v : {&b.centre.x, &b.centre.y, &b.centre.z, &b.orientation.w, &b.orientation.x, &b.orientation.y,
+                      &b.orientation.z})
+      need_finite(r, *v = r.get<double>("spray bodies"), "a spray body");
     const auto cells = r.get<std::uint64_t>("spray bodies");
     if (cells > r.remaining() / kCellBytes) r.fail("clinging cell count " + std::to_string(cells) + " (corrupt)");
     for (std::uint64_t n = 0; n < cells; ++n) {
       ClingCell c;
       c.key = r.get<std::uint64_t>("clinging cells");
       if (!b.cells.empty() && !(b.cells.back().key < c.key)) r.fail("clinging cells out of order (corrupt)");
-      for (double* v : {&c.rx, &c.ry, &c.rz, &c.volume, &c.owed, &c.pending})
+      for (double* v : {&c.local.x, &c.local.y, &c.local.z, &c.volume, &c.owed, &c.pending})
         need_finite(r, *v = r.get<double>("clinging cells"), "a clinging cell");
       for (std::int64_t* v : {&c.i, &c.j, &c.touched}) *v = r.get<std::int64_t>("clinging cells");
       b.cells.push_back(c);
@@ -100,7 +103,8 @@ void read_spray_state(Reader& r, SprayState& st) {
     r.fail("spray particle count " + std::to_string(particles) + " (corrupt)");
   st.particles.resize(particles);
   for (Particle& p : st.particles)
-    for (double* v : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.volume, &p.age})
+    for (double* v :
+         {&p.position.x, &p.position.y, &p.position.z, &p.velocity.x, &p.velocity.y, &p.velocity.z, &p.volume, &p.age})
       need_finite(r, *v = r.get<double>("spray particles"), "a spray particle");
   read_bodies(r, st);
 }

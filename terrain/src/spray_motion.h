@@ -2,14 +2,12 @@
 // Private: a body's rigid motion as spray reads it from its Imprint: a point p of it moves
 // at v + w x (p - c); the body's frame (orientation q, about c) is where soil clings.
 
-#include <array>
 #include <cmath>
 
+#include "shore/core/vec3.h"
 #include "shore/terrain/terrain.h"
 
 namespace shore::terrain {
-
-using Vec3 = std::array<double, 3>;
 
 [[nodiscard]] inline double length(const Vec3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
@@ -32,20 +30,20 @@ struct SpeedTest {
 
 struct BodyMotion {
   Vec3 v{}, w{}, c{};
-  double q[4] = {1.0, 0.0, 0.0, 0.0};                  ///< normalised (w, x, y, z)
+  Quat q;                                              ///< normalised
   double r[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};  ///< body to world
 
   /// A body that does not move, with this pose (a body seen last step, to set its soil down).
-  BodyMotion(const double centre[3], const double orientation[4]);
+  BodyMotion(const Vec3& centre, const Quat& orientation);
   explicit BodyMotion(const Imprint& im);
 
   [[nodiscard]] Vec3 velocity_at(const Vec3& p) const {
-    const Vec3 d{p[0] - c[0], p[1] - c[1], p[2] - c[2]};
-    return {v[0] + (w[1] * d[2] - w[2] * d[1]), v[1] + (w[2] * d[0] - w[0] * d[2]), v[2] + (w[0] * d[1] - w[1] * d[0])};
+    const Vec3 d = p - c;
+    return {v.x + (w.y * d.z - w.z * d.y), v.y + (w.z * d.x - w.x * d.z), v.z + (w.x * d.y - w.y * d.x)};
   }
   /// World point -> body frame (relative to c).
   [[nodiscard]] Vec3 to_body(const Vec3& p) const {
-    const Vec3 d{p[0] - c[0], p[1] - c[1], p[2] - c[2]};
+    const Vec3 d = p - c;
     return {r[0][0] * d[0] + r[1][0] * d[1] + r[2][0] * d[2], r[0][1] * d[0] + r[1][1] * d[1] + r[2][1] * d[2],
             r[0][2] * d[0] + r[1][2] * d[1] + r[2][2] * d[2]};
   }
@@ -56,7 +54,7 @@ struct BodyMotion {
   }
 
  private:
-  void set_pose(const double centre[3], const double orientation[4]);
+  void set_pose(const Vec3& centre, const Quat& orientation);
 };
 
 }  // namespace shore::terrain

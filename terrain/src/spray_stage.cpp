@@ -43,17 +43,17 @@ void Spray::fly_all(SprayGround& ground, const FlightRules& rules, double dt, St
 // The box every particle's path this step lies in (the horizontal speed only falls).
 void Spray::cover_flights(SprayGround& ground, double dt) const {
   if (state.particles.empty()) return;
-  double x0 = state.particles[0].x, x1 = x0, y0 = state.particles[0].y, y1 = y0;
+  double x0 = state.particles[0].position.x, x1 = x0, y0 = state.particles[0].position.y, y1 = y0;
 #if defined(__SSE2__)
   // x and y side by side, the same operations: _mm_min_pd(v, m) is v < m ? v : m, as
   // std::min(m, v); _mm_max_pd(v, m) is v > m ? v : m, as std::max(m, v); clearing the
   // sign bit is std::abs.
-  static_assert(offsetof(Particle, y) == offsetof(Particle, x) + sizeof(double) &&
-                offsetof(Particle, vy) == offsetof(Particle, vx) + sizeof(double));
+  static_assert(offsetof(Vec3, y) == offsetof(Vec3, x) + sizeof(double));
   const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff)), step = _mm_set1_pd(dt);
   __m128d low = _mm_set_pd(y0, x0), high = low;
   for (const Particle& p : state.particles) {
-    const __m128d at = _mm_loadu_pd(&p.x), reach = _mm_mul_pd(_mm_and_pd(_mm_loadu_pd(&p.vx), magnitude), step);
+    const __m128d at = _mm_loadu_pd(&p.position.x),
+                  reach = _mm_mul_pd(_mm_and_pd(_mm_loadu_pd(&p.velocity.x), magnitude), step);
     low = _mm_min_pd(_mm_sub_pd(at, reach), low);
     high = _mm_max_pd(_mm_add_pd(at, reach), high);
   }
@@ -62,9 +62,9 @@ void Spray::cover_flights(SprayGround& ground, double dt) const {
   x0 = lo[0], y0 = lo[1], x1 = hi[0], y1 = hi[1];
 #else
   for (const Particle& p : state.particles) {
-    const double dx = std::abs(p.vx) * dt, dy = std::abs(p.vy) * dt;
-    x0 = std::min(x0, p.x - dx), x1 = std::max(x1, p.x + dx);
-    y0 = std::min(y0, p.y - dy), y1 = std::max(y1, p.y + dy);
+    const double dx = std::abs(p.velocity.x) * dt, dy = std::abs(p.velocity.y) * dt;
+    x0 = std::min(x0, p.position.x - dx), x1 = std::max(x1, p.position.x + dx);
+    y0 = std::min(y0, p.position.y - dy), y1 = std::max(y1, p.position.y + dy);
   }
 #endif
   ground.cover(x0, y0, x1, y1);
@@ -155,7 +155,7 @@ void Spray::settle(SprayGround& ground, const TerrainSettings& s, const FlightRu
     const bool flies = ratio >= 1.0 || det::pow(ratio, m.exponent) > c.chance;
     if (!flies || state.particles.size() >= static_cast<std::size_t>(s.spray.max_particles)) {
       ++(flies ? state.counts.limited : state.counts.clumps);
-      drop(ground, {c.start.x, c.start.y, c.start.volume});
+      drop(ground, {c.start.position.x, c.start.position.y, c.start.volume});
       continue;
     }
     Particle p = c.start;

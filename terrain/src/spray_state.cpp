@@ -29,16 +29,18 @@ void SprayState::hash_into(StateHash& h) const {
   h.add(lost);
   h.add(static_cast<std::uint64_t>(particles.size()));
   for (const Particle& p : particles)
-    for (double v : {p.x, p.y, p.z, p.vx, p.vy, p.vz, p.volume, p.age}) h.add(v);
+    for (double v :
+         {p.position.x, p.position.y, p.position.z, p.velocity.x, p.velocity.y, p.velocity.z, p.volume, p.age})
+      h.add(v);
   h.add(static_cast<std::uint64_t>(bodies.size()));
   for (const ClingingBody& b : bodies) {
     h.add(b.body);
-    for (double v : b.c) h.add(v);
-    for (double v : b.q) h.add(v);
+    for (double v : {b.centre.x, b.centre.y, b.centre.z}) h.add(v);
+    for (double v : {b.orientation.w, b.orientation.x, b.orientation.y, b.orientation.z}) h.add(v);
     h.add(static_cast<std::uint64_t>(b.cells.size()));
     for (const ClingCell& c : b.cells) {
       h.add(c.key);
-      for (double v : {c.rx, c.ry, c.rz, c.volume, c.owed, c.pending}) h.add(v);
+      for (double v : {c.local.x, c.local.y, c.local.z, c.volume, c.owed, c.pending}) h.add(v);
       for (std::int64_t v : {c.i, c.j, c.touched}) h.add(v);
     }
   }

@@ -7,24 +7,25 @@
 #include <vector>
 
 #include "shore/core/hash.h"
+#include "shore/core/vec3.h"
 #include "shore/terrain/spray.h"
 
 namespace shore::terrain {
 
 /// One particle in flight, as it is at the end of the last step.
 struct Particle {
-  double x = 0.0, y = 0.0, z = 0.0;     ///< m
-  double vx = 0.0, vy = 0.0, vz = 0.0;  ///< m/s
-  double volume = 0.0;                  ///< m^3
-  double age = 0.0;                     ///< s in flight
+  Vec3 position;        ///< m
+  Vec3 velocity;        ///< m/s
+  double volume = 0.0;  ///< m^3
+  double age = 0.0;     ///< s in flight
 };
 
 /// Soil clinging to one piece of a body's surface: a cube of one column's side in the
 /// body's frame.
 struct ClingCell {
-  std::uint64_t key = 0;                ///< the cube, packed (cling_key)
-  double rx = 0.0, ry = 0.0, rz = 0.0;  ///< m, body frame: where it last touched the soil
-  double volume = 0.0;                  ///< m^3 clinging
+  std::uint64_t key = 0;  ///< the cube, packed (cling_key)
+  Vec3 local;             ///< m, body frame: where it last touched the soil
+  double volume = 0.0;    ///< m^3 clinging
   /// m^3 of it the half-life says has dropped off but that has not yet made a whole
   /// particle (shed as soon as it does).
   double owed = 0.0;
@@ -38,10 +39,10 @@ struct ClingCell {
 
 /// The soil clinging to one body, and where the body was last seen.
 struct ClingingBody {
-  std::uint64_t body = 0;              ///< Imprint::body
-  std::vector<ClingCell> cells;        ///< sorted by key
-  double c[3] = {0.0, 0.0, 0.0};       ///< m, its centre at the last step
-  double q[4] = {1.0, 0.0, 0.0, 0.0};  ///< its orientation then (w, x, y, z)
+  std::uint64_t body = 0;        ///< Imprint::body
+  std::vector<ClingCell> cells;  ///< sorted by key
+  Vec3 centre;                   ///< m, its centre at the last step
+  Quat orientation;              ///< then
 };
 
 struct SprayState {

@@ -71,7 +71,7 @@ double highest(const double* first, std::size_t stride, int side) {
 double SoilTops::compute_block(std::int64_t bx, std::int64_t by) const {
   double& b = block_[static_cast<std::size_t>(by * nbx_ + bx)];
   const int side = 1 << shift_;  // shift_ >= 3: a multiple of 8
-  const ColumnRect r{(bx0_ + bx) << shift_, (by0_ + by) << shift_, side, side};
+  const GridRect r{(bx0_ + bx) << shift_, (by0_ + by) << shift_, side, side};
   const int n = store_.n();
   if (n % side == 0) {  // the block lies in one tile: its rows straight from the tile
     const TileKey key = index_.key_of(r.i0, r.j0);

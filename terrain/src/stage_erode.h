@@ -72,7 +72,7 @@ class ErodeStage {
   /// Set by run when it stopped at max_erosion_passes with slopes still too steep: the
   /// bounding box of the last pass's givers that had such a pair (global columns), to carry
   /// on with next step; else nx = 0.
-  [[nodiscard]] const ColumnRect& still_flowing() const { return still_flowing_; }
+  [[nodiscard]] const GridRect& still_flowing() const { return still_flowing_; }
   [[nodiscard]] std::size_t bytes() const;
 
  private:
@@ -107,7 +107,7 @@ class ErodeStage {
   ColumnBits recap_;         ///< caps to recompute this pass
   ColumnBits steep_givers_;  ///< givers with a pair steeper than theta_stop
   ColumnBits live_;          ///< planning scratch: steep givers grown by one
-  ColumnRect still_flowing_;
+  GridRect still_flowing_;
 };
 
 }  // namespace shore::terrain

@@ -85,10 +85,10 @@ double Terrain::bedrock(std::int64_t i, std::int64_t j) const {
   return base_height(i, j) - impl_->s.material.soil_depth;
 }
 
-void Terrain::heights(const ColumnRect& r, std::span<double> out) const { read_rect(r, out, false); }
-void Terrain::base_heights(const ColumnRect& r, std::span<double> out) const { read_rect(r, out, true); }
+void Terrain::heights(const GridRect& r, std::span<double> out) const { read_rect(r, out, false); }
+void Terrain::base_heights(const GridRect& r, std::span<double> out) const { read_rect(r, out, true); }
 
-void Terrain::read_rect(const ColumnRect& r, std::span<double> out, bool base) const {
+void Terrain::read_rect(const GridRect& r, std::span<double> out, bool base) const {
   if (r.nx < 0 || r.ny < 0 || out.size() != static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny))
     throw InvalidSetting("terrain.Terrain.heights(out).size", detail::to_text(out.size()),
                          "must be nx * ny of the rectangle");
@@ -108,7 +108,7 @@ void Terrain::set_height(std::int64_t i, std::int64_t j, double h) {
   t.height[k] = value;
   const int li = static_cast<int>(k % static_cast<std::size_t>(store.n()));
   const int lj = static_cast<int>(k / static_cast<std::size_t>(store.n()));
-  store.mark_changed(key, t, li, lj, li, lj);
+  store.mark_changed(key, t, {li, lj, 1, 1});
 }
 
 // ---- physics -------------------------------------------------------------------------
@@ -121,13 +121,13 @@ StepReport Terrain::step(std::span<const Imprint> imprints, double dt) {
   if (im.s.material.rigid) return {};
   im.tiles.advance_generation();
   im.tiles.tick();
-  std::vector<ColumnRect> reached;
+  std::vector<GridRect> reached;
   for (const Imprint& imprint : imprints)
     if (!imprint.hold)
-      if (const ColumnRect r = im.planner.reach_box(im.tiles, im.s, imprint); r.nx > 0) reached.push_back(r);
-  const std::vector<ColumnRect> carried = std::exchange(im.unsettled, {});
+      if (const GridRect r = im.planner.reach_box(im.tiles, im.s, imprint); r.nx > 0) reached.push_back(r);
+  const std::vector<GridRect> carried = std::exchange(im.unsettled, {});
   StepReport total;
-  for (const ColumnRect& r : ActiveRegions::plan(reached, carried, im.s.active_margin)) {
+  for (const GridRect& r : ActiveRegions::plan(reached, carried, im.s.active_margin)) {
     const StepReport part = im.pipeline.run(im.tiles, im.s, r, imprints);
     if (im.pipeline.still_flowing().nx > 0) im.unsettled.push_back(im.pipeline.still_flowing());
     im.compacted += part.compacted_volume;
@@ -152,7 +152,7 @@ StepReport Terrain::step(std::span<const Imprint> imprints, double dt) {
   return total;
 }
 
-StepReport Terrain::relax(const ColumnRect& region) {
+StepReport Terrain::relax(const GridRect& region) {
   check_relax_region(region);
   if (impl_->s.material.rigid || region.nx == 0 || region.ny == 0) return {};
   impl_->tiles.advance_generation();
@@ -161,9 +161,9 @@ StepReport Terrain::relax(const ColumnRect& region) {
 
 // ---- output --------------------------------------------------------------------------
 
-std::vector<ColumnRect> Terrain::take_changed() { return impl_->tiles.take_changed(); }
+std::vector<GridRect> Terrain::take_changed() { return impl_->tiles.take_changed(); }
 std::uint64_t Terrain::generation() const noexcept { return impl_->tiles.generation(); }
-std::vector<ColumnRect> Terrain::changed_since(std::uint64_t g) const { return impl_->tiles.changed_since(g); }
+std::vector<GridRect> Terrain::changed_since(std::uint64_t g) const { return impl_->tiles.changed_since(g); }
 
 VolumeTotals Terrain::volume() const {
   VolumeTotals v;
@@ -188,8 +188,7 @@ std::vector<SprayParticle> Terrain::spray_particles() const {
   std::vector<SprayParticle> out;
   out.reserve(impl_->spray.state.particles.size());
   for (const Particle& p : impl_->spray.state.particles)
-    out.push_back(
-        {p.x, p.y, p.z, det::pow(p.volume * (3.0 / (4.0 * std::numbers::pi)), 1.0 / 3.0), p.volume, p.vx, p.vy, p.vz});
+    out.push_back({p.position, det::pow(p.volume * (3.0 / (4.0 * std::numbers::pi)), 1.0 / 3.0), p.volume, p.velocity});
   return out;
 }
 

@@ -23,7 +23,7 @@ struct Terrain::Impl {
   /// Boxes the next step erodes with or without a body there: slopes the pass cap left too
   /// steep (erosion is rate-limited, not cut off), and the columns the pressing imprints
   /// reached (a body that leaves them no longer holds their slopes).
-  std::vector<ColumnRect> unsettled;
+  std::vector<GridRect> unsettled;
   ActiveRegions planner;
   Pipeline pipeline;
   Spray spray;                 ///< particles in flight, soil clinging to bodies (spray_stage.h)

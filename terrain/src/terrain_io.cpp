@@ -171,17 +171,17 @@ TerrainSettings read_settings(Reader& hr, std::uint32_t version, std::shared_ptr
 
 bool addressable(std::int64_t column) { return column >= -kMaxColumnIndex && column <= kMaxColumnIndex; }
 
-std::string rect_text(const ColumnRect& r) {
+std::string rect_text(const GridRect& r) {
   return "(" + std::to_string(r.i0) + ", " + std::to_string(r.j0) + ") + " + std::to_string(r.nx) + " x " +
          std::to_string(r.ny);
 }
 
-std::vector<ColumnRect> read_unsettled(Reader& hr) {
-  std::vector<ColumnRect> boxes;
+std::vector<GridRect> read_unsettled(Reader& hr) {
+  std::vector<GridRect> boxes;
   const auto regions = hr.get<std::uint64_t>("eroding regions");
   if (regions > hr.remaining() / 24) hr.fail("eroding region count " + std::to_string(regions) + " (corrupt)");
   for (std::uint64_t k = 0; k < regions; ++k) {
-    ColumnRect box;
+    GridRect box;
     box.i0 = hr.get<std::int64_t>("eroding regions");
     box.j0 = hr.get<std::int64_t>("eroding regions");
     box.nx = hr.get<std::int32_t>("eroding regions");
@@ -197,8 +197,8 @@ std::vector<ColumnRect> read_unsettled(Reader& hr) {
 /// A saved state's eroding regions lie on saved tiles (a step creates the tiles of every
 /// region it works on); a region elsewhere is corrupt, and could make the next step work
 /// on far more columns than the file holds.
-void check_unsettled_on_tiles(const Reader& hr, const std::vector<ColumnRect>& boxes, const TileStore& store) {
-  for (const ColumnRect& box : boxes) {
+void check_unsettled_on_tiles(const Reader& hr, const std::vector<GridRect>& boxes, const TileStore& store) {
+  for (const GridRect& box : boxes) {
     const std::int64_t n = store.n();
     const std::int64_t tx0 = floor_div(box.i0, n), tx1 = floor_div(box.i0 + box.nx - 1, n);
     const std::int64_t ty0 = floor_div(box.j0, n), ty1 = floor_div(box.j0 + box.ny - 1, n);
@@ -259,7 +259,7 @@ std::vector<unsigned char> Terrain::save_bytes() const {
   write_settings(w, im.s);
   w.put(im.compacted), w.put(im.edited);
   w.put(static_cast<std::uint64_t>(im.unsettled.size()));
-  for (const ColumnRect& r : im.unsettled)
+  for (const GridRect& r : im.unsettled)
     w.put(r.i0), w.put(r.j0), w.put(static_cast<std::int32_t>(r.nx)), w.put(static_cast<std::int32_t>(r.ny));
   write_spray_state(w, im.spray.state);
   const std::vector<TileKey> keys = im.tiles.sorted_keys();

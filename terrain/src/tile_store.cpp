@@ -6,16 +6,6 @@ namespace shore::terrain {
 
 Tile::Tile(int n) : height(static_cast<std::size_t>(n) * n), sinkage(height.size(), 0.0), base(height.size()) {}
 
-void Tile::mark_dirty(int li0, int lj0, int li1, int lj1) {
-  if (!dirty) {
-    dirty = true;
-    di0 = li0, dj0 = lj0, di1 = li1, dj1 = lj1;
-    return;
-  }
-  di0 = std::min(di0, li0), dj0 = std::min(dj0, lj0);
-  di1 = std::max(di1, li1), dj1 = std::max(dj1, lj1);
-}
-
 bool Tile::holds_only_base() const {
   bool same = true;  // no early exit: a branch-free pass over the arrays
   for (std::size_t k = 0; k < height.size(); ++k) same &= height[k] == base[k] && sinkage[k] == 0.0;
@@ -69,7 +59,7 @@ std::vector<TileKey> TileStore::sorted_keys() const {
   return keys;
 }
 
-void TileStore::read(const ColumnRect& r, std::span<double> out, bool base) const {
+void TileStore::read(const GridRect& r, std::span<double> out, bool base) const {
   for_each_run(r, [&](const Tile* t, const TileRun& run) {
     double* dst = out.data() + static_cast<std::size_t>(run.y) * static_cast<std::size_t>(r.nx) + run.x;
     if (t) {
@@ -82,22 +72,21 @@ void TileStore::read(const ColumnRect& r, std::span<double> out, bool base) cons
   });
 }
 
-void TileStore::mark_changed(TileKey key, Tile& t, int li0, int lj0, int li1, int lj1) {
-  if (!t.dirty) dirty_keys_.push_back(key);
-  t.mark_dirty(li0, lj0, li1, lj1);
-  log_change(key, t, li0, lj0, li1, lj1);
+void TileStore::mark_changed(TileKey key, Tile& t, const GridRect& local) {
+  if (t.changed.empty()) dirty_keys_.push_back(key);
+  t.changed = bounding(t.changed, local);
+  log_change(key, t, local);
 }
 
-void TileStore::log_change(TileKey key, Tile& t, int li0, int lj0, int li1, int lj1) {
+void TileStore::log_change(TileKey key, Tile& t, const GridRect& local) {
   if (t.changed_at == generation_) {  // this generation's entry for the tile: widen it
     ChangeEntry& e = log_[t.log_entry];
-    e.i0 = std::min(e.i0, li0), e.j0 = std::min(e.j0, lj0);
-    e.i1 = std::max(e.i1, li1), e.j1 = std::max(e.j1, lj1);
+    e.local = bounding(e.local, local);
     return;
   }
   t.changed_at = generation_;
   t.log_entry = log_.size();
-  log_.push_back({generation_, key, li0, lj0, li1, lj1});
+  log_.push_back({generation_, key, local});
 }
 
 void TileStore::advance_generation() {
@@ -115,10 +104,10 @@ void TileStore::advance_generation() {
   // log_entry indices are only needed for it and need no update.
 }
 
-ColumnRect TileStore::whole_tile(TileKey key) const { return {key.tx * n_, key.ty * n_, n_, n_}; }
+GridRect TileStore::whole_tile(TileKey key) const { return {key.tx * n_, key.ty * n_, n_, n_}; }
 
-std::vector<ColumnRect> TileStore::changed_since(std::uint64_t g) const {
-  std::vector<ColumnRect> rects;
+std::vector<GridRect> TileStore::changed_since(std::uint64_t g) const {
+  std::vector<GridRect> rects;
   if (g < log_floor_) {  // older than the log: every tile changed since, whole
     for (const TileKey& key : sorted_keys())
       if (find(key)->changed_at > g) rects.push_back(whole_tile(key));
@@ -129,26 +118,24 @@ std::vector<ColumnRect> TileStore::changed_since(std::uint64_t g) const {
   std::vector<ChangeEntry> entries(first, log_.end());
   std::sort(entries.begin(), entries.end(), [](const ChangeEntry& a, const ChangeEntry& b) { return a.key < b.key; });
   for (std::size_t k = 0; k < entries.size();) {
-    ChangeEntry box = entries[k];
-    for (++k; k < entries.size() && entries[k].key == box.key; ++k) {
-      box.i0 = std::min(box.i0, entries[k].i0), box.j0 = std::min(box.j0, entries[k].j0);
-      box.i1 = std::max(box.i1, entries[k].i1), box.j1 = std::max(box.j1, entries[k].j1);
-    }
-    rects.push_back({box.key.tx * n_ + box.i0, box.key.ty * n_ + box.j0, box.i1 - box.i0 + 1, box.j1 - box.j0 + 1});
+    const TileKey key = entries[k].key;
+    GridRect box = entries[k].local;
+    for (++k; k < entries.size() && entries[k].key == key; ++k) box = bounding(box, entries[k].local);
+    rects.push_back(box.shifted(key.tx * n_, key.ty * n_));
   }
   return rects;
 }
 
-std::vector<ColumnRect> TileStore::take_changed() {
+std::vector<GridRect> TileStore::take_changed() {
   std::sort(dirty_keys_.begin(), dirty_keys_.end());
-  std::vector<ColumnRect> rects;
+  std::vector<GridRect> rects;
   rects.reserve(dirty_keys_.size());
   for (const TileKey& key : dirty_keys_) {
     const auto it = tiles_.find(key);
-    if (it == tiles_.end() || !it->second->dirty) continue;
+    if (it == tiles_.end() || it->second->changed.empty()) continue;
     Tile& t = *it->second;
-    rects.push_back({key.tx * n_ + t.di0, key.ty * n_ + t.dj0, t.di1 - t.di0 + 1, t.dj1 - t.dj0 + 1});
-    t.dirty = false;
+    rects.push_back(t.changed.shifted(key.tx * n_, key.ty * n_));
+    t.changed = {};
   }
   dirty_keys_.clear();
   return rects;
@@ -158,7 +145,7 @@ bool TileStore::adopt(TileKey key, std::unique_ptr<Tile> t) {
   Tile& added = *t;
   added.last_used = clock_;
   if (!tiles_.emplace(key, std::move(t)).second) return false;
-  mark_changed(key, added, 0, 0, n_ - 1, n_ - 1);
+  mark_changed(key, added, {0, 0, n_, n_});
   return true;
 }
 
@@ -166,7 +153,8 @@ bool TileStore::releasable(Tile& t, std::int64_t idle_steps) const {
   // Only tiles whose heights never changed since they were sampled from the base (so no
   // observer of changed_since() can hold a view of them that differs from the base; loaded
   // tiles count as changed): releasing one changes nothing anyone can see.
-  if (t.dirty || t.changed_at != 0 || clock_ - t.last_used < idle_steps || t.kept_at == t.last_used) return false;
+  if (!t.changed.empty() || t.changed_at != 0 || clock_ - t.last_used < idle_steps || t.kept_at == t.last_used)
+    return false;
   if (t.holds_only_base()) return true;
   t.kept_at = t.last_used;  // unchanged until a step uses it again: no need to compare again
   return false;

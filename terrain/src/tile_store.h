@@ -40,9 +40,8 @@ struct Tile {
   std::vector<double> height;   ///< collision surface, m
   std::vector<double> sinkage;  ///< plastic sinkage, m
   std::vector<double> base;     ///< untouched ground, sampled once at creation, m
-  /// Columns whose height changed since the last take_changed (local, inclusive).
-  bool dirty = false;
-  int di0 = 0, dj0 = 0, di1 = 0, dj1 = 0;
+  /// Columns whose height changed since the last take_changed (local; empty: none).
+  GridRect changed;
   /// The change generation of its last height change (0: never changed), and that
   /// generation's entry in the store's change log.
   std::uint64_t changed_at = 0;
@@ -51,7 +50,6 @@ struct Tile {
   /// last_used when the tile was last found to differ from the base (not released): it is
   /// not compared again until a step uses it. -1: never compared.
   std::int64_t kept_at = -1;
-  void mark_dirty(int li0, int lj0, int li1, int lj1);
   /// True if every height equals its base and no column has sinkage: the tile equals no tile.
   [[nodiscard]] bool holds_only_base() const;
   [[nodiscard]] std::size_t bytes() const;  ///< this tile and its arrays
@@ -86,23 +84,23 @@ class TileStore {
   /// Calls fn(tile, run) for every run of the rectangle, row by row and left to right,
   /// looking each tile up once; tile is null where the columns have no tile yet.
   template <class Fn>
-  void for_each_run(const ColumnRect& r, Fn&& fn) const {
+  void for_each_run(const GridRect& r, Fn&& fn) const {
     const auto lookup = [this](TileKey key) { return find(key); };
     walk(r, lookup, fn);
   }
   /// The same, creating the tiles the rectangle touches: fn(Tile&, run).
   template <class Fn>
-  void for_each_run_creating(const ColumnRect& r, Fn&& fn) {
+  void for_each_run_creating(const GridRect& r, Fn&& fn) {
     const auto lookup = [this](TileKey key) { return &tile(key); };
     walk(r, lookup, [&](Tile* t, const TileRun& run) { fn(*t, run); });
   }
   /// Heights (base: untouched ground) of a rectangle, row-major into out (nx * ny).
-  void read(const ColumnRect& r, std::span<double> out, bool base) const;
+  void read(const GridRect& r, std::span<double> out, bool base) const;
 
-  /// Records that columns [li0, li1] x [lj0, lj1] of the tile changed height.
-  void mark_changed(TileKey key, Tile& t, int li0, int lj0, int li1, int lj1);
+  /// Records that the tile's columns `local` (tile-local indices) changed height.
+  void mark_changed(TileKey key, Tile& t, const GridRect& local);
   /// The changed columns since the last call: one rectangle per tile, in key order.
-  std::vector<ColumnRect> take_changed();
+  std::vector<GridRect> take_changed();
   /// Adds a tile built elsewhere (a loaded state), reported whole by take_changed. False
   /// (and the tile dropped) if the key is taken.
   bool adopt(TileKey key, std::unique_ptr<Tile> t);
@@ -115,7 +113,7 @@ class TileStore {
   void advance_generation();
   /// One rectangle per tile whose heights changed after generation g, in key order: the
   /// bounding box of its changes after g while the log still holds them, else the tile.
-  [[nodiscard]] std::vector<ColumnRect> changed_since(std::uint64_t g) const;
+  [[nodiscard]] std::vector<GridRect> changed_since(std::uint64_t g) const;
 
   /// Advances the clock that release_idle measures idleness with (once per step).
   void tick() noexcept { ++clock_; }
@@ -135,7 +133,7 @@ class TileStore {
   // One band of tiles at a time: its tiles are looked up first (in x order), then its rows
   // are walked run by run.
   template <class Lookup, class Fn>
-  void walk(const ColumnRect& r, Lookup&& lookup, Fn&& fn) const {
+  void walk(const GridRect& r, Lookup&& lookup, Fn&& fn) const {
     if (r.nx <= 0 || r.ny <= 0) return;
     const std::int64_t n = n_;
     const std::int64_t tx0 = floor_div(r.i0, n), tx1 = floor_div(r.i0 + r.nx - 1, n);
@@ -162,14 +160,14 @@ class TileStore {
   std::unordered_map<TileKey, std::unique_ptr<Tile>, TileKeyHash> tiles_;
   std::vector<TileKey> dirty_keys_;
 
-  /// One tile's changed columns (local, inclusive) in one generation.
+  /// One tile's changed columns (local) in one generation.
   struct ChangeEntry {
     std::uint64_t generation = 0;
     TileKey key;
-    int i0 = 0, j0 = 0, i1 = 0, j1 = 0;
+    GridRect local;
   };
-  void log_change(TileKey key, Tile& t, int li0, int lj0, int li1, int lj1);
-  [[nodiscard]] ColumnRect whole_tile(TileKey key) const;
+  void log_change(TileKey key, Tile& t, const GridRect& local);
+  [[nodiscard]] GridRect whole_tile(TileKey key) const;
   std::uint64_t generation_ = 1;  ///< changes are stamped with it; 0 means "before anything"
   std::vector<ChangeEntry> log_;  ///< in generation order; complete for generations > log_floor_
   std::uint64_t log_floor_ = 0;

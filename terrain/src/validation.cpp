@@ -67,7 +67,8 @@ void check_envelope(const EnvelopeRaster* env, const std::string& name) {
 namespace {
 /// Within 1e-3 of a unit quaternion.
 bool unit(const Imprint& im) {
-  const double n2 = im.qw * im.qw + im.qx * im.qx + im.qy * im.qy + im.qz * im.qz;
+  const Quat& q = im.orientation;
+  const double n2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
   return n2 > 0.998 && n2 < 1.002;
 }
 
@@ -76,7 +77,7 @@ bool imprint_ok(const Imprint& im) {
   const EnvelopeRaster& env = *im.envelope;
   if (env.lower.size() != static_cast<std::size_t>(env.nx) * static_cast<std::size_t>(env.ny)) return false;
   bool bad = !(im.offset >= 0.0 && std::isfinite(im.offset)) || !unit(im);
-  for (const double v : {im.vx, im.vy, im.vz, im.wx, im.wy, im.wz, im.cx, im.cy, im.cz}) bad |= !std::isfinite(v);
+  bad |= !finite(im.velocity) || !finite(im.angular_velocity) || !finite(im.centre);
   for (const double v : env.lower) bad |= !(v > -std::numeric_limits<double>::infinity());
   return !bad;
 }
@@ -85,14 +86,16 @@ void check_one(const Imprint& im, const std::string& name) {
   check_envelope(im.envelope, name + ".envelope");
   const Check c{name};
   c.non_negative("offset", im.offset);
-  c.finite("vx", im.vx), c.finite("vy", im.vy), c.finite("vz", im.vz);
-  c.finite("wx", im.wx), c.finite("wy", im.wy), c.finite("wz", im.wz);
-  c.finite("cx", im.cx), c.finite("cy", im.cy), c.finite("cz", im.cz);
+  c.finite("velocity.x", im.velocity.x), c.finite("velocity.y", im.velocity.y), c.finite("velocity.z", im.velocity.z);
+  c.finite("angular_velocity.x", im.angular_velocity.x), c.finite("angular_velocity.y", im.angular_velocity.y);
+  c.finite("angular_velocity.z", im.angular_velocity.z);
+  c.finite("centre.x", im.centre.x), c.finite("centre.y", im.centre.y), c.finite("centre.z", im.centre.z);
+  const Quat& q = im.orientation;
   if (!unit(im))
-    throw InvalidSetting(c.name("qw, qx, qy, qz"),
-                         detail::to_text(im.qw) + ", " + detail::to_text(im.qx) + ", " + detail::to_text(im.qy) + ", " +
-                             detail::to_text(im.qz),
-                         "must be a unit quaternion (|q| within 1e-3 of 1)");
+    throw InvalidSetting(
+        c.name("orientation"),
+        detail::to_text(q.w) + ", " + detail::to_text(q.x) + ", " + detail::to_text(q.y) + ", " + detail::to_text(q.z),
+        "must be a unit quaternion (w, x, y, z) (|q| within 1e-3 of 1)");
 }
 
 /// Spraying imprints name their bodies: one key, one body.
@@ -119,7 +122,7 @@ void check_imprints(std::span<const Imprint> imprints, double dt) {
   if (dt > 0.0 && imprints.size() > 1) check_body_keys(imprints);
 }
 
-void check_relax_region(const ColumnRect& region) {
+void check_relax_region(const GridRect& region) {
   const Check c{"terrain.Terrain.relax.region"};
   c.at_least("nx", region.nx, 0);
   c.at_least("ny", region.ny, 0);

@@ -16,6 +16,6 @@ void check_envelope(const EnvelopeRaster* env, const std::string& name);
 /// finite); with dt > 0, no two spraying imprints with the same body key.
 void check_imprints(std::span<const Imprint> imprints, double dt);
 /// A rectangle for Terrain::relax: not negative, not larger than one region may be.
-void check_relax_region(const ColumnRect& region);
+void check_relax_region(const GridRect& region);
 
 }  // namespace shore::terrain

@@ -130,7 +130,7 @@ Comparison compare(const btCollisionShape& shape, const btTransform& pose, const
   opt.upper = upper;
   opt.include_margin = include_margin;
   EnvelopeRasterizer rz(grid, opt);
-  const ColumnWindow w = rz.window_of(shape, pose).grown(2);
+  const shore::GridRect w = rz.window_of(shape, pose).grown(2);
   EnvelopeRaster out;
   Comparison c;
   c.covered = rz.rasterize(shape, pose, w, out);
@@ -652,7 +652,7 @@ TEST(Envelope, BadInputRaisesInvalidSetting) {
   EXPECT_THROW(rasterize_envelope(s, pose, bad, opt, out), shore::InvalidSetting);
   bad.cell = std::nan("");
   EXPECT_THROW(rasterize_envelope(s, pose, bad, opt, out), shore::InvalidSetting);
-  ColumnWindow negative{0, 0, -1, 3};
+  shore::GridRect negative{0, 0, -1, 3};
   EXPECT_THROW(rasterize_envelope(s, pose, grid_of(0.01), opt, negative, out), shore::InvalidSetting);
   btVector3 centres[2] = {btVector3(0, 0, 0), btVector3(1, 0, 0)};
   btScalar radii[2] = {btScalar(0.1), btScalar(0.1)};

@@ -120,7 +120,7 @@ RayStats compare_with_rays(const btCollisionShape& shape, const btTransform& pos
   EnvelopeOptions opt;
   opt.upper = true;
   EnvelopeRasterizer rz(grid, opt);
-  const ColumnWindow w = rz.window_of(shape, pose).grown(1);
+  const shore::GridRect w = rz.window_of(shape, pose).grown(1);
   EnvelopeRaster out;
   RayStats st;
   rz.rasterize(shape, pose, w, out);

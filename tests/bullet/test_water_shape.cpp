@@ -31,8 +31,8 @@ double worst_off_plane(const Polyhedron& p) {
   double worst = 0.0;
   for (std::size_t f = 0; f < p.faces.size(); ++f)
     for (int v : p.faces[f]) {
-      const V3 x = p.vertices[std::size_t(v)];
-      const V3 n = p.normals[f];
+      const Vec3 x = p.vertices[std::size_t(v)];
+      const Vec3 n = p.normals[f];
       worst = std::max(worst, std::abs(n.x * x.x + n.y * x.y + n.z * x.z - p.offsets[f]));
     }
   return worst;

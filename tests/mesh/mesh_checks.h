@@ -39,17 +39,17 @@ class FunctionField : public Field {
   [[nodiscard]] std::int64_t ni() const override { return ni_; }
   [[nodiscard]] std::int64_t nj() const override { return nj_; }
   [[nodiscard]] bool height_field() const override { return height_field_; }
-  void positions(const NodeRect& r, std::span<double> out) const override {
+  void positions(const GridRect& r, std::span<double> out) const override {
     std::size_t k = 0;
-    for (std::int64_t j = r.j0; j < r.j0 + r.nj; ++j)
-      for (std::int64_t i = r.i0; i < r.i0 + r.ni; ++i) {
+    for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
+      for (std::int64_t i = r.i0; i < r.i0 + r.nx; ++i) {
         ++reads;
         const std::array<double, 3> p = p_(i, j);
         out[k++] = p[0], out[k++] = p[1], out[k++] = p[2];
       }
   }
   [[nodiscard]] std::optional<BasePlane> base() const override { return base_; }
-  void take_changes(std::vector<NodeRect>& out) override {
+  void take_changes(std::vector<GridRect>& out) override {
     out = pending_;
     pending_.clear();
   }
@@ -57,7 +57,7 @@ class FunctionField : public Field {
 
   void set_base(BasePlane b) { base_ = b; }
   void set(Position p) { p_ = std::move(p); }
-  void report(NodeRect r) { pending_.push_back(r); }
+  void report(GridRect r) { pending_.push_back(r); }
   mutable std::int64_t reads = 0;
 
  private:
@@ -65,7 +65,7 @@ class FunctionField : public Field {
   Position p_;
   bool height_field_;
   std::optional<BasePlane> base_;
-  std::vector<NodeRect> pending_;
+  std::vector<GridRect> pending_;
 };
 
 struct GridNode {
@@ -101,19 +101,19 @@ class PositionCache {
 /// coordinates); returns, per window node (row by row), the largest value measure gave, or -1
 /// where no triangle covers the node. Positions come from the field itself (double).
 template <class Measure>
-std::vector<double> per_node(const TriangleMesh& m, const Field& f, NodeRect w, Measure&& measure) {
+std::vector<double> per_node(const TriangleMesh& m, const Field& f, GridRect w, Measure&& measure) {
   const std::int64_t ni = f.ni();
-  if (w.ni == 0) w = {0, 0, f.ni(), f.nj()};
-  std::vector<double> out(static_cast<std::size_t>(w.ni * w.nj), -1.0);
+  if (w.nx == 0) w = {0, 0, static_cast<int>(f.ni()), static_cast<int>(f.nj())};
+  std::vector<double> out(w.size(), -1.0);
   PositionCache cache(f);
   for (std::size_t t = 0; t < m.triangle_count(); ++t) {
     const GridNode a = node_of(m.nodes[m.indices[3 * t]], ni), b = node_of(m.nodes[m.indices[3 * t + 1]], ni),
                    c = node_of(m.nodes[m.indices[3 * t + 2]], ni);
     const double area = static_cast<double>(cross(a, b, c));
     const std::int64_t i0 = std::max(w.i0, std::min({a.i, b.i, c.i})),
-                       i1 = std::min(w.i0 + w.ni - 1, std::max({a.i, b.i, c.i}));
+                       i1 = std::min(w.i0 + w.nx - 1, std::max({a.i, b.i, c.i}));
     const std::int64_t j0 = std::max(w.j0, std::min({a.j, b.j, c.j})),
-                       j1 = std::min(w.j0 + w.nj - 1, std::max({a.j, b.j, c.j}));
+                       j1 = std::min(w.j0 + w.ny - 1, std::max({a.j, b.j, c.j}));
     for (std::int64_t j = j0; j <= j1; ++j)
       for (std::int64_t i = i0; i <= i1; ++i) {
         const GridNode x{i, j};
@@ -127,7 +127,7 @@ std::vector<double> per_node(const TriangleMesh& m, const Field& f, NodeRect w, 
                  area;
         }
         if (f.height_field()) l[0] = p[0], l[1] = p[1];  // the grid's x and y: only z is interpolated
-        double& e = out[static_cast<std::size_t>((j - w.j0) * w.ni + (i - w.i0))];
+        double& e = out[static_cast<std::size_t>((j - w.j0) * w.nx + (i - w.i0))];
         e = std::max(e, measure(p, l));
       }
   }
@@ -136,7 +136,7 @@ std::vector<double> per_node(const TriangleMesh& m, const Field& f, NodeRect w, 
 
 /// Per node: the distance from its position to the mesh point at its grid coordinates
 /// (vertical for a height field, else 3-D), or -1 if uncovered.
-inline std::vector<double> node_errors(const TriangleMesh& m, const Field& f, NodeRect w = {}) {
+inline std::vector<double> node_errors(const TriangleMesh& m, const Field& f, GridRect w = {}) {
   return per_node(m, f, w, [](const std::array<double, 3>& p, const std::array<double, 3>& l) {
     return std::sqrt((p[0] - l[0]) * (p[0] - l[0]) + (p[1] - l[1]) * (p[1] - l[1]) + (p[2] - l[2]) * (p[2] - l[2]));
   });
@@ -144,10 +144,10 @@ inline std::vector<double> node_errors(const TriangleMesh& m, const Field& f, No
 
 /// Per node: the angle (rad) the segment from its position to that mesh point subtends at
 /// the eye, or -1 if uncovered.
-inline std::vector<double> node_angles(const TriangleMesh& m, const Field& f, const Camera& cam, NodeRect w = {}) {
+inline std::vector<double> node_angles(const TriangleMesh& m, const Field& f, const Camera& cam, GridRect w = {}) {
   return per_node(m, f, w, [&](const std::array<double, 3>& p, const std::array<double, 3>& l) {
-    const std::array<double, 3> u{p[0] - cam.x, p[1] - cam.y, p[2] - cam.z},
-        v{l[0] - cam.x, l[1] - cam.y, l[2] - cam.z};
+    const Vec3& c = cam.position;
+    const std::array<double, 3> u{p[0] - c.x, p[1] - c.y, p[2] - c.z}, v{l[0] - c.x, l[1] - c.y, l[2] - c.z};
     const std::array<double, 3> uv{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
     return std::atan2(std::sqrt(uv[0] * uv[0] + uv[1] * uv[1] + uv[2] * uv[2]),
                       u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);

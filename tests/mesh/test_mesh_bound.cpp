@@ -109,9 +109,9 @@ TEST(MeshBound, EveryColumnWithinTheBoundInPixelsFromACamera) {
   const std::int64_t n = 97;
   FunctionField f = FunctionField::heights(n, n, 0.05, ground);
   const std::vector<Camera> cameras = {
-      {.x = 2.4, .y = -1.0, .z = 1.2, .fov_y_deg = 45.0, .viewport_height = 1080},  // beyond the edge, low
-      {.x = 1.0, .y = 1.0, .z = 0.5, .fov_y_deg = 60.0, .viewport_height = 720},    // just above the hill
-      {.x = 0.2, .y = 4.6, .z = 0.05, .fov_y_deg = 30.0, .viewport_height = 2160},  // grazing
+      {.position = {2.4, -1.0, 1.2}, .fov_y_deg = 45.0, .viewport_height = 1080},  // beyond the edge, low
+      {.position = {1.0, 1.0, 0.5}, .fov_y_deg = 60.0, .viewport_height = 720},    // just above the hill
+      {.position = {0.2, 4.6, 0.05}, .fov_y_deg = 30.0, .viewport_height = 2160},  // grazing
   };
   for (const double px : {0.5, 1.0, 4.0})
     for (const Camera& cam : cameras) {
@@ -122,8 +122,8 @@ TEST(MeshBound, EveryColumnWithinTheBoundInPixelsFromACamera) {
       mesh.update(f, &cam);
       const TriangleMesh m = merge(mesh, f);
       const std::vector<double> angle = node_angles(m, f, cam);
-      const std::string what = "camera at " + std::to_string(cam.x) + ", " + std::to_string(cam.y) + ", " +
-                               std::to_string(cam.z) + ", " + std::to_string(px) + " px";
+      const std::string what = "camera at " + std::to_string(cam.position.x) + ", " + std::to_string(cam.position.y) +
+                               ", " + std::to_string(cam.position.z) + ", " + std::to_string(px) + " px";
       std::vector<double> pixels;
       for (double a : angle) pixels.push_back(a < 0 ? a : a * cam.pixels_per_radian());
       expect_within(pixels, px, 1e-9, what);
@@ -137,7 +137,7 @@ TEST(MeshBound, FartherCamerasNeedFewerTriangles) {
   std::size_t previous = 0;
   for (const double d : {1.0, 4.0, 16.0, 64.0}) {
     ChunkedMesh mesh;
-    const Camera cam{.x = 3.2, .y = -d, .z = 0.5 * d};
+    const Camera cam{.position = {3.2, -d, 0.5 * d}};
     mesh.update(f, &cam);
     if (previous) {
       EXPECT_LT(mesh.triangle_count(), previous) << d;

@@ -22,7 +22,7 @@ terrain::TerrainSettings soil_with_small_tiles() {
   return s;
 }
 
-constexpr terrain::ColumnRect kRegion{-20, -40, 140, 81};  // 1.39 m x 0.8 m around the track
+constexpr shore::GridRect kRegion{-20, -40, 140, 81};  // 1.39 m x 0.8 m around the track
 
 void expect_same_chunks(const std::map<ChunkKey, Chunk>& a, const std::map<ChunkKey, Chunk>& b,
                         const std::string& what) {
@@ -37,7 +37,7 @@ void expect_same_chunks(const std::map<ChunkKey, Chunk>& a, const std::map<Chunk
 }
 
 /// The camera rides 0.4 m behind and 0.3 m above the wheel.
-Camera chase(const scenes::RollingWheel& w) { return {.x = w.x() - 0.4, .y = w.y(), .z = 0.3}; }
+Camera chase(const scenes::RollingWheel& w) { return {.position = {w.x() - 0.4, w.y(), 0.3}}; }
 
 }  // namespace
 
@@ -101,7 +101,7 @@ TEST(MeshIncremental, WatertightAcrossTileBordersAndChangesOfDetail) {
   MeshSettings s;
   s.chunk_cells = 8;  // chunks smaller than tiles: borders of both inside the rut
   ChunkedMesh mesh(s);
-  const Camera cam{.x = 0.1, .y = 0.0, .z = 0.15};  // close: detail falls off along the rut
+  const Camera cam{.position = {0.1, 0.0, 0.15}};  // close: detail falls off along the rut
   mesh.update(field, &cam);
   const TriangleMesh m = merge(mesh, field);
   for (const std::string& failure : topology_failures(m, kRegion.nx, kRegion.ny)) ADD_FAILURE() << failure;
@@ -134,7 +134,7 @@ TEST(MeshIncremental, SeedWaterFollowedStepByStepEqualsScratch) {
   Camera cam = scenes::seed_water_camera();
   for (int k = 0; k < 10; ++k) {
     surface->step(0.4);
-    cam.y += 0.5;  // walking towards the pool
+    cam.position.y += 0.5;  // walking towards the pool
     mesh.update(field, &cam);
   }
   water::SurfaceField fresh_field(*surface);
@@ -184,13 +184,13 @@ TEST(MeshIncremental, ALargeFieldCostsItsTouchedTilesOnly) {
   // 1 km x 1 km of 1 cm columns (10^10 nodes) with three edits: the mesh reads the tiles
   // around them and a few nodes more, never the field.
   terrain::Terrain soil{terrain::TerrainSettings{}};
-  const terrain::ColumnRect region{0, 0, 100001, 100001};
+  const shore::GridRect region{0, 0, 100001, 100001};
   terrain::TerrainField field(soil, region);
   soil.set_height(50000, 50000, -0.02);
   soil.set_height(50001, 50000, -0.02);
   soil.set_height(70000, 20000, 0.05);
   ChunkedMesh mesh;
-  const Camera cam{.x = 500.0, .y = 500.0, .z = 2.0};
+  const Camera cam{.position = {500.0, 500.0, 2.0}};
   const MeshUpdate& u = mesh.update(field, &cam);
   EXPECT_LT(u.nodes_read, 200000);
   EXPECT_LT(u.triangles, 20000u);
@@ -214,7 +214,7 @@ TEST(MeshIncremental, TheLargeFieldsRutIsWithinAPixelFromTwoMetresAbove) {
   EXPECT_LT(mesh.triangle_count(), 100000u);
   const TriangleMesh m = merge(mesh, field);
   const std::int64_t i0 = f.soil->column_i(f.rut_x0) - 30, j0 = f.soil->column_j(f.rut_y) - 40;
-  const NodeRect window{i0, j0, f.soil->column_i(f.rut_x1) + 30 - i0, 81};
+  const GridRect window{i0, j0, f.soil->column_i(f.rut_x1) + 30 - i0, 81};
   const std::vector<double> angle = node_angles(m, field, cam, window);
   double worst = 0.0;
   for (double a : angle) {

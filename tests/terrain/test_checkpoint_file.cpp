@@ -23,7 +23,7 @@ void step(Terrain& t, int k) {
   const EnvelopeRaster a = testing::sphere_envelope(t, x, 0.3, 0.12, 0.15);
   const EnvelopeRaster b = testing::sphere_envelope(t, 0.8, 0.8, (k / 10) % 2 == 0 ? 0.09 : 0.5, 0.1);
   Imprint imprints[2];
-  imprints[0].envelope = &a, imprints[0].vx = 1.0;
+  imprints[0].envelope = &a, imprints[0].velocity.x = 1.0;
   imprints[1].envelope = &b;
   t.step(imprints);
 }

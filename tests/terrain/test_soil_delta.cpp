@@ -27,11 +27,11 @@ void plough(Terrain& t, int step, int steps) {
   const EnvelopeRaster env = sphere_envelope(t, x, 0.3, 0.15 - 0.03, 0.15);
   Imprint imprint;
   imprint.envelope = &env;
-  imprint.vx = 1.2;
+  imprint.velocity.x = 1.2;
   t.step(std::span<const Imprint>(&imprint, 1));
 }
 
-const ColumnRect kArea{-5, -5, 90, 40};  // beyond everything the sphere reaches
+const shore::GridRect kArea{-5, -5, 90, 40};  // beyond everything the sphere reaches
 
 std::vector<double> heights_of(const Terrain& t) {
   std::vector<double> h(static_cast<std::size_t>(kArea.nx) * kArea.ny);
@@ -46,7 +46,7 @@ std::vector<double> sinkage_of(const Terrain& t) {
   return s;
 }
 
-bool same_rects(const std::vector<ColumnRect>& a, const std::vector<ColumnRect>& b) {
+bool same_rects(const std::vector<shore::GridRect>& a, const std::vector<shore::GridRect>& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t k = 0; k < a.size(); ++k)
     if (a[k].i0 != b[k].i0 || a[k].j0 != b[k].j0 || a[k].nx != b[k].nx || a[k].ny != b[k].ny) return false;

@@ -21,6 +21,7 @@
 #include "tile_store.h"
 
 using namespace shore::terrain;
+using shore::Vec3;
 
 namespace {
 

@@ -23,17 +23,17 @@ std::vector<double> snapshot(const Terrain& t) {
   return h;
 }
 
-bool covered(const std::vector<ColumnRect>& rects, std::int64_t i, std::int64_t j) {
-  for (const ColumnRect& r : rects)
+bool covered(const std::vector<shore::GridRect>& rects, std::int64_t i, std::int64_t j) {
+  for (const shore::GridRect& r : rects)
     if (i >= r.i0 && i < r.i0 + r.nx && j >= r.j0 && j < r.j0 + r.ny) return true;
   return false;
 }
 
 /// Each rectangle holds a column that differs between the snapshot and now (no stale ones).
 void expect_no_stale_rectangles(const std::vector<double>& before, const Terrain& t,
-                                const std::vector<ColumnRect>& rects) {
+                                const std::vector<shore::GridRect>& rects) {
   const std::vector<double> now = snapshot(t);
-  for (const ColumnRect& r : rects) {
+  for (const shore::GridRect& r : rects) {
     bool holds_a_change = false;
     std::size_t k = 0;
     for (std::int64_t j = kLo; j <= kHi; ++j)
@@ -44,7 +44,8 @@ void expect_no_stale_rectangles(const std::vector<double>& before, const Terrain
 }
 
 /// Every column that differs between the snapshots lies in a rectangle; returns how many did.
-int expect_changes_covered(const std::vector<double>& before, const Terrain& t, const std::vector<ColumnRect>& rects) {
+int expect_changes_covered(const std::vector<double>& before, const Terrain& t,
+                           const std::vector<shore::GridRect>& rects) {
   const std::vector<double> now = snapshot(t);
   int changed = 0;
   std::size_t k = 0;
@@ -85,8 +86,8 @@ TEST(ChangeGeneration, TwoObserversEachSeeWhatChangedSinceTheyLooked) {
   press(t, 0.15, 0.01);
 
   // The early observer sees both prints, the late one only the second: each is complete...
-  const std::vector<ColumnRect> for_early = t.changed_since(early);
-  const std::vector<ColumnRect> for_late = t.changed_since(late);
+  const std::vector<shore::GridRect> for_early = t.changed_since(early);
+  const std::vector<shore::GridRect> for_late = t.changed_since(late);
   EXPECT_GT(expect_changes_covered(at_early, t, for_early), 0);
   EXPECT_GT(expect_changes_covered(at_late, t, for_late), 0);
   // ...and tight: every rectangle holds a change the observer has not seen.
@@ -104,17 +105,17 @@ TEST(ChangeGeneration, TwoObserversEachSeeWhatChangedSinceTheyLooked) {
 TEST(ChangeGeneration, RectanglesArePerTileInKeyOrderAndInsideTheirTile) {
   Terrain t(small_tiles());
   press(t, 0.0, 0.02);
-  const std::vector<ColumnRect> rects = t.changed_since(0);
+  const std::vector<shore::GridRect> rects = t.changed_since(0);
   ASSERT_GT(rects.size(), 1u);
   for (std::size_t k = 0; k < rects.size(); ++k) {
-    const ColumnRect& r = rects[k];
+    const shore::GridRect& r = rects[k];
     const std::int64_t tx = (r.i0 >= 0 ? r.i0 : r.i0 - 15) / 16, ty = (r.j0 >= 0 ? r.j0 : r.j0 - 15) / 16;
     EXPECT_GE(r.i0, tx * 16);
     EXPECT_LE(r.i0 + r.nx, (tx + 1) * 16);
     EXPECT_GE(r.j0, ty * 16);
     EXPECT_LE(r.j0 + r.ny, (ty + 1) * 16);
     if (k > 0) {
-      const ColumnRect& p = rects[k - 1];
+      const shore::GridRect& p = rects[k - 1];
       const std::int64_t px = (p.i0 >= 0 ? p.i0 : p.i0 - 15) / 16, py = (p.j0 >= 0 ? p.j0 : p.j0 - 15) / 16;
       EXPECT_TRUE(px < tx || (px == tx && py < ty)) << "tile key order";
     }
@@ -127,16 +128,16 @@ TEST(ChangeGeneration, AnObserverOlderThanTheHistoryGetsWholeTilesStillCoveringE
   const std::vector<double> at_start = snapshot(t);
   // Many single-column edits: the history is trimmed long before the end.
   for (int k = 0; k < 3000; ++k) t.set_height(kLo + k % 81, kLo + (k * 7) % 81, 0.001 * (k % 13));
-  const std::vector<ColumnRect> rects = t.changed_since(start);
+  const std::vector<shore::GridRect> rects = t.changed_since(start);
   EXPECT_GT(expect_changes_covered(at_start, t, rects), 0);
-  for (const ColumnRect& r : rects) {  // whole tiles now
+  for (const shore::GridRect& r : rects) {  // whole tiles now
     EXPECT_EQ(r.nx, 16);
     EXPECT_EQ(r.ny, 16);
   }
   // A recent observer still gets the tight box of the last edit.
   const std::uint64_t recent = t.generation();
   t.set_height(3, 4, 0.5);
-  const std::vector<ColumnRect> last = t.changed_since(recent);
+  const std::vector<shore::GridRect> last = t.changed_since(recent);
   ASSERT_EQ(last.size(), 1u);
   EXPECT_EQ(last[0].i0, 3);
   EXPECT_EQ(last[0].j0, 4);
@@ -151,7 +152,7 @@ TEST(ChangeGeneration, LoadedTilesAreReportedSinceZero) {
   t.save(file);
   const Terrain back = Terrain::load(file);
   EXPECT_EQ(back.generation(), 1u);
-  const std::vector<ColumnRect> rects = back.changed_since(0);
+  const std::vector<shore::GridRect> rects = back.changed_since(0);
   EXPECT_EQ(rects.size(), back.tile_count());
   EXPECT_TRUE(back.changed_since(back.generation()).empty());
   std::filesystem::remove(file);

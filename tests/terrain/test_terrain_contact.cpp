@@ -57,10 +57,10 @@ Totals totals(const ContactPatch& patch) {
     const double f = e.pressure * e.area;
     if (!e.wall) {
       t.bottom_area += e.area;
-      t.bottom_force += f * e.nz;
+      t.bottom_force += f * e.normal.z;
       continue;
     }
-    const int side = e.nx < -0.5 ? 0 : e.nx > 0.5 ? 1 : e.ny < -0.5 ? 2 : 3;
+    const int side = e.normal.x < -0.5 ? 0 : e.normal.x > 0.5 ? 1 : e.normal.y < -0.5 ? 2 : 3;
     t.wall_force[side] += f;
   }
   return t;
@@ -184,10 +184,10 @@ TEST(Contact, TheNormalFollowsTheUndersideOfACylinder) {
   int checked = 0;
   for (const ContactElement& e : patch.elements) {
     if (e.wall || e.j != 0) continue;
-    const double dx = e.x;
+    const double dx = e.point.x;
     // The underside's outward normal is (-dx, 0, sqrt(r^2 - dx^2)) / r; the soil pushes along it.
-    EXPECT_NEAR(e.nx, -dx / r, 2e-3) << "at x " << dx;
-    EXPECT_NEAR(e.nz, std::sqrt(r * r - dx * dx) / r, 2e-3);
+    EXPECT_NEAR(e.normal.x, -dx / r, 2e-3) << "at x " << dx;
+    EXPECT_NEAR(e.normal.z, std::sqrt(r * r - dx * dx) / r, 2e-3);
     ++checked;
   }
   EXPECT_GT(checked, 10);  // the contact reaches about +-15 cm from the bottom

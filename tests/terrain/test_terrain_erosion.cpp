@@ -49,7 +49,7 @@ TEST(Erosion, SteepSandPileRelaxesToReposeAngle) {
   EXPECT_GT(before, 0.0);
   EXPECT_NEAR(t.volume().edited, before, 1e-15);
   EXPECT_GT(steepest_slope(t, -14, 14), 1.0);
-  const ColumnRect region{-40, -40, 80, 80};
+  const shore::GridRect region{-40, -40, 80, 80};
   int rounds = 0;
   while (t.relax(region).erosion_passes == s.max_erosion_passes && rounds < 200) ++rounds;
   ASSERT_LT(rounds, 200);

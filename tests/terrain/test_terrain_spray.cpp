@@ -54,10 +54,10 @@ struct SpinningWheel {
     env = wheel_envelope(t, x, z, radius, width);
     Imprint im{&env};
     const double omega = rim_speed / radius, turn = omega * time;
-    im.vx = speed();
-    im.wy = omega;
-    im.cx = x, im.cz = z;
-    im.qw = std::cos(turn / 2), im.qy = std::sin(turn / 2);
+    im.velocity.x = speed();
+    im.angular_velocity.y = omega;
+    im.centre.x = x, im.centre.z = z;
+    im.orientation.w = std::cos(turn / 2), im.orientation.y = std::sin(turn / 2);
     im.body = key;
     return im;
   }
@@ -87,16 +87,16 @@ struct VolumeWatch {
 std::pair<double, double> ballistic_landing(const SprayParticle& p, double k, double ground) {
   auto distance = [&](double v, double t) { return k > 0.0 ? v * (1.0 - std::exp(-k * t)) / k : v * t; };
   auto height = [&](double t) {
-    if (k == 0.0) return p.z + p.vz * t - 0.5 * kG * t * t;
+    if (k == 0.0) return p.position.z + p.velocity.z * t - 0.5 * kG * t * t;
     const double vt = kG / k;
-    return p.z + distance(p.vz + vt, t) - vt * t;
+    return p.position.z + distance(p.velocity.z + vt, t) - vt * t;
   };
   double lo = 0.0, hi = 100.0;
   for (int it = 0; it < 200; ++it) {
     const double mid = 0.5 * (lo + hi);
     (height(mid) > ground ? lo : hi) = mid;
   }
-  return {p.x + distance(p.vx, lo), p.y + distance(p.vy, lo)};
+  return {p.position.x + distance(p.velocity.x, lo), p.position.y + distance(p.velocity.y, lo)};
 }
 
 /// A one-column body that touches the soil once and then leaves it at `velocity`.
@@ -114,8 +114,8 @@ Terrain fling_one_particle(double drag, const double velocity[3], SprayParticle&
     const shore::EnvelopeRaster env =
         box_envelope(t.column_i(velocity[0] * lift), t.column_j(velocity[1] * lift), 1, 1, velocity[2] * lift);
     Imprint im{&env};
-    im.vx = velocity[0], im.vy = velocity[1], im.vz = velocity[2];
-    im.cx = velocity[0] * lift, im.cy = velocity[1] * lift, im.cz = 0.05 + velocity[2] * lift;
+    im.velocity.x = velocity[0], im.velocity.y = velocity[1], im.velocity.z = velocity[2];
+    im.centre.x = velocity[0] * lift, im.centre.y = velocity[1] * lift, im.centre.z = 0.05 + velocity[2] * lift;
     im.body = 1;
     t.step({&im, 1}, dt);
   }
@@ -131,14 +131,14 @@ struct Rise {
   double height = 0.0;
 };
 
-std::vector<double> heights_of(const Terrain& t, const ColumnRect& r) {
+std::vector<double> heights_of(const Terrain& t, const shore::GridRect& r) {
   std::vector<double> h;
   for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
     for (std::int64_t i = r.i0; i < r.i0 + r.nx; ++i) h.push_back(t.height(i, j));
   return h;
 }
 
-Rise highest_rise(const Terrain& t, const ColumnRect& r, const std::vector<double>& before) {
+Rise highest_rise(const Terrain& t, const shore::GridRect& r, const std::vector<double>& before) {
   Rise most;
   std::size_t k = 0;
   for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
@@ -149,7 +149,7 @@ Rise highest_rise(const Terrain& t, const ColumnRect& r, const std::vector<doubl
 
 /// Flies the thrown particle until it lands (within 2 s); the column that rose within
 /// `r` must be where ballistics puts it, (x, y), within one column, and hold its volume.
-Rise expect_landing(Terrain& t, const ColumnRect& r, const SprayParticle& p, double x, double y, double drag) {
+Rise expect_landing(Terrain& t, const shore::GridRect& r, const SprayParticle& p, double x, double y, double drag) {
   const std::vector<double> before = heights_of(t, r);
   for (int k = 0; k < 200 && t.spray_counts().landed == 0; ++k) t.step({}, 0.01);
   EXPECT_EQ(t.spray_counts().landed, 1) << "drag " << drag;
@@ -174,9 +174,9 @@ TEST(Spray, AParticleLandsWhereBallisticsSaysAndAddsItsVolumeThere) {
       SprayParticle p;
       Terrain t = fling_one_particle(drag, velocity, p);
       ASSERT_GT(p.volume, 0.0);
-      EXPECT_NEAR(p.vx, velocity[0] * (drag > 0 ? std::exp(-drag * 0.01) : 1.0), 0.05);
+      EXPECT_NEAR(p.velocity.x, velocity[0] * (drag > 0 ? std::exp(-drag * 0.01) : 1.0), 0.05);
       const auto [x, y] = ballistic_landing(p, drag, wall);
-      const ColumnRect r{t.column_i(x) - 8, t.column_j(y) - 8, 33, 17};
+      const shore::GridRect r{t.column_i(x) - 8, t.column_j(y) - 8, 33, 17};
       if (wall > 0.0)
         for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
           for (std::int64_t i = r.i0; i < r.i0 + r.nx; ++i) t.set_height(i, j, t.base_height(i, j) + wall);
@@ -221,9 +221,9 @@ TEST(Spray, BodiesAtRestOrCreepingMakeNothingAndHoldNoMemory) {
       for (Terrain* t : {&on, &off}) {
         const shore::EnvelopeRaster ball = sphere_envelope(*t, x, 0.0, 0.1 - 0.02 - 1e-4 * k, 0.1);
         Imprint im{&ball};
-        im.vx = speed, im.vz = -0.024;
-        im.cx = x, im.cz = 0.08 - 1e-4 * k;
-        im.wy = speed / 0.1;  // rolling
+        im.velocity.x = speed, im.velocity.z = -0.024;
+        im.centre.x = x, im.centre.z = 0.08 - 1e-4 * k;
+        im.angular_velocity.y = speed / 0.1;  // rolling
         t->step({&im, 1}, 1.0 / 240);
       }
     }
@@ -272,7 +272,7 @@ std::uint64_t two_bodies(int threads, bool reversed) {
     const double x = 2.0 * k * dt;
     const shore::EnvelopeRaster ball = sphere_envelope(t, x, 0.4, 0.1 - 0.015, 0.1);
     Imprint b{&ball};
-    b.vx = 2.0, b.wx = -5.0, b.cx = x, b.cy = 0.4, b.cz = 0.085, b.body = 3;
+    b.velocity.x = 2.0, b.angular_velocity.x = -5.0, b.centre = {x, 0.4, 0.085}, b.body = 3;
     const Imprint a = w.at(t, k * dt, wheel);
     const Imprint ims[2] = {reversed ? b : a, reversed ? a : b};
     t.step(ims, dt);
@@ -422,9 +422,11 @@ TEST(Spray, BadParametersAndInputsAreRefusedByName) {
   };
   EXPECT_TRUE(mentions(step_error([](Imprint&) {}, -0.01), "terrain.Terrain.step.dt"));
   EXPECT_TRUE(mentions(step_error([](Imprint&) {}, nan), "step.dt"));
-  EXPECT_TRUE(mentions(step_error([nan](Imprint& im) { im.wz = nan; }), "terrain.Imprint[0].wz"));
-  EXPECT_TRUE(mentions(step_error([](Imprint& im) { im.cx = std::numeric_limits<double>::infinity(); }), "cx"));
-  EXPECT_TRUE(mentions(step_error([](Imprint& im) { im.qw = 0.0; }), "terrain.Imprint[0].qw, qx, qy, qz"));
+  EXPECT_TRUE(mentions(step_error([nan](Imprint& im) { im.angular_velocity.z = nan; }),
+                       "terrain.Imprint[0].angular_velocity.z"));
+  EXPECT_TRUE(
+      mentions(step_error([](Imprint& im) { im.centre.x = std::numeric_limits<double>::infinity(); }), "centre.x"));
+  EXPECT_TRUE(mentions(step_error([](Imprint& im) { im.orientation.w = 0.0; }), "terrain.Imprint[0].orientation"));
   const Imprint two[2] = {{&env}, {&env}};
   EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { t.step(two, 0.01); }), "terrain.Imprint[1].body"));
   EXPECT_EQ(message_of<shore::InvalidSetting>([&] { t.step(two, 0.0); }), "(no exception)")

@@ -146,7 +146,7 @@ TEST(ErodeStage, OneTooSteepPairMovesSigmaTimesItsExcess) {
         EXPECT_EQ(r.ht[r.at(x, y)], top);
       }
   // Stopped by the cap while still steeper than theta_stop: the giver carries on next step.
-  const ColumnRect& left = erode.still_flowing();
+  const shore::GridRect& left = erode.still_flowing();
   EXPECT_EQ(left.i0, 1);
   EXPECT_EQ(left.j0, 1);
   EXPECT_EQ(left.nx, 1);
@@ -211,7 +211,7 @@ TEST(TileStore, RunsCoverARectangleOnceWithoutCrossingATileEdge) {
   TerrainSettings s;
   s.tile_columns = 8;
   TileStore store(s);
-  const ColumnRect rect{-13, -5, 30, 17};
+  const shore::GridRect rect{-13, -5, 30, 17};
   std::set<std::pair<std::int64_t, std::int64_t>> seen;
   int runs = 0;
   store.for_each_run_creating(rect, [&](Tile& t, const TileRun& run) {

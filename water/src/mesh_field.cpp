@@ -24,19 +24,19 @@ SurfaceField::SurfaceField(const Surface& surface) : surface_(&surface) {
   seen_.assign(per_node * surface.node_count(), 0.0);  // at rest
 }
 
-void SurfaceField::positions(const mesh::NodeRect& r, std::span<double> out) const {
-  if (out.size() != static_cast<std::size_t>(3 * r.ni * r.nj))
+void SurfaceField::positions(const GridRect& r, std::span<double> out) const {
+  if (out.size() != 3 * r.size())
     throw InvalidSetting("water.SurfaceField.positions(out).size", shore::detail::to_text(out.size()),
                          "must be 3 ni nj of the rectangle");
   std::size_t k = 0;
-  for (std::int64_t j = r.j0; j < r.j0 + r.nj; ++j)
-    for (std::int64_t i = r.i0; i < r.i0 + r.ni; ++i, ++k) {
+  for (std::int64_t j = r.j0; j < r.j0 + r.ny; ++j)
+    for (std::int64_t i = r.i0; i < r.i0 + r.nx; ++i, ++k) {
       const Eigen::Vector3d p = surface_->position(static_cast<int>(i), static_cast<int>(j));
       out[3 * k] = p.x(), out[3 * k + 1] = p.y(), out[3 * k + 2] = p.z();
     }
 }
 
-void SurfaceField::take_changes(std::vector<mesh::NodeRect>& out) {
+void SurfaceField::take_changes(std::vector<GridRect>& out) {
   out.clear();
   const bool full = surface_->mode() == SurfaceMode::full_3d;
   const int nx = surface_->nx(), ny = surface_->ny();

@@ -57,9 +57,9 @@ SteppedScene run_scene_to_end(const std::string& name, bool quick) {
 }
 
 /// The columns a soil changed, with a margin of untouched ground.
-terrain::ColumnRect touched(const terrain::Terrain& soil, int margin) {
+shore::GridRect touched(const terrain::Terrain& soil, int margin) {
   std::int64_t i0 = 0, j0 = 0, i1 = -1, j1 = -1;
-  for (const terrain::ColumnRect& r : soil.changed_since(0)) {
+  for (const shore::GridRect& r : soil.changed_since(0)) {
     if (i1 < i0) i0 = r.i0, j0 = r.j0, i1 = r.i0 + r.nx, j1 = r.j0 + r.ny;
     i0 = std::min(i0, r.i0), j0 = std::min(j0, r.j0);
     i1 = std::max(i1, r.i0 + r.nx), j1 = std::max(j1, r.j0 + r.ny);
@@ -71,12 +71,12 @@ terrain::ColumnRect touched(const terrain::Terrain& soil, int margin) {
 /// One case's surfaces: fresh fields each build (a field's changes are taken once).
 struct Surfaces {
   std::vector<const terrain::Terrain*> soils;
-  std::vector<terrain::ColumnRect> regions;
+  std::vector<shore::GridRect> regions;
   std::vector<const water::Surface*> waters;
 
   [[nodiscard]] std::size_t full_triangles() const {
     std::size_t n = 0;
-    for (const terrain::ColumnRect& r : regions) n += 2 * static_cast<std::size_t>(r.nx - 1) * (r.ny - 1);
+    for (const shore::GridRect& r : regions) n += 2 * static_cast<std::size_t>(r.nx - 1) * (r.ny - 1);
     for (const water::Surface* w : waters) n += 2 * static_cast<std::size_t>(w->nx() - 1) * (w->ny() - 1);
     return n;
   }
@@ -156,7 +156,7 @@ void seed_sweep(const SweepContext& ctx, SweepResult& out) {
   const std::unique_ptr<water::Surface> surface = scenes::seed_water();
   const mesh::Camera paper_view = scenes::seed_water_camera();
   mesh::Camera close_view = paper_view;  // as close again as the paper's: the near edge fills the view
-  close_view.y = -5.0, close_view.z = 5.0;
+  close_view.position.y = -5.0, close_view.position.z = 5.0;
   double ratio_1px = NAN;
   for (const auto& [view, cam] :
        {std::pair{"paper's view", paper_view}, std::pair{"close (5 m out and up)", close_view}})
@@ -170,7 +170,7 @@ void seed_sweep(const SweepContext& ctx, SweepResult& out) {
         triangles = mesh.update(f, &cam).triangles;
       });
       const double ratio = static_cast<double>(triangles) / static_cast<double>(scenes::kSeedFullTriangles);
-      if (px == 1.0 && cam.y == paper_view.y) ratio_1px = ratio;
+      if (px == 1.0 && cam.position.y == paper_view.position.y) ratio_1px = ratio;
       t.add({view, px, static_cast<double>(triangles), static_cast<double>(scenes::kSeedFullTriangles), ratio,
              1e3 * m.median_s});
     }
@@ -256,14 +256,14 @@ FrameCosts drive(bool quick, bool follow) {
   for (const terrain::Terrain* soil : state.soils) {
     // The driven strip: from the start on rigid ground to past the mud, 2.2 m wide.
     const std::int64_t i0 = soil->column_i(-2.5), j0 = soil->column_j(-1.1);
-    fields.emplace_back(*soil, terrain::ColumnRect{i0, j0, static_cast<int>(soil->column_i(11.0) - i0 + 1),
-                                                   static_cast<int>(soil->column_j(1.1) - j0 + 1)});
+    fields.emplace_back(*soil, shore::GridRect{i0, j0, static_cast<int>(soil->column_i(11.0) - i0 + 1),
+                                               static_cast<int>(soil->column_j(1.1) - j0 + 1)});
   }
   const btRigidBody& chassis = *state.bodies.front();
   auto eye = [&] {
     const btVector3 p = chassis.getCenterOfMassPosition();
-    return follow ? mesh::Camera{.x = p.x() - 3.0, .y = p.y() - 1.5, .z = 1.5}
-                  : mesh::Camera{.x = -3.0, .y = -1.5, .z = 1.5};
+    return follow ? mesh::Camera{.position = {p.x() - 3.0, p.y() - 1.5, 1.5}}
+                  : mesh::Camera{.position = {-3.0, -1.5, 1.5}};
   };
   FrameCosts costs;
   for (int k = 0; k <= options.substeps(); ++k) {

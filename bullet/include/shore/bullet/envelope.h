@@ -61,18 +61,6 @@ struct EnvelopeOptions {
   void validate() const;
 };
 
-/// A rectangle of columns: i in [i0, i0 + nx), j in [j0, j0 + ny).
-struct ColumnWindow {
-  std::int64_t i0 = 0;
-  std::int64_t j0 = 0;
-  int nx = 0;  ///< >= 0
-  int ny = 0;  ///< >= 0
-  /// The window with `columns` more on every side.
-  [[nodiscard]] ColumnWindow grown(int columns) const {
-    return {i0 - columns, j0 - columns, nx + 2 * columns, ny + 2 * columns};
-  }
-};
-
 /// Rasterizes shapes on one grid with one set of options. Keeps the triangulated hull of
 /// every convex hull shape it has seen (keyed by the shape's address and checked against a
 /// hash of its points, so an edited or reallocated shape is triangulated again).
@@ -88,7 +76,7 @@ class EnvelopeRasterizer {
   /// The columns that can be covered by `shape` at `pose`: its world AABB snapped outward.
   /// Throws InvalidSetting for a non-finite or non-rotation pose, a non-finite AABB, or a
   /// window of more than options.max_columns columns.
-  [[nodiscard]] ColumnWindow window_of(const btCollisionShape& shape, const btTransform& pose) const;
+  [[nodiscard]] GridRect window_of(const btCollisionShape& shape, const btTransform& pose) const;
 
   /// Resets `out` to window_of(shape, pose) and fills it. Returns the number of covered
   /// columns. On error `out` is left with an empty window.
@@ -97,8 +85,7 @@ class EnvelopeRasterizer {
   /// Resets `out` to `window` (for callers that clip to an area) and fills it. Returns the
   /// number of covered columns. Throws InvalidSetting as window_of() does, or if `window`
   /// has negative sizes or more than options.max_columns columns.
-  int rasterize(const btCollisionShape& shape, const btTransform& pose, const ColumnWindow& window,
-                EnvelopeRaster& out);
+  int rasterize(const btCollisionShape& shape, const btTransform& pose, const GridRect& window, EnvelopeRaster& out);
 
   /// Merges the shape into `inout` as it is (min into lower, max into upper if present),
   /// without resetting it: several bodies or parts into one raster. Returns the number of
@@ -151,7 +138,7 @@ int rasterize_envelope(const btCollisionShape& shape, const btTransform& pose, c
 
 /// One-shot form restricted to `window`.
 int rasterize_envelope(const btCollisionShape& shape, const btTransform& pose, const EnvelopeGrid& grid,
-                       const EnvelopeOptions& options, const ColumnWindow& window, EnvelopeRaster& out);
+                       const EnvelopeOptions& options, const GridRect& window, EnvelopeRaster& out);
 
 }  // namespace SHORE_BULLET_ABI
 }  // namespace shore::bullet

@@ -304,7 +304,7 @@ class TerrainCoupling : public btActionInterface {
   [[nodiscard]] bool drifted(const Body& b) const;
   void rescue_fallen_bodies();
   void keep_above_bedrock(Body& b);
-  void wake_bodies_over(const std::vector<terrain::ColumnRect>& changed);
+  void wake_bodies_over(const std::vector<GridRect>& changed);
   /// Whether the body needs a fresh envelope at the end of this substep though the soil does
   /// not step: it has no contact to follow, or its contact has drifted too far.
   [[nodiscard]] bool needs_envelope(const Body& b, double substep) const;

@@ -67,11 +67,11 @@ class TerrainTiles {
   /// Copies the given changed columns (and any tile still catching up) from the soil into
   /// the tiles, removes stale contact points there and wakes the bodies. Returns the
   /// number of vertices written.
-  std::int64_t push(std::span<const terrain::ColumnRect> changed);
+  std::int64_t push(std::span<const GridRect> changed);
 
   /// Called by push() with the soil's changed columns before they are copied (a renderer
   /// uploads just these); empty: nobody listens. One observer; setting another replaces it.
-  using PushObserver = std::function<void(std::span<const terrain::ColumnRect> changed)>;
+  using PushObserver = std::function<void(std::span<const GridRect> changed)>;
   void set_push_observer(PushObserver observer) { observer_ = std::move(observer); }
 
   /// Removes every tile from the world and forgets it (a detaching coupling).

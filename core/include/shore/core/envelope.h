@@ -9,17 +9,15 @@
 #include <limits>
 #include <vector>
 
+#include "shore/core/grid_rect.h"
+
 namespace shore {
 
 /// Per-column lowest and highest point of one body on the vertical line through each
 /// column of a rectangular window. Columns the body does not cover hold lower = +inf and
-/// upper = -inf. Heights in metres, world frame.
-struct EnvelopeRaster {
-  std::int64_t i0 = 0;  ///< global column index of the window's first column in x
-  std::int64_t j0 = 0;  ///< global column index of the window's first column in y
-  int nx = 0;           ///< window width in columns
-  int ny = 0;           ///< window height in columns
-  std::vector<double> lower;  ///< nx*ny, row-major (index = (j - j0) * nx + (i - i0))
+/// upper = -inf. Heights in metres, world frame. The window is the GridRect.
+struct EnvelopeRaster : GridRect {
+  std::vector<double> lower;  ///< nx*ny, row-major (GridRect::index)
   std::vector<double> upper;  ///< nx*ny, same layout; may be empty if not needed
 
   static constexpr double kNoLower = std::numeric_limits<double>::infinity();
@@ -32,12 +30,6 @@ struct EnvelopeRaster {
     ny = height;
     lower.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), kNoLower);
     upper.assign(with_upper ? lower.size() : 0u, kNoUpper);
-  }
-  [[nodiscard]] std::size_t index(std::int64_t i, std::int64_t j) const noexcept {
-    return static_cast<std::size_t>((j - j0) * nx + (i - i0));
-  }
-  [[nodiscard]] bool contains(std::int64_t i, std::int64_t j) const noexcept {
-    return i >= i0 && j >= j0 && i < i0 + nx && j < j0 + ny;
   }
   [[nodiscard]] bool covers(std::size_t k) const noexcept { return lower[k] < kNoLower; }
 };

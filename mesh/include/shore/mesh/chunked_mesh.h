@@ -6,7 +6,7 @@
 //
 //   shore::terrain::TerrainField ground(soil, region);   // or shore::water::SurfaceField
 //   shore::mesh::ChunkedMesh mesh;                        // MeshSettings: the bounds, chunk size
-//   shore::mesh::Camera eye{.x = 1, .y = -2, .z = 2};     // 60 deg, 1080 lines
+//   shore::mesh::Camera eye{.position = {1, -2, 2}};     // 60 deg, 1080 lines
 //   const shore::mesh::MeshUpdate& u = mesh.update(ground, &eye);  // every frame
 //   for (const ChunkKey& k : u.changed) upload(mesh.chunks().at(k));
 //   for (const ChunkKey& k : u.removed) drop(k);
@@ -35,6 +35,7 @@
 #include <memory>
 #include <vector>
 
+#include "shore/core/vec3.h"
 #include "shore/mesh/field.h"
 
 namespace shore::mesh {
@@ -60,9 +61,9 @@ struct MeshSettings {
 
 /// An eye for the pixel bound: where it is and how many pixels an angle covers.
 struct Camera {
-  double x = 0.0, y = 0.0, z = 0.0;  ///< m, world position of the eye, finite
-  double fov_y_deg = 60.0;           ///< vertical field of view, degrees, in (0, 180)
-  int viewport_height = 1080;        ///< pixels, >= 1
+  Vec3 position;               ///< m, world position of the eye, finite
+  double fov_y_deg = 60.0;     ///< vertical field of view, degrees, in (0, 180)
+  int viewport_height = 1080;  ///< pixels, >= 1
 
   /// Throws shore::InvalidSetting naming the field, the value and the allowed range.
   void validate() const;

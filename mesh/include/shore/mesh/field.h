@@ -14,21 +14,18 @@
 #include <span>
 #include <vector>
 
-namespace shore::mesh {
+#include "shore/core/grid_rect.h"
+#include "shore/core/vec3.h"
 
-/// Nodes [i0, i0 + ni) x [j0, j0 + nj) of a field.
-struct NodeRect {
-  std::int64_t i0 = 0, j0 = 0;
-  std::int64_t ni = 0, nj = 0;
-};
+namespace shore::mesh {
 
 /// An affine map of the grid: node (i, j) at origin + i di + j dj (m).
 struct BasePlane {
-  std::array<double, 3> origin{};
-  std::array<double, 3> di{};
-  std::array<double, 3> dj{};
+  Vec3 origin{};
+  Vec3 di{};
+  Vec3 dj{};
   /// The position of node (i, j), computed the way the extractor computes it.
-  [[nodiscard]] std::array<double, 3> at(double i, double j) const {
+  [[nodiscard]] Vec3 at(double i, double j) const {
     return {origin[0] + i * di[0] + j * dj[0], origin[1] + i * di[1] + j * dj[1], origin[2] + i * di[2] + j * dj[2]};
   }
 };
@@ -44,9 +41,9 @@ class Field {
   /// field: ground). Errors are then vertical distances; otherwise 3-D distances.
   [[nodiscard]] virtual bool height_field() const = 0;
   /// World positions (m) of the nodes of r, which lies inside the grid: x, y, z per node,
-  /// row by row (node (r.i0 + a, r.j0 + b) at 3 (b r.ni + a)); out.size() == 3 r.ni r.nj.
+  /// row by row (node (r.i0 + a, r.j0 + b) at 3 (b r.nx + a)); out.size() == 3 r.size().
   /// A NaN z marks a missing node (a hole): no triangle touches it.
-  virtual void positions(const NodeRect& r, std::span<double> out) const = 0;
+  virtual void positions(const GridRect& r, std::span<double> out) const = 0;
   /// The plane every node lies on exactly until take_changes reports it (untouched flat
   /// ground, water at rest), if there is one. With it, nodes never reported are never read:
   /// a large field costs what its changed parts cost. Without it, every node is read.
@@ -54,7 +51,7 @@ class Field {
   /// Rectangles (inside the grid) covering every node whose position changed since the
   /// previous call. The first call covers every node that may lie off base(): the whole
   /// grid if there is no base.
-  virtual void take_changes(std::vector<NodeRect>& out) = 0;
+  virtual void take_changes(std::vector<GridRect>& out) = 0;
 };
 
 }  // namespace shore::mesh

@@ -14,8 +14,8 @@ class HeightGridField final : public mesh::Field {
   [[nodiscard]] std::int64_t ni() const override { return grid_->nx; }
   [[nodiscard]] std::int64_t nj() const override { return grid_->ny; }
   [[nodiscard]] bool height_field() const override { return true; }
-  void positions(const mesh::NodeRect& r, std::span<double> out) const override;
-  void take_changes(std::vector<mesh::NodeRect>& out) override;
+  void positions(const shore::GridRect& r, std::span<double> out) const override;
+  void take_changes(std::vector<shore::GridRect>& out) override;
 
  private:
   const HeightGrid* grid_;

@@ -32,7 +32,7 @@ mesh::Camera seed_water_camera();
 /// out to 20 cm, a 2 mm tread pattern every 5 cm and 0.5 mm of deterministic roughness.
 struct LargeField {
   std::unique_ptr<terrain::Terrain> soil;
-  terrain::ColumnRect region;                      ///< the 1 km x 1 km of columns (100001 x 100001)
+  shore::GridRect region;                          ///< the 1 km x 1 km of columns (100001 x 100001)
   double rut_x0 = 0.0, rut_x1 = 0.0, rut_y = 0.0;  ///< m, where the rut runs
 };
 LargeField large_field(double side_m = 1000.0, double rut_m = 100.0);

@@ -34,6 +34,8 @@
 #include <limits>
 #include <vector>
 
+#include "shore/core/vec3.h"
+
 namespace shore::terrain {
 
 /// The body's underside at any point, for sub-cell coverage at the edges of its footprint.
@@ -47,11 +49,11 @@ class SurfaceProbe {
 
 /// One place where the soil can push on the body.
 struct ContactElement {
-  double x = 0.0, y = 0.0, z = 0.0;     ///< m, world point the soil pushes at
-  double nx = 0.0, ny = 0.0, nz = 1.0;  ///< unit normal, from the soil into the body
-  double area = 0.0;                    ///< m^2 the soil pushes on
-  double pressure = 0.0;                ///< Pa, the most it can push with; +infinity on bedrock
-  std::int64_t i = 0, j = 0;            ///< the soil column
+  Vec3 point;                 ///< m, world point the soil pushes at
+  Vec3 normal{0, 0, 1};       ///< unit normal, from the soil into the body
+  double area = 0.0;          ///< m^2 the soil pushes on
+  double pressure = 0.0;      ///< Pa, the most it can push with; +infinity on bedrock
+  std::int64_t i = 0, j = 0;  ///< the soil column
   /// Index into the envelope raster of the column whose shear displacement this element
   /// reads and moves (a fringe element shares its covered neighbour's); -1 for walls.
   std::int32_t raster_index = -1;

@@ -21,22 +21,22 @@ class TerrainField final : public mesh::Field {
  public:
   /// The columns of region (nx, ny >= 2; throws InvalidSetting otherwise). The terrain must
   /// outlive the field.
-  TerrainField(const Terrain& terrain, ColumnRect region);
+  TerrainField(const Terrain& terrain, GridRect region);
 
   [[nodiscard]] std::int64_t ni() const override { return region_.nx; }
   [[nodiscard]] std::int64_t nj() const override { return region_.ny; }
   [[nodiscard]] bool height_field() const override { return true; }
-  void positions(const mesh::NodeRect& r, std::span<double> out) const override;
+  void positions(const GridRect& r, std::span<double> out) const override;
   [[nodiscard]] std::optional<mesh::BasePlane> base() const override { return flat_; }
   /// First call: every changed column (and the whole region over a base source that is not
   /// flat); then what changed since the previous call.
-  void take_changes(std::vector<mesh::NodeRect>& out) override;
+  void take_changes(std::vector<GridRect>& out) override;
 
-  [[nodiscard]] const ColumnRect& region() const noexcept { return region_; }
+  [[nodiscard]] const GridRect& region() const noexcept { return region_; }
 
  private:
   const Terrain* terrain_;
-  ColumnRect region_;
+  GridRect region_;
   mesh::BasePlane grid_;                 ///< x, y of the nodes (z: base height, if flat)
   std::optional<mesh::BasePlane> flat_;  ///< untouched ground, when it is flat
   bool first_ = true;

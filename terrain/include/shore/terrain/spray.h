@@ -18,6 +18,8 @@
 #include <limits>
 #include <string>
 
+#include "shore/core/vec3.h"
+
 namespace shore {
 struct Check;
 }
@@ -82,10 +84,10 @@ struct SpraySettings {
 
 /// One particle in flight, for drawing.
 struct SprayParticle {
-  double x = 0.0, y = 0.0, z = 0.0;     ///< m, its centre
-  double radius = 0.0;                  ///< m, of the sphere of its volume
-  double volume = 0.0;                  ///< m^3
-  double vx = 0.0, vy = 0.0, vz = 0.0;  ///< m/s (motion blur, streaks)
+  Vec3 position;        ///< m, its centre
+  double radius = 0.0;  ///< m, of the sphere of its volume
+  double volume = 0.0;  ///< m^3
+  Vec3 velocity;        ///< m/s (motion blur, streaks)
 };
 
 /// What spray has done since the terrain was made (totals) and holds now.

@@ -25,6 +25,8 @@
 #include <vector>
 
 #include "shore/core/envelope.h"
+#include "shore/core/grid_rect.h"
+#include "shore/core/vec3.h"
 #include "shore/terrain/contact.h"
 #include "shore/terrain/height_source.h"
 #include "shore/terrain/material.h"
@@ -85,7 +87,7 @@ struct Imprint {
   /// point within +-1 column, so no heightfield triangle cuts into the body. Sinkage
   /// (soil state) is still taken from the true envelope.
   bool star = false;
-  double vx = 0.0, vy = 0.0, vz = 0.0;  ///< m/s, the body's velocity (at its centre of mass), finite
+  Vec3 velocity{};  ///< m/s, the body's velocity (at its centre of mass), finite
   /// A body at rest: its envelope holds the soil it touches (erosion treats the columns as
   /// under a body, and never fills them above it) but presses nothing, and makes no active
   /// region of its own; it only matters where other bodies or unsettled slopes work. It
@@ -93,11 +95,11 @@ struct Imprint {
   bool hold = false;
 
   // ---- for spray (shore/terrain/spray.h): a point p of the body moves at v + w x (p - c) ----
-  double wx = 0.0, wy = 0.0, wz = 0.0;  ///< rad/s, the body's angular velocity, finite
-  double cx = 0.0, cy = 0.0, cz = 0.0;  ///< m, the point it turns about (its centre of mass), finite
-  /// Its orientation, body to world, as a unit quaternion (w, x, y, z) (|q| within 1e-3 of
-  /// 1): soil clings to pieces of the body's surface, found again in the body's frame.
-  double qw = 1.0, qx = 0.0, qy = 0.0, qz = 0.0;
+  Vec3 angular_velocity{};  ///< rad/s, finite
+  Vec3 centre{};            ///< m, the point it turns about (its centre of mass), finite
+  /// Body to world (|q| within 1e-3 of 1): soil clings to pieces of the body's surface,
+  /// found again in the body's frame.
+  Quat orientation{};
   /// Names the body from step to step (the soil clinging to it is kept under this key), and
   /// keys its random numbers: give each body the same key every step, whatever the order of
   /// the imprints. Unique among a step's spraying imprints (spray on, not holding).
@@ -153,12 +155,6 @@ struct VolumeTotals {
   [[nodiscard]] double total() const { return ground + compacted + airborne + lost; }
 };
 
-/// A rectangle of columns [i0, i0 + nx) x [j0, j0 + ny).
-struct ColumnRect {
-  std::int64_t i0 = 0, j0 = 0;
-  int nx = 0, ny = 0;
-};
-
 class Terrain {
  public:
   explicit Terrain(TerrainSettings settings);
@@ -187,9 +183,9 @@ class Terrain {
   [[nodiscard]] double sinkage(std::int64_t i, std::int64_t j) const;
   /// Heights of a rectangle of columns, row-major (out.size() == nx * ny): the bulk form of
   /// height(), one tile lookup per run of columns. Throws InvalidSetting on a size mismatch.
-  void heights(const ColumnRect& rect, std::span<double> out) const;
+  void heights(const GridRect& rect, std::span<double> out) const;
   /// Untouched ground heights of a rectangle, like heights() (bedrock = base - soil depth).
-  void base_heights(const ColumnRect& rect, std::span<double> out) const;
+  void base_heights(const GridRect& rect, std::span<double> out) const;
   [[nodiscard]] double base_height(std::int64_t i, std::int64_t j) const;  ///< untouched ground, m
   [[nodiscard]] double bedrock(std::int64_t i, std::int64_t j) const;      ///< base height - soil depth, m
   /// Writes a height directly (editing tools, tests); keeps volume accounting in step: the
@@ -234,13 +230,13 @@ class Terrain {
   /// rest: passes repeat while material moves (theta_stop is ignored), at most
   /// max_erosion_passes; call again while erosion_passes == max_erosion_passes. No column
   /// is in contact; the one-column ring around the region receives but does not give.
-  StepReport relax(const ColumnRect& region);
+  StepReport relax(const GridRect& region);
 
   // ---- output ----
   /// Rectangles of columns whose height changed since the last call (for push-back): at
   /// most one per tile, the bounding box of that tile's changed columns, in tile key order.
   /// After load() every loaded tile is reported whole.
-  std::vector<ColumnRect> take_changed();
+  std::vector<GridRect> take_changed();
   /// The change generation: it advances with every call that may change heights (step,
   /// relax, set_height), and every height change is stamped with it. An observer (a mesh,
   /// a network delta) remembers generation() when it reads the heights and later asks
@@ -251,7 +247,7 @@ class Terrain {
   /// per tile, in tile key order: the bounding box of that tile's changes after g, or the
   /// whole tile when g is older than the recent history kept (a few changes per tile).
   /// changed_since(0): every column ever changed. Reads only.
-  [[nodiscard]] std::vector<ColumnRect> changed_since(std::uint64_t g) const;
+  [[nodiscard]] std::vector<GridRect> changed_since(std::uint64_t g) const;
   [[nodiscard]] VolumeTotals volume() const;
   /// The spray particles in flight, in their fixed order (positions, radii, volumes).
   [[nodiscard]] std::vector<SprayParticle> spray_particles() const;
@@ -295,7 +291,7 @@ class Terrain {
 
  private:
   friend class SoilDelta;  // reads and writes columns in bulk (shore/terrain/soil_delta.h)
-  void read_rect(const ColumnRect& rect, std::span<double> out, bool base) const;
+  void read_rect(const GridRect& rect, std::span<double> out, bool base) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

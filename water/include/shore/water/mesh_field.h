@@ -26,11 +26,11 @@ class SurfaceField final : public mesh::Field {
   [[nodiscard]] std::int64_t ni() const override { return surface_->nx(); }
   [[nodiscard]] std::int64_t nj() const override { return surface_->ny(); }
   [[nodiscard]] bool height_field() const override { return surface_->mode() == SurfaceMode::vertical_only; }
-  void positions(const mesh::NodeRect& r, std::span<double> out) const override;
+  void positions(const GridRect& r, std::span<double> out) const override;
   [[nodiscard]] std::optional<mesh::BasePlane> base() const override { return rest_; }
   /// Blocks of nodes (their changed nodes' bounding box) whose displacement differs from
   /// what the previous call saw (the first call: from rest).
-  void take_changes(std::vector<mesh::NodeRect>& out) override;
+  void take_changes(std::vector<GridRect>& out) override;
 
  private:
   /// Node (i, j)'s rest position, as the surface places it.
