@@ -70,7 +70,7 @@ class CoupledWorld {
   [[nodiscard]] std::vector<unsigned char> checkpoint() const {
     CheckpointWriter w(bullet::scalar_bytes());
     w.add("TERRAIN", soil_.save_bytes());
-    w.add("SOILCP", ground_.save_state());
+    w.add("TERRCP", ground_.save_state());
     w.add("WATER", surface_.save_state());
     w.add("WATERCP", water_.save_state());
     w.add("BODIES", bullet::save_bodies(world_));
@@ -81,7 +81,7 @@ class CoupledWorld {
     soil_ = terrain::Terrain::load_bytes(r.section("TERRAIN"), r.describe("TERRAIN"));
     surface_.restore_state(r.section("WATER"), r.describe("WATER"));
     bullet::restore_bodies(world_, r.section("BODIES"), r.describe("BODIES"));
-    ground_.restore_state(r.section("SOILCP"), r.describe("SOILCP"));
+    ground_.restore_state(r.section("TERRCP"), r.describe("TERRCP"));
     water_.restore_state(r.section("WATERCP"), r.describe("WATERCP"));
   }
 

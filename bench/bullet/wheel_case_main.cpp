@@ -2,7 +2,7 @@
 // preset, D 0.8 m, b 0.3 m, 4 kN, 1 cm, 1/240 s, one thread), run once and printed, for
 // before/after comparisons and callgrind. The tow phase's cost is a towed run minus a held run
 // (the same ramp and settling), over the tow's substeps:
-//   shore_wheel_case towed|held [erosion_passes] [solver_iterations] [spray 0|1] [active_margin] [soil_interval]
+//   shore_wheel_case towed|held [erosion_passes] [solver_iterations] [spray 0|1] [active_margin] [step_interval]
 //   valgrind --tool=callgrind shore_wheel_case towed   (and held; subtract, divide by 480)
 #include <cstdio>
 #include <cstdlib>
@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
   if (argc > 3) c.run.contact.iterations = std::atoi(argv[3]);
   if (argc > 4) c.run.spray.enabled = std::atoi(argv[4]) != 0;
   if (argc > 5) c.run.active_margin = std::atoi(argv[5]);
-  if (argc > 6) c.run.soil_interval = std::atof(argv[6]);
+  if (argc > 6) c.run.step_interval = std::atof(argv[6]);
   const scenes::WheelResult r = scenes::run_wheel(c);
   std::printf(
       "%s: %lld substeps, whole %.4f s, plugin %.4f s (envelope %.4f, soil %.4f, push %.4f); sinkage %.5f m "

@@ -18,6 +18,7 @@
 #include "shore/bullet/config.h"
 #include "shore/core/byte_io.h"
 #include "shore/core/envelope.h"
+#include "shore/core/vec3.h"
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
@@ -54,22 +55,32 @@ inline void put_window(ByteWriter& w, const EnvelopeRaster& e) {
 }
 /// Reads put_window's form; FileError for a negative size or NaN values (the arrays' sizes
 /// are for the caller to check against nx * ny).
-/// Reads put_array's form of an older T whose fields were a prefix of T's (`Prefix` bytes
-/// each); the fields after it keep T's defaults.
-template <class T, std::size_t Prefix>
-void get_prefix_array(ByteReader& r, std::vector<T>& v, const char* what) {
-  static_assert(Prefix <= sizeof(T));
-  struct Raw {
-    unsigned char bytes[Prefix];
-  };
+inline void get_window(ByteReader& r, EnvelopeRaster& e);
+
+inline void put_vec3(ByteWriter& w, const Vec3& v) { w.put(v.x), w.put(v.y), w.put(v.z); }
+inline Vec3 get_vec3(ByteReader& r, const char* what) {
+  Vec3 v;
+  v.x = r.get<double>(what), v.y = r.get<double>(what), v.z = r.get<double>(what);
+  return v;
+}
+
+/// An array written field by field: a u64 count, then put_one(w, value) for each value.
+template <class T, class PutOne>
+void put_fields(ByteWriter& w, const std::vector<T>& values, PutOne&& put_one) {
+  w.put(static_cast<std::uint64_t>(values.size()));
+  for (const T& v : values) put_one(w, v);
+}
+/// Reads put_fields' form, get_one(r) returning each value; `bytes_each` is the fewest bytes
+/// one value takes, so a count the bytes left cannot hold is refused before anything is
+/// allocated.
+template <class T, class GetOne>
+void get_fields(ByteReader& r, std::vector<T>& values, std::size_t bytes_each, const char* what, GetOne&& get_one) {
   const auto count = r.get<std::uint64_t>(what);
-  if (count > r.remaining() / Prefix)
+  if (count > r.remaining() / bytes_each)
     r.fail(std::string(what) + " claims " + std::to_string(count) + " values, more than the bytes left");
-  v.assign(static_cast<std::size_t>(count), T{});
-  for (T& x : v) {
-    const Raw raw = r.get<Raw>(what);
-    std::memcpy(static_cast<void*>(&x), raw.bytes, Prefix);
-  }
+  values.clear();
+  values.reserve(static_cast<std::size_t>(count));
+  for (std::uint64_t k = 0; k < count; ++k) values.push_back(get_one(r));
 }
 
 /// A state's header: 8 magic bytes, u32 version, u32 sizeof(btScalar).
@@ -100,7 +111,7 @@ inline void check_header(ByteReader& r, const char (&magic)[8], std::uint32_t ve
 }
 
 /// The body's collision shape type (-1: none): saved states check they meet the same body.
-inline int shape_type(const btRigidBody& b) {
+inline int shape_type(const btCollisionObject& b) {
   return b.getCollisionShape() ? b.getCollisionShape()->getShapeType() : -1;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// The couplings of one kind that each Bullet world holds, so that add_body can find a body
-// already added to another coupling of the same world (issue 21: a body in two couplings
+// Internal: the couplings of one kind that each Bullet world holds, so that add_body can
+// find a body already added to another coupling of the same world (a body in two couplings
 // whose areas overlap would be pushed by both). Bullet lists a world's actions only to
 // itself (btDiscreteDynamicsWorld::m_actions is protected), telling a coupling apart from
 // a game's own actions would need RTTI that games often compile out, and a collision
@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include <BulletDynamics/Dynamics/btRigidBody.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObject.h>
 
 #include "shore/bullet/config.h"
 #include "shore/bullet/terrain_tiles.h"
@@ -69,7 +69,7 @@ class WorldDirectory {
 
 /// How a refusal names a body: its address and its shape's kind (the collision object's
 /// user fields are the game's, never read).
-inline std::string body_text(const btRigidBody& body) {
+inline std::string body_text(const btCollisionObject& body) {
   std::ostringstream s;
   s << "body " << static_cast<const void*>(&body);
   if (body.getCollisionShape() != nullptr) s << " (" << body.getCollisionShape()->getName() << " shape)";

@@ -1,6 +1,6 @@
-// TerrainCoupling::debugDraw: contact columns, soil reaction and tile outlines, drawn from
-// what the coupling exposes (its bodies, soil, tiles, settings) so that the coupling's own
-// substep code stays free of drawing.
+// TerrainCoupling::debugDraw: contact columns, the terrain's reaction and tile outlines,
+// drawn from what the coupling keeps (its bodies and their last forces, terrain, tiles) so
+// that the coupling's own substep code stays free of drawing.
 #include <algorithm>
 #include <optional>
 
@@ -10,6 +10,7 @@
 #include "shore/bullet/debug_draw.h"
 #include "shore/bullet/envelope.h"
 #include "shore/bullet/terrain_coupling.h"
+#include "terrain_coupling_parts.h"
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
@@ -17,32 +18,20 @@ namespace {
 
 constexpr double kLift = 0.003;  // m above the ground, so lines are not hidden in it
 
-/// The net force the soil pushed the body with in the last substep, where the coupling
-/// reports one (a per-body accessor `soil_force(body)` returning a vector, or a value with
-/// a `force` vector); empty while it reports none.
-template <class Coupling>
-std::optional<btVector3> reported_soil_force(const Coupling& coupling, const btRigidBody* body) {
-  if constexpr (requires { btVector3(coupling.soil_force(body)); })
-    return btVector3(coupling.soil_force(body));
-  else if constexpr (requires { btVector3(coupling.soil_force(body).force); })
-    return btVector3(coupling.soil_force(body).force);
-  else
-    return std::nullopt;
+EnvelopeGrid terrain_grid(const terrain::Terrain& terrain) {
+  return {terrain.settings().origin_x, terrain.settings().origin_y, terrain.settings().cell};
 }
 
-EnvelopeGrid soil_grid(const terrain::Terrain& soil) {
-  return {soil.settings().origin_x, soil.settings().origin_y, soil.settings().cell};
-}
-
-/// The soil's contact under the body's lower envelope at its present pose (the columns
-/// the soil pushes from, as the coupling's solve sees them: within the unloading columns'
+/// The terrain's contact under the body's lower envelope at its present pose (the columns
+/// the terrain pushes from, as the coupling's solve sees them: within the unloading columns'
 /// elastic reach too), clipped to the coupling's region; empty if the body cannot be drawn.
-terrain::ContactPatch contact_of(const terrain::Terrain& soil, const Region& region, const btRigidBody& body) {
-  const btCollisionShape& shape = *body.getCollisionShape();
-  const EnvelopeGrid grid = soil_grid(soil);
-  if (!pose_rasterizable(body.getWorldTransform(), shape_reach(shape), grid)) return {};
+terrain::ContactPatch contact_of(const terrain::Terrain& soil, const Region& region,
+                                 const coupling_detail::CoupledBody& body) {
+  const btCollisionShape& shape = *body.shape();
+  const EnvelopeGrid grid = terrain_grid(soil);
+  if (!pose_rasterizable(body.pose(), shape_reach(shape), grid)) return {};
   EnvelopeRaster env;
-  rasterize_envelope(shape, body.getWorldTransform(), grid, EnvelopeOptions{}, env);
+  rasterize_envelope(shape, body.pose(), grid, EnvelopeOptions{}, env);
   if (!region.everywhere())
     for (int b = 0; b < env.ny; ++b)
       for (int a = 0; a < env.nx; ++a)
@@ -58,12 +47,13 @@ btVector3 column_top(const terrain::Terrain& soil, std::int64_t i, std::int64_t 
 }
 
 void draw_body_contact(btIDebugDraw& d, const TerrainCoupling& coupling, const terrain::Terrain& soil,
-                       const btRigidBody& body, int mode) {
+                       const coupling_detail::CoupledBody& body, const TerrainForce& pushed, int mode) {
   const terrain::ContactPatch patch = contact_of(soil, coupling.settings().region, body);
   if (patch.elements.empty()) return;
   const double half = 0.35 * soil.settings().cell;
-  const double mass = body.getInvMass() > 0 ? 1.0 / body.getInvMass() : 0.0;
-  const double g = -body.getGravity().z() > 0 ? -body.getGravity().z() : 9.81;
+  const double mass = body.inverse_mass() > 0 ? 1.0 / body.inverse_mass() : 0.0;
+  const double gz = coupling.world().getGravity().z();
+  const double g = -gz > 0 ? -gz : 9.81;
   btVector3 centre(0, 0, 0);
   double weight = 0.0;
   for (const terrain::ContactElement& e : patch.elements) {
@@ -79,8 +69,8 @@ void draw_body_contact(btIDebugDraw& d, const TerrainCoupling& coupling, const t
     weight += w;
   }
   if (!(mode & debug_draw::kForceBits) || weight <= 0.0) return;
-  if (const std::optional<btVector3> f = reported_soil_force(coupling, &body))
-    debug_draw::arrow(d, centre / btScalar(weight), debug_draw::force_arrow(*f, mass, g), debug_draw::kForceColour);
+  debug_draw::arrow(d, centre / btScalar(weight), debug_draw::force_arrow(pushed.force, mass, g),
+                    debug_draw::kForceColour);
 }
 
 /// The outline of one Bullet tile, following the ground along its four edges.
@@ -104,14 +94,13 @@ void draw_tile_outline(btIDebugDraw& d, const terrain::Terrain& soil, const btCo
 
 }  // namespace
 
-std::vector<btRigidBody*> TerrainCoupling::bodies() const { return coupling_detail::body_pointers(bodies_); }
-
 void TerrainCoupling::debugDraw(btIDebugDraw* drawer) {
   if (drawer == nullptr) return;
   const int mode = drawer->getDebugMode();
-  const terrain::Terrain& ground = soil();
+  const terrain::Terrain& ground = terrain();
   if ((mode & (debug_draw::kContactBits | debug_draw::kForceBits)) && !ground.settings().material.rigid)
-    for (const btRigidBody* body : bodies()) draw_body_contact(*drawer, *this, ground, *body, mode);
+    for (const Parts::Entry& e : parts_->bodies)
+      draw_body_contact(*drawer, *this, ground, *e.body, e.record.contact.last, mode);
   if (mode & debug_draw::kOutlineBits) {
     const btCollisionObjectArray& objects = world().getCollisionObjectArray();
     for (int k = 0; k < objects.size(); ++k)

@@ -112,23 +112,12 @@ int TerrainTiles::ensure_cover(double x0, double y0, double x1, double y1) {
   return created;
 }
 
-void TerrainTiles::Tile::mark_lagging(int a0, int b0, int a1, int b1) {
-  if (!lagging) {
-    lagging = true;
-    lag_a0 = a0, lag_b0 = b0, lag_a1 = a1, lag_b1 = b1;
-    return;
-  }
-  lag_a0 = std::min(lag_a0, a0), lag_b0 = std::min(lag_b0, b0);
-  lag_a1 = std::max(lag_a1, a1), lag_b1 = std::max(lag_b1, b1);
-}
-
-std::int64_t TerrainTiles::copy_rect(Tile& tile, std::int64_t ci0, std::int64_t cj0, std::int64_t ci1,
-                                     std::int64_t cj1) {
+std::int64_t TerrainTiles::copy_rect(Tile& tile, const GridRect& columns) {
   const int T = soil_.settings().tile_columns;
-  const std::int64_t a0 = std::max<std::int64_t>(ci0 - tile.i0, 0), a1 = std::min<std::int64_t>(ci1 - tile.i0, T);
-  const std::int64_t b0 = std::max<std::int64_t>(cj0 - tile.j0, 0), b1 = std::min<std::int64_t>(cj1 - tile.j0, T);
-  if (a0 > a1 || b0 > b1) return 0;
-  const GridRect rect{tile.i0 + a0, tile.j0 + b0, int(a1 - a0 + 1), int(b1 - b0 + 1)};
+  // The tile's vertices: its columns [i0, i0 + T] x [j0, j0 + T] (edges shared with neighbours).
+  const GridRect rect = intersection(columns, {tile.i0, tile.j0, T + 1, T + 1});
+  if (rect.empty()) return 0;
+  const std::int64_t a0 = rect.i0 - tile.i0, b0 = rect.j0 - tile.j0;
   const auto width = static_cast<std::size_t>(rect.nx);
   scratch_.resize(width * static_cast<std::size_t>(rect.ny));
   soil_.heights(rect, scratch_);
@@ -138,7 +127,8 @@ std::int64_t TerrainTiles::copy_rect(Tile& tile, std::int64_t ci0, std::int64_t 
         tile.field->set_row(int(a0), int(b0) + b, std::span<const double>(scratch_).subspan(b * width, width),
                             settings_.max_rise_per_substep);
     clamped_ += w.clamped;
-    if (w.first_held >= 0) tile.mark_lagging(int(a0) + w.first_held, int(b0) + b, int(a0) + w.last_held, int(b0) + b);
+    if (w.first_held >= 0)
+      tile.lag = bounding(tile.lag, GridRect::spanning(a0 + w.first_held, b0 + b, a0 + w.last_held, b0 + b));
   }
   return static_cast<std::int64_t>(scratch_.size());
 }
@@ -146,21 +136,18 @@ std::int64_t TerrainTiles::copy_rect(Tile& tile, std::int64_t ci0, std::int64_t 
 std::int64_t TerrainTiles::push(std::span<const GridRect> changed) {
   if (observer_ && !changed.empty()) observer_(changed);
   const int T = soil_.settings().tile_columns;
-  const double cell = soil_.settings().cell;
   std::int64_t written = 0;
   // Vertices still catching up with a capped rise.
   for (auto& [k, tile] : tiles_)
-    if (tile.lagging) {
-      tile.lagging = false;
-      const std::int64_t i0 = tile.i0 + tile.lag_a0, j0 = tile.j0 + tile.lag_b0;
-      const std::int64_t i1 = tile.i0 + tile.lag_a1, j1 = tile.j0 + tile.lag_b1;
-      written += copy_rect(tile, i0, j0, i1, j1);
-      drop_stale_contacts(soil_.column_x(i0) - cell, soil_.column_y(j0) - cell, soil_.column_x(i1) + cell,
-                          soil_.column_y(j1) + cell);
+    if (!tile.lag.empty()) {
+      const GridRect lagging = tile.lag.shifted(tile.i0, tile.j0);
+      tile.lag = {};
+      written += copy_rect(tile, lagging);
+      drop_stale_contacts(lagging);
     }
   for (const GridRect& r : changed) {
-    if (r.nx <= 0 || r.ny <= 0) continue;
-    const std::int64_t ci1 = r.i0 + r.nx - 1, cj1 = r.j0 + r.ny - 1;
+    if (r.empty()) continue;
+    const std::int64_t ci1 = r.i1() - 1, cj1 = r.j1() - 1;
     // Every tile holding a vertex of the rectangle (shared edges belong to two tiles).
     for (std::int64_t ty = floor_div(r.j0 - 1, T); ty <= floor_div(cj1, T); ++ty)
       for (std::int64_t tx = floor_div(r.i0 - 1, T); tx <= floor_div(ci1, T); ++tx) {
@@ -168,15 +155,18 @@ std::int64_t TerrainTiles::push(std::span<const GridRect> changed) {
         if (it == tiles_.end()) continue;
         Tile& tile = it->second;
         if (r.i0 > tile.i0 + T || ci1 < tile.i0 || r.j0 > tile.j0 + T || cj1 < tile.j0) continue;
-        written += copy_rect(tile, r.i0, r.j0, ci1, cj1);
+        written += copy_rect(tile, r);
       }
-    drop_stale_contacts(soil_.column_x(r.i0) - cell, soil_.column_y(r.j0) - cell, soil_.column_x(ci1) + cell,
-                        soil_.column_y(cj1) + cell);
+    drop_stale_contacts(r);
   }
   return written;
 }
 
-void TerrainTiles::drop_stale_contacts(double x0, double y0, double x1, double y1) {
+void TerrainTiles::drop_stale_contacts(const GridRect& columns) {
+  // Contact points over the columns and a cell around them.
+  const double cell = soil_.settings().cell;
+  const double x0 = soil_.column_x(columns.i0) - cell, y0 = soil_.column_y(columns.j0) - cell;
+  const double x1 = soil_.column_x(columns.i1() - 1) + cell, y1 = soil_.column_y(columns.j1() - 1) + cell;
   btDispatcher* dispatcher = world_.getDispatcher();
   const int n = dispatcher->getNumManifolds();
   for (int m = 0; m < n; ++m) {

@@ -1,10 +1,9 @@
 // WaterCoupling::debugDraw: centres of buoyancy, buoyancy forces and the grid's outline,
 // drawn from what the coupling exposes (its bodies, the forces of the last substep, surface).
-#include <BulletDynamics/Dynamics/btRigidBody.h>
-
 #include "shore/bullet/buoyancy.h"
 #include "shore/bullet/debug_draw.h"
 #include "shore/bullet/water_coupling.h"
+#include "water_coupling_parts.h"
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
@@ -26,11 +25,11 @@ void WaterCoupling::debugDraw(btIDebugDraw* drawer) {
   if (drawer == nullptr) return;
   const int mode = drawer->getDebugMode();
   if (mode & (debug_draw::kContactBits | debug_draw::kForceBits)) {
-    for (const btRigidBody* body : bodies()) {
-      // The buoyancy the last substep applied (water_force), not a fresh estimate.
-      const BodyWater b = water_force(body);
+    for (const Parts::Entry& e : parts_->bodies) {
+      // The buoyancy the last substep applied, not a fresh estimate.
+      const BodyWater& b = e.record.last;
       if (!(b.submerged_volume > 0.0)) continue;
-      const double mass = body->getInvMass() > 0 ? 1.0 / body->getInvMass() : 0.0;
+      const double mass = e.body->inverse_mass() > 0 ? 1.0 / e.body->inverse_mass() : 0.0;
       if (mode & debug_draw::kContactBits)
         debug_draw::cross(*drawer, b.centre_of_buoyancy, 0.5 * surface().spacing(), debug_draw::kBuoyancyColour);
       if (mode & debug_draw::kForceBits)

@@ -34,7 +34,7 @@ CheckpointWriter save_checkpoint(Scene& scene) {
   CheckpointWriter w(bullet::scalar_bytes());
   for (std::size_t k = 0; k < c.soils.size(); ++k) {
     w.add(tag("TERRAIN", k), c.soils[k].soil->save_bytes());
-    if (c.soils[k].coupling) w.add(tag("SOILCP", k), c.soils[k].coupling->save_state());
+    if (c.soils[k].coupling) w.add(tag("TERRCP", k), c.soils[k].coupling->save_state());
   }
   for (std::size_t k = 0; k < c.waters.size(); ++k) {
     w.add(tag("WATER", k), c.waters[k].surface->save_state());
@@ -62,7 +62,7 @@ void restore_checkpoint(Scene& scene, const CheckpointReader& r) {
   bullet::restore_bodies(c.world->world(), c.world->bodies(), r.section("BODIES"), r.describe("BODIES"));
   for (std::size_t k = 0; k < c.soils.size(); ++k)
     if (c.soils[k].coupling) {
-      const std::string t = tag("SOILCP", k);
+      const std::string t = tag("TERRCP", k);
       c.soils[k].coupling->restore_state(r.section(t), r.describe(t));
     }
   for (std::size_t k = 0; k < c.waters.size(); ++k)

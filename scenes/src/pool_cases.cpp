@@ -243,7 +243,7 @@ TowResult run_tow(const TowRun& run) {
   btRigidBody* b = add_floater(pool->world, f);
   b->setMassProps(0, btVector3(0, 0, 0));
   b->setCollisionFlags(b->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
-  pool->coupling->add_body(b, run.disturb);
+  pool->coupling->add_body(b, {.disturb = run.disturb});
   const double h = run.pool.substep;
   const auto steps = static_cast<std::int64_t>(std::lround(run.seconds / h));
   const std::int64_t window = std::min<std::int64_t>(steps, std::lround(1.0 / h));

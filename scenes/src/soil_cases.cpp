@@ -36,7 +36,7 @@ terrain::TerrainSettings soil_settings(const SoilRun& run) {
 bullet::TerrainCouplingSettings coupling_settings(const SoilRun& run) {
   bullet::TerrainCouplingSettings s;
   s.contact = run.contact;
-  s.soil_interval = run.soil_interval;
+  s.step_interval = run.step_interval;
   return s;
 }
 
@@ -55,7 +55,7 @@ struct SoilRig {
   btRigidBody* add(std::unique_ptr<btCollisionShape> shape, double mass, const btVector3& at) {
     btRigidBody* body = world.add_body(std::move(shape), mass, at);
     body->setActivationState(DISABLE_DEACTIVATION);
-    bullet::BodySoilSettings b;
+    bullet::TerrainBodySettings b;
     b.spray = body_spray;
     ground.add_body(body, b);
     return body;
@@ -236,7 +236,7 @@ DrivenWheelResult run_driven_wheel(const DrivenWheelCase& c) {
     wheel->setAngularVelocity(btVector3(0, btScalar(omega), 0));
     rig.advance(out.stats);
     if (k < drive_steps / 2) continue;
-    const bullet::SoilForce f = rig.ground.soil_force(wheel);
+    const bullet::TerrainForce f = rig.ground.terrain_force(wheel);
     depth += -(wheel->getCenterOfMassPosition().z() - R);
     pull += f.force.x();
     resistance -= f.normal_force.x();
@@ -465,7 +465,7 @@ SidePushResult run_side_push(const SidePushCase& c) {
     wheel->setLinearVelocity(btVector3(0, btScalar(c.push_speed), wheel->getLinearVelocity().z()));
     rig.advance(out.stats);
     if (k < push_steps / 2) continue;
-    lateral -= rig.ground.soil_force(wheel).force.y();
+    lateral -= rig.ground.terrain_force(wheel).force.y();
     ++samples;
   }
   out.lateral_force = lateral / double(std::max<std::int64_t>(samples, 1));

@@ -241,7 +241,7 @@ double Cling::step(ClingingBody& body, const Imprint& im, SprayGround& ground, c
   const double band = 0.5 * rules.cell + rules.tolerance;
   const double area = rules.cell * rules.cell;
   const SpeedTest speed(rules.min_speed);
-  const std::uint64_t body_key = CounterRandom::body_key(rules.seed, static_cast<std::uint64_t>(rules.step), body.body);
+  const std::uint64_t body_key = CounterRandom::body_key(rules.seed, static_cast<std::uint64_t>(rules.step), body.key);
   double picked = 0.0;
   for (ClingCell& c : body.cells) {
     if (c.touched == rules.step) continue;

@@ -52,7 +52,7 @@ void write_spray_state(Writer& w, const SprayState& st) {
       w.put(v);
   w.put(static_cast<std::uint64_t>(st.bodies.size()));
   for (const ClingingBody& b : st.bodies) {
-    w.put(b.body);
+    w.put(b.key);
     for (double v : {b.centre.x, b.centre.y, b.centre.z}) w.put(v);
     for (double v : {b.orientation.w, b.orientation.x, b.orientation.y, b.orientation.z}) w.put(v);
     w.put(static_cast<std::uint64_t>(b.cells.size()));
@@ -70,8 +70,8 @@ void read_bodies(Reader& r, SprayState& st) {
   if (bodies > r.remaining() / 64) r.fail("spray body count " + std::to_string(bodies) + " (corrupt)");
   for (std::uint64_t k = 0; k < bodies; ++k) {
     ClingingBody b;
-    b.body = r.get<std::uint64_t>("spray bodies");
-    if (!st.bodies.empty() && !(st.bodies.back().body < b.body)) r.fail("spray bodies out of order (corrupt)");
+    b.key = r.get<std::uint64_t>("spray bodies");
+    if (!st.bodies.empty() && !(st.bodies.back().key < b.key)) r.fail("spray bodies out of order (corrupt)");
     for (double* v : {&b.centre.x, &b.centre.y, &b.centre.z, &b.orientation.w, &b.orientation.x, &b.orientation.y,
                       &b.orientation.z})
       need_finite(r, *v = r.get<double>("spray bodies"), "a spray body");

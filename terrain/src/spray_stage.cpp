@@ -123,17 +123,17 @@ void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, const Fligh
   for (std::size_t k = 0; k < imprints.size(); ++k)
     if (sprays(imprints[k])) order_.push_back(k);
   std::sort(order_.begin(), order_.end(),
-            [&](std::size_t a, std::size_t b) { return imprints[a].body < imprints[b].body; });
+            [&](std::size_t a, std::size_t b) { return imprints[a].key < imprints[b].key; });
   next_bodies_.clear();
   std::vector<ClingingBody>& old = state.bodies;
   std::size_t b = 0;
   const std::int64_t set_down_before = cling_.set_down_count;
   for (const std::size_t k : order_) {
     const Imprint& im = imprints[k];
-    for (; b < old.size() && old[b].body < im.body; ++b) set_gone_down(ground, old[b]);
+    for (; b < old.size() && old[b].key < im.key; ++b) set_gone_down(ground, old[b]);
     ClingingBody body;
-    body.body = im.body;
-    if (b < old.size() && old[b].body == im.body) body = std::move(old[b++]);
+    body.key = im.key;
+    if (b < old.size() && old[b].key == im.key) body = std::move(old[b++]);
     const double picked = cling_.step(body, im, ground, r, candidates_, drops_);
     report.picked_volume += picked;
     state.counts.picked_volume += picked;

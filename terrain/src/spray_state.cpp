@@ -34,7 +34,7 @@ void SprayState::hash_into(StateHash& h) const {
       h.add(v);
   h.add(static_cast<std::uint64_t>(bodies.size()));
   for (const ClingingBody& b : bodies) {
-    h.add(b.body);
+    h.add(b.key);
     for (double v : {b.centre.x, b.centre.y, b.centre.z}) h.add(v);
     for (double v : {b.orientation.w, b.orientation.x, b.orientation.y, b.orientation.z}) h.add(v);
     h.add(static_cast<std::uint64_t>(b.cells.size()));

@@ -39,7 +39,7 @@ struct ClingCell {
 
 /// The soil clinging to one body, and where the body was last seen.
 struct ClingingBody {
-  std::uint64_t body = 0;        ///< Imprint::body
+  std::uint64_t key = 0;         ///< Imprint::key
   std::vector<ClingCell> cells;  ///< sorted by key
   Vec3 centre;                   ///< m, its centre at the last step
   Quat orientation;              ///< then

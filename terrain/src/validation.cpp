@@ -102,11 +102,11 @@ void check_one(const Imprint& im, const std::string& name) {
 void check_body_keys(std::span<const Imprint> imprints) {
   std::vector<std::pair<std::uint64_t, std::size_t>> keys;
   for (std::size_t b = 0; b < imprints.size(); ++b)
-    if (imprints[b].spray && !imprints[b].hold) keys.emplace_back(imprints[b].body, b);
+    if (imprints[b].spray && !imprints[b].hold) keys.emplace_back(imprints[b].key, b);
   std::sort(keys.begin(), keys.end());
   for (std::size_t k = 1; k < keys.size(); ++k)
     if (keys[k].first == keys[k - 1].first)
-      throw InvalidSetting("terrain.Imprint[" + std::to_string(std::max(keys[k].second, keys[k - 1].second)) + "].body",
+      throw InvalidSetting("terrain.Imprint[" + std::to_string(std::max(keys[k].second, keys[k - 1].second)) + "].key",
                            detail::to_text(keys[k].first),
                            "must differ from the key of every other spraying imprint of the step (Imprint[" +
                                std::to_string(std::min(keys[k].second, keys[k - 1].second)) +

@@ -49,7 +49,7 @@ double clearance_above_bedrock(const btRigidBody& b, const terrain::Terrain& soi
 }
 
 bool soil_bit_cleared(const btRigidBody& b, const bullet::TerrainCoupling& ground) {
-  return (b.getBroadphaseHandle()->m_collisionFilterMask & ground.settings().soil_filter_bit) == 0;
+  return (b.getBroadphaseHandle()->m_collisionFilterMask & ground.settings().terrain_filter_bit) == 0;
 }
 
 /// A 40 kg box that never sleeps, added at height z and left half a second to press the soil.
@@ -110,9 +110,9 @@ TEST(CouplingMisuse, RemovingABodyInContactHandsItToBulletsTileContact) {
   World world;
   bullet::TerrainCoupling ground(world.world(), soil);
   btRigidBody* box = add_pressing_box(world, ground, 0.11);
-  ASSERT_GT(ground.soil_force(box).contact_columns, 0) << "in contact when removed";
+  ASSERT_GT(ground.terrain_force(box).contact_columns, 0) << "in contact when removed";
   ground.remove_body(box);
-  EXPECT_EQ(ground.soil_force(box).contact_columns, 0);
+  EXPECT_EQ(ground.terrain_force(box).contact_columns, 0);
   steps(world, 240);
   EXPECT_TRUE(finite(box->getCenterOfMassPosition()));
   EXPECT_GT(clearance_above_bedrock(*box, soil), 0.0);

@@ -89,7 +89,7 @@ TEST(DebugDraw, ReactionAndTileOutlinesFollowTheirBits) {
       EXPECT_GT(l.to.z(), l.from.z()) << "the soil pushes up";
     }
   }
-  // The soil's net push on the ball (TerrainCoupling::soil_force): its arrow's longest line
+  // The soil's net push on the ball (TerrainCoupling::terrain_force): its arrow's longest line
   // (the shaft) points up.
   double longest = 0.0, rise = 0.0;
   for (const Recorder::Line& l : forces.lines)

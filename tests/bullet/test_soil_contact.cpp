@@ -252,13 +252,13 @@ TEST(SoilContact, TheSoilsForceOnARestingBoxIsItsWeight) {
       world.add_body(std::make_unique<btBoxShape>(btVector3(0.2f, 0.15f, 0.1f)), mass, btVector3(0.013f, 0, 0.1f));
   ground.add_body(box);
   for (int k = 0; k < 480; ++k) world.step(1.0 / 240);
-  const bullet::SoilForce f = ground.soil_force(box);
+  const bullet::TerrainForce f = ground.terrain_force(box);
   EXPECT_NEAR(f.force.z(), mass * kGravity, 0.01 * mass * kGravity);
   EXPECT_NEAR(f.force.x(), 0.0, 1.0);
   EXPECT_NEAR(f.force.y(), 0.0, 1.0);
   EXPECT_LT(f.torque.length(), 1.0);
   EXPECT_GT(f.contact_columns, 0);
-  EXPECT_EQ(ground.soil_force(nullptr).contact_columns, 0);
+  EXPECT_EQ(ground.terrain_force(nullptr).contact_columns, 0);
 }
 
 TEST(SoilContact, AZeroSizeShapeIsRefusedAtAddBody) {

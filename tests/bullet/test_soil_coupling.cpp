@@ -83,7 +83,7 @@ TEST(SoilCoupling, TowedWheelBearsOnTheFrontHalfAndLeavesARut) {
   EXPECT_GT(r.rut_depth, 0.5 * r.sinkage) << "rut " << r.rut_depth;
 }
 
-// The soil deforms once per soil_interval (in whole substeps) while its push is solved every
+// The soil deforms once per step_interval (in whole substeps) while its push is solved every
 // substep from the body's pose over the soil as it stands, so how deep a body sinks and how
 // hard the soil resists a rolling wheel keep Bekker's values at any interval: every substep
 // (0), at the default 120 Hz, and at 60 Hz (every fourth 1/240 s substep). Between soil
@@ -100,18 +100,19 @@ TEST(SoilCoupling, BearingFollowsBekkerWhateverTheSoilInterval) {
     WheelCase c;
     c.towed = true;
     c.run.material = compacting(Material::sand());
-    c.run.soil_interval = interval;
+    c.run.step_interval = interval;
     c.run.contact.follow_drift = s.follow_drift;
-    std::int64_t substeps = 0, soil_steps = 0, followed = 0, towing = 0, followed_towing = 0;
+    std::int64_t substeps = 0, terrain_steps = 0, followed = 0, towing = 0, followed_towing = 0;
     c.run.after_substep = [&](const shore::terrain::Terrain&, const shore::bullet::TerrainCoupling& coupling) {
-      substeps = coupling.stats().substeps, soil_steps = coupling.stats().soil_steps;
+      substeps = coupling.stats().substeps, terrain_steps = coupling.stats().terrain_steps;
       const std::int64_t now = coupling.stats().contacts_followed;
-      if (coupling.bodies().front()->getLinearVelocity().x() > 0.5) ++towing, followed_towing += now - followed;
+      if (btRigidBody::upcast(coupling.bodies().front())->getLinearVelocity().x() > 0.5)
+        ++towing, followed_towing += now - followed;
       followed = now;
     };
     const WheelResult r = run_wheel(c);
     const std::int64_t per_step = std::max(1L, std::lround(interval / c.run.substep));
-    EXPECT_EQ(soil_steps, substeps / per_step) << "interval " << interval;
+    EXPECT_EQ(terrain_steps, substeps / per_step) << "interval " << interval;
     if (per_step == 1 || s.follow_drift == 0.0) {
       EXPECT_EQ(followed, 0) << "interval " << interval << ", follow_drift " << s.follow_drift;
     } else {  // at most all but the substep after each soil step, while it rolls at 1 m/s, and
@@ -125,7 +126,7 @@ TEST(SoilCoupling, BearingFollowsBekkerWhateverTheSoilInterval) {
     EXPECT_LT(rel(r.resistance, r.reference_resistance), 0.15)
         << "interval " << interval << ": resistance " << r.resistance;
     PlateCase p;
-    p.run.soil_interval = interval;
+    p.run.step_interval = interval;
     const PlateResult plate = run_plate(p);
     EXPECT_LT(rel(plate.sinkage, plate.reference), 0.05) << "interval " << interval << ": plate " << plate.sinkage;
   }

@@ -230,16 +230,16 @@ TEST(SoilRobustness, CouplingSettingsAreValidated) {
     double value;
     const char *field, *allowed;
   };
-  const auto interval = [](bullet::TerrainCouplingSettings& t, double v) { t.soil_interval = v; };
+  const auto interval = [](bullet::TerrainCouplingSettings& t, double v) { t.step_interval = v; };
   const auto drift = [](bullet::TerrainCouplingSettings& t, double v) { t.contact.follow_drift = v; };
   const auto speed = [](bullet::TerrainCouplingSettings& t, double v) { t.contact.follow_speed = v; };
-  for (const Bad& bad : {Bad{interval, -1e-3, "bullet.TerrainCouplingSettings.soil_interval", "[0, 0.125]"},
-                         Bad{interval, 0.25, "bullet.TerrainCouplingSettings.soil_interval", "[0, 0.125]"},
-                         Bad{interval, nan, "bullet.TerrainCouplingSettings.soil_interval", "[0, 0.125]"},
-                         Bad{drift, 2.5, "bullet.SoilContactSettings.follow_drift", "[0, 2]"},
-                         Bad{drift, nan, "bullet.SoilContactSettings.follow_drift", "[0, 2]"},
-                         Bad{speed, -1.0, "bullet.SoilContactSettings.follow_speed", ">= 0"},
-                         Bad{speed, nan, "bullet.SoilContactSettings.follow_speed", ">= 0"}}) {
+  for (const Bad& bad : {Bad{interval, -1e-3, "bullet.TerrainCouplingSettings.step_interval", "[0, 0.125]"},
+                         Bad{interval, 0.25, "bullet.TerrainCouplingSettings.step_interval", "[0, 0.125]"},
+                         Bad{interval, nan, "bullet.TerrainCouplingSettings.step_interval", "[0, 0.125]"},
+                         Bad{drift, 2.5, "bullet.TerrainContactSettings.follow_drift", "[0, 2]"},
+                         Bad{drift, nan, "bullet.TerrainContactSettings.follow_drift", "[0, 2]"},
+                         Bad{speed, -1.0, "bullet.TerrainContactSettings.follow_speed", ">= 0"},
+                         Bad{speed, nan, "bullet.TerrainContactSettings.follow_speed", ">= 0"}}) {
     bullet::TerrainCouplingSettings t;
     bad.set(t, bad.value);
     try {

@@ -46,13 +46,13 @@ constexpr double kG = 9.81;
 // few milliseconds. Oblique: 7 particles with the soil stepping at 120 Hz, 22 at 240 Hz, 38
 // at 480 Hz (docs/terrain.md, "Spray": sampling), so the count is checked at both rates.
 TEST(SoilSpray, VolumeIsExactAtEverySubstepOfAnEightMetrePerSecondDrop) {
-  for (const double interval : {bullet::TerrainCouplingSettings{}.soil_interval, 0.0})
+  for (const double interval : {bullet::TerrainCouplingSettings{}.step_interval, 0.0})
     for (const double vx : {0.0, 4.0}) {
       SphereDropCase c;
       c.vx = vx;
       c.height = (64.0 - vx * vx) / (2.0 * kG);
       c.seconds = 1.2;
-      c.run.soil_interval = interval;
+      c.run.step_interval = interval;
       VolumeWatch watch;
       watch.attach(c.run);
       const SphereDropResult r = run_sphere_drop(c);

@@ -89,7 +89,7 @@ TEST_P(SceneCheckpoint, RestoredMidRunInAFreshWorldContinuesBitIdentically) {
   EXPECT_NE(c.uninterrupted, unrestored_hash(GetParam(), 0.4)) << "the continuation does not depend on the restore";
 }
 
-// The soil steps every second substep at these scenes' 1/240 s (soil_interval), and a moving
+// The soil steps every second substep at these scenes' 1/240 s (step_interval), and a moving
 // body's contact follows it in between (follow_drift): saved just after a soil step and just
 // before the next, the restored run keeps the soil's clock, which envelopes are still to be
 // pressed and the followed contacts, and continues bit-identically either way. impact:
@@ -97,7 +97,7 @@ TEST_P(SceneCheckpoint, RestoredMidRunInAFreshWorldContinuesBitIdentically) {
 TEST(SceneCheckpointSoilClock, RestoredOnEitherSideOfASoilStepContinuesBitIdentically) {
   for (const char* name : {"impact", "tracks"}) {
     const SceneOptions opt = smoke_options(name);
-    ASSERT_EQ(std::lround(shore::bullet::TerrainCouplingSettings{}.soil_interval / opt.substep), 2) << name;
+    ASSERT_EQ(std::lround(shore::bullet::TerrainCouplingSettings{}.step_interval / opt.substep), 2) << name;
     for (const int nudge : {0, 1}) {
       const Continuation c = continue_from(name, 0.4, false, nudge);
       EXPECT_EQ(shore::to_hex(c.uninterrupted), shore::to_hex(c.restored))

@@ -58,7 +58,7 @@ struct SpinningWheel {
     im.angular_velocity.y = omega;
     im.centre.x = x, im.centre.z = z;
     im.orientation.w = std::cos(turn / 2), im.orientation.y = std::sin(turn / 2);
-    im.body = key;
+    im.key = key;
     return im;
   }
 };
@@ -116,7 +116,7 @@ Terrain fling_one_particle(double drag, const double velocity[3], SprayParticle&
     Imprint im{&env};
     im.velocity.x = velocity[0], im.velocity.y = velocity[1], im.velocity.z = velocity[2];
     im.centre.x = velocity[0] * lift, im.centre.y = velocity[1] * lift, im.centre.z = 0.05 + velocity[2] * lift;
-    im.body = 1;
+    im.key = 1;
     t.step({&im, 1}, dt);
   }
   const std::vector<SprayParticle> p = t.spray_particles();
@@ -272,7 +272,7 @@ std::uint64_t two_bodies(int threads, bool reversed) {
     const double x = 2.0 * k * dt;
     const shore::EnvelopeRaster ball = sphere_envelope(t, x, 0.4, 0.1 - 0.015, 0.1);
     Imprint b{&ball};
-    b.velocity.x = 2.0, b.angular_velocity.x = -5.0, b.centre = {x, 0.4, 0.085}, b.body = 3;
+    b.velocity.x = 2.0, b.angular_velocity.x = -5.0, b.centre = {x, 0.4, 0.085}, b.key = 3;
     const Imprint a = w.at(t, k * dt, wheel);
     const Imprint ims[2] = {reversed ? b : a, reversed ? a : b};
     t.step(ims, dt);
@@ -428,7 +428,7 @@ TEST(Spray, BadParametersAndInputsAreRefusedByName) {
       mentions(step_error([](Imprint& im) { im.centre.x = std::numeric_limits<double>::infinity(); }), "centre.x"));
   EXPECT_TRUE(mentions(step_error([](Imprint& im) { im.orientation.w = 0.0; }), "terrain.Imprint[0].orientation"));
   const Imprint two[2] = {{&env}, {&env}};
-  EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { t.step(two, 0.01); }), "terrain.Imprint[1].body"));
+  EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { t.step(two, 0.01); }), "terrain.Imprint[1].key"));
   EXPECT_EQ(message_of<shore::InvalidSetting>([&] { t.step(two, 0.0); }), "(no exception)")
       << "keys only matter when time passes";
   EXPECT_EQ(t.spray_counts().created, 0);

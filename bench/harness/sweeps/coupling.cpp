@@ -231,36 +231,36 @@ void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
     const char* name;
     int erosion_passes, iterations, block_columns;
     bool spray;
-    double soil_interval, follow_drift;
+    double step_interval, follow_drift;
   };
   const terrain::TerrainSettings soil_defaults;
   const bullet::TerrainCouplingSettings coupling_defaults;
-  const bullet::SoilContactSettings& contact_defaults = coupling_defaults.contact;
+  const bullet::TerrainContactSettings& contact_defaults = coupling_defaults.contact;
   const Setting d{
       "defaults", soil_defaults.max_erosion_passes, contact_defaults.iterations,  contact_defaults.block_columns,
-      true,       coupling_defaults.soil_interval,  contact_defaults.follow_drift};
+      true,       coupling_defaults.step_interval,  contact_defaults.follow_drift};
   // Each row changes the defaults in one respect (or two, named). The defaults before
   // 2026-12-04 were an erosion cap of 8 and 12 solver sweeps, with the soil and the contact
-  // every substep (soil_interval 0, which follow_drift then does not matter for).
+  // every substep (step_interval 0, which follow_drift then does not matter for).
   const std::vector<Setting> settings = {
       d,
       {"former defaults (erosion cap 8, 12 sweeps, soil every substep)", 8, 12, d.block_columns, true, 0.0,
        d.follow_drift},
-      {"soil and contact every substep (soil_interval 0)", d.erosion_passes, d.iterations, d.block_columns, true, 0.0,
+      {"soil and contact every substep (step_interval 0)", d.erosion_passes, d.iterations, d.block_columns, true, 0.0,
        d.follow_drift},
       {"contact built every substep (follow_drift 0)", d.erosion_passes, d.iterations, d.block_columns, true,
-       d.soil_interval, 0.0},
-      {"erosion cap 8", 8, d.iterations, d.block_columns, true, d.soil_interval, d.follow_drift},
-      {"twice the solver sweeps", d.erosion_passes, 2 * d.iterations, d.block_columns, true, d.soil_interval,
+       d.step_interval, 0.0},
+      {"erosion cap 8", 8, d.iterations, d.block_columns, true, d.step_interval, d.follow_drift},
+      {"twice the solver sweeps", d.erosion_passes, 2 * d.iterations, d.block_columns, true, d.step_interval,
        d.follow_drift},
-      {"blocks twice as wide", d.erosion_passes, d.iterations, 2 * d.block_columns, true, d.soil_interval,
+      {"blocks twice as wide", d.erosion_passes, d.iterations, 2 * d.block_columns, true, d.step_interval,
        d.follow_drift},
-      {"spray off", d.erosion_passes, d.iterations, d.block_columns, false, d.soil_interval, d.follow_drift},
-      {"defaults (again)", d.erosion_passes, d.iterations, d.block_columns, true, d.soil_interval, d.follow_drift},
+      {"spray off", d.erosion_passes, d.iterations, d.block_columns, false, d.step_interval, d.follow_drift},
+      {"defaults (again)", d.erosion_passes, d.iterations, d.block_columns, true, d.step_interval, d.follow_drift},
   };
   Table& t =
       out.table("coupling_wheel_settings", {"setting", "erosion_passes", "solver_iterations", "block_columns", "spray",
-                                            "soil_interval_s", "follow_drift_cells", "tow_whole_ms_per_substep",
+                                            "step_interval_s", "follow_drift_cells", "tow_whole_ms_per_substep",
                                             "vs_defaults", "sinkage_error_pct", "resistance_error_pct"});
   const int repeats = ctx.quick ? 1 : 3;
   double first_default = 0.0;
@@ -270,7 +270,7 @@ void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
     c.run.contact.iterations = g.iterations;
     c.run.contact.block_columns = g.block_columns;
     c.run.spray.enabled = g.spray;
-    c.run.soil_interval = g.soil_interval;
+    c.run.step_interval = g.step_interval;
     c.run.contact.follow_drift = g.follow_drift;
     ctx.progress(std::string("towed wheel cost against settings: ") + g.name);
     std::vector<double> ms;
@@ -287,15 +287,15 @@ void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
     const double median = ms[ms.size() / 2];
     if (first_default == 0.0) first_default = median;
     t.add({g.name, double(g.erosion_passes), double(g.iterations), double(g.block_columns), g.spray ? "on" : "off",
-           g.soil_interval, g.follow_drift, median, median / first_default,
+           g.step_interval, g.follow_drift, median, median / first_default,
            error_pct(towed.sinkage, towed.reference_sinkage), error_pct(towed.resistance, towed.reference_resistance)});
   }
   out.note(
       "Wheel cost against settings: the towed sand wheel of plugin.wheel_ms_per_substep (D 0.8 m, b 0.3 m, 4 kN, "
       "1 cm, 1/240 s, one thread), its tow phase's whole step (Bullet + Shore, median of 3 towed/held pairs; 1 in "
       "--quick) with the erosion pass cap (TerrainSettings::max_erosion_passes), the contact solver's sweeps "
-      "(SoilContactSettings::iterations), the contact block (block_columns), spray, the soil's interval "
-      "(TerrainCouplingSettings::soil_interval) and the contact's following (SoilContactSettings::follow_drift) "
+      "(TerrainContactSettings::iterations), the contact block (block_columns), spray, the soil's interval "
+      "(TerrainCouplingSettings::step_interval) and the contact's following (TerrainContactSettings::follow_drift) "
       "changed from their defaults, and the rolling sinkage and compaction resistance against Bekker's. vs_defaults is "
       "the time over "
       "the first defaults row; the defaults run again last to show the machine's drift.");

@@ -96,17 +96,16 @@ class TerrainTiles {
   static constexpr int kTileTag = 0x5e0e71;  // user index 2 of every tile object
   struct Tile {
     std::unique_ptr<HeightfieldTile> field;
-    std::int64_t i0 = 0, j0 = 0;                           // first column
-    bool lagging = false;                                  // a capped rise left some vertices below the soil
-    int lag_a0 = 0, lag_b0 = 0, lag_a1 = -1, lag_b1 = -1;  // those vertices' bounding box (tile-local)
-    void mark_lagging(int a0, int b0, int a1, int b1);
+    std::int64_t i0 = 0, j0 = 0;  // first column
+    GridRect lag;                 // vertices a capped rise left below the terrain (tile-local; empty: none)
   };
   static std::uint64_t key(std::int64_t tx, std::int64_t ty) noexcept;
   Tile& create(std::int64_t tx, std::int64_t ty);
   /// A tile with these bounds and heights ((T + 1)^2, row-major) added to the world.
   Tile& add(std::int64_t tx, std::int64_t ty, const HeightfieldTileSettings& hs, std::span<const double> heights);
-  std::int64_t copy_rect(Tile& tile, std::int64_t ci0, std::int64_t cj0, std::int64_t ci1, std::int64_t cj1);
-  void drop_stale_contacts(double x0, double y0, double x1, double y1);
+  /// Copies the terrain's heights of `columns` that are the tile's vertices; returns how many.
+  std::int64_t copy_rect(Tile& tile, const GridRect& columns);
+  void drop_stale_contacts(const GridRect& columns);
 
   btCollisionWorld& world_;
   const terrain::Terrain& soil_;

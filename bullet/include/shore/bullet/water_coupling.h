@@ -1,9 +1,9 @@
 #pragma once
-// Two-way coupling of Bullet rigid bodies with the spring-mass water surface.
+// Two-way coupling of Bullet bodies with the spring-mass water surface.
 //
 //   shore::water::Surface pond(settings);
 //   shore::bullet::WaterCoupling water(world, pond);   // adds itself; steps the water
-//   water.add_body(box);
+//   water.add_body(box);                               // floats, makes rings and a wake
 //
 // Water to body: buoyancy and drag from the body's shape against the water plane fitted
 // under it (buoyancy.h), applied as impulses each substep (forces added inside a Bullet
@@ -32,13 +32,12 @@
 // Lifetimes: add_body of a body already added replaces it (added once); remove_body of a
 // body not added does nothing; a body taken out of the world or deleted without
 // remove_body is dropped at the next substep (stats().lost_bodies; see terrain_coupling.h
-// for the one case this cannot tell). The world and the surface must outlive the coupling.
-// A body may be in a water coupling and a terrain coupling at once (a body on a beach: the
-// soil bears it, the water floats it). It may be in several water couplings of one world
-// only if their surfaces do not overlap (each node standing for the cell of side h around
-// it), else both would float it: add_body of a body that another water coupling of the
-// same world holds over an overlapping surface throws InvalidSetting naming the body and
-// both surfaces' rectangles, and changes nothing.
+// for the one case this cannot tell). The world and the surface must outlive the coupling,
+// or detach() is called first. A body may be in a water coupling and a terrain coupling at
+// once (a body on a beach: the terrain bears it, the water floats it). It may be in several water couplings of one
+// world only if their surfaces do not overlap (each node standing for the cell of side h around it), else both would
+// float it: add_body of a body that another water coupling of the same world holds over an overlapping surface throws
+// InvalidSetting naming the body and both surfaces' rectangles, and changes nothing.
 
 #include <cstdint>
 #include <memory>
@@ -82,19 +81,30 @@ struct WaterCouplingStats {
   double displaced_volume = 0.0;  ///< m^3 added to the water in total (signed)
 };
 
+/// Per-body choices.
+struct WaterBodySettings {
+  bool disturb = true;  ///< the body displaces water: it makes rings and a wake (false: it only floats)
+};
+
 class WaterCoupling : public btActionInterface {
  public:
+  /// Adds itself to world (world.addAction) and removes itself when destroyed. The surface
+  /// and world must outlive it (or call detach() first).
   WaterCoupling(btDiscreteDynamicsWorld& world, water::Surface& surface, WaterCouplingSettings settings = {});
   ~WaterCoupling() override;
   WaterCoupling(const WaterCoupling&) = delete;
   WaterCoupling& operator=(const WaterCoupling&) = delete;
 
-  /// The body floats and disturbs the water. disturb = false: it floats without making waves.
-  /// Throws InvalidSetting for a null body, a non-finite pose, an unsupported shape or one
-  /// of zero volume, or one another water coupling of this world holds over an overlapping
-  /// surface.
-  void add_body(btRigidBody* body, bool disturb = true);
-  void remove_body(btRigidBody* body);
+  /// The body floats and (by default) disturbs the water. Throws InvalidSetting for a null
+  /// body, a non-finite pose, an unsupported shape or one of zero volume, after detach(),
+  /// or for a body another water coupling of this world holds over an overlapping surface.
+  /// Adding a body again replaces its settings.
+  void add_body(btRigidBody* body, WaterBodySettings body_settings = {});
+  /// Does nothing for a body not added (or removed already).
+  void remove_body(const btCollisionObject* body);
+  /// Takes the coupling out of its world (the action removed, the bodies let go). After it
+  /// the world may be destroyed before the coupling.
+  void detach();
 
   void updateAction(btCollisionWorld* world, btScalar substep) override;
   /// Buoyancy centres and forces and the water grid's outline, as the drawer's debug mode
@@ -108,13 +118,13 @@ class WaterCoupling : public btActionInterface {
   [[nodiscard]] const WaterCouplingStats& stats() const noexcept { return stats_; }
   [[nodiscard]] const WaterCouplingSettings& settings() const noexcept { return settings_; }
   [[nodiscard]] const water::Surface& surface() const noexcept { return surface_; }
-  /// The added bodies, in the order added.
-  [[nodiscard]] std::vector<btRigidBody*> bodies() const;
+  /// The added bodies' collision objects, in the order added.
+  [[nodiscard]] std::vector<const btCollisionObject*> bodies() const;
   /// Submerged volume of a body in the last substep (m^3), 0 if unknown.
-  [[nodiscard]] double submerged_volume(const btRigidBody* body) const;
+  [[nodiscard]] double submerged_volume(const btCollisionObject* body) const;
   /// The water's force and torque on a body in the last substep (zeros if unknown). For a
   /// kinematic or static body (mass 0) they are reported but not applied.
-  [[nodiscard]] BodyWater water_force(const btRigidBody* body) const;
+  [[nodiscard]] BodyWater water_force(const btCollisionObject* body) const;
 
   /// The coupling's own state for a checkpoint (docs/checkpoints.md): per body the
   /// envelopes and pose its displacement was last taken from and its last forces; the
@@ -125,28 +135,15 @@ class WaterCoupling : public btActionInterface {
   /// another version, truncated or corrupt ones, or other bodies.
   void restore_state(std::span<const unsigned char> bytes, const std::string& source);
 
-  WaterCoupling(WaterCoupling&&) = delete;
-  struct Body;  ///< opaque: per-body shape and displacement state
+  struct Parts;  ///< internal: the bodies and scratch (bullet/src/water_coupling_parts.h)
 
  private:
-  [[nodiscard]] bool holds(const btRigidBody* body) const;
-  /// Throws InvalidSetting if another water coupling of this world holds the body and its
-  /// surface overlaps this one's.
-  void refuse_overlapping_coupling(const btRigidBody& body) const;
-  /// Buoyancy and drag of one body for a substep of h, then its displacement.
-  void float_body(Body& b, double h);
-  /// Samples the body's envelopes at its pose and adds what it swept to the water.
-  void displace(Body& b);
-  /// The body's sub-sample envelopes at its pose, into b.current.
-  void sample_envelopes(Body& b);
-
   btDiscreteDynamicsWorld& world_;
   water::Surface& surface_;
   WaterCouplingSettings settings_;
-  std::vector<std::unique_ptr<Body>> bodies_;
-  struct Workspace;  // scratch reused across bodies and substeps
-  std::unique_ptr<Workspace> work_;
   WaterCouplingStats stats_;
+  std::unique_ptr<Parts> parts_;
+  bool detached_ = false;
 };
 
 }  // namespace SHORE_BULLET_ABI

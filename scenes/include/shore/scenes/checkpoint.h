@@ -5,7 +5,7 @@
 // continued run is bit-identical (state hash) to the uninterrupted one. The scene's
 // measurements over time (observe) are not saved: they start again from the restore.
 //
-// Sections: TERRAIN, TERRAIN1, ... (Terrain::save_bytes), SOILCP, SOILCP1, ... (their
+// Sections: TERRAIN, TERRAIN1, ... (Terrain::save_bytes), TERRCP, TERRCP1, ... (their
 // TerrainCoupling::save_state), WATER, WATER1, ... (Surface::save_state), WATERCP, ...
 // (WaterCoupling::save_state), BODIES (bullet::save_bodies), SCENE (the clock).
 

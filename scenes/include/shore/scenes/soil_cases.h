@@ -26,11 +26,11 @@ struct SoilRun {
   int max_erosion_passes = terrain::TerrainSettings{}.max_erosion_passes;  ///< erosion pass cap per substep
   double active_reach = terrain::TerrainSettings{}.active_reach;           ///< m, see TerrainSettings
   int active_margin = terrain::TerrainSettings{}.active_margin;            ///< columns, see TerrainSettings
-  bullet::SoilContactSettings contact;                                     ///< how the soil's push is solved
-  double soil_interval = bullet::TerrainCouplingSettings{}.soil_interval;  ///< s, how often the soil deforms
+  bullet::TerrainContactSettings contact;                                  ///< how the soil's push is solved
+  double step_interval = bullet::TerrainCouplingSettings{}.step_interval;  ///< s, how often the soil deforms
   std::shared_ptr<const terrain::HeightSource> base;                       ///< untouched ground; null: flat at 0
   terrain::SpraySettings spray;                                            ///< the soil's spray (on by default)
-  bool body_spray = true;  ///< the case's bodies throw soil (BodySoilSettings::spray)
+  bool body_spray = true;  ///< the case's bodies throw soil (TerrainBodySettings::spray)
   /// Called after every substep (untimed): tests check the volume at every step,
   /// benchmarks follow the spray's peaks. Empty: nothing.
   std::function<void(const terrain::Terrain&, const bullet::TerrainCoupling&)> after_substep;

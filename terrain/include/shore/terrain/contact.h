@@ -69,7 +69,7 @@ struct ContactElement {
   /// Pa/m: how fast `pressure` grows as the body presses further into the column: Bekker's
   /// dp/dz = n p / z where the column is pressed 2 cells or deeper, the secant over the next
   /// half cell above that (0 for walls and bedrock), so a solver may keep the patch for a
-  /// substep while the body moves a little (bullet::SoilContactSettings::follow_drift).
+  /// substep while the body moves a little (bullet::TerrainContactSettings::follow_drift).
   double pressure_rate = 0.0;
 };
 

@@ -103,7 +103,7 @@ struct Imprint {
   /// Names the body from step to step (the soil clinging to it is kept under this key), and
   /// keys its random numbers: give each body the same key every step, whatever the order of
   /// the imprints. Unique among a step's spraying imprints (spray on, not holding).
-  std::uint64_t body = 0;
+  std::uint64_t key = 0;
   bool spray = true;  ///< this body throws soil (and the terrain's spray is enabled)
 };
 

@@ -27,12 +27,12 @@
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
-namespace soil_detail {
+namespace contact_detail {
 
 using shore::Vec3;
 
 /// The body as the solver sees it: world frame, double precision.
-struct RigidBody {
+struct SolverBody {
   Vec3 v, w;                      ///< linear and angular velocity
   Vec3 com;                       ///< centre of mass
   double inv_mass = 0.0;          ///< 1 / kg
@@ -71,7 +71,7 @@ struct Block {
 
 struct SolverSettings {
   int block_columns = 4;  ///< columns per block side
-  int iterations = 6;     ///< PGS sweeps over the rows (SoilContactSettings::iterations)
+  int iterations = 6;     ///< PGS sweeps over the rows (TerrainContactSettings::iterations)
   /// The blocks' effective masses are still right (the body has not moved since they were
   /// computed: a body at rest re-solving its kept contact).
   bool keep_masses = false;
@@ -102,17 +102,17 @@ void warm_start(std::span<const Block> previous, std::span<Block> blocks);
 /// (plastic soil keeps its strength where the body backs off), the elastic push by stiffness
 /// times the approach either way. The point where the soil pushes stays. Returns the
 /// largest |d|, m.
-double follow_body(std::span<Block> blocks, const RigidBody& body, double h);
+double follow_body(std::span<Block> blocks, const SolverBody& body, double h);
 
 /// The largest speed of a block's point with the body's velocities, m/s.
-double largest_point_speed(std::span<const Block> blocks, const RigidBody& body);
+double largest_point_speed(std::span<const Block> blocks, const SolverBody& body);
 
 /// Solves the substep's soil impulses on the body (velocities updated in place). start:
 /// the body at the start of the substep, before the engine's forces of this substep (its
 /// velocities then and the solved ones bracket the substep's motion, for the work).
-SolveResult solve(RigidBody& body, const RigidBody& start, std::span<Block> blocks, const terrain::Material& m,
+SolveResult solve(SolverBody& body, const SolverBody& start, std::span<Block> blocks, const terrain::Material& m,
                   double h, const SolverSettings& settings);
 
-}  // namespace soil_detail
+}  // namespace contact_detail
 }  // namespace SHORE_BULLET_ABI
 }  // namespace shore::bullet

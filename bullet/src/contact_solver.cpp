@@ -1,4 +1,4 @@
-#include "soil_solver.h"
+#include "contact_solver.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
-namespace soil_detail {
+namespace contact_detail {
 
 namespace {
 
@@ -123,13 +123,13 @@ void friction_directions(Block& b) {
 
 }  // namespace
 
-Vec3 RigidBody::apply_inv_inertia(Vec3 a) const {
+Vec3 SolverBody::apply_inv_inertia(Vec3 a) const {
   const auto& m = inv_inertia;
   return {m[0][0] * a.x + m[0][1] * a.y + m[0][2] * a.z, m[1][0] * a.x + m[1][1] * a.y + m[1][2] * a.z,
           m[2][0] * a.x + m[2][1] * a.y + m[2][2] * a.z};
 }
 
-void RigidBody::apply_impulse(Vec3 impulse, Vec3 at) {
+void SolverBody::apply_impulse(Vec3 impulse, Vec3 at) {
   v = v + impulse * inv_mass;
   w = w + apply_inv_inertia(cross(at - com, impulse));
 }
@@ -176,7 +176,7 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, const terr
       }
 }
 
-double follow_body(std::span<Block> blocks, const RigidBody& body, double h) {
+double follow_body(std::span<Block> blocks, const SolverBody& body, double h) {
   double largest = 0.0;
   for (Block& b : blocks) {
     const Vec3 d = body.point_velocity(b.point) * h;
@@ -193,7 +193,7 @@ double follow_body(std::span<Block> blocks, const RigidBody& body, double h) {
   return largest;
 }
 
-double largest_point_speed(std::span<const Block> blocks, const RigidBody& body) {
+double largest_point_speed(std::span<const Block> blocks, const SolverBody& body) {
   double largest = 0.0;
   for (const Block& b : blocks) largest = std::max(largest, length(body.point_velocity(b.point)));
   return largest;
@@ -228,18 +228,18 @@ double friction_limit(const Block& b, double normal, double tan_phi, double h) {
 struct Row {
   Vec3 u, arm, turn;  // direction, r x u, I^-1 (r x u)
 
-  void set(const RigidBody& body, Vec3 r, Vec3 dir) {
+  void set(const SolverBody& body, Vec3 r, Vec3 dir) {
     u = dir;
     arm = cross(r, dir);
     turn = body.apply_inv_inertia(arm);
   }
-  [[nodiscard]] double speed(const RigidBody& body) const { return dot(u, body.v) + dot(arm, body.w); }
-  void push(RigidBody& body, double impulse) const {
+  [[nodiscard]] double speed(const SolverBody& body) const { return dot(u, body.v) + dot(arm, body.w); }
+  void push(SolverBody& body, double impulse) const {
     body.v = body.v + u * (impulse * body.inv_mass);
     body.w = body.w + turn * impulse;
   }
   /// The effective mass along the row, kg: 1 / (1/m + (r x u) . I^-1 (r x u)).
-  [[nodiscard]] double mass(const RigidBody& body) const {
+  [[nodiscard]] double mass(const SolverBody& body) const {
     const double k = body.inv_mass + dot(arm, turn);
     return k > 0.0 ? 1.0 / k : 0.0;
   }
@@ -250,7 +250,7 @@ struct BlockRows {
   Row n, t1, t2;
 };
 
-void clamp_warm_start(RigidBody& body, std::span<Block> blocks, double tan_phi, double h) {
+void clamp_warm_start(SolverBody& body, std::span<Block> blocks, double tan_phi, double h) {
   for (Block& b : blocks) {
     b.normal_impulse = std::clamp(b.normal_impulse, 0.0, b.capacity * h);
     if (b.wall) b.t1_impulse = b.t2_impulse = 0.0;
@@ -274,13 +274,13 @@ double wanted_normal_impulse(const Block& b, double u, double h) {
   return b.mass_n > 0.0 ? (h * b.preload - kh2 * u_free) / (1.0 + kh2 / b.mass_n) : h * b.preload;
 }
 
-void normal_row(RigidBody& body, Block& b, const Row& row, double h) {
+void normal_row(SolverBody& body, Block& b, const Row& row, double h) {
   const double next = std::clamp(wanted_normal_impulse(b, row.speed(body), h), 0.0, b.capacity * h);
   row.push(body, next - b.normal_impulse);
   b.normal_impulse = next;
 }
 
-void friction_rows(RigidBody& body, Block& b, const BlockRows& rows, double tan_phi, double h) {
+void friction_rows(SolverBody& body, Block& b, const BlockRows& rows, double tan_phi, double h) {
   if (b.wall) return;
   double n1 = b.t1_impulse - rows.t1.speed(body) * b.mass_t1;
   double n2 = b.t2_impulse - rows.t2.speed(body) * b.mass_t2;
@@ -297,7 +297,7 @@ void friction_rows(RigidBody& body, Block& b, const BlockRows& rows, double tan_
 
 /// One sweep over the rows, forward or backward: alternating the order keeps Gauss-Seidel
 /// from favouring the blocks solved first (a box would settle tilted toward them).
-void sweep(RigidBody& body, std::span<Block> blocks, std::span<const BlockRows> rows, double tan_phi, double h,
+void sweep(SolverBody& body, std::span<Block> blocks, std::span<const BlockRows> rows, double tan_phi, double h,
            bool backward) {
   const std::size_t n = blocks.size();
   for (std::size_t k = 0; k < n; ++k) {
@@ -312,7 +312,7 @@ void sweep(RigidBody& body, std::span<Block> blocks, std::span<const BlockRows> 
 
 }  // namespace
 
-SolveResult solve(RigidBody& body, const RigidBody& start, std::span<Block> blocks, const terrain::Material& m,
+SolveResult solve(SolverBody& body, const SolverBody& start, std::span<Block> blocks, const terrain::Material& m,
                   double h, const SolverSettings& settings) {
   SolveResult out;
   if (blocks.empty()) return out;
@@ -363,6 +363,6 @@ SolveResult solve(RigidBody& body, const RigidBody& start, std::span<Block> bloc
   return out;
 }
 
-}  // namespace soil_detail
+}  // namespace contact_detail
 }  // namespace SHORE_BULLET_ABI
 }  // namespace shore::bullet

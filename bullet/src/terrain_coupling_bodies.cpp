@@ -1,0 +1,173 @@
+// TerrainCoupling's bodies: settings checks, adding and removing bodies, detaching, and
+// what the coupling reports of them.
+#include <string>
+#include <utility>
+
+#include "coupled_rigid_body.h"
+#include "coupling_directory.h"
+#include "coupling_util.h"
+#include "shore/bullet/terrain_coupling.h"
+#include "shore/core/error.h"
+#include "terrain_coupling_parts.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+namespace {
+/// The terrain couplings of each world (a body in two of them over overlapping regions).
+using Directory = coupling_detail::WorldDirectory<TerrainCoupling>;
+}  // namespace
+
+void TerrainContactSettings::validate() const {
+  const Check c{"bullet.TerrainContactSettings"};
+  c.in_closed("block_columns", block_columns, 1, 64);
+  c.in_closed("iterations", iterations, 1, 1000);
+  c.in_closed("resting_iterations", resting_iterations, 1, 1000);
+  c.in_closed("follow_drift", follow_drift, 0.0, 2.0);
+  c.non_negative("follow_speed", follow_speed);
+}
+
+void TerrainBodySettings::validate() const {
+  const Check c{"bullet.TerrainBodySettings"};
+  c.in_left_open("ccd_motion_share", ccd_motion_share, 0.0, 1.0);
+  c.in_left_open("ccd_sphere_share", ccd_sphere_share, 0.0, 1.0);
+}
+
+void TerrainCouplingSettings::validate() const {
+  tiles.validate();
+  contact.validate();
+  const Check c{"bullet.TerrainCouplingSettings"};
+  c.positive("cover_margin", cover_margin);
+  c.positive("max_speed", max_speed);
+  c.positive("rest_speed", rest_speed);
+  c.positive("rest_spin", rest_spin);
+  c.in_closed("step_interval", step_interval, 0.0, 0.125);
+}
+
+TerrainCoupling::Parts::Parts(btDiscreteDynamicsWorld& world_, terrain::Terrain& terrain_,
+                              const TerrainCouplingSettings& settings_, TerrainCouplingStats& stats_)
+    : world(world_),
+      terrain(terrain_),
+      settings(settings_),
+      stats(stats_),
+      tiles(world_, terrain_, settings_.tiles),
+      rasterizer(EnvelopeGrid{terrain_.settings().origin_x, terrain_.settings().origin_y, terrain_.settings().cell},
+                 coupling_detail::nominal_solid()),
+      rigid(terrain_.settings().material.rigid) {}
+
+TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrain& terrain,
+                                 TerrainCouplingSettings settings)
+    : world_(world),
+      terrain_(terrain),
+      settings_(std::move(settings)),
+      parts_(std::make_unique<Parts>(world_, terrain_, settings_, stats_)) {
+  settings_.validate();
+  parts_->tiles.set_region(settings_.region);
+  parts_->tiles.set_collision_group(parts_->rigid ? int(btBroadphaseProxy::StaticFilter)
+                                                  : settings_.terrain_filter_bit);
+  world_.addAction(this);
+  Directory::enter(&world_, this);
+}
+
+TerrainCoupling::~TerrainCoupling() { detach(); }
+
+void TerrainCoupling::detach() {
+  if (detached_) return;
+  // Bullet's tile contact back for the bodies still in the world.
+  const coupling_detail::HeldObjects held(world_);
+  for (const Parts::Entry& e : parts_->bodies)
+    if (held.holds(&e.body->object()))
+      coupling_detail::give_back_filter_bit(e.body->proxy(), settings_.terrain_filter_bit);
+  parts_->bodies.clear();
+  parts_->imprints.clear();
+  parts_->tiles.remove_all();
+  world_.removeAction(this);
+  Directory::leave(this);
+  detached_ = true;
+}
+
+void TerrainCoupling::add_body(btRigidBody* body, TerrainBodySettings body_settings) {
+  const char* what = "bullet.TerrainCoupling.add_body(body)";
+  if (body == nullptr) throw InvalidSetting(what, "null", "must be a rigid body");
+  if (detached_) throw InvalidSetting(what, "after detach()", "a detached coupling takes no bodies: make a new one");
+  body_settings.validate();
+  Directory::for_each_other(&world_, this, [&](const TerrainCoupling& other) {
+    if (other.parts_->bodies.find(body) == nullptr || !other.settings_.region.overlaps(settings_.region)) return;
+    throw InvalidSetting(what,
+                         coupling_detail::body_text(*body) +
+                             ", already in another TerrainCoupling of this world whose region " +
+                             coupling_detail::region_text(other.settings_.region) + " overlaps this one's " +
+                             coupling_detail::region_text(settings_.region),
+                         "a body may be in several terrain couplings only if their regions are disjoint (else "
+                         "both terrains would push it): remove_body it from the other first, or give the "
+                         "couplings disjoint regions");
+  });
+  auto coupled = std::make_unique<coupling_detail::CoupledRigidBody>(*body);
+  coupling_detail::TerrainBody record;
+  record.settings = body_settings;
+  record.shape.shape = body->getCollisionShape();
+  if (record.shape.shape != nullptr) record.shape.scaling = record.shape.shape->getLocalScaling();
+  if (body_settings.deform)  // once: then rasterizing it never fails for a sane pose
+    record.shape.reach = coupling_detail::check_terrain_shape(
+        *body->getCollisionShape(), parts_->rasterizer.grid().cell, parts_->rasterizer.options());
+  const bool owned = !parts_->rigid && coupled->dynamic() && body_settings.deform;
+  if (owned && body->getBroadphaseHandle() == nullptr)
+    throw InvalidSetting(what, "not in the world", "add the body to the dynamics world before add_body");
+  remove_body(body);
+  if (body_settings.enable_ccd && coupled->dynamic()) {
+    btVector3 lo, hi;
+    body->getCollisionShape()->getAabb(btTransform::getIdentity(), lo, hi);
+    const btVector3 size = hi - lo;
+    const btScalar thinnest = size[size.minAxis()];
+    body->setCcdMotionThreshold(btScalar(body_settings.ccd_motion_share) * thinnest);
+    body->setCcdSweptSphereRadius(btScalar(body_settings.ccd_sphere_share) * thinnest);
+  }
+  // Shore owns this body's contact with soft soil: Bullet must not collide it with the tiles.
+  if (owned) parts_->take_filter_bit(*coupled);
+  Parts::Entry& e = parts_->bodies.add(std::move(coupled), std::move(record));
+  const bool sane = parts_->sane(*e.body);
+  if (sane && body_settings.deform && parts_->can_rasterize(e)) parts_->rasterize(e);
+  if (sane) {
+    btVector3 lo, hi;
+    body->getCollisionShape()->getAabb(body->getWorldTransform(), lo, hi);
+    const double m = settings_.cover_margin;
+    parts_->tiles.ensure_cover(lo.x() - m, lo.y() - m, hi.x() + m, hi.y() + m);
+  }
+}
+
+void TerrainCoupling::remove_body(const btCollisionObject* body) {
+  const Parts::Entry* e = parts_->bodies.find(body);
+  if (e == nullptr) return;
+  coupling_detail::give_back_filter_bit(e->body->proxy(), settings_.terrain_filter_bit);
+  parts_->bodies.remove(body);
+}
+
+TerrainForce TerrainCoupling::terrain_force(const btCollisionObject* body) const {
+  const Parts::Entry* e = parts_->bodies.find(body);
+  return e != nullptr ? e->record.contact.last : TerrainForce{};
+}
+
+std::vector<const btCollisionObject*> TerrainCoupling::bodies() const {
+  std::vector<const btCollisionObject*> out;
+  out.reserve(parts_->bodies.size());
+  for (const Parts::Entry& e : parts_->bodies) out.push_back(&e.body->object());
+  return out;
+}
+
+TerrainTiles& TerrainCoupling::tiles() noexcept { return parts_->tiles; }
+
+bool TerrainCoupling::Parts::sane(const coupling_detail::CoupledBody& body) const {
+  return coupling_detail::body_is_sane(body, settings.max_speed);
+}
+
+void TerrainCoupling::Parts::own_terrain_contact(coupling_detail::CoupledBody& body) {
+  if (rigid || !body.dynamic()) return;
+  take_filter_bit(body);
+}
+
+void TerrainCoupling::Parts::take_filter_bit(coupling_detail::CoupledBody& body) {
+  coupling_detail::take_filter_bit(world, body.proxy(), settings.terrain_filter_bit,
+                                   [this](const btCollisionObject* other) { return tiles.is_tile(other); });
+}
+
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet

@@ -1,0 +1,69 @@
+#pragma once
+// Internal: what a TerrainCoupling keeps besides its settings and statistics, and the
+// stages of its substep (docs/ARCHITECTURE.md, "One substep"). The stages are defined by
+// job: the substep's orchestration and each body's path through it in terrain_coupling.cpp,
+// bodies' lifetimes in terrain_coupling_bodies.cpp, the checkpoint in
+// terrain_coupling_state.cpp.
+
+#include <vector>
+
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+
+#include "body_registry.h"
+#include "coupled_body.h"
+#include "shore/bullet/envelope.h"
+#include "shore/bullet/terrain_coupling.h"
+#include "shore/bullet/terrain_tiles.h"
+#include "shore/terrain/terrain.h"
+#include "step_clock.h"
+#include "terrain_body.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+
+struct TerrainCoupling::Parts {
+  using Entry = coupling_detail::BodyRegistry<coupling_detail::TerrainBody>::Entry;
+
+  Parts(btDiscreteDynamicsWorld& world, terrain::Terrain& terrain, const TerrainCouplingSettings& settings,
+        TerrainCouplingStats& stats);
+
+  btDiscreteDynamicsWorld& world;
+  terrain::Terrain& terrain;
+  const TerrainCouplingSettings& settings;
+  TerrainCouplingStats& stats;
+  coupling_detail::BodyRegistry<coupling_detail::TerrainBody> bodies;
+  TerrainTiles tiles;
+  EnvelopeRasterizer rasterizer;
+  coupling_detail::StepClock clock;
+  std::vector<terrain::Imprint> imprints;  ///< this substep's, one per body that presses
+  std::vector<double> base_scratch;        ///< untouched ground under an envelope
+  bool rigid = false;                      ///< rigid material: Bullet's heightfield contact
+
+  // ---- the substep (terrain_coupling.cpp) ----
+  void cover_bodies(double h);
+  /// One body's path through the substep: its contact solved, its envelope made or kept,
+  /// its imprint.
+  void serve(Entry& e, double h, bool deforms);
+  void solve_contact(Entry& e, double h);
+  void step_terrain();
+  /// The terrain's changes into the tiles; bodies over them woken; fallen bodies rescued.
+  void push_changes();
+
+  // ---- envelopes (terrain_coupling.cpp) ----
+  void rasterize(Entry& e);
+  [[nodiscard]] bool can_rasterize(const Entry& e) const;
+  [[nodiscard]] bool needs_envelope(const Entry& e, double h) const;
+  [[nodiscard]] bool drifted(const Entry& e) const;
+  [[nodiscard]] bool overlaps_region(const coupling_detail::CoupledBody& body) const;
+  void clip_to_region(EnvelopeRaster& envelope) const;
+
+  // ---- bodies (terrain_coupling_bodies.cpp) ----
+  [[nodiscard]] bool sane(const coupling_detail::CoupledBody& body) const;
+  /// A dynamic deforming body does not collide with soft tiles through Bullet (it may have
+  /// been switched from kinematic since it was added).
+  void own_terrain_contact(coupling_detail::CoupledBody& body);
+  void take_filter_bit(coupling_detail::CoupledBody& body);
+};
+
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet
