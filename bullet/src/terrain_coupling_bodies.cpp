@@ -43,16 +43,17 @@ void TerrainCouplingSettings::validate() const {
   c.in_closed("step_interval", step_interval, 0.0, 0.125);
 }
 
-TerrainCoupling::Parts::Parts(btDiscreteDynamicsWorld& world_, terrain::Terrain& terrain_,
-                              const TerrainCouplingSettings& settings_, TerrainCouplingStats& stats_)
-    : world(world_),
-      terrain(terrain_),
-      settings(settings_),
-      stats(stats_),
-      tiles(world_, terrain_, settings_.tiles),
-      rasterizer(EnvelopeGrid{terrain_.settings().origin_x, terrain_.settings().origin_y, terrain_.settings().cell},
+TerrainCoupling::Parts::Parts(btDiscreteDynamicsWorld& in_world, terrain::Terrain& in_terrain,
+                              const TerrainCouplingSettings& in_settings, TerrainCouplingStats& in_stats)
+    : world(in_world),
+      terrain(in_terrain),
+      settings(in_settings),
+      stats(in_stats),
+      tiles(in_world, in_terrain, in_settings.tiles),
+      rasterizer(EnvelopeGrid{in_terrain.settings().origin_x, in_terrain.settings().origin_y,
+                              in_terrain.settings().cell},
                  coupling_detail::nominal_solid()),
-      rigid(terrain_.settings().material.rigid) {}
+      rigid(in_terrain.settings().material.rigid) {}
 
 TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrain& terrain,
                                  TerrainCouplingSettings settings)

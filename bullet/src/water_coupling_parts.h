@@ -54,9 +54,9 @@ EnvelopeGrid sub_grid(const water::Surface& s, int per_cell);
 struct WaterCoupling::Parts {
   using Entry = coupling_detail::BodyRegistry<coupling_detail::WaterBody>::Entry;
 
-  Parts(btDiscreteDynamicsWorld& world, water::Surface& surface, const WaterCouplingSettings& settings,
-        WaterCouplingStats& stats)
-      : world(world), surface(surface), settings(settings), stats(stats) {}
+  Parts(btDiscreteDynamicsWorld& in_world, water::Surface& in_surface, const WaterCouplingSettings& in_settings,
+        WaterCouplingStats& in_stats)
+      : world(in_world), surface(in_surface), settings(in_settings), stats(in_stats) {}
 
   btDiscreteDynamicsWorld& world;
   water::Surface& surface;
