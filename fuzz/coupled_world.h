@@ -39,11 +39,21 @@ inline water::SurfaceSettings tiny_water() {
   return s;
 }
 
+/// Bullet's default pools hold thousands of manifolds and algorithms, allocated up front;
+/// one ball and a few tiles need a handful, and each fuzz input builds two worlds.
+inline btDefaultCollisionConstructionInfo small_pools() {
+  btDefaultCollisionConstructionInfo info;
+  info.m_defaultMaxPersistentManifoldPoolSize = 32;
+  info.m_defaultMaxCollisionAlgorithmPoolSize = 32;
+  return info;
+}
+
 class CoupledWorld {
  public:
   static constexpr double kSubstep = 1.0 / 240.0;
   CoupledWorld()
-      : dispatcher_(&config_),
+      : config_(small_pools()),
+        dispatcher_(&config_),
         world_(&dispatcher_, &broadphase_, &solver_, &config_),
         soil_(tiny_soil()),
         surface_(tiny_water()),

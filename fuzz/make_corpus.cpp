@@ -162,7 +162,7 @@ void recording_seeds(const fs::path& dir) {
   rec.state_hash = 0x0123456789abcdefull;
   const Bytes initial = {'S', 'H', 'O', 'R', 'E', 'C', 'K', 'P', 1, 0, 0, 0};
   rec.initial = initial;
-  rec.soil_generations = {7};
+  rec.terrain_generations = {7};
   rec.waters = 1;
   std::vector<Bytes> owned;
   owned.reserve(16);
@@ -171,7 +171,7 @@ void recording_seeds(const fs::path& dir) {
   for (int k = 1; k <= 3; ++k) {
     shore::bullet::Recording::Frame f;
     f.substep = k;
-    f.soil_deltas = {delta};
+    f.terrain_deltas = {delta};
     std::vector<btScalar> bodies;
     for (int b = 0; b < 2; ++b) {
       const btScalar state[18] = {1, 0, 0, 0, 1, 0, 0, 0, 1, btScalar(b), 0, btScalar(0.1 * k), 0, 0, btScalar(-k),

@@ -13,16 +13,16 @@
 int main(int argc, char** argv) {
   using namespace shore;
   scenes::WheelCase c;
-  c.run.material = terrain::Material::sand();
-  c.run.cell = 0.01;
+  c.run.terrain.material = terrain::Material::sand();
+  c.run.terrain.cell = 0.01;
   c.run.substep = 1.0 / 240;
-  c.run.threads = 1;
+  c.run.terrain.threads = 1;
   c.towed = argc > 1 && std::strcmp(argv[1], "towed") == 0;
-  if (argc > 2) c.run.max_erosion_passes = std::atoi(argv[2]);
-  if (argc > 3) c.run.contact.iterations = std::atoi(argv[3]);
-  if (argc > 4) c.run.spray.enabled = std::atoi(argv[4]) != 0;
-  if (argc > 5) c.run.active_margin = std::atoi(argv[5]);
-  if (argc > 6) c.run.step_interval = std::atof(argv[6]);
+  if (argc > 2) c.run.terrain.max_erosion_passes = std::atoi(argv[2]);
+  if (argc > 3) c.run.coupling.contact.iterations = std::atoi(argv[3]);
+  if (argc > 4) c.run.terrain.spray.enabled = std::atoi(argv[4]) != 0;
+  if (argc > 5) c.run.terrain.active_margin = std::atoi(argv[5]);
+  if (argc > 6) c.run.coupling.step_interval = std::atof(argv[6]);
   const scenes::WheelResult r = scenes::run_wheel(c);
   std::printf(
       "%s: %lld substeps, whole %.4f s, plugin %.4f s (envelope %.4f, soil %.4f, push %.4f); sinkage %.5f m "

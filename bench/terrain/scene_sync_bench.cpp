@@ -1,4 +1,4 @@
-// shore_scene_sync_bench: soil deltas of a coupled scene at a 20 Hz sync (issue 20's
+// shore_scene_sync_bench: soil deltas of a coupled scene at a 20 Hz sync (the
 // benchmark for the vehicle and footprints scenes; scenes/soil_sync.h). Prints JSON: delta
 // bytes per second against SynChrono's format on the same changed columns (16 B per node:
 // int32 x, y and a double height, uncompressed), encode and decode time per sync, and the

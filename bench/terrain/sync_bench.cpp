@@ -1,4 +1,4 @@
-// shore_sync_bench: soil deltas and checkpoints on a 100 m track (issue 20's benchmark, the
+// shore_sync_bench: soil deltas and checkpoints on a 100 m track (the benchmark of the
 // terrain part). A wheel-sized sphere ploughs a rut 3 cm deep along x at 2 m/s, 100 steps
 // per second, synced at 20 Hz. Prints JSON: delta bytes per second and per changed
 // column against SynChrono's 16 B per node (absolute, uncompressed), encode and decode time

@@ -1,5 +1,5 @@
 // shore_water_bench: Google Benchmark cases for the water kernels, with the memory floor
-// (STREAM-style triad) measured in the same run. `--report` prints the summary table
+// (STREAM-style triad) measured in the same run. `--report` prints the summary table
 // (speed-ups against the reference kernel and the fraction of the floor) instead.
 
 #include <benchmark/benchmark.h>

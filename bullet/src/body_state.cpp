@@ -8,6 +8,7 @@
 
 #include "checkpoint_bytes.h"
 #include "envelope_internal.h"
+#include "shore/bullet/terrain_tiles.h"
 #include "shore/core/byte_io.h"
 #include "shore/core/error.h"
 
@@ -34,7 +35,7 @@ std::vector<btRigidBody*> rigid_bodies(const btDiscreteDynamicsWorld& world) {
   std::vector<btRigidBody*> out;
   const btCollisionObjectArray& objects = world.getCollisionObjectArray();
   for (int k = 0; k < objects.size(); ++k)
-    if (btRigidBody* b = btRigidBody::upcast(objects[k])) out.push_back(b);
+    if (btRigidBody* b = btRigidBody::upcast(objects[k]); b != nullptr && !is_terrain_tile(b)) out.push_back(b);
   return out;
 }
 

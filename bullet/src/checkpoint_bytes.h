@@ -132,7 +132,7 @@ inline void get_window(ByteReader& r, EnvelopeRaster& e) {
   e.nx = r.get<int>("envelope"), e.ny = r.get<int>("envelope");
   if (e.nx < 0 || e.ny < 0 || e.nx > (1 << 20) || e.ny > (1 << 20))
     r.fail("envelope of size " + std::to_string(e.nx) + " x " + std::to_string(e.ny) + " (0 to 2^20 columns a side)");
-  constexpr std::int64_t kMaxColumn = std::int64_t{1} << 52;  // the soil's own bound on column indices
+  constexpr std::int64_t kMaxColumn = std::int64_t{1} << 52;  // the terrain's own bound on column indices
   if (e.i0 < -kMaxColumn || e.i0 > kMaxColumn || e.j0 < -kMaxColumn || e.j0 > kMaxColumn)
     r.fail("envelope at column (" + std::to_string(e.i0) + ", " + std::to_string(e.j0) + ") beyond index 2^52");
   get_any_array(r, e.lower, "envelope");

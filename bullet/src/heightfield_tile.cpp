@@ -37,8 +37,7 @@ HeightfieldTile::HeightfieldTile(const HeightfieldTileSettings& settings) : sett
                                                   static_cast<btScalar>(settings_.max_height), 2, false);
   shape_->setFlipTriangleWinding(true);
   shape_->setLocalScaling(btVector3(btScalar(settings_.cell), btScalar(settings_.cell), btScalar(1)));
-  object_ = std::make_unique<btCollisionObject>();
-  object_->setCollisionShape(shape_.get());
+  object_ = std::make_unique<btRigidBody>(btScalar(0), nullptr, shape_.get());
   const double half_span = 0.5 * (n - 1) * settings_.cell;
   btTransform pose;
   pose.setIdentity();

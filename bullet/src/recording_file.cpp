@@ -122,13 +122,13 @@ std::vector<unsigned char> write_recording(const Recording& rec, int compression
   raw.put(static_cast<std::int32_t>(rec.substeps));
   raw.put(rec.state_hash);
   put_bytes(raw, rec.initial);
-  raw.put(static_cast<std::uint32_t>(rec.soil_generations.size()));
-  for (const std::uint64_t g : rec.soil_generations) raw.put(g);
+  raw.put(static_cast<std::uint32_t>(rec.terrain_generations.size()));
+  for (const std::uint64_t g : rec.terrain_generations) raw.put(g);
   raw.put(rec.waters);
   raw.put(static_cast<std::uint32_t>(rec.frames.size()));
   for (const Recording::Frame& f : rec.frames) {
     raw.put(static_cast<std::int32_t>(f.substep));
-    for (const auto& d : f.soil_deltas) put_bytes(raw, d);
+    for (const auto& d : f.terrain_deltas) put_bytes(raw, d);
     raw.put(f.body_count);
     raw.bytes.insert(raw.bytes.end(), f.bodies.begin(), f.bodies.end());
     for (const auto& x : f.water_diffs) put_bytes(raw, x);
@@ -166,15 +166,15 @@ Recording read_recording(std::span<const unsigned char> file, const std::string&
   if (rec.substeps < 1) r.fail("corrupt (" + std::to_string(rec.substeps) + " substeps)");
   rec.state_hash = r.get<std::uint64_t>("the final state hash");
   rec.initial = r.bytes("the initial checkpoint");
-  const auto soils = r.get<std::uint32_t>("soil count");
-  if (soils > r.remaining() / sizeof(std::uint64_t)) r.fail("corrupt (" + std::to_string(soils) + " soils)");
-  rec.soil_generations.resize(soils);
-  for (auto& g : rec.soil_generations) g = r.get<std::uint64_t>("a soil's generation");
+  const auto terrains = r.get<std::uint32_t>("terrain count");
+  if (terrains > r.remaining() / sizeof(std::uint64_t)) r.fail("corrupt (" + std::to_string(terrains) + " terrains)");
+  rec.terrain_generations.resize(terrains);
+  for (auto& g : rec.terrain_generations) g = r.get<std::uint64_t>("a terrain's generation");
   rec.waters = r.get<std::uint32_t>("water count");
   const auto frames = r.get<std::uint32_t>("frame count");
   if (frames == 0) r.fail("truncated (no frames)");
-  // A frame holds at least its substep, a u64 size per soil and water and its body count.
-  const std::uint64_t frame_min = 4 + 8 * (std::uint64_t{soils} + rec.waters) + 4;
+  // A frame holds at least its substep, a u64 size per terrain and water and its body count.
+  const std::uint64_t frame_min = 4 + 8 * (std::uint64_t{terrains} + rec.waters) + 4;
   if (frames > r.remaining() / frame_min) r.fail("corrupt (" + std::to_string(frames) + " frames)");
   rec.frames.resize(frames);
   int last = 0;
@@ -185,8 +185,8 @@ Recording read_recording(std::span<const unsigned char> file, const std::string&
              std::to_string(rec.substeps) + ")");
     last = f.substep;
     const std::string where = "frame at substep " + std::to_string(f.substep);
-    f.soil_deltas.resize(soils);
-    for (auto& d : f.soil_deltas) d = r.bytes("a soil delta");
+    f.terrain_deltas.resize(terrains);
+    for (auto& d : f.terrain_deltas) d = r.bytes("a terrain delta");
     f.body_count = r.get<std::uint32_t>("the body count");
     const std::uint64_t body_bytes = std::uint64_t{f.body_count} * Recording::kBodyScalars * sizeof(btScalar);
     if (body_bytes > r.remaining()) r.fail(where + ": truncated (" + std::to_string(f.body_count) + " bodies)");

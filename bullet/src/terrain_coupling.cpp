@@ -49,23 +49,38 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
 
 void TerrainCoupling::Parts::cover_bodies(double h) {
   const double margin = settings.cover_margin;
-  auto cover = [&](const btRigidBody& body) {
-    if (body.isStaticObject() || !coupling_detail::motion_is_sane(body.getWorldTransform(), body.getLinearVelocity(),
-                                                                  body.getAngularVelocity(), settings.max_speed))
-      return;
+  // Any object that moves gets ground under it: rigid bodies (their reach grows with their
+  // speed), and ghost objects, character capsules and other collision objects a game moves
+  // itself (no velocity Bullet knows: the margin is their reach).
+  auto cover = [&](btCollisionObject& object) {
+    if (object.isStaticObject() || object.getCollisionShape() == nullptr) return;
+    const btRigidBody* body = btRigidBody::upcast(&object);
+    if (body == nullptr) show_soft_tiles(object);
+    const btVector3 zero(0, 0, 0);
+    const btVector3& v = body != nullptr ? body->getLinearVelocity() : zero;
+    const btVector3& w = body != nullptr ? body->getAngularVelocity() : zero;
+    if (!coupling_detail::motion_is_sane(object.getWorldTransform(), v, w, settings.max_speed)) return;
     btVector3 lo, hi;
-    body.getCollisionShape()->getAabb(body.getWorldTransform(), lo, hi);
-    const double reach = margin + 2.0 * h * body.getLinearVelocity().length();
+    object.getCollisionShape()->getAabb(object.getWorldTransform(), lo, hi);
+    const double reach = margin + 2.0 * h * v.length();
     tiles.ensure_cover(lo.x() - reach, lo.y() - reach, hi.x() + reach, hi.y() + reach);
   };
   if (settings.cover_all_bodies) {
     const btCollisionObjectArray& objects = world.getCollisionObjectArray();
-    for (int k = 0; k < objects.size(); ++k)
-      if (const btRigidBody* body = btRigidBody::upcast(objects[k])) cover(*body);
+    for (int k = 0; k < objects.size(); ++k) cover(*objects[k]);
   } else {
-    for (const Entry& e : bodies)
-      if (const btRigidBody* body = btRigidBody::upcast(&e.body->object())) cover(*body);
+    for (const Entry& e : bodies) cover(e.body->object());
   }
+}
+
+void TerrainCoupling::Parts::show_soft_tiles(btCollisionObject& object) {
+  btBroadphaseProxy* proxy = object.getBroadphaseHandle();
+  const int bit = settings.terrain_filter_bit;
+  if (rigid || proxy == nullptr || (proxy->m_collisionFilterMask & btBroadphaseProxy::StaticFilter) == 0 ||
+      (proxy->m_collisionFilterMask & bit) != 0)
+    return;
+  proxy->m_collisionFilterMask |= bit;
+  world.refreshBroadphaseProxy(&object);  // pairs with the tiles that exist already
 }
 
 namespace {

@@ -41,6 +41,10 @@ struct TerrainCoupling::Parts {
 
   // ---- the substep (terrain_coupling.cpp) ----
   void cover_bodies(double h);
+  /// A ghost object (a character controller's capsule, a trigger) that collides with static
+  /// objects collides with soft tiles too: their group is terrain_filter_bit, which the
+  /// filters a game copies from Bullet's demos leave out.
+  void show_soft_tiles(btCollisionObject& object);
   /// One body's path through the substep: its contact solved, its envelope made or kept,
   /// its imprint.
   void serve(Entry& e, double h, bool deforms);

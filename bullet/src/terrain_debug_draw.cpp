@@ -25,32 +25,32 @@ EnvelopeGrid terrain_grid(const terrain::Terrain& terrain) {
 /// The terrain's contact under the body's lower envelope at its present pose (the columns
 /// the terrain pushes from, as the coupling's solve sees them: within the unloading columns'
 /// elastic reach too), clipped to the coupling's region; empty if the body cannot be drawn.
-terrain::ContactPatch contact_of(const terrain::Terrain& soil, const Region& region,
+terrain::ContactPatch contact_of(const terrain::Terrain& terrain, const Region& region,
                                  const coupling_detail::CoupledBody& body) {
   const btCollisionShape& shape = *body.shape();
-  const EnvelopeGrid grid = terrain_grid(soil);
+  const EnvelopeGrid grid = terrain_grid(terrain);
   if (!pose_rasterizable(body.pose(), shape_reach(shape), grid)) return {};
   EnvelopeRaster env;
   rasterize_envelope(shape, body.pose(), grid, EnvelopeOptions{}, env);
   if (!region.everywhere())
     for (int b = 0; b < env.ny; ++b)
       for (int a = 0; a < env.nx; ++a)
-        if (!region.contains(soil.column_x(env.i0 + a), soil.column_y(env.j0 + b)))
+        if (!region.contains(terrain.column_x(env.i0 + a), terrain.column_y(env.j0 + b)))
           env.lower[env.index(env.i0 + a, env.j0 + b)] = EnvelopeRaster::kNoLower;
   terrain::ContactPatch patch;
-  soil.contact(env, {}, nullptr, patch);
+  terrain.contact(env, {}, nullptr, patch);
   return patch;
 }
 
-btVector3 column_top(const terrain::Terrain& soil, std::int64_t i, std::int64_t j) {
-  return {btScalar(soil.column_x(i)), btScalar(soil.column_y(j)), btScalar(soil.height(i, j) + kLift)};
+btVector3 column_top(const terrain::Terrain& terrain, std::int64_t i, std::int64_t j) {
+  return {btScalar(terrain.column_x(i)), btScalar(terrain.column_y(j)), btScalar(terrain.height(i, j) + kLift)};
 }
 
-void draw_body_contact(btIDebugDraw& d, const TerrainCoupling& coupling, const terrain::Terrain& soil,
+void draw_body_contact(btIDebugDraw& d, const TerrainCoupling& coupling, const terrain::Terrain& terrain,
                        const coupling_detail::CoupledBody& body, const TerrainForce& pushed, int mode) {
-  const terrain::ContactPatch patch = contact_of(soil, coupling.settings().region, body);
+  const terrain::ContactPatch patch = contact_of(terrain, coupling.settings().region, body);
   if (patch.elements.empty()) return;
-  const double half = 0.35 * soil.settings().cell;
+  const double half = 0.35 * terrain.settings().cell;
   const double mass = body.inverse_mass() > 0 ? 1.0 / body.inverse_mass() : 0.0;
   const double gz = coupling.world().getGravity().z();
   const double g = -gz > 0 ? -gz : 9.81;
@@ -58,7 +58,7 @@ void draw_body_contact(btIDebugDraw& d, const TerrainCoupling& coupling, const t
   double weight = 0.0;
   for (const terrain::ContactElement& e : patch.elements) {
     if (e.wall) continue;
-    const btVector3 top = column_top(soil, e.i, e.j);
+    const btVector3 top = column_top(terrain, e.i, e.j);
     const double force = e.pressure * e.area * e.normal.z;  // the most it bears, vertically
     if (mode & debug_draw::kContactBits) debug_draw::cross(d, top, half, debug_draw::kContactColour);
     if ((mode & debug_draw::kForceBits) && std::isfinite(force) && force > 0.0)
@@ -74,16 +74,16 @@ void draw_body_contact(btIDebugDraw& d, const TerrainCoupling& coupling, const t
 }
 
 /// The outline of one Bullet tile, following the ground along its four edges.
-void draw_tile_outline(btIDebugDraw& d, const terrain::Terrain& soil, const btCollisionObject& tile) {
+void draw_tile_outline(btIDebugDraw& d, const terrain::Terrain& terrain, const btCollisionObject& tile) {
   btVector3 lo, hi;
   const btCollisionShape& shape = *tile.getCollisionShape();
   shape.getAabb(tile.getWorldTransform(), lo, hi);
   const btScalar m = shape.getMargin();  // Bullet pads a heightfield's box by its margin
-  const std::int64_t i0 = soil.column_i(lo.x() + m), i1 = soil.column_i(hi.x() - m);
-  const std::int64_t j0 = soil.column_j(lo.y() + m), j1 = soil.column_j(hi.y() - m);
+  const std::int64_t i0 = terrain.column_i(lo.x() + m), i1 = terrain.column_i(hi.x() - m);
+  const std::int64_t j0 = terrain.column_j(lo.y() + m), j1 = terrain.column_j(hi.y() - m);
   auto edge = [&](std::int64_t ia, std::int64_t ja, std::int64_t di, std::int64_t dj, std::int64_t n) {
     for (std::int64_t k = 0; k < n; ++k)
-      d.drawLine(column_top(soil, ia + k * di, ja + k * dj), column_top(soil, ia + (k + 1) * di, ja + (k + 1) * dj),
+      d.drawLine(column_top(terrain, ia + k * di, ja + k * dj), column_top(terrain, ia + (k + 1) * di, ja + (k + 1) * dj),
                  debug_draw::kOutlineColour);
   };
   edge(i0, j0, 1, 0, i1 - i0);

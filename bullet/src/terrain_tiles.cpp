@@ -19,8 +19,8 @@ void TerrainTilesSettings::validate() const {
   c.positive("max_rise_per_substep", max_rise_per_substep);
 }
 
-TerrainTiles::TerrainTiles(btCollisionWorld& world, const terrain::Terrain& soil, const TerrainTilesSettings& settings)
-    : world_(world), soil_(soil), settings_(settings), friction_(soil.settings().material.friction) {
+TerrainTiles::TerrainTiles(btCollisionWorld& world, const terrain::Terrain& terrain, const TerrainTilesSettings& settings)
+    : world_(world), terrain_(terrain), settings_(settings), friction_(terrain.settings().material.friction) {
   settings_.validate();
 }
 
@@ -35,7 +35,11 @@ std::uint64_t TerrainTiles::key(std::int64_t tx, std::int64_t ty) noexcept {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(tx)) << 32) | static_cast<std::uint32_t>(ty);
 }
 
-bool TerrainTiles::is_tile(const btCollisionObject* object) const noexcept {
+namespace {
+constexpr int kTileTag = 0x5e0e71;  // user index 2 of every tile object
+}  // namespace
+
+bool is_terrain_tile(const btCollisionObject* object) noexcept {
   // Tiles are tagged through their user index (cheaper than a lookup).
   return object != nullptr && object->getUserIndex2() == kTileTag;
 }
@@ -46,32 +50,32 @@ void TerrainTiles::set_friction(double friction) {
 }
 
 TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
-  const int T = soil_.settings().tile_columns;
+  const int T = terrain_.settings().tile_columns;
   const std::int64_t i0 = tx * T, j0 = ty * T;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (int b = 0; b <= T; ++b)
     for (int a = 0; a <= T; ++a) {
-      lo = std::min(lo, soil_.bedrock(i0 + a, j0 + b));
-      hi = std::max(hi, std::max(soil_.base_height(i0 + a, j0 + b), soil_.height(i0 + a, j0 + b)));
+      lo = std::min(lo, terrain_.bedrock(i0 + a, j0 + b));
+      hi = std::max(hi, std::max(terrain_.base_height(i0 + a, j0 + b), terrain_.height(i0 + a, j0 + b)));
     }
   HeightfieldTileSettings hs;
   hs.columns = T + 1;
-  hs.cell = soil_.settings().cell;
-  hs.origin_x = soil_.column_x(i0);
-  hs.origin_y = soil_.column_y(j0);
+  hs.cell = terrain_.settings().cell;
+  hs.origin_x = terrain_.column_x(i0);
+  hs.origin_y = terrain_.column_y(j0);
   hs.min_height = lo - 0.01;
   hs.max_height = hi + settings_.headroom;
   hs.initial_height = hi;
   hs.friction = friction_;
   std::vector<double> heights(static_cast<std::size_t>(T + 1) * static_cast<std::size_t>(T + 1));
   for (int b = 0; b <= T; ++b)
-    for (int a = 0; a <= T; ++a) heights[static_cast<std::size_t>(b) * (T + 1) + a] = soil_.height(i0 + a, j0 + b);
+    for (int a = 0; a <= T; ++a) heights[static_cast<std::size_t>(b) * (T + 1) + a] = terrain_.height(i0 + a, j0 + b);
   return add(tx, ty, hs, heights);
 }
 
 TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, const HeightfieldTileSettings& hs,
                                       std::span<const double> heights) {
-  const int T = soil_.settings().tile_columns;
+  const int T = terrain_.settings().tile_columns;
   Tile tile;
   tile.i0 = tx * T;
   tile.j0 = ty * T;
@@ -79,7 +83,7 @@ TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, const He
   for (int b = 0; b <= T; ++b)
     for (int a = 0; a <= T; ++a) tile.field->set_height(a, b, heights[static_cast<std::size_t>(b) * (T + 1) + a]);
   // Rigid ground never changes: its tiles can carry Bullet's internal-edge info.
-  if (soil_.settings().material.rigid && settings_.smooth_rigid_edges) tile.field->smooth_internal_edges();
+  if (terrain_.settings().material.rigid && settings_.smooth_rigid_edges) tile.field->smooth_internal_edges();
   tile.field->object()->setUserIndex2(kTileTag);
   world_.addCollisionObject(tile.field->object(), group_,
                             btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
@@ -87,16 +91,16 @@ TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, const He
 }
 
 int TerrainTiles::ensure_cover(double x0, double y0, double x1, double y1) {
-  const int T = soil_.settings().tile_columns;
+  const int T = terrain_.settings().tile_columns;
   // Tiles whose span lies strictly inside the region's edges (a tile touching the region
   // only along its border belongs to the neighbour).
-  const double eps = 1e-6 * soil_.settings().cell;
+  const double eps = 1e-6 * terrain_.settings().cell;
   x0 = std::max(x0, region_.x0 + eps);
   y0 = std::max(y0, region_.y0 + eps);
   x1 = std::min(x1, region_.x1 - eps);
   y1 = std::min(y1, region_.y1 - eps);
   if (x0 > x1 || y0 > y1) return 0;
-  const terrain::TerrainSettings& s = soil_.settings();
+  const terrain::TerrainSettings& s = terrain_.settings();
   auto tile_of = [&](double w, double origin) {
     return static_cast<std::int64_t>(std::floor((w - origin) / (s.cell * T)));
   };
@@ -113,14 +117,14 @@ int TerrainTiles::ensure_cover(double x0, double y0, double x1, double y1) {
 }
 
 std::int64_t TerrainTiles::copy_rect(Tile& tile, const GridRect& columns) {
-  const int T = soil_.settings().tile_columns;
+  const int T = terrain_.settings().tile_columns;
   // The tile's vertices: its columns [i0, i0 + T] x [j0, j0 + T] (edges shared with neighbours).
   const GridRect rect = intersection(columns, {tile.i0, tile.j0, T + 1, T + 1});
   if (rect.empty()) return 0;
   const std::int64_t a0 = rect.i0 - tile.i0, b0 = rect.j0 - tile.j0;
   const auto width = static_cast<std::size_t>(rect.nx);
   scratch_.resize(width * static_cast<std::size_t>(rect.ny));
-  soil_.heights(rect, scratch_);
+  terrain_.heights(rect, scratch_);
   for (int b = 0; b < rect.ny; ++b) {
     // Raised ground may not jump over a body: it rises at most max_rise_per_substep.
     const HeightfieldTile::RowWrite w =
@@ -135,7 +139,7 @@ std::int64_t TerrainTiles::copy_rect(Tile& tile, const GridRect& columns) {
 
 std::int64_t TerrainTiles::push(std::span<const GridRect> changed) {
   if (observer_ && !changed.empty()) observer_(changed);
-  const int T = soil_.settings().tile_columns;
+  const int T = terrain_.settings().tile_columns;
   std::int64_t written = 0;
   // Vertices still catching up with a capped rise.
   for (auto& [k, tile] : tiles_)
@@ -164,9 +168,9 @@ std::int64_t TerrainTiles::push(std::span<const GridRect> changed) {
 
 void TerrainTiles::drop_stale_contacts(const GridRect& columns) {
   // Contact points over the columns and a cell around them.
-  const double cell = soil_.settings().cell;
-  const double x0 = soil_.column_x(columns.i0) - cell, y0 = soil_.column_y(columns.j0) - cell;
-  const double x1 = soil_.column_x(columns.i1() - 1) + cell, y1 = soil_.column_y(columns.j1() - 1) + cell;
+  const double cell = terrain_.settings().cell;
+  const double x0 = terrain_.column_x(columns.i0) - cell, y0 = terrain_.column_y(columns.j0) - cell;
+  const double x1 = terrain_.column_x(columns.i1() - 1) + cell, y1 = terrain_.column_y(columns.j1() - 1) + cell;
   btDispatcher* dispatcher = world_.getDispatcher();
   const int n = dispatcher->getNumManifolds();
   for (int m = 0; m < n; ++m) {

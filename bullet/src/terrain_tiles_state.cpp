@@ -22,7 +22,7 @@ struct SavedTile {
 }  // namespace
 
 void TerrainTiles::save_state(ByteWriter& w) const {
-  const int T = soil_.settings().tile_columns;
+  const int T = terrain_.settings().tile_columns;
   std::vector<const Tile*> ordered;  // key order: the file does not depend on the map's
   ordered.reserve(tiles_.size());
   for (const auto& [k, tile] : tiles_) ordered.push_back(&tile);
@@ -44,9 +44,9 @@ void TerrainTiles::save_state(ByteWriter& w) const {
 }
 
 void TerrainTiles::restore_state(ByteReader& r) {
-  const int T = soil_.settings().tile_columns;
+  const int T = terrain_.settings().tile_columns;
   if (const auto saved_T = r.get<std::int32_t>("tile size"); saved_T != T)
-    r.fail("tiles of " + std::to_string(saved_T) + " columns, this soil's are " + std::to_string(T));
+    r.fail("tiles of " + std::to_string(saved_T) + " columns, this terrain's are " + std::to_string(T));
   const auto clamped = r.get<std::int64_t>("tiles");
   const auto count = r.get<std::uint64_t>("tile count");
   const std::size_t vertices = static_cast<std::size_t>(T + 1) * static_cast<std::size_t>(T + 1);
@@ -54,13 +54,13 @@ void TerrainTiles::restore_state(ByteReader& r) {
   std::vector<SavedTile> saved(static_cast<std::size_t>(count));
   for (SavedTile& t : saved) {
     t.tx = r.get<std::int64_t>("tile"), t.ty = r.get<std::int64_t>("tile");
-    constexpr std::int64_t kMaxColumn = std::int64_t{1} << 52;  // the soil's own bound on column indices
+    constexpr std::int64_t kMaxColumn = std::int64_t{1} << 52;  // the terrain's own bound on column indices
     if (t.tx < -kMaxColumn / T || t.tx > kMaxColumn / T || t.ty < -kMaxColumn / T || t.ty > kMaxColumn / T)
       r.fail("tile (" + std::to_string(t.tx) + ", " + std::to_string(t.ty) + ") lies beyond column index 2^52");
     HeightfieldTileSettings& s = t.settings;
     s.columns = T + 1;
-    s.cell = soil_.settings().cell;
-    s.origin_x = soil_.column_x(t.tx * T), s.origin_y = soil_.column_y(t.ty * T);
+    s.cell = terrain_.settings().cell;
+    s.origin_x = terrain_.column_x(t.tx * T), s.origin_y = terrain_.column_y(t.ty * T);
     s.min_height = r.get<double>("tile bounds"), s.max_height = r.get<double>("tile bounds");
     s.initial_height = r.get<double>("tile bounds");
     s.friction = friction_;

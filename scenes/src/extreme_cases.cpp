@@ -14,8 +14,8 @@ ExtremeCase sphere(std::string name, std::string what, const terrain::Material& 
   ExtremeCase c;
   c.name = std::move(name);
   c.what = std::move(what);
-  c.sphere_case.run.material = m;
-  c.sphere_case.run.cell = cell;
+  c.sphere_case.run.terrain.material = m;
+  c.sphere_case.run.terrain.cell = cell;
   c.sphere_case.run.substep = substep;
   c.sphere_case.diameter = diameter;
   c.sphere_case.mass = mass;
@@ -30,8 +30,8 @@ ExtremeCase plate_on_snow(std::string name, std::string what, double cell, doubl
   c.name = std::move(name);
   c.what = std::move(what);
   c.plate = true;
-  c.plate_case.run.material = terrain::Material::snow();
-  c.plate_case.run.cell = cell;
+  c.plate_case.run.terrain.material = terrain::Material::snow();
+  c.plate_case.run.terrain.cell = cell;
   c.plate_case.width = width;
   c.plate_case.pressure = mass * kGravity / (width * width);
   c.plate_case.ramp_seconds = 1.0;
@@ -110,8 +110,8 @@ ExtremeResult run_extreme(const ExtremeCase& c) {
     soil_case.run.after_substep = watch;
     const auto result = runner(soil_case);
     r.sinkage = sinkage_of(result);
-    r.reference = std::min(result.reference, soil_case.run.material.soil_depth);
-    r.soil_depth = soil_case.run.material.soil_depth;
+    r.reference = std::min(result.reference, soil_case.run.terrain.material.soil_depth);
+    r.soil_depth = soil_case.run.terrain.material.soil_depth;
     r.rescues = result.stats.rescues;
     r.wall_seconds = result.stats.wall_seconds;
   };

@@ -108,7 +108,7 @@ void Recorder::begin(const SceneType& type, const SceneOptions& options, Scene& 
   sizes_.initial = im.initial.size();
   for (const SoilContents& s : c.soils) {
     im.sent.push_back(s.soil->generation());
-    rec.soil_generations.push_back(im.sent.back());
+    rec.terrain_generations.push_back(im.sent.back());
   }
   rec.waters = static_cast<std::uint32_t>(c.waters.size());
   im.water.resize(c.waters.size());
@@ -128,8 +128,8 @@ void Recorder::after_substep(Scene& scene, int k) {
     return std::span<const unsigned char>(im.owned.back());
   };
   for (std::size_t s = 0; s < c.soils.size(); ++s) {
-    f.soil_deltas.push_back(keep(terrain::SoilDelta::encode(*c.soils[s].soil, im.sent[s], exact)));
-    sizes_.soil_deltas += f.soil_deltas.back().size();
+    f.terrain_deltas.push_back(keep(terrain::SoilDelta::encode(*c.soils[s].soil, im.sent[s], exact)));
+    sizes_.terrain_deltas += f.terrain_deltas.back().size();
     im.sent[s] = c.soils[s].soil->generation();
   }
   ByteWriter bodies;
@@ -163,10 +163,10 @@ void Recorder::finish(std::uint64_t state_hash) {
     without.scene = im.rec.scene, without.material = im.rec.material;
     without.seconds = im.rec.seconds, without.substep = im.rec.substep, without.cell = im.rec.cell;
     without.smoke = im.rec.smoke, without.substeps = im.rec.substeps, without.state_hash = state_hash;
-    without.initial = im.rec.initial, without.soil_generations = im.rec.soil_generations;
+    without.initial = im.rec.initial, without.terrain_generations = im.rec.terrain_generations;
     for (const Recording::Frame& f : im.rec.frames) {
       Recording::Frame g;
-      g.substep = f.substep, g.soil_deltas = f.soil_deltas, g.bodies = f.bodies, g.body_count = f.body_count;
+      g.substep = f.substep, g.terrain_deltas = f.terrain_deltas, g.bodies = f.bodies, g.body_count = f.body_count;
       without.frames.push_back(std::move(g));
     }
     sizes_.water_compressed = bytes.size() - std::min(bytes.size(), bullet::write_recording(without).size());
@@ -200,7 +200,7 @@ void apply_frame(const Recording& rec, const Recording::Frame& f, const SceneCon
   const std::string where = source + ", frame at substep " + std::to_string(f.substep);
   for (std::size_t s = 0; s < c.soils.size(); ++s) {
     try {
-      at[s] = terrain::SoilDelta::apply(*c.soils[s].soil, f.soil_deltas[s], at[s]);
+      at[s] = terrain::SoilDelta::apply(*c.soils[s].soil, f.terrain_deltas[s], at[s]);
     } catch (const std::exception& e) {  // FileError or InvalidSetting: the delta does not fit
       throw FileError(where + ", soil " + std::to_string(s) + ": " + e.what());
     }
@@ -263,13 +263,13 @@ ReplayResult replay(const std::filesystem::path& file, const std::filesystem::pa
   restore_checkpoint(*scene, CheckpointReader({rec.initial.begin(), rec.initial.end()},
                                               file.string() + " (initial state)", bullet::scalar_bytes()));
   const SceneContents c = recordable(*scene, res.scene);
-  if (rec.soil_generations.size() != c.soils.size())
-    throw FileError(source + ": holds " + std::to_string(rec.soil_generations.size()) + " soils, the scene has " +
+  if (rec.terrain_generations.size() != c.soils.size())
+    throw FileError(source + ": holds " + std::to_string(rec.terrain_generations.size()) + " soils, the scene has " +
                     std::to_string(c.soils.size()));
   if (rec.waters != c.waters.size())
     throw FileError(source + ": holds " + std::to_string(rec.waters) + " water surfaces, the scene has " +
                     std::to_string(c.waters.size()));
-  std::vector<std::uint64_t> at = rec.soil_generations;
+  std::vector<std::uint64_t> at = rec.terrain_generations;
   std::vector<bullet::StateChain> water(c.waters.size());
 
   const bool film = write_files && painter != nullptr;

@@ -20,32 +20,12 @@ namespace {
 constexpr double kGravity = 9.81;
 using Clock = std::chrono::steady_clock;
 
-terrain::TerrainSettings soil_settings(const SoilRun& run) {
-  terrain::TerrainSettings s;
-  s.cell = run.cell;
-  s.material = run.material;
-  s.threads = run.threads;
-  s.max_erosion_passes = run.max_erosion_passes;
-  s.active_reach = run.active_reach;
-  s.active_margin = run.active_margin;
-  s.base = run.base;
-  s.spray = run.spray;
-  return s;
-}
-
-bullet::TerrainCouplingSettings coupling_settings(const SoilRun& run) {
-  bullet::TerrainCouplingSettings s;
-  s.contact = run.contact;
-  s.step_interval = run.step_interval;
-  return s;
-}
-
 /// One soil, a world and their coupling: what every soil case runs on.
 struct SoilRig {
   explicit SoilRig(const SoilRun& run)
-      : soil(soil_settings(run)),
+      : soil(run.terrain),
         world(kGravity),
-        ground(world.world(), soil, coupling_settings(run)),
+        ground(world.world(), soil, run.coupling),
         h(run.substep),
         body_spray(run.body_spray),
         after_substep(run.after_substep),
@@ -138,7 +118,7 @@ PlateResult run_plate(const PlateCase& c) {
   const double half_h = 0.05, mass = c.pressure * c.width * c.width / kGravity;
   // Edges edge_offset of a cell past column centres (0.5: the footprint covers exactly
   // (width / cell)^2 columns).
-  const double cx = c.edge_offset * c.run.cell + 0.5 * c.width;
+  const double cx = c.edge_offset * c.run.terrain.cell + 0.5 * c.width;
   btRigidBody* plate =
       rig.add(std::make_unique<btBoxShape>(btVector3(btScalar(c.width / 2), btScalar(c.width / 2), btScalar(half_h))),
               mass, btVector3(btScalar(cx), btScalar(cx), btScalar(half_h)));
@@ -148,8 +128,8 @@ PlateResult run_plate(const PlateCase& c) {
   out.sinkage = -(plate->getCenterOfMassPosition().z() - half_h);
   out.drift = double((plate->getCenterOfMassPosition() - btVector3(btScalar(cx), btScalar(cx), 0)).length() -
                      std::abs(double(plate->getCenterOfMassPosition().z())));
-  out.reference = c.ramp_seconds > 0 ? terrain::bekker::plate_sinkage(c.run.material, c.width, c.pressure)
-                                     : terrain::bekker::plate_sinkage_released(c.run.material, c.width, c.pressure);
+  out.reference = c.ramp_seconds > 0 ? terrain::bekker::plate_sinkage(c.run.terrain.material, c.width, c.pressure)
+                                     : terrain::bekker::plate_sinkage_released(c.run.terrain.material, c.width, c.pressure);
   rig.finish(out.stats, *plate);
   return out;
 }
@@ -158,14 +138,14 @@ WheelResult run_wheel(const WheelCase& c) {
   WheelResult out;
   SoilRig rig(c.run);
   const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
-  btRigidBody* wheel = rig.add_held_wheel(R, c.width, mass, c.run.cell);
+  btRigidBody* wheel = rig.add_held_wheel(R, c.width, mass, c.run.terrain.cell);
   // Press: the load ramps in with the wheel held still.
   const auto ramp_steps = static_cast<std::int64_t>(std::lround(c.ramp_seconds / h));
   const auto settle_steps = static_cast<std::int64_t>(std::lround(0.5 / h));
   rig.press(*wheel, mass, c.ramp_seconds, ramp_steps + settle_steps, out.stats);
   if (!c.towed) {
     out.sinkage = -(wheel->getCenterOfMassPosition().z() - R);
-    out.reference_sinkage = terrain::bekker::wheel_sinkage_static(c.run.material, c.load, c.diameter, c.width);
+    out.reference_sinkage = terrain::bekker::wheel_sinkage_static(c.run.terrain.material, c.load, c.diameter, c.width);
     rig.finish(out.stats, *wheel);
     return out;
   }
@@ -198,15 +178,15 @@ WheelResult run_wheel(const WheelCase& c) {
   const double x_end = wheel->getCenterOfMassPosition().x();
   double rut = 0.0;
   int n = 0;
-  for (double x = 0.25 * x_end; x <= 0.6 * x_end; x += c.run.cell) {
-    const auto i = rig.soil.column_i(x), j = rig.soil.column_j(0.5 * c.run.cell);
+  for (double x = 0.25 * x_end; x <= 0.6 * x_end; x += c.run.terrain.cell) {
+    const auto i = rig.soil.column_i(x), j = rig.soil.column_j(0.5 * c.run.terrain.cell);
     rut += rig.soil.base_height(i, j) - rig.soil.height(i, j);
     ++n;
   }
   out.rut_depth = n ? rut / n : 0.0;
-  out.reference_sinkage = terrain::bekker::wheel_sinkage_rolling(c.run.material, c.load, c.diameter, c.width);
+  out.reference_sinkage = terrain::bekker::wheel_sinkage_rolling(c.run.terrain.material, c.load, c.diameter, c.width);
   out.reference_resistance =
-      terrain::bekker::wheel_compaction_resistance(c.run.material, out.reference_sinkage, c.width);
+      terrain::bekker::wheel_compaction_resistance(c.run.terrain.material, out.reference_sinkage, c.width);
   rig.finish(out.stats, *wheel);
   return out;
 }
@@ -215,7 +195,7 @@ DrivenWheelResult run_driven_wheel(const DrivenWheelCase& c) {
   DrivenWheelResult out;
   SoilRig rig(c.run);
   const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
-  btRigidBody* wheel = rig.add_held_wheel(R, c.width, mass, c.run.cell);
+  btRigidBody* wheel = rig.add_held_wheel(R, c.width, mass, c.run.terrain.cell);
   // Press: the load ramps in with the wheel held still (every step of the ramp is within it).
   rig.press(*wheel, mass, c.ramp_seconds, static_cast<std::int64_t>(std::lround(c.ramp_seconds / h)), out.stats);
   // Drive: omega and the carrier's speed held at the start of every substep. The wheel's
@@ -263,7 +243,7 @@ SphereDropResult run_sphere_drop(const SphereDropCase& c) {
     out.max_depth = std::max(out.max_depth, -(double(ball->getCenterOfMassPosition().z()) - R));
   }
   out.depth = -(ball->getCenterOfMassPosition().z() - R);
-  out.reference = sphere_drop_reference_depth(c.run.material, c.diameter, c.mass, c.height);
+  out.reference = sphere_drop_reference_depth(c.run.terrain.material, c.diameter, c.mass, c.height);
   out.energy_lost = c.mass * kGravity * (c.height + out.depth);
   const double crater =
       out.depth < R ? 2.0 * std::sqrt(std::max(0.0, 2 * R * out.depth - out.depth * out.depth)) : c.diameter;
@@ -339,8 +319,8 @@ terrain::Material rigid_copy(const terrain::Material& m) {
 SlopeBoxResult run_slope_box(const SlopeBoxCase& c) {
   SlopeBoxResult out;
   SoilRun run = c.run;
-  run.base = plane_descending(c.slope);
-  if (c.rigid) run.material = rigid_copy(c.run.material);
+  run.terrain.base = plane_descending(c.slope);
+  if (c.rigid) run.terrain.material = rigid_copy(c.run.terrain.material);
   SoilRig rig(run);
   const btVector3 normal(btScalar(std::sin(c.slope)), 0, btScalar(std::cos(c.slope)));
   const btVector3 downhill(btScalar(std::cos(c.slope)), 0, btScalar(-std::sin(c.slope)));
@@ -374,8 +354,8 @@ SlopeBoxResult run_slope_box(const SlopeBoxCase& c) {
 RollingBallResult run_rolling_ball(const RollingBallCase& c) {
   RollingBallResult out;
   SoilRun run = c.run;
-  run.base = plane_descending(c.slope);
-  if (c.rigid) run.material = rigid_copy(c.run.material);
+  run.terrain.base = plane_descending(c.slope);
+  if (c.rigid) run.terrain.material = rigid_copy(c.run.terrain.material);
   SoilRig rig(run);
   const double R = c.diameter / 2;
   const btVector3 normal(btScalar(std::sin(c.slope)), 0, btScalar(std::cos(c.slope)));
@@ -438,7 +418,7 @@ SidePushResult run_side_push(const SidePushCase& c) {
   SidePushResult out;
   SoilRig rig(c.run);
   const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
-  btRigidBody* wheel = rig.add_held_wheel(R, c.width, mass, c.run.cell);
+  btRigidBody* wheel = rig.add_held_wheel(R, c.width, mass, c.run.terrain.cell);
   rig.press(*wheel, mass, 1.0, std::lround(1.5 / h), out.stats);  // the load in over 1 s, held still
   if (c.in_rut) {                                                 // roll 1.5 m to cut a rut, then stop in it
     wheel->setLinearFactor(btVector3(1, 0, 1));
@@ -491,7 +471,7 @@ VehicleWheel vehicle_wheel() {
 VehicleClimbResult run_vehicle_climb(const VehicleClimbCase& c) {
   VehicleClimbResult out;
   SoilRun run = c.run;
-  run.base = std::make_shared<terrain::PlaneHeight>(0.0, std::tan(c.slope), 0.0);  // rises along +x
+  run.terrain.base = std::make_shared<terrain::PlaneHeight>(0.0, std::tan(c.slope), 0.0);  // rises along +x
   SoilRig rig(run);
   FourWheelerSettings car;
   car.target_speed = c.wheel_speed;

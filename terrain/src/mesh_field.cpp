@@ -44,10 +44,8 @@ void TerrainField::take_changes(std::vector<GridRect>& out) {
     out.push_back({0, 0, region_.nx, region_.ny});
   } else {
     for (const GridRect& c : terrain_->changed_since(first_ ? 0 : seen_)) {
-      const std::int64_t i0 = std::max(c.i0, region_.i0), j0 = std::max(c.j0, region_.j0);
-      const std::int64_t i1 = std::min(c.i0 + c.nx, region_.i0 + region_.nx);
-      const std::int64_t j1 = std::min(c.j0 + c.ny, region_.j0 + region_.ny);
-      if (i1 > i0 && j1 > j0) out.push_back({i0 - region_.i0, j0 - region_.j0, i1 - i0, j1 - j0});
+      const GridRect common = intersection(c, region_);
+      if (!common.empty()) out.push_back(common.shifted(-region_.i0, -region_.j0));
     }
   }
   first_ = false;

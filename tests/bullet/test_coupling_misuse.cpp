@@ -1,4 +1,4 @@
-// Misuse and lifetimes of the couplings (issue 21): each case has the behaviour documented
+// Misuse and lifetimes of the couplings: each case has the behaviour documented
 // in shore/bullet/terrain_coupling.h and water_coupling.h, and never a crash (the
 // sanitizer run reads these cases under ASan, so a read of a deleted body fails there).
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The edges of the settings ranges (issue 21), smoke versions (the full ones, with their
+// The edges of the settings ranges, smoke versions (the full ones, with their
 // errors against the references, are shore-bench's reliability sweep): substeps of 1/30 s
 // and 1/2000 s, cells of 2 mm and 20 cm, 0.05 kg and 50 t on snow, 50 m/s into mud. Each
 // stays finite, ends above bedrock and presses the soil.
@@ -38,8 +38,8 @@ INSTANTIATE_TEST_SUITE_P(Smoke, ExtremeSettings, ::testing::ValuesIn(scenes::ext
 TEST(ExtremeSettingsUnloading, BodiesStayInTheSoil) {
   for (scenes::ExtremeCase c : scenes::extreme_cases(true)) {
     if (c.name != "material_n_0_05" && c.name != "material_stiffest") continue;
-    c.sphere_case.run.material.unload_modulus = 5e8;
-    c.plate_case.run.material.unload_modulus = 5e8;
+    c.sphere_case.run.terrain.material.unload_modulus = 5e8;
+    c.plate_case.run.terrain.material.unload_modulus = 5e8;
     const scenes::ExtremeResult r = scenes::run_extreme(c);
     EXPECT_TRUE(r.finite) << c.name;
     EXPECT_GT(r.sinkage, 0.0) << c.name << ": left the ground";

@@ -48,7 +48,7 @@ TEST(SoilContact, PlateSinkageDoesNotDependOnWhereItsEdgesFall) {
     c.ramp_seconds = 2.0;
     c.settle_seconds = 0.5;
     c.edge_offset = offset;
-    c.run.material = rigid_plastic_sand();
+    c.run.terrain.material = rigid_plastic_sand();
     const PlateResult r = run_plate(c);
     EXPECT_LT(rel(r.sinkage, r.reference), 0.03)
         << "edges " << offset << " of a cell past centres: " << r.sinkage << " vs Bekker " << r.reference;
@@ -58,9 +58,9 @@ TEST(SoilContact, PlateSinkageDoesNotDependOnWhereItsEdgesFall) {
 TEST(SoilContact, AFrictionlessBoxSlidesDownASoftSlopeAtGSinTheta) {
   SlopeBoxCase c;
   c.slope = 15 * kDeg;
-  c.run.material = rigid_plastic_sand();
-  c.run.material.cohesion = 0.0;
-  c.run.material.friction_angle = 0.0;
+  c.run.terrain.material = rigid_plastic_sand();
+  c.run.terrain.material.cohesion = 0.0;
+  c.run.terrain.material.friction_angle = 0.0;
   const SlopeBoxResult r = run_slope_box(c);
   const double want = kGravity * std::sin(c.slope);
   EXPECT_LT(rel(r.acceleration, want), 0.05) << r.acceleration << " vs " << want;
@@ -74,7 +74,7 @@ TEST(SoilContact, AFrictionlessBoxSlidesDownRigidGroundAtGSinTheta) {
     SlopeBoxCase c;
     c.slope = degrees * kDeg;
     c.rigid = true;
-    c.run.material.friction_angle = 0.0;  // rigid_copy gives the tiles Bullet friction tan(phi)
+    c.run.terrain.material.friction_angle = 0.0;  // rigid_copy gives the tiles Bullet friction tan(phi)
     const SlopeBoxResult r = run_slope_box(c);
     const double want = kGravity * std::sin(c.slope);
     EXPECT_LT(rel(r.acceleration, want), 0.01) << degrees << " deg: " << r.acceleration << " vs " << want;
@@ -93,10 +93,10 @@ TEST(SoilContact, WithUnloadingABoxSlidesDownSoftSlopesAtCoulombsRate) {
   for (const Case k : {Case{25, 0, 0.05}, Case{35, 28, 0.10}, Case{40, 28, 0.10}}) {
     SlopeBoxCase c;
     c.slope = k.slope_deg * kDeg;
-    c.run.material = rigid_plastic_sand();
-    c.run.material.cohesion = 0.0;
-    c.run.material.friction_angle = k.phi_deg * kDeg;
-    c.run.material.unload_modulus = 5e8;
+    c.run.terrain.material = rigid_plastic_sand();
+    c.run.terrain.material.cohesion = 0.0;
+    c.run.terrain.material.friction_angle = k.phi_deg * kDeg;
+    c.run.terrain.material.unload_modulus = 5e8;
     const SlopeBoxResult r = run_slope_box(c);
     const double want = kGravity * (std::sin(c.slope) - std::tan(k.phi_deg * kDeg) * std::cos(c.slope));
     EXPECT_LT(rel(r.acceleration, want), k.tolerance) << k.slope_deg << " deg: " << r.acceleration << " vs " << want;
@@ -106,9 +106,9 @@ TEST(SoilContact, WithUnloadingABoxSlidesDownSoftSlopesAtCoulombsRate) {
   SlopeBoxCase c;
   c.slope = 25 * kDeg;
   c.seconds = 2.0;
-  c.run.material = rigid_plastic_sand();
-  c.run.material.cohesion = 0.0;
-  c.run.material.unload_modulus = 5e8;
+  c.run.terrain.material = rigid_plastic_sand();
+  c.run.terrain.material.cohesion = 0.0;
+  c.run.terrain.material.unload_modulus = 5e8;
   const SlopeBoxResult r = run_slope_box(c);
   EXPECT_LT(std::abs(r.end_speed), 1e-3) << "creeps";
   EXPECT_LT(r.distance, 0.5);
@@ -127,8 +127,8 @@ TEST(SoilContact, ABoxStaysOnASlopeLessSteepThanTheFrictionAngle) {
     SlopeBoxCase c;
     c.slope = k.slope * kDeg;
     c.seconds = 2.0;
-    c.run.material = k.softening ? terrain::Material::sand() : rigid_plastic_sand();
-    c.run.material.cohesion = 0.0;
+    c.run.terrain.material = k.softening ? terrain::Material::sand() : rigid_plastic_sand();
+    c.run.terrain.material.cohesion = 0.0;
     const SlopeBoxResult r = run_slope_box(c);
     EXPECT_LT(std::abs(r.end_speed), 1e-3) << k.slope << " deg, softening " << k.softening << ": creeps";
     EXPECT_LT(r.distance, 0.5) << k.slope << " deg, softening " << k.softening;
@@ -137,8 +137,8 @@ TEST(SoilContact, ABoxStaysOnASlopeLessSteepThanTheFrictionAngle) {
   // Above its residual angle the preset slides on.
   SlopeBoxCase c;
   c.slope = 25.0 * kDeg;
-  c.run.material = terrain::Material::sand();
-  c.run.material.cohesion = 0.0;
+  c.run.terrain.material = terrain::Material::sand();
+  c.run.terrain.material.cohesion = 0.0;
   EXPECT_GT(run_slope_box(c).end_speed, 0.05);
 }
 
@@ -150,7 +150,7 @@ TEST(SoilContact, ABallRollsAgainstBekkersCompactionResistance) {
     c.rigid = true;
     const RollingBallResult rigid = run_rolling_ball(c);
     const RollingBallEstimate want =
-        rolling_ball_estimate(c.run.material, c.diameter, c.mass, c.slope, c.seconds, kGravity);
+        rolling_ball_estimate(c.run.terrain.material, c.diameter, c.mass, c.slope, c.seconds, kGravity);
     EXPECT_GT(soft.distance, 0.0) << slope;
     EXPECT_LT(soft.distance, rigid.distance) << slope;
     EXPECT_LT(rel(soft.distance, want.distance), 0.25)
@@ -158,8 +158,8 @@ TEST(SoilContact, ABallRollsAgainstBekkersCompactionResistance) {
   }
 }
 
-TEST(SoilContact, WongReeceReferenceMatchesTheIssuesCalculator) {
-  // Values printed by refs/wong_reece.py for the issue's wheel (dry sand, r 0.3, b 0.15, 1 kN).
+TEST(SoilContact, WongReeceReferenceMatchesTheReferenceCalculator) {
+  // Values printed by refs/wong_reece.py for the reference wheel (dry sand, r 0.3, b 0.15, 1 kN).
   const WongReeceWheel w;
   const struct {
     double slip, sinkage_mm, pull, torque;
@@ -195,8 +195,8 @@ TEST(SoilContact, ATowedWheelSinksAndResistsAsBekkerWhateverAlpha) {
   for (const double alpha : {0.0, 0.3}) {
     WheelCase c;
     c.towed = true;
-    c.run.material = terrain::Material::sand();
-    c.run.material.alpha = alpha;
+    c.run.terrain.material = terrain::Material::sand();
+    c.run.terrain.material.alpha = alpha;
     const WheelResult r = run_wheel(c);
     EXPECT_LT(rel(r.sinkage, r.reference_sinkage), 0.10) << "alpha " << alpha << ": " << r.sinkage;
     EXPECT_LT(rel(r.resistance, r.reference_resistance), 0.15) << "alpha " << alpha << ": " << r.resistance;
@@ -205,7 +205,7 @@ TEST(SoilContact, ATowedWheelSinksAndResistsAsBekkerWhateverAlpha) {
 
 TEST(SoilContact, AWheelInItsRutMeetsTheRutWall) {
   SidePushCase c;
-  c.run.material.alpha = 0.0;
+  c.run.terrain.material.alpha = 0.0;
   c.in_rut = false;
   const SidePushResult flat = run_side_push(c);
   c.in_rut = true;
@@ -215,7 +215,7 @@ TEST(SoilContact, AWheelInItsRutMeetsTheRutWall) {
   // Bekker's bulldozing resistance of the rut wall, over the wheel's chord at that depth:
   // the same order of magnitude.
   const double length = 2.0 * std::sqrt(c.diameter * rut.rut_depth);
-  const double bulldozing = bulldozing_resistance(c.run.material, rut.rut_depth, length);
+  const double bulldozing = bulldozing_resistance(c.run.terrain.material, rut.rut_depth, length);
   EXPECT_GT(rut.lateral_force, 0.1 * bulldozing) << rut.lateral_force << " vs " << bulldozing;
   EXPECT_LT(rut.lateral_force, 10.0 * bulldozing) << rut.lateral_force << " vs " << bulldozing;
   RecordProperty("rut_lateral_over_bulldozing", std::to_string(rut.lateral_force / bulldozing));

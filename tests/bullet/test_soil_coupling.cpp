@@ -54,7 +54,7 @@ class PlateMaterials : public ::testing::TestWithParam<PlateLoad> {};
 
 TEST_P(PlateMaterials, ReleasedPlateAgainstTheFormula) {
   PlateCase c;
-  c.run.material = Material::preset(GetParam().material);
+  c.run.terrain.material = Material::preset(GetParam().material);
   c.pressure = GetParam().pressure;
   const PlateResult r = run_plate(c);
   EXPECT_LT(rel(r.sinkage, r.reference), 0.05)
@@ -74,7 +74,7 @@ TEST(SoilCoupling, WheelPressedStaticallyBearsOnBothHalves) {
 TEST(SoilCoupling, TowedWheelBearsOnTheFrontHalfAndLeavesARut) {
   WheelCase c;
   c.towed = true;
-  c.run.material = compacting(Material::sand());
+  c.run.terrain.material = compacting(Material::sand());
   const WheelResult r = run_wheel(c);
   EXPECT_NEAR(r.reference_sinkage, 0.0736, 2e-4);
   EXPECT_LT(rel(r.sinkage, r.reference_sinkage), 0.10) << "rolling sinkage " << r.sinkage;
@@ -99,9 +99,9 @@ TEST(SoilCoupling, BearingFollowsBekkerWhateverTheSoilInterval) {
     const double interval = s.interval;
     WheelCase c;
     c.towed = true;
-    c.run.material = compacting(Material::sand());
-    c.run.step_interval = interval;
-    c.run.contact.follow_drift = s.follow_drift;
+    c.run.terrain.material = compacting(Material::sand());
+    c.run.coupling.step_interval = interval;
+    c.run.coupling.contact.follow_drift = s.follow_drift;
     std::int64_t substeps = 0, terrain_steps = 0, followed = 0, towing = 0, followed_towing = 0;
     c.run.after_substep = [&](const shore::terrain::Terrain&, const shore::bullet::TerrainCoupling& coupling) {
       substeps = coupling.stats().substeps, terrain_steps = coupling.stats().terrain_steps;
@@ -126,7 +126,7 @@ TEST(SoilCoupling, BearingFollowsBekkerWhateverTheSoilInterval) {
     EXPECT_LT(rel(r.resistance, r.reference_resistance), 0.15)
         << "interval " << interval << ": resistance " << r.resistance;
     PlateCase p;
-    p.run.step_interval = interval;
+    p.run.coupling.step_interval = interval;
     const PlateResult plate = run_plate(p);
     EXPECT_LT(rel(plate.sinkage, plate.reference), 0.05) << "interval " << interval << ": plate " << plate.sinkage;
   }
@@ -142,16 +142,16 @@ TEST(SoilCoupling, BearingFollowsBekkerWhateverTheSoilInterval) {
 // it pushed it 20 % back up: docs/terrain.md, "Unloading").
 TEST(SoilCoupling, ImpactCraterDoesNotDependOnTheSubstep) {
   SphereDropCase c;
-  c.run.material = compacting(Material::sand());
-  ASSERT_GT(c.run.material.unload_modulus, 0.0) << "the preset unloads elastically";
-  EXPECT_NEAR(sphere_drop_reference_depth(c.run.material, c.diameter, c.mass, c.height), 0.1075, 3e-4);
+  c.run.terrain.material = compacting(Material::sand());
+  ASSERT_GT(c.run.terrain.material.unload_modulus, 0.0) << "the preset unloads elastically";
+  EXPECT_NEAR(sphere_drop_reference_depth(c.run.terrain.material, c.diameter, c.mass, c.height), 0.1075, 3e-4);
   c.run.substep = 1.0 / 120;
   const SphereDropResult coarse = run_sphere_drop(c);
   c.run.substep = 1.0 / 960;
   const SphereDropResult fine = run_sphere_drop(c);
   for (const auto* r : {&coarse, &fine}) {
     EXPECT_LT(rel(r->max_depth, r->reference), 0.05) << "deepest " << r->max_depth << " ref " << r->reference;
-    const Material& m = c.run.material;
+    const Material& m = c.run.terrain.material;
     const double reach =
         shore::terrain::bekker::pressure(m, c.diameter, r->max_depth) / (m.unload_modulus * r->max_depth);
     EXPECT_LE(r->depth, r->max_depth);
@@ -162,7 +162,7 @@ TEST(SoilCoupling, ImpactCraterDoesNotDependOnTheSubstep) {
     // Pressing did Bekker's work on the columns, less where sliding along the ball remoulded
     // them: between (1 - remould_ratio) and 1 times the plain Bekker integral.
     const double pressing = r->stats.soil_work - r->stats.shear_work;
-    const double remould = c.run.material.remould_ratio;
+    const double remould = c.run.terrain.material.remould_ratio;
     EXPECT_LE(pressing, 1.05 * r->plastic_work) << "pressing " << pressing << " plain Bekker " << r->plastic_work;
     EXPECT_GE(pressing, (1.0 - remould) * r->plastic_work)
         << "pressing " << pressing << " plain Bekker " << r->plastic_work;

@@ -66,7 +66,7 @@ TEST(SoilRobustness, NothingFallsThrough) {
   EXPECT_EQ(drops, 1000);
 }
 
-// The soak's test version (issue 21; the 100,000-substep run is shore-bench's reliability
+// The soak's test version (the 100,000-substep run is shore-bench's reliability
 // sweep): 50 bodies of every shape type, 40 dropped onto sand and 10 into a walled pool
 // beside it (onto the sand under the water), 2,000 substeps at 1/240 s. Nothing becomes
 // non-finite, nothing ends below bedrock, no body needs a rescue once settled (after 2 s),
@@ -180,8 +180,8 @@ TEST(SoilRobustness, SameResultWhateverTheThreadCount) {
   std::uint64_t first = 0;
   for (int threads : {1, 2, 4}) {
     scenes::SphereDropCase c;
-    c.run.threads = threads;
-    c.run.cell = 0.01;
+    c.run.terrain.threads = threads;
+    c.run.terrain.cell = 0.01;
     c.seconds = 1000.0 / 240;
     const auto r = scenes::run_sphere_drop(c);
     if (threads == 1) first = r.stats.state_hash;

@@ -52,7 +52,7 @@ TEST(SoilSpray, VolumeIsExactAtEverySubstepOfAnEightMetrePerSecondDrop) {
       c.vx = vx;
       c.height = (64.0 - vx * vx) / (2.0 * kG);
       c.seconds = 1.2;
-      c.run.step_interval = interval;
+      c.run.coupling.step_interval = interval;
       VolumeWatch watch;
       watch.attach(c.run);
       const SphereDropResult r = run_sphere_drop(c);
@@ -119,7 +119,7 @@ TEST(SoilSpray, SwitchedOffPerTerrainOrPerBodyNothingSprays) {
   c.distance = 0.75;
   c.ramp_seconds = 0.5;
   DrivenWheelCase off_terrain = c, off_body = c;
-  off_terrain.run.spray.enabled = false;
+  off_terrain.run.terrain.spray.enabled = false;
   off_body.run.body_spray = false;
   EXPECT_GT(run_driven_wheel(c).stats.spray.created, 0);
   for (const DrivenWheelCase* q : {&off_terrain, &off_body}) {

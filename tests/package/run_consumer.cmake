@@ -10,20 +10,20 @@ set(prefix "${WORK_DIR}/prefix")
 file(REMOVE_RECURSE "${WORK_DIR}")
 run(${CMAKE_COMMAND} --install "${SHORE_BINARY_DIR}" --prefix "${prefix}")
 
-set(san_flags "")
+set(consumer_flags "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}")
 if(SANITIZE)
-  set(san_flags "-DCMAKE_CXX_FLAGS=-fsanitize=${SANITIZE}" "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=${SANITIZE}")
+  list(APPEND consumer_flags "-DCMAKE_CXX_FLAGS=-fsanitize=${SANITIZE}" "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=${SANITIZE}")
 endif()
 
 run(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE_DIR}" -B "${WORK_DIR}/good" -G "${CMAKE_GENERATOR}"
-    "-DCMAKE_PREFIX_PATH=${prefix}" ${san_flags})
+    "-DCMAKE_PREFIX_PATH=${prefix}" ${consumer_flags})
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/good")
 run("${WORK_DIR}/good/shore_consumer")
 message(STATUS "consumer built against the installed package and ran")
 
 # Flip the application's precision: the link must fail, naming Shore's precision namespace.
 execute_process(COMMAND ${CMAKE_COMMAND} -S "${CONSUMER_SOURCE_DIR}" -B "${WORK_DIR}/mismatch"
-                        -G "${CMAKE_GENERATOR}" "-DCMAKE_PREFIX_PATH=${prefix}" -DFLIP_PRECISION=ON ${san_flags}
+                        -G "${CMAKE_GENERATOR}" "-DCMAKE_PREFIX_PATH=${prefix}" -DFLIP_PRECISION=ON ${consumer_flags}
                 RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "mismatch consumer failed to configure")

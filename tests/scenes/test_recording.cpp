@@ -1,4 +1,4 @@
-// Replays (issue 20): a run recorded with a Recorder and replayed from the file alone (the
+// Replays: a run recorded with a Recorder and replayed from the file alone (the
 // replay restores the initial checkpoint and then only writes the recorded soil deltas and
 // body states; it steps nothing) must end in the original run's state hash. The original
 // run is the reference. Bad files are refused with a FileError naming the file and the cause.

@@ -1,4 +1,4 @@
-// Identical continuation (issue 20): a scene run to a save point, checkpointed, and run on
+// Identical continuation: a scene run to a save point, checkpointed, and run on
 // must end in the same state hash as a fresh scene (a new Bullet world, new soils and water)
 // restored from the checkpoint and run for the same substeps. Equal hashes mean every
 // soil column, water node and body is bit-identical; the uninterrupted run is the reference,

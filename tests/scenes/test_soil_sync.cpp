@@ -1,4 +1,4 @@
-// Issue 20: a replica soil driven only by deltas matches the server after 10 s of the
+// A replica soil driven only by deltas matches the server after 10 s of the
 // vehicle scene: exactly in exact mode (heights and sinkages, and the soil's whole state
 // hash: exact deltas carry the bookkeeping and the spray too), within the quantum when
 // quantized. The server's own soil is the reference.
@@ -20,7 +20,7 @@ TEST(SoilSync, VehicleReplicaMatchesTheServerAfterTenSeconds) {
   EXPECT_LE(q.max_error, quantized.quantum);
   EXPECT_GT(q.max_error, 0.0) << "quantized heights came out exact: the quantum is not applied";
   EXPECT_FALSE(q.same_soil_hash) << "a quantized replica cannot hold the server's exact state";
-  // Issue 20's size target: at most 1/8 of SynChrono's 16 B per changed column.
+  // The size target: at most 1/8 of SynChrono's 16 B per changed column.
   EXPECT_LE(q.delta_bytes / (16.0 * q.changed_columns), 0.125);
 }
 

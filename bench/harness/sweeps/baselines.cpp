@@ -267,9 +267,9 @@ void soil_threads(const SweepContext& ctx, SweepResult& out) {
 void deformation_cost(const SweepContext& ctx, SweepResult& out, double rigid_ms) {
   ctx.progress("towed wheel on deformable sand, 1 cm, 1/240 s");
   scenes::WheelCase c;
-  c.run.cell = 0.01;
+  c.run.terrain.cell = 0.01;
   c.run.substep = 1.0 / 240;
-  c.run.threads = 1;
+  c.run.terrain.threads = 1;
   c.towed = true;
   const scenes::WheelResult r = scenes::run_wheel(c);
   Table& t = out.table("baseline_deformation_cost", {"ground", "ms_per_substep", "s_wall_per_s_sim"});

@@ -36,7 +36,7 @@ void drawbar_sweep(const SweepContext& ctx, SweepResult& out) {
     ctx.progress("driven wheel at slip " + std::to_string(slip));
     scenes::DrivenWheelCase c;
     c.slip = slip;
-    c.run.threads = 1;
+    c.run.terrain.threads = 1;
     const scenes::DrivenWheelResult r = scenes::run_driven_wheel(c);
     const scenes::WongReeceResult want = scenes::wong_reece(ref, slip), plain = scenes::wong_reece(front_only, slip);
     const double pull_error = std::abs(r.drawbar_pull - want.drawbar_pull) / c.load;
@@ -101,14 +101,14 @@ void slope_sweep(const SweepContext& ctx, SweepResult& out) {
     ctx.progress("box on a " + std::to_string(int(k.slope_deg)) + " degree slope, " + k.name);
     scenes::SlopeBoxCase c;
     c.slope = k.slope_deg * kDeg;
-    c.run.material = terrain::Material::sand();
-    c.run.material.alpha = 0.0;
-    c.run.material.cohesion = 0.0;
-    c.run.material.friction_angle = k.friction_angle;
-    c.run.material.remould_ratio = c.run.material.remould_shear_ratio = 0.0;
-    c.run.threads = 1;
+    c.run.terrain.material = terrain::Material::sand();
+    c.run.terrain.material.alpha = 0.0;
+    c.run.terrain.material.cohesion = 0.0;
+    c.run.terrain.material.friction_angle = k.friction_angle;
+    c.run.terrain.material.remould_ratio = c.run.terrain.material.remould_shear_ratio = 0.0;
+    c.run.terrain.threads = 1;
     const scenes::SlopeBoxResult r = scenes::run_slope_box(c);  // the preset's elastic unloading
-    c.run.material.unload_modulus = 0.0;
+    c.run.terrain.material.unload_modulus = 0.0;
     const scenes::SlopeBoxResult plastic = scenes::run_slope_box(c);
     c.rigid = true;
     const scenes::SlopeBoxResult rigid = scenes::run_slope_box(c);
@@ -148,7 +148,7 @@ void climb_sweep(const SweepContext& ctx, SweepResult& out) {
     ctx.progress("vehicle on a " + std::to_string(mid / kDeg) + " degree sand slope");
     scenes::VehicleClimbCase c;
     c.slope = mid;
-    c.run.threads = 1;
+    c.run.terrain.threads = 1;
     const scenes::VehicleClimbResult r = scenes::run_vehicle_climb(c);
     const bool climbs = r.uphill_speed > 0.2;
     t.add({mid / kDeg, r.uphill_speed, r.slip, climbs ? 1.0 : 0.0});

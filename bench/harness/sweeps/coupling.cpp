@@ -143,10 +143,10 @@ struct PluginTimes {
 /// The towed wheel of the plugin figures: the sand preset at 1 cm and 1/240 s, one thread.
 scenes::WheelCase sand_wheel_case() {
   scenes::WheelCase c;
-  c.run.material = terrain::Material::sand();
-  c.run.cell = 0.01;
+  c.run.terrain.material = terrain::Material::sand();
+  c.run.terrain.cell = 0.01;
   c.run.substep = 1.0 / 240;
-  c.run.threads = 1;
+  c.run.terrain.threads = 1;
   return c;
 }
 
@@ -266,12 +266,12 @@ void wheel_cost_settings(const SweepContext& ctx, SweepResult& out) {
   double first_default = 0.0;
   for (const Setting& g : settings) {
     scenes::WheelCase c = sand_wheel_case();
-    c.run.max_erosion_passes = g.erosion_passes;
-    c.run.contact.iterations = g.iterations;
-    c.run.contact.block_columns = g.block_columns;
-    c.run.spray.enabled = g.spray;
-    c.run.step_interval = g.step_interval;
-    c.run.contact.follow_drift = g.follow_drift;
+    c.run.terrain.max_erosion_passes = g.erosion_passes;
+    c.run.coupling.contact.iterations = g.iterations;
+    c.run.coupling.contact.block_columns = g.block_columns;
+    c.run.terrain.spray.enabled = g.spray;
+    c.run.coupling.step_interval = g.step_interval;
+    c.run.coupling.contact.follow_drift = g.follow_drift;
     ctx.progress(std::string("towed wheel cost against settings: ") + g.name);
     std::vector<double> ms;
     scenes::WheelResult towed;

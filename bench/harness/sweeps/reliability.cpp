@@ -1,4 +1,4 @@
-// reliability (issue 21): the long soak and the extremes of the settings ranges.
+// reliability: the long soak and the extremes of the settings ranges.
 // - Soak: 50 bodies of every shape type, 40 on sand and 10 in a walled pool beside it,
 //   100,000 substeps at 1/240 s (--soak-substeps to change; --quick: 5,000): NaN count,
 //   one body thrown up every second (SoakCase::kick_every); fall-throughs, rescues after settling, soil volume drift

@@ -42,10 +42,10 @@ void add_rows(Table& t, const std::string& method, const CrossPoint& p, MakeRow&
 
 scenes::SoilRun soil_run(const terrain::Material& m, const CrossPoint& p) {
   scenes::SoilRun r;
-  r.material = m;
-  r.cell = p.cell;
+  r.terrain.material = m;
+  r.terrain.cell = p.cell;
   r.substep = p.substep;
-  r.threads = 1;
+  r.terrain.threads = 1;
   return r;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 // Saving and restoring the application's Bullet bodies for a checkpoint (Shore's own state
-// is saved by the soil, the water and the couplings; docs/checkpoints.md).
+// is saved by the terrain, the water and the couplings; docs/checkpoints.md).
 //
 // As with Shore's objects, the application rebuilds its world the same way (the same bodies
 // with the same shapes, masses and settings, added in the same order), then restores the
@@ -20,7 +20,7 @@
 //
 // What Bullet keeps and this cannot restore: its contact manifolds (the contact points and
 // their accumulated impulses, which warm-start the next solve) and its broadphase's pair
-// order. A world whose bodies touch through Bullet (not through Shore's soil contact) does
+// order. A world whose bodies touch through Bullet (not through Shore's terrain contact) does
 // not continue bit-identically from a restore unless both runs start the continuation
 // from no contact points: clear_contact_points() at the save point of the run that goes on
 // and after the restore (measured in tests/bullet/test_body_state.cpp).
@@ -40,7 +40,8 @@ inline namespace SHORE_BULLET_ABI {
 /// sizeof(btScalar): the precision mark a checkpoint holding Bullet state carries.
 [[nodiscard]] constexpr std::uint32_t scalar_bytes() noexcept { return sizeof(btScalar); }
 
-/// The evolving state of every rigid body of the world, and the world's stepping clock.
+/// The evolving state of every rigid body of the world (terrain tiles excluded), and the
+/// world's stepping clock.
 [[nodiscard]] std::vector<unsigned char> save_bodies(const btDiscreteDynamicsWorld& world);
 
 /// Restores save_bodies' bytes into a world built the same way. FileError naming `source`
@@ -52,7 +53,7 @@ void restore_bodies(btDiscreteDynamicsWorld& world, std::span<const unsigned cha
 /// The same for `bodies` in the order given (every one in `world`): the order the
 /// application added them, which stays put. The world's collision-object order does not:
 /// Bullet removes an object by moving the last one into its place, and Shore's couplings
-/// add and remove their soil tiles as bodies move, so two bodies of the same shape and mass
+/// add and remove their terrain tiles as bodies move, so two bodies of the same shape and mass
 /// could trade states through save_bodies(world) after tiles were removed. Prefer these.
 [[nodiscard]] std::vector<unsigned char> save_bodies(const btDiscreteDynamicsWorld& world,
                                                      std::span<btRigidBody* const> bodies);

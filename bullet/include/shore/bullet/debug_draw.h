@@ -2,13 +2,12 @@
 // What TerrainCoupling::debugDraw and WaterCoupling::debugDraw draw into a btIDebugDraw,
 // by the drawer's debug mode bits (getDebugMode()):
 //
-//   DBG_DrawContactPoints  soil: every contact column of an added body (a cross on the
+//   DBG_DrawContactPoints  terrain: every contact column of an added body (a cross on the
 //                          column top); water: every added body's centre of buoyancy.
-//   DBG_DrawNormals        soil: the soil's reaction: per contact column its bearing
-//                          capacity (what the column can push with, a vertical line) and,
-//                          where the coupling reports it, the net force on the body;
-//                          water: the buoyancy force at the centre of buoyancy.
-//   DBG_DrawAabb           soil: the outline of every Bullet tile of the soil, on the
+//   DBG_DrawNormals        terrain: its reaction: per contact column its bearing capacity
+//                          (what the column can push with, a vertical line) and the net
+//                          force on the body; water: the buoyancy at the centre of buoyancy.
+//   DBG_DrawAabb           terrain: the outline of every Bullet tile of the terrain, on the
 //                          ground; water: the outline of the water grid at rest level.
 //
 // Force arrows are scaled by the body's weight: an arrow of kArrowPerWeight metres is a

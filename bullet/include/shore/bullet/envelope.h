@@ -1,6 +1,6 @@
 #pragma once
 // Envelope rasterization: the lowest (and optionally highest) point of a Bullet collision
-// shape on the vertical line through every column of the soil / water grid.
+// shape on the vertical line through every column of the terrain / water grid.
 //
 // This replaces one ray cast per column. It is exact: every shape is intersected with the
 // vertical line in closed form (sphere, box, capsule, cylinder, cone), by triangle

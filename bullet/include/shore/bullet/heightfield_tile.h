@@ -23,6 +23,7 @@
 #include <BulletCollision/CollisionDispatch/btCollisionObject.h>
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
 #include <BulletCollision/CollisionShapes/btTriangleInfoMap.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include "shore/bullet/config.h"
 
@@ -68,8 +69,11 @@ class HeightfieldTile {
   [[nodiscard]] int columns() const noexcept { return settings_.columns; }
   [[nodiscard]] const HeightfieldTileSettings& settings() const noexcept { return settings_; }
 
-  /// The static collision object to add to a btCollisionWorld (owned by the tile).
-  [[nodiscard]] btCollisionObject* object() noexcept { return object_.get(); }
+  /// The tile's object, owned by the tile: a static btRigidBody (mass 0), so that queries
+  /// accepting only rigid bodies (btDefaultVehicleRaycaster's ray casts) find the ground.
+  /// Add it with btCollisionWorld::addCollisionObject: as a static object of a dynamics
+  /// world it takes part in collisions only, exactly as a plain collision object does.
+  [[nodiscard]] btRigidBody* object() noexcept { return object_.get(); }
   [[nodiscard]] btHeightfieldTerrainShape* shape() noexcept { return shape_.get(); }
 
   /// Computes Bullet's internal-edge info from the current heights and has contacts with
@@ -84,7 +88,7 @@ class HeightfieldTile {
   HeightfieldTileSettings settings_;
   std::vector<float> heights_;  // row-major, index j * columns + i
   std::unique_ptr<btHeightfieldTerrainShape> shape_;
-  std::unique_ptr<btCollisionObject> object_;
+  std::unique_ptr<btRigidBody> object_;
   std::unique_ptr<btTriangleInfoMap> edge_info_;
 };
 

@@ -2,15 +2,15 @@
 // The file of a scene recording (shore/scenes/recording.h records and replays it;
 // docs/checkpoints.md, "Replays"): its container and layout, written and read without a
 // scene, so that the loader can be fuzzed on its own (fuzz_recording). What the nested
-// parts hold (the initial checkpoint, the soil deltas, the water states) is read by their
+// parts hold (the initial checkpoint, the terrains' deltas (terrain::SoilDelta), the water states) is read by their
 // own loaders when a replay applies them.
 //
 // File: "SHOREREC", u32 version (2), u32 byte-order mark 0x01020304, u32 scalar bytes
 // (sizeof(btScalar) of the writer), u64 raw size, u64 compressed size, zstd frame of the
 // raw bytes, u64 FNV-1a of every byte before it. Raw bytes: u32 length + scene name; f64
 // seconds, substep, cell; u32 length + material; u8 smoke; i32 substeps; u64 the run's final
-// state hash; u64 size + initial checkpoint (SHORECKP); u32 soils, per soil u64 its
-// generation at the start; u32 waters; u32 frames, per frame: i32 substep, per soil u64 size
+// state hash; u64 size + initial checkpoint (SHORECKP); u32 terrains, per terrain u64 its
+// generation at the start; u32 waters; u32 frames, per frame: i32 substep, per terrain u64 size
 // + delta, u32 bodies, per body 18 btScalars (basis rows, origin, linear, angular velocity),
 // per water u64 size + that water's state (Surface::save_state) XOR the previous frame's
 // (0 past the previous state's end; the first frame's previous state is empty), its bytes
@@ -37,7 +37,7 @@ struct Recording {
 
   struct Frame {
     int substep = 0;
-    std::vector<std::span<const unsigned char>> soil_deltas;  ///< one per soil
+    std::vector<std::span<const unsigned char>> terrain_deltas;  ///< one per terrain
     std::span<const unsigned char> bodies;                    ///< count * kBodyScalars btScalars
     std::uint32_t body_count = 0;
     std::vector<std::span<const unsigned char>> water_diffs;  ///< one per water: its XOR (see above)
@@ -50,7 +50,7 @@ struct Recording {
   int substeps = 0;
   std::uint64_t state_hash = 0;  ///< the run's final one
   std::span<const unsigned char> initial;
-  std::vector<std::uint64_t> soil_generations;
+  std::vector<std::uint64_t> terrain_generations;
   std::uint32_t waters = 0;
   std::vector<Frame> frames;
   std::vector<unsigned char> raw;  ///< the decompressed bytes the spans point into
@@ -72,7 +72,7 @@ struct Recording {
 /// Reads a recording file's bytes. FileError naming `source` and the cause for bytes that
 /// are not a recording, truncated or padded, corrupt (checksum, zstd, sizes), of another
 /// version, byte order or btScalar precision, frames out of order or past the substeps,
-/// another number of soils or waters in a frame, or bytes after the last frame. Every
+/// another number of terrains or waters in a frame, or bytes after the last frame. Every
 /// size read is checked against what is left, so memory stays within a bounded multiple
 /// of the input's size (zstd's best ratio).
 [[nodiscard]] Recording read_recording(std::span<const unsigned char> file, const std::string& source);

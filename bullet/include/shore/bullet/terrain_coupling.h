@@ -111,13 +111,15 @@ struct TerrainCouplingSettings {
   /// side, each with its own coupling and region; put region edges on tile edges (multiples
   /// of the terrain's tile_columns * cell from its origin) so tiles meet exactly.
   Region region;
-  double cover_margin = 0.25;  ///< m kept covered by tiles around every dynamic body's AABB, > 0
+  double cover_margin = 0.25;  ///< m kept covered by tiles around every moving object's AABB, > 0
   double max_speed = 500.0;    ///< m/s: a body faster than this (or with a non-finite pose) is skipped and counted
   /// A body the terrain holds that moves slower than rest_speed and turns slower than
   /// rest_spin is at rest: it presses nothing new. Both > 0.
   double rest_speed = 1e-3;  ///< m/s
   double rest_spin = 1e-2;   ///< rad/s
-  /// Every dynamic body in the world gets ground under it (tiles), not only added ones.
+  /// Every object in the world that is not static gets ground under it (tiles), not only
+  /// added bodies: other rigid bodies, kinematic bodies, ghost objects (character
+  /// controllers' capsules), a raycast vehicle's chassis and so the rays of its wheels.
   bool cover_all_bodies = true;
   /// Lift a body whose lowest point fell below bedrock back onto the surface (counted).
   bool rescue_fallthrough = true;

@@ -1,9 +1,9 @@
 #pragma once
 // The Bullet side of the deformable ground: btHeightfieldTerrainShape tiles created on
-// demand around bodies and kept equal to the soil heights.
+// demand around bodies and kept equal to the terrain's heights.
 //
 // Tile (tx, ty) holds vertices for columns [tx T, tx T + T] x [ty T, ty T + T] (T, the
-// tile size, is the soil's TerrainSettings::tile_columns): neighbouring tiles share their
+// tile size, is the terrain's TerrainSettings::tile_columns): neighbouring tiles share their
 // edge vertices, so there is no seam.
 // Each substep the changed columns are copied into the tiles' float buffers in place;
 // contact points whose terrain-side point lies in a changed cell are removed (Bullet
@@ -41,7 +41,7 @@ struct Region {
   [[nodiscard]] bool overlaps(const Region& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
 };
 
-/// The tile size is the soil's: one tile per TerrainSettings::tile_columns columns a side.
+/// The tile size is the terrain's: one tile per TerrainSettings::tile_columns columns a side.
 struct TerrainTilesSettings {
   double headroom = 0.5;                ///< m a tile can hold above its highest untouched ground (rims), > 0
   double max_rise_per_substep = 0.002;  ///< m, > 0: cap on how far ground may rise in one substep
@@ -51,9 +51,13 @@ struct TerrainTilesSettings {
   void validate() const;
 };
 
+/// Whether `object` is a heightfield tile of some Shore terrain coupling (tiles are static
+/// btRigidBodys; a function listing a world's bodies skips them with this).
+[[nodiscard]] bool is_terrain_tile(const btCollisionObject* object) noexcept;
+
 class TerrainTiles {
  public:
-  TerrainTiles(btCollisionWorld& world, const terrain::Terrain& soil, const TerrainTilesSettings& settings);
+  TerrainTiles(btCollisionWorld& world, const terrain::Terrain& terrain, const TerrainTilesSettings& settings);
   ~TerrainTiles();
   TerrainTiles(const TerrainTiles&) = delete;
   TerrainTiles& operator=(const TerrainTiles&) = delete;
@@ -64,19 +68,19 @@ class TerrainTiles {
   /// Only tiles overlapping this region are ever created (default: everywhere).
   void set_region(const Region& region) { region_ = region; }
 
-  /// Copies the given changed columns (and any tile still catching up) from the soil into
+  /// Copies the given changed columns (and any tile still catching up) from the terrain into
   /// the tiles, removes stale contact points there and wakes the bodies. Returns the
   /// number of vertices written.
   std::int64_t push(std::span<const GridRect> changed);
 
-  /// Called by push() with the soil's changed columns before they are copied (a renderer
+  /// Called by push() with the terrain's changed columns before they are copied (a renderer
   /// uploads just these); empty: nobody listens. One observer; setting another replaces it.
   using PushObserver = std::function<void(std::span<const GridRect> changed)>;
   void set_push_observer(PushObserver observer) { observer_ = std::move(observer); }
 
   /// Removes every tile from the world and forgets it (a detaching coupling).
   void remove_all();
-  [[nodiscard]] bool is_tile(const btCollisionObject* object) const noexcept;
+  [[nodiscard]] bool is_tile(const btCollisionObject* object) const noexcept { return is_terrain_tile(object); }
   [[nodiscard]] std::size_t count() const noexcept { return tiles_.size(); }
   /// Vertices clamped to a tile's height range so far (should stay 0; raise headroom if not).
   [[nodiscard]] std::int64_t clamped_vertices() const noexcept { return clamped_; }
@@ -93,7 +97,6 @@ class TerrainTiles {
   void restore_state(ByteReader& r);
 
  private:
-  static constexpr int kTileTag = 0x5e0e71;  // user index 2 of every tile object
   struct Tile {
     std::unique_ptr<HeightfieldTile> field;
     std::int64_t i0 = 0, j0 = 0;  // first column
@@ -108,7 +111,7 @@ class TerrainTiles {
   void drop_stale_contacts(const GridRect& columns);
 
   btCollisionWorld& world_;
-  const terrain::Terrain& soil_;
+  const terrain::Terrain& terrain_;
   TerrainTilesSettings settings_;
   double friction_;
   std::unordered_map<std::uint64_t, Tile> tiles_;

@@ -1,5 +1,5 @@
 #pragma once
-// The edges of the settings ranges (issue 21): substeps of 1/30 s and 1/2000 s, cells of
+// The edges of the settings ranges: substeps of 1/30 s and 1/2000 s, cells of
 // 2 mm and 20 cm, bodies from 0.05 kg to 50 t on snow, a 50 m/s impact into mud, and sand
 // with each material parameter at an edge of its allowed range. Each is a
 // soil reference case (a sphere drop against its energy balance, or a plate against

@@ -1,5 +1,5 @@
 #pragma once
-// Recordings of a scene run and their replay (issue 20; docs/checkpoints.md, "Replays").
+// Recordings of a scene run and their replay (docs/checkpoints.md, "Replays").
 //
 // What a recording carries, so that a replay's final state hash equal to the run's means
 // something: the scene's name and options, its initial checkpoint (checkpoint.h: soils,
@@ -56,7 +56,7 @@ class Recorder {
   /// water states (XORed); water_compressed: how much larger the file is for its water
   /// frames (the file compressed without them, subtracted; written by finish).
   struct Sizes {
-    std::size_t file = 0, initial = 0, soil_deltas = 0, bodies = 0, water_states = 0, water_compressed = 0;
+    std::size_t file = 0, initial = 0, terrain_deltas = 0, bodies = 0, water_states = 0, water_compressed = 0;
   };
   [[nodiscard]] const Sizes& sizes() const noexcept { return sizes_; }
   [[nodiscard]] std::size_t file_bytes() const noexcept { return sizes_.file; }

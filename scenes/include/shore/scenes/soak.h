@@ -1,5 +1,5 @@
 #pragma once
-// The soak (issue 21): many bodies of every shape type on sand beside a pool of water, run
+// The soak: many bodies of every shape type on sand beside a pool of water, run
 // for a long time (one body thrown up every second, so the soil keeps working), with what
 // must not happen counted and what must stay flat measured.
 // Written once; the 2,000-substep version is a test (tests/bullet/test_soil_robustness.cpp),

@@ -17,19 +17,20 @@
 
 namespace shore::scenes {
 
-/// Common knobs of every soil case.
+/// TerrainSettings' defaults with one thread.
+[[nodiscard]] inline terrain::TerrainSettings one_thread_terrain() {
+  terrain::TerrainSettings s;
+  s.threads = 1;
+  return s;
+}
+
+/// Common knobs of every soil case: the settings structs it varies, embedded whole.
 struct SoilRun {
-  terrain::Material material = terrain::Material::sand();
-  double cell = 0.01;                                                      ///< m, soil column spacing
-  double substep = 1.0 / 240;                                              ///< s, Bullet's fixed substep
-  int threads = 1;                                                         ///< threads of the soil
-  int max_erosion_passes = terrain::TerrainSettings{}.max_erosion_passes;  ///< erosion pass cap per substep
-  double active_reach = terrain::TerrainSettings{}.active_reach;           ///< m, see TerrainSettings
-  int active_margin = terrain::TerrainSettings{}.active_margin;            ///< columns, see TerrainSettings
-  bullet::TerrainContactSettings contact;                                  ///< how the soil's push is solved
-  double step_interval = bullet::TerrainCouplingSettings{}.step_interval;  ///< s, how often the soil deforms
-  std::shared_ptr<const terrain::HeightSource> base;                       ///< untouched ground; null: flat at 0
-  terrain::SpraySettings spray;                                            ///< the soil's spray (on by default)
+  /// The soil: TerrainSettings' defaults (sand, 1 cm columns, flat at 0), on one thread so
+  /// that a case's timings compare across machines (results never depend on threads).
+  terrain::TerrainSettings terrain = one_thread_terrain();
+  bullet::TerrainCouplingSettings coupling;  ///< how the soil's push is solved and how often the soil steps
+  double substep = 1.0 / 240;                ///< s, Bullet's fixed substep
   bool body_spray = true;  ///< the case's bodies throw soil (TerrainBodySettings::spray)
   /// Called after every substep (untimed): tests check the volume at every step,
   /// benchmarks follow the spray's peaks. Empty: nothing.

@@ -1,5 +1,5 @@
 #pragma once
-// A scene's soils sent to replicas by deltas (issue 20): the scene runs as shore-demo runs
+// A scene's soils sent to replicas by deltas: the scene runs as shore-demo runs
 // it; every 1/20 s each soil's changes since its last sync are encoded
 // (terrain::SoilDelta::encode) and applied to a replica soil that only ever sees deltas.
 // Used by shore_scene_sync_bench and the replica tests.

@@ -64,7 +64,7 @@ struct KernelReport {
   double paper_grid_ms = 0.0;
   std::string isa;  ///< "avx2" or "generic"
 };
-/// Every (variant, size, threads) of the table; sizes default to 64, 256, 1024, 2048.
+/// every (variant, size, threads) of the benchmark's table; sizes default to 64, 256, 1024, 2048.
 KernelReport run_kernel_report(const std::vector<int>& sizes, const std::vector<int>& threads, double min_seconds);
 /// A plain text table of a report with speed-ups and floor ratios.
 std::string format_kernel_report(const KernelReport& r);

@@ -1,0 +1,61 @@
+#pragma once
+// A car built the way Bullet's own VehicleDemo builds one: a box chassis carried by a stock
+// btRaycastVehicle with btDefaultVehicleRaycaster (Z up, x forward). Written once for the
+// tests, the rally scene and the benchmarks; nothing in it knows Shore.
+
+#include <memory>
+
+#include <btBulletDynamicsCommon.h>
+#include <BulletDynamics/Vehicle/btRaycastVehicle.h>
+
+#include "shore/scenes/world.h"
+
+namespace shore::scenes {
+
+struct RaycastCarSettings {
+  double mass = 800.0;                ///< kg, the chassis (the wheels have none of their own)
+  double half_length = 1.8;           ///< m, chassis box half extent along x (forward)
+  double half_width = 0.8;            ///< m, along y
+  double half_height = 0.3;           ///< m, along z
+  double wheel_radius = 0.4;          ///< m
+  double wheel_width = 0.3;           ///< m (Bullet's vehicle ignores it; Shore's soil needs it)
+  double axle_offset = 1.3;           ///< m from the chassis centre to each axle, along x
+  double track_half = 0.75;           ///< m from the centre line to each wheel, along y
+  double connection_height = -0.1;    ///< m, where the suspension hangs, below the chassis centre
+  double suspension_rest = 0.45;      ///< m, suspension rest length
+  double suspension_stiffness = 20.0; ///< Bullet's tuning: spring per unit chassis mass, 1/s^2
+  double damping_compression = 2.3;   ///< Bullet's tuning (about 0.3 of critical)
+  double damping_relaxation = 4.4;    ///< Bullet's tuning (about 0.5 of critical)
+  double friction_slip = 1.0;         ///< Bullet's Coulomb friction of each wheel on rigid ground
+  double max_suspension_travel_cm = 50.0;
+};
+
+class RaycastCar {
+ public:
+  /// Adds the chassis to world (its centre at `at`, heading along +x) and the vehicle as an
+  /// action; both are taken out of the world again by the destructor.
+  RaycastCar(World& world, const RaycastCarSettings& settings, const btVector3& at);
+  ~RaycastCar();
+  RaycastCar(const RaycastCar&) = delete;
+  RaycastCar& operator=(const RaycastCar&) = delete;
+
+  /// Engine force (N, per driven rear wheel), brake (N per wheel) and steering angle of the
+  /// front wheels (rad, positive to the left), held until set again.
+  void drive(double engine_force, double brake, double steering);
+
+  [[nodiscard]] btRaycastVehicle& vehicle() noexcept { return *vehicle_; }
+  [[nodiscard]] const btRaycastVehicle& vehicle() const noexcept { return *vehicle_; }
+  [[nodiscard]] btRigidBody* chassis() const noexcept { return chassis_; }
+  [[nodiscard]] const RaycastCarSettings& settings() const noexcept { return settings_; }
+  /// Wheels whose ray found ground in the last step.
+  [[nodiscard]] int wheels_on_ground() const;
+
+ private:
+  World& world_;
+  RaycastCarSettings settings_;
+  btRigidBody* chassis_ = nullptr;
+  std::unique_ptr<btDefaultVehicleRaycaster> raycaster_;
+  std::unique_ptr<btRaycastVehicle> vehicle_;
+};
+
+}  // namespace shore::scenes

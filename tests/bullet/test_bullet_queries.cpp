@@ -1,0 +1,149 @@
+// Bullet's own queries on Shore's ground: the ray casts of a stock btRaycastVehicle and the
+// convex sweeps of a btKinematicCharacterController find the heightfield tiles, rigid and
+// soft, wherever the object goes, without the object being added to the coupling.
+
+#include <gtest/gtest.h>
+
+#include <BulletCollision/CollisionDispatch/btGhostObject.h>
+#include <BulletDynamics/Character/btKinematicCharacterController.h>
+
+#include <cmath>
+#include <memory>
+
+#include "shore/bullet/terrain_coupling.h"
+#include "shore/scenes/raycast_car.h"
+#include "shore/scenes/rigid_ground.h"
+#include "shore/scenes/world.h"
+#include "shore/terrain/height_source.h"
+#include "shore/terrain/terrain.h"
+
+namespace {
+
+using shore::scenes::RaycastCar;
+using shore::scenes::World;
+
+constexpr double kCell = 0.1;
+constexpr double kHalfSpan = 12.0;  // m: the ground spans [-12, 12] in x and y
+
+shore::terrain::TerrainSettings hilly_ground(const shore::terrain::Material& material) {
+  shore::terrain::LatticeNoiseSettings relief;
+  relief.spacing = 3.0;
+  relief.amplitude = 0.15;
+  relief.octaves = 2;
+  shore::terrain::TerrainSettings s;
+  s.cell = kCell;
+  s.origin_x = -kHalfSpan;
+  s.origin_y = -kHalfSpan;
+  s.tile_columns = 32;
+  s.material = material;
+  s.base = std::make_shared<shore::terrain::LatticeNoise>(relief);
+  s.threads = 1;
+  return s;
+}
+
+struct Track {
+  std::vector<btVector3> positions;
+  int steps_with_all_wheels_down = 0;
+};
+
+/// Drives the car 5 s at 1/120 s along +x with a steady engine force and a little steering.
+Track drive(World& world, RaycastCar& car) {
+  Track t;
+  constexpr double h = 1.0 / 120;
+  for (int k = 0; k < 600; ++k) {
+    car.drive(k < 60 ? 0.0 : 400.0, 0.0, k < 300 ? 0.0 : 0.05);
+    world.step(h);
+    t.positions.push_back(car.chassis()->getCenterOfMassPosition());
+    t.steps_with_all_wheels_down += car.wheels_on_ground() == 4;
+  }
+  return t;
+}
+
+TEST(BulletQueries, StockRaycastVehicleDrivesOnRigidShoreGroundAsOnABulletHeightfield) {
+  shore::terrain::Terrain ground(hilly_ground(shore::terrain::Material::rigid_ground()));
+  const btVector3 start(-7.0f, 0.0f, btScalar(ground.height(ground.column_i(-7.0), ground.column_j(0.0)) + 1.0));
+
+  // Shore's ground; the car is not added to the coupling (its wheels never touch the tiles,
+  // only their rays do).
+  World on_shore;
+  shore::bullet::TerrainCoupling coupling(on_shore.world(), ground);
+  RaycastCar shore_car(on_shore, {}, start);
+  const Track a = drive(on_shore, shore_car);
+
+  // The same heights as one plain static btHeightfieldTerrainShape body.
+  World on_bullet;
+  shore::bullet::HeightfieldTileSettings tile;
+  tile.columns = static_cast<int>(std::lround(2 * kHalfSpan / kCell)) + 1;
+  tile.cell = kCell;
+  tile.origin_x = tile.origin_y = -kHalfSpan;
+  tile.min_height = -1.0;
+  tile.max_height = 1.0;
+  const shore::scenes::RigidGround reference(on_bullet, tile, [&](double x, double y) {
+    return ground.height(ground.column_i(x), ground.column_j(y));
+  });
+  RaycastCar bullet_car(on_bullet, {}, start);
+  const Track b = drive(on_bullet, bullet_car);
+
+  EXPECT_GT(b.steps_with_all_wheels_down, 550) << "the reference car must stand on its wheels";
+  EXPECT_EQ(a.steps_with_all_wheels_down, b.steps_with_all_wheels_down);
+  EXPECT_GT(b.positions.back().x() - start.x(), 5.0) << "the reference car must drive";
+  double worst = 0.0;
+  for (std::size_t k = 0; k < a.positions.size(); ++k)
+    worst = std::max(worst, double((a.positions[k] - b.positions[k]).length()));
+  EXPECT_LT(worst, 1e-3) << "m, largest distance between the chassis on Shore's ground and on Bullet's";
+}
+
+/// A stock character controller, set up as Bullet's CharacterDemo sets one up (its capsule
+/// on a btPairCachingGhostObject, filtered to collide with static and default objects),
+/// walking along +x at 1.2 m/s for 5 s at 1/60 s. Returns its capsule centre every step.
+std::vector<btVector3> walk(World& world) {
+  btGhostPairCallback ghost_pairs;
+  world.world().getBroadphase()->getOverlappingPairCache()->setInternalGhostPairCallback(&ghost_pairs);
+  constexpr double radius = 0.3, cylinder = 1.0, speed = 1.2, h = 1.0 / 60;
+  btCapsuleShapeZ capsule{btScalar(radius), btScalar(cylinder)};
+  btPairCachingGhostObject ghost;
+  ghost.setCollisionShape(&capsule);
+  ghost.setCollisionFlags(btCollisionObject::CF_CHARACTER_OBJECT);
+  const double stand = radius + 0.5 * cylinder;  // centre above the ground when standing
+  ghost.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(-3.0f, 0.0f, btScalar(stand + 0.05))));
+  btKinematicCharacterController character(&ghost, &capsule, btScalar(0.2), btVector3(0, 0, 1));
+  world.world().addCollisionObject(&ghost, btBroadphaseProxy::CharacterFilter,
+                                   btBroadphaseProxy::StaticFilter | btBroadphaseProxy::DefaultFilter);
+  world.world().addAction(&character);
+  std::vector<btVector3> track;
+  for (int k = 0; k < 300; ++k) {
+    character.setWalkDirection(btVector3(btScalar(speed * h), 0, 0));
+    world.step(h);
+    track.push_back(ghost.getWorldTransform().getOrigin());
+  }
+  world.world().removeAction(&character);
+  world.world().removeCollisionObject(&ghost);
+  world.world().getBroadphase()->getOverlappingPairCache()->setInternalGhostPairCallback(nullptr);
+  return track;
+}
+
+TEST(BulletQueries, KinematicCharacterControllerWalksOnSoftShoreGroundAsOnBulletGround) {
+  shore::terrain::TerrainSettings s;
+  s.cell = 0.05;
+  s.threads = 1;
+  shore::terrain::Terrain sand(s);  // flat at 0
+  World on_shore;
+  shore::bullet::TerrainCoupling coupling(on_shore.world(), sand);
+  const std::vector<btVector3> a = walk(on_shore);
+
+  World on_bullet;
+  shore::bullet::HeightfieldTileSettings tile;
+  tile.columns = 201;
+  tile.cell = s.cell;
+  tile.origin_x = tile.origin_y = -5.0;
+  const shore::scenes::RigidGround reference(on_bullet, tile, [](double, double) { return 0.0; });
+  const std::vector<btVector3> b = walk(on_bullet);
+
+  EXPECT_NEAR(double(b.back().x()) + 3.0, 6.0, 0.1) << "m the reference character walked";
+  EXPECT_NEAR(double(b.back().z()), 0.8, 0.1) << "m, the reference character's height";
+  double worst = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) worst = std::max(worst, double((a[k] - b[k]).length()));
+  EXPECT_LT(worst, 1e-3) << "m, largest distance between the character on Shore's sand and on Bullet's ground";
+}
+
+}  // namespace
