@@ -33,8 +33,9 @@ inline water::SurfaceSettings tiny_water() {
   water::PhysicalParameters p;
   p.cell = 0.1;
   p.depth = 0.2;
-  water::SurfaceSettings s = water::SurfaceSettings::physical(p, 9, 9);
-  s.origin_x = -0.4, s.origin_y = -0.4;
+  water::SurfaceSettings s = water::SurfaceSettings::physical(p, 5, 5);
+  s.origin_x = -0.2, s.origin_y = -0.2;
+  s.sleep.tile = 8;  // the smallest tiles: a state of a few kB, so each input is cheap
   s.threads = 1;
   return s;
 }
