@@ -60,7 +60,8 @@ void write_scene(std::ostream& md, const std::filesystem::path& dir, const nlohm
   };
   for (const MetricHelp& h : common_metric_help())
     if (m.contains(h.name) && h.name != "files" && h.name != "checks" && h.name != "pictures_skipped") row(h.name);
-  for (const auto& [key, value] : m.items()) {
+  for (const auto& item : m.items()) {
+    const std::string& key = item.key();
     const auto& common = common_metric_help();
     const bool is_common =
         std::any_of(common.begin(), common.end(), [&](const MetricHelp& h) { return h.name == key; });

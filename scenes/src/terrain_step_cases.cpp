@@ -104,7 +104,7 @@ TerrainCaseResult run_towed_wheel(const TowedWheelCase& c, bool forced_parallel)
   for (int k = 0; k < c.steps; ++k) {
     const double x = c.speed * c.substep * k;
     const EnvelopeRaster env = wheel_envelope(t, x, axle_z, c.radius, c.width, c.radius);
-    const Imprint im{&env, 0.0, c.star, c.speed, 0.0, 0.0};
+    const Imprint im{&env, 0.0, c.star, {c.speed, 0.0, 0.0}};
     const auto t0 = Clock::now();
     const Bearing b = t.bearing(env, 0.0);
     const auto t1 = Clock::now();

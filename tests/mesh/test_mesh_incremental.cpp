@@ -214,7 +214,7 @@ TEST(MeshIncremental, TheLargeFieldsRutIsWithinAPixelFromTwoMetresAbove) {
   EXPECT_LT(mesh.triangle_count(), 100000u);
   const TriangleMesh m = merge(mesh, field);
   const std::int64_t i0 = f.soil->column_i(f.rut_x0) - 30, j0 = f.soil->column_j(f.rut_y) - 40;
-  const GridRect window{i0, j0, f.soil->column_i(f.rut_x1) + 30 - i0, 81};
+  const GridRect window{i0, j0, static_cast<int>(f.soil->column_i(f.rut_x1) + 30 - i0), 81};
   const std::vector<double> angle = node_angles(m, field, cam, window);
   double worst = 0.0;
   for (double a : angle) {

@@ -78,7 +78,7 @@ TEST(Png, RoundTripsThroughStbReader) {
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const unsigned char* px = data + 3 * (y * w + x);
-      EXPECT_EQ(Rgb(px[0], px[1], px[2]), img.at(x, y)) << x << ", " << y;
+      EXPECT_EQ((Rgb{px[0], px[1], px[2]}), img.at(x, y)) << x << ", " << y;
     }
   stbi_image_free(data);
   EXPECT_FALSE(fs::exists(p.string() + ".tmp"));

@@ -44,7 +44,7 @@ enum class Body { wheel, box };
 class TowedBody {
  public:
   TowedBody(Body kind, double substep)
-      : kind_(kind), h_(substep), ground_(world_, settings(), [](double, double) { return 0.0; }) {
+      : h_(substep), ground_(world_, settings(), [](double, double) { return 0.0; }) {
     if (kind == Body::wheel) {
       const btVector3 half{btScalar(kWheelRadius), btScalar(kWheelHalfWidth), btScalar(kWheelRadius)};
       body_ = world_.add_body(std::make_unique<btCylinderShape>(half), kWheelLoad / kGravity,
@@ -84,7 +84,6 @@ class TowedBody {
     s.friction = 0.8;
     return s;
   }
-  Body kind_;
   double h_;
   scenes::World world_;
   scenes::RigidGround ground_;

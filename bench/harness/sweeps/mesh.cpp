@@ -158,9 +158,10 @@ void seed_sweep(const SweepContext& ctx, SweepResult& out) {
   mesh::Camera close_view = paper_view;  // as close again as the paper's: the near edge fills the view
   close_view.position.y = -5.0, close_view.position.z = 5.0;
   double ratio_1px = NAN;
-  for (const auto& [view, cam] :
+  for (const auto& [view, view_camera] :
        {std::pair{"paper's view", paper_view}, std::pair{"close (5 m out and up)", close_view}})
     for (const double px : {0.5, 1.0, 2.0, 4.0}) {
+      const mesh::Camera& cam = view_camera;  // a lambda may not capture a structured binding (clang)
       mesh::MeshSettings s;
       s.max_error_pixels = px;
       std::size_t triangles = 0;

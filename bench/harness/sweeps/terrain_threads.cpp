@@ -27,7 +27,7 @@ class Roller {
   void step() {
     const double x = kSpeed * kSubstep * static_cast<double>(steps_);
     const EnvelopeRaster env = scenes::wheel_envelope(terrain_, x, kRadius - kSinkage, kRadius, width_, kRadius);
-    terrain::Imprint im{&env, 0.0, true, kSpeed, 0.0, 0.0};
+    terrain::Imprint im{&env, 0.0, true, {kSpeed, 0.0, 0.0}};
     im.spray = false;  // the pipeline's rows are what forks; spray is measured by its own sweep
     const terrain::StepReport r = terrain_.step({&im, 1});
     columns_ += r.active_columns;
