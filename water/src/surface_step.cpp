@@ -206,7 +206,7 @@ double Surface::omega_bound() const {
     kernel::Extremes e;
     for (const auto& t : s.tiles) {
       const kernel::Tile view = s.gather(*t, s.scratch[0]);
-      e.merge(kernel::measure_3d(s.avx2, view, k, s.scratch[0].workspace()));
+      e.merge(kernel::measure_3d(s.variant, view, k, s.scratch[0].workspace()));
     }
     if (static_cast<std::size_t>(s.tiles_x) * static_cast<std::size_t>(s.tiles_y) != s.awake.size())
       e.merge(resting_extremes(p.spacing, s.sleep_u, s.sleep_v));
@@ -431,8 +431,8 @@ bool step_tiles(const SurfaceSettings& settings, Surface::State& s, double dt) {
         *s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(stepped[static_cast<std::size_t>(item)])])];
     Scratch& sc = s.scratch[static_cast<std::size_t>(slot_index)];
     const kernel::Tile view = s.gather(t, sc);
-    results[static_cast<std::size_t>(item)] = s.full ? kernel::step_3d(s.avx2, view, k, sc.workspace())
-                                                     : kernel::step_vertical(s.avx2, view, k, sc.workspace());
+    results[static_cast<std::size_t>(item)] = s.full ? kernel::step_3d(s.variant, view, k, sc.workspace())
+                                                     : kernel::step_vertical(s.variant, view, k, sc.workspace());
     s.refresh_edges(t, 1 - t.cur);
   };
   const auto t0 = std::chrono::steady_clock::now();
