@@ -3,11 +3,14 @@
 namespace shore::water::kernel {
 
 std::size_t workspace_bytes(int tile) {
-  // 13 force rows of 2 floats + 1 double, 8 measure rows of floats, 1 activity row of doubles,
-  // each of tile + 16 entries rounded up to 64 bytes, and slack.
+  // Up to 16 force rows of 2 floats + 1 double, 8 measure rows of floats, 4 more float and 8
+  // more double rows (the fused kernel's west column, activity, ends, counts), each of
+  // tile + 16 entries rounded up to 64 bytes, the masks of a whole tile (8 + 4 bytes a
+  // node), and slack; the unfused kernel needs less.
   const std::size_t n = static_cast<std::size_t>(tile) + 16;
   const auto row = [](std::size_t bytes) { return (bytes + 63) & ~std::size_t{63}; };
-  return 13 * (2 * row(4 * n) + row(8 * n)) + 8 * row(4 * n) + row(8 * n) + 256;
+  const std::size_t nodes = static_cast<std::size_t>(tile) * static_cast<std::size_t>(tile);
+  return 16 * (2 * row(4 * n) + row(8 * n)) + 12 * row(4 * n) + 8 * row(8 * n) + row(8 * nodes) + row(4 * nodes) + 256;
 }
 
 bool avx2_available() {
