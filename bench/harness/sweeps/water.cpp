@@ -326,8 +326,15 @@ void lake(const SweepContext& ctx, SweepResult& out) {
   out.figure("water.lake_empty_memory_mb", 1e-6 * double(r.empty_memory_bytes), "MB right after creation");
   out.figure("water.lake_memory_over_woken_area", worst_memory,
              "x a dense grid's state (17 B per node) of the tiles ever woken, worst sample");
-  out.figure("water.lake_ns_per_awake_node", per_node.empty() ? 0.0 : per_node[per_node.size() / 2],
+  const double ns_per_node = per_node.empty() ? 0.0 : per_node[per_node.size() / 2];
+  out.figure("water.lake_ns_per_awake_node", ns_per_node,
              "ns per awake node and substep (water + coupling), median sample");
+  out.target({.key = "water.lake_ns_per_awake_node",
+              .what = "lake cost per awake node, half of the 3.3 ns of 2026-12-04",
+              .value = ns_per_node,
+              .op = "<=",
+              .threshold = 1.65,
+              .unit = "ns"});
   ctx.progress("1 km lake asleep: untouched, and settled after waking 16 places");
   const AsleepLake quiet = asleep_lake(c, ctx.quick);
   out.figure("water.lake_asleep_us_per_substep", std::max(quiet.untouched_us, quiet.settled_us),
