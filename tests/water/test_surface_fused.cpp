@@ -92,4 +92,34 @@ INSTANTIATE_TEST_SUITE_P(ModesTilesSleeping, FusedKernel,
                                   (std::get<2>(c.param) ? "Sleeping" : "Dense");
                          });
 
+// Tiles one node wide and one node high (a 33 x 17 grid in tiles of 16: the last column
+// and row of tiles), where the fused spring pass has no slot of its own and every spring
+// is an edge slot, and tiles of 8.
+TEST(FusedKernelThinTiles, GiveTheUnfusedKernelsBits) {
+  for (const SurfaceMode mode : {SurfaceMode::vertical_only, SurfaceMode::full_3d}) {
+    for (const int tile : {8, 16}) {
+      SurfaceSettings s = SurfaceSettings::paper();
+      s.nx = 33;
+      s.ny = 17;
+      s.mode = mode;
+      s.boundary = Boundary::vertical_only;
+      s.sleep.tile = tile;
+      s.threads = 1;
+      Surface fused(s);
+      s.kernel = KernelChoice::unfused;
+      Surface unfused(s);
+      for (Surface* surf : {&fused, &unfused}) {
+        surf->disturb(Disturbance::point_height(31.0, 15.0, 1.5, 5.0));  // in the thin tiles' corner
+        surf->disturb(Disturbance::point_velocity(10.0, 8.0, 2.0, 1.0));
+      }
+      for (int k = 0; k < 300; ++k) {
+        fused.step(0.4);
+        unfused.step(0.4);
+      }
+      EXPECT_EQ(fused.state_hash(), unfused.state_hash()) << (mode == SurfaceMode::full_3d ? "3-D" : "vertical")
+                                                          << ", tiles of " << tile;
+    }
+  }
+}
+
 }  // namespace
