@@ -40,7 +40,8 @@ struct Tile {
   float* vy = nullptr;
   const std::uint8_t* flags = nullptr;  ///< storage: 0 free, 1 vertical-only, 2 fixed
   double* bz = nullptr;                 ///< block: old heights with the ghost ring (scratch: the
-                                        ///< vertical-only kernel overwrites it)
+                                        ///< vertical-only kernel overwrites it; for the fused
+                                        ///< vertical-only kernel only the ring is gathered)
   const float* bx = nullptr;            ///< block, 3-D only
   const float* by = nullptr;
   Side sides[kSides] = {};
