@@ -40,7 +40,8 @@ struct Tile {
   float* vy = nullptr;
   const std::uint8_t* flags = nullptr;  ///< storage: 0 free, 1 vertical-only, 2 fixed
   double* bz = nullptr;                 ///< block: old heights with the ghost ring (scratch: the
-                                        ///< vertical-only kernel overwrites it)
+                                        ///< vertical-only kernel overwrites it; for the fused
+                                        ///< vertical-only kernel only the ring is gathered)
   const float* bx = nullptr;            ///< block, 3-D only
   const float* by = nullptr;
   Side sides[kSides] = {};
@@ -109,15 +110,19 @@ struct TileResult {
   Extremes extremes;  ///< 3-D: the springs the tile computed, and relative speeds within it
 };
 
+/// Which compiled variant runs: the fused kernels for AVX2 + FMA or the baseline, or the
+/// unfused reference (kernel_unfused.inc; the same bits, slower, for the tests).
+enum class Variant : std::uint8_t { generic, avx2, unfused };
+
 /// Bytes of scratch one thread needs for tiles of up to `tile` nodes per side.
 std::size_t workspace_bytes(int tile);
 
-// One substep of one tile, with the AVX2 variant if avx2 (only where avx2_available()),
-// else the generic one. workspace: workspace_bytes(tile) bytes, 64-byte aligned.
-TileResult step_3d(bool avx2, const Tile& t, const Coefficients& k, void* workspace);
-TileResult step_vertical(bool avx2, const Tile& t, const Coefficients& k, void* workspace);
+// One substep of one tile with variant v (avx2 only where avx2_available()).
+// workspace: workspace_bytes(tile) bytes, 64-byte aligned.
+TileResult step_3d(Variant v, const Tile& t, const Coefficients& k, void* workspace);
+TileResult step_vertical(Variant v, const Tile& t, const Coefficients& k, void* workspace);
 /// The guard's measures of a tile's springs at the block's positions (no update).
-Extremes measure_3d(bool avx2, const Tile& t, const Coefficients& k, void* workspace);
+Extremes measure_3d(Variant v, const Tile& t, const Coefficients& k, void* workspace);
 
 /// Whether this build has the AVX2 variant and this CPU can run it (AVX2 and FMA).
 bool avx2_available();
@@ -132,5 +137,10 @@ TileResult step_3d(const Tile& t, const Coefficients& k, void* workspace);
 TileResult step_vertical(const Tile& t, const Coefficients& k, void* workspace);
 Extremes measure_3d(const Tile& t, const Coefficients& k, void* workspace);
 }  // namespace generic
+namespace unfused {
+TileResult step_3d(const Tile& t, const Coefficients& k, void* workspace);
+TileResult step_vertical(const Tile& t, const Coefficients& k, void* workspace);
+Extremes measure_3d(const Tile& t, const Coefficients& k, void* workspace);
+}  // namespace unfused
 
 }  // namespace shore::water::kernel

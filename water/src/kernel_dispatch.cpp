@@ -3,11 +3,14 @@
 namespace shore::water::kernel {
 
 std::size_t workspace_bytes(int tile) {
-  // 13 force rows of 2 floats + 1 double, 8 measure rows of floats, 1 activity row of doubles,
-  // each of tile + 16 entries rounded up to 64 bytes, and slack.
+  // Up to 16 force rows of 2 floats + 1 double, 8 measure rows of floats, 4 more float and 8
+  // more double rows (the fused kernel's west column, activity, ends, counts), each of
+  // tile + 16 entries rounded up to 64 bytes, the masks of a whole tile (8 + 4 bytes a
+  // node), and slack; the unfused kernel needs less.
   const std::size_t n = static_cast<std::size_t>(tile) + 16;
   const auto row = [](std::size_t bytes) { return (bytes + 63) & ~std::size_t{63}; };
-  return 13 * (2 * row(4 * n) + row(8 * n)) + 8 * row(4 * n) + row(8 * n) + 256;
+  const std::size_t nodes = static_cast<std::size_t>(tile) * static_cast<std::size_t>(tile);
+  return 16 * (2 * row(4 * n) + row(8 * n)) + 12 * row(4 * n) + 8 * row(8 * n) + row(8 * nodes) + row(4 * nodes) + 256;
 }
 
 bool avx2_available() {
@@ -19,23 +22,36 @@ bool avx2_available() {
 #endif
 }
 
+namespace {
 #ifdef SHORE_WATER_NO_AVX2
-// The generic variant only; callers never ask for AVX2 when it is not available.
-TileResult step_3d(bool, const Tile& t, const Coefficients& k, void* w) { return generic::step_3d(t, k, w); }
-TileResult step_vertical(bool, const Tile& t, const Coefficients& k, void* w) {
-  return generic::step_vertical(t, k, w);
-}
-Extremes measure_3d(bool, const Tile& t, const Coefficients& k, void* w) { return generic::measure_3d(t, k, w); }
+constexpr bool kAvx2Built = false;  // callers never ask for AVX2 when it is not available
 #else
-TileResult step_3d(bool avx2, const Tile& t, const Coefficients& k, void* w) {
-  return avx2 ? avx2::step_3d(t, k, w) : generic::step_3d(t, k, w);
-}
-TileResult step_vertical(bool avx2, const Tile& t, const Coefficients& k, void* w) {
-  return avx2 ? avx2::step_vertical(t, k, w) : generic::step_vertical(t, k, w);
-}
-Extremes measure_3d(bool avx2, const Tile& t, const Coefficients& k, void* w) {
-  return avx2 ? avx2::measure_3d(t, k, w) : generic::measure_3d(t, k, w);
-}
+constexpr bool kAvx2Built = true;
 #endif
+/// The function of variant v among the three; avx2 only where it was built.
+template <class F>
+F pick(Variant v, F avx2_fn, F generic_fn, F unfused_fn) {
+  if (v == Variant::unfused) return unfused_fn;
+  return kAvx2Built && v == Variant::avx2 ? avx2_fn : generic_fn;
+}
+}  // namespace
+
+#ifdef SHORE_WATER_NO_AVX2
+namespace avx2 {  // never called (kAvx2Built): lets pick() name the functions
+TileResult step_3d(const Tile& t, const Coefficients& k, void* w) { return generic::step_3d(t, k, w); }
+TileResult step_vertical(const Tile& t, const Coefficients& k, void* w) { return generic::step_vertical(t, k, w); }
+Extremes measure_3d(const Tile& t, const Coefficients& k, void* w) { return generic::measure_3d(t, k, w); }
+}  // namespace avx2
+#endif
+
+TileResult step_3d(Variant v, const Tile& t, const Coefficients& k, void* w) {
+  return pick(v, &avx2::step_3d, &generic::step_3d, &unfused::step_3d)(t, k, w);
+}
+TileResult step_vertical(Variant v, const Tile& t, const Coefficients& k, void* w) {
+  return pick(v, &avx2::step_vertical, &generic::step_vertical, &unfused::step_vertical)(t, k, w);
+}
+Extremes measure_3d(Variant v, const Tile& t, const Coefficients& k, void* w) {
+  return pick(v, &avx2::measure_3d, &generic::measure_3d, &unfused::measure_3d)(t, k, w);
+}
 
 }  // namespace shore::water::kernel

@@ -70,7 +70,7 @@ struct Surface::State {
   std::vector<std::unique_ptr<TileData>> tiles;
   std::vector<std::int32_t> awake;  ///< slots of awake tiles, ascending
   bool full = false;                ///< SurfaceMode::full_3d
-  bool avx2 = false;
+  kernel::Variant variant = kernel::Variant::generic;
   quantum::Quantum qu, qv;  ///< height and velocity quanta
   double sleep_u = 0.0, sleep_v = 0.0;
   std::vector<double> sigma;  ///< open boundary: sigma by node distance from the edge, [0, width)

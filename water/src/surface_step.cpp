@@ -69,14 +69,17 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
     k.bx = bx;
     k.by = by;
   }
-  for (int r = 0; r < t.h; ++r) {
-    const std::size_t o = t.at(0, r, T);
-    std::copy_n(t.uz.data() + o, t.w, bz + r * bs);
-    if (full) {
-      std::copy_n(t.ux.data() + o, t.w, bx + r * bs);
-      std::copy_n(t.uy.data() + o, t.w, by + r * bs);
+  // The interior: the 3-D kernels read it; the fused vertical-only kernel makes its K from
+  // the storage directly (the unfused one reads the block).
+  if (full || variant == kernel::Variant::unfused)
+    for (int r = 0; r < t.h; ++r) {
+      const std::size_t o = t.at(0, r, T);
+      std::copy_n(t.uz.data() + o, t.w, bz + r * bs);
+      if (full) {
+        std::copy_n(t.ux.data() + o, t.w, bx + r * bs);
+        std::copy_n(t.uy.data() + o, t.w, by + r * bs);
+      }
     }
-  }
   for (int side = 0; side < kernel::kSides; ++side) k.sides[side] = side_of(t, side);
   // The ghost ring: each side from the facing edge of the neighbour (zeros where there is
   // none: rest, or beyond the grid, where the kernel ignores them).
@@ -86,18 +89,20 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
     int first;                // first entry of that edge
     int count;                // entries
     std::ptrdiff_t at, step;  // block offset of the first ghost and the step between ghosts
-    std::ptrdiff_t inner;     // from a ghost to the tile's node its spring reaches
+    std::size_t node, along;  // storage index of the tile's node the first ghost's spring
+                              // reaches, and the step between those nodes
   };
   const std::ptrdiff_t hs = static_cast<std::ptrdiff_t>(t.h) * bs;
+  const std::size_t top = t.at(0, t.h - 1, T), right = static_cast<std::size_t>(t.w - 1), row = static_cast<std::size_t>(T);
   const Ghost ghosts[] = {
-      {kernel::kSouth, kernel::kNorth, 0, t.w, -bs, 1, bs},
-      {kernel::kNorth, kernel::kSouth, 0, t.w, hs, 1, -bs},
-      {kernel::kWest, kernel::kEast, 0, t.h, -1, bs, 1},
-      {kernel::kEast, kernel::kWest, 0, t.h, t.w, bs, -1},
-      {kernel::kSouthWest, kernel::kNorth, T - 1, 1, -bs - 1, 1, bs + 1},
-      {kernel::kSouthEast, kernel::kNorth, 0, 1, -bs + t.w, 1, bs - 1},
-      {kernel::kNorthWest, kernel::kSouth, T - 1, 1, hs - 1, 1, -bs + 1},
-      {kernel::kNorthEast, kernel::kSouth, 0, 1, hs + t.w, 1, -bs - 1},
+      {kernel::kSouth, kernel::kNorth, 0, t.w, -bs, 1, 0, 1},
+      {kernel::kNorth, kernel::kSouth, 0, t.w, hs, 1, top, 1},
+      {kernel::kWest, kernel::kEast, 0, t.h, -1, bs, 0, row},
+      {kernel::kEast, kernel::kWest, 0, t.h, t.w, bs, right, row},
+      {kernel::kSouthWest, kernel::kNorth, T - 1, 1, -bs - 1, 1, 0, 0},
+      {kernel::kSouthEast, kernel::kNorth, 0, 1, -bs + t.w, 1, right, 0},
+      {kernel::kNorthWest, kernel::kSouth, T - 1, 1, hs - 1, 1, top, 0},
+      {kernel::kNorthEast, kernel::kSouth, 0, 1, hs + t.w, 1, top + right, 0},
   };
   for (const Ghost& g : ghosts) {
     const TileData* n =
@@ -114,9 +119,11 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
     // The steps across this side: a tile at rest next to water at another level is not at rest.
     double step = 0.0;
     for (int q = 0; q < g.count; ++q) {
-      const std::ptrdiff_t a = g.at + q * g.step, b = a + g.inner;
-      step = std::max(step, std::abs(bz[a] - bz[b]));
-      if (full) step = std::max(step, static_cast<double>(std::max(std::abs(bx[a] - bx[b]), std::abs(by[a] - by[b]))));
+      const std::ptrdiff_t a = g.at + q * g.step;
+      const std::size_t b = g.node + static_cast<std::size_t>(q) * g.along;
+      step = std::max(step, std::abs(bz[a] - t.uz[b]));
+      if (full)
+        step = std::max(step, static_cast<double>(std::max(std::abs(bx[a] - t.ux[b]), std::abs(by[a] - t.uy[b]))));
     }
     k.boundary_activity[g.side] = step / sleep_u;
   }
@@ -206,7 +213,7 @@ double Surface::omega_bound() const {
     kernel::Extremes e;
     for (const auto& t : s.tiles) {
       const kernel::Tile view = s.gather(*t, s.scratch[0]);
-      e.merge(kernel::measure_3d(s.avx2, view, k, s.scratch[0].workspace()));
+      e.merge(kernel::measure_3d(s.variant, view, k, s.scratch[0].workspace()));
     }
     if (static_cast<std::size_t>(s.tiles_x) * static_cast<std::size_t>(s.tiles_y) != s.awake.size())
       e.merge(resting_extremes(p.spacing, s.sleep_u, s.sleep_v));
@@ -431,8 +438,8 @@ bool step_tiles(const SurfaceSettings& settings, Surface::State& s, double dt) {
         *s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(stepped[static_cast<std::size_t>(item)])])];
     Scratch& sc = s.scratch[static_cast<std::size_t>(slot_index)];
     const kernel::Tile view = s.gather(t, sc);
-    results[static_cast<std::size_t>(item)] = s.full ? kernel::step_3d(s.avx2, view, k, sc.workspace())
-                                                     : kernel::step_vertical(s.avx2, view, k, sc.workspace());
+    results[static_cast<std::size_t>(item)] = s.full ? kernel::step_3d(s.variant, view, k, sc.workspace())
+                                                     : kernel::step_vertical(s.variant, view, k, sc.workspace());
     s.refresh_edges(t, 1 - t.cur);
   };
   const auto t0 = std::chrono::steady_clock::now();

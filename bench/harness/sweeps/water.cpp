@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <limits>
 #include <numbers>
@@ -266,6 +267,43 @@ void threads(const SweepContext& ctx, SweepResult& out) {
            " in this run); a step forks only above parallel_min_nodes and while parallel substeps measure faster.");
 }
 
+/// Microseconds per substep of a 1 km lake (the lake case's settings, one thread) whose
+/// tiles all sleep: never touched (no tile created) or woken in 16 places and left to
+/// settle (tiles created, all asleep again).
+struct AsleepLake {
+  double untouched_us = 0.0, settled_us = 0.0;
+  std::int64_t settled_tiles = 0;  ///< tiles created (asleep) in the settled lake
+};
+AsleepLake asleep_lake(const scenes::LakeCase& c, bool quick) {
+  water::PhysicalParameters p;
+  p.cell = c.cell;
+  p.depth = c.depth;
+  const int n = static_cast<int>(std::lround(c.side / c.cell)) + 1;
+  water::SurfaceSettings s = water::SurfaceSettings::physical(p, n, n);
+  s.mode = water::SurfaceMode::vertical_only;
+  s.boundary = water::Boundary::open;
+  s.threads = 1;
+  const int steps = quick ? 2000 : 20000;
+  const auto per_substep_us = [&](water::Surface& lake) {
+    const auto t0 = Clock::now();
+    int substeps = 0;
+    for (int k = 0; k < steps; ++k) substeps += lake.step(c.substep).substeps;
+    return 1e6 * std::chrono::duration<double>(Clock::now() - t0).count() / std::max(substeps, 1);
+  };
+  AsleepLake r;
+  water::Surface untouched(s);
+  r.untouched_us = per_substep_us(untouched);
+  water::Surface settled(s);
+  for (int k = 0; k < 16; ++k) {
+    const double x = (0.1 + 0.05 * k) * c.side, y = (0.9 - 0.05 * k) * c.side;
+    settled.wake(x, y, x + 10.0, y + 10.0);
+  }
+  for (int k = 0; k < 10000 && settled.tile_stats().awake > 0; ++k) settled.step(c.substep);
+  r.settled_tiles = settled.tile_stats().created;
+  if (settled.tile_stats().awake == 0) r.settled_us = per_substep_us(settled);
+  return r;
+}
+
 /// A 1 km lake at 10 cm with a boat crossing it: creation, memory, cost against the wake.
 void lake(const SweepContext& ctx, SweepResult& out) {
   scenes::LakeCase c;
@@ -288,8 +326,29 @@ void lake(const SweepContext& ctx, SweepResult& out) {
   out.figure("water.lake_empty_memory_mb", 1e-6 * double(r.empty_memory_bytes), "MB right after creation");
   out.figure("water.lake_memory_over_woken_area", worst_memory,
              "x a dense grid's state (17 B per node) of the tiles ever woken, worst sample");
-  out.figure("water.lake_ns_per_awake_node", per_node.empty() ? 0.0 : per_node[per_node.size() / 2],
+  const double ns_per_node = per_node.empty() ? 0.0 : per_node[per_node.size() / 2];
+  out.figure("water.lake_ns_per_awake_node", ns_per_node,
              "ns per awake node and substep (water + coupling), median sample");
+  out.target({.key = "water.lake_ns_per_awake_node",
+              .what = "lake cost per awake node, half of the 3.3 ns of 2026-12-04",
+              .value = ns_per_node,
+              .op = "<=",
+              .threshold = 1.65,
+              .unit = "ns"});
+  ctx.progress("1 km lake asleep: untouched, and settled after waking 16 places");
+  const AsleepLake quiet = asleep_lake(c, ctx.quick);
+  out.figure("water.lake_asleep_us_per_substep", std::max(quiet.untouched_us, quiet.settled_us),
+             "us per substep, 1 km lake with every tile asleep, the worse of untouched and settled (" +
+                 std::to_string(quiet.settled_tiles) + " tiles created, asleep)");
+  out.figure("water.lake_untouched_us_per_substep", quiet.untouched_us, "us per substep, no tile ever created");
+  out.figure("water.lake_settled_us_per_substep", quiet.settled_us,
+             "us per substep, tiles created and all asleep again (0: they did not settle)");
+  out.target({.key = "water.lake_asleep_us_per_substep",
+              .what = "a fully asleep 1 km lake per substep",
+              .value = std::max(quiet.untouched_us, quiet.settled_us),
+              .op = "<=",
+              .threshold = 1.0,
+              .unit = "us"});
   out.target({.key = "water.lake_memory_over_woken_area",
               .what = "lake memory against the woken area",
               .value = worst_memory,

@@ -113,7 +113,7 @@ class Surface {
   [[nodiscard]] static const char* fast_kernel_isa();
   /// Whether this build and CPU can run the kernel (automatic and generic always can).
   [[nodiscard]] static bool kernel_available(KernelChoice kernel);
-  /// "avx2" or "generic": the kernel this surface steps with (SurfaceSettings::kernel).
+  /// "avx2", "generic" or "unfused": the kernel this surface steps with (SurfaceSettings::kernel).
   [[nodiscard]] const char* kernel_isa() const noexcept;
   /// The guard's current bound on the highest lattice frequency (rad/s) from the present
   /// deformation.

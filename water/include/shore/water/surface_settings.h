@@ -46,6 +46,8 @@ enum class KernelChoice : std::uint8_t {
   automatic,  ///< AVX2 + FMA where the build has that variant and the CPU runs it, else generic
   generic,    ///< the baseline-instruction-set variant
   avx2,       ///< the AVX2 + FMA variant: invalid where it is not available
+  unfused,    ///< the generic variant as it was before its row passes were fused (a pass per
+              ///< spring family and update): the bitwise reference of the tests; slower
 };
 
 /// Stability guard: each step(dt) is split into enough substeps that the bound on the

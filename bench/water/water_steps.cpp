@@ -1,0 +1,76 @@
+// water_steps: steps one water surface a given number of times and prints its state hash,
+// for counting the kernel's instructions (callgrind, perf stat) where timings are noisy:
+// the cost per node-step is the difference of two runs with different step counts.
+//
+//   water_steps <3d|vertical> <nodes per side> <tile> <steps> [sleep|dense] [automatic|generic|avx2|unfused]
+//   water_steps lake <tile> <substeps>
+
+//
+// The paper's lattice at dt 0.3 with a drop in the middle (the benchmark's kernel case);
+// `sleep` turns sleeping tiles on (off by default, as in shore-bench's kernel cases); the
+// last argument picks the kernel (SurfaceSettings::kernel; unfused: the row-pass kernel the
+// fused one replaced, generic instruction set). `lake`: the benchmark's 1 km lake at 10 cm
+// (vertical-only, 2 m deep, open edges, 1/60 s substeps) with a source of waves moving at
+// 2 m/s from the middle and the tiles around it kept awake, as a boat's coupling does.
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "shore/water/disturbance.h"
+#include "shore/water/surface.h"
+
+using namespace shore;
+
+namespace {
+int lake(int tile, int substeps) {
+  water::PhysicalParameters p;
+  p.cell = 0.1;
+  p.depth = 2.0;
+  water::SurfaceSettings s = water::SurfaceSettings::physical(p, 10001, 10001);
+  s.mode = water::SurfaceMode::vertical_only;
+  s.boundary = water::Boundary::open;
+  s.threads = 1;
+  s.sleep.tile = tile;
+  water::Surface surf(s);
+  const double dt = 1.0 / 60;
+  for (int k = 0; k < substeps; ++k) {
+    const double x = 500.0 + 2.0 * dt * k, y = 500.0;
+    surf.wake(x - 1.5, y - 1.0, x + 1.5, y + 1.0);
+    surf.disturb(water::Disturbance::point_velocity(x, y, 0.3, -0.05));
+    surf.step(dt);
+  }
+  const water::TileStats st = surf.tile_stats();
+  std::printf("%016llx awake nodes %lld\n", static_cast<unsigned long long>(surf.state_hash()),
+              static_cast<long long>(st.awake_nodes));
+  return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc == 4 && std::strcmp(argv[1], "lake") == 0) return lake(std::atoi(argv[2]), std::atoi(argv[3]));
+  if (argc < 5) {
+    std::fprintf(stderr, "usage: %s <3d|vertical> <nodes per side> <tile> <steps> [sleep|dense] [kernel]\n", argv[0]);
+    return 2;
+  }
+  const bool vertical = std::strcmp(argv[1], "vertical") == 0;
+  const int n = std::atoi(argv[2]), tile = std::atoi(argv[3]), steps = std::atoi(argv[4]);
+  water::SurfaceSettings s;  // as scenes::kernel_case_settings: the paper's lattice, one thread
+  s.nx = s.ny = n;
+  s.lattice = water::LatticeParameters::paper();
+  s.threads = 1;
+  s.mode = vertical ? water::SurfaceMode::vertical_only : water::SurfaceMode::full_3d;
+  s.sleep.tile = tile;
+  s.sleep.enabled = argc > 5 && std::strcmp(argv[5], "sleep") == 0;
+  if (argc > 6) {
+    const char* k = argv[6];
+    s.kernel = std::strcmp(k, "generic") == 0   ? water::KernelChoice::generic
+               : std::strcmp(k, "avx2") == 0    ? water::KernelChoice::avx2
+               : std::strcmp(k, "unfused") == 0 ? water::KernelChoice::unfused
+                                                : water::KernelChoice::automatic;
+  }
+  water::Surface surf(s);
+  surf.disturb(water::Disturbance::point_height(0.5 * (n - 1), 0.5 * (n - 1), 3.0, 1.0));
+  for (int k = 0; k < steps; ++k) surf.step(0.3);
+  std::printf("%016llx\n", static_cast<unsigned long long>(surf.state_hash()));
+  return 0;
+}
