@@ -143,8 +143,17 @@ PlateResult run_plate(const PlateCase& c) {
       rig.add(std::make_unique<btBoxShape>(btVector3(btScalar(c.width / 2), btScalar(c.width / 2), btScalar(half_h))),
               mass, btVector3(btScalar(cx), btScalar(cx), btScalar(half_h)));
   const double h = c.run.substep;
-  rig.press(*plate, mass, c.ramp_seconds,
-            static_cast<std::int64_t>(std::lround((c.ramp_seconds + c.settle_seconds) / h)), out.stats);
+  const auto steps = static_cast<std::int64_t>(std::lround((c.ramp_seconds + c.settle_seconds) / h));
+  if (c.ease && c.ramp_seconds > 0) {
+    for (std::int64_t k = 0; k < steps; ++k) {  // the part of the weight not yet applied is held up
+      const double u = std::min(1.0, double(k) * h / c.ramp_seconds);
+      const double share = std::pow(u * u * (3.0 - 2.0 * u), c.run.material.bekker_n);
+      plate->applyCentralForce(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - share))));
+      rig.advance(out.stats);
+    }
+  } else {
+    rig.press(*plate, mass, c.ramp_seconds, steps, out.stats);
+  }
   out.sinkage = -(plate->getCenterOfMassPosition().z() - half_h);
   out.drift = double((plate->getCenterOfMassPosition() - btVector3(btScalar(cx), btScalar(cx), 0)).length() -
                      std::abs(double(plate->getCenterOfMassPosition().z())));
