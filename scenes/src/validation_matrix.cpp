@@ -33,10 +33,10 @@ terrain::Material wong_soil(const std::string& name, double n, double kc, double
   return m;
 }
 
-/// "0.2 m, 20 kPa", "D 0.8 m, 2 kN": a short label with a value in engineering units.
-std::string label(const char* fmt, double a, double b) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, a, b);
+/// A number as %g prints it: "0.2", "20", "1.5".
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
 }
 
@@ -129,9 +129,9 @@ std::vector<MatrixCell> slope_cells(const MatrixCase& c, const MatrixSoil& s) {
   const double want = std::max(0.0, drive - kGravity * std::cos(c.slope) * std::tan(m.friction_angle) -
                                         (m.cohesion * area + compaction) / c.load);
   const double whole = 2.0 * r.distance / (b.seconds * b.seconds);
-  // A box that should slide is measured relative to Coulomb; one that should hold, by how
-  // much of the frictionless g sin(theta) it still slides with.
-  const bool holds = want <= 0.0;
+  // A box that should slide is measured relative to Coulomb; one that should hold (or
+  // barely slide, below a tenth of the frictionless g sin(theta)), against g sin(theta).
+  const bool holds = want < 0.1 * drive;
   const double scale = holds ? drive : want;
   const char* kind = holds ? "of g sin(theta)" : "relative";
   return {cell(c, s, "acceleration, whole slide", whole, want, (whole - want) / scale, 0.10, kind),
@@ -146,10 +146,10 @@ std::vector<MatrixCell> sphere_cells(const MatrixCase& c, const MatrixSoil& s) {
   d.height = 1.0;
   const SphereDropResult r = run_sphere_drop(d);
   MatrixCell out = cell(c, s, "deepest point", r.max_depth, r.reference, rel(r.max_depth, r.reference), 0.10, "relative");
-  // The energy balance takes the crater as the sphere's cap pressed into columns; past the
-  // sphere's equator the crater's walls close over it, which neither it nor Bekker's
-  // plate law describes.
-  if (r.reference > 0.5 * c.size) out.outside_validity = "buried past its equator";
+  // The energy balance takes the crater as the sphere pressed into columns of its width;
+  // once the sphere's top is below the surface the crater's walls close over it, which
+  // neither the balance nor Bekker's plate law describes.
+  if (r.reference > c.size) out.outside_validity = "buried (reference depth beyond its diameter)";
   return {out};
 }
 
@@ -191,22 +191,21 @@ std::vector<MatrixCase> matrix_cases(bool quick) {
       for (int p = 0; p < 2; ++p)
         if (!quick || (width == 0.2 && p == 1))
           out.push_back({k, "plate", width, s.plate_pressure[p], 0, 0,
-                         label("%g m, %g kPa", width, s.plate_pressure[p] / 1e3)});
+                         num(width) + " m, " + num(s.plate_pressure[p] / 1e3) + " kPa"});
     for (const char* family : {"wheel static", "wheel towed"})
       for (const double diameter : {0.5, 0.8})
         for (int w = 0; w < 2; ++w)
           if (!quick || (diameter == 0.8 && w == 1))
             out.push_back({k, family, diameter, s.wheel_load[w], 0, 0,
-                           label("D %g m, %g kN", diameter, s.wheel_load[w] / 1e3)});
+                           "D " + num(diameter) + " m, " + num(s.wheel_load[w] / 1e3) + " kN"});
     for (const double slip : {0.1, 0.2, 0.3, 0.5})
       if (!quick || slip == 0.1 || slip == 0.5)
-        out.push_back({k, "driven wheel", 0.6, s.driven_load, slip, 0, label("slip %g, %g kN", slip, s.driven_load / 1e3)});
+        out.push_back({k, "driven wheel", 0.6, s.driven_load, slip, 0, "slip " + num(slip) + ", " + num(s.driven_load / 1e3) + " kN"});
     const double phi = s.material.friction_angle / kDeg;
     for (const double offset : {-7.0, 7.0, 12.0})
       if (!quick || offset == 7.0)
         out.push_back({k, "slope box", 0.3, s.box_mass, 0, (phi + offset) * kDeg,
-                       label(offset < 0 ? "phi - %g deg (%g deg)" : "phi + %g deg (%g deg)", std::abs(offset),
-                             phi + offset)});
+                       (offset < 0 ? "phi - " : "phi + ") + num(std::abs(offset)) + " deg (" + num(phi + offset) + " deg)"});
     out.push_back({k, "sphere drop", 0.2, 10.0, 0, 0, "D 0.2 m, 10 kg, 1 m"});
   }
   return out;

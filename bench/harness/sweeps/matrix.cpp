@@ -16,9 +16,10 @@ std::string cell_name(const scenes::MatrixCell& m) {
   return m.soil + ", " + m.family + " " + m.label + ", " + m.quantity;
 }
 
-std::string fixed(const char* fmt, double v) {
+/// v with `decimals` digits after the point, sign shown if `sign`.
+std::string fixed(double v, int decimals, bool sign) {
   char buf[48];
-  std::snprintf(buf, sizeof buf, fmt, v);
+  std::snprintf(buf, sizeof buf, sign ? "%+.*f" : "%.*f", decimals, v);
   return buf;
 }
 
@@ -35,8 +36,8 @@ void run(const SweepContext& ctx, SweepResult& out) {
       const std::string result = !m.outside_validity.empty() ? "outside validity: " + m.outside_validity
                                  : m.within()                ? "within"
                                                              : "MISS";
-      t.add({m.soil, m.family, m.label, m.quantity, m.measured, m.reference, fixed("%+.4f", m.error), m.error_kind,
-             m.tolerance, fixed("%.2f", m.error_over_tolerance()), result, fixed("%.2f", m.wall_seconds)});
+      t.add({m.soil, m.family, m.label, m.quantity, m.measured, m.reference, fixed(m.error, 4, true), m.error_kind,
+             m.tolerance, fixed(m.error_over_tolerance(), 2, false), result, fixed(m.wall_seconds, 2, false)});
       cells.push_back(std::move(m));
     }
   }
@@ -59,8 +60,8 @@ void run(const SweepContext& ctx, SweepResult& out) {
   if (worst)
     out.figure("accuracy.matrix_worst", worst->error_over_tolerance(),
                "x its tolerance, the worst cell inside validity: " + cell_name(*worst) + " (error " +
-                   fixed("%+.4f", worst->error) + " " + worst->error_kind + ", tolerance " +
-                   fixed("%.2f", worst->tolerance) + ")");
+                   fixed(worst->error, 4, true) + " " + worst->error_kind + ", tolerance " +
+                   fixed(worst->tolerance, 2, false) + ")");
   if (worst_any)
     out.figure("accuracy.matrix_worst_any", worst_any->error_over_tolerance(),
                "x its tolerance, the worst cell of all: " + cell_name(*worst_any));
@@ -73,7 +74,7 @@ void run(const SweepContext& ctx, SweepResult& out) {
   });
   for (std::size_t k = 0; k < std::min<std::size_t>(5, order.size()); ++k)
     out.figure("accuracy.matrix_worst_" + std::to_string(k + 1), order[k]->error_over_tolerance(),
-               "x tolerance: " + cell_name(*order[k]) + " (error " + fixed("%+.4f", order[k]->error) + " " +
+               "x tolerance: " + cell_name(*order[k]) + " (error " + fixed(order[k]->error, 4, true) + " " +
                    order[k]->error_kind + ")");
   out.target({.key = "accuracy.matrix_worst",
               .what = "validation matrix: the worst cell inside the references' validity, error over tolerance",

@@ -54,7 +54,8 @@ struct MatrixCell {
   double reference = 0.0;
   double error = 0.0;      ///< signed, relative to the reference (pull: of the load)
   double tolerance = 0.0;  ///< on |error|
-  std::string error_kind;  ///< "relative", "of W" or "of g sin(theta)" (a box that should hold)
+  /// "relative", "of W" or "of g sin(theta)" (a box that should hold or barely slide)
+  std::string error_kind;
   /// Empty, or why the reference's own assumptions do not hold for this cell (docs/terrain.md,
   /// "Validation matrix"): such a cell is reported but not counted against the model.
   std::string outside_validity;
