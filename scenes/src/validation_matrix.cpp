@@ -115,6 +115,10 @@ std::vector<MatrixCell> slope_cells(const MatrixCase& c, const MatrixSoil& s) {
   b.run = one_thread(s.material);
   b.slope = c.slope;
   b.size = c.size;
+  // A flat box (a sled, 0.06 m tall): Coulomb's block has no moment balance, and a cube's
+  // base shear, (c A + N tan(phi)) half its height below the centre of mass, pitches it
+  // onto its front edge until it trips (docs/terrain.md, "Validation matrix").
+  b.height = 0.06;
   b.mass = c.load;
   b.seconds = 1.5;
   const SlopeBoxResult r = run_slope_box(b);
@@ -134,8 +138,13 @@ std::vector<MatrixCell> slope_cells(const MatrixCase& c, const MatrixSoil& s) {
   const bool holds = want < 0.1 * drive;
   const double scale = holds ? drive : want;
   const char* kind = holds ? "of g sin(theta)" : "relative";
-  return {cell(c, s, "acceleration, whole slide", whole, want, (whole - want) / scale, 0.10, kind),
-          cell(c, s, "acceleration, second half", r.acceleration, want, (r.acceleration - want) / scale, 0.10, kind)};
+  std::vector<MatrixCell> out = {
+      cell(c, s, "acceleration, whole slide", whole, want, (whole - want) / scale, 0.10, kind),
+      cell(c, s, "acceleration, second half", r.acceleration, want, (r.acceleration - want) / scale, 0.10, kind)};
+  for (MatrixCell& each : out)
+    each.note = "tilt up to " + num(std::round(r.max_tilt / kDeg)) + " deg, slid " + num(std::round(r.distance * 100) / 100) +
+             " m, " + num(std::round(b.mass)) + " kg";
+  return out;
 }
 
 std::vector<MatrixCell> sphere_cells(const MatrixCase& c, const MatrixSoil& s) {

@@ -136,7 +136,8 @@ DrivenWheelResult run_driven_wheel(const DrivenWheelCase& c);
 struct SlopeBoxCase {
   SoilRun run;
   double slope = 0.26;   ///< rad
-  double size = 0.3;     ///< m, cube side
+  double size = 0.3;     ///< m, side of the square footprint
+  double height = 0.0;   ///< m, the box's height; 0: size (a cube)
   double mass = 40.0;    ///< kg
   double seconds = 1.5;  ///< s simulated
   bool rigid = false;

@@ -22,7 +22,7 @@ struct MatrixSoil {
   double plate_pressure[2];    ///< Pa, on square plates 0.2 m and 0.4 m wide
   double wheel_load[2];        ///< N, rigid wheels D 0.5 m and 0.8 m, b 0.3 m, static and towed
   double driven_load;          ///< N, driven wheel D 0.6 m, b 0.15 m
-  double box_mass;             ///< kg, the 0.3 m box on the slopes: it sinks 5 mm (Bekker)
+  double box_mass;             ///< kg, the 0.3 m square, 0.06 m tall box on the slopes: it sinks 5 mm (Bekker)
   bool preset;                 ///< true: a shore::terrain::Material preset
 };
 
@@ -59,6 +59,7 @@ struct MatrixCell {
   /// Empty, or why the reference's own assumptions do not hold for this cell (docs/terrain.md,
   /// "Validation matrix"): such a cell is reported but not counted against the model.
   std::string outside_validity;
+  std::string note;           ///< what else the run showed (a box's largest tilt and slide), or empty
   double wall_seconds = 0.0;  ///< of the whole run the cell came from
   [[nodiscard]] bool within() const { return std::abs(error) <= tolerance; }
   [[nodiscard]] double error_over_tolerance() const { return std::abs(error) / tolerance; }
