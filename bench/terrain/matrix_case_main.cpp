@@ -28,7 +28,8 @@ int main(int argc, char** argv) {
       std::printf("%-24s %-13s %-28s %-26s measured %11.5g reference %11.5g error %+8.4f (%s) tol %.2f %s %s  %.1f s\n",
                   m.soil.c_str(), m.family.c_str(), m.label.c_str(), m.quantity.c_str(), m.measured, m.reference,
                   m.error, m.error_kind.c_str(), m.tolerance, m.within() ? "ok   " : "MISS ",
-                  (m.outside_validity.empty() ? m.note : "[outside: " + m.outside_validity + "] " + m.note).c_str(), m.wall_seconds);
+                  (m.outside_validity.empty() ? m.note : "[outside: " + m.outside_validity + "] " + m.note).c_str(),
+                  m.wall_seconds);
       std::fflush(stdout);
       ++cells, within += m.within() ? 1 : 0;
     }

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 
@@ -20,8 +20,7 @@ constexpr double kGravity = 9.81;
 /// Sand's appearance, spray and unloading with Wong's bearing and shear parameters (k_c in
 /// kN/m^(n+1), k_phi in kN/m^(n+2), c in kPa, phi in degrees, K in m): what a user picking
 /// a soil from the table gets.
-terrain::Material wong_soil(const std::string& name, double n, double kc, double kphi, double c, double phi,
-                            double K) {
+terrain::Material wong_soil(const std::string& name, double n, double kc, double kphi, double c, double phi, double K) {
   terrain::Material m = terrain::Material::sand();
   m.name = name;
   m.bekker_n = n;
@@ -70,7 +69,7 @@ std::vector<MatrixCell> plate_cells(const MatrixCase& c, const MatrixSoil& s) {
   p.width = c.size;
   p.pressure = c.load;
   p.ramp_seconds = 3.0;  // quasi-static: Bekker's plate law, not the released overshoot
-  p.ease = true;          // arriving at rest (a linear ramp overshoots on rigid-plastic soil)
+  p.ease = true;         // arriving at rest (a linear ramp overshoots on rigid-plastic soil)
   p.settle_seconds = 0.5;
   const PlateResult r = run_plate(p);
   return {cell(c, s, "sinkage", r.sinkage, r.reference, rel(r.sinkage, r.reference), 0.03, "relative")};
@@ -142,8 +141,8 @@ std::vector<MatrixCell> slope_cells(const MatrixCase& c, const MatrixSoil& s) {
       cell(c, s, "acceleration, whole slide", whole, want, (whole - want) / scale, 0.10, kind),
       cell(c, s, "acceleration, second half", r.acceleration, want, (r.acceleration - want) / scale, 0.10, kind)};
   for (MatrixCell& each : out)
-    each.note = "tilt up to " + num(std::round(r.max_tilt / kDeg)) + " deg, slid " + num(std::round(r.distance * 100) / 100) +
-             " m, " + num(std::round(b.mass)) + " kg";
+    each.note = "tilt up to " + num(std::round(r.max_tilt / kDeg)) + " deg, slid " +
+                num(std::round(r.distance * 100) / 100) + " m, " + num(std::round(b.mass)) + " kg";
   return out;
 }
 
@@ -154,7 +153,8 @@ std::vector<MatrixCell> sphere_cells(const MatrixCase& c, const MatrixSoil& s) {
   d.mass = c.load;
   d.height = 1.0;
   const SphereDropResult r = run_sphere_drop(d);
-  MatrixCell out = cell(c, s, "deepest point", r.max_depth, r.reference, rel(r.max_depth, r.reference), 0.10, "relative");
+  MatrixCell out =
+      cell(c, s, "deepest point", r.max_depth, r.reference, rel(r.max_depth, r.reference), 0.10, "relative");
   // The energy balance takes the crater as the sphere pressed into columns of its width;
   // once the sphere's top is below the surface the crater's walls close over it, which
   // neither the balance nor Bekker's plate law describes.
@@ -170,24 +170,48 @@ std::vector<MatrixSoil> matrix_soils() {
   // Wong where given (LETE sand 1.2 cm; the presets' own), else 1 cm.
   std::vector<MatrixSoil> soils = {
       {"dry sand", Material::sand(), {20e3, 60e3}, {800, 2000}, 1000, 0.0, true},
-      {"LETE sand", wong_soil("LETE sand", 0.79, 102, 5301, 1.3, 31.1, 0.012), {250e3, 500e3}, {10e3, 25e3},
-       10e3, 0.0, false},
-      {"sandy loam 15 %", wong_soil("sandy loam 15 %", 0.7, 5.27, 1515.04, 1.72, 29, 0.01), {100e3, 200e3},
-       {4000, 8000}, 4000, 0.0, false},
-      {"sandy loam 22 %", wong_soil("sandy loam 22 %", 0.2, 2.56, 43.12, 1.38, 38, 0.01), {25e3, 30e3},
-       {1000, 1500}, 800, 0.0, false},
-      {"clayey soil 38 %", wong_soil("clayey soil 38 %", 0.5, 13.19, 692.15, 4.14, 13, 0.01), {100e3, 200e3},
-       {4000, 8000}, 4000, 0.0, false},
+      {"LETE sand",
+       wong_soil("LETE sand", 0.79, 102, 5301, 1.3, 31.1, 0.012),
+       {250e3, 500e3},
+       {10e3, 25e3},
+       10e3,
+       0.0,
+       false},
+      {"sandy loam 15 %",
+       wong_soil("sandy loam 15 %", 0.7, 5.27, 1515.04, 1.72, 29, 0.01),
+       {100e3, 200e3},
+       {4000, 8000},
+       4000,
+       0.0,
+       false},
+      {"sandy loam 22 %",
+       wong_soil("sandy loam 22 %", 0.2, 2.56, 43.12, 1.38, 38, 0.01),
+       {25e3, 30e3},
+       {1000, 1500},
+       800,
+       0.0,
+       false},
+      {"clayey soil 38 %",
+       wong_soil("clayey soil 38 %", 0.5, 13.19, 692.15, 4.14, 13, 0.01),
+       {100e3, 200e3},
+       {4000, 8000},
+       4000,
+       0.0,
+       false},
       {"clayey soil 55 % (mud)", Material::mud(), {80e3, 150e3}, {3000, 8000}, 3000, 0.0, true},
-      {"heavy clay 25 %", wong_soil("heavy clay 25 %", 0.13, 12.70, 1555.95, 68.95, 34, 0.01), {900e3, 1100e3},
-       {40e3, 60e3}, 30e3, 0.0, false},
+      {"heavy clay 25 %",
+       wong_soil("heavy clay 25 %", 0.13, 12.70, 1555.95, 68.95, 34, 0.01),
+       {900e3, 1100e3},
+       {40e3, 60e3},
+       30e3,
+       0.0,
+       false},
       {"snow", Material::snow(), {2000, 5000}, {50, 150}, 100, 0.0, true},
   };
   // The box on the slopes presses the soil 5 mm (Bekker), so it slides on the soil rather
   // than ploughing it: Coulomb's reference assumes a surface, and a box sunk a few cm
   // trips on its front edge (docs/terrain.md, "Validation matrix").
-  for (MatrixSoil& s : soils)
-    s.box_mass = terrain::bekker::pressure(s.material, 0.3, 0.005) * 0.3 * 0.3 / kGravity;
+  for (MatrixSoil& s : soils) s.box_mass = terrain::bekker::pressure(s.material, 0.3, 0.005) * 0.3 * 0.3 / kGravity;
   return soils;
 }
 
@@ -209,12 +233,14 @@ std::vector<MatrixCase> matrix_cases(bool quick) {
                            "D " + num(diameter) + " m, " + num(s.wheel_load[w] / 1e3) + " kN"});
     for (const double slip : {0.1, 0.2, 0.3, 0.5})
       if (!quick || slip == 0.1 || slip == 0.5)
-        out.push_back({k, "driven wheel", 0.6, s.driven_load, slip, 0, "slip " + num(slip) + ", " + num(s.driven_load / 1e3) + " kN"});
+        out.push_back({k, "driven wheel", 0.6, s.driven_load, slip, 0,
+                       "slip " + num(slip) + ", " + num(s.driven_load / 1e3) + " kN"});
     const double phi = s.material.friction_angle / kDeg;
     for (const double offset : {-7.0, 7.0, 12.0})
       if (!quick || offset == 7.0)
-        out.push_back({k, "slope box", 0.3, s.box_mass, 0, (phi + offset) * kDeg,
-                       (offset < 0 ? "phi - " : "phi + ") + num(std::abs(offset)) + " deg (" + num(phi + offset) + " deg)"});
+        out.push_back(
+            {k, "slope box", 0.3, s.box_mass, 0, (phi + offset) * kDeg,
+             (offset < 0 ? "phi - " : "phi + ") + num(std::abs(offset)) + " deg (" + num(phi + offset) + " deg)"});
     out.push_back({k, "sphere drop", 0.2, 10.0, 0, 0, "D 0.2 m, 10 kg, 1 m"});
   }
   return out;

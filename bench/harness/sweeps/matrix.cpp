@@ -24,8 +24,8 @@ std::string fixed(double v, int decimals, bool sign) {
 }
 
 void run(const SweepContext& ctx, SweepResult& out) {
-  Table& t = out.table("matrix", {"soil", "family", "case", "quantity", "measured", "reference", "error",
-                                  "error_kind", "tolerance", "error_over_tolerance", "result", "note", "wall_s"});
+  Table& t = out.table("matrix", {"soil", "family", "case", "quantity", "measured", "reference", "error", "error_kind",
+                                  "tolerance", "error_over_tolerance", "result", "note", "wall_s"});
   const std::vector<scenes::MatrixSoil> soils = scenes::matrix_soils();
   std::vector<scenes::MatrixCell> cells;
   // The whole matrix takes about a minute on one core, so --quick runs all of it too
@@ -102,12 +102,15 @@ void run(const SweepContext& ctx, SweepResult& out) {
       "Validation matrix (scenes/src/validation_matrix.cpp): Wong's soils (dry sand = sand preset, LETE sand, sandy "
       "loam 15 % and 22 %, clayey soil 38 % and 55 % = mud preset, heavy clay 25 %, snow = snow preset; the others "
       "are the sand preset with Wong's n, k_c, k_phi, c, phi, K) crossed with: a square plate 0.2 and 0.4 m wide at "
-      "two pressures, weight eased in over 3 s so it arrives at rest (Bekker, tolerance 3 %); a rigid wheel D 0.5 and 0.8 m, b 0.3 m at two "
+      "two pressures, weight eased in over 3 s so it arrives at rest (Bekker, tolerance 3 %); a rigid wheel D 0.5 and "
+      "0.8 m, b 0.3 m at two "
       "loads, pressed statically (both halves, 10 %) and towed 2 m at 1 m/s (rolling sinkage 10 %, compaction "
       "resistance 15 %); a driven wheel D 0.6 m, b 0.15 m at slips 0.1, 0.2, 0.3, 0.5 (Wong-Reece: drawbar pull "
-      "0.08 W, torque 15 %, sinkage 20 %); a flat box (0.3 m square, 0.06 m tall) released on slopes phi - 7, phi + 7 and phi + 12 deg "
+      "0.08 W, torque 15 %, sinkage 20 %); a flat box (0.3 m square, 0.06 m tall) released on slopes phi - 7, phi + 7 "
+      "and phi + 12 deg "
       "pressing the soil 5 mm (Coulomb on phi and c plus Bekker's compaction resistance of its sinkage: whole "
-      "slide 2 d / T^2 over 1.5 s and the second half's fit, 10 %, of g sin theta where it should hold); a 10 kg sphere D 0.2 m dropped 1 m (deepest "
+      "slide 2 d / T^2 over 1.5 s and the second half's fit, 10 %, of g sin theta where it should hold); a 10 kg "
+      "sphere D 0.2 m dropped 1 m (deepest "
       "point against the energy balance, 10 %). Loads per soil keep Bekker's sinkage at a few cm. 1 cm cells, "
       "1/240 s, one thread per case; --quick runs the whole matrix too (about a minute). Cells outside a "
       "reference's own assumptions are marked (docs/terrain.md, 'Validation matrix') and not counted in "
