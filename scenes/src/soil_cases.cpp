@@ -123,8 +123,17 @@ PlateResult run_plate(const PlateCase& c) {
       rig.add(std::make_unique<btBoxShape>(btVector3(btScalar(c.width / 2), btScalar(c.width / 2), btScalar(half_h))),
               mass, btVector3(btScalar(cx), btScalar(cx), btScalar(half_h)));
   const double h = c.run.substep;
-  rig.press(*plate, mass, c.ramp_seconds,
-            static_cast<std::int64_t>(std::lround((c.ramp_seconds + c.settle_seconds) / h)), out.stats);
+  const auto steps = static_cast<std::int64_t>(std::lround((c.ramp_seconds + c.settle_seconds) / h));
+  if (c.ease && c.ramp_seconds > 0) {
+    for (std::int64_t k = 0; k < steps; ++k) {  // the part of the weight not yet applied is held up
+      const double u = std::min(1.0, double(k) * h / c.ramp_seconds);
+      const double share = std::pow(u * u * (3.0 - 2.0 * u), c.run.terrain.material.bekker_n);
+      plate->applyCentralForce(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - share))));
+      rig.advance(out.stats);
+    }
+  } else {
+    rig.press(*plate, mass, c.ramp_seconds, steps, out.stats);
+  }
   out.sinkage = -(plate->getCenterOfMassPosition().z() - half_h);
   out.drift = double((plate->getCenterOfMassPosition() - btVector3(btScalar(cx), btScalar(cx), 0)).length() -
                      std::abs(double(plate->getCenterOfMassPosition().z())));
@@ -325,9 +334,9 @@ SlopeBoxResult run_slope_box(const SlopeBoxCase& c) {
   const btVector3 normal(btScalar(std::sin(c.slope)), 0, btScalar(std::cos(c.slope)));
   const btVector3 downhill(btScalar(std::cos(c.slope)), 0, btScalar(-std::sin(c.slope)));
   const btQuaternion tilt(btVector3(0, 1, 0), btScalar(c.slope));
-  const btScalar half = btScalar(c.size / 2);
-  btRigidBody* box = rig.world.add_body(std::make_unique<btBoxShape>(btVector3(half, half, half)), c.mass,
-                                        normal * (half + btScalar(1e-3)), tilt);
+  const btScalar half = btScalar(c.size / 2), half_height = btScalar((c.height > 0 ? c.height : c.size) / 2);
+  btRigidBody* box = rig.world.add_body(std::make_unique<btBoxShape>(btVector3(half, half, half_height)), c.mass,
+                                        normal * (half_height + btScalar(1e-3)), tilt);
   box->setActivationState(DISABLE_DEACTIVATION);
   box->setFriction(1.0f);
   rig.ground.add_body(box);

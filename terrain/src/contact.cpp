@@ -289,12 +289,12 @@ class PatchBuilder {
   [[nodiscard]] double sinkage_at(std::size_t soil_index, double lower) const {
     return soil_.sink[soil_index] + std::max(0.0, soil_.top[soil_index] - lower);
   }
-  /// Bekker's yield pressure of a column pressed to `lower`, remoulded by its shear.
+  /// Bekker's yield pressure of a column pressed to `lower`, loosened by its shear (shear::loosening).
   [[nodiscard]] double yield_pressure(std::size_t soil_index, double lower, double j) const {
     const double top = soil_.top[soil_index], bed = soil_.bed[soil_index];
     if (s_.material.rigid || lower <= bed || top <= bed) return kInf;
-    return bekker::pressure(s_.material, out_.patch_width, sinkage_at(soil_index, lower)) *
-           shear::remoulding(s_.material, j);
+    return bekker::pressure(s_.material, out_.patch_width,
+                            sinkage_at(soil_index, lower) * shear::loosening(s_.material, j));
   }
   /// Gives `el` (its pressure already set) how fast its pressure grows as the body presses
   /// on: Bekker's tangent n p / z where the column is pressed deeper than a few steps, else
@@ -307,7 +307,7 @@ class PatchBuilder {
       el.pressure_rate = m.bekker_n * el.pressure / z;
       return;
     }
-    const double further = bekker::pressure(m, out_.patch_width, z + step) * shear::remoulding(m, j);
+    const double further = bekker::pressure(m, out_.patch_width, (z + step) * shear::loosening(m, j));
     el.pressure_rate = std::max(0.0, further - el.pressure) / step;
   }
 

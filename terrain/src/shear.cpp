@@ -12,9 +12,11 @@ double mobilisation(const Material& m, double j) { return 1.0 - det::exp(-std::f
 
 double stress(const Material& m, double sigma, double j) { return strength(m, sigma) * mobilisation(m, j); }
 
-double remoulding(const Material& m, double j) {
+double loosening(const Material& m, double j) {
   return 1.0 - m.remould_ratio * (1.0 - det::exp(-std::fabs(j) / m.remould_length));
 }
+
+double remoulding(const Material& m, double j) { return det::pow(loosening(m, j), m.bekker_n); }
 
 double strength_remoulding(const Material& m, double j) {
   return 1.0 - m.remould_shear_ratio * (1.0 - det::exp(-std::fabs(j) / m.remould_length));

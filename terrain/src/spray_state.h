@@ -24,7 +24,7 @@ struct Particle {
 /// body's frame.
 struct ClingCell {
   std::uint64_t key = 0;  ///< the cube, packed (cling_key)
-  Vec3 local;             ///< m, body frame: where it last touched the soil
+  Vec3 local{};           ///< m, body frame: where it last touched the soil
   double volume = 0.0;    ///< m^3 clinging
   /// m^3 of it the half-life says has dropped off but that has not yet made a whole
   /// particle (shed as soon as it does).

@@ -71,8 +71,11 @@ Pose make_pose(std::mt19937& rng, Vec centre_spread) {
   Pose p;
   p.bt.setIdentity();
   p.bt.setRotation(quat);
-  p.bt.setOrigin(btVector3(btScalar(0.3 + centre_spread.x * u(rng)), btScalar(-0.2 + centre_spread.y * u(rng)),
-                           btScalar(1.0 + centre_spread.z * u(rng))));
+  // One draw per statement: the order of a call's arguments is unspecified (GCC draws them
+  // right to left, clang left to right), and the cases must be the same with every compiler.
+  const double dz = u(rng), dy = u(rng), dx = u(rng);
+  p.bt.setOrigin(btVector3(btScalar(0.3 + centre_spread.x * dx), btScalar(-0.2 + centre_spread.y * dy),
+                           btScalar(1.0 + centre_spread.z * dz)));
   p.o = vec(p.bt.getOrigin());
   for (int k = 0; k < 3; ++k) p.axis[k] = vec(p.bt.getBasis().getColumn(k));
   return p;

@@ -62,7 +62,8 @@ btTransform random_pose(std::mt19937& rng) {
   btTransform t;
   t.setIdentity();
   t.setRotation(btQuaternion(btScalar(q[0] / s), btScalar(q[1] / s), btScalar(q[2] / s), btScalar(q[3] / s)));
-  t.setOrigin(btVector3(btScalar(0.2 * u(rng)), btScalar(0.2 * u(rng)), btScalar(0.5 + 0.2 * u(rng))));
+  const double dz = u(rng), dy = u(rng), dx = u(rng);  // one draw per statement: the same with every compiler
+  t.setOrigin(btVector3(btScalar(0.2 * dx), btScalar(0.2 * dy), btScalar(0.5 + 0.2 * dz)));
   return t;
 }
 
@@ -212,8 +213,10 @@ TEST(EnvelopeVsBulletRays, HullMeshAndCompound) {
   std::mt19937 rng(32);
   std::uniform_real_distribution<double> u(-1, 1);
   btConvexHullShape hull;
-  for (int k = 0; k < 16; ++k)
-    hull.addPoint(btVector3(btScalar(0.3 * u(rng)), btScalar(0.2 * u(rng)), btScalar(0.15 * u(rng))));
+  for (int k = 0; k < 16; ++k) {
+    const double z = u(rng), y = u(rng), x = u(rng);  // one draw per statement
+    hull.addPoint(btVector3(btScalar(0.3 * x), btScalar(0.2 * y), btScalar(0.15 * z)));
+  }
   expect_agree(hull, rng, 2, 0.02, "hull");
 
   btTriangleMesh mesh;

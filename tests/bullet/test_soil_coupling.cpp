@@ -106,8 +106,8 @@ TEST(SoilCoupling, BearingFollowsBekkerWhateverTheSoilInterval) {
     c.run.after_substep = [&](const shore::terrain::Terrain&, const shore::bullet::TerrainCoupling& coupling) {
       substeps = coupling.stats().substeps, terrain_steps = coupling.stats().terrain_steps;
       const std::int64_t now = coupling.stats().contacts_followed;
-      if (btRigidBody::upcast(coupling.bodies().front())->getLinearVelocity().x() > 0.5)
-        ++towing, followed_towing += now - followed;
+      const btRigidBody* wheel = btRigidBody::upcast(coupling.bodies().front());
+      if (wheel != nullptr && wheel->getLinearVelocity().x() > 0.5) ++towing, followed_towing += now - followed;
       followed = now;
     };
     const WheelResult r = run_wheel(c);

@@ -47,10 +47,15 @@ TEST(SoilRobustness, NothingFallsThrough) {
       std::uniform_real_distribution<double> speed(0.0, 50.0), angle(-3.14, 3.14), lateral(-2.0, 2.0);
       for (int k = 0; k < 24 && drops < 1000; ++k, ++drops) {
         const btVector3 at(btScalar(1.0 * (k % 6)), btScalar(1.0 * (k / 6)), btScalar(0.5 + 0.1 * (k % 3)));
+        // One draw per statement, so every compiler makes the same bodies (the order of a
+        // call's arguments is unspecified).
+        const double az = angle(rng), ay = angle(rng), ax = angle(rng);
+        const double mass = 1.0 + 20.0 * double(rng() % 100) / 100.0;
+        auto shape = scenes::random_body_shape(rng, children);
         btRigidBody* b =
-            world.add_body(scenes::random_body_shape(rng, children), 1.0 + 20.0 * (rng() % 100) / 100.0, at,
-                           btQuaternion(btScalar(angle(rng)), btScalar(angle(rng)), btScalar(angle(rng))));
-        b->setLinearVelocity(btVector3(btScalar(lateral(rng)), btScalar(lateral(rng)), btScalar(-speed(rng))));
+            world.add_body(std::move(shape), mass, at, btQuaternion(btScalar(ax), btScalar(ay), btScalar(az)));
+        const double vz = -speed(rng), vy = lateral(rng), vx = lateral(rng);
+        b->setLinearVelocity(btVector3(btScalar(vx), btScalar(vy), btScalar(vz)));
         ground.add_body(b);
         bodies.push_back(b);
       }

@@ -204,7 +204,9 @@ TEST(Contact, ShearDisplacementRemouldsTheSoil) {
   t.contact(env, j, nullptr, sheared);
   const double ratio = totals(sheared).bottom_force / totals(fresh).bottom_force;
   const Material& m = s.material;
-  EXPECT_NEAR(ratio, 1.0 - m.remould_ratio * (1.0 - std::exp(-0.05 / m.remould_length)), 1e-12);
+  // Loosened soil bears at z what intact soil bears at s z: the pressure times s^n.
+  const double s_loose = 1.0 - m.remould_ratio * (1.0 - std::exp(-0.05 / m.remould_length));
+  EXPECT_NEAR(ratio, std::pow(s_loose, m.bekker_n), 1e-12);
   std::vector<double> wrong(3, 0.0);
   EXPECT_THROW(t.contact(env, wrong, nullptr, sheared), shore::InvalidSetting);
 }
@@ -229,7 +231,10 @@ TEST(Shear, JanosiHanamotoAndRemoulding) {
   EXPECT_EQ(shear::stress(m, sigma, 0.0), 0.0);
   EXPECT_NEAR(shear::strength(m, sigma), m.cohesion + sigma * std::tan(28.0 * std::numbers::pi / 180.0), 1e-9);
   EXPECT_EQ(shear::remoulding(m, 0.0), 1.0);
-  EXPECT_NEAR(shear::remoulding(m, 10.0), 1.0 - m.remould_ratio, 1e-12);
+  EXPECT_NEAR(shear::loosening(m, 10.0), 1.0 - m.remould_ratio, 1e-12);
+  // Loosened soil bears as intact soil pressed (1 - remould_ratio) as deep: Bekker's
+  // pressure times that to the power n.
+  EXPECT_NEAR(shear::remoulding(m, 10.0), std::pow(1.0 - m.remould_ratio, m.bekker_n), 1e-12);
   EXPECT_NEAR(shear::strength_remoulding(m, 10.0), 1.0 - m.remould_shear_ratio, 1e-12);
 }
 

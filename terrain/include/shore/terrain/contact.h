@@ -12,7 +12,7 @@
 // carries W = integral of sigma b dx and resists with integral of sigma b dz, as Bekker's
 // and Wong's formulas have it). At most it pushes with Bekker's
 // yield pressure at the column's sinkage if pressed to the body (its plastic sinkage plus
-// how far the body lies below its top), times shear::remoulding(j) of the shear
+// how far the body lies below its top), loosened by shear::loosening(j) of the shear
 // displacement j the body has put into the column (a body pressed straight down remoulds
 // nothing).
 // Sheared along the surface, the column resists with Janosi-Hanamoto's stress

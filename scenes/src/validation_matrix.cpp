@@ -1,0 +1,275 @@
+#include "shore/scenes/validation_matrix.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <stdexcept>
+
+#include "shore/scenes/soil_cases.h"
+#include "shore/scenes/wong_reece.h"
+#include "shore/terrain/bekker.h"
+
+namespace shore::scenes {
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kGravity = 9.81;
+
+/// Sand's appearance, spray and unloading with Wong's bearing and shear parameters (k_c in
+/// kN/m^(n+1), k_phi in kN/m^(n+2), c in kPa, phi in degrees, K in m): what a user picking
+/// a soil from the table gets.
+terrain::Material wong_soil(const std::string& name, double n, double kc, double kphi, double c, double phi, double K) {
+  terrain::Material m = terrain::Material::sand();
+  m.name = name;
+  m.bekker_n = n;
+  m.bekker_kc = kc * 1e3;
+  m.bekker_kphi = kphi * 1e3;
+  m.cohesion = c * 1e3;
+  m.friction_angle = phi * kDeg;
+  m.shear_modulus = K;
+  return m;
+}
+
+/// A number as %g prints it: "0.2", "20", "1.5".
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+double rel(double measured, double reference) { return (measured - reference) / reference; }
+
+MatrixCell cell(const MatrixCase& c, const MatrixSoil& s, std::string quantity, double measured, double reference,
+                double error, double tolerance, std::string kind) {
+  MatrixCell out;
+  out.soil = s.name;
+  out.family = c.family;
+  out.label = c.label;
+  out.quantity = std::move(quantity);
+  out.measured = measured;
+  out.reference = reference;
+  out.error = error;
+  out.tolerance = tolerance;
+  out.error_kind = std::move(kind);
+  return out;
+}
+
+SoilRun one_thread(const terrain::Material& m) {
+  SoilRun r;  // one thread already
+  r.terrain.material = m;
+  return r;
+}
+
+std::vector<MatrixCell> plate_cells(const MatrixCase& c, const MatrixSoil& s) {
+  PlateCase p;
+  p.run = one_thread(s.material);
+  p.width = c.size;
+  p.pressure = c.load;
+  p.ramp_seconds = 3.0;  // quasi-static: Bekker's plate law, not the released overshoot
+  p.ease = true;         // arriving at rest (a linear ramp overshoots on rigid-plastic soil)
+  p.settle_seconds = 0.5;
+  const PlateResult r = run_plate(p);
+  return {cell(c, s, "sinkage", r.sinkage, r.reference, rel(r.sinkage, r.reference), 0.03, "relative")};
+}
+
+std::vector<MatrixCell> wheel_cells(const MatrixCase& c, const MatrixSoil& s, bool towed) {
+  WheelCase w;
+  w.run = one_thread(s.material);
+  w.diameter = c.size;
+  w.width = 0.3;
+  w.load = c.load;
+  w.towed = towed;
+  const WheelResult r = run_wheel(w);
+  std::vector<MatrixCell> out;
+  out.push_back(cell(c, s, towed ? "rolling sinkage" : "static sinkage", r.sinkage, r.reference_sinkage,
+                     rel(r.sinkage, r.reference_sinkage), 0.10, "relative"));
+  if (towed)
+    out.push_back(cell(c, s, "resistance", r.resistance, r.reference_resistance,
+                       rel(r.resistance, r.reference_resistance), 0.15, "relative"));
+  return out;
+}
+
+std::vector<MatrixCell> driven_cells(const MatrixCase& c, const MatrixSoil& s) {
+  DrivenWheelCase d;
+  d.run = one_thread(s.material);
+  d.diameter = c.size;
+  d.width = 0.15;
+  d.load = c.load;
+  d.slip = c.slip;
+  const DrivenWheelResult r = run_driven_wheel(d);
+  WongReeceWheel ref;
+  ref.radius = c.size / 2, ref.width = d.width, ref.load = d.load, ref.soil = s.material;
+  const WongReeceResult want = wong_reece(ref, c.slip);
+  return {cell(c, s, "drawbar pull", r.drawbar_pull, want.drawbar_pull, (r.drawbar_pull - want.drawbar_pull) / d.load,
+               0.08, "of W"),
+          cell(c, s, "torque", r.torque, want.torque, rel(r.torque, want.torque), 0.15, "relative"),
+          cell(c, s, "driven sinkage", r.sinkage, want.sinkage, rel(r.sinkage, want.sinkage), 0.20, "relative")};
+}
+
+std::vector<MatrixCell> slope_cells(const MatrixCase& c, const MatrixSoil& s) {
+  SlopeBoxCase b;
+  b.run = one_thread(s.material);
+  b.slope = c.slope;
+  b.size = c.size;
+  // A flat box (a sled, 0.06 m tall): Coulomb's block has no moment balance, and a cube's
+  // base shear, (c A + N tan(phi)) half its height below the centre of mass, pitches it
+  // onto its front edge until it trips (docs/terrain.md, "Validation matrix").
+  b.height = 0.06;
+  b.mass = c.load;
+  b.seconds = 1.5;
+  const SlopeBoxResult r = run_slope_box(b);
+  // Coulomb with cohesion, plus the compaction resistance of the box's front edge sinking
+  // into fresh soil (Bekker's, for a sledge of width b at sinkage z: b k z^(n+1) / (n+1)):
+  // m a = m g sin(theta) - (c A + m g cos(theta) tan(phi)) - R_c, or none if that is
+  // negative (the box holds).
+  const terrain::Material& m = s.material;
+  const double drive = kGravity * std::sin(c.slope), area = c.size * c.size;
+  const double z = terrain::bekker::plate_sinkage(m, c.size, c.load * kGravity * std::cos(c.slope) / area);
+  const double compaction = terrain::bekker::wheel_compaction_resistance(m, z, c.size);
+  const double want = std::max(0.0, drive - kGravity * std::cos(c.slope) * std::tan(m.friction_angle) -
+                                        (m.cohesion * area + compaction) / c.load);
+  const double whole = 2.0 * r.distance / (b.seconds * b.seconds);
+  // A box that should slide is measured relative to Coulomb; one that should hold (or
+  // barely slide, below a tenth of the frictionless g sin(theta)), against g sin(theta).
+  const bool holds = want < 0.1 * drive;
+  const double scale = holds ? drive : want;
+  const char* kind = holds ? "of g sin(theta)" : "relative";
+  std::vector<MatrixCell> out = {
+      cell(c, s, "acceleration, whole slide", whole, want, (whole - want) / scale, 0.10, kind),
+      cell(c, s, "acceleration, second half", r.acceleration, want, (r.acceleration - want) / scale, 0.10, kind)};
+  for (MatrixCell& each : out)
+    each.note = "tilt up to " + num(std::round(r.max_tilt / kDeg)) + " deg, slid " +
+                num(std::round(r.distance * 100) / 100) + " m, " + num(std::round(b.mass)) + " kg";
+  return out;
+}
+
+std::vector<MatrixCell> sphere_cells(const MatrixCase& c, const MatrixSoil& s) {
+  SphereDropCase d;
+  d.run = one_thread(s.material);
+  d.diameter = c.size;
+  d.mass = c.load;
+  d.height = 1.0;
+  const SphereDropResult r = run_sphere_drop(d);
+  MatrixCell out =
+      cell(c, s, "deepest point", r.max_depth, r.reference, rel(r.max_depth, r.reference), 0.10, "relative");
+  // The energy balance takes the crater as the sphere pressed into columns of its width;
+  // once the sphere's top is below the surface the crater's walls close over it, which
+  // neither the balance nor Bekker's plate law describes.
+  if (r.reference > c.size) out.outside_validity = "buried (reference depth beyond its diameter)";
+  return {out};
+}
+
+}  // namespace
+
+std::vector<MatrixSoil> matrix_soils() {
+  using terrain::Material;
+  // Wong, Theory of Ground Vehicles, table of terrain values: n, k_c, k_phi, c, phi. K from
+  // Wong where given (LETE sand 1.2 cm; the presets' own), else 1 cm.
+  std::vector<MatrixSoil> soils = {
+      {"dry sand", Material::sand(), {20e3, 60e3}, {800, 2000}, 1000, 0.0, true},
+      {"LETE sand",
+       wong_soil("LETE sand", 0.79, 102, 5301, 1.3, 31.1, 0.012),
+       {250e3, 500e3},
+       {10e3, 25e3},
+       10e3,
+       0.0,
+       false},
+      {"sandy loam 15 %",
+       wong_soil("sandy loam 15 %", 0.7, 5.27, 1515.04, 1.72, 29, 0.01),
+       {100e3, 200e3},
+       {4000, 8000},
+       4000,
+       0.0,
+       false},
+      {"sandy loam 22 %",
+       wong_soil("sandy loam 22 %", 0.2, 2.56, 43.12, 1.38, 38, 0.01),
+       {25e3, 30e3},
+       {1000, 1500},
+       800,
+       0.0,
+       false},
+      {"clayey soil 38 %",
+       wong_soil("clayey soil 38 %", 0.5, 13.19, 692.15, 4.14, 13, 0.01),
+       {100e3, 200e3},
+       {4000, 8000},
+       4000,
+       0.0,
+       false},
+      {"clayey soil 55 % (mud)", Material::mud(), {80e3, 150e3}, {3000, 8000}, 3000, 0.0, true},
+      {"heavy clay 25 %",
+       wong_soil("heavy clay 25 %", 0.13, 12.70, 1555.95, 68.95, 34, 0.01),
+       {900e3, 1100e3},
+       {40e3, 60e3},
+       30e3,
+       0.0,
+       false},
+      {"snow", Material::snow(), {2000, 5000}, {50, 150}, 100, 0.0, true},
+  };
+  // The box on the slopes presses the soil 5 mm (Bekker), so it slides on the soil rather
+  // than ploughing it: Coulomb's reference assumes a surface, and a box sunk a few cm
+  // trips on its front edge (docs/terrain.md, "Validation matrix").
+  for (MatrixSoil& s : soils) s.box_mass = terrain::bekker::pressure(s.material, 0.3, 0.005) * 0.3 * 0.3 / kGravity;
+  return soils;
+}
+
+std::vector<MatrixCase> matrix_cases(bool quick) {
+  std::vector<MatrixCase> out;
+  const std::vector<MatrixSoil> soils = matrix_soils();
+  for (std::size_t k = 0; k < soils.size(); ++k) {
+    const MatrixSoil& s = soils[k];
+    for (const double width : {0.2, 0.4})
+      for (int p = 0; p < 2; ++p)
+        if (!quick || (width == 0.2 && p == 1))
+          out.push_back({k, "plate", width, s.plate_pressure[p], 0, 0,
+                         num(width) + " m, " + num(s.plate_pressure[p] / 1e3) + " kPa"});
+    for (const char* family : {"wheel static", "wheel towed"})
+      for (const double diameter : {0.5, 0.8})
+        for (int w = 0; w < 2; ++w)
+          if (!quick || (diameter == 0.8 && w == 1))
+            out.push_back({k, family, diameter, s.wheel_load[w], 0, 0,
+                           "D " + num(diameter) + " m, " + num(s.wheel_load[w] / 1e3) + " kN"});
+    for (const double slip : {0.1, 0.2, 0.3, 0.5})
+      if (!quick || slip == 0.1 || slip == 0.5)
+        out.push_back({k, "driven wheel", 0.6, s.driven_load, slip, 0,
+                       "slip " + num(slip) + ", " + num(s.driven_load / 1e3) + " kN"});
+    const double phi = s.material.friction_angle / kDeg;
+    for (const double offset : {-7.0, 7.0, 12.0})
+      if (!quick || offset == 7.0)
+        out.push_back(
+            {k, "slope box", 0.3, s.box_mass, 0, (phi + offset) * kDeg,
+             (offset < 0 ? "phi - " : "phi + ") + num(std::abs(offset)) + " deg (" + num(phi + offset) + " deg)"});
+    out.push_back({k, "sphere drop", 0.2, 10.0, 0, 0, "D 0.2 m, 10 kg, 1 m"});
+  }
+  return out;
+}
+
+std::vector<MatrixCell> run_matrix_case(const MatrixCase& c) {
+  const std::vector<MatrixSoil> soils = matrix_soils();
+  if (c.soil >= soils.size())
+    throw std::invalid_argument("MatrixCase.soil: " + std::to_string(c.soil) + " is not allowed: must be below " +
+                                std::to_string(soils.size()));
+  const MatrixSoil& s = soils[c.soil];
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<MatrixCell> cells;
+  if (c.family == "plate")
+    cells = plate_cells(c, s);
+  else if (c.family == "wheel static" || c.family == "wheel towed")
+    cells = wheel_cells(c, s, c.family == "wheel towed");
+  else if (c.family == "driven wheel")
+    cells = driven_cells(c, s);
+  else if (c.family == "slope box")
+    cells = slope_cells(c, s);
+  else if (c.family == "sphere drop")
+    cells = sphere_cells(c, s);
+  else
+    throw std::invalid_argument("MatrixCase.family: '" + c.family +
+                                "' is not allowed: must be plate, wheel static, wheel towed, driven wheel, slope box "
+                                "or sphere drop");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (MatrixCell& m : cells) m.wall_seconds = seconds;
+  return cells;
+}
+
+}  // namespace shore::scenes
