@@ -25,7 +25,6 @@
 namespace shore::scenes {
 namespace {
 
-constexpr double kGravity = 9.81;
 constexpr int kTileCells = 64;  // soil tile size; the strips are whole tiles long
 constexpr double kWheelRadius = FourWheelerSettings{}.wheel_radius;
 constexpr double kTargetSpeed = 2.0;  // m/s the wheel motors aim for

@@ -28,14 +28,18 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   stats_.envelope_seconds = stats_.terrain_seconds = stats_.push_seconds = stats_.reaction_seconds = 0.0;
   stats_.resting_bodies = 0;
   // 0. Nothing below may read a body the world no longer holds; tiles around every body.
-  stats_.lost_bodies += p.bodies.forget_lost(world_);
+  stats_.lost_bodies += p.bodies.forget_lost(world_) + p.wheels.forget_lost(world_);
   const auto t0 = Clock::now();
   p.cover_bodies(h);
   stats_.push_seconds += seconds_since(t0);
-  // 1.-3. Each body: sanity, its contact solved, its envelope and imprint.
+  // 1.-3. Each body: sanity, its contact solved, its envelope and imprint; each raycast
+  // wheel: its rut and resistance.
   p.imprints.clear();
   const bool deforms = p.clock.advance(h, settings_.step_interval);
   for (Parts::Entry& e : p.bodies) p.serve(e, h, deforms);
+  if (!p.rigid)
+    p.wheels.serve(p.terrain, p.rasterizer, h, deforms, p.imprints,
+                   [&p](const btVector3& at) { return p.on_terrain(at); });
   // 4. The terrain deforms with the imprints (once per step_interval).
   stats_.active_columns = stats_.erosion_passes = 0;
   if (deforms) p.step_terrain();
@@ -71,6 +75,15 @@ void TerrainCoupling::Parts::cover_bodies(double h) {
   } else {
     for (const Entry& e : bodies) cover(e.body->object());
   }
+}
+
+bool TerrainCoupling::Parts::on_terrain(const btVector3& at) const {
+  const double x = at.x(), y = at.y();
+  if (!settings.region.contains(x, y)) return false;
+  // Within two cells' height of the surface there: the tile's triangles, not something
+  // lying on the terrain (a rock, a plank) that a ray met first.
+  const double surface = terrain.height(terrain.column_i(x), terrain.column_j(y));
+  return std::abs(double(at.z()) - surface) <= 2.0 * terrain.settings().cell;
 }
 
 void TerrainCoupling::Parts::show_soft_tiles(btCollisionObject& object) {

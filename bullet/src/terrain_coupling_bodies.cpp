@@ -142,6 +142,15 @@ void TerrainCoupling::remove_body(const btCollisionObject* body) {
   parts_->bodies.remove(body);
 }
 
+void TerrainCoupling::add_vehicle(btRaycastVehicle* vehicle, std::span<const double> wheel_widths) {
+  if (detached_)
+    throw InvalidSetting("bullet.TerrainCoupling.add_vehicle(vehicle)", "after detach()",
+                         "a detached coupling takes no vehicles: make a new one");
+  parts_->wheels.add(vehicle, wheel_widths, terrain_.settings().cell, coupling_detail::nominal_solid());
+}
+
+void TerrainCoupling::remove_vehicle(const btRaycastVehicle* vehicle) { parts_->wheels.remove(vehicle); }
+
 TerrainForce TerrainCoupling::terrain_force(const btCollisionObject* body) const {
   const Parts::Entry* e = parts_->bodies.find(body);
   return e != nullptr ? e->record.contact.last : TerrainForce{};

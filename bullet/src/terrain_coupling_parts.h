@@ -11,6 +11,7 @@
 
 #include "body_registry.h"
 #include "coupled_body.h"
+#include "raycast_wheels.h"
 #include "shore/bullet/envelope.h"
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/bullet/terrain_tiles.h"
@@ -32,6 +33,7 @@ struct TerrainCoupling::Parts {
   const TerrainCouplingSettings& settings;
   TerrainCouplingStats& stats;
   coupling_detail::BodyRegistry<coupling_detail::TerrainBody> bodies;
+  coupling_detail::RaycastWheels wheels;  ///< the wheels of added btRaycastVehicles
   TerrainTiles tiles;
   EnvelopeRasterizer rasterizer;
   coupling_detail::StepClock clock;
@@ -45,6 +47,9 @@ struct TerrainCoupling::Parts {
   /// objects collides with soft tiles too: their group is terrain_filter_bit, which the
   /// filters a game copies from Bullet's demos leave out.
   void show_soft_tiles(btCollisionObject& object);
+  /// A point on this coupling's ground (a raycast wheel's contact: Bullet's vehicle does
+  /// not say what its ray hit).
+  [[nodiscard]] bool on_terrain(const btVector3& at) const;
   /// One body's path through the substep: its contact solved, its envelope made or kept,
   /// its imprint.
   void serve(Entry& e, double h, bool deforms);

@@ -61,6 +61,8 @@
 #include "shore/core/envelope.h"
 #include "shore/terrain/terrain.h"
 
+class btRaycastVehicle;
+
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
@@ -191,6 +193,16 @@ class TerrainCoupling : public btActionInterface {
   void add_body(btRigidBody* body, TerrainBodySettings body_settings = {});
   /// Does nothing for a body not added (or removed already).
   void remove_body(const btCollisionObject* body);
+  /// A stock btRaycastVehicle whose wheels press and feel the terrain: each wheel on soft
+  /// ground sinks as far as the columns need to carry its suspension force (its ray then
+  /// finds the rut it pressed) and meets the columns' compaction resistance. `wheel_widths`
+  /// (m, in (0, 10]) gives each wheel's width, in the vehicle's wheel order (Bullet's
+  /// vehicle knows only the radius). Traction and side force stay Bullet's m_frictionSlip.
+  /// Throws InvalidSetting for a null vehicle, one added already, a width count other
+  /// than the wheel count or a width out of range. A vehicle whose chassis leaves the world
+  /// is dropped at the next substep (stats().lost_bodies); remove_vehicle before deleting it.
+  void add_vehicle(btRaycastVehicle* vehicle, std::span<const double> wheel_widths);
+  void remove_vehicle(const btRaycastVehicle* vehicle);
   /// Takes the coupling out of its world: its tiles and itself (the action) are removed,
   /// the bodies are let go. After it the world may be destroyed before the coupling.
   void detach();
