@@ -129,8 +129,7 @@ double energy_gain(const EnergyCase& c) {
   return worst;
 }
 
-LakeResult run_lake(const LakeCase& c) {
-  LakeResult out;
+water::SurfaceSettings lake_surface(const LakeCase& c) {
   water::PhysicalParameters p;
   p.cell = c.cell;
   p.depth = c.depth;
@@ -139,11 +138,17 @@ LakeResult run_lake(const LakeCase& c) {
   s.mode = water::SurfaceMode::vertical_only;
   s.boundary = water::Boundary::open;
   s.threads = c.threads;
+  return s;
+}
+
+LakeResult run_lake(const LakeCase& c) {
+  LakeResult out;
+  const water::SurfaceSettings s = lake_surface(c);
   const auto t0 = Clock::now();
   auto lake = std::make_unique<water::Surface>(s);
   out.creation_ms = 1e3 * seconds_since(t0);
   out.empty_memory_bytes = lake->tile_stats().memory_bytes;
-  out.virtual_nodes = static_cast<std::int64_t>(n) * n;
+  out.virtual_nodes = static_cast<std::int64_t>(s.nx) * s.ny;
   World world(9.81);
   bullet::WaterCoupling coupling(world.world(), *lake);
   const double draft = 0.3;

@@ -275,14 +275,9 @@ struct AsleepLake {
   std::int64_t settled_tiles = 0;  ///< tiles created (asleep) in the settled lake
 };
 AsleepLake asleep_lake(const scenes::LakeCase& c, bool quick) {
-  water::PhysicalParameters p;
-  p.cell = c.cell;
-  p.depth = c.depth;
-  const int n = static_cast<int>(std::lround(c.side / c.cell)) + 1;
-  water::SurfaceSettings s = water::SurfaceSettings::physical(p, n, n);
-  s.mode = water::SurfaceMode::vertical_only;
-  s.boundary = water::Boundary::open;
-  s.threads = 1;
+  scenes::LakeCase one_thread = c;
+  one_thread.threads = 1;
+  const water::SurfaceSettings s = scenes::lake_surface(one_thread);
   const int steps = quick ? 2000 : 20000;
   const auto per_substep_us = [&](water::Surface& lake) {
     const auto t0 = Clock::now();

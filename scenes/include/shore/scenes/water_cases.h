@@ -83,5 +83,7 @@ struct LakeResult {
   std::vector<LakeSample> samples;     ///< about one a second
 };
 LakeResult run_lake(const LakeCase& c);
+/// The lake's surface: side / cell + 1 nodes a side, vertical-only, open edges, c.threads.
+water::SurfaceSettings lake_surface(const LakeCase& c);
 
 }  // namespace shore::scenes
