@@ -90,6 +90,13 @@ void RaycastWheels::remove(const btRaycastVehicle* vehicle) {
   std::erase_if(vehicles_, [vehicle](const Vehicle& v) { return v.vehicle == vehicle; });
 }
 
+double RaycastWheels::push(const btRaycastVehicle* vehicle, int k) const {
+  for (const Vehicle& v : vehicles_)
+    if (v.vehicle == vehicle && k >= 0 && static_cast<std::size_t>(k) < v.wheels.size())
+      return v.wheels[static_cast<std::size_t>(k)].push;
+  return 0.0;
+}
+
 int RaycastWheels::forget_lost(const btCollisionWorld& world) {
   if (vehicles_.empty()) return 0;
   const btCollisionObjectArray& objects = world.getCollisionObjectArray();
@@ -120,6 +127,7 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   const double push = compaction_push(terrain, terrain.bearing(wheel.bearing_part, offset), pose.getOrigin(), forward,
                                       radius, load);
   chassis->applyImpulse(forward * btScalar(push * h), at);
+  wheel.push = push;
   if (!deforms) return nullptr;
   wheel.imprint = terrain::Imprint{&wheel.envelope, offset};
   wheel.imprint.velocity = to_vec3(chassis->getVelocityInLocalPoint(at));

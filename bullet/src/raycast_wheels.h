@@ -47,11 +47,15 @@ class RaycastWheels {
     for (Vehicle& v : vehicles_)
       for (std::size_t k = 0; k < v.wheels.size(); ++k) {
         const btWheelInfo& info = v.vehicle->getWheelInfo(static_cast<int>(k));
+        v.wheels[k].push = 0.0;
         if (!info.m_raycastInfo.m_isInContact || !on_ground(info.m_raycastInfo.m_contactPointWS)) continue;
         if (const terrain::Imprint* im = press(terrain, rasterizer, h, deforms, *v.vehicle, info, v.wheels[k]))
           imprints.push_back(*im);
       }
   }
+  /// N, the terrain's push on wheel k along its heading in the last substep (negative: it
+  /// resists forward motion); 0 for a wheel off the terrain or a vehicle not added.
+  [[nodiscard]] double push(const btRaycastVehicle* vehicle, int k) const;
   [[nodiscard]] bool empty() const noexcept { return vehicles_.empty(); }
   [[nodiscard]] std::size_t size() const noexcept { return vehicles_.size(); }
 
@@ -62,6 +66,7 @@ class RaycastWheels {
     EnvelopeRaster envelope;      ///< the whole cylinder: what it presses
     EnvelopeRaster bearing_part;  ///< what bears its load (the front arc when rolling)
     terrain::Imprint imprint;
+    double push = 0.0;  ///< N along the heading, last substep
   };
   struct Vehicle {
     btRaycastVehicle* vehicle = nullptr;

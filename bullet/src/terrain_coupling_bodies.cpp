@@ -151,6 +151,10 @@ void TerrainCoupling::add_vehicle(btRaycastVehicle* vehicle, std::span<const dou
 
 void TerrainCoupling::remove_vehicle(const btRaycastVehicle* vehicle) { parts_->wheels.remove(vehicle); }
 
+double TerrainCoupling::wheel_push(const btRaycastVehicle* vehicle, int wheel) const {
+  return parts_->wheels.push(vehicle, wheel);
+}
+
 TerrainForce TerrainCoupling::terrain_force(const btCollisionObject* body) const {
   const Parts::Entry* e = parts_->bodies.find(body);
   return e != nullptr ? e->record.contact.last : TerrainForce{};

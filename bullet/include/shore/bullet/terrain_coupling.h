@@ -203,6 +203,10 @@ class TerrainCoupling : public btActionInterface {
   /// is dropped at the next substep (stats().lost_bodies); remove_vehicle before deleting it.
   void add_vehicle(btRaycastVehicle* vehicle, std::span<const double> wheel_widths);
   void remove_vehicle(const btRaycastVehicle* vehicle);
+  /// N, the terrain's push on an added vehicle's wheel along its heading in the last
+  /// substep (its compaction resistance: negative against forward motion); 0 for a wheel
+  /// off this terrain, a bad index or a vehicle not added.
+  [[nodiscard]] double wheel_push(const btRaycastVehicle* vehicle, int wheel) const;
   /// Takes the coupling out of its world: its tiles and itself (the action) are removed,
   /// the bodies are let go. After it the world may be destroyed before the coupling.
   void detach();
