@@ -50,9 +50,9 @@ TerrainCoupling::Parts::Parts(btDiscreteDynamicsWorld& in_world, terrain::Terrai
       settings(in_settings),
       stats(in_stats),
       tiles(in_world, in_terrain, in_settings.tiles),
-      rasterizer(EnvelopeGrid{in_terrain.settings().origin_x, in_terrain.settings().origin_y,
-                              in_terrain.settings().cell},
-                 coupling_detail::nominal_solid()),
+      rasterizer(
+          EnvelopeGrid{in_terrain.settings().origin_x, in_terrain.settings().origin_y, in_terrain.settings().cell},
+          coupling_detail::nominal_solid()),
       rigid(in_terrain.settings().material.rigid) {}
 
 TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrain& terrain,

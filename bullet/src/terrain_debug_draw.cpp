@@ -83,8 +83,8 @@ void draw_tile_outline(btIDebugDraw& d, const terrain::Terrain& terrain, const b
   const std::int64_t j0 = terrain.column_j(lo.y() + m), j1 = terrain.column_j(hi.y() - m);
   auto edge = [&](std::int64_t ia, std::int64_t ja, std::int64_t di, std::int64_t dj, std::int64_t n) {
     for (std::int64_t k = 0; k < n; ++k)
-      d.drawLine(column_top(terrain, ia + k * di, ja + k * dj), column_top(terrain, ia + (k + 1) * di, ja + (k + 1) * dj),
-                 debug_draw::kOutlineColour);
+      d.drawLine(column_top(terrain, ia + k * di, ja + k * dj),
+                 column_top(terrain, ia + (k + 1) * di, ja + (k + 1) * dj), debug_draw::kOutlineColour);
   };
   edge(i0, j0, 1, 0, i1 - i0);
   edge(i0, j1, 1, 0, i1 - i0);

@@ -19,7 +19,8 @@ void TerrainTilesSettings::validate() const {
   c.positive("max_rise_per_substep", max_rise_per_substep);
 }
 
-TerrainTiles::TerrainTiles(btCollisionWorld& world, const terrain::Terrain& terrain, const TerrainTilesSettings& settings)
+TerrainTiles::TerrainTiles(btCollisionWorld& world, const terrain::Terrain& terrain,
+                           const TerrainTilesSettings& settings)
     : world_(world), terrain_(terrain), settings_(settings), friction_(terrain.settings().material.friction) {
   settings_.validate();
 }

@@ -5,8 +5,8 @@ namespace shore::scenes {
 RaycastCar::RaycastCar(World& world, const RaycastCarSettings& settings, const btVector3& at)
     : world_(world), settings_(settings) {
   const RaycastCarSettings& s = settings_;
-  auto box = std::make_unique<btBoxShape>(btVector3(btScalar(s.half_length), btScalar(s.half_width),
-                                                    btScalar(s.half_height)));
+  auto box =
+      std::make_unique<btBoxShape>(btVector3(btScalar(s.half_length), btScalar(s.half_width), btScalar(s.half_height)));
   chassis_ = world.add_body(std::move(box), s.mass, at);
   // A car parked on the ground must not fall asleep with its engine running.
   chassis_->setActivationState(DISABLE_DEACTIVATION);
@@ -25,8 +25,8 @@ RaycastCar::RaycastCar(World& world, const RaycastCarSettings& settings, const b
     const bool front = k < 2;
     const double x = front ? s.axle_offset : -s.axle_offset, y = (k % 2 == 0) ? s.track_half : -s.track_half;
     const btVector3 connection(btScalar(x), btScalar(y), btScalar(s.connection_height));
-    btWheelInfo& w = vehicle_->addWheel(connection, down, axle, btScalar(s.suspension_rest),
-                                        btScalar(s.wheel_radius), tuning, front);
+    btWheelInfo& w = vehicle_->addWheel(connection, down, axle, btScalar(s.suspension_rest), btScalar(s.wheel_radius),
+                                        tuning, front);
     w.m_rollInfluence = btScalar(0.1);
   }
   world.world().addAction(vehicle_.get());

@@ -137,8 +137,9 @@ PlateResult run_plate(const PlateCase& c) {
   out.sinkage = -(plate->getCenterOfMassPosition().z() - half_h);
   out.drift = double((plate->getCenterOfMassPosition() - btVector3(btScalar(cx), btScalar(cx), 0)).length() -
                      std::abs(double(plate->getCenterOfMassPosition().z())));
-  out.reference = c.ramp_seconds > 0 ? terrain::bekker::plate_sinkage(c.run.terrain.material, c.width, c.pressure)
-                                     : terrain::bekker::plate_sinkage_released(c.run.terrain.material, c.width, c.pressure);
+  out.reference = c.ramp_seconds > 0
+                      ? terrain::bekker::plate_sinkage(c.run.terrain.material, c.width, c.pressure)
+                      : terrain::bekker::plate_sinkage_released(c.run.terrain.material, c.width, c.pressure);
   rig.finish(out.stats, *plate);
   return out;
 }

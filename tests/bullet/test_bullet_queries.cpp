@@ -78,9 +78,8 @@ TEST(BulletQueries, StockRaycastVehicleDrivesOnRigidShoreGroundAsOnABulletHeight
   tile.origin_x = tile.origin_y = -kHalfSpan;
   tile.min_height = -1.0;
   tile.max_height = 1.0;
-  const shore::scenes::RigidGround reference(on_bullet, tile, [&](double x, double y) {
-    return ground.height(ground.column_i(x), ground.column_j(y));
-  });
+  const shore::scenes::RigidGround reference(
+      on_bullet, tile, [&](double x, double y) { return ground.height(ground.column_i(x), ground.column_j(y)); });
   RaycastCar bullet_car(on_bullet, {}, start);
   const Track b = drive(on_bullet, bullet_car);
 

@@ -111,8 +111,9 @@ TEST_P(RaycastWheelSoil, TowedSinkageIsBekkersAndTheSoilResists) {
   rut /= n;
   std::printf("%s: front load %.0f N, rut %.4f m, Bekker's rolling sinkage %.4f m\n", GetParam(), front_load, rut,
               rolling);
-  EXPECT_NEAR(rut, rolling, 0.10 * rolling) << GetParam() << ": m, the front wheel's rut against Bekker's rolling "
-                                                              "sinkage for the load it carried";
+  EXPECT_NEAR(rut, rolling, 0.10 * rolling) << GetParam()
+                                            << ": m, the front wheel's rut against Bekker's rolling "
+                                               "sinkage for the load it carried";
   // The front wheel's resistance, the columns' push on its rim along its heading. Against
   // Bekker's compaction resistance at its rolling sinkage for the load it carried it runs
   // 12 to 17 % high (float and double, sand and mud): the 15 % bar is not met yet, so the

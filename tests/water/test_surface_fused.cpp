@@ -70,12 +70,14 @@ TEST_P(FusedKernel, GivesTheUnfusedKernelsBitsAfter1000ViolentSteps) {
   }
   const DenseState a = fused.dense_state(), b = unfused.dense_state();
   std::size_t differing = 0;
-  const auto same = [](double x, double y) { return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y); };
+  const auto same = [](double x, double y) {
+    return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
+  };
   for (std::size_t k = 0; k < a.uz.size(); ++k) {
     differing += !same(a.uz[k], b.uz[k]) || !same(a.vz[k], b.vz[k]);
     if (mode == SurfaceMode::full_3d)
-      differing += !same(a.ux[k], b.ux[k]) || !same(a.uy[k], b.uy[k]) || !same(a.vx[k], b.vx[k]) ||
-                   !same(a.vy[k], b.vy[k]);
+      differing +=
+          !same(a.ux[k], b.ux[k]) || !same(a.uy[k], b.uy[k]) || !same(a.vx[k], b.vx[k]) || !same(a.vy[k], b.vy[k]);
   }
   EXPECT_EQ(differing, 0u) << "nodes that differ in any bit";
   EXPECT_EQ(fused.state_hash(), unfused.state_hash());
@@ -87,7 +89,8 @@ INSTANTIATE_TEST_SUITE_P(ModesTilesSleeping, FusedKernel,
                          ::testing::Combine(::testing::Values(SurfaceMode::vertical_only, SurfaceMode::full_3d),
                                             ::testing::Values(16, 32, 128), ::testing::Bool()),
                          [](const ::testing::TestParamInfo<Case>& c) {
-                           return std::string(std::get<0>(c.param) == SurfaceMode::full_3d ? "Full3d" : "VerticalOnly") +
+                           return std::string(std::get<0>(c.param) == SurfaceMode::full_3d ? "Full3d"
+                                                                                           : "VerticalOnly") +
                                   "Tile" + std::to_string(std::get<1>(c.param)) +
                                   (std::get<2>(c.param) ? "Sleeping" : "Dense");
                          });
@@ -116,8 +119,8 @@ TEST(FusedKernelThinTiles, GiveTheUnfusedKernelsBits) {
         fused.step(0.4);
         unfused.step(0.4);
       }
-      EXPECT_EQ(fused.state_hash(), unfused.state_hash()) << (mode == SurfaceMode::full_3d ? "3-D" : "vertical")
-                                                          << ", tiles of " << tile;
+      EXPECT_EQ(fused.state_hash(), unfused.state_hash())
+          << (mode == SurfaceMode::full_3d ? "3-D" : "vertical") << ", tiles of " << tile;
     }
   }
 }

@@ -200,8 +200,8 @@ Surface::Surface(const SurfaceSettings& settings) : settings_(settings), s_(std:
   const bool avx2 = settings_.kernel == KernelChoice::avx2 ||
                     (settings_.kernel == KernelChoice::automatic && kernel::avx2_available());
   s.variant = settings_.kernel == KernelChoice::unfused ? kernel::Variant::unfused
-              : avx2                                   ? kernel::Variant::avx2
-                                                       : kernel::Variant::generic;
+              : avx2                                    ? kernel::Variant::avx2
+                                                        : kernel::Variant::generic;
   s.full = settings_.mode == SurfaceMode::full_3d;
   s.T = settings_.sleep.tile;
   s.shift = std::countr_zero(static_cast<unsigned>(s.T));
@@ -242,7 +242,9 @@ void Surface::set_threads(int threads) {
 const char* Surface::fast_kernel_isa() { return kernel::avx2_available() ? "avx2" : "generic"; }
 bool Surface::kernel_available(KernelChoice choice) { return choice != KernelChoice::avx2 || kernel::avx2_available(); }
 const char* Surface::kernel_isa() const noexcept {
-  return s_->variant == kernel::Variant::avx2 ? "avx2" : s_->variant == kernel::Variant::unfused ? "unfused" : "generic";
+  return s_->variant == kernel::Variant::avx2      ? "avx2"
+         : s_->variant == kernel::Variant::unfused ? "unfused"
+                                                   : "generic";
 }
 const StepStats& Surface::last_stats() const { return s_->last_stats; }
 double Surface::time() const { return s_->time; }

@@ -93,7 +93,8 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
                               // reaches, and the step between those nodes
   };
   const std::ptrdiff_t hs = static_cast<std::ptrdiff_t>(t.h) * bs;
-  const std::size_t top = t.at(0, t.h - 1, T), right = static_cast<std::size_t>(t.w - 1), row = static_cast<std::size_t>(T);
+  const std::size_t top = t.at(0, t.h - 1, T), right = static_cast<std::size_t>(t.w - 1),
+                    row = static_cast<std::size_t>(T);
   const Ghost ghosts[] = {
       {kernel::kSouth, kernel::kNorth, 0, t.w, -bs, 1, 0, 1},
       {kernel::kNorth, kernel::kSouth, 0, t.w, hs, 1, top, 1},

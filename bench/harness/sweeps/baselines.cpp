@@ -43,8 +43,7 @@ enum class Body { wheel, box };
 /// A body towed back and forth over flat rigid ground.
 class TowedBody {
  public:
-  TowedBody(Body kind, double substep)
-      : h_(substep), ground_(world_, settings(), [](double, double) { return 0.0; }) {
+  TowedBody(Body kind, double substep) : h_(substep), ground_(world_, settings(), [](double, double) { return 0.0; }) {
     if (kind == Body::wheel) {
       const btVector3 half{btScalar(kWheelRadius), btScalar(kWheelHalfWidth), btScalar(kWheelRadius)};
       body_ = world_.add_body(std::make_unique<btCylinderShape>(half), kWheelLoad / kGravity,
@@ -190,7 +189,8 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
   for (int tile : {64, kDenseTile}) {
     const std::string suffix = "_tile" + std::to_string(tile);
     ctx.progress("water 256^2: fast kernels with tiles of " + std::to_string(tile));
-    const wb::KernelThroughput f = add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 256, 1, min_s, tile), suffix);
+    const wb::KernelThroughput f =
+        add(wb::measure_kernel_throughput(wb::KernelVariant::fast_3d, 256, 1, min_s, tile), suffix);
     const wb::KernelThroughput v =
         add(wb::measure_kernel_throughput(wb::KernelVariant::vertical_only, 256, 1, min_s, tile), suffix);
     out.figure("water.fast_vs_reference_256" + suffix, f.node_steps_per_second / ref256.node_steps_per_second,

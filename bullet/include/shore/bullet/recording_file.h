@@ -38,7 +38,7 @@ struct Recording {
   struct Frame {
     int substep = 0;
     std::vector<std::span<const unsigned char>> terrain_deltas;  ///< one per terrain
-    std::span<const unsigned char> bodies;                    ///< count * kBodyScalars btScalars
+    std::span<const unsigned char> bodies;                       ///< count * kBodyScalars btScalars
     std::uint32_t body_count = 0;
     std::vector<std::span<const unsigned char>> water_diffs;  ///< one per water: its XOR (see above)
   };

@@ -5,28 +5,28 @@
 
 #include <memory>
 
-#include <btBulletDynamicsCommon.h>
 #include <BulletDynamics/Vehicle/btRaycastVehicle.h>
+#include <btBulletDynamicsCommon.h>
 
 #include "shore/scenes/world.h"
 
 namespace shore::scenes {
 
 struct RaycastCarSettings {
-  double mass = 800.0;                ///< kg, the chassis (the wheels have none of their own)
-  double half_length = 1.8;           ///< m, chassis box half extent along x (forward)
-  double half_width = 0.8;            ///< m, along y
-  double half_height = 0.3;           ///< m, along z
-  double wheel_radius = 0.4;          ///< m
-  double wheel_width = 0.3;           ///< m (Bullet's vehicle ignores it; Shore's soil needs it)
-  double axle_offset = 1.3;           ///< m from the chassis centre to each axle, along x
-  double track_half = 0.75;           ///< m from the centre line to each wheel, along y
-  double connection_height = -0.1;    ///< m, where the suspension hangs, below the chassis centre
-  double suspension_rest = 0.45;      ///< m, suspension rest length
-  double suspension_stiffness = 20.0; ///< Bullet's tuning: spring per unit chassis mass, 1/s^2
-  double damping_compression = 2.3;   ///< Bullet's tuning (about 0.3 of critical)
-  double damping_relaxation = 4.4;    ///< Bullet's tuning (about 0.5 of critical)
-  double friction_slip = 1.0;         ///< Bullet's Coulomb friction of each wheel on rigid ground
+  double mass = 800.0;                 ///< kg, the chassis (the wheels have none of their own)
+  double half_length = 1.8;            ///< m, chassis box half extent along x (forward)
+  double half_width = 0.8;             ///< m, along y
+  double half_height = 0.3;            ///< m, along z
+  double wheel_radius = 0.4;           ///< m
+  double wheel_width = 0.3;            ///< m (Bullet's vehicle ignores it; Shore's soil needs it)
+  double axle_offset = 1.3;            ///< m from the chassis centre to each axle, along x
+  double track_half = 0.75;            ///< m from the centre line to each wheel, along y
+  double connection_height = -0.1;     ///< m, where the suspension hangs, below the chassis centre
+  double suspension_rest = 0.45;       ///< m, suspension rest length
+  double suspension_stiffness = 20.0;  ///< Bullet's tuning: spring per unit chassis mass, 1/s^2
+  double damping_compression = 2.3;    ///< Bullet's tuning (about 0.3 of critical)
+  double damping_relaxation = 4.4;     ///< Bullet's tuning (about 0.5 of critical)
+  double friction_slip = 1.0;          ///< Bullet's Coulomb friction of each wheel on rigid ground
   double max_suspension_travel_cm = 50.0;
 };
 

@@ -31,7 +31,7 @@ struct SoilRun {
   terrain::TerrainSettings terrain = one_thread_terrain();
   bullet::TerrainCouplingSettings coupling;  ///< how the soil's push is solved and how often the soil steps
   double substep = 1.0 / 240;                ///< s, Bullet's fixed substep
-  bool body_spray = true;  ///< the case's bodies throw soil (TerrainBodySettings::spray)
+  bool body_spray = true;                    ///< the case's bodies throw soil (TerrainBodySettings::spray)
   /// Called after every substep (untimed): tests check the volume at every step,
   /// benchmarks follow the spray's peaks. Empty: nothing.
   std::function<void(const terrain::Terrain&, const bullet::TerrainCoupling&)> after_substep;
