@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "body_registry.h"
 #include "bt_convert.h"
 #include "shore/core/error.h"
 
@@ -52,7 +53,8 @@ void keep_front(const terrain::Terrain& terrain, const btVector3& centre, const 
     for (int a = 0; a < envelope.nx; ++a) {
       const std::int64_t i = envelope.i0 + a, j = envelope.j0 + b;
       const double dx = terrain.column_x(i) - double(centre.x()), dy = terrain.column_y(j) - double(centre.y());
-      if (dx * double(heading.x()) + dy * double(heading.y()) < 0.0) envelope.lower[envelope.index(i, j)] = EnvelopeRaster::kNoLower;
+      if (dx * double(heading.x()) + dy * double(heading.y()) < 0.0)
+        envelope.lower[envelope.index(i, j)] = EnvelopeRaster::kNoLower;
     }
 }
 
@@ -99,13 +101,8 @@ double RaycastWheels::push(const btRaycastVehicle* vehicle, int k) const {
 
 int RaycastWheels::forget_lost(const btCollisionWorld& world) {
   if (vehicles_.empty()) return 0;
-  const btCollisionObjectArray& objects = world.getCollisionObjectArray();
-  auto held = [&](const btCollisionObject* chassis) {
-    for (int k = 0; k < objects.size(); ++k)
-      if (objects[k] == chassis) return true;
-    return false;
-  };
-  return static_cast<int>(std::erase_if(vehicles_, [&](const Vehicle& v) { return !held(v.chassis); }));
+  const HeldObjects held(world);
+  return static_cast<int>(std::erase_if(vehicles_, [&](const Vehicle& v) { return !held.holds(v.chassis); }));
 }
 
 const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h,
@@ -121,11 +118,12 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   // Rolling (faster than kRolling along its heading): the front arc bears; at rest, both.
   const double speed = double(chassis->getVelocityInLocalPoint(at).dot(forward));
   wheel.bearing_part = wheel.envelope;
-  if (std::abs(speed) > kRolling) keep_front(terrain, pose.getOrigin(), speed > 0 ? forward : -forward, wheel.bearing_part);
+  if (std::abs(speed) > kRolling)
+    keep_front(terrain, pose.getOrigin(), speed > 0 ? forward : -forward, wheel.bearing_part);
   const double offset = terrain.bearing_offset(wheel.bearing_part, load);
   const double radius = info.m_wheelsRadius;
-  const double push = compaction_push(terrain, terrain.bearing(wheel.bearing_part, offset), pose.getOrigin(), forward,
-                                      radius, load);
+  const double push =
+      compaction_push(terrain, terrain.bearing(wheel.bearing_part, offset), pose.getOrigin(), forward, radius, load);
   chassis->applyImpulse(forward * btScalar(push * h), at);
   wheel.push = push;
   if (!deforms) return nullptr;

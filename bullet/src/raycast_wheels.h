@@ -56,15 +56,13 @@ class RaycastWheels {
   /// N, the terrain's push on wheel k along its heading in the last substep (negative: it
   /// resists forward motion); 0 for a wheel off the terrain or a vehicle not added.
   [[nodiscard]] double push(const btRaycastVehicle* vehicle, int k) const;
-  [[nodiscard]] bool empty() const noexcept { return vehicles_.empty(); }
-  [[nodiscard]] std::size_t size() const noexcept { return vehicles_.size(); }
 
  private:
   struct Wheel {
     std::unique_ptr<btCylinderShapeX> shape;  ///< axis along the wheel's local x (its axle)
     double reach = 0.0;                       ///< m (check_rasterizable)
-    EnvelopeRaster envelope;      ///< the whole cylinder: what it presses
-    EnvelopeRaster bearing_part;  ///< what bears its load (the front arc when rolling)
+    EnvelopeRaster envelope;                  ///< the whole cylinder: what it presses
+    EnvelopeRaster bearing_part;              ///< what bears its load (the front arc when rolling)
     terrain::Imprint imprint;
     double push = 0.0;  ///< N along the heading, last substep
   };
@@ -74,8 +72,8 @@ class RaycastWheels {
     std::vector<Wheel> wheels;
   };
   /// The wheel's rut and resistance; its imprint if the terrain deforms, else null.
-  const terrain::Imprint* press(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h,
-                                bool deforms, btRaycastVehicle& vehicle, const btWheelInfo& info, Wheel& wheel);
+  const terrain::Imprint* press(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h, bool deforms,
+                                btRaycastVehicle& vehicle, const btWheelInfo& info, Wheel& wheel);
   std::vector<Vehicle> vehicles_;
 };
 
