@@ -2,7 +2,9 @@
 // height bounds, heights and lagging vertices, in key order.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 #include "shore/bullet/terrain_tiles.h"
@@ -54,9 +56,10 @@ void TerrainTiles::restore_state(ByteReader& r) {
   std::vector<SavedTile> saved(static_cast<std::size_t>(count));
   for (SavedTile& t : saved) {
     t.tx = r.get<std::int64_t>("tile"), t.ty = r.get<std::int64_t>("tile");
-    constexpr std::int64_t kMaxColumn = std::int64_t{1} << 52;  // the terrain's own bound on column indices
-    if (t.tx < -kMaxColumn / T || t.tx > kMaxColumn / T || t.ty < -kMaxColumn / T || t.ty > kMaxColumn / T)
-      r.fail("tile (" + std::to_string(t.tx) + ", " + std::to_string(t.ty) + ") lies beyond column index 2^52");
+    // A tile's key packs both indices in 32 bits each; beyond that two tiles would share one.
+    constexpr std::int64_t kMaxTile = std::numeric_limits<std::int32_t>::max();
+    if (t.tx < -kMaxTile || t.tx > kMaxTile || t.ty < -kMaxTile || t.ty > kMaxTile)
+      r.fail("tile (" + std::to_string(t.tx) + ", " + std::to_string(t.ty) + ") lies beyond tile index 2^31 - 1");
     HeightfieldTileSettings& s = t.settings;
     s.columns = T + 1;
     s.cell = terrain_.settings().cell;
@@ -76,6 +79,10 @@ void TerrainTiles::restore_state(ByteReader& r) {
       r.fail("tile (" + std::to_string(t.tx) + ", " + std::to_string(t.ty) + ") lags outside itself");
   }
   if (r.remaining() != 0) r.fail("bytes after the last tile (corrupt)");
+  std::unordered_set<std::uint64_t> keys;
+  for (const SavedTile& t : saved)
+    if (!keys.insert(key(t.tx, t.ty)).second)
+      r.fail("tile (" + std::to_string(t.tx) + ", " + std::to_string(t.ty) + ") is saved twice");
   remove_all();
   clamped_ = clamped;
   for (const SavedTile& t : saved) {

@@ -6,9 +6,14 @@
 #include <btBulletDynamicsCommon.h>
 
 #include <cmath>
+#include <cstring>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "shore/bullet/terrain_tiles.h"
+#include "shore/core/byte_io.h"
+#include "shore/core/error.h"
 #include "shore/scenes/world.h"
 #include "shore/terrain/terrain.h"
 
@@ -79,4 +84,43 @@ TEST(TerrainTiles, LoweredGroundDropsStaleContactsAndWakesTheBody) {
   EXPECT_EQ(stale, 0);
   for (int k = 0; k < 240; ++k) world.step(1.0 / 240);
   EXPECT_NEAR(box->getCenterOfMassPosition().z(), rest - 0.05, 0.005);
+}
+
+// A checkpoint's tile list is read whole before any tile changes: one that names the same
+// tile twice (or a tile index beyond the 32 bits its key holds) is refused with a message
+// naming the tile, and the tiles in the world stay as they were.
+TEST(TerrainTiles, RestoreRefusesATileSavedTwiceOrOutOfRange) {
+  terrain::TerrainSettings s = flat_sand();
+  s.tile_columns = 8;
+  terrain::Terrain soil(s);
+  scenes::World world(9.81);
+  bullet::TerrainTiles tiles(world.world(), soil, {});
+  ASSERT_EQ(tiles.ensure_cover(0.01, 0.01, 0.25, 0.1), 2);  // tiles (0, 0) and (1, 0)
+  ByteWriter w;
+  tiles.save_state(w);
+  const int objects = world.world().getNumCollisionObjects();
+  // Layout: i32 tile size, i64 clamped, u64 count, then per tile i64 tx, i64 ty, 3 bounds,
+  // the heights as u64 count + (T + 1)^2 doubles, 4 i32 of lag.
+  const std::size_t header = 4 + 8 + 8, tile = 16 + 24 + 8 + 81 * 8 + 16;
+  ASSERT_EQ(w.bytes.size(), header + 2 * tile);
+  auto refused = [&](std::int64_t tx, const char* expected) {
+    std::vector<unsigned char> bytes = w.bytes;
+    std::memcpy(bytes.data() + header + tile, &tx, sizeof tx);  // the second tile's tx
+    ByteReader r(bytes, "tiles");
+    try {
+      tiles.restore_state(r);
+      ADD_FAILURE() << "tile index " << tx << " was accepted";
+    } catch (const FileError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(tiles.count(), 2u);
+    EXPECT_EQ(world.world().getNumCollisionObjects(), objects);
+  };
+  refused(0, "is saved twice");
+  refused(std::int64_t{1} << 32, "beyond tile index");  // its key would equal tile (0, 0)'s
+  // The unchanged bytes restore, and the world can still step.
+  ByteReader r(w.bytes, "tiles");
+  tiles.restore_state(r);
+  EXPECT_EQ(tiles.count(), 2u);
+  world.step(1.0 / 240);
 }
