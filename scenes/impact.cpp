@@ -142,13 +142,21 @@ struct Drop {
   btRigidBody* body;
 };
 
+bullet::TerrainCouplingSettings coupling_on(const bullet::GroundFrame& frame) {
+  bullet::TerrainCouplingSettings s;
+  s.frame = frame;
+  return s;
+}
+
 class Impact final : public Scene {
  public:
-  explicit Impact(const SceneOptions& o)
+  /// frame: where the ground lies in the world (Z up, or Y up for impact_y_up).
+  explicit Impact(const SceneOptions& o, const bullet::GroundFrame& frame = {})
       : o_(o),
         material_(terrain::Material::preset(o.material)),
         soil_(soil_settings(o)),
-        ground_(world_.world(), soil_),
+        world_(kGravity, frame),
+        ground_(world_.world(), soil_, coupling_on(frame)),
         heights_(o.smoke ? std::vector<double>{kReferenceHeight}
                          : std::vector<double>(kHeights.begin(), kHeights.end())),
         frame_(grid_over(-0.4, -0.4, double(kShapes.size() - 1) * kSpacingX + 0.4,
@@ -167,8 +175,15 @@ class Impact final : public Scene {
         const double release = o.smoke ? std::min(kSmokeRelease, heights_[row]) : heights_[row];
         const btVector3 at(btScalar(double(col) * kSpacingX), btScalar(double(row) * kSpacingY),
                            btScalar(release - double(lo.z())));
-        btRigidBody* body = world_.add_body(std::move(shape), kMass, at, release_rotation(s));
-        body->setLinearVelocity(btVector3(0, 0, btScalar(-std::sqrt(2.0 * kGravity * (heights_[row] - release)))));
+        const btVector3 fall(0, 0, btScalar(-std::sqrt(2.0 * kGravity * (heights_[row] - release))));
+        btRigidBody* body = nullptr;
+        if (frame.identity()) {
+          body = world_.add_body(std::move(shape), kMass, at, release_rotation(s));
+          body->setLinearVelocity(fall);
+        } else {  // the same release, in the ground's frame
+          body = world_.add_body(std::move(shape), kMass, world_.to_world(btTransform(release_rotation(s), at)));
+          body->setLinearVelocity(frame.direction_to_world(fall));
+        }
         body->setActivationState(DISABLE_DEACTIVATION);  // hashes must not depend on sleeping heuristics
         drops_.push_back({s, heights_[row], body});
         bodies_.push_back(body);
@@ -188,7 +203,7 @@ class Impact final : public Scene {
     const HeightGrid sinkage = sample(patches_, frame_, Field::sinkage);
     long fallthrough = ground_.stats().rescues;
     for (const Drop& d : drops_) {
-      const btVector3 c = d.body->getCenterOfMassPosition();
+      const btVector3 c = ground_pose(*d.body).getOrigin();
       const std::int64_t i = soil_.column_i(c.x()), j = soil_.column_j(c.y());
       if (c.z() < soil_.bedrock(i, j)) ++fallthrough;
     }
@@ -202,12 +217,12 @@ class Impact final : public Scene {
     double sphere_depth = 0.0;
     for (const Drop& d : drops_) {
       btVector3 lo, hi;
-      d.body->getCollisionShape()->getAabb(d.body->getWorldTransform(), lo, hi);
+      d.body->getCollisionShape()->getAabb(ground_pose(*d.body), lo, hi);
       const std::string key =
           std::string(shape_name(d.shape)) + " from " + std::to_string(d.height).substr(0, 3) + " m";
       depths[key] = -static_cast<double>(lo.z());
       if (d.shape == Shape::sphere && d.height == kReferenceHeight)
-        sphere_depth = -(static_cast<double>(d.body->getCenterOfMassPosition().z()) - kSphereDiameter / 2);
+        sphere_depth = -(static_cast<double>(ground_pose(*d.body).getOrigin().z()) - kSphereDiameter / 2);
     }
     m["lowest_point_depth_m"] = depths;
     const double reference = sphere_drop_reference_depth(material_, kSphereDiameter, kMass, kReferenceHeight);
@@ -231,6 +246,12 @@ class Impact final : public Scene {
 
   SceneContents contents() override {
     return {.world = &world_, .soils = {{&soil_, &ground_, {}}}, .bounds = bounds_of(frame_)};
+  }
+
+  /// A body's pose in the ground's coordinates (the world's in a Z-up world).
+  [[nodiscard]] btTransform ground_pose(const btRigidBody& body) const {
+    return world_.ground().identity() ? body.getWorldTransform()
+                                      : world_.ground().to_ground() * body.getWorldTransform();
   }
 
   void draw(Drawing& out) const override {
@@ -291,6 +312,19 @@ SceneType impact_scene() {
       }),
       .create = make_scene<Impact>,
   };
+}
+
+SceneType impact_y_up_scene() {
+  SceneType t = impact_scene();
+  t.name = "impact_y_up";
+  t.description =
+      "The impact scene in a Y-up world (gravity along -y, the ground's frame bullet::GroundFrame::y_up(): "
+      "Bullet's examples, Godot, jMonkeyEngine and Urho3D are Y up). The same drops, the same craters: "
+      "expressed in the ground's frame, every body moves as in the Z-up scene.";
+  t.create = [](const SceneOptions& o) -> std::unique_ptr<Scene> {
+    return std::make_unique<Impact>(o, bullet::GroundFrame::y_up());
+  };
+  return t;
 }
 
 }  // namespace shore::scenes

@@ -16,6 +16,7 @@
 
 #include "coupling_util.h"
 #include "shore/bullet/config.h"
+#include "shore/bullet/ground_frame.h"
 #include "shore/core/byte_io.h"
 #include "shore/core/envelope.h"
 #include "shore/core/vec3.h"
@@ -108,6 +109,24 @@ inline std::uint32_t check_header(ByteReader& r, const char (&magic)[8], std::ui
 }
 inline void check_header(ByteReader& r, const char (&magic)[8], std::uint32_t version, const char* what) {
   (void)check_header(r, magic, version, version, what);
+}
+
+/// The ground frame a coupling's state was saved with (from version `since` of its format;
+/// older states were all Z-up): a checkpoint restores only into the same frame.
+inline void put_frame(ByteWriter& w, const GroundFrame& frame) { put_transform(w, frame.to_world()); }
+inline void check_frame(ByteReader& r, std::uint32_t version, std::uint32_t since, const GroundFrame& frame) {
+  const btTransform own = frame.to_world();
+  const btTransform saved = version >= since ? get_transform(r, "ground frame") : btTransform::getIdentity();
+  bool same = true;  // element by element: btVector3's == also compares its unused fourth lane
+  for (int k = 0; k < 3; ++k)
+    for (int c = 0; c < 3; ++c) same = same && saved.getBasis()[k][c] == own.getBasis()[k][c];
+  for (int k = 0; k < 3; ++k) same = same && saved.getOrigin()[k] == own.getOrigin()[k];
+  if (!same)
+    r.fail(std::string("was saved with another ground frame (origin ") + std::to_string(double(saved.getOrigin().x())) +
+           ", " + std::to_string(double(saved.getOrigin().y())) + ", " + std::to_string(double(saved.getOrigin().z())) +
+           ", up " + std::to_string(double(saved.getBasis()[0][2])) + ", " +
+           std::to_string(double(saved.getBasis()[1][2])) + ", " + std::to_string(double(saved.getBasis()[2][2])) +
+           ") than this coupling's settings().frame");
 }
 
 /// The body's collision shape type (-1: none): saved states check they meet the same body.

@@ -18,7 +18,8 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 namespace coupling_detail {
 
-/// How a body moves: a point p of it moves at linear + angular x (p - centre).
+/// How a body moves: a point p of it moves at linear + angular x (p - centre). Like every
+/// quantity below, in the coupling's ground coordinates.
 struct Motion {
   btVector3 linear{0, 0, 0};   ///< m/s, of the centre of mass
   btVector3 angular{0, 0, 0};  ///< rad/s
@@ -35,7 +36,9 @@ class CoupledBody {
   /// is read only while the world holds it (BodyRegistry::forget_lost).
   [[nodiscard]] btCollisionObject& object() const noexcept { return *object_; }
   [[nodiscard]] const btCollisionShape* shape() const noexcept { return object_->getCollisionShape(); }
-  [[nodiscard]] const btTransform& pose() const noexcept { return object_->getWorldTransform(); }
+  /// Where it is, in the coupling's ground coordinates (ground_frame.h; the world's
+  /// unless a framed body says otherwise).
+  [[nodiscard]] virtual btTransform pose() const { return object_->getWorldTransform(); }
   [[nodiscard]] btBroadphaseProxy* proxy() const noexcept { return object_->getBroadphaseHandle(); }
   [[nodiscard]] bool awake() const noexcept { return object_->isActive(); }
   void wake() const { object_->activate(true); }

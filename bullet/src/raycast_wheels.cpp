@@ -109,14 +109,16 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
                                              bool deforms, btRaycastVehicle& vehicle, const btWheelInfo& info,
                                              Wheel& wheel) {
   const double load = info.m_wheelsSuspensionForce;
-  const btTransform pose = wheel_pose(info);
+  const btTransform world_pose = wheel_pose(info);
+  const btTransform pose = framed_ ? to_ground_ * world_pose : world_pose;  // in the terrain's coordinates
   if (!(load > 0.0) || !pose_rasterizable(pose, wheel.reach, rasterizer.grid())) return nullptr;
   if (rasterizer.rasterize(*wheel.shape, pose, wheel.envelope) == 0) return nullptr;
-  const btVector3 forward = pose.getBasis().getColumn(1);
+  const btVector3 forward = pose.getBasis().getColumn(1), world_forward = world_pose.getBasis().getColumn(1);
   btRigidBody* chassis = vehicle.getRigidBody();
   const btVector3 at = info.m_raycastInfo.m_contactPointWS - chassis->getCenterOfMassPosition();
+  const btVector3 world_velocity = chassis->getVelocityInLocalPoint(at);
   // Rolling (faster than kRolling along its heading): the front arc bears; at rest, both.
-  const double speed = double(chassis->getVelocityInLocalPoint(at).dot(forward));
+  const double speed = double(world_velocity.dot(world_forward));
   wheel.bearing_part = wheel.envelope;
   if (std::abs(speed) > kRolling)
     keep_front(terrain, pose.getOrigin(), speed > 0 ? forward : -forward, wheel.bearing_part);
@@ -124,11 +126,12 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   const double radius = info.m_wheelsRadius;
   const double push =
       compaction_push(terrain, terrain.bearing(wheel.bearing_part, offset), pose.getOrigin(), forward, radius, load);
-  chassis->applyImpulse(forward * btScalar(push * h), at);
+  chassis->applyImpulse(world_forward * btScalar(push * h), at);
   wheel.push = push;
   if (!deforms) return nullptr;
   wheel.imprint = terrain::Imprint{&wheel.envelope, offset};
-  wheel.imprint.velocity = to_vec3(chassis->getVelocityInLocalPoint(at));
+  const btVector3 velocity = chassis->getVelocityInLocalPoint(at);  // after the push
+  wheel.imprint.velocity = to_vec3(framed_ ? to_ground_.getBasis() * velocity : velocity);
   wheel.imprint.centre = to_vec3(pose.getOrigin());
   wheel.imprint.spray = false;  // Bullet's wheel has no spin the spray could read
   return &wheel.imprint;

@@ -21,6 +21,7 @@
 #include <BulletDynamics/Vehicle/btRaycastVehicle.h>
 
 #include "shore/bullet/envelope.h"
+#include "shore/bullet/ground_frame.h"
 #include "shore/core/envelope.h"
 #include "shore/terrain/terrain.h"
 
@@ -35,6 +36,12 @@ class RaycastWheels {
   /// or a wheel the rasterizer cannot take on cells of `cell` m.
   void add(btRaycastVehicle* vehicle, std::span<const double> widths, double cell, const EnvelopeOptions& options);
   void remove(const btRaycastVehicle* vehicle);
+  /// Where the terrain lies in the world: the wheels' rays and contact points are taken
+  /// into its coordinates, their pushes back into the world's.
+  void set_frame(const GroundFrame& frame) {
+    framed_ = !frame.identity();
+    to_ground_ = frame.to_ground();
+  }
   /// Vehicles whose chassis the world no longer holds are dropped (by address, never read).
   /// Returns how many.
   int forget_lost(const btCollisionWorld& world);
@@ -75,6 +82,8 @@ class RaycastWheels {
   const terrain::Imprint* press(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h, bool deforms,
                                 btRaycastVehicle& vehicle, const btWheelInfo& info, Wheel& wheel);
   std::vector<Vehicle> vehicles_;
+  bool framed_ = false;
+  btTransform to_ground_ = btTransform::getIdentity();
 };
 
 }  // namespace coupling_detail

@@ -65,7 +65,7 @@ void TerrainCoupling::Parts::cover_bodies(double h) {
     const btVector3& w = body != nullptr ? body->getAngularVelocity() : zero;
     if (!coupling_detail::motion_is_sane(object.getWorldTransform(), v, w, settings.max_speed)) return;
     btVector3 lo, hi;
-    object.getCollisionShape()->getAabb(object.getWorldTransform(), lo, hi);
+    object.getCollisionShape()->getAabb(in_ground(object.getWorldTransform()), lo, hi);
     const double reach = margin + 2.0 * h * v.length();
     tiles.ensure_cover(lo.x() - reach, lo.y() - reach, hi.x() + reach, hi.y() + reach);
   };
@@ -77,7 +77,8 @@ void TerrainCoupling::Parts::cover_bodies(double h) {
   }
 }
 
-bool TerrainCoupling::Parts::on_terrain(const btVector3& at) const {
+bool TerrainCoupling::Parts::on_terrain(const btVector3& world_point) const {
+  const btVector3 at = in_ground(world_point);
   const double x = at.x(), y = at.y();
   if (!settings.region.contains(x, y)) return false;
   // Within two cells' height of the surface there: the tile's triangles, not something

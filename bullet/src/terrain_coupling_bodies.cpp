@@ -6,6 +6,7 @@
 #include "coupled_rigid_body.h"
 #include "coupling_directory.h"
 #include "coupling_util.h"
+#include "framed_body.h"
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/core/error.h"
 #include "terrain_coupling_parts.h"
@@ -41,6 +42,7 @@ void TerrainCouplingSettings::validate() const {
   c.positive("rest_speed", rest_speed);
   c.positive("rest_spin", rest_spin);
   c.in_closed("step_interval", step_interval, 0.0, 0.125);
+  frame.validate("bullet.TerrainCouplingSettings.frame");
 }
 
 TerrainCoupling::Parts::Parts(btDiscreteDynamicsWorld& in_world, terrain::Terrain& in_terrain,
@@ -53,7 +55,9 @@ TerrainCoupling::Parts::Parts(btDiscreteDynamicsWorld& in_world, terrain::Terrai
       rasterizer(
           EnvelopeGrid{in_terrain.settings().origin_x, in_terrain.settings().origin_y, in_terrain.settings().cell},
           coupling_detail::nominal_solid()),
-      rigid(in_terrain.settings().material.rigid) {}
+      rigid(in_terrain.settings().material.rigid),
+      framed(!in_settings.frame.identity()),
+      to_ground(in_settings.frame.to_ground()) {}
 
 TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrain& terrain,
                                  TerrainCouplingSettings settings)
@@ -63,6 +67,8 @@ TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrai
       parts_(std::make_unique<Parts>(world_, terrain_, settings_, stats_)) {
   settings_.validate();
   parts_->tiles.set_region(settings_.region);
+  parts_->tiles.set_frame(settings_.frame);
+  parts_->wheels.set_frame(settings_.frame);
   parts_->tiles.set_collision_group(parts_->rigid ? int(btBroadphaseProxy::StaticFilter)
                                                   : settings_.terrain_filter_bit);
   world_.addAction(this);
@@ -102,7 +108,7 @@ void TerrainCoupling::add_body(btRigidBody* body, TerrainBodySettings body_setti
                          "both terrains would push it): remove_body it from the other first, or give the "
                          "couplings disjoint regions");
   });
-  auto coupled = std::make_unique<coupling_detail::CoupledRigidBody>(*body);
+  auto coupled = coupling_detail::couple(std::make_unique<coupling_detail::CoupledRigidBody>(*body), settings_.frame);
   coupling_detail::TerrainBody record;
   record.settings = body_settings;
   record.shape.shape = body->getCollisionShape();
@@ -129,7 +135,7 @@ void TerrainCoupling::add_body(btRigidBody* body, TerrainBodySettings body_setti
   if (sane && body_settings.deform && parts_->can_rasterize(e)) parts_->rasterize(e);
   if (sane) {
     btVector3 lo, hi;
-    body->getCollisionShape()->getAabb(body->getWorldTransform(), lo, hi);
+    body->getCollisionShape()->getAabb(e.body->pose(), lo, hi);
     const double m = settings_.cover_margin;
     parts_->tiles.ensure_cover(lo.x() - m, lo.y() - m, hi.x() + m, hi.y() + m);
   }
@@ -157,7 +163,15 @@ double TerrainCoupling::wheel_push(const btRaycastVehicle* vehicle, int wheel) c
 
 TerrainForce TerrainCoupling::terrain_force(const btCollisionObject* body) const {
   const Parts::Entry* e = parts_->bodies.find(body);
-  return e != nullptr ? e->record.contact.last : TerrainForce{};
+  if (e == nullptr) return {};
+  TerrainForce f = e->record.contact.last;  // in the ground's coordinates
+  if (parts_->framed) {
+    const GroundFrame& frame = settings_.frame;
+    f.force = frame.direction_to_world(f.force);
+    f.torque = frame.direction_to_world(f.torque);
+    f.normal_force = frame.direction_to_world(f.normal_force);
+  }
+  return f;
 }
 
 std::vector<const btCollisionObject*> TerrainCoupling::bodies() const {

@@ -40,16 +40,27 @@ struct TerrainCoupling::Parts {
   std::vector<terrain::Imprint> imprints;  ///< this substep's, one per body that presses
   std::vector<double> base_scratch;        ///< untouched ground under an envelope
   bool rigid = false;                      ///< rigid material: Bullet's heightfield contact
+  /// The ground's frame is not the world's (settings.frame): world poses and points are
+  /// taken into ground coordinates by to_ground before the terrain reads them.
+  bool framed = false;
+  btTransform to_ground = btTransform::getIdentity();
 
   // ---- the substep (terrain_coupling.cpp) ----
   void cover_bodies(double h);
+  /// A world point or pose in the ground's coordinates.
+  [[nodiscard]] btVector3 in_ground(const btVector3& world_point) const {
+    return framed ? to_ground(world_point) : world_point;
+  }
+  [[nodiscard]] btTransform in_ground(const btTransform& world_pose) const {
+    return framed ? to_ground * world_pose : world_pose;
+  }
   /// A ghost object (a character controller's capsule, a trigger) that collides with static
   /// objects collides with soft tiles too: their group is terrain_filter_bit, which the
   /// filters a game copies from Bullet's demos leave out.
   void show_soft_tiles(btCollisionObject& object);
   /// A point on this coupling's ground (a raycast wheel's contact: Bullet's vehicle does
   /// not say what its ray hit).
-  [[nodiscard]] bool on_terrain(const btVector3& at) const;
+  [[nodiscard]] bool on_terrain(const btVector3& world_point) const;
   /// One body's path through the substep: its contact solved, its envelope made or kept,
   /// its imprint.
   void serve(Entry& e, double h, bool deforms);

@@ -15,7 +15,7 @@ inline namespace SHORE_BULLET_ABI {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'T', 'E', 'R', 'R', 'C', 'P'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;  // 2: the ground frame (1: Z up)
 
 /// The totals of the statistics (not the last substep's timings: a checkpoint of the same
 /// state is the same bytes).
@@ -56,6 +56,7 @@ struct SavedBody {
 std::vector<unsigned char> TerrainCoupling::save_state() const {
   ByteWriter w;
   coupling_detail::put_header(w, kMagic, kVersion);
+  coupling_detail::put_frame(w, settings_.frame);
   put_totals(w, stats_);
   parts_->clock.save(w);
   w.put(static_cast<std::uint32_t>(parts_->bodies.size()));
@@ -73,7 +74,8 @@ std::vector<unsigned char> TerrainCoupling::save_state() const {
 
 void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const std::string& source) {
   ByteReader r(bytes, source);
-  coupling_detail::check_header(r, kMagic, kVersion, "a terrain coupling's state");
+  const std::uint32_t version = coupling_detail::check_header(r, kMagic, 1, kVersion, "a terrain coupling's state");
+  coupling_detail::check_frame(r, version, 2, settings_.frame);
   const TerrainCouplingStats totals = get_totals(r);
   coupling_detail::StepClock clock;
   clock.restore(r);

@@ -7,6 +7,7 @@
 #include <BulletCollision/CollisionDispatch/btCollisionObject.h>
 
 #include "coupling_util.h"
+#include "framed_draw.h"
 #include "shore/bullet/debug_draw.h"
 #include "shore/bullet/envelope.h"
 #include "shore/bullet/terrain_coupling.h"
@@ -52,8 +53,8 @@ void draw_body_contact(btIDebugDraw& d, const TerrainCoupling& coupling, const t
   if (patch.elements.empty()) return;
   const double half = 0.35 * terrain.settings().cell;
   const double mass = body.inverse_mass() > 0 ? 1.0 / body.inverse_mass() : 0.0;
-  const double gz = coupling.world().getGravity().z();
-  const double g = -gz > 0 ? -gz : 9.81;
+  const double g0 = coupling.world().getGravity().length();
+  const double g = g0 > 0 ? g0 : 9.81;
   btVector3 centre(0, 0, 0);
   double weight = 0.0;
   for (const terrain::ContactElement& e : patch.elements) {
@@ -74,10 +75,11 @@ void draw_body_contact(btIDebugDraw& d, const TerrainCoupling& coupling, const t
 }
 
 /// The outline of one Bullet tile, following the ground along its four edges.
-void draw_tile_outline(btIDebugDraw& d, const terrain::Terrain& terrain, const btCollisionObject& tile) {
+void draw_tile_outline(btIDebugDraw& d, const terrain::Terrain& terrain, const btCollisionObject& tile,
+                       const btTransform& to_ground) {
   btVector3 lo, hi;
   const btCollisionShape& shape = *tile.getCollisionShape();
-  shape.getAabb(tile.getWorldTransform(), lo, hi);
+  shape.getAabb(to_ground * tile.getWorldTransform(), lo, hi);
   const btScalar m = shape.getMargin();  // Bullet pads a heightfield's box by its margin
   const std::int64_t i0 = terrain.column_i(lo.x() + m), i1 = terrain.column_i(hi.x() - m);
   const std::int64_t j0 = terrain.column_j(lo.y() + m), j1 = terrain.column_j(hi.y() - m);
@@ -94,8 +96,12 @@ void draw_tile_outline(btIDebugDraw& d, const terrain::Terrain& terrain, const b
 
 }  // namespace
 
-void TerrainCoupling::debugDraw(btIDebugDraw* drawer) {
-  if (drawer == nullptr) return;
+void TerrainCoupling::debugDraw(btIDebugDraw* world_drawer) {
+  if (world_drawer == nullptr) return;
+  // Everything is drawn in the terrain's coordinates (the body's pose and force too: the
+  // coupling keeps them so) and taken into the world's by the frame.
+  coupling_detail::FramedDraw framed(*world_drawer, settings_.frame.to_world());
+  btIDebugDraw* drawer = parts_->framed ? &framed : world_drawer;
   const int mode = drawer->getDebugMode();
   const terrain::Terrain& ground = terrain();
   if ((mode & (debug_draw::kContactBits | debug_draw::kForceBits)) && !ground.settings().material.rigid)
@@ -104,7 +110,7 @@ void TerrainCoupling::debugDraw(btIDebugDraw* drawer) {
   if (mode & debug_draw::kOutlineBits) {
     const btCollisionObjectArray& objects = world().getCollisionObjectArray();
     for (int k = 0; k < objects.size(); ++k)
-      if (tiles().is_tile(objects[k])) draw_tile_outline(*drawer, ground, *objects[k]);
+      if (tiles().is_tile(objects[k])) draw_tile_outline(*drawer, ground, *objects[k], parts_->to_ground);
   }
 }
 

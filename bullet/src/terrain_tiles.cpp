@@ -77,6 +77,9 @@ TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
 TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, const HeightfieldTileSettings& hs,
                                       std::span<const double> heights) {
   const int T = terrain_.settings().tile_columns;
+  // A second tile at the same key would leave its collision object in the world after the
+  // map refused it; callers check first, this keeps the invariant if one does not.
+  if (const auto found = tiles_.find(key(tx, ty)); found != tiles_.end()) return found->second;
   Tile tile;
   tile.i0 = tx * T;
   tile.j0 = ty * T;
@@ -86,9 +89,16 @@ TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, const He
   // Rigid ground never changes: its tiles can carry Bullet's internal-edge info.
   if (terrain_.settings().material.rigid && settings_.smooth_rigid_edges) tile.field->smooth_internal_edges();
   tile.field->object()->setUserIndex2(kTileTag);
+  if (framed_) tile.field->object()->setWorldTransform(frame_.to_world() * tile.field->object()->getWorldTransform());
   world_.addCollisionObject(tile.field->object(), group_,
                             btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
   return tiles_.emplace(key(tx, ty), std::move(tile)).first->second;
+}
+
+void TerrainTiles::set_frame(const GroundFrame& frame) {
+  frame.validate("bullet.TerrainTiles.set_frame(frame)");
+  frame_ = frame;
+  framed_ = !frame.identity();
 }
 
 int TerrainTiles::ensure_cover(double x0, double y0, double x1, double y1) {
@@ -172,6 +182,7 @@ void TerrainTiles::drop_stale_contacts(const GridRect& columns) {
   const double cell = terrain_.settings().cell;
   const double x0 = terrain_.column_x(columns.i0) - cell, y0 = terrain_.column_y(columns.j0) - cell;
   const double x1 = terrain_.column_x(columns.i1() - 1) + cell, y1 = terrain_.column_y(columns.j1() - 1) + cell;
+  const btTransform to_ground = frame_.to_ground();
   btDispatcher* dispatcher = world_.getDispatcher();
   const int n = dispatcher->getNumManifolds();
   for (int m = 0; m < n; ++m) {
@@ -181,7 +192,8 @@ void TerrainTiles::drop_stale_contacts(const GridRect& columns) {
     bool removed = false;
     for (int p = manifold->getNumContacts() - 1; p >= 0; --p) {
       const btManifoldPoint& pt = manifold->getContactPoint(p);
-      const btVector3& on_tile = tile_is_0 ? pt.m_positionWorldOnA : pt.m_positionWorldOnB;
+      const btVector3& in_world = tile_is_0 ? pt.m_positionWorldOnA : pt.m_positionWorldOnB;
+      const btVector3 on_tile = framed_ ? to_ground(in_world) : in_world;
       if (on_tile.x() >= x0 && on_tile.x() <= x1 && on_tile.y() >= y0 && on_tile.y() <= y1) {
         manifold->removeContactPoint(p);
         removed = true;

@@ -10,6 +10,7 @@
 #include "coupled_rigid_body.h"
 #include "coupling_directory.h"
 #include "coupling_util.h"
+#include "framed_body.h"
 #include "shore/core/error.h"
 #include "shore/terrain/terrain.h"
 #include "water_coupling_parts.h"
@@ -33,6 +34,7 @@ void WaterCouplingSettings::validate() const {
   if (smoothing_passes < 0 || smoothing_passes > 8)
     throw InvalidSetting(c.name("smoothing_passes"), detail::to_text(smoothing_passes), "must be in [0, 8]");
   c.positive("max_speed", max_speed);
+  frame.validate("bullet.WaterCouplingSettings.frame");
 }
 
 WaterCoupling::WaterCoupling(btDiscreteDynamicsWorld& world, water::Surface& surface, WaterCouplingSettings settings)
@@ -91,8 +93,8 @@ void WaterCoupling::add_body(btRigidBody* body, WaterBodySettings body_settings)
   if (detached_) throw InvalidSetting(what, "after detach()", "a detached coupling takes no bodies: make a new one");
   if (body->getCollisionShape() == nullptr)
     throw InvalidSetting("bullet.WaterCoupling.add_body shape", "null", "the body must have a collision shape");
-  auto coupled = std::make_unique<coupling_detail::CoupledRigidBody>(*body);
-  check_pose(*body, coupled->motion());
+  check_pose(*body, coupling_detail::CoupledRigidBody(*body).motion());
+  auto coupled = coupling_detail::couple(std::make_unique<coupling_detail::CoupledRigidBody>(*body), settings_.frame);
   Directory::for_each_other(&world_, this, [&](const WaterCoupling& other) {
     const Region mine = area_of(surface_), theirs = area_of(other.surface_);
     if (other.parts_->bodies.find(body) == nullptr || !theirs.overlaps(mine)) return;
@@ -131,7 +133,15 @@ double WaterCoupling::submerged_volume(const btCollisionObject* body) const {
 
 BodyWater WaterCoupling::water_force(const btCollisionObject* body) const {
   const Parts::Entry* e = parts_->bodies.find(body);
-  return e != nullptr ? e->record.last : BodyWater{};
+  if (e == nullptr) return {};
+  BodyWater b = e->record.last;  // in the water's coordinates
+  if (!settings_.frame.identity()) {
+    const GroundFrame& f = settings_.frame;
+    b.centre_of_buoyancy = f.to_world()(b.centre_of_buoyancy);
+    b.buoyancy = f.direction_to_world(b.buoyancy), b.drag = f.direction_to_world(b.drag);
+    b.force = f.direction_to_world(b.force), b.torque = f.direction_to_world(b.torque);
+  }
+  return b;
 }
 
 int WaterCoupling::fix_shoreline(const terrain::Terrain& ground) {

@@ -15,7 +15,7 @@ inline namespace SHORE_BULLET_ABI {
 
 namespace {
 constexpr char kWaterMagic[8] = {'S', 'H', 'W', 'A', 'T', 'R', 'C', 'P'};
-constexpr std::uint32_t kWaterVersion = 1;
+constexpr std::uint32_t kWaterVersion = 2;  // 2: the ground frame (1: Z up)
 using coupling_detail::shape_type;
 
 void put_body_water(ByteWriter& w, const BodyWater& b) {
@@ -50,6 +50,7 @@ EnvelopeRaster get_sub_envelope(ByteReader& r) {
 std::vector<unsigned char> WaterCoupling::save_state() const {
   ByteWriter w;
   coupling_detail::put_header(w, kWaterMagic, kWaterVersion);
+  coupling_detail::put_frame(w, settings_.frame);
   w.put(stats_.substeps), w.put(stats_.skipped_bodies), w.put(stats_.displaced_volume);  // totals, not timings
   w.put(static_cast<std::uint32_t>(parts_->bodies.size()));
   for (const Parts::Entry& e : parts_->bodies) {
@@ -66,7 +67,9 @@ std::vector<unsigned char> WaterCoupling::save_state() const {
 
 void WaterCoupling::restore_state(std::span<const unsigned char> bytes, const std::string& source) {
   ByteReader r(bytes, source);
-  coupling_detail::check_header(r, kWaterMagic, kWaterVersion, "a water coupling's state");
+  const std::uint32_t version =
+      coupling_detail::check_header(r, kWaterMagic, 1, kWaterVersion, "a water coupling's state");
+  coupling_detail::check_frame(r, version, 2, settings_.frame);
   WaterCouplingStats stats;
   stats.substeps = r.get<std::int64_t>("statistics"), stats.skipped_bodies = r.get<std::int64_t>("statistics");
   stats.displaced_volume = r.get<double>("statistics");

@@ -1,5 +1,6 @@
 // WaterCoupling::debugDraw: centres of buoyancy, buoyancy forces and the grid's outline,
 // drawn from what the coupling exposes (its bodies, the forces of the last substep, surface).
+#include "framed_draw.h"
 #include "shore/bullet/buoyancy.h"
 #include "shore/bullet/debug_draw.h"
 #include "shore/bullet/water_coupling.h"
@@ -21,8 +22,12 @@ void draw_outline(btIDebugDraw& d, const water::Surface& s) {
 
 }  // namespace
 
-void WaterCoupling::debugDraw(btIDebugDraw* drawer) {
-  if (drawer == nullptr) return;
+void WaterCoupling::debugDraw(btIDebugDraw* world_drawer) {
+  if (world_drawer == nullptr) return;
+  // Drawn in the water's coordinates (the coupling keeps its forces so), taken into the
+  // world's by the frame.
+  coupling_detail::FramedDraw framed(*world_drawer, settings().frame.to_world());
+  btIDebugDraw* drawer = settings().frame.identity() ? world_drawer : &framed;
   const int mode = drawer->getDebugMode();
   if (mode & (debug_draw::kContactBits | debug_draw::kForceBits)) {
     for (const Parts::Entry& e : parts_->bodies) {

@@ -258,7 +258,10 @@ std::int64_t Layers::draw_bodies(GLuint p, bool depth_only) {
     if (o->getCollisionShape() == nullptr || is_soil_tile(o)) continue;
     const GpuMesh& m = mesh_of(o->getCollisionShape());
     btScalar gl_matrix[16];
-    o->getWorldTransform().getOpenGLMatrix(gl_matrix);
+    // Drawn in the ground's coordinates, as the soil and the water are (Y-up worlds too).
+    const bullet::GroundFrame& ground = contents_.world->ground();
+    (ground.identity() ? o->getWorldTransform() : ground.to_ground() * o->getWorldTransform())
+        .getOpenGLMatrix(gl_matrix);
     float f[16];
     for (int c = 0; c < 16; ++c) f[c] = float(gl_matrix[c]);
     glUniformMatrix4fv(model, 1, GL_FALSE, f);

@@ -7,7 +7,11 @@ RaycastCar::RaycastCar(World& world, const RaycastCarSettings& settings, const b
   const RaycastCarSettings& s = settings_;
   auto box =
       std::make_unique<btBoxShape>(btVector3(btScalar(s.half_length), btScalar(s.half_width), btScalar(s.half_height)));
-  chassis_ = world.add_body(std::move(box), s.mass, at);
+  // The chassis' own axes are the ground's (x forward, z up), so the vehicle's coordinate
+  // system below holds in any world: a Y-up one turns the chassis, not the vehicle.
+  chassis_ = world.ground().identity()
+                 ? world.add_body(std::move(box), s.mass, at)
+                 : world.add_body(std::move(box), s.mass, world.to_world(btTransform(btQuaternion::getIdentity(), at)));
   // A car parked on the ground must not fall asleep with its engine running.
   chassis_->setActivationState(DISABLE_DEACTIVATION);
 

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "shore/bullet/terrain_coupling.h"
+#include "shore/core/error.h"
 #include "shore/scenes/four_wheeler.h"
 #include "shore/scenes/state.h"
 #include "shore/scenes/world.h"
@@ -20,20 +22,45 @@ namespace {
 constexpr double kGravity = 9.81;
 using Clock = std::chrono::steady_clock;
 
+/// The cases written for a Z-up world alone refuse another ground frame.
+void z_up_only(const SoilRun& run, const char* which) {
+  if (!run.coupling.frame.identity())
+    throw InvalidSetting(std::string("scenes.") + which + ".run.coupling.frame", "not the identity",
+                         "this case runs in a Z-up world only (run_plate, run_wheel and run_sphere_drop run in any "
+                         "ground frame)");
+}
+
 /// One soil, a world and their coupling: what every soil case runs on.
 struct SoilRig {
   explicit SoilRig(const SoilRun& run)
       : soil(run.terrain),
-        world(kGravity),
+        world(kGravity, run.coupling.frame),
         ground(world.world(), soil, run.coupling),
         h(run.substep),
         body_spray(run.body_spray),
         after_substep(run.after_substep),
         substep_seconds(run.substep_seconds) {}
 
-  /// A body that never sleeps, pressing the soil.
+  // A case is written in the ground's coordinates (z up); these take its positions,
+  // directions and axis factors into the world's and the body's pose and velocity back. In
+  // a Z-up world they are the identity, untouched.
+  [[nodiscard]] bool framed() const { return !world.ground().identity(); }
+  [[nodiscard]] btVector3 world_dir(const btVector3& v) const {
+    return framed() ? world.ground().direction_to_world(v) : v;
+  }
+  [[nodiscard]] btVector3 ground_dir(const btVector3& v) const {
+    return framed() ? world.ground().direction_to_ground(v) : v;
+  }
+  [[nodiscard]] btVector3 world_axes(const btVector3& factor) const { return world_dir(factor).absolute(); }
+  [[nodiscard]] btVector3 ground_position(const btRigidBody& b) const {
+    return framed() ? world.ground().to_ground()(b.getCenterOfMassPosition()) : b.getCenterOfMassPosition();
+  }
+
+  /// A body that never sleeps, pressing the soil; `at` in the ground's coordinates.
   btRigidBody* add(std::unique_ptr<btCollisionShape> shape, double mass, const btVector3& at) {
-    btRigidBody* body = world.add_body(std::move(shape), mass, at);
+    btRigidBody* body =
+        framed() ? world.add_body(std::move(shape), mass, world.to_world(btTransform(btQuaternion::getIdentity(), at)))
+                 : world.add_body(std::move(shape), mass, at);
     body->setActivationState(DISABLE_DEACTIVATION);
     bullet::TerrainBodySettings b;
     b.spray = body_spray;
@@ -46,7 +73,7 @@ struct SoilRig {
     btRigidBody* wheel =
         add(std::make_unique<btCylinderShape>(btVector3(btScalar(radius), btScalar(width / 2), btScalar(radius))), mass,
             btVector3(0, btScalar(0.5 * cell), btScalar(radius)));
-    wheel->setLinearFactor(btVector3(0, 0, 1));
+    wheel->setLinearFactor(world_axes(btVector3(0, 0, 1)));
     wheel->setAngularFactor(btVector3(0, 0, 0));
     return wheel;
   }
@@ -57,7 +84,7 @@ struct SoilRig {
     for (std::int64_t k = 0; k < steps; ++k) {
       const double t = double(k) * h;
       if (t < ramp_seconds)
-        body.applyCentralForce(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - t / ramp_seconds))));
+        body.applyCentralForce(world_dir(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - t / ramp_seconds)))));
       advance(stats);
     }
   }
@@ -128,15 +155,15 @@ PlateResult run_plate(const PlateCase& c) {
     for (std::int64_t k = 0; k < steps; ++k) {  // the part of the weight not yet applied is held up
       const double u = std::min(1.0, double(k) * h / c.ramp_seconds);
       const double share = std::pow(u * u * (3.0 - 2.0 * u), c.run.terrain.material.bekker_n);
-      plate->applyCentralForce(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - share))));
+      plate->applyCentralForce(rig.world_dir(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - share)))));
       rig.advance(out.stats);
     }
   } else {
     rig.press(*plate, mass, c.ramp_seconds, steps, out.stats);
   }
-  out.sinkage = -(plate->getCenterOfMassPosition().z() - half_h);
-  out.drift = double((plate->getCenterOfMassPosition() - btVector3(btScalar(cx), btScalar(cx), 0)).length() -
-                     std::abs(double(plate->getCenterOfMassPosition().z())));
+  const btVector3 at = rig.ground_position(*plate);
+  out.sinkage = -(at.z() - half_h);
+  out.drift = double((at - btVector3(btScalar(cx), btScalar(cx), 0)).length() - std::abs(double(at.z())));
   out.reference = c.ramp_seconds > 0
                       ? terrain::bekker::plate_sinkage(c.run.terrain.material, c.width, c.pressure)
                       : terrain::bekker::plate_sinkage_released(c.run.terrain.material, c.width, c.pressure);
@@ -154,30 +181,30 @@ WheelResult run_wheel(const WheelCase& c) {
   const auto settle_steps = static_cast<std::int64_t>(std::lround(0.5 / h));
   rig.press(*wheel, mass, c.ramp_seconds, ramp_steps + settle_steps, out.stats);
   if (!c.towed) {
-    out.sinkage = -(wheel->getCenterOfMassPosition().z() - R);
+    out.sinkage = -(rig.ground_position(*wheel).z() - R);
     out.reference_sinkage = terrain::bekker::wheel_sinkage_static(c.run.terrain.material, c.load, c.diameter, c.width);
     rig.finish(out.stats, *wheel);
     return out;
   }
 
   // Tow: free to roll about its axle and move along x; the towing force holds the speed.
-  wheel->setLinearFactor(btVector3(1, 0, 1));
-  wheel->setAngularFactor(btVector3(0, 1, 0));
-  wheel->setLinearVelocity(btVector3(btScalar(c.speed), 0, 0));
-  wheel->setAngularVelocity(btVector3(0, btScalar(c.speed / R), 0));
+  wheel->setLinearFactor(rig.world_axes(btVector3(1, 0, 1)));
+  wheel->setAngularFactor(rig.world_axes(btVector3(0, 1, 0)));
+  wheel->setLinearVelocity(rig.world_dir(btVector3(btScalar(c.speed), 0, 0)));
+  wheel->setAngularVelocity(rig.world_dir(btVector3(0, btScalar(c.speed / R), 0)));
   const auto tow_steps = static_cast<std::int64_t>(std::lround(c.distance / c.speed / h));
   double depth_sum = 0.0, impulse_sum = 0.0, slip_sum = 0.0;
   std::int64_t samples = 0;
   for (std::int64_t k = 0; k < tow_steps; ++k) {
     // Towing impulse that restores the speed lost in the previous substep.
-    const double pull = mass * (c.speed - double(wheel->getLinearVelocity().x()));
-    wheel->applyCentralImpulse(btVector3(btScalar(pull), 0, 0));
+    const double pull = mass * (c.speed - double(rig.ground_dir(wheel->getLinearVelocity()).x()));
+    wheel->applyCentralImpulse(rig.world_dir(btVector3(btScalar(pull), 0, 0)));
     rig.advance(out.stats);
     if (k >= tow_steps / 2) {
-      depth_sum += -(wheel->getCenterOfMassPosition().z() - R);
+      depth_sum += -(rig.ground_position(*wheel).z() - R);
       impulse_sum += pull;
-      const double rim = double(wheel->getAngularVelocity().y()) * R;
-      slip_sum += rim != 0.0 ? 1.0 - double(wheel->getLinearVelocity().x()) / rim : 0.0;
+      const double rim = double(rig.ground_dir(wheel->getAngularVelocity()).y()) * R;
+      slip_sum += rim != 0.0 ? 1.0 - double(rig.ground_dir(wheel->getLinearVelocity()).x()) / rim : 0.0;
       ++samples;
     }
   }
@@ -185,7 +212,7 @@ WheelResult run_wheel(const WheelCase& c) {
   out.resistance = impulse_sum / (double(std::max<std::int64_t>(samples, 1)) * h);
   out.slip = slip_sum / double(std::max<std::int64_t>(samples, 1));
   // The rut: soil depth along the centre line over the middle of the track.
-  const double x_end = wheel->getCenterOfMassPosition().x();
+  const double x_end = rig.ground_position(*wheel).x();
   double rut = 0.0;
   int n = 0;
   for (double x = 0.25 * x_end; x <= 0.6 * x_end; x += c.run.terrain.cell) {
@@ -203,6 +230,7 @@ WheelResult run_wheel(const WheelCase& c) {
 
 DrivenWheelResult run_driven_wheel(const DrivenWheelCase& c) {
   DrivenWheelResult out;
+  z_up_only(c.run, "run_driven_wheel");
   SoilRig rig(c.run);
   const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
   btRigidBody* wheel = rig.add_held_wheel(R, c.width, mass, c.run.terrain.cell);
@@ -245,14 +273,14 @@ SphereDropResult run_sphere_drop(const SphereDropCase& c) {
   const double R = c.diameter / 2, h = c.run.substep;
   btRigidBody* ball =
       rig.add(std::make_unique<btSphereShape>(btScalar(R)), c.mass, btVector3(0, 0, btScalar(R + c.height)));
-  ball->setLinearVelocity(btVector3(btScalar(c.vx), 0, 0));
-  ball->setAngularVelocity(btVector3(0, btScalar(c.spin), 0));
+  ball->setLinearVelocity(rig.world_dir(btVector3(btScalar(c.vx), 0, 0)));
+  ball->setAngularVelocity(rig.world_dir(btVector3(0, btScalar(c.spin), 0)));
   const auto steps = static_cast<std::int64_t>(std::lround(c.seconds / h));
   for (std::int64_t k = 0; k < steps; ++k) {
     rig.advance(out.stats);
-    out.max_depth = std::max(out.max_depth, -(double(ball->getCenterOfMassPosition().z()) - R));
+    out.max_depth = std::max(out.max_depth, -(double(rig.ground_position(*ball).z()) - R));
   }
-  out.depth = -(ball->getCenterOfMassPosition().z() - R);
+  out.depth = -(rig.ground_position(*ball).z() - R);
   out.reference = sphere_drop_reference_depth(c.run.terrain.material, c.diameter, c.mass, c.height);
   out.energy_lost = c.mass * kGravity * (c.height + out.depth);
   const double crater =
@@ -331,6 +359,7 @@ SlopeBoxResult run_slope_box(const SlopeBoxCase& c) {
   SoilRun run = c.run;
   run.terrain.base = plane_descending(c.slope);
   if (c.rigid) run.terrain.material = rigid_copy(c.run.terrain.material);
+  z_up_only(run, "run_slope_box");
   SoilRig rig(run);
   const btVector3 normal(btScalar(std::sin(c.slope)), 0, btScalar(std::cos(c.slope)));
   const btVector3 downhill(btScalar(std::cos(c.slope)), 0, btScalar(-std::sin(c.slope)));
@@ -366,6 +395,7 @@ RollingBallResult run_rolling_ball(const RollingBallCase& c) {
   SoilRun run = c.run;
   run.terrain.base = plane_descending(c.slope);
   if (c.rigid) run.terrain.material = rigid_copy(c.run.terrain.material);
+  z_up_only(run, "run_rolling_ball");
   SoilRig rig(run);
   const double R = c.diameter / 2;
   const btVector3 normal(btScalar(std::sin(c.slope)), 0, btScalar(std::cos(c.slope)));
@@ -426,6 +456,7 @@ RollingBallEstimate rolling_ball_estimate(const terrain::Material& m, double dia
 
 SidePushResult run_side_push(const SidePushCase& c) {
   SidePushResult out;
+  z_up_only(c.run, "run_side_push");
   SoilRig rig(c.run);
   const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
   btRigidBody* wheel = rig.add_held_wheel(R, c.width, mass, c.run.terrain.cell);
@@ -482,6 +513,7 @@ VehicleClimbResult run_vehicle_climb(const VehicleClimbCase& c) {
   VehicleClimbResult out;
   SoilRun run = c.run;
   run.terrain.base = std::make_shared<terrain::PlaneHeight>(0.0, std::tan(c.slope), 0.0);  // rises along +x
+  z_up_only(run, "run_vehicle_climb");
   SoilRig rig(run);
   FourWheelerSettings car;
   car.target_speed = c.wheel_speed;

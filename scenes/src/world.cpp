@@ -2,14 +2,17 @@
 
 namespace shore::scenes {
 
-World::World(double gravity)
-    : config_(std::make_unique<btDefaultCollisionConfiguration>()),
+World::World(double gravity, const bullet::GroundFrame& ground)
+    : ground_(ground),
+      config_(std::make_unique<btDefaultCollisionConfiguration>()),
       dispatcher_(std::make_unique<btCollisionDispatcher>(config_.get())),
       broadphase_(std::make_unique<btDbvtBroadphase>()),
       solver_(std::make_unique<btSequentialImpulseConstraintSolver>()),
       world_(std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(),
                                                        config_.get())) {
-  world_->setGravity(btVector3(0, 0, btScalar(-gravity)));
+  ground_.validate("scenes.World(ground)");
+  // Z up exactly as before (no product with the frame's up, whose rounding a tilted frame has).
+  world_->setGravity(ground_.identity() ? btVector3(0, 0, btScalar(-gravity)) : ground_.up() * btScalar(-gravity));
 }
 
 World::~World() {
@@ -17,11 +20,10 @@ World::~World() {
   for (auto& body : bodies_) world_->removeRigidBody(body.get());
 }
 
-btRigidBody* World::add_body(std::unique_ptr<btCollisionShape> shape, double mass, const btVector3& position,
-                             const btQuaternion& rotation) {
+btRigidBody* World::add_body(std::unique_ptr<btCollisionShape> shape, double mass, const btTransform& pose) {
   btVector3 inertia(0, 0, 0);
   if (mass > 0) shape->calculateLocalInertia(btScalar(mass), inertia);
-  motions_.push_back(std::make_unique<btDefaultMotionState>(btTransform(rotation, position)));
+  motions_.push_back(std::make_unique<btDefaultMotionState>(pose));
   btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), motions_.back().get(), shape.get(), inertia);
   bodies_.push_back(std::make_unique<btRigidBody>(info));
   shapes_.push_back(std::move(shape));

@@ -62,9 +62,9 @@ void Session::open(const std::string& name, double substep) {
   next_action_ = 0;
   camera = render::OrbitCamera::framing(contents_.bounds);
   if (contents_.focus != nullptr) {
-    const btVector3 c = contents_.focus->getCenterOfMassPosition();
+    const Eigen::Vector3d c = focus_point();
     focus_offset_ = Eigen::Vector3d(0, 0, 0);
-    camera.target = {c.x(), c.y(), c.z()};
+    camera.target = c;
     camera.distance = std::min(camera.distance, 6.0);
   }
   if (renderer_) renderer_->set_contents(contents_);
@@ -103,16 +103,20 @@ void Session::substep() {
 
 void Session::single_step() { substep(); }
 
+Eigen::Vector3d Session::focus_point() const {
+  // The camera looks at the ground's coordinates (the renderer draws in them).
+  btVector3 c = contents_.focus->getCenterOfMassPosition();
+  if (contents_.world != nullptr && !contents_.world->ground().identity()) c = contents_.world->ground().to_ground()(c);
+  return {c.x(), c.y(), c.z()};
+}
+
 void Session::advance() {
   while (next_action_ < script_.size() && script_[next_action_].frame <= frame_) apply(script_[next_action_++]);
   if (playing) {
     const int n = std::max(1, static_cast<int>(std::lround(frame_seconds * time_scale / options_.substep)));
     for (int k = 0; k < n; ++k) substep();
   }
-  if (follow && contents_.focus != nullptr) {
-    const btVector3 c = contents_.focus->getCenterOfMassPosition();
-    camera.target = Eigen::Vector3d(c.x(), c.y(), c.z()) + focus_offset_;
-  }
+  if (follow && contents_.focus != nullptr) camera.target = focus_point() + focus_offset_;
   ++frame_;
 }
 

@@ -98,6 +98,8 @@ class Session {
   [[nodiscard]] Eigen::Vector2d project(const Eigen::Vector3d& p, int width, int height) const;
 
  private:
+  /// The focus body's centre in the ground's coordinates (contents_.focus must be set).
+  [[nodiscard]] Eigen::Vector3d focus_point() const;
   void apply(const ScriptAction& a);
   void substep();
   void collect_lines();

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "shore/bullet/ground_frame.h"
 #include "shore/scenes/pool_cases.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/soil_cases.h"
@@ -394,7 +395,42 @@ void drag_sweep(const SweepContext& ctx, SweepResult& out) {
       "through 3 m, mean speed between 1.2 and 2.4 m down, against (rho_b - rho) V g = 1/2 rho C_d A v^2 + rho k A v.");
 }
 
+/// A Y-up world against the same Z-up one: the towed wheel (whose motion the frame does not
+/// change beyond rounding; a scene of tumbling bodies would time another motion) run whole
+/// in each, alternated, the median of the ratio of adjacent runs (robust to drift).
+void ground_frame_cost(const SweepContext& ctx, SweepResult& out) {
+  ctx.progress("towed wheel in a Z-up and a Y-up world");
+  auto wall = [](const bullet::GroundFrame& frame) {
+    scenes::WheelCase c;
+    c.towed = true;
+    c.run.coupling.frame = frame;
+    return scenes::run_wheel(c).stats.wall_seconds;
+  };
+  Table& t = out.table("coupling_ground_frame", {"pair", "z_up_wall_s", "y_up_wall_s", "y_up_over_z_up"});
+  std::vector<double> ratios;
+  const int pairs = ctx.quick ? 3 : 7;
+  for (int k = 0; k < pairs; ++k) {
+    const double z = wall(bullet::GroundFrame::z_up()), y = wall(bullet::GroundFrame::y_up());
+    ratios.push_back(y / z);
+    t.add({double(k), z, y, y / z});
+  }
+  std::sort(ratios.begin(), ratios.end());
+  const double ratio = ratios[ratios.size() / 2];
+  out.figure("plugin.y_up_cost_ratio", ratio, "Y-up over Z-up wall time, the towed wheel (median of adjacent pairs)");
+  out.target({.key = "plugin.y_up_cost_ratio",
+              .what = "a Y-up world costs what the same Z-up world costs",
+              .value = ratio,
+              .op = "<=",
+              .threshold = 1.03,
+              .unit = "x the Z-up run"});
+  out.note(
+      "Ground frame: the towed sand wheel of plugin.wheel_ms_per_substep (D 0.8 m, b 0.3 m, 4 kN, 1 cm, 1/240 s, "
+      "one thread) in a Z-up world and in a Y-up one (GroundFrame::y_up()), whole runs (press and tow) alternated; "
+      "the ratio is the median over pairs of the Y-up run's wall time over the Z-up run's before it.");
+}
+
 void run(const SweepContext& ctx, SweepResult& out) {
+  ground_frame_cost(ctx, out);
   drag_sweep(ctx, out);
   wheel_plugin_time(ctx, out);
   wheel_cost_settings(ctx, out);

@@ -56,6 +56,7 @@
 
 #include "shore/bullet/config.h"
 #include "shore/bullet/envelope.h"
+#include "shore/bullet/ground_frame.h"
 #include "shore/bullet/terrain_tiles.h"
 #include "shore/core/byte_io.h"
 #include "shore/core/envelope.h"
@@ -136,6 +137,10 @@ struct TerrainCouplingSettings {
   /// by remove_body); other bodies collide with the tiles through Bullet as with rigid
   /// ground. Pick a bit your own filters do not use. Rigid materials use StaticFilter.
   int terrain_filter_bit = 1 << 13;
+  /// Where the terrain lies in the world (shore/bullet/ground_frame.h): the identity for a
+  /// Z-up world, GroundFrame::y_up() for a Y-up one. region and everything the terrain
+  /// reports are in the terrain's own coordinates; terrain_force in the world's.
+  GroundFrame frame;
   void validate() const;
 };
 
@@ -168,8 +173,8 @@ struct TerrainCouplingStats {
 
 /// The terrain's push on one body in the last substep (zero if it had no contact).
 struct TerrainForce {
-  btVector3 force{0, 0, 0};         ///< N, world frame
-  btVector3 torque{0, 0, 0};        ///< N m about the body's centre of mass
+  btVector3 force{0, 0, 0};         ///< N, world coordinates
+  btVector3 torque{0, 0, 0};        ///< N m about the body's centre of mass, world coordinates
   btVector3 normal_force{0, 0, 0};  ///< N, the part of force along the terrain's normals (the rest is shear)
   int contact_columns = 0;          ///< columns the body's underside touched
   bool yielded = false;             ///< the terrain could not stop the body's approach somewhere

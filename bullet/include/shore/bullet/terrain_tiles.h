@@ -21,6 +21,7 @@
 #include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
 
 #include "shore/bullet/config.h"
+#include "shore/bullet/ground_frame.h"
 #include "shore/bullet/heightfield_tile.h"
 #include "shore/core/byte_io.h"
 #include "shore/terrain/terrain.h"
@@ -67,6 +68,10 @@ class TerrainTiles {
   int ensure_cover(double x0, double y0, double x1, double y1);
   /// Only tiles overlapping this region are ever created (default: everywhere).
   void set_region(const Region& region) { region_ = region; }
+  /// Where the terrain lies in the world (default: Z up). Tiles are placed through it; the
+  /// boxes ensure_cover takes are in the terrain's own coordinates. Set it before the first
+  /// tile is made.
+  void set_frame(const GroundFrame& frame);
 
   /// Copies the given changed columns (and any tile still catching up) from the terrain into
   /// the tiles, removes stale contact points there and wakes the bodies. Returns the
@@ -117,6 +122,8 @@ class TerrainTiles {
   std::unordered_map<std::uint64_t, Tile> tiles_;
   std::int64_t clamped_ = 0;
   Region region_;
+  GroundFrame frame_;
+  bool framed_ = false;  // the frame is not the identity
   int group_ = btBroadphaseProxy::StaticFilter;
   std::vector<double> scratch_;  // heights of the rectangle being copied
   PushObserver observer_;

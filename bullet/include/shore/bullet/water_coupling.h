@@ -51,6 +51,7 @@
 
 #include "shore/bullet/buoyancy.h"
 #include "shore/bullet/config.h"
+#include "shore/bullet/ground_frame.h"
 #include "shore/water/surface.h"
 
 namespace shore::terrain {
@@ -66,6 +67,11 @@ struct WaterCouplingSettings {
   int smoothing_passes = 2;        ///< [1 2 1]/4 smoothing passes of the displacement, in [0, 8]
   double max_speed = 500.0;        ///< m/s: faster bodies (or non-finite poses) are skipped and counted
   bool step_water = true;          ///< step the surface inside every substep (false: the caller does)
+  /// Where the water lies in the world (shore/bullet/ground_frame.h): the identity for a
+  /// Z-up world, GroundFrame::y_up() for a Y-up one; the same as the terrain coupling's
+  /// when both share a world. Buoyancy lifts along the frame's up; water_force is in world
+  /// coordinates.
+  GroundFrame frame;
   void validate() const;
 };
 

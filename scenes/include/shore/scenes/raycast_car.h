@@ -1,6 +1,6 @@
 #pragma once
 // A car built the way Bullet's own VehicleDemo builds one: a box chassis carried by a stock
-// btRaycastVehicle with btDefaultVehicleRaycaster (Z up, x forward). Written once for the
+// btRaycastVehicle with btDefaultVehicleRaycaster (up and forward: the ground's z and x). Written once for the
 // tests, the rally scene and the benchmarks; nothing in it knows Shore.
 
 #include <memory>
@@ -32,8 +32,9 @@ struct RaycastCarSettings {
 
 class RaycastCar {
  public:
-  /// Adds the chassis to world (its centre at `at`, heading along +x) and the vehicle as an
-  /// action; both are taken out of the world again by the destructor.
+  /// Adds the chassis to world (its centre at `at`, heading along +x, up along z, all in the
+  /// world's ground frame: World::ground()) and the vehicle as an action; both are taken
+  /// out of the world again by the destructor.
   RaycastCar(World& world, const RaycastCarSettings& settings, const btVector3& at);
   ~RaycastCar();
   RaycastCar(const RaycastCar&) = delete;

@@ -29,9 +29,12 @@ struct SoilRun {
   /// The soil: TerrainSettings' defaults (sand, 1 cm columns, flat at 0), on one thread so
   /// that a case's timings compare across machines (results never depend on threads).
   terrain::TerrainSettings terrain = one_thread_terrain();
-  bullet::TerrainCouplingSettings coupling;  ///< how the soil's push is solved and how often the soil steps
-  double substep = 1.0 / 240;                ///< s, Bullet's fixed substep
-  bool body_spray = true;                    ///< the case's bodies throw soil (TerrainBodySettings::spray)
+  /// How the soil's push is solved and how often the soil steps. Its frame (a Y-up world) is
+  /// honoured by run_plate, run_wheel and run_sphere_drop; the other cases refuse a frame
+  /// other than the identity.
+  bullet::TerrainCouplingSettings coupling;
+  double substep = 1.0 / 240;  ///< s, Bullet's fixed substep
+  bool body_spray = true;      ///< the case's bodies throw soil (TerrainBodySettings::spray)
   /// Called after every substep (untimed): tests check the volume at every step,
   /// benchmarks follow the spray's peaks. Empty: nothing.
   std::function<void(const terrain::Terrain&, const bullet::TerrainCoupling&)> after_substep;

@@ -1,17 +1,23 @@
 #pragma once
-// A Bullet dynamics world (Z up) that owns its parts, its bodies, their shapes and
-// constraints: the one world owner of every scene, reference case and test.
+// A Bullet dynamics world that owns its parts, its bodies, their shapes and constraints:
+// the one world owner of every scene, reference case and test. Z up unless a ground frame
+// says otherwise (gravity then points down the frame's up: a Y-up world for
+// bullet::GroundFrame::y_up()).
 
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <btBulletDynamicsCommon.h>
+
+#include "shore/bullet/ground_frame.h"
 
 namespace shore::scenes {
 
 class World {
  public:
-  explicit World(double gravity = 9.81);
+  /// gravity: m/s^2 along -ground.up().
+  explicit World(double gravity = 9.81, const bullet::GroundFrame& ground = {});
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;
@@ -22,12 +28,20 @@ class World {
   /// A rigid body owned by this world, with its shape (mass 0: static; kinematic bodies
   /// are static ones flagged CF_KINEMATIC_OBJECT).
   btRigidBody* add_body(std::unique_ptr<btCollisionShape> shape, double mass, const btVector3& position,
-                        const btQuaternion& rotation = btQuaternion::getIdentity());
+                        const btQuaternion& rotation = btQuaternion::getIdentity()) {
+    return add_body(std::move(shape), mass, btTransform(rotation, position));
+  }
+  btRigidBody* add_body(std::unique_ptr<btCollisionShape> shape, double mass, const btTransform& pose);
   /// Keeps a shape alive as long as the world (the children of a compound shape).
   btCollisionShape* keep(std::unique_ptr<btCollisionShape> shape);
   /// Adds a constraint owned by this world; true: the two bodies do not collide.
   btTypedConstraint* add_constraint(std::unique_ptr<btTypedConstraint> constraint,
                                     bool disable_collisions_between_linked_bodies);
+
+  /// Where the ground lies in this world (the couplings of its scenes use the same).
+  [[nodiscard]] const bullet::GroundFrame& ground() const noexcept { return ground_; }
+  /// A pose given in the ground's coordinates, in the world's.
+  [[nodiscard]] btTransform to_world(const btTransform& ground_pose) const { return ground_.to_world() * ground_pose; }
 
   /// One fixed substep h (one internal step).
   void step(double h) { world_->stepSimulation(btScalar(h), 1, btScalar(h)); }
@@ -36,6 +50,7 @@ class World {
   [[nodiscard]] const std::vector<btRigidBody*>& bodies() const noexcept { return body_list_; }
 
  private:
+  bullet::GroundFrame ground_;
   std::unique_ptr<btDefaultCollisionConfiguration> config_;
   std::unique_ptr<btCollisionDispatcher> dispatcher_;
   std::unique_ptr<btDbvtBroadphase> broadphase_;
