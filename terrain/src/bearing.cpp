@@ -29,6 +29,7 @@ std::vector<BearingColumn> bearing_columns(const TileStore& store, const Terrain
       if (t) {
         const std::size_t k = run.local + static_cast<std::size_t>(r);
         c.top = t->height[k], c.sink = t->sinkage[k], c.bed = t->base[k] - depth;
+        if (!t->material.empty()) c.mat = t->material[k];
       } else {
         const double b = store.base_at(i0 + r, j);
         c.top = b, c.sink = 0.0, c.bed = b - depth;
@@ -44,7 +45,8 @@ std::vector<BearingColumn> bearing_columns(const TileStore& store, const Terrain
 // pressed to the envelope is its plastic sinkage plus how far the envelope lies below its
 // top. b is the smaller side of the touching columns' bounding box (each column counts as
 // one cell wide). A touched column at bedrock carries anything.
-Bearing capacity(std::span<const BearingColumn> columns, const TerrainSettings& s, double offset, bool with_columns) {
+Bearing capacity(std::span<const BearingColumn> columns, const TerrainSettings& s, std::span<const Material> palette,
+                 double offset, bool with_columns) {
   Bearing out;
   const double tol = s.contact_tolerance;
   std::int64_t i0 = std::numeric_limits<std::int64_t>::max(), j0 = i0;
@@ -67,7 +69,7 @@ Bearing capacity(std::span<const BearingColumn> columns, const TerrainSettings& 
     if (rigid || e <= c.bed || c.top <= c.bed)
       force = kCarriesAnything;
     else
-      force = bekker::pressure(s.material, b, c.sink + std::max(0.0, c.top - e)) * cell_area;
+      force = bekker::pressure(palette[c.mat], b, c.sink + std::max(0.0, c.top - e)) * cell_area;
     out.capacity += force;
     if (with_columns) out.columns.push_back({c.i, c.j, force});
   }
@@ -78,9 +80,10 @@ Bearing capacity(std::span<const BearingColumn> columns, const TerrainSettings& 
 // [lo, hi] with capacity(lo) < load <= capacity(hi) is narrowed by regula falsi (Illinois
 // variant), falling back to bisection, until it is 1e-7 m wide; the upper end is returned
 // so the soil carries at least the load.
-double offset_for_load(std::span<const BearingColumn> columns, const TerrainSettings& s, double load) {
+double offset_for_load(std::span<const BearingColumn> columns, const TerrainSettings& s,
+                       std::span<const Material> palette, double load) {
   if (columns.empty()) return 0.0;  // the body covers no column: nothing to sink into
-  auto f = [&](double o) { return capacity(columns, s, o, false).capacity - load; };
+  auto f = [&](double o) { return capacity(columns, s, palette, o, false).capacity - load; };
   double f_lo = f(0.0);
   if (f_lo >= 0.0) return 0.0;
   // Every covered column at bedrock bears anything: that offset closes the bracket.
@@ -121,13 +124,13 @@ Bearing Terrain::bearing(const EnvelopeRaster& envelope, double offset) const {
   check_envelope(&envelope, "terrain.Terrain.bearing.envelope");
   Check{"terrain.Terrain.bearing"}.non_negative("offset", offset);
   const std::vector<BearingColumn> columns = bearing_columns(impl_->tiles, impl_->s, envelope, true, offset);
-  return capacity(columns, impl_->s, offset, true);
+  return capacity(columns, impl_->s, impl_->palette, offset, true);
 }
 
 double Terrain::bearing_offset(const EnvelopeRaster& envelope, double load) const {
   check_envelope(&envelope, "terrain.Terrain.bearing_offset.envelope");
   Check{"terrain.Terrain.bearing_offset"}.non_negative("load", load);
-  return offset_for_load(bearing_columns(impl_->tiles, impl_->s, envelope, false, 0.0), impl_->s, load);
+  return offset_for_load(bearing_columns(impl_->tiles, impl_->s, envelope, false, 0.0), impl_->s, impl_->palette, load);
 }
 
 }  // namespace shore::terrain

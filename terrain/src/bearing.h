@@ -15,10 +15,11 @@ namespace shore::terrain {
 /// One column an envelope covers, with its soil state.
 struct BearingColumn {
   std::int64_t i = 0, j = 0;
-  double top = 0.0;    ///< m, column top
-  double sink = 0.0;   ///< m, plastic sinkage
-  double bed = 0.0;    ///< m, bedrock
-  double lower = 0.0;  ///< m, the envelope above it
+  double top = 0.0;      ///< m, column top
+  double sink = 0.0;     ///< m, plastic sinkage
+  double bed = 0.0;      ///< m, bedrock
+  double lower = 0.0;    ///< m, the envelope above it
+  std::uint8_t mat = 0;  ///< palette index of its material
 };
 
 /// The columns the envelope covers, in window order. With only_touching, only those the
@@ -26,9 +27,11 @@ struct BearingColumn {
 [[nodiscard]] std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s,
                                                          const EnvelopeRaster& env, bool only_touching, double offset);
 /// Bekker capacity of the columns the envelope, lowered by offset, touches (Terrain::bearing).
-[[nodiscard]] Bearing capacity(std::span<const BearingColumn> columns, const TerrainSettings& s, double offset,
-                               bool with_columns);
+/// Each column bears by its own material's law (palette[mat]).
+[[nodiscard]] Bearing capacity(std::span<const BearingColumn> columns, const TerrainSettings& s,
+                               std::span<const Material> palette, double offset, bool with_columns);
 /// The offset at which the capacity equals load (Terrain::bearing_offset).
-[[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, const TerrainSettings& s, double load);
+[[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, const TerrainSettings& s,
+                                     std::span<const Material> palette, double load);
 
 }  // namespace shore::terrain

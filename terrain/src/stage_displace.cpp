@@ -20,7 +20,7 @@ void DisplaceStage::sort_by_level(std::span<const int> levels, int top_level) {
 }
 
 double DisplaceStage::run(Region& region, std::span<const int> levels, std::span<const double> displaced,
-                          double alpha) {
+                          std::span<const double> alpha) {
   int top_level = 0;
   for (int c : levels) top_level = std::max(top_level, c);
   if (top_level == 0) return 0.0;
@@ -31,7 +31,7 @@ double DisplaceStage::run(Region& region, std::span<const int> levels, std::span
   double kept = 0.0;
   for (std::size_t k : order_) carry_[k] = 0.0;
   for (std::size_t k : order_) {
-    const double moved = alpha * displaced[k];
+    const double moved = (region.mat.empty() ? alpha[0] : alpha[region.mat[k]]) * displaced[k];
     kept += displaced[k] - moved;
     carry_[k] += moved;
   }

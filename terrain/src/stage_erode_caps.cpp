@@ -30,7 +30,9 @@ void ErodeStage::compute_caps(const Region& region, std::span<const unsigned cha
         for (int d = 0; d < 8; ++d) {
           const std::size_t nk = k + off[d];
           if ((flags[nk] & (kInterior | kContact)) != kInterior) continue;
-          if (region.ht[nk] - hk > give_in[d]) ++count;
+          // The giver's own limit (its material's, with a map).
+          const double limit = region.mat.empty() ? give_in[d] : lims_[region.mat[nk]].give_in[d];
+          if (region.ht[nk] - hk > limit) ++count;
         }
       cap_[k] = count > 0 ? room / count : 0.0;
     });
