@@ -136,4 +136,34 @@ void Terrain::paint_where(const GridRect& rect, const std::function<bool(double 
   paint(impl_->tiles, rect, mask, index);
 }
 
+void Terrain::paint_image(const MaterialImage& image, const GridRect& rect) {
+  const std::string where = "terrain.Terrain.paint_image(" + image.name() + ")";
+  if (rect.nx != image.width() || rect.ny != image.rows())
+    throw InvalidSetting(
+        where + ".rect.nx x ny", std::to_string(rect.nx) + " x " + std::to_string(rect.ny),
+        "must equal the image's " + std::to_string(image.width()) + " x " + std::to_string(image.rows()) + " pixels");
+  check_rect(rect, where);
+  // Checked whole before painting: a bad pixel leaves the map untouched.
+  const std::size_t size = impl_->palette.size();
+  for (int r = 0; r < image.rows(); ++r)
+    for (int c = 0; c < image.width(); ++c)
+      if (image.at(c, r) >= size)
+        throw InvalidSetting(where + ".pixel(" + std::to_string(c) + ", " + std::to_string(r) + ")",
+                             std::to_string(image.at(c, r)),
+                             "must be a palette entry, in [0, " + std::to_string(size - 1) + "]");
+  // One pass per index present: paint() writes one index through a mask.
+  std::vector<unsigned char> mask(rect.size());
+  bool present[Terrain::kMaxMaterials] = {};
+  for (int r = 0; r < image.rows(); ++r)
+    for (int c = 0; c < image.width(); ++c) present[image.at(c, r)] = true;
+  for (int index = 0; index < Terrain::kMaxMaterials; ++index) {
+    if (!present[index]) continue;
+    for (int r = 0; r < image.rows(); ++r) {
+      const std::size_t row = static_cast<std::size_t>(image.rows() - 1 - r) * static_cast<std::size_t>(rect.nx);
+      for (int c = 0; c < image.width(); ++c) mask[row + c] = image.at(c, r) == index ? 1 : 0;
+    }
+    paint(impl_->tiles, rect, mask, index);
+  }
+}
+
 }  // namespace shore::terrain

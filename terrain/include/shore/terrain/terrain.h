@@ -31,6 +31,7 @@
 #include "shore/terrain/contact.h"
 #include "shore/terrain/height_source.h"
 #include "shore/terrain/material.h"
+#include "shore/terrain/material_image.h"
 #include "shore/terrain/spray.h"
 
 namespace shore::terrain {
@@ -206,6 +207,12 @@ class Terrain {
   /// Paints the columns of the rectangle whose centre (x, y) satisfies inside(x, y).
   /// Throws like paint_rect.
   void paint_where(const GridRect& rect, const std::function<bool(double x, double y)>& inside, int index);
+  /// Paints an image of indices (shore/terrain/material_image.h) onto `rect`, which must be
+  /// the image's size (pixel (c, r) is column (rect.i0 + c, rect.j0 + rows - 1 - r)).
+  /// Throws InvalidSetting (terrain untouched) on a size mismatch, naming both sizes and
+  /// the image, or a pixel whose index is beyond the palette, naming the image, the pixel,
+  /// its value and the allowed range.
+  void paint_image(const MaterialImage& image, const GridRect& rect);
 
   // ---- grid geometry ----
   [[nodiscard]] std::int64_t column_i(double x) const;  ///< nearest column to world x
