@@ -165,8 +165,9 @@ class Terrain {
   Terrain& operator=(Terrain&&) noexcept;
 
   [[nodiscard]] const TerrainSettings& settings() const noexcept;
-  /// Changes the material from the next step on (a viewer's live tweak of alpha, Bekker's
-  /// or the erosion parameters). Throws InvalidSetting if it is invalid, or if its
+  /// Changes the material (palette entry 0, the columns never painted) from the next step
+  /// on (a viewer's live tweak of alpha, Bekker's or the erosion parameters). Throws
+  /// InvalidSetting if it is invalid, or if its
   /// soil_depth or rigid flag differ from the present material's (they define bedrock and
   /// the tiles' kind).
   void set_material(const Material& material);
