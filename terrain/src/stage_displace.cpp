@@ -30,11 +30,16 @@ double DisplaceStage::run(Region& region, std::span<const int> levels, std::span
   const auto off = neighbour_offsets(region.w);
   double kept = 0.0;
   for (std::size_t k : order_) carry_[k] = 0.0;
-  for (std::size_t k : order_) {
-    const double moved = (region.mat.empty() ? alpha[0] : alpha[region.mat[k]]) * displaced[k];
+  // Each pressed column's own share goes to the rim (one material: the same for all).
+  const auto split = [&](std::size_t k, double a) {
+    const double moved = a * displaced[k];
     kept += displaced[k] - moved;
     carry_[k] += moved;
-  }
+  };
+  if (region.mat.empty())
+    for (std::size_t k : order_) split(k, alpha[0]);
+  else
+    for (std::size_t k : order_) split(k, alpha[region.mat[k]]);
   for (std::size_t k : order_) {
     const double carry = carry_[k];
     if (carry == 0.0) continue;

@@ -89,6 +89,8 @@ class ErodeStage {
   void find_still_flowing(const Region& region, int passes, int max_passes);
   // caps
   void compute_caps(const Region& region, std::span<const unsigned char> flags, std::span<const double> body);
+  template <bool kMap>
+  void compute_caps_as(const Region& region, std::span<const unsigned char> flags, std::span<const double> body);
   // shares
   bool compute_shares(const Region& region);
   template <bool kMap>
