@@ -87,6 +87,48 @@ double steepest_from(const Terrain& t, int index, std::int64_t lo, std::int64_t 
   return steepest;
 }
 
+/// Lowest line of a wheel (axis along y, diameter D, width b) whose bottom is at `bottom`,
+/// axle at x.
+shore::EnvelopeRaster wheel(const Terrain& t, double x, double bottom, double D, double b) {
+  const double r = D / 2;
+  shore::EnvelopeRaster env;
+  const std::int64_t i0 = t.column_i(x - r), i1 = t.column_i(x + r);
+  const std::int64_t j0 = t.column_j(-b / 2), j1 = t.column_j(b / 2);
+  env.resize(i0 - 1, j0 - 1, static_cast<int>(i1 - i0 + 3), static_cast<int>(j1 - j0 + 3), false);
+  for (std::int64_t j = j0; j <= j1; ++j)
+    for (std::int64_t i = i0; i <= i1; ++i) {
+      const double dx = t.column_x(i) - x;
+      if (std::abs(dx) < r && std::abs(t.column_y(j)) <= b / 2)
+        env.lower[env.index(i, j)] = bottom + r - std::sqrt(r * r - dx * dx);
+    }
+  return env;
+}
+
+/// A wheel carrying W towed at 1 m/s for 2 m (1/240 s steps): each step its bottom goes to
+/// the depth below the untouched ground at which the soil carries W, and it presses there.
+/// Returns the depth at each step.
+std::vector<double> tow(Terrain& t, double W, double D, double b) {
+  std::vector<double> depth;
+  for (int k = 0; k < 480; ++k) {
+    const double x = k / 240.0;
+    const double d = t.bearing_offset(wheel(t, x, 0.0, D, b), W);
+    const shore::EnvelopeRaster env = wheel(t, x, -d, D, b);
+    const Imprint im{&env};
+    t.step({&im, 1});
+    depth.push_back(d);
+  }
+  return depth;
+}
+
+/// Mean of the depths while the axle is in [x0, x1) m.
+double mean_depth(const std::vector<double>& depth, double x0, double x1) {
+  double sum = 0.0;
+  int n = 0;
+  for (std::size_t k = 0; k < depth.size(); ++k)
+    if (k / 240.0 >= x0 && k / 240.0 < x1) sum += depth[k], ++n;
+  return sum / n;
+}
+
 }  // namespace
 
 TEST(MaterialMap, NewTerrainHasOneMaterialEverywhere) {
@@ -368,4 +410,35 @@ TEST(MaterialMap, AFileWithAnIndexBeyondItsPaletteIsRefusedByName) {
   EXPECT_NE(m.find("repainted.state"), std::string::npos) << m;
   EXPECT_NE(m.find("tile (0, 0)"), std::string::npos) << m;
   EXPECT_NE(m.find("column 15 holds index 7, beyond the palette (0 to 2)"), std::string::npos) << m;
+}
+
+TEST(MaterialMap, TowedWheelCrossingFromMudIntoSandSettlesToEachSoilsSinkage) {
+  // The bench's wheel (D 0.8 m, b 0.2 m, 4 kN) towed over mud, then over sand from x = 1 m.
+  const double W = 4000, D = 0.8, b = 0.2;
+  const Material mud = Material::mud(), sand = Material::sand();
+  Terrain map(one_thread(mud));
+  map.set_palette({mud, sand});
+  map.paint_rect({100, -50, 400, 100}, 1);
+  Terrain mud_alone(one_thread(mud)), sand_alone(one_thread(sand));
+  const std::vector<double> on_map = tow(map, W, D, b), on_mud = tow(mud_alone, W, D, b),
+                            on_sand = tow(sand_alone, W, D, b);
+  // Settled over the last quarter metre of each soil (the wheel's front reaches sand at 0.6 m).
+  const double map_mud = mean_depth(on_map, 0.35, 0.6), map_sand = mean_depth(on_map, 1.75, 2.0);
+  const double alone_mud = mean_depth(on_mud, 0.35, 0.6), alone_sand = mean_depth(on_sand, 1.75, 2.0);
+  const double bekker_mud = bekker::wheel_sinkage_rolling(mud, W, D, b),
+               bekker_sand = bekker::wheel_sinkage_rolling(sand, W, D, b);
+  std::printf(
+      "[ towed ] mud: map %.4f m, alone %.4f m, Bekker rolling %.4f m; sand: map %.4f m, alone %.4f m, "
+      "Bekker rolling %.4f m; at the border (x 1 m) %.4f m\n",
+      map_mud, alone_mud, bekker_mud, map_sand, alone_sand, bekker_sand, mean_depth(on_map, 1.0, 1.01));
+  EXPECT_NEAR(map_mud, alone_mud, 0.01 * alone_mud);
+  EXPECT_NEAR(map_sand, alone_sand, 0.01 * alone_sand);
+  // The quasi-static column wheel against Bekker's rolling wheel (front half bearing).
+  EXPECT_NEAR(map_mud, bekker_mud, 0.1 * bekker_mud);
+  EXPECT_NEAR(map_sand, bekker_sand, 0.1 * bekker_sand);
+  // It sinks in across the border, not before it.
+  EXPECT_NEAR(mean_depth(on_map, 0.4, 0.55), mean_depth(on_mud, 0.4, 0.55), 1e-12);
+  const double at_border = mean_depth(on_map, 1.0, 1.01);
+  EXPECT_GT(at_border, map_mud);
+  EXPECT_LT(at_border, map_sand);
 }
