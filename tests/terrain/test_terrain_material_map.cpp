@@ -165,7 +165,7 @@ TEST(MaterialMap, PlatesOnFourMaterialsSinkAsBekkerOnEach) {
     const double ref = bekker::plate_sinkage(s.m, kWidth, s.p);
     EXPECT_NEAR(on_map, ref, 0.02 * ref) << s.m.name;              // the column model's Bekker tolerance
     EXPECT_NEAR(on_map, by_itself, 0.01 * by_itself) << s.m.name;  // as on that soil alone
-    std::printf("[ plate ] %-6s at %5.0f Pa: map %.5f m, alone %.5f m, Bekker %.5f m\n", s.m.name.c_str(), s.p, on_map,
+    std::printf("[ plate ] %-6s at %5.0f Pa: map %.7f m, alone %.7f m, Bekker %.7f m\n", s.m.name.c_str(), s.p, on_map,
                 by_itself, ref);
   }
 }
@@ -179,7 +179,7 @@ TEST(MaterialMap, PlateAcrossABorderSinksAsBothHalvesTogether) {
   const double depth = ramp_plate(t, -15, -15, p);
   const double on_sand = bekker::plate_sinkage(sand, kWidth, p), on_mud = bekker::plate_sinkage(mud, kWidth, p);
   const double both = straddling_sinkage(sand, mud, p);
-  std::printf("[ straddle ] sand %.5f m, mud %.5f m, both halves (Bekker) %.5f m, map %.5f m\n", on_sand, on_mud, both,
+  std::printf("[ straddle ] sand %.7f m, mud %.7f m, both halves (Bekker) %.7f m, map %.7f m\n", on_sand, on_mud, both,
               depth);
   EXPECT_GT(depth, std::min(on_sand, on_mud));
   EXPECT_LT(depth, std::max(on_sand, on_mud));
