@@ -442,3 +442,39 @@ TEST(MaterialMap, TowedWheelCrossingFromMudIntoSandSettlesToEachSoilsSinkage) {
   EXPECT_GT(at_border, map_mud);
   EXPECT_LT(at_border, map_sand);
 }
+
+TEST(MaterialMap, CorruptMapsInStateFilesGiveAnErrorOrATerrainNeverACrash) {
+  // Every byte of a small painted state set to three other values, the checksum made to
+  // match: each copy loads as a valid terrain or is refused with a FileError.
+  TerrainSettings s = one_thread(Material::sand());
+  s.tile_columns = 4;
+  Terrain a(s);
+  a.set_palette({Material::sand(), Material::mud(), Material::snow()});
+  a.paint_rect({0, 0, 6, 3}, 2);
+  a.paint_disc(0.0, 0.0, 0.02, 1);
+  const std::vector<unsigned char> good = a.save_bytes();
+  int refused = 0, loaded = 0;
+  for (std::size_t k = 8; k + 8 < good.size(); ++k)
+    for (unsigned char v : {0x00, 0x05, 0xff}) {
+      if (good[k] == v) continue;
+      std::vector<unsigned char> bytes(good.begin(), good.end() - 8);
+      bytes[k] = v;
+      shore::StateHash sum;
+      sum.add_bytes(bytes.data(), bytes.size());
+      const std::uint64_t checksum = sum.value();
+      bytes.insert(bytes.end(), reinterpret_cast<const unsigned char*>(&checksum),
+                   reinterpret_cast<const unsigned char*>(&checksum) + sizeof checksum);
+      try {
+        const Terrain b = Terrain::load_bytes(bytes, "flipped.state");
+        for (std::int64_t j = -2; j < 6; ++j)
+          for (std::int64_t i = -2; i < 8; ++i)
+            ASSERT_LT(static_cast<std::size_t>(b.material_index(i, j)), b.palette().size());
+        ++loaded;
+      } catch (const shore::FileError&) {
+        ++refused;
+      }
+    }
+  std::printf("[ corrupt ] %zu bytes: %d copies refused, %d loaded\n", good.size(), refused, loaded);
+  EXPECT_GT(refused, 0);
+  EXPECT_GT(loaded, 0);
+}
