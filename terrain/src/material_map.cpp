@@ -110,7 +110,8 @@ void Terrain::paint_disc(double x, double y, double radius, int index) {
   const auto last_i = static_cast<std::int64_t>(std::ceil((x + radius - s.origin_x) / s.cell));
   const auto first_j = static_cast<std::int64_t>(std::floor((y - radius - s.origin_y) / s.cell));
   const auto last_j = static_cast<std::int64_t>(std::ceil((y + radius - s.origin_y) / s.cell));
-  if ((last_i - first_i + 1) * (last_j - first_j + 1) > kMaxRegionColumns)
+  const std::int64_t nx = last_i - first_i + 1, ny = last_j - first_j + 1;  // each at most 2e16: no overflow
+  if (nx > kMaxRegionColumns || ny > kMaxRegionColumns || nx * ny > kMaxRegionColumns)
     throw InvalidSetting(c.name("radius"), detail::to_text(radius),
                          "must cover at most " + detail::to_text(kMaxRegionColumns) + " columns");
   const GridRect rect = GridRect::spanning(first_i, first_j, last_i, last_j);

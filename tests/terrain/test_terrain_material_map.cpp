@@ -317,6 +317,8 @@ TEST(MaterialMap, BadPaintAndPalettesAreRefusedAndChangeNothing) {
   EXPECT_NE(m.find("paint_disc.index = -1"), std::string::npos) << m;
   m = invalid([&] { t.paint_disc(0.0, 0.0, -0.1, 1); });
   EXPECT_NE(m.find("radius"), std::string::npos) << m;
+  m = invalid([&] { t.paint_disc(0.0, 0.0, 1e12, 1); });  // 2e14 columns a side
+  EXPECT_NE(m.find("radius = 1000000000000: must cover at most 67108864 columns"), std::string::npos) << m;
   m = invalid([&] {
     t.paint_where(
         {0, 0, 5, 5}, [](double, double) { return true; }, 300);
