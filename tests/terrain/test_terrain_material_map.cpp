@@ -480,3 +480,46 @@ TEST(MaterialMap, CorruptMapsInStateFilesGiveAnErrorOrATerrainNeverACrash) {
   EXPECT_GT(refused, 0);
   EXPECT_GT(loaded, 0);
 }
+
+TEST(MaterialMap, UnloadingAndWallsFollowTheColumnsOwnMaterial) {
+  // A box pressed 1 cm into sand (left) and mud (right), then lifted 0.5 mm: sand columns
+  // spring back by Wong's k_u = A_u z and still push; mud (A_u = 0) is rigid-plastic and lets
+  // go. The rut's walls push by their own soil's k z^(n+1) / (n+1) per unit length.
+  const Material sand = Material::sand(), mud = Material::mud();
+  ASSERT_GT(sand.unload_modulus, 0.0);
+  ASSERT_EQ(mud.unload_modulus, 0.0);
+  Terrain t(one_thread(sand));
+  t.set_palette({sand, mud});
+  t.paint_rect({0, -30, 30, 60}, 1);
+  const double depth = 0.01;
+  const shore::EnvelopeRaster pressed = box_envelope(-10, -10, 20, 20, -depth);
+  const Imprint im{&pressed};
+  t.step({&im, 1});
+  const double lift = 0.0005;
+  const shore::EnvelopeRaster lifted = box_envelope(-10, -10, 20, 20, -depth + lift);
+  ContactPatch patch;
+  t.contact(lifted, {}, nullptr, patch);
+  int bottoms[2] = {0, 0}, walls[2] = {0, 0};
+  for (const ContactElement& el : patch.elements) {
+    const int index = t.material_index(el.i, el.j);
+    const Material& m = t.material_at(el.i, el.j);
+    if (el.wall) {
+      const double height = t.height(el.i, el.j) - (-depth + lift);
+      const double k = m.bekker_kc / patch.patch_width + m.bekker_kphi;
+      const double expected = k * std::pow(height, m.bekker_n) / (m.bekker_n + 1.0);  // per m^2 of wall
+      EXPECT_NEAR(el.pressure, expected, 1e-9 * expected) << "wall at " << el.i << ", " << el.j;
+      ++walls[index];
+      continue;
+    }
+    ++bottoms[index];
+    const double z = t.sinkage(el.i, el.j);
+    EXPECT_NEAR(z, depth, 1e-12);
+    const double k_u = std::max(m.unload_modulus * z, el.pressure / z);  // Wong's A_u z, at least p / z
+    EXPECT_NEAR(el.stiffness, k_u, 1e-9 * k_u);
+    EXPECT_NEAR(el.preload, el.pressure - k_u * lift, 1e-6 * el.pressure);
+  }
+  EXPECT_EQ(bottoms[1], 0) << "mud lets go of a lifted box";
+  EXPECT_GT(bottoms[0], 150);
+  EXPECT_GT(walls[0], 0);
+  EXPECT_GT(walls[1], 0);
+}
