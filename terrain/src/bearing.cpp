@@ -16,7 +16,7 @@ constexpr double kCarriesAnything = std::numeric_limits<double>::infinity();
 }  // namespace
 
 std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s, const EnvelopeRaster& env,
-                                           bool only_touching, double offset) {
+                                           bool only_touching, double offset, std::vector<std::uint8_t>* mats) {
   const double depth = s.material.soil_depth, tol = s.contact_tolerance;
   std::vector<BearingColumn> columns;
   store.for_each_run({env.i0, env.j0, env.nx, env.ny}, [&](const Tile* t, const TileRun& run) {
@@ -35,6 +35,7 @@ std::vector<BearingColumn> bearing_columns(const TileStore& store, const Terrain
       }
       if (only_touching && !(e - offset <= c.top + tol)) continue;
       columns.push_back(c);
+      if (mats) mats->push_back(t && !t->material.empty() ? t->material[run.local + static_cast<std::size_t>(r)] : 0);
     }
   });
   return columns;
@@ -44,7 +45,8 @@ std::vector<BearingColumn> bearing_columns(const TileStore& store, const Terrain
 // pressed to the envelope is its plastic sinkage plus how far the envelope lies below its
 // top. b is the smaller side of the touching columns' bounding box (each column counts as
 // one cell wide). A touched column at bedrock carries anything.
-Bearing capacity(std::span<const BearingColumn> columns, const TerrainSettings& s, double offset, bool with_columns) {
+Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats, const TerrainSettings& s,
+                 std::span<const Material> palette, double offset, bool with_columns) {
   Bearing out;
   const double tol = s.contact_tolerance;
   std::int64_t i0 = std::numeric_limits<std::int64_t>::max(), j0 = i0;
@@ -60,17 +62,25 @@ Bearing capacity(std::span<const BearingColumn> columns, const TerrainSettings& 
   const bool rigid = s.material.rigid;
   const double cell_area = s.cell * s.cell;
   if (with_columns) out.columns.reserve(static_cast<std::size_t>(out.contact_columns));
-  for (const BearingColumn& c : columns) {
-    const double e = c.lower - offset;
-    if (!(e <= c.top + tol)) continue;
-    double force;
-    if (rigid || e <= c.bed || c.top <= c.bed)
-      force = kCarriesAnything;
-    else
-      force = bekker::pressure(s.material, b, c.sink + std::max(0.0, c.top - e)) * cell_area;
-    out.capacity += force;
-    if (with_columns) out.columns.push_back({c.i, c.j, force});
-  }
+  // material_of(k): column k's material; one material: a fixed reference the loop keeps.
+  const auto add_columns = [&](auto material_of) {
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+      const BearingColumn& c = columns[k];
+      const double e = c.lower - offset;
+      if (!(e <= c.top + tol)) continue;
+      double force;
+      if (rigid || e <= c.bed || c.top <= c.bed)
+        force = kCarriesAnything;
+      else
+        force = bekker::pressure(material_of(k), b, c.sink + std::max(0.0, c.top - e)) * cell_area;
+      out.capacity += force;
+      if (with_columns) out.columns.push_back({c.i, c.j, force});
+    }
+  };
+  if (mats.empty())
+    add_columns([&](std::size_t) -> const Material& { return palette[0]; });
+  else
+    add_columns([&](std::size_t k) -> const Material& { return palette[mats[k]]; });
   return out;
 }
 
@@ -78,9 +88,10 @@ Bearing capacity(std::span<const BearingColumn> columns, const TerrainSettings& 
 // [lo, hi] with capacity(lo) < load <= capacity(hi) is narrowed by regula falsi (Illinois
 // variant), falling back to bisection, until it is 1e-7 m wide; the upper end is returned
 // so the soil carries at least the load.
-double offset_for_load(std::span<const BearingColumn> columns, const TerrainSettings& s, double load) {
+double offset_for_load(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
+                       const TerrainSettings& s, std::span<const Material> palette, double load) {
   if (columns.empty()) return 0.0;  // the body covers no column: nothing to sink into
-  auto f = [&](double o) { return capacity(columns, s, o, false).capacity - load; };
+  auto f = [&](double o) { return capacity(columns, mats, s, palette, o, false).capacity - load; };
   double f_lo = f(0.0);
   if (f_lo >= 0.0) return 0.0;
   // Every covered column at bedrock bears anything: that offset closes the bracket.
@@ -120,14 +131,19 @@ double offset_for_load(std::span<const BearingColumn> columns, const TerrainSett
 Bearing Terrain::bearing(const EnvelopeRaster& envelope, double offset) const {
   check_envelope(&envelope, "terrain.Terrain.bearing.envelope");
   Check{"terrain.Terrain.bearing"}.non_negative("offset", offset);
-  const std::vector<BearingColumn> columns = bearing_columns(impl_->tiles, impl_->s, envelope, true, offset);
-  return capacity(columns, impl_->s, offset, true);
+  std::vector<std::uint8_t> mats;
+  const std::vector<BearingColumn> columns =
+      bearing_columns(impl_->tiles, impl_->s, envelope, true, offset, impl_->palette.size() > 1 ? &mats : nullptr);
+  return capacity(columns, mats, impl_->s, impl_->palette, offset, true);
 }
 
 double Terrain::bearing_offset(const EnvelopeRaster& envelope, double load) const {
   check_envelope(&envelope, "terrain.Terrain.bearing_offset.envelope");
   Check{"terrain.Terrain.bearing_offset"}.non_negative("load", load);
-  return offset_for_load(bearing_columns(impl_->tiles, impl_->s, envelope, false, 0.0), impl_->s, load);
+  std::vector<std::uint8_t> mats;
+  const std::vector<BearingColumn> columns =
+      bearing_columns(impl_->tiles, impl_->s, envelope, false, 0.0, impl_->palette.size() > 1 ? &mats : nullptr);
+  return offset_for_load(columns, mats, impl_->s, impl_->palette, load);
 }
 
 }  // namespace shore::terrain

@@ -22,13 +22,19 @@ struct BearingColumn {
 };
 
 /// The columns the envelope covers, in window order. With only_touching, only those the
-/// envelope lowered by `offset` touches (bearing at one offset needs no others). Reads only.
+/// envelope lowered by `offset` touches (bearing at one offset needs no others). With mats,
+/// their palette indices into *mats (kept apart: a one-material terrain reads none and its
+/// columns stay as compact as they were). Reads only.
 [[nodiscard]] std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s,
-                                                         const EnvelopeRaster& env, bool only_touching, double offset);
+                                                         const EnvelopeRaster& env, bool only_touching, double offset,
+                                                         std::vector<std::uint8_t>* mats);
 /// Bekker capacity of the columns the envelope, lowered by offset, touches (Terrain::bearing).
-[[nodiscard]] Bearing capacity(std::span<const BearingColumn> columns, const TerrainSettings& s, double offset,
+/// Each column bears by its own material's law: palette[mats[k]] (mats empty: palette[0]).
+[[nodiscard]] Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
+                               const TerrainSettings& s, std::span<const Material> palette, double offset,
                                bool with_columns);
 /// The offset at which the capacity equals load (Terrain::bearing_offset).
-[[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, const TerrainSettings& s, double load);
+[[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
+                                     const TerrainSettings& s, std::span<const Material> palette, double load);
 
 }  // namespace shore::terrain

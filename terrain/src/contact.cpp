@@ -41,6 +41,7 @@ constexpr int kSy[4] = {0, 0, 1, -1};
 struct SoilWindow {
   GridRect r;
   std::vector<double> top, sink, bed;
+  std::vector<std::uint8_t> mat;  ///< palette index; empty with a one-entry palette
 
   [[nodiscard]] bool inside(std::int64_t i, std::int64_t j) const {
     return i >= r.i0 && j >= r.j0 && i < r.i0 + r.nx && j < r.j0 + r.ny;
@@ -50,12 +51,18 @@ struct SoilWindow {
   }
 };
 
-void read_soil(const TileStore& store, double soil_depth, const GridRect& r, SoilWindow& out) {
+void read_soil(const TileStore& store, double soil_depth, bool with_materials, const GridRect& r, SoilWindow& out) {
   out.r = r;
   const std::size_t size = static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny);
   out.top.resize(size), out.sink.resize(size), out.bed.resize(size);
+  if (with_materials)
+    out.mat.assign(size, 0);
+  else
+    out.mat.clear();
   store.for_each_run(r, [&](const Tile* t, const TileRun& run) {
     const std::size_t dst = static_cast<std::size_t>(run.y) * static_cast<std::size_t>(r.nx) + run.x;
+    if (with_materials && t && !t->material.empty())
+      std::copy_n(t->material.data() + run.local, run.count, out.mat.data() + dst);
     for (int k = 0; k < run.count; ++k) {
       if (t) {
         out.top[dst + k] = t->height[run.local + k];
@@ -102,9 +109,10 @@ struct PatchScratch {
 
 class PatchBuilder {
  public:
-  PatchBuilder(const TerrainSettings& s, const EnvelopeRaster& env, std::span<const double> shear,
-               const SurfaceProbe* probe, PatchScratch& scratch, ContactPatch& out)
+  PatchBuilder(const TerrainSettings& s, std::span<const Material> palette, const EnvelopeRaster& env,
+               std::span<const double> shear, const SurfaceProbe* probe, PatchScratch& scratch, ContactPatch& out)
       : s_(s),
+        palette_(palette),
         env_(env),
         shear_(shear),
         probe_(probe),
@@ -195,6 +203,10 @@ class PatchBuilder {
   }
   [[nodiscard]] double column_x(std::int64_t i) const { return s_.origin_x + static_cast<double>(i) * s_.cell; }
   [[nodiscard]] double column_y(std::int64_t j) const { return s_.origin_y + static_cast<double>(j) * s_.cell; }
+  /// The material of a window column: its own with a map, else the terrain's one.
+  [[nodiscard]] const Material& material_of(std::size_t soil_index) const {
+    return soil_.mat.empty() ? s_.material : palette_[soil_.mat[soil_index]];
+  }
   [[nodiscard]] bool touches(double lower, std::size_t soil_index) const {
     const double reach = soil_.top[soil_index] + s_.contact_tolerance;
     // The elastic reach (a pow) only where it decides: it is >= 0 and <= the sinkage, and
@@ -208,7 +220,7 @@ class PatchBuilder {
   /// Bekker's b bounded by the window (the footprint is not known yet; a wider b lowers
   /// p_yield by k_c / b only). 0 for rigid-plastic soil, fresh columns and bedrock.
   [[nodiscard]] double rebound(std::size_t soil_index) const {
-    const Material& m = s_.material;
+    const Material& m = material_of(soil_index);
     const double z = soil_.sink[soil_index];
     if (!(m.unload_modulus > 0.0) || !(z > 0.0) || m.rigid || soil_.top[soil_index] <= soil_.bed[soil_index])
       return 0.0;
@@ -223,7 +235,7 @@ class PatchBuilder {
   /// Gives `el` (its pressure already set) the elastic unloading branch where the body lies
   /// at or above the column's top.
   void set_unloading(std::size_t soil_index, ContactElement& el) const {
-    const Material& m = s_.material;
+    const Material& m = material_of(soil_index);
     const double z = soil_.sink[soil_index], gap = el.point.z - soil_.top[soil_index];
     if (!(m.unload_modulus > 0.0) || !(z > 0.0) || !(gap >= 0.0) || !(el.pressure < kInf)) return;
     el.stiffness = unloading_stiffness(m, z, el.pressure);
@@ -292,16 +304,16 @@ class PatchBuilder {
   /// Bekker's yield pressure of a column pressed to `lower`, loosened by its shear (shear::loosening).
   [[nodiscard]] double yield_pressure(std::size_t soil_index, double lower, double j) const {
     const double top = soil_.top[soil_index], bed = soil_.bed[soil_index];
-    if (s_.material.rigid || lower <= bed || top <= bed) return kInf;
-    return bekker::pressure(s_.material, out_.patch_width,
-                            sinkage_at(soil_index, lower) * shear::loosening(s_.material, j));
+    const Material& m = material_of(soil_index);
+    if (m.rigid || lower <= bed || top <= bed) return kInf;
+    return bekker::pressure(m, out_.patch_width, sinkage_at(soil_index, lower) * shear::loosening(m, j));
   }
   /// Gives `el` (its pressure already set) how fast its pressure grows as the body presses
   /// on: Bekker's tangent n p / z where the column is pressed deeper than a few steps, else
   /// the secant over the next step (at zero sinkage the tangent is 0 or infinite).
   void set_pressure_rate(std::size_t soil_index, double j, ContactElement& el) const {
     if (!(el.pressure < kInf)) return;
-    const Material& m = s_.material;
+    const Material& m = material_of(soil_index);
     const double z = sinkage_at(soil_index, el.point.z), step = kRateStep * s_.cell;
     if (z >= kRateTangentSteps * step) {
       el.pressure_rate = m.bekker_n * el.pressure / z;
@@ -386,8 +398,6 @@ class PatchBuilder {
 
   // Soil beside the footprint standing above the underside pushes on the body's side.
   void add_walls() {
-    const Material& m = s_.material;
-    const double k_modulus = m.bekker_kc / out_.patch_width + m.bekker_kphi;
     for_each_candidate([&](int x, int y, std::size_t k) {
       const double e = env_.lower[k];
       // No soil beside the body stands above it here (a wheel's upper part, say).
@@ -399,6 +409,8 @@ class PatchBuilder {
         const std::size_t u = soil_.at(ui, uj);
         const double height = soil_.top[u] - e;
         if (!(height > s_.contact_tolerance)) continue;
+        const Material& m = material_of(u);  // the wall's soil
+        const double k_modulus = m.bekker_kc / out_.patch_width + m.bekker_kphi;
         ContactElement el;
         el.i = ui, el.j = uj;
         el.wall = true;
@@ -415,6 +427,7 @@ class PatchBuilder {
   }
 
   const TerrainSettings& s_;
+  std::span<const Material> palette_;
   const EnvelopeRaster& env_;
   std::span<const double> shear_;
   const SurfaceProbe* probe_;
@@ -441,9 +454,9 @@ void Terrain::contact(const EnvelopeRaster& envelope, std::span<const double> sh
   if (envelope.nx == 0 || envelope.ny == 0) return;
   thread_local PatchScratch scratch;
   // The window and a one-column ring (fringes and walls lie there).
-  read_soil(impl_->tiles, impl_->s.material.soil_depth,
+  read_soil(impl_->tiles, impl_->s.material.soil_depth, impl_->palette.size() > 1,
             {envelope.i0 - 1, envelope.j0 - 1, envelope.nx + 2, envelope.ny + 2}, scratch.soil);
-  PatchBuilder(impl_->s, envelope, shear, probe, scratch, out).build();
+  PatchBuilder(impl_->s, impl_->palette, envelope, shear, probe, scratch, out).build();
 }
 
 }  // namespace shore::terrain

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <thread>
 
+#include "capacity_bytes.h"
+
 namespace shore::terrain {
 
 namespace {
@@ -43,31 +45,35 @@ using Clock = std::chrono::steady_clock;
 
 }  // namespace
 
-void Pipeline::gather(TileStore& store, const TerrainSettings& s, const GridRect& region) {
+void Pipeline::gather(TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
+                      const GridRect& region) {
   const int threads = thread_count(s);
   const std::int64_t columns = halo_columns(region);
   const bool parallel =
       threads > 1 && columns >= s.parallel_min_columns && (s.parallel_min_columns == 0 || pacer_.choose_parallel());
   if (parallel && (!team_ || team_->size() != threads)) team_ = std::make_unique<Team>(threads);
   region_.prepare({region.i0 - 1, region.j0 - 1, region.nx + 2, region.ny + 2}, parallel ? team_.get() : nullptr);
-  region_.gather(store, s.material.soil_depth);
+  // One material: no map to read, every stage takes its one-material path.
+  region_.gather(store, s.material.soil_depth, palette.size() > 1);
 }
 
 void Pipeline::record(const TerrainSettings& s, std::int64_t columns, double seconds) {
   if (paced(s, columns)) pacer_.record(region_.team != nullptr, seconds / static_cast<double>(columns));
 }
 
-StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, const GridRect& region,
-                         std::span<const Imprint> imprints) {
+StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
+                         const GridRect& region, std::span<const Imprint> imprints) {
   const Clock::time_point t0 = Clock::now();
-  gather(store, s, region);
+  gather(store, s, palette, region);
   imprint_.rasterize(region_, imprints);
   const ImprintStage::Collision collision = imprint_.collide(region_, s);
   region_.ht_pressed = region_.ht;
   contour_.run(region_, imprint_.flags());
-  const double compacted_height = displace_.run(region_, contour_.levels(), imprint_.displaced(), s.material.alpha);
+  alpha_.clear();
+  for (const Material& m : palette) alpha_.push_back(m.alpha);
+  const double compacted_height = displace_.run(region_, contour_.levels(), imprint_.displaced(), alpha_);
   StepReport report;
-  report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, false);
+  report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, palette, false);
   loosen_deposits(region_);
   region_.scatter(store);
   record(s, halo_columns(region), std::chrono::duration<double>(Clock::now() - t0).count());
@@ -80,12 +86,13 @@ StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, const GridR
   return report;
 }
 
-StepReport Pipeline::relax(TileStore& store, const TerrainSettings& s, const GridRect& region) {
+StepReport Pipeline::relax(TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
+                           const GridRect& region) {
   const Clock::time_point t0 = Clock::now();
-  gather(store, s, region);
+  gather(store, s, palette, region);
   imprint_.no_bodies(region_);
   StepReport report;
-  report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, true);
+  report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, palette, true);
   region_.scatter(store);
   record(s, halo_columns(region), std::chrono::duration<double>(Clock::now() - t0).count());
   report.active_columns = region.nx * region.ny;
@@ -93,7 +100,8 @@ StepReport Pipeline::relax(TileStore& store, const TerrainSettings& s, const Gri
 }
 
 std::size_t Pipeline::bytes() const {
-  return region_.bytes() + imprint_.bytes() + contour_.bytes() + displace_.bytes() + erode_.bytes();
+  return region_.bytes() + capacity_bytes(alpha_) + imprint_.bytes() + contour_.bytes() + displace_.bytes() +
+         erode_.bytes();
 }
 
 }  // namespace shore::terrain

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "region.h"
 #include "shore/core/pacer.h"
@@ -32,22 +33,26 @@ namespace shore::terrain {
 class Pipeline {
  public:
   /// One step over `region` (halo excluded) for all imprints.
-  StepReport run(TileStore& store, const TerrainSettings& s, const GridRect& region, std::span<const Imprint> imprints);
+  /// palette: the terrain's materials (Terrain::palette; entry 0 is s.material).
+  StepReport run(TileStore& store, const TerrainSettings& s, std::span<const Material> palette, const GridRect& region,
+                 std::span<const Imprint> imprints);
   /// Erosion alone, to rest, over `region` (Terrain::relax).
-  StepReport relax(TileStore& store, const TerrainSettings& s, const GridRect& region);
+  StepReport relax(TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
+                   const GridRect& region);
   /// After run or relax: the slopes the pass cap left too steep (ErodeStage::still_flowing).
   [[nodiscard]] const GridRect& still_flowing() const { return erode_.still_flowing(); }
   [[nodiscard]] std::size_t bytes() const;
 
  private:
   /// Gathers the region (plus halo) and decides whether its rows fork onto the team.
-  void gather(TileStore& store, const TerrainSettings& s, const GridRect& region);
+  void gather(TileStore& store, const TerrainSettings& s, std::span<const Material> palette, const GridRect& region);
   /// After a step or relax of `columns`: tells the pacer how long it took.
   void record(const TerrainSettings& s, std::int64_t columns, double seconds);
 
   std::unique_ptr<Team> team_;
   Pacer pacer_;  ///< per column of the region (halo included), over whole steps
   Region region_;
+  std::vector<double> alpha_;  ///< per palette entry
   ImprintStage imprint_;
   ContourStage contour_;
   DisplaceStage displace_;

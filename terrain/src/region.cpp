@@ -11,15 +11,24 @@ void Region::prepare(const GridRect& with_halo, Team* rows_team) {
   team = rows_team;
 }
 
-void Region::gather(TileStore& store, double soil_depth) {
+void Region::gather(TileStore& store, double soil_depth, bool with_materials) {
   // Sized, not cleared: gather writes every column.
   for (auto* v : {&ht, &sink, &bed}) v->resize(size());
+  if (with_materials)
+    mat.resize(size());
+  else
+    mat.clear();
   store.for_each_run_creating({si0, sj0, w, h}, [&](Tile& t, const TileRun& run) {
     const std::size_t src = run.local;
     const std::size_t dst = at(run.x, run.y);
     std::memcpy(&ht[dst], &t.height[src], sizeof(double) * run.count);
     std::memcpy(&sink[dst], &t.sinkage[src], sizeof(double) * run.count);
     for (int k = 0; k < run.count; ++k) bed[dst + k] = t.base[src + k] - soil_depth;
+    if (!with_materials) return;
+    if (t.material.empty())
+      std::memset(&mat[dst], 0, static_cast<std::size_t>(run.count));
+    else
+      std::memcpy(&mat[dst], &t.material[src], static_cast<std::size_t>(run.count));
   });
   ht_orig = ht;
 }
@@ -40,6 +49,6 @@ void Region::scatter(TileStore& store) const {
   });
 }
 
-std::size_t Region::bytes() const { return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed); }
+std::size_t Region::bytes() const { return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat); }
 
 }  // namespace shore::terrain

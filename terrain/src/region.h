@@ -30,11 +30,15 @@ struct Region {
   std::vector<double> ht_pressed;  ///< heights right after collision (what came after is deposit)
   std::vector<double> sink;        ///< plastic sinkage, m
   std::vector<double> bed;         ///< bedrock, m
+  /// Palette index per column; empty when the palette has one entry (every column is 0,
+  /// and the stages take their one material's fast path).
+  std::vector<std::uint8_t> mat;
 
   /// Takes the rectangle (halo included) and the team its rows run on (nullptr: serial).
   void prepare(const GridRect& with_halo, Team* rows_team);
-  void gather(TileStore& store, double soil_depth);  ///< creates the tiles it touches
-  void scatter(TileStore& store) const;              ///< and marks what changed
+  /// Creates the tiles it touches; fills mat only with_materials.
+  void gather(TileStore& store, double soil_depth, bool with_materials);
+  void scatter(TileStore& store) const;  ///< and marks what changed
 
   [[nodiscard]] std::size_t size() const noexcept { return static_cast<std::size_t>(w) * static_cast<std::size_t>(h); }
   [[nodiscard]] std::size_t at(int x, int y) const noexcept {

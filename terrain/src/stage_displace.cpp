@@ -20,7 +20,7 @@ void DisplaceStage::sort_by_level(std::span<const int> levels, int top_level) {
 }
 
 double DisplaceStage::run(Region& region, std::span<const int> levels, std::span<const double> displaced,
-                          double alpha) {
+                          std::span<const double> alpha) {
   int top_level = 0;
   for (int c : levels) top_level = std::max(top_level, c);
   if (top_level == 0) return 0.0;
@@ -30,11 +30,16 @@ double DisplaceStage::run(Region& region, std::span<const int> levels, std::span
   const auto off = neighbour_offsets(region.w);
   double kept = 0.0;
   for (std::size_t k : order_) carry_[k] = 0.0;
-  for (std::size_t k : order_) {
-    const double moved = alpha * displaced[k];
+  // Each pressed column's own share goes to the rim (one material: the same for all).
+  const auto split = [&](std::size_t k, double a) {
+    const double moved = a * displaced[k];
     kept += displaced[k] - moved;
     carry_[k] += moved;
-  }
+  };
+  if (region.mat.empty())
+    for (std::size_t k : order_) split(k, alpha[0]);
+  else
+    for (std::size_t k : order_) split(k, alpha[region.mat[k]]);
   for (std::size_t k : order_) {
     const double carry = carry_[k];
     if (carry == 0.0) continue;

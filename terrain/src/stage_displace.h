@@ -2,7 +2,8 @@
 // Private: displacement, the third stage of a step. The share alpha of each contact
 // column's displaced height is carried outward, split equally among the neighbours with a
 // lower contour level, level by level, until it lands on the first ring outside the contact
-// area (level 0), which rises. The rest (1 - alpha) is compacted.
+// area (level 0), which rises. The rest (1 - alpha) is compacted. Alpha is the pressed
+// column's material's.
 
 #include <cstddef>
 #include <span>
@@ -16,8 +17,11 @@ class DisplaceStage {
  public:
   /// Moves the displaced soil (ImprintStage::displaced) down the contour levels
   /// (ContourStage::levels) onto region.ht. Returns the compacted height, m (sum over
-  /// columns). Serial in a fixed order: cheap, it visits contact columns only.
-  double run(Region& region, std::span<const int> levels, std::span<const double> displaced, double alpha);
+  /// columns). alpha: per palette entry; a contact column pushes its own material's share
+  /// to the rim (region.mat; empty: entry 0 everywhere). Serial in a fixed order: cheap, it
+  /// visits contact columns only.
+  double run(Region& region, std::span<const int> levels, std::span<const double> displaced,
+             std::span<const double> alpha);
   [[nodiscard]] std::size_t bytes() const;
 
  private:

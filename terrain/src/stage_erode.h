@@ -4,6 +4,10 @@
 // pass found them, then applies all of it, so threads never change the result.
 //
 // Choices where the paper leaves room:
+// - with a material map, the giver's material sets the limits (theta_in, theta_out,
+//   theta_stop) and sigma of its pairs: soil slides by its own law, whatever it slides onto
+//   (sand slumping onto gravel keeps sand's angle); what lands on a column becomes that
+//   column's material (the map belongs to the columns), so volume is conserved in total;
 // - a pair is too steep when h_ij - h_kl exceeds dist * tan(theta) (theta_in if column kl
 //   lies under a body, theta_out otherwise); the column moves sigma times the average
 //   EXCESS over that limit, shared equally among its too-steep downhill neighbours, so
@@ -59,7 +63,8 @@ struct ErosionLimits {
   double least_give[2] = {}, least_give_in[2] = {};
   double sigma = 0.0;  ///< share of the excess that moves per pass
 
-  [[nodiscard]] static ErosionLimits from(const TerrainSettings& s);
+  /// The limits of soil of material m.
+  [[nodiscard]] static ErosionLimits from(const TerrainSettings& s, const Material& m);
 };
 
 class ErodeStage {
@@ -67,8 +72,10 @@ class ErodeStage {
   /// Runs the passes on region.ht. flags: ImprintStage::flags; body: the body surface above
   /// each column (ImprintStage::body). to_rest: run until nothing moves (theta_stop
   /// ignored). Returns the number of passes that moved soil.
+  /// Each giver moves soil by its own material's limits and sigma (region.mat indexes
+  /// palette; empty: palette[0] everywhere), whatever its receivers' materials.
   int run(Region& region, std::span<const unsigned char> flags, std::span<const double> body, const TerrainSettings& s,
-          bool to_rest);
+          std::span<const Material> palette, bool to_rest);
   /// Set by run when it stopped at max_erosion_passes with slopes still too steep: the
   /// bounding box of the last pass's givers that had such a pair (global columns), to carry
   /// on with next step; else nx = 0.
@@ -82,14 +89,21 @@ class ErodeStage {
   void find_still_flowing(const Region& region, int passes, int max_passes);
   // caps
   void compute_caps(const Region& region, std::span<const unsigned char> flags, std::span<const double> body);
+  template <bool kMap>
+  void compute_caps_as(const Region& region, std::span<const unsigned char> flags, std::span<const double> body);
   // shares
   bool compute_shares(const Region& region);
+  template <bool kMap>
+  bool compute_shares_as(const Region& region);
   // flow
   void mark_receivers(const Region& region);
   void move_soil(Region& region);
   void clear_givers(const Region& region);
 
+  /// The limits of palette[0], except least_give_in: the least over the palette, as a
+  /// column's cap must count givers of any material.
   ErosionLimits lim_;
+  std::vector<ErosionLimits> lims_;  ///< per palette entry (used with a map only)
   // Per column.
   std::vector<double> q_;                ///< a giver's share per too-steep neighbour, m
   std::vector<double> out_;              ///< what a giver gives in all, m

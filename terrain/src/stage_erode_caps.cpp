@@ -12,6 +12,16 @@ namespace shore::terrain {
 
 void ErodeStage::compute_caps(const Region& region, std::span<const unsigned char> flags,
                               std::span<const double> body) {
+  if (region.mat.empty())
+    compute_caps_as<false>(region, flags, body);
+  else
+    compute_caps_as<true>(region, flags, body);
+}
+
+// kMap: each giver's test uses its own material's limit (lims_); else lim_'s.
+template <bool kMap>
+void ErodeStage::compute_caps_as(const Region& region, std::span<const unsigned char> flags,
+                                 std::span<const double> body) {
   const int w = region.w;
   const auto off = neighbour_offsets(w);
   const double eps = lim_.eps, least_axis = lim_.least_give_in[0], least_diagonal = lim_.least_give_in[1];
@@ -30,7 +40,9 @@ void ErodeStage::compute_caps(const Region& region, std::span<const unsigned cha
         for (int d = 0; d < 8; ++d) {
           const std::size_t nk = k + off[d];
           if ((flags[nk] & (kInterior | kContact)) != kInterior) continue;
-          if (region.ht[nk] - hk > give_in[d]) ++count;
+          // The giver's own limit (its material's, with a map).
+          const double limit = kMap ? lims_[region.mat[nk]].give_in[d] : give_in[d];
+          if (region.ht[nk] - hk > limit) ++count;
         }
       cap_[k] = count > 0 ? room / count : 0.0;
     });

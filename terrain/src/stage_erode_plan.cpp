@@ -12,8 +12,7 @@
 
 namespace shore::terrain {
 
-ErosionLimits ErosionLimits::from(const TerrainSettings& s) {
-  const Material& m = s.material;
+ErosionLimits ErosionLimits::from(const TerrainSettings& s, const Material& m) {
   ErosionLimits lim;
   const double diag = std::numbers::sqrt2 * s.cell;
   // Moves of less than 1e-3 cell are ignored, so a relaxing slope comes to rest (within
@@ -44,8 +43,15 @@ ErosionLimits ErosionLimits::from(const TerrainSettings& s) {
 }
 
 int ErodeStage::run(Region& region, std::span<const unsigned char> flags, std::span<const double> body,
-                    const TerrainSettings& s, bool to_rest) {
-  lim_ = ErosionLimits::from(s);
+                    const TerrainSettings& s, std::span<const Material> palette, bool to_rest) {
+  lim_ = ErosionLimits::from(s, palette[0]);
+  lims_.clear();
+  if (!region.mat.empty())
+    for (const Material& m : palette) {
+      lims_.push_back(ErosionLimits::from(s, m));
+      for (int kind = 0; kind < 2; ++kind)
+        lim_.least_give_in[kind] = std::min(lim_.least_give_in[kind], lims_.back().least_give_in[kind]);
+    }
   assign_roles(region, flags);
   int passes = 0;
   while (passes < s.max_erosion_passes) {
@@ -130,7 +136,7 @@ void ErodeStage::find_still_flowing(const Region& region, int passes, int max_pa
 }
 
 std::size_t ErodeStage::bytes() const {
-  return capacity_bytes(q_, out_, cap_, mask_, cover_, row_flow_) + givable_.bytes() + overhang_.bytes() +
+  return capacity_bytes(q_, out_, cap_, mask_, cover_, row_flow_, lims_) + givable_.bytes() + overhang_.bytes() +
          cand_.bytes() + changed_.bytes() + givers_.bytes() + near_.bytes() + recap_.bytes() + steep_givers_.bytes() +
          live_.bytes();
 }

@@ -13,15 +13,22 @@ namespace shore::terrain {
 // it holds above bedrock, and only what the receivers' caps let through. Sets q_, mask_,
 // out_, givers_ and steep_givers_; returns whether anything flows.
 bool ErodeStage::compute_shares(const Region& region) {
+  return region.mat.empty() ? compute_shares_as<false>(region) : compute_shares_as<true>(region);
+}
+
+// kMap: each giver reads its own material's limits (lims_); else every column has lim_'s.
+template <bool kMap>
+bool ErodeStage::compute_shares_as(const Region& region) {
   const int w = region.w, h = region.h;
   const auto off = neighbour_offsets(w);
-  const ErosionLimits lim = lim_;
+  const ErosionLimits one = lim_;
   region.for_rows(0, h, [&](int y) {
     std::uint64_t* giver_row = givers_.row(y);
     std::uint64_t* steep_row = steep_givers_.row(y);
     bool flow = false;
     cand_.for_each_in_row(y, [&](int x) {
       const std::size_t k = region.at(x, y);
+      const ErosionLimits& lim = kMap ? lims_[region.mat[k]] : one;
       const double h0 = region.ht[k];
       const NeighbourExtremes lowest =
           neighbour_extremes(&region.ht[k], w, [](double a, double b) { return std::min(a, b); });

@@ -29,10 +29,11 @@ TerrainSettings validated(TerrainSettings s) {
 
 }  // namespace
 
-Terrain::Impl::Impl(TerrainSettings settings) : s(validated(std::move(settings))), tiles(s) {}
+Terrain::Impl::Impl(TerrainSettings settings) : s(validated(std::move(settings))), palette{s.material}, tiles(s) {}
 
 std::size_t Terrain::Impl::bytes() const {
-  return sizeof(Impl) + tiles.bytes() + capacity_bytes(unsettled) + planner.bytes() + pipeline.bytes() + spray.bytes();
+  return sizeof(Impl) + tiles.bytes() + capacity_bytes(unsettled, palette) + planner.bytes() + pipeline.bytes() +
+         spray.bytes();
 }
 
 Terrain::Terrain(TerrainSettings settings) : impl_(std::make_unique<Impl>(std::move(settings))) {}
@@ -51,6 +52,7 @@ void Terrain::set_material(const Material& material) {
   if (material.rigid != now.rigid)
     throw InvalidSetting("Terrain::set_material.rigid", material.rigid ? "true" : "false", "the present rigid flag");
   impl_->s.material = material;
+  impl_->palette[0] = material;
 }
 
 // ---- grid geometry -------------------------------------------------------------------
@@ -128,7 +130,7 @@ StepReport Terrain::step(std::span<const Imprint> imprints, double dt) {
   const std::vector<GridRect> carried = std::exchange(im.unsettled, {});
   StepReport total;
   for (const GridRect& r : ActiveRegions::plan(reached, carried, im.s.active_margin)) {
-    const StepReport part = im.pipeline.run(im.tiles, im.s, r, imprints);
+    const StepReport part = im.pipeline.run(im.tiles, im.s, im.palette, r, imprints);
     if (im.pipeline.still_flowing().nx > 0) im.unsettled.push_back(im.pipeline.still_flowing());
     im.compacted += part.compacted_volume;
     total.active_columns += part.active_columns;
@@ -156,7 +158,7 @@ StepReport Terrain::relax(const GridRect& region) {
   check_relax_region(region);
   if (impl_->s.material.rigid || region.nx == 0 || region.ny == 0) return {};
   impl_->tiles.advance_generation();
-  return impl_->pipeline.relax(impl_->tiles, impl_->s, region);
+  return impl_->pipeline.relax(impl_->tiles, impl_->s, impl_->palette, region);
 }
 
 // ---- output --------------------------------------------------------------------------
@@ -214,6 +216,8 @@ std::uint64_t Terrain::state_hash() const {
     h.add(key.ty);
     h.add(std::span<const double>(t.height));
     h.add(std::span<const double>(t.sinkage));
+    // The map only where painted (empty elsewhere): unpainted soil keeps its hashes.
+    if (!t.material.empty()) h.add_bytes(t.material.data(), t.material.size());
   }
   // Spray, once a step has had time to make any (so soils that never sprayed keep the
   // hashes they had before spray existed).

@@ -17,6 +17,8 @@ struct Terrain::Impl {
   explicit Impl(TerrainSettings settings);
 
   TerrainSettings s;  ///< validated
+  /// The material palette (Terrain::palette), validated; palette[0] equals s.material.
+  std::vector<Material> palette;
   TileStore tiles;
   double compacted = 0.0;  ///< m^3
   double edited = 0.0;     ///< m^3 added by set_height

@@ -25,6 +25,16 @@
 //             y, z, vx, vy, vz, volume, age; u64 body count, per body (by key) u64 key,
 //             f64 c[3], q[4], u64 cell count, per cell (by key) u64 key, f64 rx, ry, rz,
 //             volume, owed, pending, i64 i, j, touched
+//   (version 6 on) material map: u32 palette size (in [1, 256]; entry 0 is the material
+//             above), per further entry a material record (u32 name length, name bytes;
+//             f64 theta_stop, sigma, theta_in, theta_out, alpha, bekker_n, bekker_kc,
+//             bekker_kphi, friction, soil_depth; u8 rigid; f64 cohesion, friction_angle,
+//             shear_modulus, remould_ratio, remould_shear_ratio, remould_length; f64 spray
+//             adhesion, half_life, speed_scale, exponent, particle_size, min_speed, jitter,
+//             drag; f64 unload_modulus); u64 painted tile count, per painted tile (in key
+//             order, each one of the tiles below) i64 tx, ty; u8[n*n] palette index.
+//             A terrain with one material and no painted tile is written as version 5,
+//             byte for byte what it was before maps existed; older files load as one material
 //   u64 tile count
 //   per tile (in key order): i64 tx, ty; f64[n*n] height, sinkage, base
 //   u64 FNV-1a of every byte before it
@@ -53,7 +63,9 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'T', 'R', 'N'};
-constexpr std::uint32_t kVersion = 5;
+constexpr std::uint32_t kVersion = 6;
+/// Written for terrains without a material map (one material, nothing painted).
+constexpr std::uint32_t kOneMaterialVersion = 5;
 constexpr std::uint32_t kOldestVersion = 1;
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
 constexpr std::uint32_t kRealBytes = sizeof(double);
@@ -89,6 +101,114 @@ void write_settings(Writer& w, const TerrainSettings& s) {
     w.put(v);
   write_spray_settings(w, s);
   w.put(m.unload_modulus);
+}
+
+void write_material(Writer& w, const Material& m) {
+  w.put(static_cast<std::uint32_t>(m.name.size()));
+  for (char c : m.name) w.put(c);
+  for (double v : {m.theta_stop, m.sigma, m.theta_in, m.theta_out, m.alpha, m.bekker_n, m.bekker_kc, m.bekker_kphi,
+                   m.friction, m.soil_depth})
+    w.put(v);
+  w.put(static_cast<std::uint8_t>(m.rigid ? 1 : 0));
+  for (double v :
+       {m.cohesion, m.friction_angle, m.shear_modulus, m.remould_ratio, m.remould_shear_ratio, m.remould_length})
+    w.put(v);
+  const SprayMaterial& p = m.spray;
+  for (double v : {p.adhesion, p.half_life, p.speed_scale, p.exponent, p.particle_size, p.min_speed, p.jitter, p.drag})
+    w.put(v);
+  w.put(m.unload_modulus);
+}
+
+Material read_material(Reader& hr) {
+  Material m;
+  const auto name_size = hr.get<std::uint32_t>("palette");
+  if (name_size > 4096) hr.fail("palette material name of " + std::to_string(name_size) + " bytes (corrupt)");
+  m.name = hr.get_string(name_size, "palette");
+  for (double* v : {&m.theta_stop, &m.sigma, &m.theta_in, &m.theta_out, &m.alpha, &m.bekker_n, &m.bekker_kc,
+                    &m.bekker_kphi, &m.friction, &m.soil_depth})
+    *v = hr.get<double>("palette");
+  m.rigid = hr.get<std::uint8_t>("palette") != 0;
+  for (double* v :
+       {&m.cohesion, &m.friction_angle, &m.shear_modulus, &m.remould_ratio, &m.remould_shear_ratio, &m.remould_length})
+    *v = hr.get<double>("palette");
+  SprayMaterial& p = m.spray;
+  for (double* v :
+       {&p.adhesion, &p.half_life, &p.speed_scale, &p.exponent, &p.particle_size, &p.min_speed, &p.jitter, &p.drag})
+    *v = hr.get<double>("palette");
+  m.unload_modulus = hr.get<double>("palette");
+  return m;
+}
+
+bool has_map(std::span<const Material> palette, const TileStore& tiles, const std::vector<TileKey>& keys) {
+  if (palette.size() > 1) return true;
+  for (const TileKey& key : keys)
+    if (!tiles.find(key)->material.empty()) return true;
+  return false;
+}
+
+void write_map(Writer& w, std::span<const Material> palette, const TileStore& tiles, const std::vector<TileKey>& keys) {
+  w.put(static_cast<std::uint32_t>(palette.size()));
+  for (std::size_t k = 1; k < palette.size(); ++k) write_material(w, palette[k]);
+  std::uint64_t painted = 0;
+  for (const TileKey& key : keys) painted += tiles.find(key)->material.empty() ? 0 : 1;
+  w.put(painted);
+  for (const TileKey& key : keys) {
+    const Tile& t = *tiles.find(key);
+    if (t.material.empty()) continue;
+    w.put(key.tx), w.put(key.ty);
+    for (const std::uint8_t m : t.material) w.put(m);
+  }
+}
+
+/// A map read from a file, applied once its tiles are.
+struct SavedMap {
+  std::vector<Material> palette;
+  std::vector<std::pair<TileKey, std::vector<std::uint8_t>>> tiles;
+};
+
+SavedMap read_map(Reader& hr, int n) {
+  SavedMap map;
+  const auto size = hr.get<std::uint32_t>("palette");
+  if (size < 1 || size > static_cast<std::uint32_t>(Terrain::kMaxMaterials))
+    hr.fail("palette of " + std::to_string(size) + " materials (allowed: 1 to " +
+            std::to_string(Terrain::kMaxMaterials) + "; corrupt)");
+  for (std::uint32_t k = 1; k < size; ++k) map.palette.push_back(read_material(hr));
+  const auto painted = hr.get<std::uint64_t>("material map");
+  const std::size_t columns = static_cast<std::size_t>(n) * n;
+  if (painted > hr.remaining() / (16 + columns))
+    hr.fail("painted tile count " + std::to_string(painted) + " does not fit the file (corrupt)");
+  for (std::uint64_t k = 0; k < painted; ++k) {
+    TileKey key;
+    key.tx = hr.get<std::int64_t>("material map");
+    key.ty = hr.get<std::int64_t>("material map");
+    std::vector<std::uint8_t> index(columns);
+    for (std::uint8_t& m : index) m = hr.get<std::uint8_t>("material map");
+    map.tiles.emplace_back(key, std::move(index));
+  }
+  return map;
+}
+
+/// Sets the palette (validated as Terrain::set_palette does), then paints the saved tiles.
+void apply_map(const Reader& hr, SavedMap& map, Terrain& t, TileStore& store) {
+  std::vector<Material> palette{t.settings().material};
+  palette.insert(palette.end(), map.palette.begin(), map.palette.end());
+  try {
+    t.set_palette(std::move(palette));
+  } catch (const InvalidSetting& e) {
+    hr.fail(std::string("invalid palette: ") + e.what());
+  }
+  for (auto& [key, index] : map.tiles) {
+    const std::string where = "material map of tile (" + std::to_string(key.tx) + ", " + std::to_string(key.ty) + ")";
+    Tile* tile = store.find(key);
+    if (tile == nullptr) hr.fail(where + ": no such tile in the file (corrupt)");
+    if (!tile->material.empty()) hr.fail(where + " appears twice (corrupt)");
+    for (std::size_t c = 0; c < index.size(); ++c)
+      if (index[c] >= t.palette().size())
+        hr.fail(where + ": column " + std::to_string(c) + " holds index " + std::to_string(index[c]) +
+                ", beyond the palette (0 to " + std::to_string(t.palette().size() - 1) + ")");
+    tile->material = std::move(index);
+    tile->normalize_material();
+  }
 }
 
 std::string hex(std::uint32_t v) {
@@ -253,7 +373,9 @@ std::vector<unsigned char> Terrain::save_bytes() const {
   const Impl& im = *impl_;
   Writer w;
   for (char c : kMagic) w.put(c);
-  w.put(kVersion);
+  const std::vector<TileKey> keys = im.tiles.sorted_keys();
+  const bool map = has_map(im.palette, im.tiles, keys);
+  w.put(map ? kVersion : kOneMaterialVersion);
   w.put(kByteOrderMark);
   w.put(kRealBytes);
   write_settings(w, im.s);
@@ -262,7 +384,7 @@ std::vector<unsigned char> Terrain::save_bytes() const {
   for (const GridRect& r : im.unsettled)
     w.put(r.i0), w.put(r.j0), w.put(static_cast<std::int32_t>(r.nx)), w.put(static_cast<std::int32_t>(r.ny));
   write_spray_state(w, im.spray.state);
-  const std::vector<TileKey> keys = im.tiles.sorted_keys();
+  if (map) write_map(w, im.palette, im.tiles, keys);
   w.put(static_cast<std::uint64_t>(keys.size()));
   for (const TileKey& key : keys) {
     const Tile& t = *im.tiles.find(key);
@@ -292,7 +414,10 @@ Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::str
   if (!std::isfinite(im.compacted) || !std::isfinite(im.edited)) hr.fail("volume bookkeeping is not finite");
   if (version >= 2) im.unsettled = read_unsettled(hr);
   if (version >= 4) read_spray_state(hr, im.spray.state);
+  SavedMap map;
+  if (version >= 6) map = read_map(hr, im.s.tile_columns);
   read_tiles(hr, im.s.tile_columns, im.tiles);
+  if (version >= 6) apply_map(hr, map, t, im.tiles);
   check_unsettled_on_tiles(hr, im.unsettled, im.tiles);
   return t;
 }

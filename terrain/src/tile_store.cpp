@@ -7,12 +7,18 @@ namespace shore::terrain {
 Tile::Tile(int n) : height(static_cast<std::size_t>(n) * n), sinkage(height.size(), 0.0), base(height.size()) {}
 
 bool Tile::holds_only_base() const {
-  bool same = true;  // no early exit: a branch-free pass over the arrays
+  if (!material.empty()) return false;  // painted: differs from the default map
+  bool same = true;                     // no early exit: a branch-free pass over the arrays
   for (std::size_t k = 0; k < height.size(); ++k) same &= height[k] == base[k] && sinkage[k] == 0.0;
   return same;
 }
 
-std::size_t Tile::bytes() const { return sizeof(Tile) + capacity_bytes(height, sinkage, base); }
+void Tile::normalize_material() {
+  if (std::all_of(material.begin(), material.end(), [](std::uint8_t m) { return m == 0; }))
+    std::vector<std::uint8_t>().swap(material);  // frees it
+}
+
+std::size_t Tile::bytes() const { return sizeof(Tile) + capacity_bytes(height, sinkage, base, material); }
 
 TileStore::TileStore(const TerrainSettings& s)
     : n_(s.tile_columns),
@@ -28,6 +34,11 @@ double TileStore::base_at(std::int64_t i, std::int64_t j) const {
 }
 
 const Tile* TileStore::find(TileKey key) const {
+  const auto it = tiles_.find(key);
+  return it == tiles_.end() ? nullptr : it->second.get();
+}
+
+Tile* TileStore::find(TileKey key) {
   const auto it = tiles_.find(key);
   return it == tiles_.end() ? nullptr : it->second.get();
 }
@@ -70,6 +81,13 @@ void TileStore::read(const GridRect& r, std::span<double> out, bool base) const 
       for (int c = 0; c < run.count; ++c) dst[c] = base_at(i + c, j);
     }
   });
+}
+
+int TileStore::largest_material() const {
+  int largest = 0;
+  for (const auto& [key, tile] : tiles_)
+    for (const std::uint8_t m : tile->material) largest = std::max(largest, static_cast<int>(m));
+  return largest;
 }
 
 void TileStore::mark_changed(TileKey key, Tile& t, const GridRect& local) {

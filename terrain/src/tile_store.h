@@ -40,6 +40,9 @@ struct Tile {
   std::vector<double> height;   ///< collision surface, m
   std::vector<double> sinkage;  ///< plastic sinkage, m
   std::vector<double> base;     ///< untouched ground, sampled once at creation, m
+  /// Palette index per column; empty while every column is 0 (the one-material terrain's
+  /// tiles never hold it). Kept empty whenever it would be all 0 (normalize_material).
+  std::vector<std::uint8_t> material;
   /// Columns whose height changed since the last take_changed (local; empty: none).
   GridRect changed;
   /// The change generation of its last height change (0: never changed), and that
@@ -50,8 +53,11 @@ struct Tile {
   /// last_used when the tile was last found to differ from the base (not released): it is
   /// not compared again until a step uses it. -1: never compared.
   std::int64_t kept_at = -1;
-  /// True if every height equals its base and no column has sinkage: the tile equals no tile.
+  /// True if every height equals its base, no column has sinkage and none is painted: the
+  /// tile equals no tile.
   [[nodiscard]] bool holds_only_base() const;
+  /// Drops the material array if every entry is 0 (the map's default).
+  void normalize_material();
   [[nodiscard]] std::size_t bytes() const;  ///< this tile and its arrays
 };
 
@@ -76,6 +82,7 @@ class TileStore {
     return static_cast<std::size_t>((j - floor_div(j, n_) * n_) * n_ + (i - floor_div(i, n_) * n_));
   }
   [[nodiscard]] const Tile* find(TileKey key) const;
+  [[nodiscard]] Tile* find(TileKey key);
   /// Creates the tile (from the base ground) on first use; marks it used now.
   Tile& tile(TileKey key);
   [[nodiscard]] std::size_t size() const noexcept { return tiles_.size(); }
@@ -94,6 +101,24 @@ class TileStore {
     const auto lookup = [this](TileKey key) { return &tile(key); };
     walk(r, lookup, [&](Tile* t, const TileRun& run) { fn(*t, run); });
   }
+  /// The same over the tiles that exist: fn(Tile&, run), columns without a tile skipped.
+  template <class Fn>
+  void for_each_existing_run(const GridRect& r, Fn&& fn) {
+    const auto lookup = [this](TileKey key) {
+      const auto it = tiles_.find(key);
+      return it == tiles_.end() ? nullptr : it->second.get();
+    };
+    walk(r, lookup, [&](Tile* t, const TileRun& run) {
+      if (t) fn(*t, run);
+    });
+  }
+  /// Palette index of a column (0 without a tile or a painted map).
+  [[nodiscard]] std::uint8_t material_at(std::int64_t i, std::int64_t j) const {
+    const Tile* t = find(key_of(i, j));
+    return t && !t->material.empty() ? t->material[local(i, j)] : std::uint8_t{0};
+  }
+  /// The largest palette index painted on any tile (0: none).
+  [[nodiscard]] int largest_material() const;
   /// Heights (base: untouched ground) of a rectangle, row-major into out (nx * ny).
   void read(const GridRect& r, std::span<double> out, bool base) const;
 

@@ -84,7 +84,7 @@ TEST(DisplaceStage, OneColumnSpreadsItsShareEvenlyOnItsRing) {
   std::vector<double> displaced(r.size(), 0.0);
   displaced[r.at(2, 2)] = 1.0;
   DisplaceStage displace;
-  const double compacted = displace.run(r, contour.levels(), displaced, 0.5);
+  const double compacted = displace.run(r, contour.levels(), displaced, std::vector<double>{0.5});
   EXPECT_EQ(compacted, 0.5);
   for (int y = 0; y < r.h; ++y)
     for (int x = 0; x < r.w; ++x) {
@@ -105,7 +105,7 @@ TEST(DisplaceStage, ConservesVolumeAndLandsOnTheFirstRingOnly) {
     }
   const double alpha = 0.3;
   DisplaceStage displace;
-  const double compacted = displace.run(r, contour.levels(), displaced, alpha);
+  const double compacted = displace.run(r, contour.levels(), displaced, std::vector<double>{alpha});
   double landed = 0.0;
   for (int y = 0; y < r.h; ++y)
     for (int x = 0; x < r.w; ++x) {
@@ -135,7 +135,7 @@ TEST(ErodeStage, OneTooSteepPairMovesSigmaTimesItsExcess) {
   TerrainSettings s;  // sand, 1 cm
   s.max_erosion_passes = 1;
   ErodeStage erode;
-  EXPECT_EQ(erode.run(r, no_body.flags(), no_body.body(), s, false), 1);
+  EXPECT_EQ(erode.run(r, no_body.flags(), no_body.body(), s, {&s.material, 1}, false), 1);
   const double limit = s.cell * std::tan(s.material.theta_out);
   const double moved = s.material.sigma * (top - limit);
   EXPECT_DOUBLE_EQ(r.ht[r.at(1, 1)], top - moved);
@@ -162,7 +162,7 @@ TEST(ErodeStage, ARaisedColumnSharesEquallyAmongItsEightNeighbours) {
   TerrainSettings s;
   s.max_erosion_passes = 1;
   ErodeStage erode;
-  erode.run(r, no_body.flags(), no_body.body(), s, true);
+  erode.run(r, no_body.flags(), no_body.body(), s, {&s.material, 1}, true);
   const double t = std::tan(s.material.theta_out);
   const double excess = 4 * (top - s.cell * t) + 4 * (top - std::sqrt(2.0) * s.cell * t);
   const double share = s.material.sigma * (excess / 8) / 8;
@@ -181,7 +181,7 @@ TEST(Bearing, FlatPlateCapacityIsBekkersPressureTimesItsArea) {
   std::vector<BearingColumn> plate;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) plate.push_back({i, j, 0.0, sunk, -1.0, -pressed});
-  const Bearing b = capacity(plate, s, 0.0, true);
+  const Bearing b = capacity(plate, {}, s, {&s.material, 1}, 0.0, true);
   const Material& m = s.material;
   const double width = ny * s.cell;
   const double p = (m.bekker_kc / width + m.bekker_kphi) * std::pow(sunk + pressed, m.bekker_n);
@@ -202,9 +202,9 @@ TEST(Bearing, OffsetForALoadInvertsBekkersLaw) {
   const Material& m = s.material;
   const double area = n * n * s.cell * s.cell, load = 50e3 * area;
   const double expected = std::pow(load / area / (m.bekker_kc / (n * s.cell) + m.bekker_kphi), 1.0 / m.bekker_n);
-  const double offset = offset_for_load(plate, s, load);
-  EXPECT_NEAR(offset, expected, 2e-7);                          // the bracket is narrowed to 1e-7
-  EXPECT_GE(capacity(plate, s, offset, false).capacity, load);  // the upper end of the bracket
+  const double offset = offset_for_load(plate, {}, s, {&s.material, 1}, load);
+  EXPECT_NEAR(offset, expected, 2e-7);                                                // the bracket is narrowed to 1e-7
+  EXPECT_GE(capacity(plate, {}, s, {&s.material, 1}, offset, false).capacity, load);  // the upper end of the bracket
 }
 
 TEST(TileStore, RunsCoverARectangleOnceWithoutCrossingATileEdge) {

@@ -4,6 +4,7 @@
 // an imprint, the energy balance of a dropped sphere (sphere_drop_reference_depth). Cell size is swept at the standard
 // substep (1/240 s) and the substep at the standard cell (1 cm).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -328,8 +329,53 @@ void step_alone(const SweepContext& ctx, SweepResult& out) {
       "D 0.8 m, b 0.2 m wheel rolling 3 cm deep at 1 m/s and a boot footprint, 1 cm dry sand, 1/240 s, one thread.");
 }
 
+// ---- material map cost ----------------------------------------------------------------
+// ms per Terrain::step of the step-alone wheel on `t` (its bearing solved as there).
+double wheel_ms(terrain::Terrain& t, int steps) {
+  using Clock = std::chrono::steady_clock;
+  double seconds = 0.0;
+  constexpr int kWarmup = 20;
+  for (int k = 0; k < kWarmup + steps; ++k) {
+    const EnvelopeRaster env = scenes::wheel_envelope(t, k / 240.0, 0.4 - 0.03, 0.4, 0.2, 0.15);
+    const terrain::Imprint im{&env};
+    (void)t.bearing_offset(env, 4000.0);
+    const auto t0 = Clock::now();
+    t.step({&im, 1});
+    if (k >= kWarmup) seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+  return 1e3 * seconds / steps;
+}
+
+// The step-alone wheel on one material against the same wheel on a four-material map whose
+// entries are all sand (the same physics, so only the map's cost differs), painted in
+// half-metre stripes the wheel crosses. Median of alternating pairs (the machine drifts).
+void material_map_cost(const SweepContext& ctx, SweepResult& out) {
+  ctx.progress("terrain step alone, four-material map");
+  const int steps = ctx.quick ? 200 : 600, pairs = ctx.quick ? 3 : 5;
+  std::vector<double> ratios;
+  for (int p = 0; p < pairs; ++p) {
+    terrain::TerrainSettings s;
+    s.cell = 0.01;
+    s.threads = 1;
+    terrain::Terrain one(s), map(s);
+    std::vector<terrain::Material> palette(4, terrain::Material::sand());
+    for (int k = 1; k < 4; ++k) palette[static_cast<std::size_t>(k)].name = "sand " + std::to_string(k);
+    map.set_palette(palette);
+    for (int k = 0; k < 8; ++k) {
+      map.paint_rect({k * 50, -20, 50, 20}, k % 4);
+      map.paint_rect({k * 50, 0, 50, 20}, (k + 1) % 4);
+    }
+    const double plain_ms = wheel_ms(one, steps);
+    ratios.push_back(wheel_ms(map, steps) / plain_ms);
+  }
+  std::sort(ratios.begin(), ratios.end());
+  out.figure("terrain.material_map_cost_ratio", ratios[ratios.size() / 2],
+             "Terrain::step on a four-material map / on one material (step-alone wheel, target <= 1.10)");
+}
+
 void run(const SweepContext& ctx, SweepResult& out) {
   step_alone(ctx, out);
+  material_map_cost(ctx, out);
   imprint_sweep(ctx, out);
   plate_sweep(ctx, out);
   wheel_sweep(ctx, out);

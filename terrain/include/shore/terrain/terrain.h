@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <span>
@@ -30,6 +31,7 @@
 #include "shore/terrain/contact.h"
 #include "shore/terrain/height_source.h"
 #include "shore/terrain/material.h"
+#include "shore/terrain/material_image.h"
 #include "shore/terrain/spray.h"
 
 namespace shore::terrain {
@@ -163,11 +165,55 @@ class Terrain {
   Terrain& operator=(Terrain&&) noexcept;
 
   [[nodiscard]] const TerrainSettings& settings() const noexcept;
-  /// Changes the material from the next step on (a viewer's live tweak of alpha, Bekker's
-  /// or the erosion parameters). Throws InvalidSetting if it is invalid, or if its
+  /// Changes the material (palette entry 0, the columns never painted) from the next step
+  /// on (a viewer's live tweak of alpha, Bekker's or the erosion parameters). Throws
+  /// InvalidSetting if it is invalid, or if its
   /// soil_depth or rigid flag differ from the present material's (they define bedrock and
   /// the tiles' kind).
   void set_material(const Material& material);
+
+  // ---- material map ----
+  // Every column has a material: an index into the palette, one byte per column in the
+  // tiles. A new terrain has a one-entry palette (settings().material) and every column at
+  // index 0; a terrain that never paints computes and costs exactly what a one-material
+  // terrain did. Each column's soil follows its own material: bearing and contact (Bekker,
+  // remoulding, unloading, walls), displacement and compaction (alpha), erosion (a column
+  // gives by its own slope limits and sigma, so sand slumping onto gravel keeps sand's
+  // angle). The map belongs to the columns, like a painted texture: soil that displacement
+  // or erosion moves onto a column becomes that column's material, so volume is conserved
+  // in total, not per material. Not yet per column: spray (entry 0's) and the shear law a
+  // coupling applies (it reads settings().material).
+
+  /// At most this many materials.
+  static constexpr int kMaxMaterials = 256;
+  /// The palette; entry 0 is settings().material.
+  [[nodiscard]] std::span<const Material> palette() const noexcept;
+  /// Replaces the palette (entry 0 becomes settings().material), from the next step on.
+  /// Throws InvalidSetting (terrain untouched) if it is empty or longer than kMaxMaterials,
+  /// an entry is invalid, an entry's soil_depth or rigid flag differs from the present
+  /// material's (they define bedrock and the tiles' kind), or it is shorter than an index
+  /// painted on the map.
+  void set_palette(std::vector<Material> palette);
+  /// The column's palette index (0 where never painted).
+  [[nodiscard]] int material_index(std::int64_t i, std::int64_t j) const;
+  /// The column's material.
+  [[nodiscard]] const Material& material_at(std::int64_t i, std::int64_t j) const;
+  /// Paints every column of the rectangle with palette entry `index`. Throws InvalidSetting
+  /// naming the value and the allowed range [0, palette size) (terrain untouched) if the
+  /// index is not in the palette, or the rectangle is negative.
+  void paint_rect(const GridRect& rect, int index);
+  /// Paints the columns whose centres lie within `radius` (m, >= 0, finite) of world
+  /// (x, y) (finite). Throws like paint_rect, and for a bad centre or radius.
+  void paint_disc(double x, double y, double radius, int index);
+  /// Paints the columns of the rectangle whose centre (x, y) satisfies inside(x, y).
+  /// Throws like paint_rect.
+  void paint_where(const GridRect& rect, const std::function<bool(double x, double y)>& inside, int index);
+  /// Paints an image of indices (shore/terrain/material_image.h) onto `rect`, which must be
+  /// the image's size (pixel (c, r) is column (rect.i0 + c, rect.j0 + rows - 1 - r)).
+  /// Throws InvalidSetting (terrain untouched) on a size mismatch, naming both sizes and
+  /// the image, or a pixel whose index is beyond the palette, naming the image, the pixel,
+  /// its value and the allowed range.
+  void paint_image(const MaterialImage& image, const GridRect& rect);
 
   // ---- grid geometry ----
   [[nodiscard]] std::int64_t column_i(double x) const;  ///< nearest column to world x
@@ -257,7 +303,9 @@ class Terrain {
   /// FNV-1a over the bookkeeping, the tiles in key order (leaving out tiles that hold
   /// nothing but the untouched base: they equal no tile, so the same soil gives the same
   /// hash whichever idle tiles were released, TerrainSettings::idle_tile_steps) and the
-  /// spray (particles and clinging soil, in their fixed orders).
+  /// spray (particles and clinging soil, in their fixed orders). The material map counts
+  /// only on tiles where it is painted (not all index 0), so a terrain that never paints
+  /// keeps the hashes of a one-material terrain; the palette's values are settings, not state.
   [[nodiscard]] std::uint64_t state_hash() const;
   [[nodiscard]] std::size_t tile_count() const;  ///< tiles held now (created on first write, released when idle)
   [[nodiscard]] std::size_t memory_bytes() const;

@@ -1,0 +1,170 @@
+// shore::terrain::Terrain's material map: the palette and the painting of palette indices
+// onto columns (one byte per column, kept in the tiles; terrain.h says what reads them).
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "region.h"
+#include "shore/core/error.h"
+#include "terrain_impl.h"
+
+namespace shore::terrain {
+
+namespace {
+
+void check_index(int index, std::size_t palette_size, const std::string& where) {
+  if (index < 0 || static_cast<std::size_t>(index) >= palette_size)
+    throw InvalidSetting(where + ".index", std::to_string(index),
+                         "must be a palette entry, in [0, " + std::to_string(palette_size - 1) + "]");
+}
+
+// Painting a rectangle creates its tiles (a painted column differs from the untouched
+// ground): beyond one region's worth of columns it is a mistake, refused before any change.
+void check_rect(const GridRect& rect, const std::string& where) {
+  const Check c{where + ".rect"};
+  c.at_least("nx", rect.nx, 0);
+  c.at_least("ny", rect.ny, 0);
+  if (static_cast<std::int64_t>(rect.nx) * rect.ny > kMaxRegionColumns)
+    throw InvalidSetting(c.name("nx * ny"), detail::to_text(static_cast<std::int64_t>(rect.nx) * rect.ny),
+                         "must be at most " + detail::to_text(kMaxRegionColumns));
+}
+
+/// Writes `index` to the columns of `rect` whose entry in `mask` (row-major over rect, or
+/// empty: all) is set. Index 0 needs no tile where there is none (the default map).
+void paint(TileStore& store, const GridRect& rect, std::span<const unsigned char> mask, int index) {
+  const auto value = static_cast<std::uint8_t>(index);
+  const auto write = [&](Tile& t, const TileRun& run) {
+    if (t.material.empty()) {
+      if (value == 0) return;
+      t.material.assign(t.height.size(), 0);
+    }
+    const std::size_t row = static_cast<std::size_t>(run.y) * static_cast<std::size_t>(rect.nx) + run.x;
+    for (int k = 0; k < run.count; ++k)
+      if (mask.empty() || mask[row + k]) t.material[run.local + k] = value;
+    if (value == 0) t.normalize_material();
+  };
+  if (value == 0)
+    store.for_each_existing_run(rect, write);
+  else
+    store.for_each_run_creating(rect, write);
+}
+
+}  // namespace
+
+std::span<const Material> Terrain::palette() const noexcept { return impl_->palette; }
+
+void Terrain::set_palette(std::vector<Material> palette) {
+  const std::string where = "terrain.Terrain.set_palette";
+  if (palette.empty() || palette.size() > static_cast<std::size_t>(kMaxMaterials))
+    throw InvalidSetting(where + ".size()", std::to_string(palette.size()),
+                         "must be in [1, " + std::to_string(kMaxMaterials) + "]");
+  const Material& now = impl_->s.material;
+  for (std::size_t k = 0; k < palette.size(); ++k) {
+    const Material& m = palette[k];
+    const std::string entry = where + "[" + std::to_string(k) + "]";
+    try {
+      m.validate();
+    } catch (const InvalidSetting& e) {
+      throw InvalidSetting(entry, m.name, e.what());
+    }
+    if (m.soil_depth != now.soil_depth)
+      throw InvalidSetting(entry + ".soil_depth", detail::to_text(m.soil_depth),
+                           "must equal the present soil_depth (" + detail::to_text(now.soil_depth) + " m)");
+    if (m.rigid != now.rigid)
+      throw InvalidSetting(entry + ".rigid", m.rigid ? "true" : "false",
+                           std::string("must equal the present rigid flag (") + (now.rigid ? "true" : "false") + ")");
+  }
+  if (const int largest = impl_->tiles.largest_material(); static_cast<std::size_t>(largest) >= palette.size())
+    throw InvalidSetting(where + ".size()", std::to_string(palette.size()),
+                         "must be more than the largest index painted on the map (" + std::to_string(largest) + ")");
+  impl_->s.material = palette[0];
+  impl_->palette = std::move(palette);
+}
+
+int Terrain::material_index(std::int64_t i, std::int64_t j) const { return impl_->tiles.material_at(i, j); }
+
+const Material& Terrain::material_at(std::int64_t i, std::int64_t j) const {
+  return impl_->palette[impl_->tiles.material_at(i, j)];
+}
+
+void Terrain::paint_rect(const GridRect& rect, int index) {
+  const std::string where = "terrain.Terrain.paint_rect";
+  check_index(index, impl_->palette.size(), where);
+  check_rect(rect, where);
+  paint(impl_->tiles, rect, {}, index);
+}
+
+void Terrain::paint_disc(double x, double y, double radius, int index) {
+  const std::string where = "terrain.Terrain.paint_disc";
+  check_index(index, impl_->palette.size(), where);
+  const Check c{where};
+  c.in_closed("x", x, -1e12, 1e12);
+  c.in_closed("y", y, -1e12, 1e12);
+  c.in_closed("radius", radius, 0.0, 1e12);
+  const TerrainSettings& s = impl_->s;
+  // Every column whose centre can lie within the radius, then the exact test per column.
+  const auto first_i = static_cast<std::int64_t>(std::floor((x - radius - s.origin_x) / s.cell));
+  const auto last_i = static_cast<std::int64_t>(std::ceil((x + radius - s.origin_x) / s.cell));
+  const auto first_j = static_cast<std::int64_t>(std::floor((y - radius - s.origin_y) / s.cell));
+  const auto last_j = static_cast<std::int64_t>(std::ceil((y + radius - s.origin_y) / s.cell));
+  const std::int64_t nx = last_i - first_i + 1, ny = last_j - first_j + 1;  // each at most 2e16: no overflow
+  if (nx > kMaxRegionColumns || ny > kMaxRegionColumns || nx * ny > kMaxRegionColumns)
+    throw InvalidSetting(c.name("radius"), detail::to_text(radius),
+                         "must cover at most " + detail::to_text(kMaxRegionColumns) + " columns");
+  const GridRect rect = GridRect::spanning(first_i, first_j, last_i, last_j);
+  std::vector<unsigned char> mask(rect.size());
+  for (std::int64_t j = first_j; j <= last_j; ++j)
+    for (std::int64_t i = first_i; i <= last_i; ++i) {
+      const double dx = column_x(i) - x, dy = column_y(j) - y;
+      mask[rect.index(i, j)] = dx * dx + dy * dy <= radius * radius ? 1 : 0;
+    }
+  paint(impl_->tiles, rect, mask, index);
+}
+
+void Terrain::paint_where(const GridRect& rect, const std::function<bool(double x, double y)>& inside, int index) {
+  const std::string where = "terrain.Terrain.paint_where";
+  check_index(index, impl_->palette.size(), where);
+  check_rect(rect, where);
+  if (!inside) throw InvalidSetting(where + ".inside", "empty", "must be a callable predicate");
+  // The whole mask first: a predicate that throws leaves the map untouched.
+  std::vector<unsigned char> mask(rect.size());
+  for (std::int64_t j = rect.j0; j < rect.j1(); ++j)
+    for (std::int64_t i = rect.i0; i < rect.i1(); ++i)
+      mask[rect.index(i, j)] = inside(column_x(i), column_y(j)) ? 1 : 0;
+  paint(impl_->tiles, rect, mask, index);
+}
+
+void Terrain::paint_image(const MaterialImage& image, const GridRect& rect) {
+  const std::string where = "terrain.Terrain.paint_image(" + image.name() + ")";
+  if (rect.nx != image.width() || rect.ny != image.rows())
+    throw InvalidSetting(
+        where + ".rect.nx x ny", std::to_string(rect.nx) + " x " + std::to_string(rect.ny),
+        "must equal the image's " + std::to_string(image.width()) + " x " + std::to_string(image.rows()) + " pixels");
+  check_rect(rect, where);
+  // Checked whole before painting: a bad pixel leaves the map untouched.
+  const std::size_t size = impl_->palette.size();
+  for (int r = 0; r < image.rows(); ++r)
+    for (int c = 0; c < image.width(); ++c)
+      if (image.at(c, r) >= size)
+        throw InvalidSetting(where + ".pixel(" + std::to_string(c) + ", " + std::to_string(r) + ")",
+                             std::to_string(image.at(c, r)),
+                             "must be a palette entry, in [0, " + std::to_string(size - 1) + "]");
+  // One pass per index present: paint() writes one index through a mask.
+  std::vector<unsigned char> mask(rect.size());
+  bool present[Terrain::kMaxMaterials] = {};
+  for (int r = 0; r < image.rows(); ++r)
+    for (int c = 0; c < image.width(); ++c) present[image.at(c, r)] = true;
+  for (int index = 0; index < Terrain::kMaxMaterials; ++index) {
+    if (!present[index]) continue;
+    for (int r = 0; r < image.rows(); ++r) {
+      const std::size_t row = static_cast<std::size_t>(image.rows() - 1 - r) * static_cast<std::size_t>(rect.nx);
+      for (int c = 0; c < image.width(); ++c) mask[row + c] = image.at(c, r) == index ? 1 : 0;
+    }
+    paint(impl_->tiles, rect, mask, index);
+  }
+}
+
+}  // namespace shore::terrain
