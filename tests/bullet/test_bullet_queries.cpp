@@ -94,8 +94,11 @@ TEST(BulletQueries, StockRaycastVehicleDrivesOnRigidShoreGroundAsOnABulletHeight
 
 /// A stock character controller, set up as Bullet's CharacterDemo sets one up (its capsule
 /// on a btPairCachingGhostObject, filtered to collide with static and default objects),
-/// walking along +x at 1.2 m/s for 5 s at 1/60 s. Returns its capsule centre every step.
+/// walking along the ground's +x at 1.2 m/s for 5 s at 1/60 s, its up the ground's (the
+/// world's ground frame: World::ground()). Returns its capsule centre every step, in the
+/// ground's coordinates.
 std::vector<btVector3> walk(World& world) {
+  const shore::bullet::GroundFrame& frame = world.ground();
   btGhostPairCallback ghost_pairs;
   world.world().getBroadphase()->getOverlappingPairCache()->setInternalGhostPairCallback(&ghost_pairs);
   constexpr double radius = 0.3, cylinder = 1.0, speed = 1.2, h = 1.0 / 60;
@@ -104,16 +107,19 @@ std::vector<btVector3> walk(World& world) {
   ghost.setCollisionShape(&capsule);
   ghost.setCollisionFlags(btCollisionObject::CF_CHARACTER_OBJECT);
   const double stand = radius + 0.5 * cylinder;  // centre above the ground when standing
-  ghost.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(-3.0f, 0.0f, btScalar(stand + 0.05))));
-  btKinematicCharacterController character(&ghost, &capsule, btScalar(0.2), btVector3(0, 0, 1));
+  // Placed after the controller is made: given an up other than its initial z, it turns the
+  // ghost by the turn from z to that up, and the pose below is already the world's.
+  btKinematicCharacterController character(&ghost, &capsule, btScalar(0.2), frame.up());
+  ghost.setWorldTransform(
+      world.to_world(btTransform(btQuaternion::getIdentity(), btVector3(-3.0f, 0.0f, btScalar(stand + 0.05)))));
   world.world().addCollisionObject(&ghost, btBroadphaseProxy::CharacterFilter,
                                    btBroadphaseProxy::StaticFilter | btBroadphaseProxy::DefaultFilter);
   world.world().addAction(&character);
   std::vector<btVector3> track;
   for (int k = 0; k < 300; ++k) {
-    character.setWalkDirection(btVector3(btScalar(speed * h), 0, 0));
+    character.setWalkDirection(frame.direction_to_world(btVector3(btScalar(speed * h), 0, 0)));
     world.step(h);
-    track.push_back(ghost.getWorldTransform().getOrigin());
+    track.push_back(frame.to_ground()(ghost.getWorldTransform().getOrigin()));
   }
   world.world().removeAction(&character);
   world.world().removeCollisionObject(&ghost);
@@ -143,6 +149,37 @@ TEST(BulletQueries, KinematicCharacterControllerWalksOnSoftShoreGroundAsOnBullet
   double worst = 0.0;
   for (std::size_t k = 0; k < a.size(); ++k) worst = std::max(worst, double((a[k] - b[k]).length()));
   EXPECT_LT(worst, 1e-3) << "m, largest distance between the character on Shore's sand and on Bullet's ground";
+}
+
+// In a Y-up world (the ground's frame GroundFrame::y_up(), the controller's up the world's y)
+// the character walks on Shore's sand as on Bullet's own ground in the same world (a static
+// plane), and, seen in the ground's coordinates, as in the Z-up world once it has landed
+// (Bullet's controller drops its first 5 cm differently when its up is not its initial z).
+TEST(BulletQueries, KinematicCharacterControllerWalksOnShoreGroundInAYUpWorld) {
+  shore::terrain::TerrainSettings s;
+  s.cell = 0.05;
+  s.threads = 1;
+  shore::terrain::Terrain z_sand(s), y_sand(s);
+  World z_up;
+  shore::bullet::TerrainCoupling z_coupling(z_up.world(), z_sand);
+  const std::vector<btVector3> a = walk(z_up);
+  const shore::bullet::GroundFrame frame = shore::bullet::GroundFrame::y_up();
+  World y_up(9.81, frame);
+  shore::bullet::TerrainCouplingSettings cs;
+  cs.frame = frame;
+  shore::bullet::TerrainCoupling y_coupling(y_up.world(), y_sand, cs);
+  const std::vector<btVector3> b = walk(y_up);
+  World y_plane(9.81, frame);
+  y_plane.add_body(std::make_unique<btStaticPlaneShape>(frame.up(), btScalar(0)), 0.0, btVector3(0, 0, 0));
+  const std::vector<btVector3> c = walk(y_plane);
+  EXPECT_NEAR(double(c.back().x()) + 3.0, 6.0, 0.1) << "m the reference character walked in the Y-up world";
+  double worst_plane = 0.0, worst_z_up = 0.0;
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    worst_plane = std::max(worst_plane, double((b[k] - c[k]).length()));
+    if (k >= 10) worst_z_up = std::max(worst_z_up, double((b[k] - a[k]).length()));
+  }
+  EXPECT_LT(worst_plane, 1e-3) << "m, largest distance between the character on Shore's sand and on Bullet's plane";
+  EXPECT_LT(worst_z_up, 1e-3) << "m, largest distance between the walks in the Y-up and the Z-up world";
 }
 
 }  // namespace
