@@ -66,7 +66,8 @@ void own_plan(const btMultiBodyLinkCollider& link, double& inv_mass, double inv_
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
       double s = 0.0;
-      for (int k = 0; k < 3; ++k) s += double(r[i][k]) * (local[k] > 0 ? 1.0 / double(local[k]) : 0.0) * double(r[j][k]);
+      for (int k = 0; k < 3; ++k)
+        s += double(r[i][k]) * (local[k] > 0 ? 1.0 / double(local[k]) : 0.0) * double(r[j][k]);
       inv_inertia[i][j] = s;
     }
 }
@@ -125,13 +126,13 @@ Motion link_motion(const btMultiBodyDynamicsWorld& world, const btMultiBodyLinkC
 }
 
 Motion link_motion(const btCollisionWorld& world, const btMultiBodyLinkCollider& link) {
-  if (const auto* mb_world = dynamic_cast<const btMultiBodyDynamicsWorld*>(&world))
-    return link_motion(*mb_world, link);
+  if (const auto* mb_world = dynamic_cast<const btMultiBodyDynamicsWorld*>(&world)) return link_motion(*mb_world, link);
   const btScalar nan = std::numeric_limits<btScalar>::quiet_NaN();
   return {btVector3(nan, nan, nan), btVector3(nan, nan, nan), link.getWorldTransform().getOrigin()};
 }
 
-CoupledMultiBodyLink::CoupledMultiBodyLink(btMultiBodyLinkCollider& link, const btMultiBodyDynamicsWorld& world) noexcept
+CoupledMultiBodyLink::CoupledMultiBodyLink(btMultiBodyLinkCollider& link,
+                                           const btMultiBodyDynamicsWorld& world) noexcept
     : CoupledBody(link), link_(&link), world_(&world), up_(0, 0, 1) {
   const btVector3 g = world.getGravity();
   if (g.length2() > 0) up_ = -g.normalized();

@@ -39,8 +39,8 @@ void TerrainCoupling::add_link(btMultiBodyLinkCollider* link, TerrainBodySetting
   record.shape.shape = link->getCollisionShape();
   record.shape.scaling = record.shape.shape->getLocalScaling();
   if (body_settings.deform)
-    record.shape.reach = coupling_detail::check_terrain_shape(*link->getCollisionShape(), parts_->rasterizer.grid().cell,
-                                                              parts_->rasterizer.options());
+    record.shape.reach = coupling_detail::check_terrain_shape(
+        *link->getCollisionShape(), parts_->rasterizer.grid().cell, parts_->rasterizer.options());
   // Bullet's multibody solver makes no continuous collision for links: enable_ccd does
   // nothing here.
   remove_body(link);

@@ -1,0 +1,325 @@
+// btMultiBody links on soil and in water through Bullet's Featherstone world, against
+// Bekker's plate sinkage, Archimedes' draft and the rigid-body wheel of the same case, and
+// the links' bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
+#include <btBulletDynamicsCommon.h>
+
+#include "shore/bullet/terrain_coupling.h"
+#include "shore/bullet/water_coupling.h"
+#include "shore/core/error.h"
+#include "shore/scenes/pool_cases.h"
+#include "shore/scenes/soil_cases.h"
+#include "shore/scenes/validation_matrix.h"
+#include "shore/scenes/world.h"
+#include "shore/terrain/bekker.h"
+#include "shore/terrain/terrain.h"
+#include "shore/water/surface.h"
+
+namespace {
+
+constexpr double kGravity = 9.81;
+constexpr double kSubstep = 1.0 / 240;
+
+double rel(double value, double reference) { return std::abs(value - reference) / std::abs(reference); }
+
+/// A Featherstone world (Z up) that owns its multibodies, their colliders and shapes.
+class MultiBodyWorld {
+ public:
+  MultiBodyWorld() : dispatcher_(&config_), world_(&dispatcher_, &broadphase_, &solver_, &config_) {
+    world_.setGravity(btVector3(0, 0, btScalar(-kGravity)));
+  }
+  ~MultiBodyWorld() {
+    for (auto& c : colliders_)
+      if (c->getBroadphaseHandle() != nullptr) world_.removeCollisionObject(c.get());
+    for (auto& mb : bodies_) world_.removeMultiBody(mb.get());
+  }
+  MultiBodyWorld(const MultiBodyWorld&) = delete;
+  MultiBodyWorld& operator=(const MultiBodyWorld&) = delete;
+
+  btMultiBodyDynamicsWorld& world() { return world_; }
+
+  /// A multibody, set up by `build` (links, pose), finalized, never sleeping, undamped.
+  template <class Build>
+  btMultiBody* add_multibody(int links, double base_mass, const btVector3& base_inertia, bool fixed_base, Build&& build,
+                             bool in_world = true) {
+    bodies_.push_back(std::make_unique<btMultiBody>(links, btScalar(base_mass), base_inertia, fixed_base, false));
+    btMultiBody* mb = bodies_.back().get();
+    build(*mb);
+    mb->finalizeMultiDof();
+    mb->setLinearDamping(0);
+    mb->setAngularDamping(0);
+    if (in_world) world_.addMultiBody(mb);
+    return mb;
+  }
+
+  /// The collider of `link` (-1: the base) with its shape, posed and (if asked) in the world.
+  btMultiBodyLinkCollider* add_collider(btMultiBody* mb, int link, std::unique_ptr<btCollisionShape> shape,
+                                        bool in_world = true) {
+    colliders_.push_back(std::make_unique<btMultiBodyLinkCollider>(mb, link));
+    btMultiBodyLinkCollider* c = colliders_.back().get();
+    c->setCollisionShape(shape.get());
+    shapes_.push_back(std::move(shape));
+    if (link < 0)
+      mb->setBaseCollider(c);
+    else
+      mb->getLink(link).m_collider = c;
+    btAlignedObjectArray<btQuaternion> q;
+    btAlignedObjectArray<btVector3> o;
+    q.resize(mb->getNumLinks() + 1);
+    o.resize(mb->getNumLinks() + 1);
+    mb->forwardKinematics(q, o);
+    mb->updateCollisionObjectWorldTransforms(q, o);
+    if (in_world) world_.addCollisionObject(c, btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
+    return c;
+  }
+
+  void step(double h) { world_.stepSimulation(btScalar(h), 1, btScalar(h)); }
+
+ private:
+  btDefaultCollisionConfiguration config_;
+  btCollisionDispatcher dispatcher_;
+  btDbvtBroadphase broadphase_;
+  btMultiBodyConstraintSolver solver_;
+  btMultiBodyDynamicsWorld world_;
+  std::vector<std::unique_ptr<btMultiBody>> bodies_;
+  std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders_;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes_;
+};
+
+btVector3 box_inertia(double mass, const btVector3& half) {
+  btVector3 inertia;
+  btBoxShape(half).calculateLocalInertia(btScalar(mass), inertia);
+  return inertia;
+}
+
+/// A free multibody of one base: a box of half extents `half` at `at`.
+btMultiBodyLinkCollider* add_box_base(MultiBodyWorld& w, double mass, const btVector3& half, const btVector3& at) {
+  btMultiBody* mb = w.add_multibody(0, mass, box_inertia(mass, half), false, [&](btMultiBody& b) { b.setBasePos(at); });
+  return w.add_collider(mb, -1, std::make_unique<btBoxShape>(half));
+}
+
+/// Soil, a Featherstone world and their coupling.
+struct SoilRig {
+  explicit SoilRig(const shore::scenes::SoilRun& run) : soil(run.terrain), ground(w.world(), soil, run.coupling) {}
+  MultiBodyWorld w;
+  shore::terrain::Terrain soil;
+  shore::bullet::TerrainCoupling ground;
+};
+
+shore::terrain::Material matrix_material(const std::string& name) {
+  for (const shore::scenes::MatrixSoil& s : shore::scenes::matrix_soils())
+    if (s.name == name) return s.material;
+  ADD_FAILURE() << "no soil " << name;
+  return shore::terrain::Material::sand();
+}
+
+}  // namespace
+
+// The plate of the validation matrix (0.2 m, 30 kPa on sandy loam at 22 %, weight eased in
+// over 3 s so it arrives at rest) as a multibody's base: Bekker's plate sinkage.
+TEST(MultiBodyLinks, BasePlateOnSandyLoamMatchesBekker) {
+  shore::scenes::SoilRun run;
+  run.terrain.material = matrix_material("sandy loam 22 %");
+  SoilRig rig(run);
+  const double width = 0.2, pressure = 30e3, half_h = 0.05, ramp = 3.0, settle = 0.5;
+  const double mass = pressure * width * width / kGravity;
+  const double cx = 0.5 * run.terrain.cell + 0.5 * width;  // edges halfway between column centres
+  const btVector3 half(btScalar(width / 2), btScalar(width / 2), btScalar(half_h));
+  btMultiBodyLinkCollider* plate = add_box_base(rig.w, mass, half, btVector3(btScalar(cx), btScalar(cx), half.z()));
+  rig.ground.add_link(plate);
+  btMultiBody* mb = plate->m_multiBody;
+  const auto steps = static_cast<std::int64_t>(std::lround((ramp + settle) / kSubstep));
+  for (std::int64_t k = 0; k < steps; ++k) {  // the part of the weight not yet applied is held up
+    const double u = std::min(1.0, double(k) * kSubstep / ramp);
+    const double share = std::pow(u * u * (3.0 - 2.0 * u), run.terrain.material.bekker_n);
+    mb->addBaseForce(btVector3(0, 0, btScalar(mass * kGravity * (1.0 - share))));
+    rig.w.step(kSubstep);
+  }
+  const double sinkage = -(double(mb->getBasePos().z()) - half_h);
+  const double bekker = shore::terrain::bekker::plate_sinkage(run.terrain.material, width, pressure);
+  EXPECT_LT(rel(sinkage, bekker), 0.05) << "sinkage " << sinkage << " m, Bekker " << bekker << " m";
+  const shore::bullet::TerrainForce f = rig.ground.terrain_force(plate);
+  EXPECT_LT(rel(f.force.z(), mass * kGravity), 0.01) << "the soil carries the weight: " << f.force.z() << " N";
+  EXPECT_EQ(rig.ground.stats().skipped_bodies, 0);
+  std::printf("[ multibody plate ] sinkage %.5f m, Bekker %.5f m (%+.2f %%)\n", sinkage, bekker,
+              100.0 * (sinkage - bekker) / bekker);
+}
+
+namespace {
+
+struct TowedResult {
+  double sinkage = 0.0;     ///< m, mean over the second half
+  double resistance = 0.0;  ///< N, mean towing force over the second half
+};
+
+/// The rigid wheel of run_wheel as a multibody: a fixed base, a carriage sliding along x
+/// (link 0), a hanger sliding along z (link 1) and the wheel turning about y (link 2), all
+/// centred on the axle. The hanger and the wheel weigh the load; the carriage weighs 1 %
+/// more and is towed with them.
+TowedResult run_multibody_wheel(const shore::scenes::WheelCase& c) {
+  SoilRig rig(c.run);
+  const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
+  const double carriage = 0.01 * mass, hanger = 0.01 * mass, wheel_mass = mass - hanger;
+  const btVector3 half(btScalar(R), btScalar(c.width / 2), btScalar(R));
+  btVector3 wheel_inertia;
+  btCylinderShape(half).calculateLocalInertia(btScalar(mass), wheel_inertia);  // the rigid wheel's
+  const btVector3 small(0.01f, 0.01f, 0.01f), zero(0, 0, 0);
+  const btQuaternion none = btQuaternion::getIdentity();
+  btMultiBody* mb = rig.w.add_multibody(3, 1.0, small, true, [&](btMultiBody& b) {
+    b.setBasePos(btVector3(0, btScalar(0.5 * c.run.terrain.cell), btScalar(R)));
+    b.setupPrismatic(0, btScalar(carriage), small, -1, none, btVector3(1, 0, 0), zero, zero, true);
+    b.setupPrismatic(1, btScalar(hanger), small, 0, none, btVector3(0, 0, 1), zero, zero, true);
+    b.setupRevolute(2, btScalar(wheel_mass), wheel_inertia, 1, none, btVector3(0, 1, 0), zero, zero, true);
+  });
+  btMultiBodyLinkCollider* wheel = rig.w.add_collider(mb, 2, std::make_unique<btCylinderShape>(half));
+  shore::bullet::TerrainBodySettings s;
+  s.spray = c.run.body_spray;
+  rig.ground.add_link(wheel, s);
+  // Press: the load ramps in with the wheel held still.
+  const auto press_steps = static_cast<std::int64_t>(std::lround((c.ramp_seconds + 0.5) / h));
+  for (std::int64_t k = 0; k < press_steps; ++k) {
+    const double t = double(k) * h;
+    mb->setJointVel(0, 0);
+    mb->setJointVel(2, 0);
+    if (t < c.ramp_seconds)
+      mb->addLinkForce(2, btVector3(0, 0, btScalar((hanger + wheel_mass) * kGravity * (1.0 - t / c.ramp_seconds))));
+    rig.w.step(h);
+  }
+  // Tow: the carriage's speed restored at the start of every substep (an impulse along x
+  // alone: the chain's mass matrix is diagonal, every centre on the axle).
+  mb->setJointVel(0, btScalar(c.speed));
+  mb->setJointVel(2, btScalar(c.speed / R));
+  const double towed_mass = carriage + hanger + wheel_mass;
+  const auto tow_steps = static_cast<std::int64_t>(std::lround(c.distance / c.speed / h));
+  double depth = 0.0, impulse = 0.0;
+  std::int64_t samples = 0;
+  for (std::int64_t k = 0; k < tow_steps; ++k) {
+    const double pull = towed_mass * (c.speed - double(mb->getJointVel(0)));
+    mb->setJointVel(0, btScalar(c.speed));
+    rig.w.step(h);
+    if (k < tow_steps / 2) continue;
+    depth += -(double(wheel->getWorldTransform().getOrigin().z()) - R);
+    impulse += pull;
+    ++samples;
+  }
+  EXPECT_EQ(rig.ground.stats().skipped_bodies, 0);
+  const double n = double(std::max<std::int64_t>(samples, 1));
+  return {depth / n, impulse / (n * h)};
+}
+
+}  // namespace
+
+// The towed wheel (D 0.8 m, b 0.3 m, 4 kN, sand preset) on a revolute joint: as deep and as
+// hard to tow as the rigid-body wheel of the same case.
+TEST(MultiBodyLinks, TowedWheelOnARevoluteJointMatchesTheRigidWheel) {
+  shore::scenes::WheelCase c;
+  c.towed = true;
+  c.distance = 1.5;
+  c.run.terrain.material = shore::terrain::Material::sand();
+  const shore::scenes::WheelResult rigid = shore::scenes::run_wheel(c);
+  const TowedResult link = run_multibody_wheel(c);
+  EXPECT_LT(rel(link.sinkage, rigid.sinkage), 0.03) << "sinkage " << link.sinkage << " m, rigid " << rigid.sinkage;
+  EXPECT_LT(rel(link.resistance, rigid.resistance), 0.03)
+      << "resistance " << link.resistance << " N, rigid " << rigid.resistance;
+  std::printf("[ multibody wheel ] sinkage %.5f m (rigid %.5f), resistance %.1f N (rigid %.1f)\n", link.sinkage,
+              rigid.sinkage, link.resistance, rigid.resistance);
+}
+
+// A box floating as a multibody's base in still water (it does not disturb it): Archimedes.
+TEST(MultiBodyLinks, FloatingBaseAtArchimedesDraft) {
+  shore::scenes::Floater f;  // 0.3 x 0.3 x 0.2 m box at half water's density
+  shore::water::PhysicalParameters phys;
+  phys.cell = 0.05;
+  phys.depth = 0.5;
+  phys.density = 1000.0;
+  phys.damping_time = 1.0;
+  const int nodes = 32;
+  shore::water::SurfaceSettings ws = shore::water::SurfaceSettings::physical(phys, nodes, nodes);
+  ws.origin_x = ws.origin_y = -0.5 * (nodes - 1) * phys.cell;
+  ws.rest_height = 0.0;
+  ws.threads = 1;
+  shore::water::Surface surface(ws);
+  MultiBodyWorld w;
+  shore::bullet::WaterCoupling water(w.world(), surface);
+  const btVector3 half = f.size * btScalar(0.5);
+  const double mass = f.density_ratio * 1000.0 * double(f.size.x() * f.size.y() * f.size.z());
+  btMultiBodyLinkCollider* box = add_box_base(w, mass, half, btVector3(0.013f, -0.021f, half.z()));
+  shore::bullet::WaterBodySettings s;
+  s.disturb = false;
+  water.add_link(box, s);
+  const int steps = static_cast<int>(std::lround(4.0 / kSubstep)), last_second = static_cast<int>(1.0 / kSubstep);
+  double draft = 0.0;
+  for (int k = 0; k < steps; ++k) {
+    w.step(kSubstep);
+    if (k >= steps - last_second) draft += -(double(box->getWorldTransform().getOrigin().z()) - half.z());
+  }
+  draft /= last_second;
+  const double archimedes = shore::scenes::archimedes_draft(f);
+  EXPECT_LT(rel(draft, archimedes), 0.005) << "draft " << draft << " m, Archimedes " << archimedes << " m";
+  EXPECT_GT(water.water_force(box).submerged_volume, 0.0);
+  EXPECT_EQ(water.stats().skipped_bodies, 0);
+  std::printf("[ multibody float ] draft %.5f m, Archimedes %.5f m (%+.3f %%)\n", draft, archimedes,
+              100.0 * (draft - archimedes) / archimedes);
+}
+
+// Bad input: a clear error when adding, a counted skip when stepping, never a crash.
+TEST(MultiBodyLinks, BadLinksAreRefusedOrSkippedAndCounted) {
+  shore::scenes::SoilRun run;
+  SoilRig rig(run);
+  const btVector3 half(0.1f, 0.1f, 0.05f);
+  EXPECT_THROW(rig.ground.add_link(nullptr), shore::InvalidSetting);
+  // A multibody not in the world (its collider neither).
+  btMultiBody* outside = rig.w.add_multibody(
+      0, 2.0, box_inertia(2.0, half), false, [](btMultiBody& b) { b.setBasePos(btVector3(1, 1, 0.05f)); }, false);
+  btMultiBodyLinkCollider* stray = rig.w.add_collider(outside, -1, std::make_unique<btBoxShape>(half), false);
+  EXPECT_THROW(rig.ground.add_link(stray), shore::InvalidSetting);
+  // Another kind of world.
+  {
+    shore::scenes::World plain;
+    shore::terrain::Terrain soil(run.terrain);
+    shore::bullet::TerrainCoupling other(plain.world(), soil);
+    btMultiBodyLinkCollider* box = add_box_base(rig.w, 2.0, half, btVector3(-1, -1, 0.05f));
+    EXPECT_THROW(other.add_link(box), shore::InvalidSetting);
+  }
+  // A non-finite joint velocity when added.
+  btMultiBodyLinkCollider* box = add_box_base(rig.w, 2.0, half, btVector3(0, 0, 0.05f));
+  btMultiBody* mb = box->m_multiBody;
+  const btScalar nan = std::numeric_limits<btScalar>::quiet_NaN();
+  mb->setBaseVel(btVector3(nan, 0, 0));
+  EXPECT_THROW(rig.ground.add_link(box), shore::InvalidSetting);
+  mb->setBaseVel(btVector3(0, 0, 0));
+  // Added twice: one entry.
+  rig.ground.add_link(box);
+  rig.ground.add_link(box);
+  EXPECT_EQ(rig.ground.bodies().size(), 1U);
+  for (int k = 0; k < 24; ++k) rig.w.step(kSubstep);
+  EXPECT_EQ(rig.ground.stats().skipped_bodies, 0);
+  EXPECT_GT(rig.ground.terrain_force(box).force.z(), 0.0) << "it stands on the soil";
+  // Its multibody taken out of the world while the collider stays: skipped, never read.
+  rig.w.world().removeMultiBody(mb);
+  EXPECT_NO_THROW(for (int k = 0; k < 4; ++k) rig.w.step(kSubstep));
+  EXPECT_GE(rig.ground.stats().skipped_bodies, 4);
+  rig.w.world().addMultiBody(mb);
+  // A non-finite joint velocity later: skipped and counted, the soil stays finite.
+  const auto skipped = rig.ground.stats().skipped_bodies;
+  mb->setBaseOmega(btVector3(0, nan, 0));
+  EXPECT_NO_THROW(rig.w.step(kSubstep));
+  EXPECT_GT(rig.ground.stats().skipped_bodies, skipped);
+  EXPECT_TRUE(std::isfinite(rig.soil.height(0, 0)));
+  // The collider taken out of the world: dropped as a lost body.
+  rig.w.world().removeCollisionObject(box);
+  rig.w.step(kSubstep);
+  EXPECT_EQ(rig.ground.stats().lost_bodies, 1);
+  EXPECT_TRUE(rig.ground.bodies().empty());
+}
