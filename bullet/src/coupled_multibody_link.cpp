@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
@@ -34,26 +35,6 @@ bool all_finite(const std::vector<btScalar>& v) {
   return true;
 }
 
-/// The inverse of a 3 x 3 matrix (false if singular or not finite).
-bool invert(const double m[3][3], double out[3][3]) {
-  const double c00 = m[1][1] * m[2][2] - m[1][2] * m[2][1];
-  const double c01 = m[1][2] * m[2][0] - m[1][0] * m[2][2];
-  const double c02 = m[1][0] * m[2][1] - m[1][1] * m[2][0];
-  const double det = m[0][0] * c00 + m[0][1] * c01 + m[0][2] * c02;
-  if (!std::isfinite(det) || det == 0.0) return false;
-  const double d = 1.0 / det;
-  out[0][0] = c00 * d;
-  out[0][1] = (m[0][2] * m[2][1] - m[0][1] * m[2][2]) * d;
-  out[0][2] = (m[0][1] * m[1][2] - m[0][2] * m[1][1]) * d;
-  out[1][0] = c01 * d;
-  out[1][1] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) * d;
-  out[1][2] = (m[0][2] * m[1][0] - m[0][0] * m[1][2]) * d;
-  out[2][0] = c02 * d;
-  out[2][1] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) * d;
-  out[2][2] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) * d;
-  return true;
-}
-
 /// The link's own (unarticulated) inverse mass and world inverse inertia: the plan before
 /// Bullet has computed the articulation's inertias (before the multibody's first step).
 void own_plan(const btMultiBodyLinkCollider& link, double& inv_mass, double inv_inertia[3][3]) {
@@ -70,6 +51,50 @@ void own_plan(const btMultiBodyLinkCollider& link, double& inv_mass, double inv_
         s += double(r[i][k]) * (local[k] > 0 ? 1.0 / double(local[k]) : 0.0) * double(r[j][k]);
       inv_inertia[i][j] = s;
     }
+}
+
+/// x with a x = s for a symmetric positive semi-definite a, by Cholesky with diagonal
+/// pivoting: directions whose pivot falls below 1e-9 of the largest (ones the joints lock)
+/// are left out (their x is 0), so a locked direction never turns rounding into an impulse.
+void solve_semidefinite(double a[6][6], const double s[6], double x[6]) {
+  int order[6] = {0, 1, 2, 3, 4, 5};
+  double largest = 0.0;
+  for (int k = 0; k < 6; ++k) largest = std::max(largest, a[k][k]);
+  for (int k = 0; k < 6; ++k) x[k] = 0.0;
+  if (!(largest > 0.0) || !std::isfinite(largest)) return;
+  double l[6][6] = {};
+  int rank = 0;
+  for (; rank < 6; ++rank) {
+    // Pivot: the largest remaining diagonal of the Schur complement.
+    int best = rank;
+    double best_d = -1.0;
+    for (int k = rank; k < 6; ++k) {
+      double d = a[order[k]][order[k]];
+      for (int q = 0; q < rank; ++q) d -= l[k][q] * l[k][q];
+      if (d > best_d) best_d = d, best = k;
+    }
+    if (!(best_d > 1e-9 * largest)) break;
+    std::swap(order[rank], order[best]);
+    for (int q = 0; q < rank; ++q) std::swap(l[rank][q], l[best][q]);
+    const double root = std::sqrt(best_d);
+    l[rank][rank] = root;
+    for (int k = rank + 1; k < 6; ++k) {
+      double v = a[order[k]][order[rank]];
+      for (int q = 0; q < rank; ++q) v -= l[k][q] * l[rank][q];
+      l[k][rank] = v / root;
+    }
+  }
+  double y[6] = {};
+  for (int k = 0; k < rank; ++k) {  // L y = s (pivoted), then L^T z = y
+    double v = s[order[k]];
+    for (int q = 0; q < k; ++q) v -= l[k][q] * y[q];
+    y[k] = v / l[k][k];
+  }
+  for (int k = rank - 1; k >= 0; --k) {
+    double v = y[k];
+    for (int q = k + 1; q < rank; ++q) v -= l[q][k] * x[order[q]];
+    x[order[k]] = v / l[k][k];
+  }
 }
 
 }  // namespace
@@ -218,15 +243,29 @@ void CoupledMultiBodyLink::impulse_deltas(const btVector3& impulse, const btVect
   link_->m_multiBody->calcAccelerationDeltasMultiDof(force.data(), dq.data(), scratch_r_, scratch_v_);
 }
 
-void CoupledMultiBodyLink::planned_impulse(const btVector3& dv, const btVector3& dw, btVector3& impulse,
-                                           btVector3& angular) const {
-  const Plan p = plan();
-  impulse = p.inv_mass > 0.0 ? dv * btScalar(1.0 / p.inv_mass) : btVector3(0, 0, 0);
-  double inertia[3][3];
-  angular.setValue(0, 0, 0);
-  if (!invert(p.inv_inertia, inertia)) return;
-  for (int a = 0; a < 3; ++a)
-    angular[a] = btScalar(inertia[a][0] * dw.x() + inertia[a][1] * dw.y() + inertia[a][2] * dw.z());
+void CoupledMultiBodyLink::velocity_change_deltas(const btVector3& dv, const btVector3& dw,
+                                                  std::vector<btScalar>& dq) const {
+  Jacobian j;
+  fill(j, true);
+  // In units where the angular rows are velocities at the link's reach: D A D, D = diag(1,
+  // 1, 1, l, l, l), takes (P, L / l) to (dv, l dw).
+  btVector3 c;
+  btScalar radius = 0;
+  link_->getCollisionShape()->getBoundingSphere(c, radius);
+  const double l = std::max(0.01, double(radius));
+  double a[6][6], s[6], x[6];
+  for (int r = 0; r < kRows; ++r) {
+    for (int k = 0; k < kRows; ++k) a[r][k] = j.a[r][k] * (r < 3 ? 1.0 : l) * (k < 3 ? 1.0 : l);
+    s[r] = r < 3 ? double(dv[r]) : l * double(dw[r - 3]);
+  }
+  solve_semidefinite(a, s, x);
+  const auto n = static_cast<std::size_t>(j.size);
+  dq.assign(n, 0);
+  for (int k = 0; k < kRows; ++k) {
+    const double impulse = k < 3 ? x[k] : x[k] * l;
+    if (impulse == 0.0) continue;
+    for (std::size_t i = 0; i < n; ++i) dq[i] += btScalar(impulse * double(j.deltas[k * n + i]));
+  }
 }
 
 void CoupledMultiBodyLink::change_velocities(const std::vector<btScalar>& dq, double h) {
@@ -253,10 +292,8 @@ void CoupledMultiBodyLink::apply_impulse(const btVector3& impulse, const btVecto
 void CoupledMultiBodyLink::correct_motion(const btVector3& linear, const btVector3& angular, double h) {
   if (!attached()) return;
   const Motion m = motion();
-  btVector3 impulse, angular_impulse;
-  planned_impulse(linear - m.linear, angular - m.angular, impulse, angular_impulse);
   std::vector<btScalar> dq;
-  impulse_deltas(impulse, angular_impulse, dq);
+  velocity_change_deltas(linear - m.linear, angular - m.angular, dq);
   change_velocities(dq, h);
 }
 
@@ -264,10 +301,8 @@ void CoupledMultiBodyLink::stop(double h) { correct_motion(btVector3(0, 0, 0), b
 
 void CoupledMultiBodyLink::set_linear_velocity(const btVector3& linear) {
   if (!attached()) return;
-  const Plan p = plan();
-  if (!(p.inv_mass > 0.0)) return;
   std::vector<btScalar> dq;
-  impulse_deltas((linear - motion().linear) * btScalar(1.0 / p.inv_mass), btVector3(0, 0, 0), dq);
+  velocity_change_deltas(linear - motion().linear, btVector3(0, 0, 0), dq);
   change_velocities(dq, 0.0);
 }
 

@@ -11,27 +11,28 @@
 //   dqdot = M^-1 J^T (P, L), applied with applyDeltaVeeMultiDof.
 //
 // Inverse mass and inertia (what the soil's contact solver plans its impulses with; it
-// knows one mass and one inertia): the mobility A = J M^-1 J^T of the link's centre, the
-// velocity an impulse there produces, through the whole articulation. inverse_mass is A's
-// linear block along `up` (the direction opposite gravity: the soil's push is mostly along
-// it, and a scalar that misjudged it would let the body sink at a steady rate or bounce);
-// inverse_inertia is A's angular block, made invertible by a thousandth of its mean
-// (a direction the joints lock looks very stiff, not infinitely). A's cross terms (a
-// push at the centre that also turns the link) are left out of the plan; the impulse the
-// plan finds is still applied through the true Jacobian, so what the articulation does is
-// exact and only the plan's convergence depends on them. For a multibody of one free base
-// A is exactly the base's 1/m and I^-1.
+// knows one mass and one inertia): from the mobility A = J M^-1 J^T of the link's centre,
+// the velocity an impulse there produces through the whole articulation. inverse_mass is
+// A's linear block along `up` (opposite gravity: the soil's push is mostly along it, and a
+// plan that misjudged it would let the body sink at a steady rate); inverse_inertia is A's
+// angular block, made invertible by a thousandth of its mean (a direction the joints lock
+// looks very stiff, not infinitely). For a multibody of one free base A is exactly the
+// base's 1/m and I^-1; for a foot under a heavy body the plan sees the whole body's mass.
 //
 // The pose-correcting operations act on the whole articulation, because a link cannot
 // move alone without breaking its joints:
-// - correct_motion / stop: the velocity change the solver planned is turned back into the
-//   impulse it planned (P = dv / inverse_mass, L = inverse_inertia^-1 dw), applied through
-//   the Jacobian, and every joint's position moved by its dqdot times h (what Bullet's
-//   integration would have done with it). The solver's reported force is then exactly
-//   what acted on the multibody, and the terrain never pushes harder than it can bear.
-// - set_linear_velocity: the same, with a linear impulse only.
-// - translate: moves the whole multibody (its base) by the offset; a fixed base stays: an
-//   anchored arm is where its game put it, and nothing lifts it out of the ground.
+// - correct_motion / stop: the link's motion is changed to exactly what the solver found,
+//   by the impulse at its centre that does it through the true mobility, (P, L) = A^-1
+//   (dv, dw) (directions the joints lock left out), applied through the Jacobian; every
+//   joint's position then moves by its dqdot times h (what Bullet's integration would have
+//   done with it). Why not the solver's own impulse: its plan is isotropic, and A is not
+//   (a foot under a body turns the body when pushed sideways: it is lighter sideways than
+//   up), so the plan's sideways impulses would overshoot and grow. The soil's reported
+//   force is the solver's; along up it is what acted, sideways it is what the plan needed.
+// - set_linear_velocity: the same, with the angular motion kept.
+// - apply_impulse (water's buoyancy and drag) is exact: J^T (P, L) through M^-1.
+// - translate: moves the whole multibody (its base) by the offset; a fixed or kinematic
+//   base stays: an anchored arm is where its game put it, and nothing lifts it.
 //
 // A link whose multibody is no longer in the world (removed with removeMultiBody, perhaps
 // deleted, while its collider stayed) is never read: its motion is non-finite, so the
@@ -101,8 +102,9 @@ class CoupledMultiBodyLink final : public CoupledBody {
   [[nodiscard]] Plan plan() const;
   /// dqdot of the impulse (P, L) at the centre, through J^T and M^-1.
   void impulse_deltas(const btVector3& impulse, const btVector3& angular_impulse, std::vector<btScalar>& dq) const;
-  /// The impulse the plan gives for a change (dv, dw) of the link's motion.
-  void planned_impulse(const btVector3& dv, const btVector3& dw, btVector3& impulse, btVector3& angular) const;
+  /// dqdot of the impulse at the centre that changes the link's motion by exactly (dv, dw)
+  /// (A^-1 through J^T and M^-1; directions the joints lock are left out).
+  void velocity_change_deltas(const btVector3& dv, const btVector3& dw, std::vector<btScalar>& dq) const;
   /// Adds dq to the velocities and, over h > 0, moves the positions by dq h.
   void change_velocities(const std::vector<btScalar>& dq, double h);
 

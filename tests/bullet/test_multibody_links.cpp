@@ -156,6 +156,85 @@ TEST(MultiBodyLinks, BasePlateOnSandyLoamMatchesBekker) {
               100.0 * (sinkage - bekker) / bekker);
 }
 
+// A foot fixed under a body nine times its weight: the soil carries the whole multibody
+// through the foot (its impulses are planned with the mass seen through the Jacobian, not
+// the foot's own), at Bekker's sinkage for the whole weight.
+TEST(MultiBodyLinks, AFootUnderAHeavyBodyCarriesTheWholeWeight) {
+  shore::scenes::SoilRun run;
+  run.terrain.material = matrix_material("sandy loam 22 %");
+  SoilRig rig(run);
+  const double width = 0.2, pressure = 30e3, ramp = 3.0, settle = 0.5;
+  const double total = pressure * width * width / kGravity, foot_mass = 0.1 * total, body_mass = total - foot_mass;
+  const btVector3 body_half(0.1f, 0.1f, 0.1f), foot_half(btScalar(width / 2), btScalar(width / 2), 0.025f);
+  const double cx = 0.5 * run.terrain.cell + 0.5 * width;
+  btMultiBody* mb = rig.w.add_multibody(1, body_mass, box_inertia(body_mass, body_half), false, [&](btMultiBody& b) {
+    b.setBasePos(btVector3(btScalar(cx), btScalar(cx), btScalar(2 * foot_half.z() + body_half.z())));
+    b.setupFixed(0, btScalar(foot_mass), box_inertia(foot_mass, foot_half), -1, btQuaternion::getIdentity(),
+                 btVector3(0, 0, -body_half.z()), btVector3(0, 0, -foot_half.z()));
+  });
+  btMultiBodyLinkCollider* foot = rig.w.add_collider(mb, 0, std::make_unique<btBoxShape>(foot_half));
+  rig.ground.add_link(foot);
+  const auto steps = static_cast<std::int64_t>(std::lround((ramp + settle) / kSubstep));
+  for (std::int64_t k = 0; k < steps; ++k) {
+    const double u = std::min(1.0, double(k) * kSubstep / ramp);
+    const double share = std::pow(u * u * (3.0 - 2.0 * u), run.terrain.material.bekker_n);
+    mb->addBaseForce(btVector3(0, 0, btScalar(total * kGravity * (1.0 - share))));
+    rig.w.step(kSubstep);
+  }
+  const double sinkage = -(double(foot->getWorldTransform().getOrigin().z()) - foot_half.z());
+  const double bekker = shore::terrain::bekker::plate_sinkage(run.terrain.material, width, pressure);
+  EXPECT_LT(rel(sinkage, bekker), 0.05) << "sinkage " << sinkage << " m, Bekker " << bekker << " m";
+  EXPECT_LT(rel(rig.ground.terrain_force(foot).force.z(), total * kGravity), 0.01)
+      << rig.ground.terrain_force(foot).force.z() << " N";
+  std::printf("[ multibody foot ] sinkage %.5f m, Bekker %.5f m (%+.2f %%)\n", sinkage, bekker,
+              100.0 * (sinkage - bekker) / bekker);
+}
+
+// A ragdoll's two boards hinged together, released lying on sand, both added: they share
+// the weight and sink like one rigid board of the same footprint and mass. The couplings
+// solve one body's contact at a time: stopping one board moves the hinge under the other,
+// so the free hinge bends a little while they settle (2 degrees here; docs/terrain.md,
+// "Multibody links").
+TEST(MultiBodyLinks, TwoHingedBoardsSinkLikeOneRigidBoard) {
+  shore::scenes::SoilRun run;
+  const double mass = 40.0, seconds = 1.5;
+  const btVector3 half(0.2f, 0.1f, 0.025f);
+  const double y = 0.5 * run.terrain.cell + 0.1;  // edges halfway between column centres
+  // Two boards, 0.4 x 0.2 m each, end to end along x, hinged about y where they meet.
+  SoilRig rig(run);
+  btMultiBody* mb = rig.w.add_multibody(1, mass / 2, box_inertia(mass / 2, half), false, [&](btMultiBody& b) {
+    b.setBasePos(btVector3(btScalar(0.005 + 0.2), btScalar(y), half.z()));
+    b.setupRevolute(0, btScalar(mass / 2), box_inertia(mass / 2, half), -1, btQuaternion::getIdentity(),
+                    btVector3(0, 1, 0), btVector3(half.x(), 0, 0), btVector3(half.x(), 0, 0), true);
+  });
+  btMultiBodyLinkCollider* a = rig.w.add_collider(mb, -1, std::make_unique<btBoxShape>(half));
+  btMultiBodyLinkCollider* b = rig.w.add_collider(mb, 0, std::make_unique<btBoxShape>(half));
+  rig.ground.add_link(a);
+  rig.ground.add_link(b);
+  const auto steps = static_cast<std::int64_t>(std::lround(seconds / kSubstep));
+  for (std::int64_t k = 0; k < steps; ++k) rig.w.step(kSubstep);
+  const double sink_a = -(double(a->getWorldTransform().getOrigin().z()) - half.z());
+  const double sink_b = -(double(b->getWorldTransform().getOrigin().z()) - half.z());
+  const double carried = rig.ground.terrain_force(a).force.z() + rig.ground.terrain_force(b).force.z();
+  // The rigid board: 0.8 x 0.2 m, the same mass, on the same soil, through run_plate's rig.
+  shore::scenes::World world;
+  shore::terrain::Terrain soil(run.terrain);
+  shore::bullet::TerrainCoupling ground(world.world(), soil, run.coupling);
+  btRigidBody* board = world.add_body(std::make_unique<btBoxShape>(btVector3(0.4f, 0.1f, 0.025f)), mass,
+                                      btVector3(0.405f, btScalar(y), half.z()));
+  board->setActivationState(DISABLE_DEACTIVATION);
+  ground.add_body(board);
+  for (std::int64_t k = 0; k < steps; ++k) world.step(kSubstep);
+  const double rigid = -(double(board->getCenterOfMassPosition().z()) - half.z());
+  EXPECT_LT(rel(sink_a, rigid), 0.05) << "board a " << sink_a << " m, rigid " << rigid << " m";
+  EXPECT_LT(rel(sink_b, rigid), 0.05) << "board b " << sink_b << " m, rigid " << rigid << " m";
+  EXPECT_LT(rel(carried, mass * kGravity), 0.02) << "the soil carries " << carried << " N";
+  EXPECT_LT(std::abs(double(mb->getJointPos(0))), 0.05) << "the hinge stays nearly flat (within 3 degrees)";
+  std::printf(
+      "[ multibody boards ] sinkage %.5f / %.5f m, rigid board %.5f m, carried %.1f N of %.1f N, hinge %.4f rad\n",
+      sink_a, sink_b, rigid, carried, mass * kGravity, double(mb->getJointPos(0)));
+}
+
 namespace {
 
 struct TowedResult {
