@@ -402,3 +402,74 @@ TEST(MultiBodyLinks, BadLinksAreRefusedOrSkippedAndCounted) {
   EXPECT_EQ(rig.ground.stats().lost_bodies, 1);
   EXPECT_TRUE(rig.ground.bodies().empty());
 }
+
+namespace {
+
+/// A multibody's base plate (0.2 m, 30 kPa) released on sand, `substeps` stepped.
+struct PlateRun {
+  explicit PlateRun(int threads) : rig(settings(threads)) {
+    const btVector3 half(0.1f, 0.1f, 0.05f);
+    plate = add_box_base(rig.w, 30e3 * 0.04 / kGravity, half, btVector3(0.105f, 0.105f, half.z()));
+    rig.ground.add_link(plate);
+  }
+  static shore::scenes::SoilRun settings(int threads) {
+    shore::scenes::SoilRun run;
+    run.terrain.threads = threads;
+    return run;
+  }
+  void step(int substeps) {
+    for (int k = 0; k < substeps; ++k) rig.w.step(kSubstep);
+  }
+  SoilRig rig;
+  btMultiBodyLinkCollider* plate = nullptr;
+};
+
+/// The soil's heights over the plate's footprint and a ring around it.
+std::vector<double> heights(const shore::terrain::Terrain& soil) {
+  std::vector<double> out;
+  for (int j = -5; j < 26; ++j)
+    for (int i = -5; i < 26; ++i) out.push_back(soil.height(i, j));
+  return out;
+}
+
+}  // namespace
+
+// The same bits whatever the soil's thread count.
+TEST(MultiBodyLinks, TheSameBitsOnOneOrFourThreads) {
+  PlateRun one(1), four(4);
+  one.step(240);
+  four.step(240);
+  EXPECT_EQ(one.plate->m_multiBody->getBasePos().z(), four.plate->m_multiBody->getBasePos().z());
+  EXPECT_EQ(heights(one.rig.soil), heights(four.rig.soil));
+  EXPECT_GT(-(double(one.plate->m_multiBody->getBasePos().z()) - 0.05), 0.01) << "it sank";
+}
+
+// A checkpoint of the soil, the coupling and the multibody, restored into a rig built the
+// same way, continues exactly as the run it was taken from.
+TEST(MultiBodyLinks, ACheckpointWithALinkContinuesIdentically) {
+  PlateRun first(1);
+  first.step(10);  // while it sinks
+  const std::vector<unsigned char> soil = first.rig.soil.save_bytes();
+  const std::vector<unsigned char> coupling = first.rig.ground.save_state();
+  btMultiBody& a = *first.plate->m_multiBody;
+  const btVector3 pos = a.getBasePos(), vel = a.getBaseVel(), omega = a.getBaseOmega();
+  const btQuaternion rot = a.getWorldToBaseRot();
+  first.step(120);
+
+  PlateRun second(1);
+  second.rig.soil = shore::terrain::Terrain::load_bytes(soil, "checkpoint");
+  btMultiBody& b = *second.plate->m_multiBody;
+  b.setBasePos(pos);
+  b.setWorldToBaseRot(rot);
+  b.setBaseVel(vel);
+  b.setBaseOmega(omega);
+  btAlignedObjectArray<btQuaternion> q;
+  btAlignedObjectArray<btVector3> o;
+  q.resize(1);
+  o.resize(1);
+  b.updateCollisionObjectWorldTransforms(q, o);
+  second.rig.ground.restore_state(coupling, "checkpoint");
+  second.step(120);
+  EXPECT_EQ(a.getBasePos().z(), b.getBasePos().z());
+  EXPECT_EQ(heights(first.rig.soil), heights(second.rig.soil));
+}
