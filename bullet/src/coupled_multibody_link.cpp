@@ -272,7 +272,9 @@ void CoupledMultiBodyLink::change_velocities(const std::vector<btScalar>& dq, do
   if (!all_finite(dq)) return;  // never poison the multibody
   btMultiBody& mb = *link_->m_multiBody;
   mb.applyDeltaVeeMultiDof(dq.data(), 1);
-  mb.wakeUp();
+  // Woken only if asleep: wakeUp also restarts the sleep timer, and a multibody the soil
+  // holds at rest must still fall asleep as a rigid body does.
+  if (!mb.isAwake()) mb.wakeUp();
   if (!(h > 0.0)) return;
   // The positions this substep's integration would have reached with the changed
   // velocities: Bullet's own step with dq as the velocity.

@@ -3,10 +3,13 @@
 // the links' bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
@@ -238,8 +241,9 @@ TEST(MultiBodyLinks, TwoHingedBoardsSinkLikeOneRigidBoard) {
 namespace {
 
 struct TowedResult {
-  double sinkage = 0.0;     ///< m, mean over the second half
-  double resistance = 0.0;  ///< N, mean towing force over the second half
+  double sinkage = 0.0;         ///< m, mean over the second half
+  double resistance = 0.0;      ///< N, mean towing force over the second half
+  double plugin_seconds = 0.0;  ///< Shore's share of the wall time (RunStats::plugin_seconds)
 };
 
 /// The rigid wheel of run_wheel as a multibody: a fixed base, a carriage sliding along x
@@ -265,6 +269,7 @@ TowedResult run_multibody_wheel(const shore::scenes::WheelCase& c) {
   shore::bullet::TerrainBodySettings s;
   s.spray = c.run.body_spray;
   rig.ground.add_link(wheel, s);
+  shore::scenes::RunStats times;
   // Press: the load ramps in with the wheel held still.
   const auto press_steps = static_cast<std::int64_t>(std::lround((c.ramp_seconds + 0.5) / h));
   for (std::int64_t k = 0; k < press_steps; ++k) {
@@ -274,6 +279,7 @@ TowedResult run_multibody_wheel(const shore::scenes::WheelCase& c) {
     if (t < c.ramp_seconds)
       mb->addLinkForce(2, btVector3(0, 0, btScalar((hanger + wheel_mass) * kGravity * (1.0 - t / c.ramp_seconds))));
     rig.w.step(h);
+    times.add_coupling_times(rig.ground.stats());
   }
   // Tow: the carriage's speed restored at the start of every substep (an impulse along x
   // alone: the chain's mass matrix is diagonal, every centre on the axle).
@@ -287,6 +293,7 @@ TowedResult run_multibody_wheel(const shore::scenes::WheelCase& c) {
     const double pull = towed_mass * (c.speed - double(mb->getJointVel(0)));
     mb->setJointVel(0, btScalar(c.speed));
     rig.w.step(h);
+    times.add_coupling_times(rig.ground.stats());
     if (k < tow_steps / 2) continue;
     depth += -(double(wheel->getWorldTransform().getOrigin().z()) - R);
     impulse += pull;
@@ -294,7 +301,7 @@ TowedResult run_multibody_wheel(const shore::scenes::WheelCase& c) {
   }
   EXPECT_EQ(rig.ground.stats().skipped_bodies, 0);
   const double n = double(std::max<std::int64_t>(samples, 1));
-  return {depth / n, impulse / (n * h)};
+  return {depth / n, impulse / (n * h), times.plugin_seconds};
 }
 
 }  // namespace
@@ -311,8 +318,10 @@ TEST(MultiBodyLinks, TowedWheelOnARevoluteJointMatchesTheRigidWheel) {
   EXPECT_LT(rel(link.sinkage, rigid.sinkage), 0.03) << "sinkage " << link.sinkage << " m, rigid " << rigid.sinkage;
   EXPECT_LT(rel(link.resistance, rigid.resistance), 0.03)
       << "resistance " << link.resistance << " N, rigid " << rigid.resistance;
-  std::printf("[ multibody wheel ] sinkage %.5f m (rigid %.5f), resistance %.1f N (rigid %.1f)\n", link.sinkage,
-              rigid.sinkage, link.resistance, rigid.resistance);
+  std::printf(
+      "[ multibody wheel ] sinkage %.5f m (rigid %.5f), resistance %.1f N (rigid %.1f), Shore's time %.3f s (rigid "
+      "%.3f s)\n",
+      link.sinkage, rigid.sinkage, link.resistance, rigid.resistance, link.plugin_seconds, rigid.stats.plugin_seconds);
 }
 
 // A box floating as a multibody's base in still water (it does not disturb it): Archimedes.
@@ -472,4 +481,18 @@ TEST(MultiBodyLinks, ACheckpointWithALinkContinuesIdentically) {
   second.step(120);
   EXPECT_EQ(a.getBasePos().z(), b.getBasePos().z());
   EXPECT_EQ(heights(first.rig.soil), heights(second.rig.soil));
+}
+
+// A multibody the soil holds at rest falls asleep as a rigid body does, and then costs
+// nothing: the soil's corrections never restart its sleep timer.
+TEST(MultiBodyLinks, AMultibodyAtRestOnSoilFallsAsleep) {
+  PlateRun run(1);
+  btMultiBody& mb = *run.plate->m_multiBody;
+  mb.setCanSleep(true);
+  run.step(static_cast<int>(4.0 / kSubstep));
+  EXPECT_FALSE(mb.isAwake());
+  const double z = mb.getBasePos().z();
+  run.step(60);
+  EXPECT_EQ(mb.getBasePos().z(), z) << "asleep, it stays where it is";
+  EXPECT_EQ(run.rig.ground.stats().skipped_bodies, 0);
 }
