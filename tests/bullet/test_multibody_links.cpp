@@ -24,6 +24,7 @@
 #include "shore/scenes/pool_cases.h"
 #include "shore/scenes/soil_cases.h"
 #include "shore/scenes/validation_matrix.h"
+#include "shore/scenes/wong_reece.h"
 #include "shore/scenes/world.h"
 #include "shore/terrain/bekker.h"
 #include "shore/terrain/terrain.h"
@@ -249,23 +250,40 @@ struct TowedResult {
 /// The rigid wheel of run_wheel as a multibody: a fixed base, a carriage sliding along x
 /// (link 0), a hanger sliding along z (link 1) and the wheel turning about y (link 2), all
 /// centred on the axle. The hanger and the wheel weigh the load; the carriage weighs 1 %
-/// more and is towed with them.
+/// more and is moved with them. axle_inertia_scale multiplies the wheel's inertia about y.
+struct WheelChain {
+  btMultiBody* mb = nullptr;
+  btMultiBodyLinkCollider* wheel = nullptr;
+  double carriage = 0.0, hanger = 0.0, wheel_mass = 0.0;  ///< kg
+};
+WheelChain add_wheel_chain(SoilRig& rig, double radius, double width, double mass, double cell,
+                           double axle_inertia_scale = 1.0) {
+  WheelChain w;
+  w.carriage = 0.01 * mass, w.hanger = 0.01 * mass, w.wheel_mass = mass - w.hanger;
+  const btVector3 half(btScalar(radius), btScalar(width / 2), btScalar(radius));
+  btVector3 inertia;
+  btCylinderShape(half).calculateLocalInertia(btScalar(mass), inertia);  // the rigid wheel's
+  inertia.setY(inertia.y() * btScalar(axle_inertia_scale));
+  const btVector3 small(0.01f, 0.01f, 0.01f), zero(0, 0, 0);
+  const btQuaternion none = btQuaternion::getIdentity();
+  w.mb = rig.w.add_multibody(3, 1.0, small, true, [&](btMultiBody& b) {
+    b.setBasePos(btVector3(0, btScalar(0.5 * cell), btScalar(radius)));
+    b.setupPrismatic(0, btScalar(w.carriage), small, -1, none, btVector3(1, 0, 0), zero, zero, true);
+    b.setupPrismatic(1, btScalar(w.hanger), small, 0, none, btVector3(0, 0, 1), zero, zero, true);
+    b.setupRevolute(2, btScalar(w.wheel_mass), inertia, 1, none, btVector3(0, 1, 0), zero, zero, true);
+  });
+  w.wheel = rig.w.add_collider(w.mb, 2, std::make_unique<btCylinderShape>(half));
+  return w;
+}
+
+/// run_wheel's towed case with the chain.
 TowedResult run_multibody_wheel(const shore::scenes::WheelCase& c) {
   SoilRig rig(c.run);
   const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
-  const double carriage = 0.01 * mass, hanger = 0.01 * mass, wheel_mass = mass - hanger;
-  const btVector3 half(btScalar(R), btScalar(c.width / 2), btScalar(R));
-  btVector3 wheel_inertia;
-  btCylinderShape(half).calculateLocalInertia(btScalar(mass), wheel_inertia);  // the rigid wheel's
-  const btVector3 small(0.01f, 0.01f, 0.01f), zero(0, 0, 0);
-  const btQuaternion none = btQuaternion::getIdentity();
-  btMultiBody* mb = rig.w.add_multibody(3, 1.0, small, true, [&](btMultiBody& b) {
-    b.setBasePos(btVector3(0, btScalar(0.5 * c.run.terrain.cell), btScalar(R)));
-    b.setupPrismatic(0, btScalar(carriage), small, -1, none, btVector3(1, 0, 0), zero, zero, true);
-    b.setupPrismatic(1, btScalar(hanger), small, 0, none, btVector3(0, 0, 1), zero, zero, true);
-    b.setupRevolute(2, btScalar(wheel_mass), wheel_inertia, 1, none, btVector3(0, 1, 0), zero, zero, true);
-  });
-  btMultiBodyLinkCollider* wheel = rig.w.add_collider(mb, 2, std::make_unique<btCylinderShape>(half));
+  const WheelChain chain = add_wheel_chain(rig, R, c.width, mass, c.run.terrain.cell);
+  btMultiBody* mb = chain.mb;
+  btMultiBodyLinkCollider* wheel = chain.wheel;
+  const double carriage = chain.carriage, hanger = chain.hanger, wheel_mass = chain.wheel_mass;
   shore::bullet::TerrainBodySettings s;
   s.spray = c.run.body_spray;
   rig.ground.add_link(wheel, s);
@@ -322,6 +340,70 @@ TEST(MultiBodyLinks, TowedWheelOnARevoluteJointMatchesTheRigidWheel) {
       "[ multibody wheel ] sinkage %.5f m (rigid %.5f), resistance %.1f N (rigid %.1f), Shore's time %.3f s (rigid "
       "%.3f s)\n",
       link.sinkage, rigid.sinkage, link.resistance, rigid.resistance, link.plugin_seconds, rigid.stats.plugin_seconds);
+}
+
+namespace {
+
+/// run_driven_wheel's rig with the chain: omega and the carriage's speed held at the start
+/// of every substep, the wheel free to move vertically, its axle inertia huge.
+shore::scenes::DrivenWheelResult run_multibody_driven_wheel(const shore::scenes::DrivenWheelCase& c) {
+  SoilRig rig(c.run);
+  const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
+  const WheelChain chain = add_wheel_chain(rig, R, c.width, mass, c.run.terrain.cell, 1e6);
+  rig.ground.add_link(chain.wheel);
+  const auto ramp_steps = static_cast<std::int64_t>(std::lround(c.ramp_seconds / h));
+  for (std::int64_t k = 0; k < ramp_steps; ++k) {
+    chain.mb->setJointVel(0, 0);
+    chain.mb->setJointVel(2, 0);
+    const double held = (chain.hanger + chain.wheel_mass) * kGravity * (1.0 - double(k) * h / c.ramp_seconds);
+    chain.mb->addLinkForce(2, btVector3(0, 0, btScalar(held)));
+    rig.w.step(h);
+  }
+  const double omega = c.rim_speed / R, v = (1.0 - c.slip) * c.rim_speed;
+  const auto drive_steps = static_cast<std::int64_t>(std::lround(c.distance / v / h));
+  shore::scenes::DrivenWheelResult out;
+  std::int64_t samples = 0;
+  for (std::int64_t k = 0; k < drive_steps; ++k) {
+    chain.mb->setJointVel(0, btScalar(v));
+    chain.mb->setJointVel(2, btScalar(omega));
+    rig.w.step(h);
+    if (k < drive_steps / 2) continue;
+    const shore::bullet::TerrainForce f = rig.ground.terrain_force(chain.wheel);
+    out.sinkage += -(double(chain.wheel->getWorldTransform().getOrigin().z()) - R);
+    out.drawbar_pull += f.force.x();
+    out.torque -= f.torque.y();
+    ++samples;
+  }
+  const double n = double(std::max<std::int64_t>(samples, 1));
+  out.sinkage /= n, out.drawbar_pull /= n, out.torque /= n;
+  EXPECT_EQ(rig.ground.stats().skipped_bodies, 0);
+  return out;
+}
+
+}  // namespace
+
+// The driven wheel of Wong and Reece's rig (D 0.6 m, b 0.15 m, 1 kN, dry sand) on a
+// revolute joint, at fixed slips: drawbar pull within 0.08 W of Wong-Reece, as the
+// rigid-body wheel, and within 0.02 W of that wheel.
+TEST(MultiBodyLinks, ADrivenWheelOnARevoluteJointPullsAsWongAndReecePredict) {
+  const shore::scenes::WongReeceWheel ref;
+  for (const double slip : {0.1, 0.5}) {
+    shore::scenes::DrivenWheelCase c;
+    c.slip = slip;
+    const shore::scenes::DrivenWheelResult rigid = shore::scenes::run_driven_wheel(c);
+    const shore::scenes::DrivenWheelResult link = run_multibody_driven_wheel(c);
+    const shore::scenes::WongReeceResult want = shore::scenes::wong_reece(ref, slip);
+    EXPECT_LT(std::abs(link.drawbar_pull - want.drawbar_pull) / c.load, 0.08)
+        << "slip " << slip << ": pull " << link.drawbar_pull << " vs " << want.drawbar_pull;
+    EXPECT_LT(std::abs(link.drawbar_pull - rigid.drawbar_pull) / c.load, 0.02)
+        << "slip " << slip << ": pull " << link.drawbar_pull << " vs the rigid wheel's " << rigid.drawbar_pull;
+    EXPECT_LT(rel(link.torque, want.torque), 0.15) << "slip " << slip << ": torque " << link.torque;
+    std::printf(
+        "[ multibody driven ] slip %.1f: pull %.1f N (rigid %.1f, Wong-Reece %.1f), torque %.1f N m (rigid %.1f, "
+        "Wong-Reece %.1f), sinkage %.4f m (rigid %.4f)\n",
+        slip, link.drawbar_pull, rigid.drawbar_pull, want.drawbar_pull, link.torque, rigid.torque, want.torque,
+        link.sinkage, rigid.sinkage);
+  }
 }
 
 // A box floating as a multibody's base in still water (it does not disturb it): Archimedes.
