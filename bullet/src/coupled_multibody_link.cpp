@@ -218,6 +218,18 @@ CoupledMultiBodyLink::Plan CoupledMultiBodyLink::plan() const {
   return p;
 }
 
+bool CoupledMultiBodyLink::mobility(double a[6][6]) const {
+  if (!attached()) return false;
+  Jacobian j;
+  fill(j, true);
+  for (int r = 0; r < kRows; ++r)
+    for (int c = 0; c < kRows; ++c)
+      if (!std::isfinite(j.a[r][c])) return false;
+  for (int r = 0; r < kRows; ++r)
+    for (int c = 0; c < kRows; ++c) a[r][c] = 0.5 * (j.a[r][c] + j.a[c][r]);  // symmetric up to rounding
+  return true;
+}
+
 double CoupledMultiBodyLink::inverse_mass() const { return plan().inv_mass; }
 
 btMatrix3x3 CoupledMultiBodyLink::inverse_inertia() const {

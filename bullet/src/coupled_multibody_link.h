@@ -77,6 +77,9 @@ class CoupledMultiBodyLink final : public CoupledBody {
   [[nodiscard]] Motion motion() const override;
   [[nodiscard]] double inverse_mass() const override;
   [[nodiscard]] btMatrix3x3 inverse_inertia() const override;
+  /// The link's 6 x 6 mobility A at its centre ((P, L) to (dv, dw)), for the soil's solver;
+  /// false (a left unset) if it is not finite (before the multibody's first step).
+  [[nodiscard]] bool mobility(double a[6][6]) const;
   void apply_impulse(const btVector3& impulse, const btVector3& angular_impulse) override;
   void correct_motion(const btVector3& linear, const btVector3& angular, double h) override;
   void stop(double h) override;

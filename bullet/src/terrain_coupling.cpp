@@ -192,6 +192,8 @@ contact_detail::SolverBody solver_body(const CoupledBody& body) {
   const btMatrix3x3 inv = body.inverse_inertia();
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) rb.inv_inertia[r][c] = inv[r][c];
+  if (const auto* link = dynamic_cast<const coupling_detail::CoupledMultiBodyLink*>(&body))
+    rb.articulated = link->mobility(rb.mobility);
   return rb;
 }
 

@@ -194,6 +194,57 @@ TEST(MultiBodyLinks, AFootUnderAHeavyBodyCarriesTheWholeWeight) {
               100.0 * (sinkage - bekker) / bekker);
 }
 
+// A table: a heavy top on four legs (fixed joints), each ending in a 0.1 m square foot, all
+// four feet added. The soil carries a quarter of the weight under each foot and the top
+// stays level. The feet sink 4 to 17 % deeper than Bekker's sinkage for that quarter: the
+// couplings solve one foot after another, and the foot solved first briefly carries more
+// than its share while the weight comes in (docs/terrain.md, "Multibody links").
+TEST(MultiBodyLinks, FourFeetShareTheWeightAtBekkersSinkage) {
+  shore::scenes::SoilRun run;
+  run.terrain.material = matrix_material("sandy loam 22 %");
+  SoilRig rig(run);
+  const double foot = 0.1, pressure = 30e3, ramp = 3.0, settle = 0.5, foot_mass = 2.0;
+  const double total = 4 * pressure * foot * foot / kGravity, top_mass = total - 4 * foot_mass;
+  const btVector3 top_half(0.3f, 0.2f, 0.025f), foot_half(btScalar(foot / 2), btScalar(foot / 2), 0.025f);
+  const double cell = run.terrain.cell, leg = 0.2;  // m from the top's centre down to a foot's centre
+  // Feet centred on column edges' midpoints: their edges fall halfway between columns.
+  const double fx = 0.25 + 0.5 * cell, fy = 0.15 + 0.5 * cell;
+  btMultiBody* mb = rig.w.add_multibody(4, top_mass, box_inertia(top_mass, top_half), false, [&](btMultiBody& b) {
+    b.setBasePos(btVector3(0, 0, btScalar(foot_half.z() + leg)));
+    for (int k = 0; k < 4; ++k) {
+      const btVector3 at(btScalar(k % 2 ? fx : -fx), btScalar(k / 2 ? fy : -fy), btScalar(-leg));
+      b.setupFixed(k, btScalar(foot_mass), box_inertia(foot_mass, foot_half), -1, btQuaternion::getIdentity(), at,
+                   btVector3(0, 0, 0));
+    }
+  });
+  std::vector<btMultiBodyLinkCollider*> feet;
+  for (int k = 0; k < 4; ++k) {
+    feet.push_back(rig.w.add_collider(mb, k, std::make_unique<btBoxShape>(foot_half)));
+    rig.ground.add_link(feet.back());
+  }
+  const auto steps = static_cast<std::int64_t>(std::lround((ramp + settle) / kSubstep));
+  for (std::int64_t k = 0; k < steps; ++k) {
+    const double u = std::min(1.0, double(k) * kSubstep / ramp);
+    const double share = std::pow(u * u * (3.0 - 2.0 * u), run.terrain.material.bekker_n);
+    mb->addBaseForce(btVector3(0, 0, btScalar(total * kGravity * (1.0 - share))));
+    rig.w.step(kSubstep);
+  }
+  const double bekker = shore::terrain::bekker::plate_sinkage(run.terrain.material, foot, pressure);
+  double carried = 0.0;
+  for (const btMultiBodyLinkCollider* f : feet) {
+    const double sinkage = -(double(f->getWorldTransform().getOrigin().z()) - foot_half.z());
+    EXPECT_LT(rel(sinkage, bekker), 0.20) << "foot " << f->m_link << ": " << sinkage << " m, Bekker " << bekker;
+    EXPECT_GT(sinkage, bekker * 0.98) << "foot " << f->m_link << ": " << sinkage << " m, Bekker " << bekker;
+    EXPECT_LT(rel(rig.ground.terrain_force(f).force.z(), 0.25 * total * kGravity), 0.03) << "foot " << f->m_link;
+    carried += rig.ground.terrain_force(f).force.z();
+    std::printf("[ multibody table ] foot %d sinkage %.5f m, Bekker %.5f m, carries %.1f N\n", f->m_link, sinkage,
+                bekker, double(rig.ground.terrain_force(f).force.z()));
+  }
+  EXPECT_LT(rel(carried, total * kGravity), 0.01) << carried << " N of " << total * kGravity;
+  const btVector3 up = quatRotate(mb->getWorldToBaseRot().inverse(), btVector3(0, 0, 1));
+  EXPECT_GT(double(up.z()), std::cos(0.01)) << "the top stays level";
+}
+
 // A ragdoll's two boards hinged together, released lying on sand, both added: they share
 // the weight and sink like one rigid board of the same footprint and mass. The couplings
 // solve one body's contact at a time: stopping one board moves the hinge under the other,
