@@ -10,25 +10,27 @@
 // - an impulse P at the centre and an angular impulse L move every joint:
 //   dqdot = M^-1 J^T (P, L), applied with applyDeltaVeeMultiDof.
 //
-// Inverse mass and inertia (what the soil's contact solver plans its impulses with; it
-// knows one mass and one inertia): from the mobility A = J M^-1 J^T of the link's centre,
-// the velocity an impulse there produces through the whole articulation. inverse_mass is
-// A's linear block along `up` (opposite gravity: the soil's push is mostly along it, and a
-// plan that misjudged it would let the body sink at a steady rate); inverse_inertia is A's
-// angular block, made invertible by a thousandth of its mean (a direction the joints lock
-// looks very stiff, not infinitely). For a multibody of one free base A is exactly the
-// base's 1/m and I^-1; for a foot under a heavy body the plan sees the whole body's mass.
+// The soil's contact solver sees the link's full mobility A = J M^-1 J^T (6 x 6: the
+// change of the centre's velocity and the link's angular velocity per impulse and angular
+// impulse there, through the whole articulation; `mobility`, SolverBody::articulated): a
+// foot at a table's corner is lighter than the table, a wheel on an axle cannot slide
+// sideways, and each block's push stays within what its soil bears.
+//
+// inverse_mass and inverse_inertia (the one mass and inertia of the CoupledBody interface,
+// used where a scalar plan is enough: holding a body at rest, water drag limits, debug
+// arrows) are A's linear block along `up` (opposite gravity: the soil's push is mostly
+// along it) and A's angular block, made invertible by a thousandth of its mean (a direction
+// the joints lock looks very stiff, not infinitely). For a multibody of one free base A is
+// exactly the base's 1/m and I^-1.
 //
 // The pose-correcting operations act on the whole articulation, because a link cannot
 // move alone without breaking its joints:
 // - correct_motion / stop: the link's motion is changed to exactly what the solver found,
-//   by the impulse at its centre that does it through the true mobility, (P, L) = A^-1
-//   (dv, dw) (directions the joints lock left out), applied through the Jacobian; every
-//   joint's position then moves by its dqdot times h (what Bullet's integration would have
-//   done with it). Why not the solver's own impulse: its plan is isotropic, and A is not
-//   (a foot under a body turns the body when pushed sideways: it is lighter sideways than
-//   up), so the plan's sideways impulses would overshoot and grow. The soil's reported
-//   force is the solver's; along up it is what acted, sideways it is what the plan needed.
+//   by the impulse at its centre that does it, (P, L) = A^-1 (dv, dw) (directions the
+//   joints lock left out), applied through the Jacobian; every joint's position then moves
+//   by its dqdot times h (what Bullet's integration would have done with it). After the
+//   soil's solve, which planned with A itself, that is the solver's own impulse; after a
+//   rest hold, planned with the scalar mass, it is the impulse that truly stops the link.
 // - set_linear_velocity: the same, with the angular motion kept.
 // - apply_impulse (water's buoyancy and drag) is exact: J^T (P, L) through M^-1.
 // - translate: moves the whole multibody (its base) by the offset; a fixed or kinematic
