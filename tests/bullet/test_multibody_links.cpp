@@ -494,6 +494,52 @@ TEST(MultiBodyLinks, FloatingBaseAtArchimedesDraft) {
               100.0 * (draft - archimedes) / archimedes);
 }
 
+// A raft of two boards hinged together, both added, making waves as they settle: each
+// floats at the boards' Archimedes' draft and the water carries the whole raft.
+TEST(MultiBodyLinks, AHingedRaftFloatsAtArchimedesDraft) {
+  shore::water::PhysicalParameters phys;
+  phys.cell = 0.05;
+  phys.depth = 0.5;
+  phys.density = 1000.0;
+  phys.damping_time = 0.5;
+  const int nodes = 48;
+  shore::water::SurfaceSettings ws = shore::water::SurfaceSettings::physical(phys, nodes, nodes);
+  ws.origin_x = ws.origin_y = -0.5 * (nodes - 1) * phys.cell;
+  ws.rest_height = 0.0;
+  ws.threads = 1;
+  shore::water::Surface surface(ws);
+  MultiBodyWorld w;
+  shore::bullet::WaterCoupling water(w.world(), surface);
+  const btVector3 half(0.2f, 0.15f, 0.05f);
+  const double ratio = 0.5, board = ratio * 1000.0 * 8.0 * double(half.x() * half.y() * half.z());
+  btMultiBody* mb = w.add_multibody(1, board, box_inertia(board, half), false, [&](btMultiBody& b) {
+    b.setBasePos(btVector3(-half.x(), 0.013f, half.z()));
+    b.setupRevolute(0, btScalar(board), box_inertia(board, half), -1, btQuaternion::getIdentity(), btVector3(0, 1, 0),
+                    btVector3(half.x(), 0, 0), btVector3(half.x(), 0, 0), true);
+  });
+  btMultiBodyLinkCollider* a = w.add_collider(mb, -1, std::make_unique<btBoxShape>(half));
+  btMultiBodyLinkCollider* b = w.add_collider(mb, 0, std::make_unique<btBoxShape>(half));
+  water.add_link(a);
+  water.add_link(b);
+  const int steps = static_cast<int>(std::lround(6.0 / kSubstep)), last_second = static_cast<int>(1.0 / kSubstep);
+  double draft_a = 0.0, draft_b = 0.0, lifted = 0.0;
+  for (int k = 0; k < steps; ++k) {
+    w.step(kSubstep);
+    if (k < steps - last_second) continue;
+    draft_a += -(double(a->getWorldTransform().getOrigin().z()) - half.z());
+    draft_b += -(double(b->getWorldTransform().getOrigin().z()) - half.z());
+    lifted += water.water_force(a).force.z() + water.water_force(b).force.z();
+  }
+  draft_a /= last_second, draft_b /= last_second, lifted /= last_second;
+  const double archimedes = ratio * 2.0 * half.z();
+  EXPECT_LT(rel(draft_a, archimedes), 0.01) << "board a draws " << draft_a << " m, Archimedes " << archimedes;
+  EXPECT_LT(rel(draft_b, archimedes), 0.01) << "board b draws " << draft_b << " m, Archimedes " << archimedes;
+  EXPECT_LT(rel(lifted, 2 * board * kGravity), 0.02) << "the water carries " << lifted << " N";
+  EXPECT_EQ(water.stats().skipped_bodies, 0);
+  std::printf("[ multibody raft ] drafts %.5f / %.5f m, Archimedes %.5f m, lifted %.1f N of %.1f N, hinge %.4f rad\n",
+              draft_a, draft_b, archimedes, lifted, 2 * board * kGravity, double(mb->getJointPos(0)));
+}
+
 // Bad input: a clear error when adding, a counted skip when stepping, never a crash.
 TEST(MultiBodyLinks, BadLinksAreRefusedOrSkippedAndCounted) {
   shore::scenes::SoilRun run;
