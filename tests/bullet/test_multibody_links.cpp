@@ -18,6 +18,7 @@
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 #include <btBulletDynamicsCommon.h>
 
+#include "shore/bullet/debug_draw.h"
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/bullet/water_coupling.h"
 #include "shore/core/error.h"
@@ -112,6 +113,17 @@ btMultiBodyLinkCollider* add_box_base(MultiBodyWorld& w, double mass, const btVe
   btMultiBody* mb = w.add_multibody(0, mass, box_inertia(mass, half), false, [&](btMultiBody& b) { b.setBasePos(at); });
   return w.add_collider(mb, -1, std::make_unique<btBoxShape>(half));
 }
+
+/// Counts the lines a coupling's debugDraw draws.
+struct LineCounter : btIDebugDraw {
+  int lines = 0, mode = 0;
+  void drawLine(const btVector3&, const btVector3&, const btVector3&) override { ++lines; }
+  void drawContactPoint(const btVector3&, const btVector3&, btScalar, int, const btVector3&) override {}
+  void reportErrorWarning(const char*) override {}
+  void draw3dText(const btVector3&, const char*) override {}
+  void setDebugMode(int m) override { mode = m; }
+  [[nodiscard]] int getDebugMode() const override { return mode; }
+};
 
 /// Soil, a Featherstone world and their coupling.
 struct SoilRig {
@@ -243,6 +255,10 @@ TEST(MultiBodyLinks, FourFeetShareTheWeightAtBekkersSinkage) {
   EXPECT_LT(rel(carried, total * kGravity), 0.01) << carried << " N of " << total * kGravity;
   const btVector3 up = quatRotate(mb->getWorldToBaseRot().inverse(), btVector3(0, 0, 1));
   EXPECT_GT(double(up.z()), std::cos(0.01)) << "the top stays level";
+  LineCounter drawer;  // the feet's contact columns and the soil's push on each are drawn
+  drawer.setDebugMode(shore::bullet::debug_draw::kContactBits | shore::bullet::debug_draw::kForceBits);
+  rig.ground.debugDraw(&drawer);
+  EXPECT_GT(drawer.lines, 4);
 }
 
 // A ragdoll's two boards hinged together, released lying on sand, both added: they share
