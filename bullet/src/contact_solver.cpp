@@ -129,7 +129,25 @@ Vec3 SolverBody::apply_inv_inertia(Vec3 a) const {
           m[2][0] * a.x + m[2][1] * a.y + m[2][2] * a.z};
 }
 
+double SolverBody::mobility_scale() const { return std::max({mobility[0][0], mobility[1][1], mobility[2][2]}); }
+
+void SolverBody::respond(Vec3 impulse, Vec3 angular, Vec3& dv, Vec3& dw) const {
+  const double in[6] = {impulse.x, impulse.y, impulse.z, angular.x, angular.y, angular.z};
+  double out[6] = {};
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c) out[r] += mobility[r][c] * in[c];
+  dv = {out[0], out[1], out[2]};
+  dw = {out[3], out[4], out[5]};
+}
+
 void SolverBody::apply_impulse(Vec3 impulse, Vec3 at) {
+  if (articulated) {
+    Vec3 dv, dw;
+    respond(impulse, cross(at - com, impulse), dv, dw);
+    v = v + dv;
+    w = w + dw;
+    return;
+  }
   v = v + impulse * inv_mass;
   w = w + apply_inv_inertia(cross(at - com, impulse));
 }
@@ -227,19 +245,32 @@ double friction_limit(const Block& b, double normal, double tan_phi, double h) {
 /// moment each time.
 struct Row {
   Vec3 u, arm, turn;  // direction, r x u, I^-1 (r x u)
+  Vec3 lin;           // articulated bodies: the change of v per unit impulse (turn: of w)
 
   void set(const SolverBody& body, Vec3 r, Vec3 dir) {
     u = dir;
     arm = cross(r, dir);
+    if (body.articulated) {
+      body.respond(u, arm, lin, turn);
+      return;
+    }
     turn = body.apply_inv_inertia(arm);
   }
   [[nodiscard]] double speed(const SolverBody& body) const { return dot(u, body.v) + dot(arm, body.w); }
   void push(SolverBody& body, double impulse) const {
-    body.v = body.v + u * (impulse * body.inv_mass);
+    if (body.articulated)
+      body.v = body.v + lin * impulse;
+    else
+      body.v = body.v + u * (impulse * body.inv_mass);
     body.w = body.w + turn * impulse;
   }
-  /// The effective mass along the row, kg: 1 / (1/m + (r x u) . I^-1 (r x u)).
+  /// The effective mass along the row, kg: 1 / (1/m + (r x u) . I^-1 (r x u)); articulated,
+  /// 1 / ((u, r x u) . mobility (u, r x u)).
   [[nodiscard]] double mass(const SolverBody& body) const {
+    if (body.articulated) {  // a direction the joints lock (rounding aside) takes no impulse
+      const double k = dot(u, lin) + dot(arm, turn);
+      return k > 1e-9 * body.mobility_scale() ? 1.0 / k : 0.0;
+    }
     const double k = body.inv_mass + dot(arm, turn);
     return k > 0.0 ? 1.0 / k : 0.0;
   }
@@ -275,7 +306,8 @@ double wanted_normal_impulse(const Block& b, double u, double h) {
 }
 
 void normal_row(SolverBody& body, Block& b, const Row& row, double h) {
-  const double next = std::clamp(wanted_normal_impulse(b, row.speed(body), h), 0.0, b.capacity * h);
+  double next = std::clamp(wanted_normal_impulse(b, row.speed(body), h), 0.0, b.capacity * h);
+  if (body.articulated && b.mass_n == 0.0) next = 0.0;  // locked: it would push nothing
   row.push(body, next - b.normal_impulse);
   b.normal_impulse = next;
 }
@@ -284,6 +316,10 @@ void friction_rows(SolverBody& body, Block& b, const BlockRows& rows, double tan
   if (b.wall) return;
   double n1 = b.t1_impulse - rows.t1.speed(body) * b.mass_t1;
   double n2 = b.t2_impulse - rows.t2.speed(body) * b.mass_t2;
+  if (body.articulated) {  // a locked direction spends none of the friction limit
+    if (b.mass_t1 == 0.0) n1 = 0.0;
+    if (b.mass_t2 == 0.0) n2 = 0.0;
+  }
   const double limit = friction_limit(b, b.normal_impulse, tan_phi, h);
   const double size = std::sqrt(n1 * n1 + n2 * n2);
   if (size > limit) {
@@ -310,6 +346,27 @@ void sweep(SolverBody& body, std::span<Block> blocks, std::span<const BlockRows>
   }
 }
 
+/// Turns an articulated body's block's friction directions, within the tangent plane, to
+/// the principal axes of its mobility there (the stored friction impulse kept as a vector).
+/// A joint can lock one tangent direction (a wheel on an axle cannot slide sideways): along
+/// directions that mix it with a free one, each row would spend the friction limit on
+/// impulses that move nothing. Along the principal axes the locked row takes none.
+void align_tangents(const SolverBody& body, Block& b) {
+  const Vec3 r = b.point - body.com;
+  Vec3 l1, a1, l2, a2;
+  body.respond(b.t1, cross(r, b.t1), l1, a1);
+  body.respond(b.t2, cross(r, b.t2), l2, a2);
+  const double k11 = dot(b.t1, l1) + dot(cross(r, b.t1), a1);
+  const double k22 = dot(b.t2, l2) + dot(cross(r, b.t2), a2);
+  const double k12 = dot(b.t2, l1) + dot(cross(r, b.t2), a1);
+  const double angle = 0.5 * std::atan2(2.0 * k12, k11 - k22);
+  const double c = std::cos(angle), sn = std::sin(angle);
+  const Vec3 friction = b.t1 * b.t1_impulse + b.t2 * b.t2_impulse;
+  const Vec3 t1 = b.t1 * c + b.t2 * sn, t2 = b.t2 * c - b.t1 * sn;
+  b.t1 = t1, b.t2 = t2;
+  b.t1_impulse = dot(friction, t1), b.t2_impulse = dot(friction, t2);
+}
+
 }  // namespace
 
 SolveResult solve(SolverBody& body, const SolverBody& start, std::span<Block> blocks, const terrain::Material& m,
@@ -319,6 +376,9 @@ SolveResult solve(SolverBody& body, const SolverBody& start, std::span<Block> bl
   const double tan_phi = det::tan(m.friction_angle);
   thread_local std::vector<BlockRows> rows;  // kept between calls: no allocation per substep
   rows.resize(blocks.size());
+  if (body.articulated && !settings.keep_masses)
+    for (Block& b : blocks)
+      if (!b.wall) align_tangents(body, b);
   for (std::size_t k = 0; k < blocks.size(); ++k) {
     Block& b = blocks[k];
     const Vec3 r = b.point - body.com;

@@ -37,8 +37,17 @@ struct SolverBody {
   Vec3 com;                       ///< centre of mass
   double inv_mass = 0.0;          ///< 1 / kg
   double inv_inertia[3][3] = {};  ///< world inverse inertia tensor
+  /// An articulated body (a btMultiBody link): an impulse P at the centre with angular
+  /// impulse L changes (v, w) by mobility (P, L), its 6 x 6 response through the whole
+  /// multibody (coupled_multibody_link.h); inv_mass and inv_inertia are then only a plan.
+  bool articulated = false;
+  double mobility[6][6] = {};
 
   [[nodiscard]] Vec3 apply_inv_inertia(Vec3 a) const;
+  /// The change of (v, w) per unit impulse and angular impulse (articulated bodies).
+  void respond(Vec3 impulse, Vec3 angular, Vec3& dv, Vec3& dw) const;
+  /// 1 / kg: the largest linear mobility (articulated bodies), what "locked" is measured against.
+  [[nodiscard]] double mobility_scale() const;
   [[nodiscard]] Vec3 point_velocity(Vec3 p) const { return v + cross(w, p - com); }
   void apply_impulse(Vec3 impulse, Vec3 at);
 };

@@ -55,6 +55,13 @@ class CoupledBody {
   /// 1/kg and the world-frame inverse inertia tensor about the centre of mass.
   [[nodiscard]] virtual double inverse_mass() const = 0;
   [[nodiscard]] virtual btMatrix3x3 inverse_inertia() const = 0;
+  /// A body whose response to an impulse is not its own mass's (a btMultiBody link: the
+  /// whole articulation answers) gives its 6 x 6 mobility ((P, L) to (dv, dw)) and returns
+  /// true; a free rigid body returns false (inverse_mass and inverse_inertia say it all).
+  [[nodiscard]] virtual bool mobility(double a[6][6]) const {
+    (void)a;
+    return false;
+  }
   /// Adds an impulse (N s) and an angular impulse about the centre of mass (N m s).
   virtual void apply_impulse(const btVector3& impulse, const btVector3& angular_impulse) = 0;
   /// Gives the body these velocities and moves this substep's pose by what the change of

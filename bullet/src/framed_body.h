@@ -30,6 +30,22 @@ class FramedBody final : public CoupledBody {
   [[nodiscard]] btMatrix3x3 inverse_inertia() const override {
     return frame_.rotation.transpose() * body_->inverse_inertia() * frame_.rotation;
   }
+  /// The inner body's mobility seen from the ground: each 3 x 3 block turned by R^T . R.
+  [[nodiscard]] bool mobility(double a[6][6]) const override {
+    double world[6][6];
+    if (!body_->mobility(world)) return false;
+    const btMatrix3x3& r = frame_.rotation;
+    for (int bi = 0; bi < 2; ++bi)
+      for (int bj = 0; bj < 2; ++bj)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            double sum = 0.0;  // (R^T B R)_ij = sum_kl R_ki B_kl R_lj
+            for (int k = 0; k < 3; ++k)
+              for (int l = 0; l < 3; ++l) sum += double(r[k][i]) * world[3 * bi + k][3 * bj + l] * double(r[l][j]);
+            a[3 * bi + i][3 * bj + j] = sum;
+          }
+    return true;
+  }
   void apply_impulse(const btVector3& impulse, const btVector3& angular_impulse) override {
     body_->apply_impulse(frame_.direction_to_world(impulse), frame_.direction_to_world(angular_impulse));
   }

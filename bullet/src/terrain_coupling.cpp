@@ -8,6 +8,7 @@
 #include "bedrock_rescue.h"
 #include "bt_convert.h"
 #include "contact_solver.h"
+#include "coupled_multibody_link.h"
 #include "coupling_util.h"
 #include "rest_hold.h"
 #include "terrain_coupling_parts.h"
@@ -59,10 +60,14 @@ void TerrainCoupling::Parts::cover_bodies(double h) {
   auto cover = [&](btCollisionObject& object) {
     if (object.isStaticObject() || object.getCollisionShape() == nullptr) return;
     const btRigidBody* body = btRigidBody::upcast(&object);
-    if (body == nullptr) show_soft_tiles(object);
+    // A multibody's links, like rigid bodies, meet soft tiles through their own masks.
+    const btMultiBodyLinkCollider* link = btMultiBodyLinkCollider::upcast(&object);
+    if (body == nullptr && link == nullptr) show_soft_tiles(object);
     const btVector3 zero(0, 0, 0);
-    const btVector3& v = body != nullptr ? body->getLinearVelocity() : zero;
-    const btVector3& w = body != nullptr ? body->getAngularVelocity() : zero;
+    const coupling_detail::Motion link_motion =
+        link != nullptr ? coupling_detail::link_motion(world, *link) : coupling_detail::Motion{};
+    const btVector3& v = body != nullptr ? body->getLinearVelocity() : link != nullptr ? link_motion.linear : zero;
+    const btVector3& w = body != nullptr ? body->getAngularVelocity() : link != nullptr ? link_motion.angular : zero;
     if (!coupling_detail::motion_is_sane(object.getWorldTransform(), v, w, settings.max_speed)) return;
     btVector3 lo, hi;
     object.getCollisionShape()->getAabb(in_ground(object.getWorldTransform()), lo, hi);
@@ -188,6 +193,7 @@ contact_detail::SolverBody solver_body(const CoupledBody& body) {
   const btMatrix3x3 inv = body.inverse_inertia();
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) rb.inv_inertia[r][c] = inv[r][c];
+  rb.articulated = body.mobility(rb.mobility);
   return rb;
 }
 

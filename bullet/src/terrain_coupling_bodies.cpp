@@ -128,17 +128,20 @@ void TerrainCoupling::add_body(btRigidBody* body, TerrainBodySettings body_setti
     body->setCcdMotionThreshold(btScalar(body_settings.ccd_motion_share) * thinnest);
     body->setCcdSweptSphereRadius(btScalar(body_settings.ccd_sphere_share) * thinnest);
   }
+  parts_->enroll(std::move(coupled), std::move(record), owned);
+}
+
+void TerrainCoupling::Parts::enroll(std::unique_ptr<coupling_detail::CoupledBody> coupled,
+                                    coupling_detail::TerrainBody record, bool owned) {
   // Shore owns this body's contact with soft soil: Bullet must not collide it with the tiles.
-  if (owned) parts_->take_filter_bit(*coupled);
-  Parts::Entry& e = parts_->bodies.add(std::move(coupled), std::move(record));
-  const bool sane = parts_->sane(*e.body);
-  if (sane && body_settings.deform && parts_->can_rasterize(e)) parts_->rasterize(e);
-  if (sane) {
-    btVector3 lo, hi;
-    body->getCollisionShape()->getAabb(e.body->pose(), lo, hi);
-    const double m = settings_.cover_margin;
-    parts_->tiles.ensure_cover(lo.x() - m, lo.y() - m, hi.x() + m, hi.y() + m);
-  }
+  if (owned) take_filter_bit(*coupled);
+  Entry& e = bodies.add(std::move(coupled), std::move(record));
+  if (!sane(*e.body)) return;
+  if (e.record.settings.deform && can_rasterize(e)) rasterize(e);
+  btVector3 lo, hi;  // tiles under it at once
+  e.body->shape()->getAabb(e.body->pose(), lo, hi);
+  const double m = settings.cover_margin;
+  tiles.ensure_cover(lo.x() - m, lo.y() - m, hi.x() + m, hi.y() + m);
 }
 
 void TerrainCoupling::remove_body(const btCollisionObject* body) {

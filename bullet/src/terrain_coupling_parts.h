@@ -5,6 +5,7 @@
 // bodies' lifetimes in terrain_coupling_bodies.cpp, the checkpoint in
 // terrain_coupling_state.cpp.
 
+#include <memory>
 #include <vector>
 
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
@@ -78,6 +79,9 @@ struct TerrainCoupling::Parts {
   void clip_to_region(EnvelopeRaster& envelope) const;
 
   // ---- bodies (terrain_coupling_bodies.cpp) ----
+  /// A checked body joins: (owned: its soil contact is Shore's) its filter bit taken, its
+  /// envelope made and tiles put under it.
+  void enroll(std::unique_ptr<coupling_detail::CoupledBody> coupled, coupling_detail::TerrainBody record, bool owned);
   [[nodiscard]] bool sane(const coupling_detail::CoupledBody& body) const;
   /// A dynamic deforming body does not collide with soft tiles through Bullet (it may have
   /// been switched from kinematic since it was added).

@@ -63,6 +63,7 @@
 #include "shore/terrain/terrain.h"
 
 class btRaycastVehicle;
+class btMultiBodyLinkCollider;
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
@@ -198,6 +199,18 @@ class TerrainCoupling : public btActionInterface {
   void add_body(btRigidBody* body, TerrainBodySettings body_settings = {});
   /// Does nothing for a body not added (or removed already).
   void remove_body(const btCollisionObject* body);
+  /// A btMultiBody's base or link (its collider), with add_body's choices: it presses and
+  /// feels the terrain like a rigid body, and the terrain's impulses act on the whole
+  /// multibody through its Jacobian at the link's centre of mass (enable_ccd does nothing:
+  /// Bullet makes no continuous collision for links). The world must be a
+  /// btMultiBodyDynamicsWorld holding the multibody and the collider. Throws InvalidSetting
+  /// for a null link, another kind of world, a multibody or collider not in the world, a
+  /// non-finite pose or joint velocity, the shape checks of add_body, after detach(), and
+  /// for a link another terrain coupling of this world holds over an overlapping region.
+  /// Adding a link again replaces its settings. remove_body and terrain_force take links
+  /// too. A link whose multibody later leaves the world while its collider stays, or whose
+  /// joint velocities turn non-finite, is skipped each substep (stats().skipped_bodies).
+  void add_link(btMultiBodyLinkCollider* link, TerrainBodySettings body_settings = {});
   /// A stock btRaycastVehicle whose wheels press and feel the terrain: each wheel on soft
   /// ground sinks as far as the columns need to carry its suspension force (its ray then
   /// finds the rut it pressed) and meets the columns' compaction resistance. `wheel_widths`

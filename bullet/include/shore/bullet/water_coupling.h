@@ -54,6 +54,8 @@
 #include "shore/bullet/ground_frame.h"
 #include "shore/water/surface.h"
 
+class btMultiBodyLinkCollider;
+
 namespace shore::terrain {
 class Terrain;
 }
@@ -108,6 +110,13 @@ class WaterCoupling : public btActionInterface {
   void add_body(btRigidBody* body, WaterBodySettings body_settings = {});
   /// Does nothing for a body not added (or removed already).
   void remove_body(const btCollisionObject* body);
+  /// A btMultiBody's base or link (its collider), with add_body's choices: buoyancy and
+  /// drag act on the whole multibody through its Jacobian at the link's centre of mass.
+  /// The world must be a btMultiBodyDynamicsWorld holding the multibody and the collider.
+  /// Throws InvalidSetting as add_body does, and for another kind of world, a multibody or
+  /// collider not in the world, or a non-finite joint velocity. remove_body and
+  /// water_force take links too.
+  void add_link(btMultiBodyLinkCollider* link, WaterBodySettings body_settings = {});
   /// Takes the coupling out of its world (the action removed, the bodies let go). After it
   /// the world may be destroyed before the coupling.
   void detach();
