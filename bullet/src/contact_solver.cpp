@@ -69,16 +69,21 @@ struct Tally {
   bool mixed = false;
   double weight_friction = 0.0, area_friction = 0.0;
 
+  /// Adds an element of the soil with cohesion c at mobilisation m; kMap: of palette entry
+  /// `index` with tan(phi) tan_phi (a one-material terrain tracks no materials: no cost).
+  template <bool kMap>
   void add(const terrain::ContactElement& e, double mobilisation, double c, std::uint8_t index, double tan_phi) {
-    if (!used) material = index;
-    mixed = mixed || index != material;
+    if constexpr (kMap) {
+      if (!used) material = index;
+      mixed = mixed || index != material;
+    }
     used = true;
     const Vec3 p = e.point, n = e.normal;
     area += e.area;
     area_normal = area_normal + n * e.area;
     area_point = area_point + p * e.area;
     area_mobilised += e.area * mobilisation;
-    area_friction += e.area * (tan_phi * mobilisation);
+    if constexpr (kMap) area_friction += e.area * (tan_phi * mobilisation);
     if (!e.wall) cohesion += c * e.area * mobilisation;
     if (e.stiffness < kInf) {
       stiffness += e.stiffness * e.area;
@@ -99,7 +104,7 @@ struct Tally {
     force = force + n * w;
     weighted_point = weighted_point + p * w;
     weight_mobilised += w * mobilisation;
-    weight_friction += w * (tan_phi * mobilisation);
+    if constexpr (kMap) weight_friction += w * (tan_phi * mobilisation);
   }
 
   /// The block's friction coefficient from the sums of m and tan(phi) m over its elements,
@@ -190,15 +195,23 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, std::span<
   auto slot = [&](std::int64_t bx, std::int64_t by, int kind) {
     return static_cast<std::size_t>(((by - by0) * nbx + (bx - bx0)) * kKinds + kind);
   };
-  for (std::size_t k = 0; k < elements.size(); ++k) {
-    const terrain::ContactElement& e = elements[k];
-    const double j = (e.raster_index >= 0 && !shear_displacement.empty())
-                         ? shear_displacement[static_cast<std::size_t>(e.raster_index)]
-                         : 0.0;
-    const std::uint8_t index = material.empty() ? std::uint8_t{0} : material[k];
-    const ShearLaw& l = law(index);
-    tallies[slot(block_of(e.i), block_of(e.j), kind_of(e))].add(e, mobilisation(*l.material, j), l.material->cohesion,
-                                                                index, l.tan_phi);
+  auto shear_of = [&](const terrain::ContactElement& e) {
+    return (e.raster_index >= 0 && !shear_displacement.empty())
+               ? shear_displacement[static_cast<std::size_t>(e.raster_index)]
+               : 0.0;
+  };
+  if (material.empty()) {
+    const terrain::Material& m = *law(0).material;
+    for (const terrain::ContactElement& e : elements)
+      tallies[slot(block_of(e.i), block_of(e.j), kind_of(e))].add<false>(e, mobilisation(m, shear_of(e)), m.cohesion, 0,
+                                                                         0.0);
+  } else {
+    for (std::size_t k = 0; k < elements.size(); ++k) {
+      const terrain::ContactElement& e = elements[k];
+      const ShearLaw& l = law(material[k]);
+      tallies[slot(block_of(e.i), block_of(e.j), kind_of(e))].add<true>(e, mobilisation(*l.material, shear_of(e)),
+                                                                        l.material->cohesion, material[k], l.tan_phi);
+    }
   }
   // In key order: rows of blocks, then columns, then kind.
   for (std::int64_t by = by0; by <= by1; ++by)
