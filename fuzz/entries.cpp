@@ -3,6 +3,7 @@
 #include "coupled_world.h"
 #include "delta_server.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -15,6 +16,8 @@
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
 #include "shore/terrain/height_source.h"
+#include "shore/terrain/material_image.h"
+#include "shore/terrain/material_palette.h"
 #include "shore/terrain/soil_delta.h"
 #include "shore/terrain/terrain.h"
 
@@ -285,6 +288,118 @@ bool heightmap_raw(std::span<const std::uint8_t> data) {
   }
 }
 
+namespace {
+
+/// A small terrain for a material map: 8-column tiles, 5 cm columns, one thread.
+terrain::TerrainSettings map_soil(const terrain::Material& material) {
+  terrain::TerrainSettings s;
+  s.material = material;
+  s.tile_columns = 8;
+  s.cell = 0.05;
+  s.max_erosion_passes = 1;
+  s.threads = 1;
+  return s;
+}
+
+/// Palette entry k: sand, made different per index (bearing, shear, slope limits), so that
+/// every stage reads a column's own material.
+terrain::Material map_entry(int k) {
+  terrain::Material m = terrain::Material::sand();
+  m.bekker_kphi *= 1.0 + 0.5 * (k % 5);
+  m.friction_angle = (20.0 + 2.0 * (k % 7)) * 0.017453292519943295;
+  m.theta_out += 0.02 * (k % 3);
+  return m;
+}
+
+/// Paints the image at columns (0, 0) on, with a palette as long as its largest index
+/// needs; checks the map reads back pixel for pixel, then exercises the painted terrain
+/// (steps, format 6 round trip).
+void paint_and_exercise(const terrain::MaterialImage& image) {
+  int largest = 0;
+  for (int r = 0; r < image.rows(); ++r)
+    for (int c = 0; c < image.width(); ++c) largest = std::max<int>(largest, image.at(c, r));
+  std::vector<terrain::Material> palette;
+  for (int k = 0; k <= largest; ++k) palette.push_back(map_entry(k));
+  terrain::Terrain t(map_soil(palette[0]));
+  t.set_palette(palette);
+  t.paint_image(image, {0, 0, image.width(), image.rows()});
+  for (int r = 0; r < image.rows(); ++r)
+    for (int c = 0; c < image.width(); ++c)
+      require(t.material_index(c, image.rows() - 1 - r) == image.at(c, r), "a painted column reads another index");
+  exercise(t);
+  const terrain::Terrain reloaded = terrain::Terrain::load_bytes(t.save_bytes(), "fuzz map round trip");
+  for (int r = 0; r < image.rows(); ++r)
+    for (int c = 0; c < image.width(); ++c)
+      require(reloaded.material_index(c, image.rows() - 1 - r) == t.material_index(c, image.rows() - 1 - r),
+              "save and load changed the map");
+}
+
+/// Most pixels an accepted image is painted with (larger ones are only checked): each input
+/// stays cheap.
+constexpr int kMaxPaintedPixels = 64 * 64;
+
+bool material_image(const terrain::MaterialImage& image) {
+  require(image.width() >= 1 && image.rows() >= 1, "empty material image accepted");
+  if (image.width() * image.rows() <= kMaxPaintedPixels) paint_and_exercise(image);
+  return true;
+}
+
+bool material_palette(std::span<const std::uint8_t> text) {
+  std::vector<terrain::Material> palette;
+  try {
+    palette = terrain::parse_palette({reinterpret_cast<const char*>(text.data()), text.size()}, "fuzz input");
+  } catch (const FileError&) {
+    return false;
+  }
+  require(!palette.empty() && palette.size() <= static_cast<std::size_t>(terrain::Terrain::kMaxMaterials),
+          "a palette of " + std::to_string(palette.size()) + " entries accepted");
+  terrain::Terrain t(map_soil(palette[0]));  // every entry passed Material::validate
+  try {
+    t.set_palette(palette);
+  } catch (const InvalidSetting&) {
+    return true;  // entries of another soil depth or rigid flag than entry 0's: refused by the terrain
+  }
+  // Each entry on a column of its own, the press over the first 16.
+  const int n = static_cast<int>(palette.size());
+  for (int k = 0; k < n; ++k) t.paint_rect({k % 4, k / 4, 1, 1}, k);
+  exercise(t);
+  return true;
+}
+
+}  // namespace
+
+bool material_map(std::span<const std::uint8_t> data) {
+  if (data.empty()) return false;
+  const std::span<const std::uint8_t> rest = data.subspan(1);
+  switch (data[0] % 4) {
+    case 0:
+      return material_palette(rest);
+    case 1:
+    case 2: {
+      std::vector<unsigned char> png(rest.begin(), rest.end());
+      if (data[0] % 4 == 1) fix_chunk_crcs(png);
+      try {
+        return material_image(terrain::MaterialImage::from_png_bytes(png, "fuzz input"));
+      } catch (const FileError&) {
+        return false;
+      }
+    }
+    default: {
+      if (rest.size() < 2) return false;
+      const int width = 1 + rest[0] % 32;
+      const std::span<const std::uint8_t> file = rest.subspan(2);
+      const int rows = rest[1] >= 128 ? std::max<int>(1, int(file.size() / std::size_t(width))) : 1 + rest[1] % 32;
+      try {
+        const terrain::MaterialImage image = terrain::MaterialImage::from_raw_bytes(file, "fuzz input", width, rows);
+        require(image.width() == width && image.rows() == rows, "raw material image of the wrong size accepted");
+        return material_image(image);
+      } catch (const FileError&) {
+        return false;
+      }
+    }
+  }
+}
+
 std::vector<unsigned char> wrap_recording_payload(std::span<const std::uint8_t> fields) {
   if (fields.size() < 4) return {};
   // The container's layout (shore/bullet/recording_file.h): version 2, u32 scalar bytes (the
@@ -337,6 +452,7 @@ const std::vector<Target>& targets() {
       {"coupled_checkpoint", coupled_checkpoint, checkpoint_seed_fits_build},
       {"heightmap_png", heightmap_png},
       {"heightmap_raw", heightmap_raw},
+      {"material_map", material_map},
       {"recording", recording, recording_seed_fits_build},
       {"soil_delta", soil_delta},
       {"terrain_state", terrain_state},

@@ -57,6 +57,16 @@ bool heightmap_png(std::span<const std::uint8_t> data);
 /// (1 + b % 32), byte 1 the rows (b >= 128: as many as the rest holds; else 1 + b % 32); the
 /// rest is the file.
 bool heightmap_raw(std::span<const std::uint8_t> data);
+/// A material map's sources: byte 0 % 4 chooses the loader. 0: the rest is a palette file's
+/// text (parse_palette); 1 and 2: an 8-bit index PNG (MaterialImage::from_png_bytes), 1 with
+/// every chunk's CRC rewritten as for heightmap_png; 3: raw indices
+/// (MaterialImage::from_raw_bytes), byte 1 the width (1 + b % 32), byte 2 the rows (b >= 128:
+/// as many as the rest holds; else 1 + b % 32), the rest the file. An accepted palette
+/// becomes a small terrain's (unless the terrain refuses its soil depths or rigid flags),
+/// each entry painted on a column; an accepted image of at most 64 x 64 pixels is painted
+/// with a palette as long as its indices need and must read back pixel for pixel. The
+/// painted terrain is stepped, saved (format 6) and loaded again.
+bool material_map(std::span<const std::uint8_t> data);
 
 /// A named entry point.
 struct Target {

@@ -4,7 +4,8 @@
 // kind each loader reads: terrain states of format versions 3 and 5 (with and without the
 // checksum the fuzz entry appends), PNG heightmaps of every colour type stb_image_write
 // writes plus a 16-bit one, raw float32 maps, checkpoints of a small coupled world (a
-// float build writes them: a double build refuses their precision), soil deltas of a
+// float build writes them: a double build refuses their precision), material maps (palette
+// texts, index PNGs and raw indices; painted terrain states of format 6), soil deltas of a
 // small server (delta_server.h: a snapshot and increments, quantised and exact, whole and
 // as payloads), recordings' layouts (whole, without the checksum, as a raw payload).
 #include <stb_image_write.h>
@@ -32,6 +33,11 @@ using Bytes = std::vector<unsigned char>;
 
 namespace {
 
+void stb_write_to(void* context, void* data, int size) {
+  auto* out = static_cast<Bytes*>(context);
+  out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
+}
+
 void write(const fs::path& file, const Bytes& bytes) {
   fs::create_directories(file.parent_path());
   std::ofstream(file, std::ios::binary)
@@ -49,6 +55,28 @@ shore::terrain::Terrain pressed_state() {
   shore::EnvelopeRaster env;
   env.resize(1, 1, 3, 3, false);
   for (double& v : env.lower) v = -0.02;
+  const shore::terrain::Imprint im{&env};
+  t.step({&im, 1});
+  return t;
+}
+
+/// A material map (format 6): three materials painted as a disc and a rectangle, pressed
+/// across their border.
+shore::terrain::Terrain painted_state() {
+  shore::terrain::Terrain t = pressed_state();
+  shore::terrain::Material mud = shore::terrain::Material::sand();
+  mud.name = "soft";
+  mud.bekker_kphi *= 0.3;
+  mud.friction_angle *= 0.7;
+  shore::terrain::Material gravel = shore::terrain::Material::sand();
+  gravel.name = "gravel";
+  gravel.bekker_kphi *= 4.0;
+  t.set_palette({t.settings().material, mud, gravel});
+  t.paint_disc(0.1, 0.1, 0.08, 1);
+  t.paint_rect({2, -2, 3, 3}, 2);
+  shore::EnvelopeRaster env;
+  env.resize(0, 0, 4, 4, false);
+  for (double& v : env.lower) v = -0.03;
   const shore::terrain::Imprint im{&env};
   t.step({&im, 1});
   return t;
@@ -106,6 +134,36 @@ void terrain_seeds(const fs::path& dir) {
   shore::terrain::Terrain edited(s);
   edited.set_height(-3, 2, 0.25);
   write(dir / "seed_v5_edited_snow", entry_input(true, edited.save_bytes()));
+  const Bytes v6 = painted_state().save_bytes();
+  write(dir / "seed_v6_painted", entry_input(true, v6));
+  write(dir / "seed_v6_painted_whole", entry_input(false, v6));
+}
+
+/// material_map's inputs: palette texts (mode 0), index PNGs (1: CRCs fixed; 2: as is) and
+/// raw indices (3: width and rows bytes, then the file).
+void material_map_seeds(const fs::path& dir) {
+  auto text = [](const std::string& t) {
+    Bytes out = {0};
+    out.insert(out.end(), t.begin(), t.end());
+    return out;
+  };
+  write(dir / "seed_palette", text("# index preset fields\n0 sand\n1 sand name=mud bekker_kphi=1.5e6 alpha=0.3\n\n"
+                                   "2 sand name=gravel bekker_kphi=6e6 theta_out=0.6 spray.adhesion=0\n"));
+  write(dir / "seed_palette_other_depth", text("0 sand\n1 mud\n"));  // the terrain refuses mud's soil depth
+  write(dir / "seed_palette_one", text("0 snow friction_angle=0.3 cohesion=500\n"));
+  write(dir / "seed_palette_rigid", text("0 rigid\n1 rigid friction=0.4\n"));
+  const std::vector<unsigned char> index = {0, 1, 2, 1, 0, 3, 3, 2, 0, 1, 2, 3};  // 4 x 3
+  Bytes png = {1};
+  stbi_write_png_to_func(stb_write_to, &png, 4, 3, 1, index.data(), 4);
+  write(dir / "seed_png_4x3", png);
+  png[0] = 2;
+  write(dir / "seed_png_4x3_as_is", png);
+  Bytes raw = {3, 3, 2};  // width 4, rows 3
+  raw.insert(raw.end(), index.begin(), index.end());
+  write(dir / "seed_raw_4x3", raw);
+  Bytes by_size = {3, 1, 200};  // width 2, rows from the size
+  by_size.insert(by_size.end(), {5, 0, 0, 7});
+  write(dir / "seed_raw_by_size", by_size);
 }
 
 /// A coupled world mid-run: the ball has pressed the soil and entered the water.
@@ -200,11 +258,6 @@ void recording_seeds(const fs::path& dir) {
   write(dir / "seed_three_frames_payload", payload);
 }
 
-void stb_write_to(void* context, void* data, int size) {
-  auto* out = static_cast<Bytes*>(context);
-  out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
-}
-
 void png_seeds(const fs::path& dir) {
   const char* names[] = {"", "seed_grey8", "seed_grey_alpha8", "seed_rgb8", "seed_rgba8"};
   for (int channels = 1; channels <= 4; ++channels) {
@@ -248,6 +301,7 @@ int main(int argc, char** argv) {
   checkpoint_seeds(root / "coupled_checkpoint");
   png_seeds(root / "heightmap_png");
   raw_seeds(root / "heightmap_raw");
+  material_map_seeds(root / "material_map");
   soil_delta_seeds(root / "soil_delta");
   recording_seeds(root / "recording");
   std::printf("seeds written to %s\n", root.c_str());

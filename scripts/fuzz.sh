@@ -14,7 +14,7 @@ seconds=${1:-${SHORE_FUZZ_SECONDS:-60}}
 jobs=$(nproc 2>/dev/null || echo 2)
 run_kind=${SHORE_FUZZ_RUN:-local}
 [[ $run_kind == ci || $run_kind == local ]] || { echo "fuzz: SHORE_FUZZ_RUN must be 'ci' or 'local', got '$run_kind'" >&2; exit 2; }
-targets=(coupled_checkpoint heightmap_png heightmap_raw recording soil_delta terrain_state)
+targets=(coupled_checkpoint heightmap_png heightmap_raw material_map recording soil_delta terrain_state)
 
 scripts/install-deps.sh build fuzz
 cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \

@@ -45,6 +45,12 @@ Vec3 normalized(Vec3 a) {
   return n > 0.0 ? a * (1.0 / n) : Vec3{0, 0, 1};
 }
 
+/// The shear law of one palette entry, as a block's friction reads it.
+struct ShearLaw {
+  const terrain::Material* material = nullptr;
+  double tan_phi = 0.0;
+};
+
 /// Sums of one block's elements while it is being gathered.
 struct Tally {
   bool used = false;
@@ -55,14 +61,29 @@ struct Tally {
   double stiffness = 0.0, preload = 0.0;  // sums of k_u A and preload A over elastic elements
   double rate = 0.0;                      // sum of dp/dz A / n_z: capacity per metre of approach
   bool holds_rigidly = false;             // some element holds rigidly
+  // Its materials: the first element's, and whether any other differs. A block of several
+  // materials weighs each element's tan(phi) into the mean (the sums of w tan(phi) m and
+  // A tan(phi) m); one of a single material multiplies its mean by tan(phi) once, as a
+  // terrain of that material alone does, bit for bit.
+  std::uint8_t material = 0;
+  bool mixed = false;
+  double weight_friction = 0.0, area_friction = 0.0;
 
-  void add(const terrain::ContactElement& e, double mobilisation, double c) {
+  /// Adds an element of the soil with cohesion c at mobilisation m; kMap: of palette entry
+  /// `index` with tan(phi) tan_phi (a one-material terrain tracks no materials: no cost).
+  template <bool kMap>
+  void add(const terrain::ContactElement& e, double mobilisation, double c, std::uint8_t index, double tan_phi) {
+    if constexpr (kMap) {
+      if (!used) material = index;
+      mixed = mixed || index != material;
+    }
     used = true;
     const Vec3 p = e.point, n = e.normal;
     area += e.area;
     area_normal = area_normal + n * e.area;
     area_point = area_point + p * e.area;
     area_mobilised += e.area * mobilisation;
+    if constexpr (kMap) area_friction += e.area * (tan_phi * mobilisation);
     if (!e.wall) cohesion += c * e.area * mobilisation;
     if (e.stiffness < kInf) {
       stiffness += e.stiffness * e.area;
@@ -83,9 +104,17 @@ struct Tally {
     force = force + n * w;
     weighted_point = weighted_point + p * w;
     weight_mobilised += w * mobilisation;
+    if constexpr (kMap) weight_friction += w * (tan_phi * mobilisation);
   }
 
-  [[nodiscard]] Block finish(std::uint64_t key, bool wall) const {
+  /// The block's friction coefficient from the sums of m and tan(phi) m over its elements,
+  /// weighted to `total`; tan_phi: its material's (used when it has one).
+  [[nodiscard]] double friction(double sum_m, double sum_friction, double total, double tan_phi) const {
+    if (!(total > 0.0)) return 0.0;
+    return mixed ? sum_friction / total : tan_phi * (sum_m / total);
+  }
+
+  [[nodiscard]] Block finish(std::uint64_t key, bool wall, double tan_phi) const {
     Block b;
     b.key = key;
     b.wall = wall;
@@ -95,19 +124,19 @@ struct Tally {
       b.capacity = kInf;
       b.point = infinite_point * (1.0 / infinite);
       b.normal = normalized(infinite_normal);
-      b.mobilised = area > 0.0 ? area_mobilised / area : 0.0;
+      b.friction = friction(area_mobilised, area_friction, area, tan_phi);
     } else if (weight > 0.0) {
       b.capacity = length(force);
       b.capacity_rate = rate;
       b.point = weighted_point * (1.0 / weight);
       b.normal = normalized(force);
-      b.mobilised = weight_mobilised / weight;
+      b.friction = friction(weight_mobilised, weight_friction, weight, tan_phi);
     } else {  // fresh soil: it bears nothing yet; the body's area decides
       b.capacity = 0.0;
       b.capacity_rate = rate;  // but will once pressed
       b.point = area > 0.0 ? area_point * (1.0 / area) : area_point;
       b.normal = normalized(area_normal);
-      b.mobilised = area > 0.0 ? area_mobilised / area : 0.0;
+      b.friction = friction(area_mobilised, area_friction, area, tan_phi);
     }
     return b;
   }
@@ -152,10 +181,20 @@ void SolverBody::apply_impulse(Vec3 impulse, Vec3 at) {
   w = w + apply_inv_inertia(cross(at - com, impulse));
 }
 
-void gather_blocks(std::span<const terrain::ContactElement> elements, const terrain::Material& m,
-                   std::span<const double> shear_displacement, int block_columns, std::vector<Block>& blocks) {
+void gather_blocks(std::span<const terrain::ContactElement> elements, std::span<const terrain::Material> palette,
+                   std::span<const std::uint8_t> material, std::span<const double> shear_displacement,
+                   int block_columns, std::vector<Block>& blocks) {
   blocks.clear();
   if (elements.empty()) return;
+  // Each palette entry's tan(phi), worked out on first use (kept per thread, no allocation
+  // per call once grown).
+  thread_local std::vector<ShearLaw> laws;
+  laws.assign(palette.size(), ShearLaw{});
+  auto law = [&](std::uint8_t index) -> const ShearLaw& {
+    ShearLaw& l = laws[index];
+    if (l.material == nullptr) l = {&palette[index], det::tan(palette[index].friction_angle)};
+    return l;
+  };
   const FloorDivider block_of(std::max(1, block_columns));
   std::int64_t bx0 = std::numeric_limits<std::int64_t>::max(), by0 = bx0;
   std::int64_t bx1 = std::numeric_limits<std::int64_t>::min(), by1 = bx1;
@@ -174,11 +213,23 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, const terr
   auto slot = [&](std::int64_t bx, std::int64_t by, int kind) {
     return static_cast<std::size_t>(((by - by0) * nbx + (bx - bx0)) * kKinds + kind);
   };
-  for (const terrain::ContactElement& e : elements) {
-    const double j = (e.raster_index >= 0 && !shear_displacement.empty())
-                         ? shear_displacement[static_cast<std::size_t>(e.raster_index)]
-                         : 0.0;
-    tallies[slot(block_of(e.i), block_of(e.j), kind_of(e))].add(e, mobilisation(m, j), m.cohesion);
+  auto shear_of = [&](const terrain::ContactElement& e) {
+    return (e.raster_index >= 0 && !shear_displacement.empty())
+               ? shear_displacement[static_cast<std::size_t>(e.raster_index)]
+               : 0.0;
+  };
+  if (material.empty()) {
+    const terrain::Material& m = *law(0).material;
+    for (const terrain::ContactElement& e : elements)
+      tallies[slot(block_of(e.i), block_of(e.j), kind_of(e))].add<false>(e, mobilisation(m, shear_of(e)), m.cohesion, 0,
+                                                                         0.0);
+  } else {
+    for (std::size_t k = 0; k < elements.size(); ++k) {
+      const terrain::ContactElement& e = elements[k];
+      const ShearLaw& l = law(material[k]);
+      tallies[slot(block_of(e.i), block_of(e.j), kind_of(e))].add<true>(e, mobilisation(*l.material, shear_of(e)),
+                                                                        l.material->cohesion, material[k], l.tan_phi);
+    }
   }
   // In key order: rows of blocks, then columns, then kind.
   for (std::int64_t by = by0; by <= by1; ++by)
@@ -188,7 +239,7 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, const terr
         if (!t.used) continue;
         const std::uint64_t key = (static_cast<std::uint64_t>(by + kKeyOffset) << 36) |
                                   (static_cast<std::uint64_t>(bx + kKeyOffset) << 8) | static_cast<std::uint64_t>(kind);
-        blocks.push_back(t.finish(key, kind != 0));
+        blocks.push_back(t.finish(key, kind != 0, laws[t.material].tan_phi));
         friction_directions(blocks.back());
         t = Tally{};
       }
@@ -234,9 +285,7 @@ void warm_start(std::span<const Block> previous, std::span<Block> blocks) {
 namespace {
 
 /// The most block b's shear rows may push in one substep, at normal impulse `normal`.
-double friction_limit(const Block& b, double normal, double tan_phi, double h) {
-  return b.cohesion * h + tan_phi * b.mobilised * normal;
-}
+double friction_limit(const Block& b, double normal, double h) { return b.cohesion * h + b.friction * normal; }
 
 /// One row of a block (its normal or a friction direction u at the block's point, arm r from
 /// the centre of mass), as the sweeps use it: the row's speed is u . v + (r x u) . w, and a
@@ -281,11 +330,11 @@ struct BlockRows {
   Row n, t1, t2;
 };
 
-void clamp_warm_start(SolverBody& body, std::span<Block> blocks, double tan_phi, double h) {
+void clamp_warm_start(SolverBody& body, std::span<Block> blocks, double h) {
   for (Block& b : blocks) {
     b.normal_impulse = std::clamp(b.normal_impulse, 0.0, b.capacity * h);
     if (b.wall) b.t1_impulse = b.t2_impulse = 0.0;
-    const double limit = friction_limit(b, b.normal_impulse, tan_phi, h);
+    const double limit = friction_limit(b, b.normal_impulse, h);
     const double size = std::sqrt(b.t1_impulse * b.t1_impulse + b.t2_impulse * b.t2_impulse);
     if (size > limit) {
       const double scale = limit > 0.0 ? limit / size : 0.0;
@@ -312,7 +361,7 @@ void normal_row(SolverBody& body, Block& b, const Row& row, double h) {
   b.normal_impulse = next;
 }
 
-void friction_rows(SolverBody& body, Block& b, const BlockRows& rows, double tan_phi, double h) {
+void friction_rows(SolverBody& body, Block& b, const BlockRows& rows, double h) {
   if (b.wall) return;
   double n1 = b.t1_impulse - rows.t1.speed(body) * b.mass_t1;
   double n2 = b.t2_impulse - rows.t2.speed(body) * b.mass_t2;
@@ -320,7 +369,7 @@ void friction_rows(SolverBody& body, Block& b, const BlockRows& rows, double tan
     if (b.mass_t1 == 0.0) n1 = 0.0;
     if (b.mass_t2 == 0.0) n2 = 0.0;
   }
-  const double limit = friction_limit(b, b.normal_impulse, tan_phi, h);
+  const double limit = friction_limit(b, b.normal_impulse, h);
   const double size = std::sqrt(n1 * n1 + n2 * n2);
   if (size > limit) {
     const double scale = limit > 0.0 ? limit / size : 0.0;
@@ -333,8 +382,7 @@ void friction_rows(SolverBody& body, Block& b, const BlockRows& rows, double tan
 
 /// One sweep over the rows, forward or backward: alternating the order keeps Gauss-Seidel
 /// from favouring the blocks solved first (a box would settle tilted toward them).
-void sweep(SolverBody& body, std::span<Block> blocks, std::span<const BlockRows> rows, double tan_phi, double h,
-           bool backward) {
+void sweep(SolverBody& body, std::span<Block> blocks, std::span<const BlockRows> rows, double h, bool backward) {
   const std::size_t n = blocks.size();
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t at = backward ? n - 1 - k : k;
@@ -342,7 +390,7 @@ void sweep(SolverBody& body, std::span<Block> blocks, std::span<const BlockRows>
   }
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t at = backward ? n - 1 - k : k;
-    friction_rows(body, blocks[at], rows[at], tan_phi, h);
+    friction_rows(body, blocks[at], rows[at], h);
   }
 }
 
@@ -369,11 +417,10 @@ void align_tangents(const SolverBody& body, Block& b) {
 
 }  // namespace
 
-SolveResult solve(SolverBody& body, const SolverBody& start, std::span<Block> blocks, const terrain::Material& m,
-                  double h, const SolverSettings& settings) {
+SolveResult solve(SolverBody& body, const SolverBody& start, std::span<Block> blocks, double h,
+                  const SolverSettings& settings) {
   SolveResult out;
   if (blocks.empty()) return out;
-  const double tan_phi = det::tan(m.friction_angle);
   thread_local std::vector<BlockRows> rows;  // kept between calls: no allocation per substep
   rows.resize(blocks.size());
   if (body.articulated && !settings.keep_masses)
@@ -393,8 +440,8 @@ SolveResult solve(SolverBody& body, const SolverBody& start, std::span<Block> bl
     const Vec3 pv = start.point_velocity(b.point);
     b.start_n = dot(pv, b.normal), b.start_t1 = dot(pv, b.t1), b.start_t2 = dot(pv, b.t2);
   }
-  clamp_warm_start(body, blocks, tan_phi, h);
-  for (int it = 0; it < settings.iterations; ++it) sweep(body, blocks, rows, tan_phi, h, it % 2 == 1);
+  clamp_warm_start(body, blocks, h);
+  for (int it = 0; it < settings.iterations; ++it) sweep(body, blocks, rows, h, it % 2 == 1);
 
   // Work on the soil: each impulse times the mean velocity along it over the substep, from
   // the start of the substep (before the engine's forces) to its end. It is the kinetic
@@ -404,7 +451,7 @@ SolveResult solve(SolverBody& body, const SolverBody& start, std::span<Block> bl
     const Vec3 pv = body.point_velocity(b.point);
     const double un = dot(pv, b.normal), u1 = dot(pv, b.t1), u2 = dot(pv, b.t2);
     const bool at_capacity = b.normal_impulse >= b.capacity * h * (1.0 - 1e-9);
-    const double limit = b.wall ? 0.0 : friction_limit(b, b.normal_impulse, tan_phi, h);
+    const double limit = b.wall ? 0.0 : friction_limit(b, b.normal_impulse, h);
     const double friction = std::sqrt(b.t1_impulse * b.t1_impulse + b.t2_impulse * b.t2_impulse);
     const bool sliding = !b.wall && friction >= limit * (1.0 - 1e-9) && friction > 0.0;
     const double pressing = -0.5 * b.normal_impulse * (b.start_n + un);

@@ -54,11 +54,11 @@ struct SolverBody {
 
 /// One block of contact elements.
 struct Block {
-  std::uint64_t key = 0;   ///< (block x, block y, kind): fixed solve order, warm start
-  Vec3 point, normal;      ///< where and along which direction it pushes
-  double capacity = 0.0;   ///< N, the most it pushes (+infinity on bedrock)
-  double cohesion = 0.0;   ///< N, sum of c A (1 - exp(-j / K)) over its bottom elements
-  double mobilised = 0.0;  ///< capacity-weighted mean of 1 - exp(-j / K)
+  std::uint64_t key = 0;  ///< (block x, block y, kind): fixed solve order, warm start
+  Vec3 point, normal;     ///< where and along which direction it pushes
+  double capacity = 0.0;  ///< N, the most it pushes (+infinity on bedrock)
+  double cohesion = 0.0;  ///< N, sum of c A (1 - exp(-j / K)) over its bottom elements
+  double friction = 0.0;  ///< capacity-weighted mean of tan(phi) (1 - exp(-j / K)), each column's c, phi, K
   bool wall = false;
   // Solve state.
   Vec3 t1, t2;                                                      ///< friction directions
@@ -97,9 +97,13 @@ struct SolveResult {
   bool stuck = true;        ///< every block holds: no approach, no slip beyond its strength
 };
 
-/// Gathers contact elements into blocks, sorted by key.
-void gather_blocks(std::span<const terrain::ContactElement> elements, const terrain::Material& m,
-                   std::span<const double> shear_displacement, int block_columns, std::vector<Block>& blocks);
+/// Gathers contact elements into blocks, sorted by key. palette: the terrain's materials;
+/// material: each element's palette index (its column's), or empty: all palette[0] (a
+/// one-material terrain; no look-ups). A block of one material gets exactly the friction
+/// of that material alone.
+void gather_blocks(std::span<const terrain::ContactElement> elements, std::span<const terrain::Material> palette,
+                   std::span<const std::uint8_t> material, std::span<const double> shear_displacement,
+                   int block_columns, std::vector<Block>& blocks);
 
 /// Warm start: the impulses the same blocks ended the last substep with (both sorted by key).
 void warm_start(std::span<const Block> previous, std::span<Block> blocks);
@@ -119,8 +123,8 @@ double largest_point_speed(std::span<const Block> blocks, const SolverBody& body
 /// Solves the substep's soil impulses on the body (velocities updated in place). start:
 /// the body at the start of the substep, before the engine's forces of this substep (its
 /// velocities then and the solved ones bracket the substep's motion, for the work).
-SolveResult solve(SolverBody& body, const SolverBody& start, std::span<Block> blocks, const terrain::Material& m,
-                  double h, const SolverSettings& settings);
+SolveResult solve(SolverBody& body, const SolverBody& start, std::span<Block> blocks, double h,
+                  const SolverSettings& settings);
 
 }  // namespace contact_detail
 }  // namespace SHORE_BULLET_ABI

@@ -1,6 +1,9 @@
 #include "terrain_contact.h"
 
+#include <cstdint>
+#include <span>
 #include <utility>
+#include <vector>
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
@@ -13,7 +16,15 @@ void TerrainContact::build(const terrain::Terrain& terrain, const EnvelopeRaster
   drift = 0.0;
   memory.limit_unloading(patch.elements, envelope);
   std::swap(previous, blocks);
-  gather_blocks(patch.elements, terrain.settings().material, memory.shear_length(), block_columns, blocks);
+  // Each element's shear law is its column's material; a one-material terrain looks
+  // nothing up.
+  const std::span<const terrain::Material> palette = terrain.palette();
+  thread_local std::vector<std::uint8_t> material;  // kept per thread: no allocation per build
+  material.clear();
+  if (palette.size() > 1)
+    for (const terrain::ContactElement& e : patch.elements)
+      material.push_back(static_cast<std::uint8_t>(terrain.material_index(e.i, e.j)));
+  gather_blocks(patch.elements, palette, material, memory.shear_length(), block_columns, blocks);
   warm_start(previous, blocks);
 }
 

@@ -63,6 +63,9 @@ class TerrainContact {
   /// unchanged where it throws before the end) for corrupt or non-finite values or indices
   /// beyond the envelope.
   void restore(ByteReader& r, std::size_t columns);
+  /// Multiplies the blocks' friction by tan_phi: blocks saved when the friction held the
+  /// mobilisation alone (one material's tan(phi) applied at the solve).
+  void scale_friction(double tan_phi);
 };
 
 }  // namespace contact_detail

@@ -38,7 +38,7 @@ terrain::ContactElement get_element(ByteReader& r) {
 void put_block(ByteWriter& w, const Block& b) {
   w.put(static_cast<std::uint64_t>(b.key));
   put_vec3(w, b.point), put_vec3(w, b.normal);
-  w.put(b.capacity), w.put(b.cohesion), w.put(b.mobilised), w.put(static_cast<std::uint8_t>(b.wall));
+  w.put(b.capacity), w.put(b.cohesion), w.put(b.friction), w.put(static_cast<std::uint8_t>(b.wall));
   put_vec3(w, b.t1), put_vec3(w, b.t2);
   for (const double v : {b.normal_impulse, b.t1_impulse, b.t2_impulse, b.mass_n, b.mass_t1, b.mass_t2, b.start_n,
                          b.start_t1, b.start_t2, b.stiffness, b.preload, b.capacity_rate, b.approach, b.deepest})
@@ -50,7 +50,7 @@ Block get_block(ByteReader& r) {
   Block b;
   b.key = r.get<std::uint64_t>(what);
   b.point = get_vec3(r, what), b.normal = get_vec3(r, what);
-  b.capacity = r.get<double>(what), b.cohesion = r.get<double>(what), b.mobilised = r.get<double>(what);
+  b.capacity = r.get<double>(what), b.cohesion = r.get<double>(what), b.friction = r.get<double>(what);
   b.wall = r.get<std::uint8_t>(what) != 0;
   b.t1 = get_vec3(r, what), b.t2 = get_vec3(r, what);
   for (double* v : {&b.normal_impulse, &b.t1_impulse, &b.t2_impulse, &b.mass_n, &b.mass_t1, &b.mass_t2, &b.start_n,
@@ -68,8 +68,8 @@ bool sound(const terrain::ContactElement& e, std::size_t columns) {
 bool sound(const Block& b) {
   return finite(b.point) && finite(b.normal) && !std::isnan(b.capacity) && b.stiffness >= 0.0 && b.preload >= 0.0 &&
          std::isfinite(b.preload) &&
-         std::isfinite(b.cohesion + b.mobilised + b.normal_impulse + b.t1_impulse + b.t2_impulse + b.mass_n +
-                       b.mass_t1 + b.mass_t2) &&
+         std::isfinite(b.cohesion + b.friction + b.normal_impulse + b.t1_impulse + b.t2_impulse + b.mass_n + b.mass_t1 +
+                       b.mass_t2) &&
          finite(b.t1) && finite(b.t2) && std::isfinite(b.start_n + b.start_t1 + b.start_t2) && b.capacity_rate >= 0.0 &&
          std::isfinite(b.capacity_rate + b.approach + b.deepest);
 }
@@ -90,6 +90,11 @@ TerrainForce get_force(ByteReader& r) {
 }
 
 }  // namespace
+
+void TerrainContact::scale_friction(double tan_phi) {
+  for (Block& b : blocks) b.friction *= tan_phi;
+  for (Block& b : previous) b.friction *= tan_phi;
+}
 
 void TerrainContact::save(ByteWriter& w) const {
   w.put(static_cast<std::uint8_t>(state));

@@ -203,7 +203,7 @@ enum class Blocks { built, followed, kept_at_rest };
 /// Solves the body's blocks for this substep and applies the result: velocities corrected,
 /// pose re-integrated, the terrain's force recorded, the per-column memory advanced.
 void solve_blocks(CoupledBody& body, TerrainBody& b, Blocks blocks, const TerrainCouplingSettings& settings,
-                  const terrain::Material& material, TerrainCouplingStats& stats, double h) {
+                  TerrainCouplingStats& stats, double h) {
   contact_detail::TerrainContact& c = b.contact;
   if (c.blocks.empty()) return;
   contact_detail::SolverBody rb = solver_body(body);
@@ -217,7 +217,7 @@ void solve_blocks(CoupledBody& body, TerrainBody& b, Blocks blocks, const Terrai
   const contact_detail::SolverSettings solver{
       settings.contact.block_columns, resting ? settings.contact.resting_iterations : settings.contact.iterations,
       resting};
-  contact_detail::SolveResult r = contact_detail::solve(rb, start, c.blocks, material, h, solver);
+  contact_detail::SolveResult r = contact_detail::solve(rb, start, c.blocks, h, solver);
   if (r.stuck) contact_detail::stop_sway(body, {settings.rest_speed, settings.rest_spin}, rb, r);
   body.correct_motion(to_bt(rb.v), to_bt(rb.w), h);
 
@@ -242,7 +242,6 @@ void TerrainCoupling::Parts::solve_contact(Entry& e, double h) {
   CoupledBody& body = *e.body;
   TerrainBody& b = e.record;
   contact_detail::TerrainContact& c = b.contact;
-  const terrain::Material& material = terrain.settings().material;
   if (body.inverse_mass() <= 0.0) {
     c.last = {};
     return;
@@ -257,14 +256,14 @@ void TerrainCoupling::Parts::solve_contact(Entry& e, double h) {
       ++stats.resting_bodies;
       if (contact_detail::hold_at_rest(body, c.last, {settings.rest_speed, settings.rest_spin}, h)) return;
       c.last = {};
-      solve_blocks(body, b, Blocks::kept_at_rest, settings, material, stats, h);
+      solve_blocks(body, b, Blocks::kept_at_rest, settings, stats, h);
       return;
     case ContactState::following:
       // No envelope since the last solve: the blocks move with the body (from its motion at
       // the end of the last substep) until they have drifted follow_drift.
       c.last = {};
       if (c.end) {
-        solve_blocks(body, b, Blocks::followed, settings, material, stats, h);
+        solve_blocks(body, b, Blocks::followed, settings, stats, h);
         return;
       }
       [[fallthrough]];  // its motion then unknown: built afresh
@@ -273,7 +272,7 @@ void TerrainCoupling::Parts::solve_contact(Entry& e, double h) {
       const coupling_detail::ShapeProbe probe(rasterizer, *body.shape(), b.envelope_pose);
       c.build(terrain, b.envelope, settings.contact.sub_cell_coverage ? &probe : nullptr,
               settings.contact.block_columns);
-      solve_blocks(body, b, Blocks::built, settings, material, stats, h);
+      solve_blocks(body, b, Blocks::built, settings, stats, h);
       return;
     }
   }

@@ -7,6 +7,7 @@
 
 #include "checkpoint_bytes.h"
 #include "shore/bullet/terrain_coupling.h"
+#include "shore/core/det_math.h"
 #include "shore/core/error.h"
 #include "terrain_coupling_parts.h"
 
@@ -15,7 +16,9 @@ inline namespace SHORE_BULLET_ABI {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'T', 'E', 'R', 'R', 'C', 'P'};
-constexpr std::uint32_t kVersion = 2;  // 2: the ground frame (1: Z up)
+// 2: the ground frame (1: Z up). 3: a block's friction is its columns' tan(phi) times their
+// mobilisation (before, the mobilisation alone, times entry 0's tan(phi) when solved).
+constexpr std::uint32_t kVersion = 3;
 
 /// The totals of the statistics (not the last substep's timings: a checkpoint of the same
 /// state is the same bytes).
@@ -99,6 +102,7 @@ void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const 
     if (!coupling_detail::finite(s.pose)) r.fail("body " + std::to_string(k) + "'s envelope pose is not finite");
     s.imprint_pending = r.get<std::uint8_t>("body's imprint") != 0;
     s.contact.restore(r, s.envelope.size());
+    if (version < 3) s.contact.scale_friction(det::tan(terrain_.settings().material.friction_angle));
     if (s.envelope.lower.empty() != (s.contact.state == contact_detail::ContactState::none))
       r.fail("body " + std::to_string(k) + "'s contact state does not match its envelope");
   }

@@ -30,10 +30,17 @@ void z_up_only(const SoilRun& run, const char* which) {
                          "ground frame)");
 }
 
+/// The case's soil, prepared (SoilRun::prepare).
+terrain::Terrain prepared_soil(const SoilRun& run) {
+  terrain::Terrain soil(run.terrain);
+  if (run.prepare) run.prepare(soil);
+  return soil;
+}
+
 /// One soil, a world and their coupling: what every soil case runs on.
 struct SoilRig {
   explicit SoilRig(const SoilRun& run)
-      : soil(run.terrain),
+      : soil(prepared_soil(run)),
         world(kGravity, run.coupling.frame),
         ground(world.world(), soil, run.coupling),
         h(run.substep),

@@ -37,11 +37,16 @@ void check_rect(const GridRect& rect, const std::string& where) {
 void paint(TileStore& store, const GridRect& rect, std::span<const unsigned char> mask, int index) {
   const auto value = static_cast<std::uint8_t>(index);
   const auto write = [&](Tile& t, const TileRun& run) {
+    const std::size_t row = static_cast<std::size_t>(run.y) * static_cast<std::size_t>(rect.nx) + run.x;
     if (t.material.empty()) {
       if (value == 0) return;
+      // A run the mask leaves out gives its tile no map: a map of all 0 would count in the
+      // hash and the file, yet read back as no map.
+      bool any = mask.empty();
+      for (int k = 0; k < run.count && !any; ++k) any = mask[row + k] != 0;
+      if (!any) return;
       t.material.assign(t.height.size(), 0);
     }
-    const std::size_t row = static_cast<std::size_t>(run.y) * static_cast<std::size_t>(rect.nx) + run.x;
     for (int k = 0; k < run.count; ++k)
       if (mask.empty() || mask[row + k]) t.material[run.local + k] = value;
     if (value == 0) t.normalize_material();

@@ -357,6 +357,32 @@ TEST(MaterialMap, BadPaintAndPalettesAreRefusedAndChangeNothing) {
   EXPECT_EQ(t.material_index(3, 3), 1);
 }
 
+TEST(MaterialMap, AMaskPaintsOnlyTheTilesItCovers) {
+  // A predicate over a rectangle of many tiles that holds at one column, and an image whose
+  // only non-zero pixel is that column: both give the map one rect of that column gives
+  // (tiles the mask leaves out get no map), and it saves and loads to the same hash (a
+  // tile given a map of all 0 hashed as painted, read back as unpainted).
+  const std::vector<Material> palette{Material::sand(), Material::mud()};
+  Terrain by_rect(one_thread(Material::sand()));
+  by_rect.set_palette(palette);
+  by_rect.paint_rect({37, 5, 1, 1}, 1);
+  Terrain by_predicate(one_thread(Material::sand()));
+  by_predicate.set_palette(palette);
+  const double x = by_predicate.column_x(37), y = by_predicate.column_y(5);
+  by_predicate.paint_where(
+      {-100, -100, 200, 200}, [&](double cx, double cy) { return cx == x && cy == y; }, 1);
+  std::vector<std::uint8_t> pixels(200 * 200, 0);
+  pixels[static_cast<std::size_t>(199 - (5 + 100)) * 200 + (37 + 100)] = 1;  // row 0 is the top (j = 99)
+  Terrain by_image(one_thread(Material::sand()));
+  by_image.set_palette(palette);
+  by_image.paint_image(MaterialImage(200, 200, pixels, "one pixel"), {-100, -100, 200, 200});
+  for (const Terrain* t : {&by_predicate, &by_image}) {
+    EXPECT_EQ(t->material_index(37, 5), 1);
+    EXPECT_EQ(t->state_hash(), by_rect.state_hash());
+    EXPECT_EQ(Terrain::load_bytes(t->save_bytes(), "masked").state_hash(), t->state_hash());
+  }
+}
+
 TEST(MaterialMap, SaveLoadRoundTripOfAPaintedTerrain) {
   Terrain a(one_thread(Material::sand()));
   EXPECT_EQ(a.save_bytes()[8], 5) << "a one-material terrain is written as before maps existed";

@@ -40,6 +40,9 @@ struct SoilRun {
   std::function<void(const terrain::Terrain&, const bullet::TerrainCoupling&)> after_substep;
   /// If set, each substep's wall time (s, as summed into RunStats::wall_seconds) is appended.
   std::vector<double>* substep_seconds = nullptr;
+  /// Called on the new soil before the coupling and the bodies are made (a palette and a
+  /// painted material map, say). Empty: nothing.
+  std::function<void(terrain::Terrain&)> prepare;
 };
 
 /// Results common to every case.

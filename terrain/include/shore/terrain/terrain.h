@@ -181,8 +181,8 @@ class Terrain {
   // gives by its own slope limits and sigma, so sand slumping onto gravel keeps sand's
   // angle). The map belongs to the columns, like a painted texture: soil that displacement
   // or erosion moves onto a column becomes that column's material, so volume is conserved
-  // in total, not per material. Not yet per column: spray (entry 0's) and the shear law a
-  // coupling applies (it reads settings().material).
+  // in total, not per material. Shore's Bullet coupling shears each column by its own
+  // material too. Not yet per column: spray (entry 0's).
 
   /// At most this many materials.
   static constexpr int kMaxMaterials = 256;
