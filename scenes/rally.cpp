@@ -1,0 +1,259 @@
+// rally: a stock btRaycastVehicle car (Bullet's VehicleDemo set-up: RaycastCar) driven by
+// a script up a valley of rolling sand, through a mud patch and across a shallow ford. Its
+// wheels sink and leave ruts (TerrainCoupling::add_vehicle), its chassis floats and drags in
+// the ford (WaterCoupling) and makes a wake. The camera follows the car; the viewer drives
+// it with the arrow keys. One terrain with a material map: sand, with mud painted where the
+// valley floor is wet.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "shore/bullet/terrain_coupling.h"
+#include "shore/bullet/water_coupling.h"
+#include "shore/scenes/film.h"
+#include "shore/scenes/raycast_car.h"
+#include "shore/scenes/runner.h"
+#include "shore/scenes/scene.h"
+#include "shore/scenes/soil_cases.h"
+#include "shore/scenes/soil_view.h"
+#include "shore/scenes/world.h"
+#include "shore/terrain/height_source.h"
+#include "shore/terrain/material.h"
+#include "shore/terrain/terrain.h"
+#include "shore/water/surface.h"
+
+namespace shore::scenes {
+namespace {
+
+constexpr double kX0 = -8.0, kX1 = 34.0;  // m, the land along the valley
+constexpr double kHalfY = 12.0;           // m, the land across it
+constexpr double kFordX = 21.0;           // m, centre of the ford
+constexpr double kFordRadius = 6.0;       // m
+constexpr double kFordDepth = 0.9;        // m the valley floor drops at the ford's centre
+constexpr double kWaterLevel = -0.3;      // m, the ford's still water
+constexpr double kMudX = 10.0;            // m, centre of the mud patch
+constexpr double kMudRadius = 3.0;        // m
+constexpr double kStartX = -4.0;          // m, where the car starts
+constexpr double kEngine = 1400.0;        // N per driven wheel, the script's throttle
+constexpr double kWheelWidth = 0.3;       // m
+
+double bump(double r, double radius) {  // 1 at the centre, 0 from radius on, smooth (polynomial)
+  const double u = std::clamp(1.0 - (r * r) / (radius * radius), 0.0, 1.0);
+  return u * u;
+}
+
+/// y of the valley floor's line at x: it winds gently.
+double floor_line(double x) { return 1.5 * (bump(x - 6.0, 14.0) - bump(x - 26.0, 10.0)); }
+
+/// The valley: its floor winds gently, its sides rise to low hills, lattice noise roughens
+/// it, and it dips into a ford. Polynomials and lattice noise only: the same bits on every
+/// machine.
+class Valley final : public terrain::HeightSource {
+ public:
+  Valley()
+      : noise_(terrain::LatticeNoiseSettings{
+            .seed = 7, .spacing = 5.0, .amplitude = 0.35, .mean = 0.0, .octaves = 3, .persistence = 0.45}) {}
+  [[nodiscard]] double height(double x, double y) const override {
+    const double centre = floor_line(x);
+    const double off = (y - centre) / kHalfY;
+    const double sides = 2.2 * off * off * (3.0 - 2.0 * std::abs(off));  // low hills each side
+    const double floor_calm = 1.0 - 0.75 * bump(y - centre, 3.0);        // a smoother track along the floor
+    const double ford = kFordDepth * bump(std::hypot(x - kFordX, y - centre), kFordRadius);
+    return sides + floor_calm * noise_.height(x, y) - ford;
+  }
+
+ private:
+  terrain::LatticeNoise noise_;
+};
+
+double land_cell(const SceneOptions& o) { return o.smoke ? std::max(o.cell, 0.08) : o.cell; }
+
+terrain::TerrainSettings land_settings(const SceneOptions& o) {
+  terrain::TerrainSettings s = soil_settings(o);
+  s.cell = land_cell(o);
+  s.material = terrain::Material::sand();
+  s.base = std::make_shared<Valley>();
+  return s;
+}
+
+water::SurfaceSettings ford_settings(const SceneOptions& o) {
+  water::PhysicalParameters phys;
+  phys.cell = 2.0 * land_cell(o);
+  phys.depth = 0.25;  // the ford's mean depth sets the wave speed
+  const double half = kFordRadius + 0.5;
+  const int n = static_cast<int>(std::lround(2.0 * half / phys.cell)) + 1;
+  water::SurfaceSettings s = water::SurfaceSettings::physical(phys, n, n);
+  s.origin_x = kFordX - half;
+  s.origin_y = floor_line(kFordX) - half;
+  s.rest_height = kWaterLevel;
+  s.mode = water::SurfaceMode::vertical_only;
+  s.boundary = water::Boundary::vertical_only;
+  s.threads = o.threads;
+  return s;
+}
+
+class Rally final : public Scene {
+ public:
+  explicit Rally(const SceneOptions& o)
+      : o_(o),
+        land_(land_settings(o)),
+        ford_(ford_settings(o)),
+        ground_(world_.world(), land_),
+        water_(world_.world(), ford_) {
+    land_.set_palette({terrain::Material::sand(), terrain::Material::mud()});
+    land_.paint_disc(kMudX, floor_line(kMudX), kMudRadius, 1);           // the wet hollow
+    land_.paint_disc(kFordX, floor_line(kFordX), kFordRadius + 1.0, 1);  // the ford's banks and bed
+    water_.fix_shoreline(land_);
+    const RaycastCarSettings car;
+    const double start_y = 0.0;
+    const double ground = land_.height(land_.column_i(kStartX), land_.column_j(start_y));
+    car_ = std::make_unique<RaycastCar>(
+        world_, car,
+        btVector3(btScalar(kStartX), btScalar(start_y),
+                  btScalar(ground + car.suspension_rest + car.wheel_radius - car.connection_height + 0.05)));
+    const std::array<double, 4> widths{kWheelWidth, kWheelWidth, kWheelWidth, kWheelWidth};
+    ground_.add_vehicle(&car_->vehicle(), widths);
+    water_.add_body(car_->chassis());
+    bodies_.push_back(car_->chassis());
+    start_ = car_->chassis()->getCenterOfMassPosition();
+  }
+
+  void step() override {
+    if (!driven_) script();
+    world_.step(o_.substep);
+    ++k_;
+  }
+
+  void observe() override {
+    const btVector3 c = car_->chassis()->getCenterOfMassPosition();
+    distance_ = std::max(distance_, double(c.x() - start_.x()));
+    wheels_down_ += car_->wheels_on_ground();
+    if (c.z() < land_.bedrock(land_.column_i(c.x()), land_.column_j(c.y()))) ++fallthrough_;
+    in_water_ = std::max(in_water_, water_.submerged_volume(car_->chassis()));
+  }
+
+  [[nodiscard]] SceneState state() const override {
+    return {.soils = {&land_}, .waters = {&ford_}, .bodies = bodies_, .layout = HashLayout::positions};
+  }
+
+  void measure(nlohmann::json& m) const override {
+    m["distance_m"] = distance_;
+    m["mean_speed_mps"] = distance_ / std::max(o_.seconds, o_.substep);
+    m["wheels_on_ground_share"] = double(wheels_down_) / (4.0 * std::max(k_, 1));
+    m["fallthrough_count"] = fallthrough_ + ground_.stats().rescues;
+    m["volume_drift_rel"] = volume_drift_rel(land_);
+    m["max_sinkage_m"] = max_sinkage();
+    m["chassis_submerged_m3"] = in_water_;
+    m["water_displaced_m3"] = water_.stats().displaced_volume;
+  }
+
+  [[nodiscard]] std::vector<int> film_substeps() const override { return evenly_spread_film(o_.substeps(), o_.smoke); }
+  Image film_frame(Painter& painter) override {
+    return painter.paint(contents(), {.region = around_car(6.0), .elevation_deg = 30.0, .legend = false, .width = 320});
+  }
+
+  SceneContents contents() override {
+    SceneContents c{.world = &world_,
+                    .soils = {{&land_, &ground_, {}}},
+                    .waters = {{&ford_, &water_}},
+                    .bounds = {kX0 + 2.0, -kHalfY + 2.0, kX1 - 2.0, kHalfY - 2.0},
+                    .focus = car_->chassis(),
+                    .clock = &k_};
+    c.drive = [this](double forward, double turn) {
+      driven_ = forward != 0.0 || turn != 0.0;
+      if (driven_) car_->drive(kEngine * forward, forward == 0.0 ? 200.0 : 0.0, 0.35 * turn);
+    };
+    return c;
+  }
+
+  void draw(Drawing& out) const override {
+    const int w = o_.smoke ? 320 : 1280;
+    const std::string when = time_label(k_ * o_.substep);
+    out.view("view.png", {.region = around_car(9.0),
+                          .elevation_deg = 28.0,
+                          .azimuth_deg = -150.0,
+                          .ground = View::Ground::natural,
+                          .width = w,
+                          .title = "rally: a raycast car through sand, mud and a ford at " + when});
+    out.view("valley.png", {.elevation_deg = 40.0,
+                            .ground = View::Ground::natural,
+                            .width = w,
+                            .title = "rally: the valley, its ruts and the ford at " + when});
+    out.view("ruts.png", {.camera = View::Camera::top,
+                          .region = {kStartX - 1.0, -4.0, kStartX + std::max(distance_, 4.0) + 2.0, 4.0},
+                          .ground = View::Ground::sinkage,
+                          .bodies = false,
+                          .width = w,
+                          .title = "rally: sinkage of the ruts, car removed"});
+    out.filmstrip();
+  }
+
+ private:
+  /// Where the drive happens: a square of half side `half` around the car.
+  [[nodiscard]] Bounds around_car(double half) const {
+    const btVector3 c = car_->chassis()->getCenterOfMassPosition();
+    return {double(c.x()) - half, double(c.y()) - half, double(c.x()) + half, double(c.y()) + half};
+  }
+  /// Full throttle up the valley, steering gently after its winding floor.
+  void script() {
+    const btVector3 c = car_->chassis()->getCenterOfMassPosition();
+    const double x = c.x(), ahead = x + 4.0;
+    const double floor_y = floor_line(ahead);
+    const btVector3 heading = car_->chassis()->getWorldTransform().getBasis().getColumn(0);
+    const double want = std::atan2(floor_y - double(c.y()), 4.0), have = std::atan2(heading.y(), heading.x());
+    car_->drive(kEngine, 0.0, std::clamp(1.5 * (want - have), -0.4, 0.4));
+  }
+  [[nodiscard]] double max_sinkage() const {
+    double most = 0.0;
+    const double x1 = kStartX + distance_ + 2.0;
+    for (std::int64_t j = land_.column_j(-4.0); j <= land_.column_j(4.0); ++j)
+      for (std::int64_t i = land_.column_i(kStartX); i <= land_.column_i(x1); ++i)
+        most = std::max(most, land_.sinkage(i, j));
+    return most;
+  }
+
+  SceneOptions o_;
+  World world_;
+  terrain::Terrain land_;
+  water::Surface ford_;
+  bullet::TerrainCoupling ground_;
+  bullet::WaterCoupling water_;
+  std::unique_ptr<RaycastCar> car_;
+  std::vector<const btRigidBody*> bodies_;
+  btVector3 start_{0, 0, 0};
+  int k_ = 0;
+  bool driven_ = false;
+  double distance_ = 0.0, in_water_ = 0.0;
+  long wheels_down_ = 0, fallthrough_ = 0;
+};
+
+}  // namespace
+
+SceneType rally_scene() {
+  return {
+      .name = "rally",
+      .description =
+          "A stock btRaycastVehicle car (800 kg, Bullet's VehicleDemo set-up) is driven up a valley of rolling sand, "
+          "through a hollow painted mud and across a shallow ford. Its wheels sink as the soil's bearing needs and "
+          "leave ruts behind; the chassis floats and drags in the ford and makes a wake. One terrain with a material "
+          "map (sand, mud). The camera follows the car; in the viewer the arrow keys drive it.",
+      .defaults = {.seconds = 14.0, .substep = 1.0 / 60.0, .material = "sand", .cell = 0.04, .smoke_seconds = 1.0},
+      .metric_help =
+          {
+              {"distance_m", "farthest the car got along the valley, m"},
+              {"mean_speed_mps", "distance over the run's time, m/s"},
+              {"wheels_on_ground_share", "share of wheel-substeps whose ray found ground"},
+              {"fallthrough_count", "times the chassis was below bedrock or a body was lifted back (must be 0)"},
+              {"volume_drift_rel", "|ground + compacted + airborne - edited| / moved volume (must be < 1e-6)"},
+              {"max_sinkage_m", "deepest rut along the track, m"},
+              {"chassis_submerged_m3", "largest volume of the chassis under water, m^3"},
+              {"water_displaced_m3", "water the car pushed aside in total (signed), m^3"},
+          },
+      .create = make_scene<Rally>,
+  };
+}
+
+}  // namespace shore::scenes
