@@ -138,34 +138,19 @@ Heightmap Heightmap::from_png_bytes(std::span<const unsigned char> bytes, const 
                                     HeightmapPlacement placement) {
   placement.validate();
   const std::string where = "heightmap PNG " + name + ": ";
-  static constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (bytes.size() < 8 || std::memcmp(bytes.data(), kPngSignature, 8) != 0)
-    throw FileError(where + "not a PNG file (signature missing)");
-  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    throw FileError(where + "file too large");
-  const std::vector<unsigned char> without_empty_chunks = checked_png_chunks(bytes, where);
-  if (!without_empty_chunks.empty()) bytes = without_empty_chunks;
-  const int len = static_cast<int>(bytes.size());
-  int w = 0, h = 0, channels = 0;
-  if (!stbi_info_from_memory(bytes.data(), len, &w, &h, &channels))
-    throw FileError(where + "unreadable header (" + stbi_failure_reason() + ")");
-  if (w < 1 || h < 1) throw FileError(where + "empty image");
-  const auto samples = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
-  if (samples > kMaxHeightmapSamples)
-    throw FileError(where + std::to_string(w) + " x " + std::to_string(h) + " pixels, more than the " +
-                    std::to_string(kMaxHeightmapSamples) + " samples a heightmap may hold");
-  if (!plausible_png_size(bytes.size(), w, h))
-    throw FileError(where + "header claims " + std::to_string(w) + " x " + std::to_string(h) + " pixels, more than " +
-                    std::to_string(bytes.size()) + " bytes can hold (corrupt)");
-  const bool sixteen = stbi_is_16_bit_from_memory(bytes.data(), len) != 0;
+  const CheckedPng png = checked_png(bytes, where, kMaxHeightmapSamples, "samples a heightmap may hold");
+  const int len = static_cast<int>(png.bytes.size());
+  int w = png.width, h = png.height, channels = png.channels;
+  const std::size_t samples = png.pixels;
+  const bool sixteen = stbi_is_16_bit_from_memory(png.bytes.data(), len) != 0;
   std::vector<float> values;
   if (sixteen) {
-    std::unique_ptr<stbi_us, StbFree> pixels(stbi_load_16_from_memory(bytes.data(), len, &w, &h, &channels, 1));
+    std::unique_ptr<stbi_us, StbFree> pixels(stbi_load_16_from_memory(png.bytes.data(), len, &w, &h, &channels, 1));
     if (!pixels) throw FileError(where + "cannot decode 16-bit image (" + stbi_failure_reason() + ")");
     values.resize(samples);
     for (std::size_t k = 0; k < values.size(); ++k) values[k] = static_cast<float>(pixels.get()[k] / 65535.0);
   } else {
-    std::unique_ptr<stbi_uc, StbFree> pixels(stbi_load_from_memory(bytes.data(), len, &w, &h, &channels, 1));
+    std::unique_ptr<stbi_uc, StbFree> pixels(stbi_load_from_memory(png.bytes.data(), len, &w, &h, &channels, 1));
     if (!pixels) throw FileError(where + "cannot decode 8-bit image (" + stbi_failure_reason() + ")");
     values.resize(samples);
     for (std::size_t k = 0; k < values.size(); ++k) values[k] = static_cast<float>(pixels.get()[k] / 255.0);

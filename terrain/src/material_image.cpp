@@ -42,34 +42,19 @@ MaterialImage MaterialImage::from_png(const std::filesystem::path& file) {
 
 MaterialImage MaterialImage::from_png_bytes(std::span<const unsigned char> bytes, const std::string& name) {
   const std::string where = "material image PNG " + name + ": ";
-  static constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (bytes.size() < 8 || std::memcmp(bytes.data(), kPngSignature, 8) != 0)
-    throw FileError(where + "not a PNG file (signature missing)");
-  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    throw FileError(where + "file too large");
-  const std::vector<unsigned char> without_empty_chunks = checked_png_chunks(bytes, where);
-  if (!without_empty_chunks.empty()) bytes = without_empty_chunks;
-  const int len = static_cast<int>(bytes.size());
-  int w = 0, h = 0, channels = 0;
-  if (!stbi_info_from_memory(bytes.data(), len, &w, &h, &channels))
-    throw FileError(where + "unreadable header (" + stbi_failure_reason() + ")");
-  if (w < 1 || h < 1) throw FileError(where + "empty image");
-  const auto pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
-  if (pixels > kMaxMaterialImagePixels)
-    throw FileError(where + std::to_string(w) + " x " + std::to_string(h) + " pixels, more than the " +
-                    std::to_string(kMaxMaterialImagePixels) + " a material image may hold");
-  if (!plausible_png_size(bytes.size(), w, h))
-    throw FileError(where + "header claims " + std::to_string(w) + " x " + std::to_string(h) + " pixels, more than " +
-                    std::to_string(bytes.size()) + " bytes can hold (corrupt)");
+  const CheckedPng png = checked_png(bytes, where, kMaxMaterialImagePixels, "a material image may hold");
+  const int len = static_cast<int>(png.bytes.size());
+  int w = png.width, h = png.height, channels = png.channels;
+  const std::size_t pixels = png.pixels;
   // Indices are the stored values: anything converted on decoding (colour to grey, 16 bits
   // to 8) would paint other materials than the file says.
-  if (stbi_is_16_bit_from_memory(bytes.data(), len))
+  if (stbi_is_16_bit_from_memory(png.bytes.data(), len))
     throw FileError(where + "16-bit image; a material image is 8-bit greyscale (pixel value = palette index)");
   if (channels != 1)
     throw FileError(where + std::to_string(channels) +
                     " channels (colour, indexed colour or alpha); a material image is 8-bit greyscale (pixel "
                     "value = palette index)");
-  std::unique_ptr<stbi_uc, StbFree> decoded(stbi_load_from_memory(bytes.data(), len, &w, &h, &channels, 1));
+  std::unique_ptr<stbi_uc, StbFree> decoded(stbi_load_from_memory(png.bytes.data(), len, &w, &h, &channels, 1));
   if (!decoded) throw FileError(where + "cannot decode image (" + stbi_failure_reason() + ")");
   std::vector<std::uint8_t> index(decoded.get(), decoded.get() + pixels);
   return MaterialImage(w, h, std::move(index), name);

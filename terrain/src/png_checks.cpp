@@ -2,8 +2,12 @@
 
 #include "png_checks.h"
 
+#include <stb_image.h>
+
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 
 #include "shore/core/error.h"
 
@@ -62,6 +66,32 @@ std::vector<unsigned char> checked_png_chunks(std::span<const unsigned char> byt
 bool plausible_png_size(std::size_t file_bytes, int w, int h) {
   const double least_raw = static_cast<double>(h) * (1.0 + std::ceil(static_cast<double>(w) / 8.0));
   return least_raw <= 1032.0 * static_cast<double>(file_bytes);
+}
+
+CheckedPng checked_png(std::span<const unsigned char> bytes, const std::string& where, std::size_t max_pixels,
+                       const std::string& too_many) {
+  static constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (bytes.size() < 8 || std::memcmp(bytes.data(), kPngSignature, 8) != 0)
+    throw FileError(where + "not a PNG file (signature missing)");
+  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw FileError(where + "file too large");
+  CheckedPng png;
+  png.stripped = checked_png_chunks(bytes, where);
+  png.bytes = png.stripped.empty() ? bytes : std::span<const unsigned char>(png.stripped);
+  const int len = static_cast<int>(png.bytes.size());
+  int& w = png.width;
+  int& h = png.height;
+  if (!stbi_info_from_memory(png.bytes.data(), len, &w, &h, &png.channels))
+    throw FileError(where + "unreadable header (" + stbi_failure_reason() + ")");
+  if (w < 1 || h < 1) throw FileError(where + "empty image");
+  png.pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  if (png.pixels > max_pixels)
+    throw FileError(where + std::to_string(w) + " x " + std::to_string(h) + " pixels, more than the " +
+                    std::to_string(max_pixels) + " " + too_many);
+  if (!plausible_png_size(png.bytes.size(), w, h))
+    throw FileError(where + "header claims " + std::to_string(w) + " x " + std::to_string(h) + " pixels, more than " +
+                    std::to_string(png.bytes.size()) + " bytes can hold (corrupt)");
+  return png;
 }
 
 }  // namespace shore::terrain
