@@ -1,9 +1,9 @@
 // rally: a stock btRaycastVehicle car (Bullet's VehicleDemo set-up: RaycastCar) driven by
-// a script up a valley of rolling sand, through a mud patch and across a shallow ford. Its
-// wheels sink and leave ruts (TerrainCoupling::add_vehicle), its chassis floats and drags in
-// the ford (WaterCoupling) and makes a wake. The camera follows the car; the viewer drives
-// it with the arrow keys. One terrain with a material map: sand, with mud painted where the
-// valley floor is wet.
+// a script up a valley of rolling sand, through a mud patch and into a ford, where it
+// stalls at the far bank. Its wheels sink and leave ruts (TerrainCoupling::add_vehicle),
+// its chassis floats and drags in the ford (WaterCoupling) and makes a wake. The camera
+// follows the car; the viewer drives it with the arrow keys. One terrain with a material
+// map: sand, with mud painted where the valley floor is wet.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -145,7 +145,7 @@ class Rally final : public Scene {
     m["wheels_on_ground_share"] = double(wheels_down_) / (4.0 * std::max(k_, 1));
     m["fallthrough_count"] = fallthrough_ + ground_.stats().rescues;
     m["volume_drift_rel"] = volume_drift_rel(land_);
-    m["max_sinkage_m"] = max_sinkage();
+    m["deepest_rut_m"] = deepest_rut();
     m["chassis_submerged_m3"] = in_water_;
     m["water_displaced_m3"] = water_.stats().displaced_volume;
   }
@@ -206,12 +206,12 @@ class Rally final : public Scene {
     const double want = std::atan2(floor_y - double(c.y()), 4.0), have = std::atan2(heading.y(), heading.x());
     car_->drive(kEngine, 0.0, std::clamp(1.5 * (want - have), -0.4, 0.4));
   }
-  [[nodiscard]] double max_sinkage() const {
+  [[nodiscard]] double deepest_rut() const {
     double most = 0.0;
     const double x1 = kStartX + distance_ + 2.0;
     for (std::int64_t j = land_.column_j(-4.0); j <= land_.column_j(4.0); ++j)
       for (std::int64_t i = land_.column_i(kStartX); i <= land_.column_i(x1); ++i)
-        most = std::max(most, land_.sinkage(i, j));
+        most = std::max(most, land_.base_height(i, j) - land_.height(i, j));
     return most;
   }
 
@@ -237,8 +237,10 @@ SceneType rally_scene() {
       .name = "rally",
       .description =
           "A stock btRaycastVehicle car (800 kg, Bullet's VehicleDemo set-up) is driven up a valley of rolling sand, "
-          "through a hollow painted mud and across a shallow ford. Its wheels sink as the soil's bearing needs and "
-          "leave ruts behind; the chassis floats and drags in the ford and makes a wake. One terrain with a material "
+          "through a hollow painted mud and into a ford. Its wheels sink as the soil's bearing needs and leave ruts "
+          "behind; the chassis floats and drags in the ford and makes a wake. It stalls at the ford's far bank and "
+          "digs in there: "
+          "deepest_rut_m is that hole, not a rut of the open drive. One terrain with a material "
           "map (sand, mud). The camera follows the car; in the viewer the arrow keys drive it.",
       .defaults = {.seconds = 14.0, .substep = 1.0 / 60.0, .material = "sand", .cell = 0.04, .smoke_seconds = 1.0},
       .metric_help =
@@ -248,7 +250,7 @@ SceneType rally_scene() {
               {"wheels_on_ground_share", "share of wheel-substeps whose ray found ground"},
               {"fallthrough_count", "times the chassis was below bedrock or a body was lifted back (must be 0)"},
               {"volume_drift_rel", "|ground + compacted + airborne - edited| / moved volume (must be < 1e-6)"},
-              {"max_sinkage_m", "deepest rut along the track, m"},
+              {"deepest_rut_m", "largest lowering of the ground below its untouched surface along the track, m"},
               {"chassis_submerged_m3", "largest volume of the chassis under water, m^3"},
               {"water_displaced_m3", "water the car pushed aside in total (signed), m^3"},
           },
