@@ -334,6 +334,30 @@ void vehicle(const SweepContext& ctx, SweepResult& out) {
       "real-time factor = simulated / wall seconds of the whole stepSimulation.");
 }
 
+void rally(const SweepContext& ctx, SweepResult& out) {
+  ctx.progress("rally, a stock raycast car, 1/60 s");
+  const scenes::SceneType& scene = *scenes::find_scene("rally");
+  scenes::Overrides o;  // the scene's defaults: 4 cm land, 1/60 s, 14 s
+  o.threads = 1;
+  o.write_files = false;
+  const nlohmann::json m = scenes::run_scene(scene, scenes::resolve(scene, o), scenes::ProgressMode::quiet).metrics;
+  const double realtime = m["realtime_factor"].get<double>();
+  Table& t = out.table("coupling_rally", {"sim_s", "wall_s", "realtime_factor", "distance_m", "deepest_rut_m"});
+  t.add({m["sim_seconds"].get<double>(), m["wall_seconds"].get<double>(), realtime, m["distance_m"].get<double>(),
+         m["deepest_rut_m"].get<double>()});
+  out.figure("scenes.rally_realtime_factor", realtime, "x real time (a raycast car, 60 steps/s, 1 thread)");
+  out.target({.key = "scenes.rally_realtime_factor",
+              .what = "rally: a stock raycast car over sand, mud and a ford at 1/60 s steps",
+              .value = realtime,
+              .op = ">=",
+              .threshold = 20.0,
+              .unit = "x real time"});
+  out.note(
+      "Rally (the rally scene): a stock btRaycastVehicle (800 kg) driven 14 s up a valley of 4 cm sand with painted "
+      "mud and a ford (its chassis in the water coupling), 60 steps per second, one thread; real-time factor = "
+      "simulated / wall seconds of the whole step.");
+}
+
 /// The drag of a towed box and ball against the law 1/2 rho C_d A v^2 + rho k A v, across
 /// the samples per cell of the displacement (the drag must not depend on them), and a dense
 /// ball's terminal velocity against the drag balance.
@@ -435,6 +459,7 @@ void run(const SweepContext& ctx, SweepResult& out) {
   wheel_plugin_time(ctx, out);
   wheel_cost_settings(ctx, out);
   vehicle(ctx, out);
+  rally(ctx, out);
   floating_sweep(ctx, out);
 }
 
