@@ -97,25 +97,9 @@ void TerrainCoupling::add_body(btRigidBody* body, TerrainBodySettings body_setti
   if (body == nullptr) throw InvalidSetting(what, "null", "must be a rigid body");
   if (detached_) throw InvalidSetting(what, "after detach()", "a detached coupling takes no bodies: make a new one");
   body_settings.validate();
-  Directory::for_each_other(&world_, this, [&](const TerrainCoupling& other) {
-    if (other.parts_->bodies.find(body) == nullptr || !other.settings_.region.overlaps(settings_.region)) return;
-    throw InvalidSetting(what,
-                         coupling_detail::body_text(*body) +
-                             ", already in another TerrainCoupling of this world whose region " +
-                             coupling_detail::region_text(other.settings_.region) + " overlaps this one's " +
-                             coupling_detail::region_text(settings_.region),
-                         "a body may be in several terrain couplings only if their regions are disjoint (else "
-                         "both terrains would push it): remove_body it from the other first, or give the "
-                         "couplings disjoint regions");
-  });
+  parts_->refuse_if_held_elsewhere(*this, *body, what, "body");
   auto coupled = coupling_detail::couple(std::make_unique<coupling_detail::CoupledRigidBody>(*body), settings_.frame);
-  coupling_detail::TerrainBody record;
-  record.settings = body_settings;
-  record.shape.shape = body->getCollisionShape();
-  if (record.shape.shape != nullptr) record.shape.scaling = record.shape.shape->getLocalScaling();
-  if (body_settings.deform)  // once: then rasterizing it never fails for a sane pose
-    record.shape.reach = coupling_detail::check_terrain_shape(
-        *body->getCollisionShape(), parts_->rasterizer.grid().cell, parts_->rasterizer.options());
+  coupling_detail::TerrainBody record = parts_->record_for(*body, body_settings);
   const bool owned = !parts_->rigid && coupled->dynamic() && body_settings.deform;
   if (owned && body->getBroadphaseHandle() == nullptr)
     throw InvalidSetting(what, "not in the world", "add the body to the dynamics world before add_body");
@@ -129,6 +113,34 @@ void TerrainCoupling::add_body(btRigidBody* body, TerrainBodySettings body_setti
     body->setCcdSweptSphereRadius(btScalar(body_settings.ccd_sphere_share) * thinnest);
   }
   parts_->enroll(std::move(coupled), std::move(record), owned);
+}
+
+void TerrainCoupling::Parts::refuse_if_held_elsewhere(const TerrainCoupling& self, const btCollisionObject& object,
+                                                      const char* what, const char* kind) const {
+  Directory::for_each_other(&world, &self, [&](const TerrainCoupling& other) {
+    if (other.parts_->bodies.find(&object) == nullptr || !other.settings_.region.overlaps(settings.region)) return;
+    throw InvalidSetting(what,
+                         coupling_detail::body_text(object) +
+                             ", already in another TerrainCoupling of this world whose region " +
+                             coupling_detail::region_text(other.settings_.region) + " overlaps this one's " +
+                             coupling_detail::region_text(settings.region),
+                         std::string("a ") + kind +
+                             " may be in several terrain couplings only if their regions are disjoint (else "
+                             "both terrains would push it): remove_body it from the other first, or give the "
+                             "couplings disjoint regions");
+  });
+}
+
+coupling_detail::TerrainBody TerrainCoupling::Parts::record_for(const btCollisionObject& object,
+                                                                const TerrainBodySettings& body_settings) const {
+  coupling_detail::TerrainBody record;
+  record.settings = body_settings;
+  record.shape.shape = object.getCollisionShape();
+  if (record.shape.shape != nullptr) record.shape.scaling = record.shape.shape->getLocalScaling();
+  if (body_settings.deform)  // once: then rasterizing it never fails for a sane pose
+    record.shape.reach =
+        coupling_detail::check_terrain_shape(*object.getCollisionShape(), rasterizer.grid().cell, rasterizer.options());
+  return record;
 }
 
 void TerrainCoupling::Parts::enroll(std::unique_ptr<coupling_detail::CoupledBody> coupled,

@@ -5,7 +5,6 @@
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
 #include "coupled_multibody_link.h"
-#include "coupling_directory.h"
 #include "framed_body.h"
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/core/error.h"
@@ -13,36 +12,17 @@
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
-namespace {
-using Directory = coupling_detail::WorldDirectory<TerrainCoupling>;
-}  // namespace
-
 void TerrainCoupling::add_link(btMultiBodyLinkCollider* link, TerrainBodySettings body_settings) {
   const char* what = "bullet.TerrainCoupling.add_link(link)";
   if (detached_) throw InvalidSetting(what, "after detach()", "a detached coupling takes no links: make a new one");
   const btMultiBodyDynamicsWorld& mb_world = coupling_detail::link_world(world_, link, what);
   body_settings.validate();
-  Directory::for_each_other(&world_, this, [&](const TerrainCoupling& other) {
-    if (other.parts_->bodies.find(link) == nullptr || !other.settings_.region.overlaps(settings_.region)) return;
-    throw InvalidSetting(what,
-                         coupling_detail::body_text(*link) +
-                             ", already in another TerrainCoupling of this world whose region " +
-                             coupling_detail::region_text(other.settings_.region) + " overlaps this one's " +
-                             coupling_detail::region_text(settings_.region),
-                         "a link may be in several terrain couplings only if their regions are disjoint: "
-                         "remove_body it from the other first, or give the couplings disjoint regions");
-  });
+  parts_->refuse_if_held_elsewhere(*this, *link, what, "link");
   if (link->getCollisionShape() == nullptr)
     throw InvalidSetting("bullet.TerrainCoupling.add_link shape", "null", "the link must have a collision shape");
   auto coupled = coupling_detail::couple(std::make_unique<coupling_detail::CoupledMultiBodyLink>(*link, mb_world),
                                          settings_.frame);
-  coupling_detail::TerrainBody record;
-  record.settings = body_settings;
-  record.shape.shape = link->getCollisionShape();
-  record.shape.scaling = record.shape.shape->getLocalScaling();
-  if (body_settings.deform)
-    record.shape.reach = coupling_detail::check_terrain_shape(
-        *link->getCollisionShape(), parts_->rasterizer.grid().cell, parts_->rasterizer.options());
+  coupling_detail::TerrainBody record = parts_->record_for(*link, body_settings);
   // Bullet's multibody solver makes no continuous collision for links: enable_ccd does
   // nothing here.
   remove_body(link);

@@ -79,6 +79,14 @@ struct TerrainCoupling::Parts {
   void clip_to_region(EnvelopeRaster& envelope) const;
 
   // ---- bodies (terrain_coupling_bodies.cpp) ----
+  /// Throws InvalidSetting (`what`: the call; `kind`: "body" or "link") if another terrain
+  /// coupling of this world holds the object over an overlapping region.
+  void refuse_if_held_elsewhere(const TerrainCoupling& self, const btCollisionObject& object, const char* what,
+                                const char* kind) const;
+  /// The coupling's record of an object joining with these settings; a deforming shape is
+  /// checked once here (InvalidSetting if it cannot be rasterized).
+  [[nodiscard]] coupling_detail::TerrainBody record_for(const btCollisionObject& object,
+                                                        const TerrainBodySettings& body_settings) const;
   /// A checked body joins: (owned: its soil contact is Shore's) its filter bit taken, its
   /// envelope made and tiles put under it.
   void enroll(std::unique_ptr<coupling_detail::CoupledBody> coupled, coupling_detail::TerrainBody record, bool owned);

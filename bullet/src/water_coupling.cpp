@@ -94,27 +94,35 @@ void WaterCoupling::add_body(btRigidBody* body, WaterBodySettings body_settings)
   if (body->getCollisionShape() == nullptr)
     throw InvalidSetting("bullet.WaterCoupling.add_body shape", "null", "the body must have a collision shape");
   check_pose(*body, coupling_detail::CoupledRigidBody(*body).motion());
-  auto coupled = coupling_detail::couple(std::make_unique<coupling_detail::CoupledRigidBody>(*body), settings_.frame);
-  Directory::for_each_other(&world_, this, [&](const WaterCoupling& other) {
-    const Region mine = area_of(surface_), theirs = area_of(other.surface_);
-    if (other.parts_->bodies.find(body) == nullptr || !theirs.overlaps(mine)) return;
-    throw InvalidSetting(what,
-                         coupling_detail::body_text(*body) + ", already in another WaterCoupling of this world whose " +
-                             "water " + coupling_detail::region_text(theirs) + " overlaps this one's " +
-                             coupling_detail::region_text(mine),
-                         "a body may be in several water couplings only if their surfaces do not overlap (else "
-                         "both would float it): remove_body it from the other first");
+  parts_->enroll(*this,
+                 coupling_detail::couple(std::make_unique<coupling_detail::CoupledRigidBody>(*body), settings_.frame),
+                 body_settings, what, "body");
+}
+
+void WaterCoupling::Parts::enroll(const WaterCoupling& self, std::unique_ptr<coupling_detail::CoupledBody> coupled,
+                                  WaterBodySettings body_settings, const char* what, const char* kind) {
+  const btCollisionObject& object = coupled->object();
+  Directory::for_each_other(&world, &self, [&](const WaterCoupling& other) {
+    const Region mine = area_of(surface), theirs = area_of(other.surface_);
+    if (other.parts_->bodies.find(&object) == nullptr || !theirs.overlaps(mine)) return;
+    throw InvalidSetting(
+        what,
+        coupling_detail::body_text(object) + ", already in another WaterCoupling of this world whose " + "water " +
+            coupling_detail::region_text(theirs) + " overlaps this one's " + coupling_detail::region_text(mine),
+        std::string("a ") + kind +
+            " may be in several water couplings only if their surfaces do not overlap (else "
+            "both would float it): remove_body it from the other first");
   });
   coupling_detail::WaterBody record;
   record.settings = body_settings;
-  record.shape = water_detail::prepare_shape(*body->getCollisionShape());
+  record.shape = water_detail::prepare_shape(*object.getCollisionShape());
   if (record.shape.sampled) {
-    const EnvelopeGrid grid = coupling_detail::sub_grid(surface_, settings_.fluid.samples_per_cell);
-    (void)check_rasterizable(*body->getCollisionShape(), grid.cell, coupling_detail::nominal_with_upper());
+    const EnvelopeGrid grid = coupling_detail::sub_grid(surface, settings.fluid.samples_per_cell);
+    (void)check_rasterizable(*object.getCollisionShape(), grid.cell, coupling_detail::nominal_with_upper());
     record.rasterizer = std::make_unique<EnvelopeRasterizer>(grid, coupling_detail::nominal_with_upper());
   }
-  Parts::Entry& added = parts_->bodies.add(std::move(coupled), std::move(record));
-  if (added.record.settings.disturb) parts_->displace(added);  // tracking starts at this pose
+  Entry& added = bodies.add(std::move(coupled), std::move(record));
+  if (added.record.settings.disturb) displace(added);  // tracking starts at this pose
 }
 
 void WaterCoupling::remove_body(const btCollisionObject* body) { parts_->bodies.remove(body); }

@@ -65,6 +65,11 @@ struct WaterCoupling::Parts {
   coupling_detail::BodyRegistry<coupling_detail::WaterBody> bodies;
   coupling_detail::WaterWorkspace work;
 
+  /// A checked body or link joins (water_coupling.cpp): refused if another water coupling
+  /// of the world holds it over an overlapping surface (`what`: the call, `kind`: "body" or
+  /// "link", for the message); its shape prepared, its displacement tracked from here.
+  void enroll(const WaterCoupling& self, std::unique_ptr<coupling_detail::CoupledBody> coupled,
+              WaterBodySettings body_settings, const char* what, const char* kind);
   /// Buoyancy and drag of one body for a substep of h, then its displacement
   /// (water_coupling.cpp).
   void float_body(Entry& e, double h);

@@ -15,10 +15,13 @@ void need_finite(Reader& r, double v, const char* what) {
 }
 }  // namespace
 
-void write_spray_settings(Writer& w, const TerrainSettings& s) {
-  const SprayMaterial& m = s.material.spray;
+void write_spray_material(Writer& w, const SprayMaterial& m) {
   for (double v : {m.adhesion, m.half_life, m.speed_scale, m.exponent, m.particle_size, m.min_speed, m.jitter, m.drag})
     w.put(v);
+}
+
+void write_spray_settings(Writer& w, const TerrainSettings& s) {
+  write_spray_material(w, s.material.spray);
   const SpraySettings& p = s.spray;
   w.put(static_cast<std::uint8_t>(p.enabled ? 1 : 0));
   w.put(static_cast<std::int32_t>(p.max_particles));

@@ -8,6 +8,9 @@
 
 namespace shore::terrain {
 
+/// A material's spray settings (part of every saved material).
+void write_spray_material(Writer& w, const SprayMaterial& m);
+/// The material's spray settings, then the terrain's.
 void write_spray_settings(Writer& w, const TerrainSettings& s);
 void read_spray_settings(Reader& r, TerrainSettings& s);
 void write_spray_state(Writer& w, const SprayState& state);

@@ -79,6 +79,20 @@ std::uint64_t checksum(const unsigned char* data, std::size_t size) {
   return h.value();
 }
 
+/// A material's name, soil, bearing and shear fields, in the file's order (its spray and
+/// unload_modulus follow, with the terrain's spray settings between them in the header).
+void write_material_fields(Writer& w, const Material& m) {
+  w.put(static_cast<std::uint32_t>(m.name.size()));
+  for (char c : m.name) w.put(c);
+  for (double v : {m.theta_stop, m.sigma, m.theta_in, m.theta_out, m.alpha, m.bekker_n, m.bekker_kc, m.bekker_kphi,
+                   m.friction, m.soil_depth})
+    w.put(v);
+  w.put(static_cast<std::uint8_t>(m.rigid ? 1 : 0));
+  for (double v :
+       {m.cohesion, m.friction_angle, m.shear_modulus, m.remould_ratio, m.remould_shear_ratio, m.remould_length})
+    w.put(v);
+}
+
 void write_settings(Writer& w, const TerrainSettings& s) {
   const Material& m = s.material;
   w.put(s.cell), w.put(s.origin_x), w.put(s.origin_y);
@@ -90,32 +104,14 @@ void write_settings(Writer& w, const TerrainSettings& s) {
   w.put(static_cast<std::int32_t>(s.parallel_min_columns));
   w.put(s.active_reach);
   w.put(static_cast<std::int32_t>(s.idle_tile_steps));
-  w.put(static_cast<std::uint32_t>(m.name.size()));
-  for (char c : m.name) w.put(c);
-  for (double v : {m.theta_stop, m.sigma, m.theta_in, m.theta_out, m.alpha, m.bekker_n, m.bekker_kc, m.bekker_kphi,
-                   m.friction, m.soil_depth})
-    w.put(v);
-  w.put(static_cast<std::uint8_t>(m.rigid ? 1 : 0));
-  for (double v :
-       {m.cohesion, m.friction_angle, m.shear_modulus, m.remould_ratio, m.remould_shear_ratio, m.remould_length})
-    w.put(v);
-  write_spray_settings(w, s);
+  write_material_fields(w, m);
+  write_spray_settings(w, s);  // the material's spray, then the terrain's (the file's order)
   w.put(m.unload_modulus);
 }
 
 void write_material(Writer& w, const Material& m) {
-  w.put(static_cast<std::uint32_t>(m.name.size()));
-  for (char c : m.name) w.put(c);
-  for (double v : {m.theta_stop, m.sigma, m.theta_in, m.theta_out, m.alpha, m.bekker_n, m.bekker_kc, m.bekker_kphi,
-                   m.friction, m.soil_depth})
-    w.put(v);
-  w.put(static_cast<std::uint8_t>(m.rigid ? 1 : 0));
-  for (double v :
-       {m.cohesion, m.friction_angle, m.shear_modulus, m.remould_ratio, m.remould_shear_ratio, m.remould_length})
-    w.put(v);
-  const SprayMaterial& p = m.spray;
-  for (double v : {p.adhesion, p.half_life, p.speed_scale, p.exponent, p.particle_size, p.min_speed, p.jitter, p.drag})
-    w.put(v);
+  write_material_fields(w, m);
+  write_spray_material(w, m.spray);
   w.put(m.unload_modulus);
 }
 
