@@ -46,7 +46,7 @@ RaycastCar::~RaycastCar() { world_.world().removeAction(vehicle_.get()); }
 void RaycastCar::drive(double engine_force, double brake, double steering) {
   for (int k = 0; k < vehicle_->getNumWheels(); ++k) {
     const bool front = k < 2;
-    vehicle_->applyEngineForce(btScalar(front ? 0.0 : engine_force), k);
+    vehicle_->applyEngineForce(btScalar(front && !settings_.four_wheel_drive ? 0.0 : engine_force), k);
     vehicle_->setBrake(btScalar(brake), k);
     vehicle_->setSteeringValue(btScalar(front ? steering : 0.0), k);
   }

@@ -33,6 +33,7 @@ struct RaycastCarSettings {
   /// Build a shore::bullet::SoilVehicle (traction and side force from the soil's shear on
   /// Shore's soft ground) instead of a stock btRaycastVehicle (Bullet's friction everywhere).
   bool soil_traction = false;
+  bool four_wheel_drive = false;  ///< the engine force on every wheel, not only the rear ones
 };
 
 class RaycastCar {
@@ -45,7 +46,8 @@ class RaycastCar {
   RaycastCar(const RaycastCar&) = delete;
   RaycastCar& operator=(const RaycastCar&) = delete;
 
-  /// Engine force (N, per driven rear wheel), brake (N per wheel) and steering angle of the
+  /// Engine force (N, per driven wheel: the rear ones, or all four), brake (Bullet's: N s per
+  /// substep, per wheel) and steering angle of the
   /// front wheels (rad, positive to the left), held until set again.
   void drive(double engine_force, double brake, double steering);
 
