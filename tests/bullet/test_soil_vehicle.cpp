@@ -12,6 +12,7 @@
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/core/error.h"
 #include "shore/scenes/raycast_car.h"
+#include "shore/scenes/raycast_cases.h"
 #include "shore/scenes/wong_reece.h"
 #include "shore/scenes/world.h"
 #include "shore/terrain/terrain.h"
@@ -52,45 +53,16 @@ struct Rig {
 
 SoilVehicle& soil_vehicle(RaycastCar& car) { return dynamic_cast<SoilVehicle&>(car.vehicle()); }
 
-struct DrivenRun {
-  double pull = 0.0, thrust = 0.0, torque = 0.0, sinkage = 0.0, load = 0.0, slip = 0.0;
-};
-
-/// The car towed at `speed` with every wheel held at the spin of `slip`; the front wheels'
-/// means (they meet fresh soil, as Wong and Reece's wheel does) over the run's second half.
-DrivenRun run_driven(double slip, double speed = 0.5) {
-  Rig rig(shore::terrain::Material::sand());
-  const RaycastCarSettings s = wong_reece_car();
-  RaycastCar car(rig.world, s, btVector3(-2.0f, 0, btScalar(s.suspension_rest + s.wheel_radius - s.connection_height)));
-  const std::array<double, 4> widths{s.wheel_width, s.wheel_width, s.wheel_width, s.wheel_width};
-  rig.coupling.add_vehicle(&car.vehicle(), widths);
-  SoilVehicle& v = soil_vehicle(car);
-  for (int k = 0; k < 240; ++k) rig.world.step(kSubstep);  // settles
-  const double omega = speed / ((1.0 - slip) * s.wheel_radius);
-  for (int w = 0; w < 4; ++w) v.hold_wheel_spin(w, omega);
-  DrivenRun out;
-  int samples = 0;
-  constexpr int steps = 4 * 240;
-  for (int k = 0; k < steps; ++k) {
-    btVector3 vel = car.chassis()->getLinearVelocity();
-    vel.setX(btScalar(speed));
-    car.chassis()->setLinearVelocity(vel);
-    rig.world.step(kSubstep);
-    if (k < steps / 2) continue;
-    for (int w = 0; w < 2; ++w) {
-      const shore::bullet::WheelTraction& t = v.wheel_traction(w);
-      out.pull += t.forward + t.resistance;
-      out.thrust += t.forward;
-      out.torque += t.torque;
-      out.slip += t.slip;
-      out.sinkage -= double(car.vehicle().getWheelInfo(w).m_raycastInfo.m_contactPointWS.z());
-      out.load += double(car.vehicle().getWheelInfo(w).m_wheelsSuspensionForce);
-      ++samples;
-    }
-  }
-  out.pull /= samples, out.thrust /= samples, out.torque /= samples, out.sinkage /= samples, out.load /= samples,
-      out.slip /= samples;
-  return out;
+/// The car towed at 0.5 m/s with every wheel held at the spin of `slip`, measured on its
+/// front wheels (they meet fresh soil, as Wong and Reece's wheel does) over the second half.
+shore::scenes::RaycastTowResult run_driven(double slip) {
+  shore::scenes::RaycastTowCase c;
+  c.car = wong_reece_car();
+  c.speed = 0.5;
+  c.seconds = 4.0;
+  c.average_from = 0.5;
+  c.slip = slip;
+  return shore::scenes::run_raycast_tow(c);
 }
 
 // Wong and Reece's driven wheel (D 0.6 m, b 0.15 m, dry sand) at fixed slips: torque within
@@ -101,7 +73,7 @@ DrivenRun run_driven(double slip, double speed = 0.5) {
 TEST(SoilVehicle, DrivenWheelsPullAsWongAndReecePredict) {
   double last_sinkage = 0.0;
   for (const double slip : {0.1, 0.2, 0.3, 0.5}) {
-    const DrivenRun run = run_driven(slip);
+    const shore::scenes::RaycastTowResult run = run_driven(slip);
     shore::scenes::WongReeceWheel ref;
     ref.load = run.load;
     const shore::scenes::WongReeceResult want = shore::scenes::wong_reece(ref, slip);
