@@ -198,6 +198,13 @@ class Terrain {
   [[nodiscard]] int material_index(std::int64_t i, std::int64_t j) const;
   /// The column's material.
   [[nodiscard]] const Material& material_at(std::int64_t i, std::int64_t j) const;
+  /// Palette indices of a rectangle of columns, row-major (out.size() == nx * ny), one tile
+  /// lookup per run of columns. Throws InvalidSetting on a size mismatch.
+  void material_indices(const GridRect& rect, std::span<std::uint8_t> out) const;
+  /// Whole tiles (in key order) whose palette indices were written after generation g
+  /// (Terrain::generation): what a renderer's or a replica's copy of the map must read
+  /// again. painted_since(0) is empty for a terrain that never painted.
+  [[nodiscard]] std::vector<GridRect> painted_since(std::uint64_t g) const;
   /// Paints every column of the rectangle with palette entry `index`. Throws InvalidSetting
   /// naming the value and the allowed range [0, palette size) (terrain untouched) if the
   /// index is not in the palette, or the rectangle is negative.
@@ -284,7 +291,8 @@ class Terrain {
   /// After load() every loaded tile is reported whole.
   std::vector<GridRect> take_changed();
   /// The change generation: it advances with every call that may change heights (step,
-  /// relax, set_height), and every height change is stamped with it. An observer (a mesh,
+  /// relax, set_height) or the material map (set_palette, paint_*), and every height
+  /// change is stamped with it (and the palette and each repainted tile, for soil deltas). An observer (a mesh,
   /// a network delta) remembers generation() when it reads the heights and later asks
   /// changed_since(that) what changed since; any number of observers can do so, and
   /// take_changed is unaffected. Starts at 1 (load() too: loaded tiles are generation 1).
