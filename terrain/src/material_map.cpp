@@ -80,9 +80,12 @@ void Terrain::Impl::check_palette(std::span<const Material> candidate, const std
     if (m.soil_depth != now.soil_depth)
       throw InvalidSetting(entry + ".soil_depth", detail::to_text(m.soil_depth),
                            "must equal the present soil_depth (" + detail::to_text(now.soil_depth) + " m)");
-    if (m.rigid != now.rigid)
+    // Rigid columns (a road, a rock) on deforming ground, never soft ones on rigid ground
+    // (which never steps); entry 0 is the ground's own material.
+    if (m.rigid != now.rigid && (k == 0 || now.rigid))
       throw InvalidSetting(entry + ".rigid", m.rigid ? "true" : "false",
-                           std::string("must equal the present rigid flag (") + (now.rigid ? "true" : "false") + ")");
+                           std::string("must equal the present rigid flag (") + (now.rigid ? "true" : "false") +
+                               (now.rigid ? ")" : "; only entries after 0 may be rigid on deforming ground)"));
   }
 }
 

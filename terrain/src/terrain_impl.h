@@ -38,8 +38,9 @@ struct Terrain::Impl {
   double spray_seconds = 0.0;  ///< wall time spent in spray (a measurement, not state)
 
   /// Throws InvalidSetting naming `where`, the entry and the field if the palette is empty
-  /// or longer than Terrain::kMaxMaterials, an entry is invalid, or an entry's soil_depth or
-  /// rigid flag differs from the present material's. Does not look at the map.
+  /// or longer than Terrain::kMaxMaterials, an entry is invalid, an entry's soil_depth differs
+  /// from the present material's, or its rigid flag does (entries after 0 may be rigid on a
+  /// deforming terrain: bedrock_depth.h). Does not look at the map.
   void check_palette(std::span<const Material> palette, const std::string& where) const;
   /// Makes a checked palette the terrain's, stamped with the current generation.
   void adopt_palette(std::vector<Material> palette);

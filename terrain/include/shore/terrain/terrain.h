@@ -182,7 +182,10 @@ class Terrain {
   // angle). The map belongs to the columns, like a painted texture: soil that displacement
   // or erosion moves onto a column becomes that column's material, so volume is conserved
   // in total, not per material. Shore's Bullet coupling shears each column by its own
-  // material too. Not yet per column: spray (entry 0's).
+  // material too. A rigid entry on deforming ground (a road, a rock) has its bedrock at its
+  // columns' untouched top: they carry any load and are never pressed, carried off or
+  // eroded below it (loose soil laid on them can move again). Not yet per column: spray
+  // (entry 0's).
 
   /// At most this many materials.
   static constexpr int kMaxMaterials = 256;
@@ -190,9 +193,10 @@ class Terrain {
   [[nodiscard]] std::span<const Material> palette() const noexcept;
   /// Replaces the palette (entry 0 becomes settings().material), from the next step on.
   /// Throws InvalidSetting (terrain untouched) if it is empty or longer than kMaxMaterials,
-  /// an entry is invalid, an entry's soil_depth or rigid flag differs from the present
-  /// material's (they define bedrock and the tiles' kind), or it is shorter than an index
-  /// painted on the map.
+  /// an entry is invalid, an entry's soil_depth differs from the present material's (it
+  /// defines bedrock), entry 0's rigid flag differs from the present material's, an entry
+  /// of a rigid terrain is not rigid (rigid ground never steps), or it is shorter than an
+  /// index painted on the map. Entries after 0 may be rigid on deforming ground.
   void set_palette(std::vector<Material> palette);
   /// The column's palette index (0 where never painted).
   [[nodiscard]] int material_index(std::int64_t i, std::int64_t j) const;
@@ -240,7 +244,8 @@ class Terrain {
   /// Untouched ground heights of a rectangle, like heights() (bedrock = base - soil depth).
   void base_heights(const GridRect& rect, std::span<double> out) const;
   [[nodiscard]] double base_height(std::int64_t i, std::int64_t j) const;  ///< untouched ground, m
-  [[nodiscard]] double bedrock(std::int64_t i, std::int64_t j) const;      ///< base height - soil depth, m
+  /// base height - soil depth, m (base height on a rigid palette entry's column)
+  [[nodiscard]] double bedrock(std::int64_t i, std::int64_t j) const;
   /// Writes a height directly (editing tools, tests); keeps volume accounting in step: the
   /// change is added to VolumeTotals::edited and reported by take_changed. Heights below
   /// bedrock are raised to bedrock; sinkage is left as it is. Throws InvalidSetting if h is
