@@ -574,6 +574,21 @@ TEST(MultiBodyLinks, AHingedRaftFloatsAtArchimedesDraft) {
               draft_a, draft_b, archimedes, lifted, 2 * board * kGravity, double(mb->getJointPos(0)));
 }
 
+namespace {
+
+/// `add` throws InvalidSetting saying the link was added already.
+template <class Add>
+void expect_refused_as_added(Add&& add) {
+  try {
+    add();
+    ADD_FAILURE() << "a link added twice was taken";
+  } catch (const shore::InvalidSetting& e) {
+    EXPECT_NE(std::string(e.what()).find("added already"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+
 // Bad input: a clear error when adding, a counted skip when stepping, never a crash.
 TEST(MultiBodyLinks, BadLinksAreRefusedOrSkippedAndCounted) {
   shore::scenes::SoilRun run;
@@ -600,10 +615,21 @@ TEST(MultiBodyLinks, BadLinksAreRefusedOrSkippedAndCounted) {
   mb->setBaseVel(btVector3(nan, 0, 0));
   EXPECT_THROW(rig.ground.add_link(box), shore::InvalidSetting);
   mb->setBaseVel(btVector3(0, 0, 0));
-  // Added twice: one entry.
+  // Added twice: refused with an error that says so, the first stays.
   rig.ground.add_link(box);
-  rig.ground.add_link(box);
+  expect_refused_as_added([&] { rig.ground.add_link(box); });
   EXPECT_EQ(rig.ground.bodies().size(), 1U);
+  {  // the same in water
+    shore::water::PhysicalParameters phys;
+    phys.cell = 0.05;
+    shore::water::Surface surface(shore::water::SurfaceSettings::physical(phys, 16, 16));
+    MultiBodyWorld w;
+    shore::bullet::WaterCoupling water(w.world(), surface);
+    btMultiBodyLinkCollider* floater = add_box_base(w, 2.0, half, btVector3(0.3f, 0.3f, 0.0f));
+    water.add_link(floater);
+    expect_refused_as_added([&] { water.add_link(floater); });
+    EXPECT_EQ(water.bodies().size(), 1U);
+  }
   for (int k = 0; k < 24; ++k) rig.w.step(kSubstep);
   EXPECT_EQ(rig.ground.stats().skipped_bodies, 0);
   EXPECT_GT(rig.ground.terrain_force(box).force.z(), 0.0) << "it stands on the soil";
