@@ -246,6 +246,7 @@ class Rover final : public Scene {
                     .soils = {{&land_, &ground_, {}}},
                     .waters = {{&pool_, &water_}},
                     .bounds = {kLandX0, -kLandHalfY, kLandX1, kLandHalfY},
+                    .focus = chassis_,
                     .clock = &k_};
     c.drive = [this](double forward, double turn) {
       driven_ = forward != 0.0 || turn != 0.0;
