@@ -123,6 +123,7 @@ std::uint64_t world_hash(const CoupledWorld& w) {
   for (int k = 0; k < 3; ++k)
     h.add(double(t.getOrigin()[k])), h.add(double(w.ball().getLinearVelocity()[k])),
         h.add(double(w.ball().getAngularVelocity()[k]));
+  for (const double v : w.robot_state()) h.add(v);
   return h.value();
 }
 
@@ -132,6 +133,7 @@ void require_finite_world(const CoupledWorld& w, const char* when) {
     require(std::isfinite(t.getOrigin()[k]) && std::isfinite(w.ball().getLinearVelocity()[k]) &&
                 std::isfinite(w.ball().getAngularVelocity()[k]),
             std::string("non-finite ball ") + when);
+  for (const double v : w.robot_state()) require(std::isfinite(v), std::string("non-finite multibody ") + when);
   require_finite_volume(w.soil(), when);
   require(std::isfinite(w.surface().volume()), std::string("non-finite water volume ") + when);
 }
@@ -147,7 +149,8 @@ bool coupled_checkpoint(std::span<const std::uint8_t> data) {
   } catch (const FileError&) {
     return false;
   }
-  auto world = std::make_unique<CoupledWorld>();
+  // A checkpoint with the multibody's section restores into the world with links.
+  auto world = std::make_unique<CoupledWorld>(reader->has("MBODY"));
   try {
     world->restore(*reader);
   } catch (const FileError&) {
@@ -163,7 +166,7 @@ bool coupled_checkpoint(std::span<const std::uint8_t> data) {
     return true;  // a step refused (an envelope window too large to gather): allowed
   }
   require_finite_world(*world, "after three steps");
-  CoupledWorld again;
+  CoupledWorld again(world->links());
   again.restore(CheckpointReader(saved, "fuzz round trip", bullet::scalar_bytes()));
   for (int k = 0; k < 3; ++k) again.step();
   require(world_hash(again) == world_hash(*world), "a saved checkpoint does not continue identically");

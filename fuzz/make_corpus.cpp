@@ -166,15 +166,19 @@ void material_map_seeds(const fs::path& dir) {
   write(dir / "seed_raw_by_size", by_size);
 }
 
-/// A coupled world mid-run: the ball has pressed the soil and entered the water.
+/// A coupled world mid-run: the ball has pressed the soil and entered the water; with
+/// links (seed_links_*), the multibody's base and wheel have too.
 void checkpoint_seeds(const fs::path& dir) {
-  shore::fuzz::CoupledWorld w;
-  const Bytes start = w.checkpoint();
-  write(dir / "seed_start", entry_input(true, start));
-  for (int k = 0; k < 30; ++k) w.step();
-  const Bytes mid = w.checkpoint();
-  write(dir / "seed_mid_run", entry_input(true, mid));
-  write(dir / "seed_mid_run_whole", entry_input(false, mid));
+  for (const bool links : {false, true}) {
+    shore::fuzz::CoupledWorld w(links);
+    const std::string prefix = links ? "seed_links_" : "seed_";
+    const Bytes start = w.checkpoint();
+    write(dir / (prefix + "start"), entry_input(true, start));
+    for (int k = 0; k < 30; ++k) w.step();
+    const Bytes mid = w.checkpoint();
+    write(dir / (prefix + "mid_run"), entry_input(true, mid));
+    write(dir / (prefix + "mid_run_whole"), entry_input(false, mid));
+  }
 }
 
 /// soil_delta's mode 2 input (mode 6: a version 3 delta): the mode byte, quantum, from, to

@@ -119,6 +119,12 @@ const btMultiBodyDynamicsWorld& link_world(btDiscreteDynamicsWorld& world, const
   return *mb_world;
 }
 
+void refuse_if_added(bool held, const btMultiBodyLinkCollider& link, const char* what) {
+  if (held)
+    throw InvalidSetting(what, body_text(link) + ", added already",
+                         "add a link once: remove_body it first to add it again with other settings");
+}
+
 bool holds_multibody(const btMultiBodyDynamicsWorld& world, const btMultiBody* body) {
   for (int k = 0; k < world.getNumMultibodies(); ++k)
     if (world.getMultiBody(k) == body) return true;

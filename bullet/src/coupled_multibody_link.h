@@ -61,6 +61,11 @@ namespace coupling_detail {
 [[nodiscard]] const btMultiBodyDynamicsWorld& link_world(btDiscreteDynamicsWorld& world,
                                                          const btMultiBodyLinkCollider* link, const char* what);
 
+/// Throws InvalidSetting naming `what` when the coupling holds the link already (`held`):
+/// a link is added once (a second add_link would silently replace the first's settings,
+/// most often by mistake: two parts of a game adding the same foot).
+void refuse_if_added(bool held, const btMultiBodyLinkCollider& link, const char* what);
+
 /// The link's motion (its centre's velocity and its angular velocity, world frame), for a
 /// link whose multibody the world holds; non-finite velocities otherwise.
 [[nodiscard]] Motion link_motion(const btMultiBodyDynamicsWorld& world, const btMultiBodyLinkCollider& link);

@@ -16,6 +16,7 @@ void TerrainCoupling::add_link(btMultiBodyLinkCollider* link, TerrainBodySetting
   const char* what = "bullet.TerrainCoupling.add_link(link)";
   if (detached_) throw InvalidSetting(what, "after detach()", "a detached coupling takes no links: make a new one");
   const btMultiBodyDynamicsWorld& mb_world = coupling_detail::link_world(world_, link, what);
+  coupling_detail::refuse_if_added(parts_->bodies.find(link) != nullptr, *link, what);
   body_settings.validate();
   parts_->refuse_if_held_elsewhere(*this, *link, what, "link");
   if (link->getCollisionShape() == nullptr)
@@ -25,7 +26,6 @@ void TerrainCoupling::add_link(btMultiBodyLinkCollider* link, TerrainBodySetting
   coupling_detail::TerrainBody record = parts_->record_for(*link, body_settings);
   // Bullet's multibody solver makes no continuous collision for links: enable_ccd does
   // nothing here.
-  remove_body(link);
   const bool owned = !parts_->rigid && coupled->dynamic() && body_settings.deform;
   parts_->enroll(std::move(coupled), std::move(record), owned);
 }

@@ -16,6 +16,7 @@ void WaterCoupling::add_link(btMultiBodyLinkCollider* link, WaterBodySettings bo
   const char* what = "bullet.WaterCoupling.add_link(link)";
   if (detached_) throw InvalidSetting(what, "after detach()", "a detached coupling takes no links: make a new one");
   const btMultiBodyDynamicsWorld& mb_world = coupling_detail::link_world(world_, link, what);
+  coupling_detail::refuse_if_added(parts_->bodies.find(link) != nullptr, *link, what);
   if (link->getCollisionShape() == nullptr)
     throw InvalidSetting("bullet.WaterCoupling.add_link shape", "null", "the link must have a collision shape");
   parts_->enroll(*this,

@@ -11,14 +11,16 @@ SceneType impact_scene();
 SceneType impact_y_up_scene();
 SceneType pond_scene();
 SceneType rally_scene();
+SceneType rover_scene();
 SceneType rigid_drop_scene();
 SceneType tracks_scene();
 SceneType vehicle_scene();
 
 const std::vector<SceneType>& scenes() {
   static const std::vector<SceneType> list = [] {
-    std::vector<SceneType> all = {beach_scene(), footprints_scene(), impact_scene(), impact_y_up_scene(), pond_scene(),
-                                  rally_scene(), rigid_drop_scene(), tracks_scene(), vehicle_scene()};
+    std::vector<SceneType> all = {beach_scene(),  footprints_scene(), impact_scene(), impact_y_up_scene(),
+                                  pond_scene(),   rally_scene(),      rover_scene(),  rigid_drop_scene(),
+                                  tracks_scene(), vehicle_scene()};
     std::sort(all.begin(), all.end(), [](const SceneType& a, const SceneType& b) { return a.name < b.name; });
     return all;
   }();

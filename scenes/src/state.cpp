@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <btBulletDynamicsCommon.h>
 
 #include "shore/bullet/heightfield_tile.h"
@@ -51,6 +52,22 @@ void add_body(StateHash& h, const btRigidBody& b, HashLayout layout) {
   }
 }
 
+/// Every value a multibody's state holds, in the hash's order (state.h).
+template <class Visit>
+void visit_multibody(const btMultiBody& m, Visit&& visit) {
+  for (int a = 0; a < 3; ++a) visit(m.getBasePos()[a]);
+  const btQuaternion& q = m.getWorldToBaseRot();
+  for (int a = 0; a < 4; ++a) visit(q[a]);
+  for (int a = 0; a < 3; ++a) visit(m.getBaseVel()[a]);
+  for (int a = 0; a < 3; ++a) visit(m.getBaseOmega()[a]);
+  for (int link = 0; link < m.getNumLinks(); ++link) {
+    const btScalar* pos = m.getJointPosMultiDof(link);
+    const btScalar* vel = m.getJointVelMultiDof(link);
+    for (int d = 0; d < m.getLink(link).m_posVarCount; ++d) visit(pos[d]);
+    for (int d = 0; d < m.getLink(link).m_dofCount; ++d) visit(vel[d]);
+  }
+}
+
 long non_finite(const btVector3& v) {
   long n = 0;
   for (int a = 0; a < 3; ++a) n += std::isfinite(static_cast<double>(v[a])) ? 0 : 1;
@@ -69,6 +86,8 @@ std::uint64_t state_hash(const SceneState& state) {
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) h.add(static_cast<float>(tile->height(i, j)));
   }
+  for (const btMultiBody* m : state.multibodies)
+    visit_multibody(*m, [&](btScalar v) { h.add(static_cast<double>(v)); });
   return h.value();
 }
 
@@ -90,6 +109,8 @@ long non_finite_count(const SceneState& state) {
     for (int j = 0; j < c; ++j)
       for (int i = 0; i < c; ++i) n += std::isfinite(tile->height(i, j)) ? 0 : 1;
   }
+  for (const btMultiBody* m : state.multibodies)
+    visit_multibody(*m, [&](btScalar v) { n += std::isfinite(static_cast<double>(v)) ? 0 : 1; });
   for (const HeightGrid& g : state.soil_heights) n += g.non_finite_count();
   return n;
 }

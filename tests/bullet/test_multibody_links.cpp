@@ -23,6 +23,7 @@
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/bullet/water_coupling.h"
 #include "shore/core/error.h"
+#include "shore/scenes/multibody_cases.h"
 #include "shore/scenes/pool_cases.h"
 #include "shore/scenes/soil_cases.h"
 #include "shore/scenes/validation_matrix.h"
@@ -155,35 +156,14 @@ shore::terrain::Material matrix_material(const std::string& name) {
 // over 3 s so it arrives at rest) as a multibody's base: Bekker's plate sinkage, in a Z-up
 // world and in a Y-up one (the ground's frame GroundFrame::y_up()).
 void base_plate_meets_bekker(const shore::bullet::GroundFrame& frame) {
-  shore::scenes::SoilRun run;
-  run.terrain.material = matrix_material("sandy loam 22 %");
-  run.coupling.frame = frame;
-  SoilRig rig(run);
-  const double width = 0.2, pressure = 30e3, half_h = 0.05, ramp = 3.0, settle = 0.5;
-  const double mass = pressure * width * width / kGravity;
-  const double cx = 0.5 * run.terrain.cell + 0.5 * width;  // edges halfway between column centres
-  const btVector3 half(btScalar(width / 2), btScalar(width / 2), btScalar(half_h));
-  btMultiBodyLinkCollider* plate =
-      add_box_base(rig.w, mass, half, frame.to_world()(btVector3(btScalar(cx), btScalar(cx), half.z())),
-                   frame.to_world().getRotation());
-  rig.ground.add_link(plate);
-  btMultiBody* mb = plate->m_multiBody;
-  const auto steps = static_cast<std::int64_t>(std::lround((ramp + settle) / kSubstep));
-  for (std::int64_t k = 0; k < steps; ++k) {  // the part of the weight not yet applied is held up
-    const double u = std::min(1.0, double(k) * kSubstep / ramp);
-    const double share = std::pow(u * u * (3.0 - 2.0 * u), run.terrain.material.bekker_n);
-    mb->addBaseForce(frame.up() * btScalar(mass * kGravity * (1.0 - share)));
-    rig.w.step(kSubstep);
-  }
-  const double sinkage = -(double(frame.to_ground()(mb->getBasePos()).z()) - half_h);
-  const double bekker = shore::terrain::bekker::plate_sinkage(run.terrain.material, width, pressure);
-  EXPECT_LT(rel(sinkage, bekker), 0.05) << "sinkage " << sinkage << " m, Bekker " << bekker << " m";
-  const shore::bullet::TerrainForce f = rig.ground.terrain_force(plate);
-  const double carried = double(f.force.dot(frame.up()));  // world coordinates
-  EXPECT_LT(rel(carried, mass * kGravity), 0.01) << "the soil carries the weight: " << carried << " N";
-  EXPECT_EQ(rig.ground.stats().skipped_bodies, 0);
+  shore::scenes::MultiBodyPlateCase c;
+  c.run.coupling.frame = frame;
+  const shore::scenes::MultiBodyPlateResult r = shore::scenes::run_multibody_plate(c);
+  EXPECT_LT(rel(r.sinkage, r.bekker), 0.05) << "sinkage " << r.sinkage << " m, Bekker " << r.bekker << " m";
+  EXPECT_LT(rel(r.carried, r.weight), 0.01) << "the soil carries the weight: " << r.carried << " N";
+  EXPECT_EQ(r.skipped_links, 0);
   std::printf("[ multibody plate%s ] sinkage %.5f m, Bekker %.5f m (%+.2f %%)\n", frame.identity() ? "" : ", Y up",
-              sinkage, bekker, 100.0 * (sinkage - bekker) / bekker);
+              r.sinkage, r.bekker, 100.0 * (r.sinkage - r.bekker) / r.bekker);
 }
 
 TEST(MultiBodyLinks, BasePlateOnSandyLoamMatchesBekker) { base_plate_meets_bekker(shore::bullet::GroundFrame::z_up()); }
@@ -326,12 +306,6 @@ TEST(MultiBodyLinks, TwoHingedBoardsSinkLikeOneRigidBoard) {
 
 namespace {
 
-struct TowedResult {
-  double sinkage = 0.0;         ///< m, mean over the second half
-  double resistance = 0.0;      ///< N, mean towing force over the second half
-  double plugin_seconds = 0.0;  ///< Shore's share of the wall time (RunStats::plugin_seconds)
-};
-
 /// The rigid wheel of run_wheel as a multibody: a fixed base, a carriage sliding along x
 /// (link 0), a hanger sliding along z (link 1) and the wheel turning about y (link 2), all
 /// centred on the axle. The hanger and the wheel weigh the load; the carriage weighs 1 %
@@ -361,52 +335,6 @@ WheelChain add_wheel_chain(SoilRig& rig, double radius, double width, double mas
   return w;
 }
 
-/// run_wheel's towed case with the chain.
-TowedResult run_multibody_wheel(const shore::scenes::WheelCase& c) {
-  SoilRig rig(c.run);
-  const double R = c.diameter / 2, mass = c.load / kGravity, h = c.run.substep;
-  const WheelChain chain = add_wheel_chain(rig, R, c.width, mass, c.run.terrain.cell);
-  btMultiBody* mb = chain.mb;
-  btMultiBodyLinkCollider* wheel = chain.wheel;
-  const double carriage = chain.carriage, hanger = chain.hanger, wheel_mass = chain.wheel_mass;
-  shore::bullet::TerrainBodySettings s;
-  s.spray = c.run.body_spray;
-  rig.ground.add_link(wheel, s);
-  shore::scenes::RunStats times;
-  // Press: the load ramps in with the wheel held still.
-  const auto press_steps = static_cast<std::int64_t>(std::lround((c.ramp_seconds + 0.5) / h));
-  for (std::int64_t k = 0; k < press_steps; ++k) {
-    const double t = double(k) * h;
-    mb->setJointVel(0, 0);
-    mb->setJointVel(2, 0);
-    if (t < c.ramp_seconds)
-      mb->addLinkForce(2, btVector3(0, 0, btScalar((hanger + wheel_mass) * kGravity * (1.0 - t / c.ramp_seconds))));
-    rig.w.step(h);
-    times.add_coupling_times(rig.ground.stats());
-  }
-  // Tow: the carriage's speed restored at the start of every substep (an impulse along x
-  // alone: the chain's mass matrix is diagonal, every centre on the axle).
-  mb->setJointVel(0, btScalar(c.speed));
-  mb->setJointVel(2, btScalar(c.speed / R));
-  const double towed_mass = carriage + hanger + wheel_mass;
-  const auto tow_steps = static_cast<std::int64_t>(std::lround(c.distance / c.speed / h));
-  double depth = 0.0, impulse = 0.0;
-  std::int64_t samples = 0;
-  for (std::int64_t k = 0; k < tow_steps; ++k) {
-    const double pull = towed_mass * (c.speed - double(mb->getJointVel(0)));
-    mb->setJointVel(0, btScalar(c.speed));
-    rig.w.step(h);
-    times.add_coupling_times(rig.ground.stats());
-    if (k < tow_steps / 2) continue;
-    depth += -(double(wheel->getWorldTransform().getOrigin().z()) - R);
-    impulse += pull;
-    ++samples;
-  }
-  EXPECT_EQ(rig.ground.stats().skipped_bodies, 0);
-  const double n = double(std::max<std::int64_t>(samples, 1));
-  return {depth / n, impulse / (n * h), times.plugin_seconds};
-}
-
 }  // namespace
 
 // The towed wheel (D 0.8 m, b 0.3 m, 4 kN, sand preset) on a revolute joint: as deep and as
@@ -417,14 +345,16 @@ TEST(MultiBodyLinks, TowedWheelOnARevoluteJointMatchesTheRigidWheel) {
   c.distance = 1.5;
   c.run.terrain.material = shore::terrain::Material::sand();
   const shore::scenes::WheelResult rigid = shore::scenes::run_wheel(c);
-  const TowedResult link = run_multibody_wheel(c);
+  const shore::scenes::MultiBodyWheelResult link = shore::scenes::run_multibody_wheel(c);
+  EXPECT_EQ(link.skipped_links, 0);
   EXPECT_LT(rel(link.sinkage, rigid.sinkage), 0.03) << "sinkage " << link.sinkage << " m, rigid " << rigid.sinkage;
   EXPECT_LT(rel(link.resistance, rigid.resistance), 0.03)
       << "resistance " << link.resistance << " N, rigid " << rigid.resistance;
   std::printf(
       "[ multibody wheel ] sinkage %.5f m (rigid %.5f), resistance %.1f N (rigid %.1f), Shore's time %.3f s (rigid "
       "%.3f s)\n",
-      link.sinkage, rigid.sinkage, link.resistance, rigid.resistance, link.plugin_seconds, rigid.stats.plugin_seconds);
+      link.sinkage, rigid.sinkage, link.resistance, rigid.resistance, link.stats.plugin_seconds,
+      rigid.stats.plugin_seconds);
 }
 
 namespace {
@@ -574,6 +504,21 @@ TEST(MultiBodyLinks, AHingedRaftFloatsAtArchimedesDraft) {
               draft_a, draft_b, archimedes, lifted, 2 * board * kGravity, double(mb->getJointPos(0)));
 }
 
+namespace {
+
+/// `add` throws InvalidSetting saying the link was added already.
+template <class Add>
+void expect_refused_as_added(Add&& add) {
+  try {
+    add();
+    ADD_FAILURE() << "a link added twice was taken";
+  } catch (const shore::InvalidSetting& e) {
+    EXPECT_NE(std::string(e.what()).find("added already"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+
 // Bad input: a clear error when adding, a counted skip when stepping, never a crash.
 TEST(MultiBodyLinks, BadLinksAreRefusedOrSkippedAndCounted) {
   shore::scenes::SoilRun run;
@@ -600,10 +545,21 @@ TEST(MultiBodyLinks, BadLinksAreRefusedOrSkippedAndCounted) {
   mb->setBaseVel(btVector3(nan, 0, 0));
   EXPECT_THROW(rig.ground.add_link(box), shore::InvalidSetting);
   mb->setBaseVel(btVector3(0, 0, 0));
-  // Added twice: one entry.
+  // Added twice: refused with an error that says so, the first stays.
   rig.ground.add_link(box);
-  rig.ground.add_link(box);
+  expect_refused_as_added([&] { rig.ground.add_link(box); });
   EXPECT_EQ(rig.ground.bodies().size(), 1U);
+  {  // the same in water
+    shore::water::PhysicalParameters phys;
+    phys.cell = 0.05;
+    shore::water::Surface surface(shore::water::SurfaceSettings::physical(phys, 16, 16));
+    MultiBodyWorld w;
+    shore::bullet::WaterCoupling water(w.world(), surface);
+    btMultiBodyLinkCollider* floater = add_box_base(w, 2.0, half, btVector3(0.3f, 0.3f, 0.0f));
+    water.add_link(floater);
+    expect_refused_as_added([&] { water.add_link(floater); });
+    EXPECT_EQ(water.bodies().size(), 1U);
+  }
   for (int k = 0; k < 24; ++k) rig.w.step(kSubstep);
   EXPECT_EQ(rig.ground.stats().skipped_bodies, 0);
   EXPECT_GT(rig.ground.terrain_force(box).force.z(), 0.0) << "it stands on the soil";

@@ -105,7 +105,7 @@ void Session::single_step() { substep(); }
 
 Eigen::Vector3d Session::focus_point() const {
   // The camera looks at the ground's coordinates (the renderer draws in them).
-  btVector3 c = contents_.focus->getCenterOfMassPosition();
+  btVector3 c = contents_.focus->getWorldTransform().getOrigin();
   if (contents_.world != nullptr && !contents_.world->ground().identity()) c = contents_.world->ground().to_ground()(c);
   return {c.x(), c.y(), c.z()};
 }

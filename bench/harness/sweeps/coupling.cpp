@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "shore/bullet/ground_frame.h"
+#include "shore/scenes/multibody_cases.h"
 #include "shore/scenes/pool_cases.h"
 #include "shore/scenes/runner.h"
 #include "shore/scenes/soil_cases.h"
@@ -358,6 +359,86 @@ void rally(const SweepContext& ctx, SweepResult& out) {
       "simulated / wall seconds of the whole step.");
 }
 
+/// The rover scene at its defaults: a six-wheeled btMultiBody over a sand dune and through a
+/// pool, one thread.
+void rover(const SweepContext& ctx, SweepResult& out) {
+  ctx.progress("rover, a six-wheeled btMultiBody, 1/60 s");
+  const scenes::SceneType& scene = *scenes::find_scene("rover");
+  scenes::Overrides o;  // the scene's defaults: 4 cm land, 1/60 s, 26 s
+  o.threads = 1;
+  o.write_files = false;
+  const nlohmann::json m = scenes::run_scene(scene, scenes::resolve(scene, o), scenes::ProgressMode::quiet).metrics;
+  const double realtime = m["realtime_factor"].get<double>();
+  Table& t = out.table("coupling_rover", {"sim_s", "wall_s", "realtime_factor", "distance_m", "climb_drawbar_pull_N",
+                                          "climb_slip", "wade_slip"});
+  t.add({m["sim_seconds"].get<double>(), m["wall_seconds"].get<double>(), realtime, m["distance_m"].get<double>(),
+         m.value("climb_drawbar_pull_N", 0.0), m.value("climb_slip", 0.0), m.value("wade_slip", 0.0)});
+  out.figure("scenes.rover_realtime_factor", realtime,
+             "x real time (a six-wheeled multibody rover, 60 steps/s, 1 thread)");
+  out.target({.key = "scenes.rover_realtime_factor",
+              .what = "rover: a six-wheeled btMultiBody over a sand dune and through a pool at 1/60 s steps",
+              .value = realtime,
+              .op = ">=",
+              .threshold = 10.0,
+              .unit = "x real time"});
+  out.note(
+      "Rover (the rover scene): a btMultiBody of a 120 kg chassis and six 6 kg wheels (D 0.6 m, b 0.25 m) on "
+      "revolute joints driven by joint motors, every wheel and the chassis links of the terrain coupling, the "
+      "chassis also of the water coupling; 26 s over a 4 cm sand dune (15 % grade) and through a pool, 60 steps "
+      "per second, one thread; real-time factor = simulated / wall seconds of the whole step.");
+}
+
+/// btMultiBody links against the references the rigid bodies meet: the validation matrix's
+/// plate as a multibody's base against Bekker, and the towed sand wheel on a revolute joint
+/// against the rigid-body wheel of the same case, Shore's time of each run side by side.
+void multibody_links(const SweepContext& ctx, SweepResult& out) {
+  ctx.progress("multibody plate (0.2 m, 30 kPa, sandy loam at 22 %) against Bekker");
+  const scenes::MultiBodyPlateResult plate = scenes::run_multibody_plate({});
+  const double plate_error = error_pct(plate.sinkage, plate.bekker);
+  Table& t = out.table("coupling_multibody", {"case", "value", "reference", "error_pct"});
+  t.add({"plate sinkage (m) vs Bekker", plate.sinkage, plate.bekker, plate_error});
+  out.figure("plugin.multibody_plate_error_pct", plate_error, "% vs Bekker (multibody base plate, 0.2 m, 30 kPa)");
+  out.target({.key = "plugin.multibody_plate_error_pct",
+              .what = "a multibody's base plate (0.2 m, 30 kPa, sandy loam) at Bekker's sinkage",
+              .value = std::abs(plate_error),
+              .op = "<=",
+              .threshold = 5.0,
+              .unit = "|% error|"});
+  // The rigid wheel and the multibody wheel alternated; the median of the ratio of each
+  // pair's Shore time, so load bursts on a shared machine do not decide it.
+  scenes::WheelCase c = sand_wheel_case();
+  c.towed = true;
+  Table& w = out.table("coupling_multibody_wheel", {"pair", "rigid_plugin_s", "multibody_plugin_s", "ratio",
+                                                    "rigid_sinkage_m", "multibody_sinkage_m"});
+  std::vector<double> ratios;
+  const int pairs = ctx.quick ? 3 : 5;
+  for (int k = 0; k < pairs; ++k) {
+    ctx.progress("towed sand wheel, rigid body then multibody link, pair " + std::to_string(k + 1) + " of " +
+                 std::to_string(pairs));
+    const scenes::WheelResult rigid = scenes::run_wheel(c);
+    const scenes::MultiBodyWheelResult link = scenes::run_multibody_wheel(c);
+    const double ratio = link.stats.plugin_seconds / std::max(rigid.stats.plugin_seconds, 1e-9);
+    ratios.push_back(ratio);
+    w.add({double(k), rigid.stats.plugin_seconds, link.stats.plugin_seconds, ratio, rigid.sinkage, link.sinkage});
+  }
+  std::sort(ratios.begin(), ratios.end());
+  const double ratio = ratios[ratios.size() / 2];
+  out.figure("plugin.multibody_wheel_cost_ratio", ratio,
+             "x the rigid-body wheel's Shore time (towed sand wheel, median of adjacent pairs)");
+  out.target({.key = "plugin.multibody_wheel_cost_ratio",
+              .what = "a multibody wheel costs Shore what the rigid-body wheel costs on the same soil",
+              .value = ratio,
+              .op = "<=",
+              .threshold = 1.10,
+              .unit = "x the rigid-body wheel"});
+  out.note(
+      "Multibody links: the validation matrix's plate (0.2 m, 30 kPa on sandy loam at 22 %, weight eased in over "
+      "3 s) as a free multibody's base, its sinkage against Bekker's; the towed sand wheel of "
+      "plugin.wheel_ms_per_substep (D 0.8 m, b 0.3 m, 4 kN, 1 cm, 1/240 s, one thread) as a rigid body and as the "
+      "revolute link of a carriage-hanger-wheel multibody, whole runs (press and tow) alternated; the ratio is the "
+      "median over pairs of the link's Shore time (envelopes, soil, push, reaction) over the rigid body's.");
+}
+
 /// The drag of a towed box and ball against the law 1/2 rho C_d A v^2 + rho k A v, across
 /// the samples per cell of the displacement (the drag must not depend on them), and a dense
 /// ball's terminal velocity against the drag balance.
@@ -460,6 +541,8 @@ void run(const SweepContext& ctx, SweepResult& out) {
   wheel_cost_settings(ctx, out);
   vehicle(ctx, out);
   rally(ctx, out);
+  rover(ctx, out);
+  multibody_links(ctx, out);
   floating_sweep(ctx, out);
 }
 

@@ -72,7 +72,7 @@ FrameFigures viewer_frames(render::Renderer& r, const std::string& name, int fra
     const auto t0 = Clock::now();
     for (int k = 0; k < per_frame; ++k) scene->step();
     if (c.focus != nullptr) {
-      const btVector3 p = c.focus->getCenterOfMassPosition();
+      const btVector3 p = c.focus->getWorldTransform().getOrigin();
       camera.target = {double(p.x()), double(p.y()), double(p.z())};
     }
     const auto t1 = Clock::now();

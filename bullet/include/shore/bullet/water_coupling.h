@@ -114,7 +114,8 @@ class WaterCoupling : public btActionInterface {
   /// drag act on the whole multibody through its Jacobian at the link's centre of mass.
   /// The world must be a btMultiBodyDynamicsWorld holding the multibody and the collider.
   /// Throws InvalidSetting as add_body does, and for another kind of world, a multibody or
-  /// collider not in the world, or a non-finite joint velocity. remove_body and
+  /// collider not in the world, a non-finite joint velocity, or a link this coupling
+  /// holds already (remove_body it first to change its settings). remove_body and
   /// water_force take links too.
   void add_link(btMultiBodyLinkCollider* link, WaterBodySettings body_settings = {});
   /// Takes the coupling out of its world (the action removed, the bodies let go). After it

@@ -14,7 +14,7 @@
 #include "shore/terrain/terrain.h"
 #include "shore/water/surface.h"
 
-class btRigidBody;
+class btCollisionObject;
 
 namespace shore::scenes {
 
@@ -48,7 +48,9 @@ struct SceneContents {
   std::vector<SoilContents> soils = {};
   std::vector<WaterContents> waters = {};
   Bounds bounds = {};                  ///< where the scene happens: soils are drawn inside it, the camera frames it
-  const btRigidBody* focus = nullptr;  ///< what the camera follows (null: the bounds' centre)
+  /// What the camera follows (its origin: a rigid body's or a multibody link's centre of
+  /// mass; null: the bounds' centre).
+  const btCollisionObject* focus = nullptr;
   /// Drives the scene's vehicle: forward and turn in [-1, 1] (0, 0: the scene's own
   /// script). Empty: nothing to drive.
   std::function<void(double forward, double turn)> drive = {};

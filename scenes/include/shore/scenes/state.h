@@ -10,6 +10,7 @@
 #include "shore/bullet/config.h"
 #include "shore/scenes/height_grid.h"
 
+class btMultiBody;
 class btRigidBody;
 
 namespace shore::terrain {
@@ -39,12 +40,15 @@ enum class HashLayout {
 };
 
 /// What a state hash covers, in this order: soils (Terrain::state_hash), water surfaces
-/// (Surface::state_hash), bodies (as `layout` says), rigid ground (tile heights as float).
+/// (Surface::state_hash), bodies (as `layout` says), rigid ground (tile heights as float),
+/// multibodies (per multibody, as doubles: base origin, world-to-base rotation quaternion,
+/// base linear and angular velocity, then each joint's positions and velocities).
 struct SceneState {
   std::vector<const terrain::Terrain*> soils = {};
   std::vector<const water::Surface*> waters = {};
   std::vector<const btRigidBody*> bodies = {};
   std::vector<const bullet::HeightfieldTile*> rigid_grounds = {};
+  std::vector<const btMultiBody*> multibodies = {};
   /// Soil heights the scene shows (sampled grids): scanned for non-finite values only.
   std::vector<HeightGrid> soil_heights = {};
   HashLayout layout = HashLayout::standard;
@@ -54,7 +58,7 @@ struct SceneState {
 [[nodiscard]] std::uint64_t state_hash(const SceneState& state);
 
 /// Non-finite values in the state: body transforms and velocities, water heights, rigid
-/// ground heights and soil_heights (must be 0).
+/// ground heights, multibody poses and joint states, and soil_heights (must be 0).
 [[nodiscard]] long non_finite_count(const SceneState& state);
 
 /// Non-finite values in one body's transform and velocities.
