@@ -116,6 +116,14 @@ double stopping(double impulse, double speed, double denominator) {
   return std::clamp(impulse, -most, most);
 }
 
+/// Names wheel k of a vehicle from step to step for the spray (the soil clinging to it, its
+/// random numbers): above every body's key (a broadphase id, below 2^31), from the
+/// chassis' id and the wheel's index.
+std::uint64_t wheel_key(const btCollisionObject& chassis, int k) {
+  const auto id = static_cast<std::uint64_t>(chassis.getBroadphaseHandle()->m_uniqueId);
+  return (std::uint64_t{1} << 48) | (id << 8) | static_cast<std::uint64_t>(k & 0xff);
+}
+
 }  // namespace
 
 void RaycastWheels::add(btRaycastVehicle* vehicle, std::span<const double> widths, double cell,
@@ -228,7 +236,22 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   const btVector3 velocity = chassis->getVelocityInLocalPoint(p.at);  // after the push
   wheel.imprint.velocity = to_vec3(framed_ ? to_ground_.getBasis() * velocity : velocity);
   wheel.imprint.centre = to_vec3(p.pose.getOrigin());
-  wheel.imprint.spray = false;  // Bullet's wheel has no spin the spray could read
+  // A SoilVehicle's wheel has a spin: the spray reads its rim's motion, v + w x (p - c), so a
+  // wheel spinning in the soil throws it. A stock wheel's spin is Bullet's guess from the
+  // chassis' speed: it sprays nothing.
+  wheel.imprint.spray = vehicle.soil != nullptr;
+  if (wheel.imprint.spray) {
+    const btVector3 axle = p.pose.getBasis().getColumn(0);
+    const double spin = vehicle.soil->soil(k).last.spin;
+    wheel.imprint.angular_velocity = to_vec3(axle * btScalar(-spin));  // rolling forward turns about -axle
+    const btVector3 hub =
+        chassis->getVelocityInLocalPoint(p.world_pose.getOrigin() - chassis->getCenterOfMassPosition());
+    wheel.imprint.velocity = to_vec3(framed_ ? to_ground_.getBasis() * hub : hub);  // at the centre it turns about
+    const btQuaternion q = p.pose.getRotation() * btQuaternion(btVector3(1, 0, 0), -info.m_rotation);
+    wheel.imprint.orientation = {q.w(), q.x(), q.y(), q.z()};
+    wheel.imprint.spray = chassis->getBroadphaseHandle() != nullptr;
+    if (wheel.imprint.spray) wheel.imprint.key = wheel_key(*chassis, k);
+  }
   return &wheel.imprint;
 }
 
