@@ -78,16 +78,18 @@ TEST_P(RaycastWheelSoil, StaticSinkageIsBekkers) {
 
 TEST_P(RaycastWheelSoil, TowedSinkageIsBekkersAndTheSoilResists) {
   const shore::terrain::Material m = shore::terrain::Material::preset(GetParam());
-  shore::scenes::RaycastTowCase c;  // towed at 1 m/s for 3 m, the means over the last 2 m
+  shore::scenes::RaycastTowCase c;  // dropped 0.25 m, towed at 1 m/s for 6 m, the means over the last 4 m
   c.material = m;
   c.car = heavy_car();
+  c.drop = 0.25;
+  c.seconds = 6.0;
   const shore::scenes::RaycastTowResult run = shore::scenes::run_raycast_tow(c);
   // Towed at its centre of mass against the wheels' resistance, the car pitches and its
   // front wheels carry more than a quarter.
   EXPECT_NEAR(run.load, kLoad, 0.35 * kLoad) << "N, the front wheels' load";
   const double rolling = shore::terrain::bekker::wheel_sinkage_rolling(m, run.load, kDiameter, kWidth);
-  std::printf("%s: front load %.0f N, rut %.4f m, Bekker's rolling sinkage %.4f m\n", GetParam(), run.load, run.rut,
-              rolling);
+  std::printf("%s: front load %.0f N, rut %.4f m, sinkage %.4f m, Bekker's rolling sinkage %.4f m\n", GetParam(),
+              run.load, run.rut, run.sinkage, rolling);
   EXPECT_NEAR(run.rut, rolling, 0.10 * rolling) << GetParam()
                                                 << ": m, the front wheel's rut against Bekker's rolling "
                                                    "sinkage for the load it carried";

@@ -87,6 +87,8 @@ void towed_wheels(const SweepContext& ctx, SweepResult& out) {
     scenes::RaycastTowCase c;
     c.material = terrain::Material::preset(name);
     c.car.mass = 4 * 4000.0 / 9.81;  // D 0.8 m, b 0.3 m, 4 kN a wheel
+    c.drop = 0.25;
+    c.seconds = 6.0;
     const scenes::RaycastTowResult r = scenes::run_raycast_tow(c);
     const double rolling = terrain::bekker::wheel_sinkage_rolling(c.material, r.load, 0.8, 0.3);
     const double compaction = terrain::bekker::wheel_compaction_resistance(c.material, rolling, 0.3);

@@ -14,9 +14,12 @@ namespace shore::scenes {
 
 struct RaycastTowCase {
   terrain::Material material = terrain::Material::sand();
-  double cell = 0.02;               ///< m
-  double substep = 1.0 / 240.0;     ///< s
-  RaycastCarSettings car;           ///< the car; its wheels touch the ground at rest length
+  double cell = 0.02;            ///< m
+  double substep = 1.0 / 240.0;  ///< s
+  RaycastCarSettings car;        ///< the car
+  /// m: released this far above where its wheels touch the ground at rest length. How the
+  /// car settled changes the rut it leaves (docs/terrain.md, "Raycast wheels").
+  double drop = 0.0;
   double speed = 1.0;               ///< m/s, the chassis' forward speed, held
   double seconds = 3.0;             ///< s towed, after 1 s of settling
   double average_from = 1.0 / 3.0;  ///< share of the tow after which the means are taken
