@@ -39,7 +39,7 @@ constexpr double kDescentGrade = -0.34, kDescentFrom = 8.5, kDescentTo = 13.5;  
 constexpr double kExitGrade = 0.2, kExitFrom = 19.0, kExitTo = 22.0;            // rises 0.4 m
 constexpr double kWaterLevel = -0.15;                                           // m, the pool's still water
 constexpr double kPoolX0 = 11.5, kPoolX1 = 22.5;                                // m, the water surface along x
-constexpr double kPoolHalfY = 4.0;                                              // m, and across (the banks close it)
+constexpr double kPoolHalfY = 3.8;                                              // m, and across (the banks close it)
 constexpr double kTrackHalf = 2.5;                                  // m, the flat track's half width; banks rise beyond
 constexpr double kLandX0 = -4.0, kLandX1 = 26.0, kLandHalfY = 6.0;  // m, the land shown
 constexpr double kStartX = -2.0;                                    // m, where the rover starts
