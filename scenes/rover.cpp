@@ -295,7 +295,8 @@ class Rover final : public Scene {
     const btVector3 c = rover_->getBasePos();
     return {double(c.x()) - half, double(c.y()) - half, double(c.x()) + half, double(c.y()) + half};
   }
-  /// Rim speed `speed` (m/s) on every wheel, the left side faster by `turn` of it.
+  /// Rim speed `speed` (m/s) on every wheel, the right side faster and the left slower by
+  /// `turn` of it (turn > 0 turns left).
   void drive(double speed, double turn) {
     for (int k = 0; k < kWheels; ++k) {
       const double side = k < 3 ? -1.0 : 1.0;
@@ -342,7 +343,7 @@ SceneType rover_scene() {
       .name = "rover",
       .description =
           "A six-wheeled rover (156 kg) built as a btMultiBody: a chassis and six wheels on revolute joints, each "
-          "driven by a btMultiBodyJointMotor at 1.5 m/s rim speed. It climbs a sand dune (20 % grade), runs down its "
+          "driven by a btMultiBodyJointMotor at 1.5 m/s rim speed. It climbs a sand dune (15 % grade), runs down its "
           "far side into a pool of shallow water, wades through it and climbs out. Every wheel is a link of the "
           "terrain coupling (add_link): it sinks, slips and leaves a rut; the chassis floats and drags in the pool "
           "and makes a wake. climb_drawbar_pull_N and climb_slip are measured on the dune's steady slope, where the "
