@@ -40,6 +40,15 @@ class DeltaServer {
   }
   /// The second press, for the seeds: deltas from first_generation() (or 0) to after it.
   void press_again() { press_at(soil_, 3); }
+  /// A palette and a painted map, for the seeds of deltas that carry the map (version 3).
+  void paint() {
+    terrain::Material gravel = terrain::Material::sand();
+    gravel.name = "gravel";
+    gravel.bekker_kphi *= 20.0;
+    soil_.set_palette({soil_.settings().material, terrain::Material::mud(), gravel});
+    soil_.paint_rect({0, 0, 6, 3}, 2);
+    soil_.paint_disc(0.2, 0.2, 0.08, 1);
+  }
   [[nodiscard]] const terrain::Terrain& soil() const { return soil_; }
   [[nodiscard]] std::uint64_t first_generation() const { return first_generation_; }
   /// Generation 0 to first_generation(), quantised by the default 1e-4 m.

@@ -6,8 +6,8 @@
 // writes plus a 16-bit one, raw float32 maps, checkpoints of a small coupled world (a
 // float build writes them: a double build refuses their precision), material maps (palette
 // texts, index PNGs and raw indices; painted terrain states of format 6), soil deltas of a
-// small server (delta_server.h: a snapshot and increments, quantised and exact, whole and
-// as payloads), recordings' layouts (whole, without the checksum, as a raw payload).
+// small server (delta_server.h: a snapshot and increments, quantised and exact, painted (with
+// the map, version 3), whole and as payloads), recordings' layouts (whole, without the checksum, as a raw payload).
 #include <stb_image_write.h>
 #include <zstd.h>
 
@@ -181,9 +181,9 @@ void checkpoint_seeds(const fs::path& dir) {
   }
 }
 
-/// soil_delta's mode 2 input: mode byte 2, quantum, from, to (the delta's own header fields,
-/// bytes 16 to 40) and the payload its zstd frame holds.
-Bytes payload_input(const Bytes& delta) {
+/// soil_delta's mode 2 input (mode 6: a version 3 delta): the mode byte, quantum, from, to
+/// (the delta's own header fields, bytes 16 to 40) and the payload its zstd frame holds.
+Bytes payload_input(const Bytes& delta, unsigned char mode = 2) {
   constexpr std::size_t kFieldsAt = 16, kFieldsEnd = 40, kFrameAt = 56;
   const std::size_t frame = delta.size() - kFrameAt - 8;
   const unsigned long long raw_size = ZSTD_getFrameContentSize(delta.data() + kFrameAt, frame);
@@ -192,7 +192,7 @@ Bytes payload_input(const Bytes& delta) {
   Bytes raw(raw_size);
   if (ZSTD_decompress(raw.data(), raw.size(), delta.data() + kFrameAt, frame) != raw.size())
     throw std::runtime_error("a soil delta's frame did not decompress");
-  Bytes out = {2};
+  Bytes out = {mode};
   out.insert(out.end(), delta.begin() + kFieldsAt, delta.begin() + kFieldsEnd);
   out.insert(out.end(), raw.begin(), raw.end());
   return out;
@@ -210,6 +210,11 @@ void soil_delta_seeds(const fs::path& dir) {
   write(dir / "seed_snapshot_whole", entry_input(false, snapshot));
   write(dir / "seed_step_payload", payload_input(step));
   write(dir / "seed_exact_payload", payload_input(exact));
+  // Version 3: the palette and the repainted tiles travel too.
+  server.paint();
+  const Bytes painted = shore::terrain::SoilDelta::encode(server.soil(), since, {.quantum = 0.0});
+  write(dir / "seed_painted_exact", entry_input(true, painted));
+  write(dir / "seed_painted_payload", payload_input(painted, 6));
 }
 
 /// A small recording's layout (shore/bullet/recording_file.h): one soil, one water, two

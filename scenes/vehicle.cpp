@@ -1,12 +1,15 @@
 // vehicle: a four-wheel vehicle (a 400 kg chassis on four motorised 0.6 m wheels) drives
-// from rigid ground across a sand strip, then a mud strip, then rigid ground again. Two
-// Terrain objects lie side by side, each with its own coupling and region. The pictures
-// show both soils' ruts: sand slumps into wide, shallow ruts with low rims, mud keeps steep
-// walls and higher rims. The benchmark runs this scene for the vehicle's real-time factor.
+// from rigid ground across a sand strip, then a mud strip, then rigid ground again. The
+// soil is one Terrain with a material map (sand, mud, and a gravel road along the left of
+// the track), one coupling over it all, so soil moves across the sand-mud border and the
+// ground's mesh is one surface. The pictures show the ruts: sand slumps into wide, shallow
+// ruts with low rims, mud keeps steep walls and higher rims. The benchmark runs this scene
+// for the vehicle's real-time factor.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -27,13 +30,28 @@ namespace {
 
 constexpr int kTileCells = 64;  // soil tile size; the strips are whole tiles long
 constexpr double kWheelRadius = FourWheelerSettings{}.wheel_radius;
-constexpr double kTargetSpeed = 2.0;  // m/s the wheel motors aim for
-constexpr double kHalfY = 5.0;        // m, half width of the ground and of the soil strips
-constexpr double kHalfWidth = 1.1;    // m, half width of the pictured strip (wheels at +-0.65 m)
+constexpr double kTargetSpeed = 2.0;            // m/s the wheel motors aim for
+constexpr double kHalfY = 5.0;                  // m, half width of the ground and of the soil strips
+constexpr double kHalfWidth = 1.1;              // m, half width of the pictured strip (wheels at +-0.65 m)
+constexpr double kRoadY0 = 1.0, kRoadY1 = 1.8;  // m, the gravel road beside the track (left of it)
 
-terrain::TerrainSettings strip_soil(const SceneOptions& o, const terrain::Material& m) {
+/// The palette: sand (entry 0), mud (1) and a road of packed gravel (2).
+enum Ground : int { kSand = 0, kMud = 1, kGravel = 2 };
+
+/// Packed gravel: sand's law, 20 times as stiff (a plate sinks 1/20^(1/n) as far, about a
+/// fifteenth) and rougher (38 degrees), standing at a steeper angle.
+terrain::Material gravel() {
+  terrain::Material m = terrain::Material::sand();
+  m.name = "gravel";
+  m.bekker_kphi *= 20.0;
+  m.friction_angle = 38.0 * std::numbers::pi / 180.0;
+  m.theta_out = 0.6;
+  return m;
+}
+
+terrain::TerrainSettings ground_soil(const SceneOptions& o) {
   terrain::TerrainSettings s = soil_settings(o);
-  s.material = m;
+  s.material = terrain::Material::sand();
   s.tile_columns = kTileCells;
   return s;
 }
@@ -41,7 +59,7 @@ terrain::TerrainSettings strip_soil(const SceneOptions& o, const terrain::Materi
 double tile_length(const SceneOptions& o) { return kTileCells * o.cell; }  // m
 int strip_tiles(const SceneOptions& o) { return o.smoke ? 1 : 3; }         // tiles per strip
 
-bullet::TerrainCouplingSettings strip_coupling(double x0, double x1) {
+bullet::TerrainCouplingSettings soil_coupling(double x0, double x1) {
   bullet::TerrainCouplingSettings s;
   s.region = {x0, -kHalfY, x1, kHalfY};
   return s;
@@ -54,9 +72,8 @@ class Vehicle final : public Scene {
         start_x_(o.smoke ? -1.2 : -2.0),  // smoke runs: a short drive over one tile of each soil
         sand_x1_(strip_tiles(o) * tile_length(o)),
         mud_x1_(sand_x1_ + strip_tiles(o) * tile_length(o)),
-        sand_(strip_soil(o, terrain::Material::sand())),
-        mud_(strip_soil(o, terrain::Material::mud())),
-        patches_{{&sand_, {0.0, -kHalfY, sand_x1_, kHalfY}}, {&mud_, {sand_x1_, -kHalfY, mud_x1_, kHalfY}}},
+        soil_(ground_soil(o)),
+        patches_{{&soil_, {0.0, -kHalfY, mud_x1_, kHalfY}}},
         // From the start on rigid ground to past the mud, where a 6 s drive ends.
         frame_(grid_over(start_x_ - 1.2, -kHalfWidth, o.smoke ? mud_x1_ + 0.4 : mud_x1_ + 2.8, kHalfWidth, o.cell)),
         baseline_(frame_.nx, frame_.ny, frame_.cell, frame_.x0, frame_.y0, 0.0) {  // every ground starts at 0
@@ -67,13 +84,13 @@ class Vehicle final : public Scene {
         .add_body(std::make_unique<btBoxShape>(btVector3(10, btScalar(kHalfY), 1)), 0.0,
                   btVector3(btScalar(mud_x1_ + 10), 0, -1))
         ->setFriction(0.9f);
-    sand_coupling_ = std::make_unique<bullet::TerrainCoupling>(world_.world(), sand_, strip_coupling(0.0, sand_x1_));
-    mud_coupling_ = std::make_unique<bullet::TerrainCoupling>(world_.world(), mud_, strip_coupling(sand_x1_, mud_x1_));
+    paint_ground();
+    coupling_ = std::make_unique<bullet::TerrainCoupling>(world_.world(), soil_, soil_coupling(0.0, mud_x1_));
 
     const double z0 = kWheelRadius + 0.02;
     FourWheelerSettings car;
     car.target_speed = kTargetSpeed;
-    bullet::TerrainCoupling* const couplings[] = {sand_coupling_.get(), mud_coupling_.get()};
+    bullet::TerrainCoupling* const couplings[] = {coupling_.get()};
     const FourWheeler v = build_four_wheeler(world_, car, btVector3(btScalar(start_x_), 0, btScalar(z0 + 0.25)),
                                              btQuaternion::getIdentity(), o.substep, couplings);
     chassis_ = v.chassis;
@@ -87,8 +104,7 @@ class Vehicle final : public Scene {
 
   void observe() override {
     ++times_.substeps;
-    times_.add_coupling_times(sand_coupling_->stats());
-    times_.add_coupling_times(mud_coupling_->stats());
+    times_.add_coupling_times(coupling_->stats());
     const double x = chassis_->getCenterOfMassPosition().x();
     if (x >= 0.0 && x < sand_x1_) {
       sand_time_ += o_.substep;
@@ -101,7 +117,7 @@ class Vehicle final : public Scene {
   }
 
   [[nodiscard]] SceneState state() const override {
-    return {.soils = {&sand_, &mud_},
+    return {.soils = {&soil_},
             .bodies = bodies_,
             .soil_heights = {sample(patches_, frame_, Field::height)},
             .layout = HashLayout::positions};
@@ -110,15 +126,11 @@ class Vehicle final : public Scene {
   void measure(nlohmann::json& m) const override {
     const HeightGrid heights = sample(patches_, frame_, Field::height);
     const HeightGrid sinkage = sample(patches_, frame_, Field::sinkage);
-    const std::int64_t rescues = sand_coupling_->stats().rescues + mud_coupling_->stats().rescues;
-    long fallthrough = static_cast<long>(rescues);
+    long fallthrough = static_cast<long>(coupling_->stats().rescues);
     for (const btRigidBody* b : bodies_)
       if (b->getWorldTransform().getOrigin().z() < -1.0) ++fallthrough;  // below any bedrock of this scene
-    const double drift_sand = volume_drift_rel(sand_), drift_mud = volume_drift_rel(mud_);
     m["fallthrough_count"] = fallthrough;
-    m["volume_drift_rel"] = std::max(drift_sand, drift_mud);
-    m["volume_drift_rel_sand"] = drift_sand;
-    m["volume_drift_rel_mud"] = drift_mud;
+    m["volume_drift_rel"] = volume_drift_rel(soil_);
     m["max_sinkage_m"] = max_of(sinkage);
     m["deepest_m"] = max_lowering(baseline_, heights);
     m["mean_speed_sand_mps"] = sand_time_ > 0 ? sand_dist_ / sand_time_ : 0.0;
@@ -126,7 +138,7 @@ class Vehicle final : public Scene {
     m["target_speed_mps"] = kTargetSpeed;
     m["distance_m"] = chassis_->getCenterOfMassPosition().x() - start_x_;
     m["plugin_ms_per_substep"] = times_.plugin_ms_per_substep();
-    m["note"] = "the vehicle always crosses sand then mud; --material does not apply";
+    m["note"] = "the vehicle always crosses sand then mud (a gravel road beside them); --material does not apply";
   }
 
   /// Frame q at the first substep (1, 2, ...) after the one before it that reaches
@@ -148,12 +160,11 @@ class Vehicle final : public Scene {
   }
 
   SceneContents contents() override {
-    return {
-        .world = &world_,
-        .soils = {{&sand_, sand_coupling_.get(), patches_[0].region}, {&mud_, mud_coupling_.get(), patches_[1].region}},
-        .bounds = {start_x_ - 1.2, -2.0, mud_x1_ + 1.5, 2.0},
-        .focus = chassis_,
-        .drive = [this](double forward, double turn) { drive(forward, turn); }};
+    return {.world = &world_,
+            .soils = {{&soil_, coupling_.get(), patches_[0].region}},
+            .bounds = {start_x_ - 1.2, -2.0, mud_x1_ + 1.5, 2.0},
+            .focus = chassis_,
+            .drive = [this](double forward, double turn) { drive(forward, turn); }};
   }
 
   void draw(Drawing& out) const override {
@@ -162,6 +173,11 @@ class Vehicle final : public Scene {
     out.view("top.png", {.camera = View::Camera::top,
                          .width = w,
                          .title = "vehicle: rigid | sand | mud | rigid, ground coloured by deformation"});
+    out.view("materials.png", {.camera = View::Camera::top,
+                               .ground = View::Ground::natural,
+                               .legend = false,
+                               .width = w,
+                               .title = "vehicle: the material map (sand, mud, a gravel road)"});
     out.view("view.png", {.elevation_deg = 40.0, .width = w, .title = "vehicle across sand then mud"});
     // A close view across the sand-mud edge.
     const Bounds edge{sand_x1_ - 1.2, -kHalfWidth, sand_x1_ + 1.2, kHalfWidth};
@@ -182,6 +198,17 @@ class Vehicle final : public Scene {
   }
 
  private:
+  /// Sand where nothing is painted; mud over the second strip; the gravel road beside the
+  /// track over both strips.
+  void paint_ground() {
+    soil_.set_palette({terrain::Material::sand(), terrain::Material::mud(), gravel()});
+    const std::int64_t j0 = soil_.column_j(-kHalfY), j1 = soil_.column_j(kHalfY);
+    const std::int64_t mud_i0 = soil_.column_i(sand_x1_), end_i = soil_.column_i(mud_x1_);
+    soil_.paint_rect(GridRect::spanning(mud_i0, j0, end_i - 1, j1 - 1), kMud);
+    const std::int64_t road_j0 = soil_.column_j(kRoadY0), road_j1 = soil_.column_j(kRoadY1);
+    soil_.paint_rect(GridRect::spanning(0, road_j0, end_i - 1, road_j1 - 1), kGravel);
+  }
+
   /// Skid steering: each side's wheels aim at (forward -+ turn) times the target speed
   /// (left wheels first in mounts); (0, 0) restores the scene's own straight drive.
   void drive(double forward, double turn) {
@@ -197,14 +224,14 @@ class Vehicle final : public Scene {
   SceneOptions o_;
   double start_x_, sand_x1_, mud_x1_;  // m: the chassis centre at the start; strip edges (sand from x = 0)
   World world_;
-  terrain::Terrain sand_, mud_;
-  std::unique_ptr<bullet::TerrainCoupling> sand_coupling_, mud_coupling_;  // after the soils and the world
+  terrain::Terrain soil_;                              // sand, mud and the gravel road (paint_ground)
+  std::unique_ptr<bullet::TerrainCoupling> coupling_;  // after the soil and the world
   std::vector<Patch> patches_;
   HeightGrid frame_, baseline_;
   btRigidBody* chassis_ = nullptr;
   std::vector<btHingeConstraint*> hinges_;  // wheel motors, in mount order
   std::vector<const btRigidBody*> bodies_;  // chassis, then the wheels
-  RunStats times_;                          // Shore's share of the substeps (both soils)
+  RunStats times_;                          // Shore's share of the substeps
   double x_ = 0.0;                          // chassis x after the last substep
   double sand_time_ = 0, sand_dist_ = 0, mud_time_ = 0, mud_dist_ = 0;
 };
@@ -216,24 +243,22 @@ SceneType vehicle_scene() {
       .name = "vehicle",
       .description =
           "A four-wheel vehicle (400 kg chassis, four 0.6 m wheels on hinge motors aiming at 2 m/s) drives from rigid "
-          "ground across a strip of sand, then a strip of mud, then rigid ground: two Terrain objects side by side, "
-          "each "
-          "with its own coupling and region. Look at the ruts: sand slumps to its angle of repose (wide, shallow ruts, "
-          "low rims), mud keeps steep walls and pushes more soil into the rims. The vehicle slows on both soils.",
+          "ground across a strip of sand, then a strip of mud, then rigid ground: one Terrain painted sand, mud and a "
+          "gravel road beside the track (a material map), one coupling. Look at the ruts: sand slumps to its angle of "
+          "repose (wide, shallow ruts, low rims), mud keeps steep walls and pushes more soil into the rims. The "
+          "vehicle slows on both soils.",
       .defaults = {.seconds = 6.0, .substep = 1.0 / 240.0, .material = "sand", .cell = 0.02, .smoke_seconds = 1.0},
       .metric_help =
           {
               {"fallthrough_count", "wheels below bedrock at the end or lifted back by the coupling (must be 0)"},
-              {"volume_drift_rel", "largest of the two soils' volume drift (must be < 1e-6)"},
-              {"volume_drift_rel_sand", "|ground + compacted - edited| / moved volume of the sand"},
-              {"volume_drift_rel_mud", "the same for the mud"},
-              {"max_sinkage_m", "largest plastic sinkage in either soil, m"},
+              {"volume_drift_rel", "|ground + compacted - edited| / moved volume of the soil (must be < 1e-6)"},
+              {"max_sinkage_m", "largest plastic sinkage, m"},
               {"deepest_m", "largest lowering of the ground below the untouched surface, m"},
               {"mean_speed_sand_mps", "chassis speed averaged over its time above the sand, m/s"},
               {"mean_speed_mud_mps", "chassis speed averaged over its time above the mud, m/s"},
               {"target_speed_mps", "speed the wheel motors aim for, m/s"},
               {"distance_m", "distance the chassis travelled, m"},
-              {"plugin_ms_per_substep", "Shore's share of a substep (both soils), ms"},
+              {"plugin_ms_per_substep", "Shore's share of a substep, ms"},
               {"note", "what --material means here"},
           },
       .create = make_scene<Vehicle>,

@@ -6,7 +6,10 @@
 
 #include "body_registry.h"
 #include "bt_convert.h"
+#include "shore/core/det_math.h"
 #include "shore/core/error.h"
+#include "shore/terrain/shear.h"
+#include "soft_ground.h"
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
@@ -58,6 +61,69 @@ void keep_front(const terrain::Terrain& terrain, const btVector3& centre, const 
     }
 }
 
+struct RimSpan {
+  double entry = 0.0, exit = 0.0;  ///< rad, the rim's front and rear edges in contact
+};
+
+/// The rim in contact as strips one cell long along `forward`: each loaded column's shear
+/// strength, (c A + F tan phi) over the rim's slope there, summed into its strip.
+RimSpan rim_strips(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const btVector3& centre,
+                   const btVector3& forward, double radius, double share, std::vector<RimStrip>& rim) {
+  const double cell = terrain.settings().cell, area = cell * cell, reach = 0.95 * radius;
+  const int half = static_cast<int>(std::ceil(reach / cell));
+  rim.assign(static_cast<std::size_t>(2 * half + 1), RimStrip{});
+  const terrain::Material* last = nullptr;
+  double tan_phi = 0.0;
+  int front = -half - 1, back = half + 1;
+  for (const terrain::ColumnForce& c : bearing.columns) {
+    if (!(c.force > 0.0)) continue;
+    const double dx = terrain.column_x(c.i) - double(centre.x()), dy = terrain.column_y(c.j) - double(centre.y());
+    const double s = std::clamp(dx * double(forward.x()) + dy * double(forward.y()), -reach, reach);
+    const int b = std::clamp(static_cast<int>(std::lround(s / cell)), -half, half);
+    const terrain::Material& m = terrain.material_at(c.i, c.j);
+    if (&m != last) last = &m, tan_phi = det::tan(m.friction_angle);
+    rim[static_cast<std::size_t>(b + half)].strength += m.cohesion * area + share * c.force * tan_phi;
+    front = std::max(front, b), back = std::min(back, b);
+  }
+  if (front < back) {
+    rim.clear();
+    return {};
+  }
+  auto angle = [&](double s) {
+    s = std::clamp(s, -reach, reach);
+    return det::atan2(s, std::sqrt(radius * radius - s * s));
+  };
+  std::vector<RimStrip> kept;
+  for (int b = back; b <= front; ++b) {
+    RimStrip strip = rim[static_cast<std::size_t>(b + half)];
+    if (!(strip.strength > 0.0)) continue;
+    strip.theta = angle(b * cell);
+    strip.sin_theta = det::sin(strip.theta);
+    strip.cos_theta = det::cos(strip.theta);
+    strip.strength /= strip.cos_theta;  // the rim's area over the strip's plan area
+    kept.push_back(strip);
+  }
+  rim.swap(kept);
+  return {angle((front + 0.5) * cell), angle((back - 0.5) * cell)};
+}
+
+/// An impulse (N s) that opposes the contact's velocity along its direction, limited to what
+/// stops the chassis there (`denominator`: Bullet's impulse denominator at the contact, as
+/// Bullet's own side friction takes it); one that does not oppose it is left as it is.
+double stopping(double impulse, double speed, double denominator) {
+  if (impulse * speed >= 0.0 || !(denominator > 0.0)) return impulse;
+  const double most = std::fabs(speed) / denominator;
+  return std::clamp(impulse, -most, most);
+}
+
+/// Names wheel k of a vehicle from step to step for the spray (the soil clinging to it, its
+/// random numbers): above every body's key (a broadphase id, below 2^31), from the
+/// chassis' id and the wheel's index.
+std::uint64_t wheel_key(const btCollisionObject& chassis, int k) {
+  const auto id = static_cast<std::uint64_t>(chassis.getBroadphaseHandle()->m_uniqueId);
+  return (std::uint64_t{1} << 48) | (id << 8) | static_cast<std::uint64_t>(k & 0xff);
+}
+
 }  // namespace
 
 void RaycastWheels::add(btRaycastVehicle* vehicle, std::span<const double> widths, double cell,
@@ -70,7 +136,7 @@ void RaycastWheels::add(btRaycastVehicle* vehicle, std::span<const double> width
   if (widths.size() != static_cast<std::size_t>(n))
     throw InvalidSetting(where + "(widths)", std::to_string(widths.size()) + " widths",
                          "must give one width per wheel (" + std::to_string(n) + ")");
-  Vehicle v{vehicle, vehicle->getRigidBody(), {}};
+  Vehicle v{vehicle, dynamic_cast<SoilVehicle*>(vehicle), vehicle->getRigidBody(), {}};
   v.wheels.reserve(widths.size());
   for (int k = 0; k < n; ++k) {
     const double b = widths[static_cast<std::size_t>(k)], r = double(vehicle->getWheelInfo(k).m_wheelsRadius);
@@ -85,11 +151,22 @@ void RaycastWheels::add(btRaycastVehicle* vehicle, std::span<const double> width
     w.reach = check_rasterizable(*w.shape, cell, options);
     v.wheels.push_back(std::move(w));
   }
+  if (v.soil != nullptr) v.soil->grounds_.push_back(ground_);
   vehicles_.push_back(std::move(v));
 }
 
+RaycastWheels::RaycastWheels() : ground_(std::make_shared<SoftGround>()) {}
+RaycastWheels::~RaycastWheels() = default;
+
+void RaycastWheels::set_ground(std::function<bool(const btVector3&)> holds) { ground_->holds = std::move(holds); }
+
 void RaycastWheels::remove(const btRaycastVehicle* vehicle) {
-  std::erase_if(vehicles_, [vehicle](const Vehicle& v) { return v.vehicle == vehicle; });
+  std::erase_if(vehicles_, [&](const Vehicle& v) {
+    if (v.vehicle != vehicle) return false;
+    if (v.soil != nullptr)  // a vehicle the user removes is alive: it forgets this ground
+      std::erase_if(v.soil->grounds_, [&](const std::weak_ptr<const SoftGround>& g) { return g.lock() == ground_; });
+    return true;
+  });
 }
 
 double RaycastWheels::push(const btRaycastVehicle* vehicle, int k) const {
@@ -105,36 +182,121 @@ int RaycastWheels::forget_lost(const btCollisionWorld& world) {
   return static_cast<int>(std::erase_if(vehicles_, [&](const Vehicle& v) { return !held.holds(v.chassis); }));
 }
 
+void RaycastWheels::serve(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h, bool deforms,
+                          std::vector<terrain::Imprint>& imprints) {
+  for (Vehicle& v : vehicles_)
+    for (int k = 0; k < static_cast<int>(v.wheels.size()); ++k) {
+      v.wheels[static_cast<std::size_t>(k)].push = 0.0;
+      if (v.soil != nullptr) v.soil->soil(k).last = WheelTraction{};
+      const btWheelInfo& info = v.vehicle->getWheelInfo(k);
+      if (!info.m_raycastInfo.m_isInContact || !ground_->holds(info.m_raycastInfo.m_contactPointWS)) continue;
+      if (const terrain::Imprint* im = press(terrain, rasterizer, h, deforms, v, k)) imprints.push_back(*im);
+    }
+}
+
 const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h,
-                                             bool deforms, btRaycastVehicle& vehicle, const btWheelInfo& info,
-                                             Wheel& wheel) {
-  const double load = info.m_wheelsSuspensionForce;
-  const btTransform world_pose = wheel_pose(info);
-  const btTransform pose = framed_ ? to_ground_ * world_pose : world_pose;  // in the terrain's coordinates
-  if (!(load > 0.0) || !pose_rasterizable(pose, wheel.reach, rasterizer.grid())) return nullptr;
-  if (rasterizer.rasterize(*wheel.shape, pose, wheel.envelope) == 0) return nullptr;
-  const btVector3 forward = pose.getBasis().getColumn(1), world_forward = world_pose.getBasis().getColumn(1);
-  btRigidBody* chassis = vehicle.getRigidBody();
-  const btVector3 at = info.m_raycastInfo.m_contactPointWS - chassis->getCenterOfMassPosition();
-  const btVector3 world_velocity = chassis->getVelocityInLocalPoint(at);
+                                             bool deforms, Vehicle& vehicle, int k) {
+  Wheel& wheel = vehicle.wheels[static_cast<std::size_t>(k)];
+  const btWheelInfo& info = vehicle.vehicle->getWheelInfo(k);
+  Pressed p;
+  p.load = info.m_wheelsSuspensionForce;
+  p.radius = info.m_wheelsRadius;
+  p.world_pose = wheel_pose(info);
+  p.pose = framed_ ? to_ground_ * p.world_pose : p.world_pose;  // in the terrain's coordinates
+  if (!(p.load > 0.0) || !pose_rasterizable(p.pose, wheel.reach, rasterizer.grid())) return nullptr;
+  if (rasterizer.rasterize(*wheel.shape, p.pose, wheel.envelope) == 0) return nullptr;
+  const btVector3 forward = p.pose.getBasis().getColumn(1), world_forward = p.world_pose.getBasis().getColumn(1);
+  btRigidBody* chassis = vehicle.vehicle->getRigidBody();
+  p.at = info.m_raycastInfo.m_contactPointWS - chassis->getCenterOfMassPosition();
+  const btVector3 world_velocity = chassis->getVelocityInLocalPoint(p.at);
   // Rolling (faster than kRolling along its heading): the front arc bears; at rest, both.
   const double speed = double(world_velocity.dot(world_forward));
   wheel.bearing_part = wheel.envelope;
   if (std::abs(speed) > kRolling)
-    keep_front(terrain, pose.getOrigin(), speed > 0 ? forward : -forward, wheel.bearing_part);
-  const double offset = terrain.bearing_offset(wheel.bearing_part, load);
-  const double radius = info.m_wheelsRadius;
-  const double push =
-      compaction_push(terrain, terrain.bearing(wheel.bearing_part, offset), pose.getOrigin(), forward, radius, load);
-  chassis->applyImpulse(world_forward * btScalar(push * h), at);
+    keep_front(terrain, p.pose.getOrigin(), speed > 0 ? forward : -forward, wheel.bearing_part);
+  double offset = terrain.bearing_offset(wheel.bearing_part, p.load);
+  terrain::Bearing bearing = terrain.bearing(wheel.bearing_part, offset);
+  if (vehicle.soil != nullptr) {
+    // Its traction; the soil it shears bears less (shear::loosening): a slipping wheel
+    // sinks deeper, pressed as if its load were 1 / s^n times larger.
+    const terrain::Material& m =
+        terrain.material_at(terrain.column_i(p.pose.getOrigin().x()), terrain.column_j(p.pose.getOrigin().y()));
+    const double s = terrain::shear::loosening(m, grip(terrain, bearing, m, h, vehicle, k, p));
+    if (s < 1.0) {
+      offset = terrain.bearing_offset(wheel.bearing_part, p.load / det::pow(s, m.bekker_n));
+      bearing = terrain.bearing(wheel.bearing_part, offset);
+    }
+  }
+  const double push = compaction_push(terrain, bearing, p.pose.getOrigin(), forward, p.radius, p.load);
+  chassis->applyImpulse(world_forward * btScalar(push * h), p.at);
   wheel.push = push;
+  if (vehicle.soil != nullptr) vehicle.soil->soil(k).last.resistance = push;
   if (!deforms) return nullptr;
   wheel.imprint = terrain::Imprint{&wheel.envelope, offset};
-  const btVector3 velocity = chassis->getVelocityInLocalPoint(at);  // after the push
+  const btVector3 velocity = chassis->getVelocityInLocalPoint(p.at);  // after the push
   wheel.imprint.velocity = to_vec3(framed_ ? to_ground_.getBasis() * velocity : velocity);
-  wheel.imprint.centre = to_vec3(pose.getOrigin());
-  wheel.imprint.spray = false;  // Bullet's wheel has no spin the spray could read
+  wheel.imprint.centre = to_vec3(p.pose.getOrigin());
+  // A SoilVehicle's wheel has a spin: the spray reads its rim's motion, v + w x (p - c), so a
+  // wheel spinning in the soil throws it. A stock wheel's spin is Bullet's guess from the
+  // chassis' speed: it sprays nothing.
+  wheel.imprint.spray = vehicle.soil != nullptr;
+  if (wheel.imprint.spray) {
+    const btVector3 axle = p.pose.getBasis().getColumn(0);
+    const double spin = vehicle.soil->soil(k).last.spin;
+    wheel.imprint.angular_velocity = to_vec3(axle * btScalar(-spin));  // rolling forward turns about -axle
+    const btVector3 hub =
+        chassis->getVelocityInLocalPoint(p.world_pose.getOrigin() - chassis->getCenterOfMassPosition());
+    wheel.imprint.velocity = to_vec3(framed_ ? to_ground_.getBasis() * hub : hub);  // at the centre it turns about
+    const btQuaternion q = p.pose.getRotation() * btQuaternion(btVector3(1, 0, 0), -info.m_rotation);
+    wheel.imprint.orientation = {q.w(), q.x(), q.y(), q.z()};
+    wheel.imprint.spray = chassis->getBroadphaseHandle() != nullptr;
+    if (wheel.imprint.spray) wheel.imprint.key = wheel_key(*chassis, k);
+  }
   return &wheel.imprint;
+}
+
+double RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const terrain::Material& m,
+                           double h, Vehicle& vehicle, int k, const Pressed& p) {
+  if (!(bearing.capacity > 0.0) || !std::isfinite(bearing.capacity)) return 0.0;
+  Wheel& wheel = vehicle.wheels[static_cast<std::size_t>(k)];
+  const double r = p.radius;
+  const btVector3 centre = p.pose.getOrigin(), forward = p.pose.getBasis().getColumn(1);
+  const RimSpan span = rim_strips(terrain, bearing, centre, forward, r, p.load / bearing.capacity, wheel.rim);
+  if (wheel.rim.empty()) return 0.0;
+  btWheelInfo& info = vehicle.vehicle->getWheelInfo(k);
+  btRigidBody* chassis = vehicle.vehicle->getRigidBody();
+  const btVector3 world_forward = p.world_pose.getBasis().getColumn(1),
+                  world_axle = p.world_pose.getBasis().getColumn(0);
+  const btVector3 velocity = chassis->getVelocityInLocalPoint(p.at);
+  TractionInput in;
+  in.radius = r;
+  in.entry_angle = span.entry;
+  in.exit_angle = span.exit;
+  in.shear_modulus = m.shear_modulus;
+  in.remould_shear_ratio = m.remould_shear_ratio;
+  in.remould_length = m.remould_length;
+  in.forward_speed = velocity.dot(world_forward);
+  in.side_speed = velocity.dot(world_axle);
+  in.drive = info.m_engineForce;
+  in.brake = std::max(double(info.m_brake), 0.0) / h;  // Bullet's brake: an impulse per substep
+  const double held = vehicle.soil->soil(k).held_spin;
+  in.hold = !std::isnan(held);
+  in.held_spin = in.hold ? held : 0.0;
+  const Traction t = soil_traction(wheel.rim, in);
+  // Against the motion, no more than stops the chassis at the contact.
+  const btVector3 contact = chassis->getCenterOfMassPosition() + p.at;
+  const double along =
+      stopping(t.forward * h, in.forward_speed, chassis->computeImpulseDenominator(contact, world_forward));
+  const double across = stopping(t.side * h, in.side_speed, chassis->computeImpulseDenominator(contact, world_axle));
+  chassis->applyImpulse(world_forward * btScalar(along), p.at);
+  // Sideways at the height the vehicle's roll influence sets, as Bullet's own side impulse.
+  const btVector3 up = chassis->getCenterOfMassTransform().getBasis().getColumn(vehicle.vehicle->getUpAxis());
+  const btVector3 side_at = p.at - up * (up.dot(p.at) * (btScalar(1) - info.m_rollInfluence));
+  chassis->applyImpulse(world_axle * btScalar(across), side_at);
+  info.m_rotation += btScalar((t.spin - in.forward_speed / r) * h);  // Bullet turned it as if it rolled
+  info.m_deltaRotation = btScalar(t.spin * h);
+  vehicle.soil->soil(k).last = WheelTraction{true, t.spin, t.slip, along / h, across / h, t.torque, 0.0};
+  return t.mean_shear;
 }
 
 }  // namespace coupling_detail

@@ -9,9 +9,12 @@
 //   rolls, on the whole rim when it stands (Bekker's rolling and static wheels); the next
 //   ray finds the rut;
 // - compaction resistance: the columns' push on the cylinder's sloped front, resolved along
-//   the wheel's heading, acts on the chassis at the wheel's contact point.
-// Traction and side force stay Bullet's (m_frictionSlip).
+//   the wheel's heading, acts on the chassis at the wheel's contact point;
+// - traction and side force, for a SoilVehicle: the soil's shear on the rim
+//   (raycast_traction.h), in place of Bullet's friction, which the vehicle leaves out for
+//   wheels on this ground. A stock btRaycastVehicle keeps Bullet's (m_frictionSlip).
 
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -20,8 +23,10 @@
 #include <BulletCollision/CollisionShapes/btCylinderShape.h>
 #include <BulletDynamics/Vehicle/btRaycastVehicle.h>
 
+#include "raycast_traction.h"
 #include "shore/bullet/envelope.h"
 #include "shore/bullet/ground_frame.h"
+#include "shore/bullet/soil_vehicle.h"
 #include "shore/core/envelope.h"
 #include "shore/terrain/terrain.h"
 
@@ -29,8 +34,17 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 namespace coupling_detail {
 
+struct SoftGround;
+
 class RaycastWheels {
  public:
+  RaycastWheels();
+  ~RaycastWheels();
+  RaycastWheels(const RaycastWheels&) = delete;
+  RaycastWheels& operator=(const RaycastWheels&) = delete;
+  /// Where the coupling's deforming ground is: a wheel whose contact point it holds is
+  /// served (pressed, resisted and, on a SoilVehicle, given the soil's traction).
+  void set_ground(std::function<bool(const btVector3&)> holds);
   /// Throws InvalidSetting (naming the field, value and what is allowed) for a null vehicle,
   /// one added already, a width count other than its wheel count, a width not in (0, 10] m
   /// or a wheel the rasterizer cannot take on cells of `cell` m.
@@ -45,21 +59,11 @@ class RaycastWheels {
   /// Vehicles whose chassis the world no longer holds are dropped (by address, never read).
   /// Returns how many.
   int forget_lost(const btCollisionWorld& world);
-  /// One substep: each wheel on the terrain's ground (`on_ground(contact point)`) has its
-  /// resistance applied to the chassis and, if the terrain deforms this substep, its
-  /// imprint added to `imprints` (valid until the next serve).
-  template <class OnGround>
+  /// One substep: each wheel on the ground (set_ground) has its resistance (and a
+  /// SoilVehicle's wheel its traction) applied to the chassis and, if the terrain deforms
+  /// this substep, its imprint added to `imprints` (valid until the next serve).
   void serve(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h, bool deforms,
-             std::vector<terrain::Imprint>& imprints, OnGround&& on_ground) {
-    for (Vehicle& v : vehicles_)
-      for (std::size_t k = 0; k < v.wheels.size(); ++k) {
-        const btWheelInfo& info = v.vehicle->getWheelInfo(static_cast<int>(k));
-        v.wheels[k].push = 0.0;
-        if (!info.m_raycastInfo.m_isInContact || !on_ground(info.m_raycastInfo.m_contactPointWS)) continue;
-        if (const terrain::Imprint* im = press(terrain, rasterizer, h, deforms, *v.vehicle, info, v.wheels[k]))
-          imprints.push_back(*im);
-      }
-  }
+             std::vector<terrain::Imprint>& imprints);
   /// N, the terrain's push on wheel k along its heading in the last substep (negative: it
   /// resists forward motion); 0 for a wheel off the terrain or a vehicle not added.
   [[nodiscard]] double push(const btRaycastVehicle* vehicle, int k) const;
@@ -71,17 +75,31 @@ class RaycastWheels {
     EnvelopeRaster envelope;                  ///< the whole cylinder: what it presses
     EnvelopeRaster bearing_part;              ///< what bears its load (the front arc when rolling)
     terrain::Imprint imprint;
-    double push = 0.0;  ///< N along the heading, last substep
+    double push = 0.0;          ///< N along the heading, last substep
+    std::vector<RimStrip> rim;  ///< scratch: the rim's strips in contact
   };
   struct Vehicle {
     btRaycastVehicle* vehicle = nullptr;
+    SoilVehicle* soil = nullptr;  ///< the same vehicle if it takes the soil's traction
     const btCollisionObject* chassis = nullptr;
     std::vector<Wheel> wheels;
   };
+  /// What press found under a wheel, for its traction.
+  struct Pressed {
+    btVector3 at;                  ///< the contact point relative to the chassis' centre of mass
+    btTransform pose, world_pose;  ///< the wheel's, in ground and world coordinates
+    double radius = 0.0, load = 0.0;
+  };
   /// The wheel's rut and resistance; its imprint if the terrain deforms, else null.
   const terrain::Imprint* press(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h, bool deforms,
-                                btRaycastVehicle& vehicle, const btWheelInfo& info, Wheel& wheel);
+                                Vehicle& vehicle, int k);
+  /// A SoilVehicle's wheel: the soil's shear on its rim (material `m`, the one under the
+  /// wheel's centre, gives K and the strength loss), applied to the chassis. Returns the
+  /// mean shear displacement under the rim, m.
+  double grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const terrain::Material& m, double h,
+              Vehicle& vehicle, int k, const Pressed& p);
   std::vector<Vehicle> vehicles_;
+  std::shared_ptr<SoftGround> ground_;
   bool framed_ = false;
   btTransform to_ground_ = btTransform::getIdentity();
 };

@@ -57,7 +57,9 @@ TerrainCoupling::Parts::Parts(btDiscreteDynamicsWorld& in_world, terrain::Terrai
           coupling_detail::nominal_solid()),
       rigid(in_terrain.settings().material.rigid),
       framed(!in_settings.frame.identity()),
-      to_ground(in_settings.frame.to_ground()) {}
+      to_ground(in_settings.frame.to_ground()) {
+  wheels.set_ground([this](const btVector3& at) { return !rigid && on_terrain(at); });
+}
 
 TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrain& terrain,
                                  TerrainCouplingSettings settings)

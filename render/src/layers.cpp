@@ -16,12 +16,8 @@ namespace {
 // ground, but a base that is not flat is read whole on the first frame.
 constexpr std::int64_t kMaxColumns = 1 << 16;
 
-Eigen::Vector3d material_tint(const std::string& name) {
-  if (name == "mud") return {0.45, 0.36, 0.27};
-  if (name == "snow") return {0.93, 0.94, 0.97};
-  if (name == "rigid") return {0.60, 0.60, 0.60};
-  return {0.80, 0.70, 0.52};
-}
+// Texture units: 2 colour maps and 3 shadow map (renderer.cpp), 4 a soil's material map.
+constexpr int kMapTextureUnit = 4;
 
 Eigen::Vector3d body_colour(const btCollisionObject& o, int k) {
   if (o.isStaticObject()) return {0.62, 0.60, 0.56};
@@ -139,6 +135,7 @@ void Layers::update(const Eigen::Vector3d& eye, double fov_y_deg, int viewport_h
   stats.full_triangles = stats.surface_chunks = 0;
   for (auto& layer : soils_) {
     stats.soil_bytes += layer->mesh->update(camera);
+    layer->map.update(*layer->contents.soil, layer->region);
     stats.soil_columns += layer->mesh->nodes();
     stats.whole_soil_bytes += layer->mesh->full_bytes();
     stats.full_triangles += layer->mesh->full_triangles();
@@ -188,7 +185,8 @@ ChunkDraw Layers::draw_soils(GLuint p, const Frustum* frustum, bool depth_only, 
       glUniform1i(glGetUniformLocation(p, "uMode"), static_cast<int>(s.ground));
       glUniform1f(glGetUniformLocation(p, "uScale"), float(ground_scale_));
       glUniform2f(glGetUniformLocation(p, "uHeightRange"), float(layer->zmin), float(layer->zmax));
-      uniform3(p, "uTint", material_tint(ts.material.name));
+      uniform3(p, "uTint", material_colour(ts.material.name, s));
+      layer->map.bind(p, kMapTextureUnit, *layer->contents.soil, s);
       // Storage tile edges sit at multiples of tile_columns of the global column index.
       glUniform1i(glGetUniformLocation(p, "uTileColumns"), s.soil_tile_borders ? ts.tile_columns : 0);
     }

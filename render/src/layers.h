@@ -15,6 +15,7 @@
 #include "shore/render/renderer.h"
 #include "shore/render/shape_mesh.h"
 #include "shore/scenes/contents.h"
+#include "soil_map.h"
 #include "surface_mesh.h"
 
 namespace shore::render {
@@ -23,6 +24,7 @@ struct SoilLayer {
   scenes::SoilContents contents;
   shore::GridRect region;  // the drawn columns
   std::unique_ptr<SurfaceMesh> mesh;
+  SoilMapTexture map;                                         // the material map, if the soil is painted
   double max_delta = 0, max_sinkage = 0, zmin = 0, zmax = 0;  // over the vertices uploaded so far
 };
 

@@ -81,10 +81,18 @@ uniform vec2 uHeightRange;
 uniform vec3 uTint;
 uniform int uTileColumns;     // 0: no tile borders
 uniform int uEdges;           // 1: the mesh's edges pass
+uniform int uMapOn;           // 1: colour by the material map (natural mode)
+uniform usampler2D uMap;      // palette index per column of the drawn region
+uniform ivec2 uMapOrigin;     // the region's first column
+uniform vec3 uPalette[256];   // each palette entry's colour
 void main() {
   if (uEdges == 1) { oColour = vec4(0.12, 0.10, 0.08, 1.0); return; }
   vec3 n = normalize(vNormal);
   vec3 albedo = uTint;
+  if (uMapOn == 1) {  // the nearest column's material: borders stay sharp on coarse triangles
+    ivec2 c = clamp(ivec2(floor(vColumn + 0.5)) - uMapOrigin, ivec2(0), textureSize(uMap, 0) - 1);
+    albedo = uPalette[texelFetch(uMap, c, 0).r];
+  }
   if (uMode == 1) albedo = lut(0.0, 0.5 + 0.5 * vDelta / uScale);
   else if (uMode == 2) albedo = lut(0.0, 0.5 - 0.5 * vValue / uScale);
   else if (uMode == 3) albedo = lut(1.0, (vPos.z - uHeightRange.x) / max(uHeightRange.y - uHeightRange.x, 1e-9));

@@ -1,5 +1,7 @@
 #include "shore/scenes/raycast_car.h"
 
+#include "shore/bullet/soil_vehicle.h"
+
 namespace shore::scenes {
 
 RaycastCar::RaycastCar(World& world, const RaycastCarSettings& settings, const btVector3& at)
@@ -22,7 +24,10 @@ RaycastCar::RaycastCar(World& world, const RaycastCarSettings& settings, const b
   tuning.m_frictionSlip = btScalar(s.friction_slip);
   tuning.m_maxSuspensionTravelCm = btScalar(s.max_suspension_travel_cm);
   raycaster_ = std::make_unique<btDefaultVehicleRaycaster>(&world.world());
-  vehicle_ = std::make_unique<btRaycastVehicle>(tuning, chassis_, raycaster_.get());
+  if (s.soil_traction)
+    vehicle_ = std::make_unique<bullet::SoilVehicle>(tuning, chassis_, raycaster_.get());
+  else
+    vehicle_ = std::make_unique<btRaycastVehicle>(tuning, chassis_, raycaster_.get());
   vehicle_->setCoordinateSystem(1, 2, 0);  // right y, up z, forward x
   const btVector3 down(0, 0, -1), axle(0, -1, 0);
   for (int k = 0; k < 4; ++k) {
@@ -41,7 +46,7 @@ RaycastCar::~RaycastCar() { world_.world().removeAction(vehicle_.get()); }
 void RaycastCar::drive(double engine_force, double brake, double steering) {
   for (int k = 0; k < vehicle_->getNumWheels(); ++k) {
     const bool front = k < 2;
-    vehicle_->applyEngineForce(btScalar(front ? 0.0 : engine_force), k);
+    vehicle_->applyEngineForce(btScalar(front && !settings_.four_wheel_drive ? 0.0 : engine_force), k);
     vehicle_->setBrake(btScalar(brake), k);
     vehicle_->setSteeringValue(btScalar(front ? steering : 0.0), k);
   }

@@ -64,7 +64,9 @@ SyncResult sync_scene(const std::string& name, double seconds, const terrain::De
     Link l;
     l.server = s.soil;
     l.replica = std::make_unique<terrain::Terrain>(s.soil->settings());
-    l.sent = l.mirrored = s.soil->generation();  // the replica starts as the untouched soil
+    // The replica starts as the untouched soil; the first delta is a snapshot (from
+    // generation 0), so it also brings the palette and map a scene painted when it was made.
+    l.sent = l.mirrored = 0;
     links.push_back(std::move(l));
   }
   SyncResult r;

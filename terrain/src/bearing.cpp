@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "bedrock_depth.h"
 #include "shore/core/error.h"
 #include "shore/terrain/bekker.h"
 #include "terrain_impl.h"
@@ -15,9 +16,11 @@ namespace {
 constexpr double kCarriesAnything = std::numeric_limits<double>::infinity();
 }  // namespace
 
-std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s, const EnvelopeRaster& env,
+std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s,
+                                           std::span<const Material> palette, const EnvelopeRaster& env,
                                            bool only_touching, double offset, std::vector<std::uint8_t>* mats) {
-  const double depth = s.material.soil_depth, tol = s.contact_tolerance;
+  const BedrockDepth depth(palette, s.material.soil_depth);
+  const double tol = s.contact_tolerance;
   std::vector<BearingColumn> columns;
   store.for_each_run({env.i0, env.j0, env.nx, env.ny}, [&](const Tile* t, const TileRun& run) {
     const double* lower = env.lower.data() + static_cast<std::size_t>(run.y) * env.nx + run.x;
@@ -28,10 +31,10 @@ std::vector<BearingColumn> bearing_columns(const TileStore& store, const Terrain
       BearingColumn c{i0 + r, j, 0, 0, 0, e};
       if (t) {
         const std::size_t k = run.local + static_cast<std::size_t>(r);
-        c.top = t->height[k], c.sink = t->sinkage[k], c.bed = t->base[k] - depth;
+        c.top = t->height[k], c.sink = t->sinkage[k], c.bed = t->base[k] - depth.at(t->material, k);
       } else {
         const double b = store.base_at(i0 + r, j);
-        c.top = b, c.sink = 0.0, c.bed = b - depth;
+        c.top = b, c.sink = 0.0, c.bed = b - depth.at(0);
       }
       if (only_touching && !(e - offset <= c.top + tol)) continue;
       columns.push_back(c);
@@ -132,8 +135,8 @@ Bearing Terrain::bearing(const EnvelopeRaster& envelope, double offset) const {
   check_envelope(&envelope, "terrain.Terrain.bearing.envelope");
   Check{"terrain.Terrain.bearing"}.non_negative("offset", offset);
   std::vector<std::uint8_t> mats;
-  const std::vector<BearingColumn> columns =
-      bearing_columns(impl_->tiles, impl_->s, envelope, true, offset, impl_->palette.size() > 1 ? &mats : nullptr);
+  const std::vector<BearingColumn> columns = bearing_columns(impl_->tiles, impl_->s, impl_->palette, envelope, true,
+                                                             offset, impl_->palette.size() > 1 ? &mats : nullptr);
   return capacity(columns, mats, impl_->s, impl_->palette, offset, true);
 }
 
@@ -141,8 +144,8 @@ double Terrain::bearing_offset(const EnvelopeRaster& envelope, double load) cons
   check_envelope(&envelope, "terrain.Terrain.bearing_offset.envelope");
   Check{"terrain.Terrain.bearing_offset"}.non_negative("load", load);
   std::vector<std::uint8_t> mats;
-  const std::vector<BearingColumn> columns =
-      bearing_columns(impl_->tiles, impl_->s, envelope, false, 0.0, impl_->palette.size() > 1 ? &mats : nullptr);
+  const std::vector<BearingColumn> columns = bearing_columns(impl_->tiles, impl_->s, impl_->palette, envelope, false,
+                                                             0.0, impl_->palette.size() > 1 ? &mats : nullptr);
   return offset_for_load(columns, mats, impl_->s, impl_->palette, load);
 }
 

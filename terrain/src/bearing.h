@@ -24,9 +24,11 @@ struct BearingColumn {
 /// The columns the envelope covers, in window order. With only_touching, only those the
 /// envelope lowered by `offset` touches (bearing at one offset needs no others). With mats,
 /// their palette indices into *mats (kept apart: a one-material terrain reads none and its
-/// columns stay as compact as they were). Reads only.
+/// columns stay as compact as they were). Each column's bedrock lies its palette entry's
+/// soil depth below its base (bedrock_depth.h: a rigid entry's at its base). Reads only.
 [[nodiscard]] std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s,
-                                                         const EnvelopeRaster& env, bool only_touching, double offset,
+                                                         std::span<const Material> palette, const EnvelopeRaster& env,
+                                                         bool only_touching, double offset,
                                                          std::vector<std::uint8_t>* mats);
 /// Bekker capacity of the columns the envelope, lowered by offset, touches (Terrain::bearing).
 /// Each column bears by its own material's law: palette[mats[k]] (mats empty: palette[0]).

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "bedrock_depth.h"
 #include "shore/core/det_math.h"
 #include "shore/core/error.h"
 #include "shore/terrain/bekker.h"
@@ -51,7 +52,8 @@ struct SoilWindow {
   }
 };
 
-void read_soil(const TileStore& store, double soil_depth, bool with_materials, const GridRect& r, SoilWindow& out) {
+void read_soil(const TileStore& store, const BedrockDepth& depth, bool with_materials, const GridRect& r,
+               SoilWindow& out) {
   out.r = r;
   const std::size_t size = static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny);
   out.top.resize(size), out.sink.resize(size), out.bed.resize(size);
@@ -67,10 +69,10 @@ void read_soil(const TileStore& store, double soil_depth, bool with_materials, c
       if (t) {
         out.top[dst + k] = t->height[run.local + k];
         out.sink[dst + k] = t->sinkage[run.local + k];
-        out.bed[dst + k] = t->base[run.local + k] - soil_depth;
+        out.bed[dst + k] = t->base[run.local + k] - depth.at(t->material, run.local + k);
       } else {
         const double b = store.base_at(r.i0 + run.x + k, r.j0 + run.y);
-        out.top[dst + k] = b, out.sink[dst + k] = 0.0, out.bed[dst + k] = b - soil_depth;
+        out.top[dst + k] = b, out.sink[dst + k] = 0.0, out.bed[dst + k] = b - depth.at(0);
       }
     }
   });
@@ -454,7 +456,7 @@ void Terrain::contact(const EnvelopeRaster& envelope, std::span<const double> sh
   if (envelope.nx == 0 || envelope.ny == 0) return;
   thread_local PatchScratch scratch;
   // The window and a one-column ring (fringes and walls lie there).
-  read_soil(impl_->tiles, impl_->s.material.soil_depth, impl_->palette.size() > 1,
+  read_soil(impl_->tiles, BedrockDepth(impl_->palette, impl_->s.material.soil_depth), impl_->palette.size() > 1,
             {envelope.i0 - 1, envelope.j0 - 1, envelope.nx + 2, envelope.ny + 2}, scratch.soil);
   PatchBuilder(impl_->s, impl_->palette, envelope, shear, probe, scratch, out).build();
 }

@@ -1,6 +1,7 @@
 // shore::terrain::Terrain's material map: the palette and the painting of palette indices
 // onto columns (one byte per column, kept in the tiles; terrain.h says what reads them).
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -33,7 +34,8 @@ void check_rect(const GridRect& rect, const std::string& where) {
 }
 
 /// Writes `index` to the columns of `rect` whose entry in `mask` (row-major over rect, or
-/// empty: all) is set. Index 0 needs no tile where there is none (the default map).
+/// empty: all) is set, stamping the tiles it writes with the current generation (call
+/// advance_generation first). Index 0 needs no tile where there is none (the default map).
 void paint(TileStore& store, const GridRect& rect, std::span<const unsigned char> mask, int index) {
   const auto value = static_cast<std::uint8_t>(index);
   const auto write = [&](Tile& t, const TileRun& run) {
@@ -50,6 +52,7 @@ void paint(TileStore& store, const GridRect& rect, std::span<const unsigned char
     for (int k = 0; k < run.count; ++k)
       if (mask.empty() || mask[row + k]) t.material[run.local + k] = value;
     if (value == 0) t.normalize_material();
+    store.mark_painted(t);
   };
   if (value == 0)
     store.for_each_existing_run(rect, write);
@@ -61,14 +64,13 @@ void paint(TileStore& store, const GridRect& rect, std::span<const unsigned char
 
 std::span<const Material> Terrain::palette() const noexcept { return impl_->palette; }
 
-void Terrain::set_palette(std::vector<Material> palette) {
-  const std::string where = "terrain.Terrain.set_palette";
-  if (palette.empty() || palette.size() > static_cast<std::size_t>(kMaxMaterials))
-    throw InvalidSetting(where + ".size()", std::to_string(palette.size()),
+void Terrain::Impl::check_palette(std::span<const Material> candidate, const std::string& where) const {
+  if (candidate.empty() || candidate.size() > static_cast<std::size_t>(kMaxMaterials))
+    throw InvalidSetting(where + ".size()", std::to_string(candidate.size()),
                          "must be in [1, " + std::to_string(kMaxMaterials) + "]");
-  const Material& now = impl_->s.material;
-  for (std::size_t k = 0; k < palette.size(); ++k) {
-    const Material& m = palette[k];
+  const Material& now = s.material;
+  for (std::size_t k = 0; k < candidate.size(); ++k) {
+    const Material& m = candidate[k];
     const std::string entry = where + "[" + std::to_string(k) + "]";
     try {
       m.validate();
@@ -78,15 +80,29 @@ void Terrain::set_palette(std::vector<Material> palette) {
     if (m.soil_depth != now.soil_depth)
       throw InvalidSetting(entry + ".soil_depth", detail::to_text(m.soil_depth),
                            "must equal the present soil_depth (" + detail::to_text(now.soil_depth) + " m)");
-    if (m.rigid != now.rigid)
+    // Rigid columns (a road, a rock) on deforming ground, never soft ones on rigid ground
+    // (which never steps); entry 0 is the ground's own material.
+    if (m.rigid != now.rigid && (k == 0 || now.rigid))
       throw InvalidSetting(entry + ".rigid", m.rigid ? "true" : "false",
-                           std::string("must equal the present rigid flag (") + (now.rigid ? "true" : "false") + ")");
+                           std::string("must equal the present rigid flag (") + (now.rigid ? "true" : "false") +
+                               (now.rigid ? ")" : "; only entries after 0 may be rigid on deforming ground)"));
   }
+}
+
+void Terrain::Impl::adopt_palette(std::vector<Material> checked) {
+  s.material = checked[0];
+  palette = std::move(checked);
+  palette_at = tiles.generation();
+}
+
+void Terrain::set_palette(std::vector<Material> palette) {
+  const std::string where = "terrain.Terrain.set_palette";
+  impl_->check_palette(palette, where);
   if (const int largest = impl_->tiles.largest_material(); static_cast<std::size_t>(largest) >= palette.size())
     throw InvalidSetting(where + ".size()", std::to_string(palette.size()),
                          "must be more than the largest index painted on the map (" + std::to_string(largest) + ")");
-  impl_->s.material = palette[0];
-  impl_->palette = std::move(palette);
+  impl_->tiles.advance_generation();  // a soil delta sends the palette set in this generation
+  impl_->adopt_palette(std::move(palette));
 }
 
 int Terrain::material_index(std::int64_t i, std::int64_t j) const { return impl_->tiles.material_at(i, j); }
@@ -95,10 +111,31 @@ const Material& Terrain::material_at(std::int64_t i, std::int64_t j) const {
   return impl_->palette[impl_->tiles.material_at(i, j)];
 }
 
+void Terrain::material_indices(const GridRect& rect, std::span<std::uint8_t> out) const {
+  if (rect.nx < 0 || rect.ny < 0 || out.size() != static_cast<std::size_t>(rect.nx) * static_cast<std::size_t>(rect.ny))
+    throw InvalidSetting("terrain.Terrain.material_indices(out).size", detail::to_text(out.size()),
+                         "must be nx * ny of the rectangle");
+  impl_->tiles.for_each_run(rect, [&](const Tile* t, const TileRun& run) {
+    std::uint8_t* dst = out.data() + static_cast<std::size_t>(run.y) * static_cast<std::size_t>(rect.nx) + run.x;
+    if (t == nullptr || t->material.empty())
+      std::fill_n(dst, run.count, std::uint8_t{0});
+    else
+      std::copy_n(t->material.data() + run.local, run.count, dst);
+  });
+}
+
+std::vector<GridRect> Terrain::painted_since(std::uint64_t g) const {
+  const int n = impl_->tiles.n();
+  std::vector<GridRect> rects;
+  for (const TileKey& key : impl_->tiles.painted_since(g)) rects.push_back({key.tx * n, key.ty * n, n, n});
+  return rects;
+}
+
 void Terrain::paint_rect(const GridRect& rect, int index) {
   const std::string where = "terrain.Terrain.paint_rect";
   check_index(index, impl_->palette.size(), where);
   check_rect(rect, where);
+  impl_->tiles.advance_generation();
   paint(impl_->tiles, rect, {}, index);
 }
 
@@ -126,6 +163,7 @@ void Terrain::paint_disc(double x, double y, double radius, int index) {
       const double dx = column_x(i) - x, dy = column_y(j) - y;
       mask[rect.index(i, j)] = dx * dx + dy * dy <= radius * radius ? 1 : 0;
     }
+  impl_->tiles.advance_generation();
   paint(impl_->tiles, rect, mask, index);
 }
 
@@ -139,6 +177,7 @@ void Terrain::paint_where(const GridRect& rect, const std::function<bool(double 
   for (std::int64_t j = rect.j0; j < rect.j1(); ++j)
     for (std::int64_t i = rect.i0; i < rect.i1(); ++i)
       mask[rect.index(i, j)] = inside(column_x(i), column_y(j)) ? 1 : 0;
+  impl_->tiles.advance_generation();
   paint(impl_->tiles, rect, mask, index);
 }
 
@@ -162,6 +201,7 @@ void Terrain::paint_image(const MaterialImage& image, const GridRect& rect) {
   bool present[Terrain::kMaxMaterials] = {};
   for (int r = 0; r < image.rows(); ++r)
     for (int c = 0; c < image.width(); ++c) present[image.at(c, r)] = true;
+  impl_->tiles.advance_generation();
   for (int index = 0; index < Terrain::kMaxMaterials; ++index) {
     if (!present[index]) continue;
     for (int r = 0; r < image.rows(); ++r) {

@@ -54,7 +54,7 @@ void Pipeline::gather(TileStore& store, const TerrainSettings& s, std::span<cons
   if (parallel && (!team_ || team_->size() != threads)) team_ = std::make_unique<Team>(threads);
   region_.prepare({region.i0 - 1, region.j0 - 1, region.nx + 2, region.ny + 2}, parallel ? team_.get() : nullptr);
   // One material: no map to read, every stage takes its one-material path.
-  region_.gather(store, s.material.soil_depth, palette.size() > 1);
+  region_.gather(store, BedrockDepth(palette, s.material.soil_depth), palette.size() > 1);
 }
 
 void Pipeline::record(const TerrainSettings& s, std::int64_t columns, double seconds) {

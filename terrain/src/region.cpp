@@ -11,7 +11,7 @@ void Region::prepare(const GridRect& with_halo, Team* rows_team) {
   team = rows_team;
 }
 
-void Region::gather(TileStore& store, double soil_depth, bool with_materials) {
+void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_materials) {
   // Sized, not cleared: gather writes every column.
   for (auto* v : {&ht, &sink, &bed}) v->resize(size());
   if (with_materials)
@@ -23,7 +23,12 @@ void Region::gather(TileStore& store, double soil_depth, bool with_materials) {
     const std::size_t dst = at(run.x, run.y);
     std::memcpy(&ht[dst], &t.height[src], sizeof(double) * run.count);
     std::memcpy(&sink[dst], &t.sinkage[src], sizeof(double) * run.count);
-    for (int k = 0; k < run.count; ++k) bed[dst + k] = t.base[src + k] - soil_depth;
+    if (depth.uniform()) {
+      const double soil_depth = depth.at(0);
+      for (int k = 0; k < run.count; ++k) bed[dst + k] = t.base[src + k] - soil_depth;
+    } else {
+      for (int k = 0; k < run.count; ++k) bed[dst + k] = t.base[src + k] - depth.at(t.material, src + k);
+    }
     if (!with_materials) return;
     if (t.material.empty())
       std::memset(&mat[dst], 0, static_cast<std::size_t>(run.count));

@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "bedrock_depth.h"
 #include "shore/core/team.h"
 #include "shore/terrain/terrain.h"
 #include "tile_store.h"
@@ -37,7 +38,7 @@ struct Region {
   /// Takes the rectangle (halo included) and the team its rows run on (nullptr: serial).
   void prepare(const GridRect& with_halo, Team* rows_team);
   /// Creates the tiles it touches; fills mat only with_materials.
-  void gather(TileStore& store, double soil_depth, bool with_materials);
+  void gather(TileStore& store, const BedrockDepth& depth, bool with_materials);
   void scatter(TileStore& store) const;  ///< and marks what changed
 
   [[nodiscard]] std::size_t size() const noexcept { return static_cast<std::size_t>(w) * static_cast<std::size_t>(h); }

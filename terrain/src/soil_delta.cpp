@@ -2,8 +2,15 @@
 //   f64 compacted, edited (the server's volume bookkeeping); u32 rectangle count;
 //   per rectangle: i64 i0, j0; u16 nx, ny; then its heights and its sinkages, row-major,
 //   each as a coded sequence (below);
+//   (version 3 only) the material map: u8 palette flag; if 1 (the palette was set after
+//   the delta's start), u32 palette size and every entry as the state file writes it
+//   (material_io.h, entry 0 too); u32 count of tiles repainted after the start, per tile
+//   (in key order) i64 tx, ty; u8 painted; if 1 its n * n palette indices as one coded
+//   sequence (0: the tile was painted back to all index 0);
 //   (version 2 on) u8 spray flag; if 1 (exact deltas), the spray state as the terrain's
 //   state file writes it (spray_io.h), to the end.
+// A delta with no map block to send (no palette set, no tile repainted after its start:
+// every terrain that never paints) is written as version 2, byte for byte as before maps.
 // A value is an integer: quantised, round((height - base) / quantum) and
 // round(sinkage / quantum); exact, the double's bit pattern. A sequence codes each value's
 // difference from the one before (the first from 0), wrapping, zig-zag mapped and written
@@ -18,6 +25,7 @@
 #include <cstring>
 #include <string>
 
+#include "material_io.h"
 #include "shore/core/byte_io.h"
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
@@ -29,7 +37,8 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'S', 'D', 'L'};
-constexpr std::uint32_t kVersion = 2;  // 1: no spray flag (still read)
+constexpr std::uint32_t kVersion = 3;  // 1: no spray flag, 2: no map (both still read)
+constexpr std::uint32_t kNoMapVersion = 2;
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8 + 8 + 8 + 8;
 constexpr std::size_t kMaxRawBytes = std::size_t{1} << 31;
@@ -120,9 +129,18 @@ struct DecodedRect {
   std::vector<double> height, sinkage;
 };
 
+/// One repainted tile: its indices (empty: painted back to all 0).
+struct DecodedPaint {
+  TileKey key;
+  std::vector<std::uint8_t> material;
+};
+
 struct Decoded {
   double compacted = 0.0, edited = 0.0;
   std::vector<DecodedRect> rects;
+  bool has_palette = false;
+  std::vector<Material> palette;
+  std::vector<DecodedPaint> painted;
   bool has_spray = false;
   SprayState spray;
 };
@@ -142,6 +160,37 @@ void DeltaSettings::validate() const {
 }
 
 // ---- encoding ----------------------------------------------------------------------------
+
+namespace {
+
+/// The map block (version 3) into `raw` (im: the server's Terrain::Impl) if the palette was set or a tile repainted
+/// after `since`; false (nothing written) otherwise.
+bool write_map(ByteWriter& raw, const auto& im, std::uint64_t since, DeltaStats& st) {
+  const bool palette = im.palette_at > since;
+  const std::vector<TileKey> painted = im.tiles.painted_since(since);
+  if (!palette && painted.empty()) return false;
+  raw.put(static_cast<std::uint8_t>(palette ? 1 : 0));
+  if (palette) {
+    Writer entries;
+    for (const Material& m : im.palette) write_material(entries, m);
+    raw.put(static_cast<std::uint32_t>(im.palette.size()));
+    raw.bytes.insert(raw.bytes.end(), entries.bytes.begin(), entries.bytes.end());
+  }
+  raw.put(static_cast<std::uint32_t>(painted.size()));
+  std::vector<std::uint64_t> values;
+  for (const TileKey& key : painted) {
+    const Tile& t = *im.tiles.find(key);
+    raw.put(key.tx), raw.put(key.ty);
+    raw.put(static_cast<std::uint8_t>(t.material.empty() ? 0 : 1));
+    if (t.material.empty()) continue;
+    values.assign(t.material.begin(), t.material.end());
+    put_sequence(raw.bytes, values);
+  }
+  st.painted_tiles = painted.size();
+  return true;
+}
+
+}  // namespace
 
 std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_t since, const DeltaSettings& settings,
                                              DeltaStats* stats) {
@@ -170,6 +219,7 @@ std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_
     put_sequence(raw.bytes, sinkages);
     st.columns += heights.size();
   }
+  const bool map = write_map(raw, im, since, st);
   // Exact deltas carry the spray too: with it the replica's whole soil state, and so its
   // state_hash, is the server's. Quantised ones do not (bodies on a replica read heights
   // and sinkages only; the spray would cost more than the columns).
@@ -181,7 +231,7 @@ std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_
   }
   ByteWriter w;
   for (char c : kMagic) w.put(c);
-  w.put(kVersion), w.put(kByteOrderMark), w.put(settings.quantum);
+  w.put(map ? kVersion : kNoMapVersion), w.put(kByteOrderMark), w.put(settings.quantum);
   w.put(since), w.put(im.tiles.generation()), w.put(static_cast<std::uint64_t>(raw.bytes.size()));
   std::vector<unsigned char>& out = w.bytes;
   const std::size_t frame_at = out.size() + sizeof(std::uint64_t);
@@ -214,7 +264,7 @@ Header read_header(std::span<const unsigned char> delta) {
   if (delta.size() < kHeaderBytes + 8) refuse("truncated (" + std::to_string(delta.size()) + " bytes)");
   RawReader r(delta.subspan(sizeof kMagic, kHeaderBytes - sizeof kMagic));
   const auto version = r.get<std::uint32_t>("version");
-  if (version != 1 && version != kVersion)
+  if (version < 1 || version > kVersion)
     refuse("unsupported version " + std::to_string(version) + " (this build reads 1 to " + std::to_string(kVersion) +
            ")");
   if (r.get<std::uint32_t>("byte-order mark") != kByteOrderMark) refuse("written with the other byte order");
@@ -303,6 +353,53 @@ void read_spray(RawReader& r, std::span<const unsigned char> raw, Decoded& d) {
   if (spray.remaining() != 0) refuse("corrupt (bytes after the spray state)");
 }
 
+/// The map block of a version 3 delta, from where `r` stands.
+void read_map(RawReader& r, std::span<const unsigned char> raw, const TileStore& tiles, Decoded& d) {
+  const auto flag = r.get<std::uint8_t>("palette flag");
+  if (flag > 1) refuse("corrupt (palette flag " + std::to_string(flag) + ")");
+  d.has_palette = flag == 1;
+  if (d.has_palette) {
+    const auto size = r.get<std::uint32_t>("palette size");
+    if (size < 1 || size > static_cast<std::uint32_t>(Terrain::kMaxMaterials))
+      refuse("corrupt (a palette of " + std::to_string(size) + " materials; allowed: 1 to " +
+             std::to_string(Terrain::kMaxMaterials) + ")");
+    const std::span<const unsigned char> rest = raw.subspan(raw.size() - r.remaining());
+    Reader entries(rest, rest.size(), "in a soil delta");
+    for (std::uint32_t k = 0; k < size; ++k) d.palette.push_back(read_material(entries));
+    r.skip(rest.size() - entries.remaining(), "the palette");
+  }
+  const auto count = r.get<std::uint32_t>("painted tile count");
+  if (count > r.remaining() / 17) refuse("corrupt (painted tile count " + std::to_string(count) + ")");
+  const std::int64_t n = tiles.n();
+  // The rectangles' bound (read_rect), in tiles.
+  const std::int64_t max_tile = ((std::int64_t{1} << 52) - 2048) / n;
+  const std::size_t columns = static_cast<std::size_t>(n * n);
+  std::vector<std::uint64_t> values;
+  for (std::uint32_t k = 0; k < count; ++k) {
+    DecodedPaint p;
+    p.key.tx = r.get<std::int64_t>("a painted tile"), p.key.ty = r.get<std::int64_t>("a painted tile");
+    if (p.key.tx < -max_tile || p.key.tx > max_tile || p.key.ty < -max_tile || p.key.ty > max_tile)
+      refuse("corrupt (a painted tile at (" + std::to_string(p.key.tx) + ", " + std::to_string(p.key.ty) +
+             "), beyond column index 2^52)");
+    if (!d.painted.empty() && !(d.painted.back().key < p.key))
+      refuse("corrupt (painted tiles out of key order or repeated)");
+    const auto painted = r.get<std::uint8_t>("a painted tile");
+    if (painted > 1) refuse("corrupt (painted flag " + std::to_string(painted) + ")");
+    if (painted == 1) {
+      values.assign(columns, 0);
+      r.sequence(values);
+      p.material.resize(columns);
+      for (std::size_t c = 0; c < columns; ++c) {
+        if (values[c] >= static_cast<std::uint64_t>(Terrain::kMaxMaterials))
+          refuse("corrupt (tile (" + std::to_string(p.key.tx) + ", " + std::to_string(p.key.ty) + ") column " +
+                 std::to_string(c) + " holds index " + std::to_string(values[c]) + ")");
+        p.material[c] = static_cast<std::uint8_t>(values[c]);
+      }
+    }
+    d.painted.push_back(std::move(p));
+  }
+}
+
 Decoded decode(std::span<const unsigned char> raw, const TileStore& tiles, const Header& h) {
   const double quantum = h.quantum;
   RawReader r(raw);
@@ -312,12 +409,38 @@ Decoded decode(std::span<const unsigned char> raw, const TileStore& tiles, const
   const auto count = r.get<std::uint32_t>("rectangle count");
   if (count > raw.size() / 20) refuse("corrupt (rectangle count " + std::to_string(count) + ")");
   for (std::uint32_t k = 0; k < count; ++k) d.rects.push_back(read_rect(r, tiles, quantum));
+  if (h.version >= 3) read_map(r, raw, tiles, d);
   if (h.version >= 2) {
     read_spray(r, raw, d);
     return d;
   }
   if (!r.done()) refuse("corrupt (bytes after the last rectangle)");
   return d;
+}
+
+}  // namespace
+
+namespace {
+
+/// The palette a delta brings fits the replica (Terrain::set_palette's checks), and every
+/// index on the map after applying it lies in the palette then in force.
+void check_map(const auto& im, const Decoded& d) {
+  if (d.has_palette) im.check_palette(d.palette, "terrain.SoilDelta.palette");
+  const std::size_t size = d.has_palette ? d.palette.size() : im.palette.size();
+  std::vector<TileKey> keys;
+  for (const DecodedPaint& p : d.painted) {
+    keys.push_back(p.key);
+    for (std::size_t c = 0; c < p.material.size(); ++c)
+      if (p.material[c] >= size)
+        throw InvalidSetting("terrain.SoilDelta.tile(" + std::to_string(p.key.tx) + ", " + std::to_string(p.key.ty) +
+                                 ").column(" + std::to_string(c) + ")",
+                             std::to_string(p.material[c]),
+                             "must be a palette entry, in [0, " + std::to_string(size - 1) + "]");
+  }
+  if (const int largest = im.tiles.largest_material(keys); static_cast<std::size_t>(largest) >= size)
+    throw InvalidSetting(
+        "terrain.SoilDelta.palette.size()", std::to_string(size),
+        "must be more than the largest index left painted on the replica (" + std::to_string(largest) + ")");
 }
 
 }  // namespace
@@ -330,8 +453,16 @@ std::uint64_t SoilDelta::apply(Terrain& replica, std::span<const unsigned char> 
   Terrain::Impl& im = *replica.impl_;
   // Everything is decoded and checked before the first column is written.
   Decoded d = decode(decompress(delta, h), im.tiles, h);
+  check_map(im, d);
   TileStore& tiles = im.tiles;
   tiles.advance_generation();
+  if (d.has_palette) im.adopt_palette(std::move(d.palette));
+  for (DecodedPaint& p : d.painted) {
+    Tile& t = tiles.tile(p.key);
+    t.material = std::move(p.material);
+    t.normalize_material();
+    tiles.mark_painted(t);
+  }
   for (const DecodedRect& r : d.rects)
     tiles.for_each_run_creating(r.rect, [&](Tile& t, const TileRun& run) {
       const std::size_t from = static_cast<std::size_t>(run.y) * r.rect.nx + run.x;

@@ -5,7 +5,7 @@
 
 namespace shore::terrain {
 
-SprayGround::SprayGround(TileStore& store, const TerrainSettings& s)
+SprayGround::SprayGround(TileStore& store, const TerrainSettings& s, std::span<const Material> palette)
     : store_(store),
       index_(store),
       tops_(store),
@@ -16,6 +16,7 @@ SprayGround::SprayGround(TileStore& store, const TerrainSettings& s)
       origin_x_(s.origin_x),
       origin_y_(s.origin_y),
       soil_depth_(s.material.soil_depth),
+      depth_(palette, s.material.soil_depth),
       x_min_(s.spray.x_min),
       x_max_(s.spray.x_max),
       y_min_(s.spray.y_min),
@@ -54,7 +55,7 @@ double SprayGround::take(std::int64_t i, std::int64_t j, double depth) {
   const TileKey key = index_.key_of(i, j);
   Tile& t = store_.tile(key);
   const std::size_t k = index_.local(i, j);
-  const double top = t.height[k], bed = t.base[k] - soil_depth_;
+  const double top = t.height[k], bed = t.base[k] - (depth_.uniform() ? soil_depth_ : depth_.at(t.material, k));
   if (!(top > bed)) return 0.0;
   return -set(i, j, key, t, k, std::max(top - depth, bed));
 }

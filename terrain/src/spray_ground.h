@@ -13,6 +13,7 @@
 #include <limits>
 #include <span>
 
+#include "bedrock_depth.h"
 #include "shore/terrain/terrain.h"
 #include "spray_tile_index.h"
 #include "spray_tops.h"
@@ -22,7 +23,9 @@ namespace shore::terrain {
 
 class SprayGround {
  public:
-  SprayGround(TileStore& store, const TerrainSettings& s);
+  /// palette: the terrain's (a rigid entry's columns give no soil below their base,
+  /// bedrock_depth.h); empty: every column soil_depth deep.
+  SprayGround(TileStore& store, const TerrainSettings& s, std::span<const Material> palette = {});
 
   /// The nearest column, as nearest((x - origin) / cell) rounds it (the same integer).
   [[nodiscard]] std::int64_t column_i(double x) const { return column_of(x - origin_x_); }
@@ -135,6 +138,7 @@ class SprayGround {
   mutable const Tile* last_ = nullptr;
   mutable std::int64_t last_i0_ = 0, last_j0_ = 0;  ///< last_'s first column
   double cell_, inverse_cell_, area_, origin_x_, origin_y_, soil_depth_;
+  BedrockDepth depth_;
   double x_min_, x_max_, y_min_, y_max_;
 };
 

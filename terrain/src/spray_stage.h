@@ -25,8 +25,8 @@ namespace shore::terrain {
 class Spray {
  public:
   /// One step of dt seconds (> 0) with these imprints (already checked).
-  void step(TileStore& store, const TerrainSettings& s, std::span<const Imprint> imprints, double dt,
-            StepReport& report);
+  void step(TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
+            std::span<const Imprint> imprints, double dt, StepReport& report);
   [[nodiscard]] std::size_t bytes() const;
 
   SprayState state;

@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "bedrock_depth.h"
 #include "capacity_bytes.h"
 #include "shore/core/det_math.h"
 #include "shore/core/error.h"
@@ -84,7 +85,8 @@ double Terrain::base_height(std::int64_t i, std::int64_t j) const {
   return t ? t->base[store.local(i, j)] : store.base_at(i, j);
 }
 double Terrain::bedrock(std::int64_t i, std::int64_t j) const {
-  return base_height(i, j) - impl_->s.material.soil_depth;
+  const Material& m = material_at(i, j);
+  return base_height(i, j) - (m.rigid && !impl_->s.material.rigid ? 0.0 : impl_->s.material.soil_depth);
 }
 
 void Terrain::heights(const GridRect& r, std::span<double> out) const { read_rect(r, out, false); }
@@ -104,7 +106,8 @@ void Terrain::set_height(std::int64_t i, std::int64_t j, double h) {
   const TileKey key = store.key_of(i, j);
   Tile& t = store.tile(key);
   const std::size_t k = store.local(i, j);
-  const double value = std::max(h, t.base[k] - impl_->s.material.soil_depth);
+  const double value =
+      std::max(h, t.base[k] - BedrockDepth(impl_->palette, impl_->s.material.soil_depth).at(t.material, k));
   if (value == t.height[k]) return;
   impl_->edited += (value - t.height[k]) * (impl_->s.cell * impl_->s.cell);
   t.height[k] = value;
@@ -146,7 +149,7 @@ StepReport Terrain::step(std::span<const Imprint> imprints, double dt) {
   // surface this step leaves.
   if (dt > 0.0 && im.s.spray.enabled) {
     const auto t0 = std::chrono::steady_clock::now();
-    im.spray.step(im.tiles, im.s, imprints, dt, total);
+    im.spray.step(im.tiles, im.s, im.palette, imprints, dt, total);
     im.spray_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   // After spray, which may land on any tile: a tile it touched is no longer idle.

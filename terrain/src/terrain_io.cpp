@@ -50,6 +50,7 @@
 #include <string>
 #include <vector>
 
+#include "material_io.h"
 #include "region.h"
 #include "shore/core/error.h"
 #include "shore/core/file_bytes.h"
@@ -79,20 +80,6 @@ std::uint64_t checksum(const unsigned char* data, std::size_t size) {
   return h.value();
 }
 
-/// A material's name, soil, bearing and shear fields, in the file's order (its spray and
-/// unload_modulus follow, with the terrain's spray settings between them in the header).
-void write_material_fields(Writer& w, const Material& m) {
-  w.put(static_cast<std::uint32_t>(m.name.size()));
-  for (char c : m.name) w.put(c);
-  for (double v : {m.theta_stop, m.sigma, m.theta_in, m.theta_out, m.alpha, m.bekker_n, m.bekker_kc, m.bekker_kphi,
-                   m.friction, m.soil_depth})
-    w.put(v);
-  w.put(static_cast<std::uint8_t>(m.rigid ? 1 : 0));
-  for (double v :
-       {m.cohesion, m.friction_angle, m.shear_modulus, m.remould_ratio, m.remould_shear_ratio, m.remould_length})
-    w.put(v);
-}
-
 void write_settings(Writer& w, const TerrainSettings& s) {
   const Material& m = s.material;
   w.put(s.cell), w.put(s.origin_x), w.put(s.origin_y);
@@ -107,32 +94,6 @@ void write_settings(Writer& w, const TerrainSettings& s) {
   write_material_fields(w, m);
   write_spray_settings(w, s);  // the material's spray, then the terrain's (the file's order)
   w.put(m.unload_modulus);
-}
-
-void write_material(Writer& w, const Material& m) {
-  write_material_fields(w, m);
-  write_spray_material(w, m.spray);
-  w.put(m.unload_modulus);
-}
-
-Material read_material(Reader& hr) {
-  Material m;
-  const auto name_size = hr.get<std::uint32_t>("palette");
-  if (name_size > 4096) hr.fail("palette material name of " + std::to_string(name_size) + " bytes (corrupt)");
-  m.name = hr.get_string(name_size, "palette");
-  for (double* v : {&m.theta_stop, &m.sigma, &m.theta_in, &m.theta_out, &m.alpha, &m.bekker_n, &m.bekker_kc,
-                    &m.bekker_kphi, &m.friction, &m.soil_depth})
-    *v = hr.get<double>("palette");
-  m.rigid = hr.get<std::uint8_t>("palette") != 0;
-  for (double* v :
-       {&m.cohesion, &m.friction_angle, &m.shear_modulus, &m.remould_ratio, &m.remould_shear_ratio, &m.remould_length})
-    *v = hr.get<double>("palette");
-  SprayMaterial& p = m.spray;
-  for (double* v :
-       {&p.adhesion, &p.half_life, &p.speed_scale, &p.exponent, &p.particle_size, &p.min_speed, &p.jitter, &p.drag})
-    *v = hr.get<double>("palette");
-  m.unload_modulus = hr.get<double>("palette");
-  return m;
 }
 
 bool has_map(std::span<const Material> palette, const TileStore& tiles, const std::vector<TileKey>& keys) {
@@ -184,26 +145,21 @@ SavedMap read_map(Reader& hr, int n) {
   return map;
 }
 
-/// Sets the palette (validated as Terrain::set_palette does), then paints the saved tiles.
-void apply_map(const Reader& hr, SavedMap& map, Terrain& t, TileStore& store) {
-  std::vector<Material> palette{t.settings().material};
-  palette.insert(palette.end(), map.palette.begin(), map.palette.end());
-  try {
-    t.set_palette(std::move(palette));
-  } catch (const InvalidSetting& e) {
-    hr.fail(std::string("invalid palette: ") + e.what());
-  }
+/// Paints the saved tiles (the palette already set, `palette_size` entries), stamped as
+/// painted in the loaded generation.
+void apply_map(const Reader& hr, SavedMap& map, std::size_t palette_size, TileStore& store) {
   for (auto& [key, index] : map.tiles) {
     const std::string where = "material map of tile (" + std::to_string(key.tx) + ", " + std::to_string(key.ty) + ")";
     Tile* tile = store.find(key);
     if (tile == nullptr) hr.fail(where + ": no such tile in the file (corrupt)");
     if (!tile->material.empty()) hr.fail(where + " appears twice (corrupt)");
     for (std::size_t c = 0; c < index.size(); ++c)
-      if (index[c] >= t.palette().size())
+      if (index[c] >= palette_size)
         hr.fail(where + ": column " + std::to_string(c) + " holds index " + std::to_string(index[c]) +
-                ", beyond the palette (0 to " + std::to_string(t.palette().size() - 1) + ")");
+                ", beyond the palette (0 to " + std::to_string(palette_size - 1) + ")");
     tile->material = std::move(index);
     tile->normalize_material();
+    store.mark_painted(*tile);
   }
 }
 
@@ -413,7 +369,19 @@ Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::str
   SavedMap map;
   if (version >= 6) map = read_map(hr, im.s.tile_columns);
   read_tiles(hr, im.s.tile_columns, im.tiles);
-  if (version >= 6) apply_map(hr, map, t, im.tiles);
+  if (version >= 6) {
+    // Validated as Terrain::set_palette does, but without a new generation: a loaded
+    // terrain is generation 1, palette, paint and tiles alike.
+    std::vector<Material> palette{im.s.material};
+    palette.insert(palette.end(), map.palette.begin(), map.palette.end());
+    try {
+      im.check_palette(palette, "terrain.Terrain.set_palette");
+    } catch (const InvalidSetting& e) {
+      hr.fail(std::string("invalid palette: ") + e.what());
+    }
+    im.adopt_palette(std::move(palette));
+    apply_map(hr, map, im.palette.size(), im.tiles);
+  }
   check_unsettled_on_tiles(hr, im.unsettled, im.tiles);
   return t;
 }

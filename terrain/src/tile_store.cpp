@@ -83,11 +83,20 @@ void TileStore::read(const GridRect& r, std::span<double> out, bool base) const 
   });
 }
 
-int TileStore::largest_material() const {
+int TileStore::largest_material(std::span<const TileKey> skip) const {
   int largest = 0;
   for (const auto& [key, tile] : tiles_)
-    for (const std::uint8_t m : tile->material) largest = std::max(largest, static_cast<int>(m));
+    if (!std::binary_search(skip.begin(), skip.end(), key))
+      for (const std::uint8_t m : tile->material) largest = std::max(largest, static_cast<int>(m));
   return largest;
+}
+
+std::vector<TileKey> TileStore::painted_since(std::uint64_t g) const {
+  std::vector<TileKey> keys;
+  for (const auto& [key, tile] : tiles_)
+    if (tile->painted_at > g) keys.push_back(key);
+  std::sort(keys.begin(), keys.end());
+  return keys;
 }
 
 void TileStore::mark_changed(TileKey key, Tile& t, const GridRect& local) {
@@ -170,8 +179,10 @@ bool TileStore::adopt(TileKey key, std::unique_ptr<Tile> t) {
 bool TileStore::releasable(Tile& t, std::int64_t idle_steps) const {
   // Only tiles whose heights never changed since they were sampled from the base (so no
   // observer of changed_since() can hold a view of them that differs from the base; loaded
-  // tiles count as changed): releasing one changes nothing anyone can see.
-  if (!t.changed.empty() || t.changed_at != 0 || clock_ - t.last_used < idle_steps || t.kept_at == t.last_used)
+  // tiles count as changed) and that were never painted (painted back to all 0, a soil
+  // delta still has to send it): releasing one changes nothing anyone can see.
+  if (!t.changed.empty() || t.changed_at != 0 || t.painted_at != 0 || clock_ - t.last_used < idle_steps ||
+      t.kept_at == t.last_used)
     return false;
   if (t.holds_only_base()) return true;
   t.kept_at = t.last_used;  // unchanged until a step uses it again: no need to compare again

@@ -43,6 +43,9 @@ struct Tile {
   /// Palette index per column; empty while every column is 0 (the one-material terrain's
   /// tiles never hold it). Kept empty whenever it would be all 0 (normalize_material).
   std::vector<std::uint8_t> material;
+  /// The change generation of the last write to `material` (0: never painted), so a soil
+  /// delta can send the tiles repainted since a generation (TileStore::painted_since).
+  std::uint64_t painted_at = 0;
   /// Columns whose height changed since the last take_changed (local; empty: none).
   GridRect changed;
   /// The change generation of its last height change (0: never changed), and that
@@ -117,8 +120,13 @@ class TileStore {
     const Tile* t = find(key_of(i, j));
     return t && !t->material.empty() ? t->material[local(i, j)] : std::uint8_t{0};
   }
-  /// The largest palette index painted on any tile (0: none).
-  [[nodiscard]] int largest_material() const;
+  /// Records that the tile's material array was written in the current generation.
+  void mark_painted(Tile& t) const noexcept { t.painted_at = generation_; }
+  /// The tiles whose material array was written after generation g, in key order
+  /// (painted_since(0): every tile ever painted, including those painted back to all 0).
+  [[nodiscard]] std::vector<TileKey> painted_since(std::uint64_t g) const;
+  /// The largest palette index painted on any tile but those in `skip` (sorted; 0: none).
+  [[nodiscard]] int largest_material(std::span<const TileKey> skip = {}) const;
   /// Heights (base: untouched ground) of a rectangle, row-major into out (nx * ny).
   void read(const GridRect& r, std::span<double> out, bool base) const;
 

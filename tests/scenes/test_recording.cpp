@@ -72,7 +72,9 @@ TEST_P(SoilRecording, ReplaysToTheSameFinalStateHash) {
   fs::remove(file);
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, SoilRecording, testing::Values("footprints", "tracks"));
+// vehicle: one soil painted sand, mud and gravel (a material map) whose replay must end
+// with the recorded map (the state hash covers it).
+INSTANTIATE_TEST_SUITE_P(Scenes, SoilRecording, testing::Values("footprints", "tracks", "vehicle"));
 
 TEST(Recording, CorruptTruncatedAndForeignFilesAreRefusedNamingTheFile) {
   const fs::path file = temp("bad_source.rec");

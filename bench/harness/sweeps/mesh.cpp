@@ -241,7 +241,7 @@ double percentile(std::vector<double> v, double p) {
   return v[static_cast<std::size_t>(std::min<double>(static_cast<double>(v.size() - 1), p * (v.size() - 1) + 0.5))];
 }
 
-/// The vehicle scene, both soils meshed every 4 substeps (60 frames/s of 240 substeps/s)
+/// The vehicle scene, its soil meshed every 4 substeps (60 frames/s of 240 substeps/s)
 /// from a camera that follows the chassis (or stays where it started).
 FrameCosts drive(bool quick, bool follow) {
   const scenes::SceneType& type = *scenes::find_scene("vehicle");
@@ -307,7 +307,7 @@ void incremental_sweep(const SweepContext& ctx, SweepResult& out) {
            percentile(c.wall_ms, 0.95), c.changed, c.triangles});
   }
   out.figure("mesh.incremental_ms_per_frame", mean_following,
-             "ms of CPU per frame, mean (vehicle scene, both soils, camera following, 1 px, 1080 lines, one thread)");
+             "ms of CPU per frame, mean (vehicle scene, its one soil, camera following, 1 px, 1080 lines, one thread)");
   out.target({.key = "mesh.incremental_ms_per_frame",
               .what = "mesh updates while the vehicle drives, 60 frames/s, camera following",
               .value = mean_following,
@@ -316,9 +316,9 @@ void incremental_sweep(const SweepContext& ctx, SweepResult& out) {
               .unit = "ms"});
   out.note(
       "Incremental: the vehicle scene (2 cm sand and mud, 240 substeps/s, one thread); every 4 substeps (60 frames/s) "
-      "both soils' meshes (the driven strip, 13.5 m x 2.2 m each) are brought up to date for a camera 3 m behind, "
+      "the soil's mesh (the driven strip, 13.5 m x 2.2 m) is brought up to date for a camera 3 m behind, "
       "1.5 m beside and 1.5 m above the chassis (or still at the start), 1 px of a 1080-line, 60 degree view. The "
-      "cost is the two updates' CPU time (the changed tiles' errors, the chunks whose detail or nodes changed "
+      "cost is the update's CPU time (the changed tiles' errors, the chunks whose detail or nodes changed "
       "rebuilt); wall time is listed beside it (on a loaded machine it includes time the core was taken away).");
 }
 

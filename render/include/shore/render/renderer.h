@@ -12,8 +12,10 @@
 //   Image picture = r.read_image();       // or r.present(w, h) to the window
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include <Eigen/Core>
 
@@ -50,7 +52,15 @@ struct RenderSettings {
   double max_error_pixels = 1.0;   ///< the soil and water meshes' projected error bound, pixels, > 0
   bool mesh_edges = false;         ///< outline the soil and water meshes' triangles (their level of detail)
   bool bodies = true;              ///< the world's bodies (false: soils and water alone)
+  /// Natural ground colours (linear RGB in [0, 1]) by material name, over the defaults of
+  /// material_colour(). A painted soil shows each column in its palette entry's colour.
+  std::map<std::string, Eigen::Vector3d> material_colours;
 };
+
+/// A material's natural colour: settings.material_colours[name] if set, else the default of
+/// its preset: sand (0.80, 0.70, 0.52), mud (0.45, 0.36, 0.27), snow (0.93, 0.94, 0.97),
+/// rigid (0.60, 0.60, 0.60), gravel (0.56, 0.55, 0.52); any other name sand's.
+Eigen::Vector3d material_colour(const std::string& name, const RenderSettings& settings);
 
 /// What the last draw() did.
 struct FrameStats {

@@ -1,7 +1,9 @@
 #pragma once
 // A car built the way Bullet's own VehicleDemo builds one: a box chassis carried by a stock
 // btRaycastVehicle with btDefaultVehicleRaycaster (up and forward: the ground's z and x). Written once for the
-// tests, the rally scene and the benchmarks; nothing in it knows Shore.
+// tests, the rally scene and the benchmarks. The one thing in it that knows Shore is the
+// choice of vehicle class: a stock btRaycastVehicle, or Shore's SoilVehicle (the same vehicle,
+// gripping as the soil does).
 
 #include <memory>
 
@@ -28,6 +30,10 @@ struct RaycastCarSettings {
   double damping_relaxation = 4.4;     ///< Bullet's tuning (about 0.5 of critical)
   double friction_slip = 1.0;          ///< Bullet's Coulomb friction of each wheel on rigid ground
   double max_suspension_travel_cm = 50.0;
+  /// Build a shore::bullet::SoilVehicle (traction and side force from the soil's shear on
+  /// Shore's soft ground) instead of a stock btRaycastVehicle (Bullet's friction everywhere).
+  bool soil_traction = false;
+  bool four_wheel_drive = false;  ///< the engine force on every wheel, not only the rear ones
 };
 
 class RaycastCar {
@@ -40,7 +46,8 @@ class RaycastCar {
   RaycastCar(const RaycastCar&) = delete;
   RaycastCar& operator=(const RaycastCar&) = delete;
 
-  /// Engine force (N, per driven rear wheel), brake (N per wheel) and steering angle of the
+  /// Engine force (N, per driven wheel: the rear ones, or all four), brake (Bullet's: N s per
+  /// substep, per wheel) and steering angle of the
   /// front wheels (rad, positive to the left), held until set again.
   void drive(double engine_force, double brake, double steering);
 

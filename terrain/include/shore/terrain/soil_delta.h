@@ -5,7 +5,8 @@
 // per tile), compressed with zstd, versioned and checksummed. Exact deltas (quantum 0)
 // also carry the volume bookkeeping and the whole spray state (particles in flight, soil
 // clinging to bodies), so a replica driven only by them has the server's state_hash;
-// quantised ones carry columns and bookkeeping only.
+// quantised ones carry columns and bookkeeping only. Both carry the material map: the
+// palette if it was set after the delta's start, and every tile repainted after it.
 //
 // A replica is a Terrain built with the server's settings and base. It applies the deltas
 // in order; each names the server generation it starts from and the one it brings, so a
@@ -16,7 +17,9 @@
 //
 // Layout (docs/checkpoints.md): "SHORESDL", u32 version, u32 byte-order mark, f64 quantum,
 // u64 from, u64 to, u64 raw size, u64 compressed size, zstd frame, u64 FNV-1a of every byte
-// before it. Version 2 (this one) adds the spray block; version 1 deltas still apply.
+// before it. Version 2 adds the spray block, version 3 the map block (written only when
+// there is a palette or a repainted tile to send: a terrain that never paints sends
+// version 2 deltas, byte for byte as before maps); versions 1 and 2 still apply.
 
 #include <cstddef>
 #include <cstdint>
@@ -41,10 +44,11 @@ struct DeltaSettings {
 
 /// What one encode() produced.
 struct DeltaStats {
-  std::size_t rectangles = 0;  ///< changed rectangles sent (at most one per tile)
-  std::size_t columns = 0;     ///< columns in them
-  std::size_t raw_bytes = 0;   ///< the coded columns before compression
-  std::size_t bytes = 0;       ///< the whole delta
+  std::size_t rectangles = 0;     ///< changed rectangles sent (at most one per tile)
+  std::size_t columns = 0;        ///< columns in them
+  std::size_t raw_bytes = 0;      ///< the coded columns before compression
+  std::size_t bytes = 0;          ///< the whole delta
+  std::size_t painted_tiles = 0;  ///< tiles whose material map was sent (repainted since)
 };
 
 class SoilDelta {
@@ -57,8 +61,10 @@ class SoilDelta {
   /// Applies a delta to a replica that mirrors server generation `at`; returns the
   /// generation it mirrors after. Throws shore::FileError (the replica untouched) if the
   /// delta is corrupt, truncated, of another version or byte order, or does not start at
-  /// `at` (a snapshot, from 0, always applies); InvalidSetting if its rectangles do not fit
-  /// the replica's tiles.
+  /// `at` (a snapshot, from 0, always applies); InvalidSetting (the replica untouched) if
+  /// its rectangles do not fit the replica's tiles, its palette does not fit the replica
+  /// (Terrain::set_palette's checks) or an index it paints, or one the replica keeps, lies
+  /// beyond the palette then in force.
   static std::uint64_t apply(Terrain& replica, std::span<const unsigned char> delta, std::uint64_t at);
 };
 

@@ -182,7 +182,10 @@ class Terrain {
   // angle). The map belongs to the columns, like a painted texture: soil that displacement
   // or erosion moves onto a column becomes that column's material, so volume is conserved
   // in total, not per material. Shore's Bullet coupling shears each column by its own
-  // material too. Not yet per column: spray (entry 0's).
+  // material too. A rigid entry on deforming ground (a road, a rock) has its bedrock at its
+  // columns' untouched top: they carry any load and are never pressed, carried off or
+  // eroded below it (loose soil laid on them can move again). Not yet per column: spray
+  // (entry 0's).
 
   /// At most this many materials.
   static constexpr int kMaxMaterials = 256;
@@ -190,14 +193,22 @@ class Terrain {
   [[nodiscard]] std::span<const Material> palette() const noexcept;
   /// Replaces the palette (entry 0 becomes settings().material), from the next step on.
   /// Throws InvalidSetting (terrain untouched) if it is empty or longer than kMaxMaterials,
-  /// an entry is invalid, an entry's soil_depth or rigid flag differs from the present
-  /// material's (they define bedrock and the tiles' kind), or it is shorter than an index
-  /// painted on the map.
+  /// an entry is invalid, an entry's soil_depth differs from the present material's (it
+  /// defines bedrock), entry 0's rigid flag differs from the present material's, an entry
+  /// of a rigid terrain is not rigid (rigid ground never steps), or it is shorter than an
+  /// index painted on the map. Entries after 0 may be rigid on deforming ground.
   void set_palette(std::vector<Material> palette);
   /// The column's palette index (0 where never painted).
   [[nodiscard]] int material_index(std::int64_t i, std::int64_t j) const;
   /// The column's material.
   [[nodiscard]] const Material& material_at(std::int64_t i, std::int64_t j) const;
+  /// Palette indices of a rectangle of columns, row-major (out.size() == nx * ny), one tile
+  /// lookup per run of columns. Throws InvalidSetting on a size mismatch.
+  void material_indices(const GridRect& rect, std::span<std::uint8_t> out) const;
+  /// Whole tiles (in key order) whose palette indices were written after generation g
+  /// (Terrain::generation): what a renderer's or a replica's copy of the map must read
+  /// again. painted_since(0) is empty for a terrain that never painted.
+  [[nodiscard]] std::vector<GridRect> painted_since(std::uint64_t g) const;
   /// Paints every column of the rectangle with palette entry `index`. Throws InvalidSetting
   /// naming the value and the allowed range [0, palette size) (terrain untouched) if the
   /// index is not in the palette, or the rectangle is negative.
@@ -233,7 +244,8 @@ class Terrain {
   /// Untouched ground heights of a rectangle, like heights() (bedrock = base - soil depth).
   void base_heights(const GridRect& rect, std::span<double> out) const;
   [[nodiscard]] double base_height(std::int64_t i, std::int64_t j) const;  ///< untouched ground, m
-  [[nodiscard]] double bedrock(std::int64_t i, std::int64_t j) const;      ///< base height - soil depth, m
+  /// base height - soil depth, m (base height on a rigid palette entry's column)
+  [[nodiscard]] double bedrock(std::int64_t i, std::int64_t j) const;
   /// Writes a height directly (editing tools, tests); keeps volume accounting in step: the
   /// change is added to VolumeTotals::edited and reported by take_changed. Heights below
   /// bedrock are raised to bedrock; sinkage is left as it is. Throws InvalidSetting if h is
@@ -284,7 +296,8 @@ class Terrain {
   /// After load() every loaded tile is reported whole.
   std::vector<GridRect> take_changed();
   /// The change generation: it advances with every call that may change heights (step,
-  /// relax, set_height), and every height change is stamped with it. An observer (a mesh,
+  /// relax, set_height) or the material map (set_palette, paint_*), and every height
+  /// change is stamped with it (and the palette and each repainted tile, for soil deltas). An observer (a mesh,
   /// a network delta) remembers generation() when it reads the heights and later asks
   /// changed_since(that) what changed since; any number of observers can do so, and
   /// take_changed is unaffected. Starts at 1 (load() too: loaded tiles are generation 1).

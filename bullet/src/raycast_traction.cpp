@@ -1,0 +1,104 @@
+#include "raycast_traction.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "shore/core/det_math.h"
+
+namespace shore::bullet {
+inline namespace SHORE_BULLET_ABI {
+namespace coupling_detail {
+
+namespace {
+
+constexpr int kSpinIterations = 40;  // bisection: the spin to 1e-12 of its range
+
+/// The rim in the direction the wheel rolls: angles and speeds mirrored when it rolls back.
+struct RollingFrame {
+  double dir = 1.0;    ///< +1 rolling along the heading, -1 against it
+  double entry = 0.0;  ///< rad, theta_1 in this frame
+  double speed = 0.0;  ///< m/s, forward speed in this frame
+  double sin_entry = 0.0;
+};
+
+struct RimForce {
+  double along = 0.0;   ///< N, the shear along the rim (its sum: the torque over r)
+  double thrust = 0.0;  ///< N, its horizontal part along the heading
+  double side = 0.0;    ///< N along the axle
+  double shear = 0.0;   ///< N m, the strips' strength times their |j|
+};
+
+/// The rim's shear at spin `omega` (rad/s, in the rolling frame).
+RimForce rim_force(std::span<const RimStrip> rim, const TractionInput& in, const RollingFrame& f, double omega) {
+  const double r = in.radius;
+  const double scale = std::max({std::fabs(omega) * r, std::fabs(f.speed), kTractionSpeedFloor});
+  const double inv_k = 1.0 / in.shear_modulus, inv_l = 1.0 / in.remould_length;
+  RimForce out;
+  for (const RimStrip& s : rim) {
+    const double theta = std::min(f.dir * s.theta, f.entry);  // in the rolling frame
+    const double sin_theta = std::min(f.dir * s.sin_theta, f.sin_entry);
+    const double arc = r * (f.entry - theta);  // rim passed since the strip's soil met it
+    const double jx = (omega * r * arc - f.speed * r * (f.sin_entry - sin_theta)) / scale;
+    const double jy = in.side_speed * arc / scale;  // how far the wheel slid sideways meanwhile
+    const double j = std::sqrt(jx * jx + jy * jy);
+    if (!(j > 0.0)) continue;
+    const double kept = 1.0 - in.remould_shear_ratio * (1.0 - det::exp(-j * inv_l));
+    const double tau = s.strength * kept * (1.0 - det::exp(-j * inv_k)) / j;
+    out.shear += s.strength * j;
+    out.along += tau * jx;
+    out.thrust += tau * jx * s.cos_theta;
+    out.side -= tau * jy;
+  }
+  return out;
+}
+
+/// The spin at which the rim's shear balances the drive less the brake (rolling frame).
+double balancing_spin(std::span<const RimStrip> rim, const TractionInput& in, const RollingFrame& f) {
+  const double target = f.dir * in.drive - std::max(in.brake, 0.0);
+  if (target <= rim_force(rim, in, f, 0.0).along) return 0.0;  // locked: the brake holds it
+  const double top = (5.0 * std::max(f.speed, 0.0) + 2.0) / in.radius;
+  if (target >= rim_force(rim, in, f, top).along) return top;  // spins: more than the soil takes
+  double lo = 0.0, hi = top;
+  for (int k = 0; k < kSpinIterations; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (rim_force(rim, in, f, mid).along < target ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+double slip_of(double omega, double speed, double r) {
+  const double rim = omega * r;
+  if (rim >= speed) return rim > 0.0 ? 1.0 - std::max(speed, 0.0) / rim : 0.0;  // driving
+  return speed > 0.0 ? rim / speed - 1.0 : 0.0;                                 // braking
+}
+
+}  // namespace
+
+Traction soil_traction(std::span<const RimStrip> rim, const TractionInput& in) {
+  RollingFrame f;
+  if (in.hold)
+    f.dir = in.held_spin * in.radius + in.forward_speed >= 0.0 ? 1.0 : -1.0;
+  else if (std::fabs(in.forward_speed) > 1e-3)
+    f.dir = in.forward_speed > 0.0 ? 1.0 : -1.0;
+  else
+    f.dir = in.drive < 0.0 ? -1.0 : 1.0;
+  f.entry = f.dir > 0.0 ? in.entry_angle : -in.exit_angle;
+  f.sin_entry = det::sin(f.entry);
+  f.speed = f.dir * in.forward_speed;
+  const double omega = in.hold ? f.dir * in.held_spin : balancing_spin(rim, in, f);
+  const RimForce force = rim_force(rim, in, f, omega);
+  Traction t;
+  t.spin = f.dir * omega;
+  t.slip = slip_of(omega, f.speed, in.radius);
+  t.forward = f.dir * force.thrust;
+  t.side = force.side;
+  t.torque = f.dir * force.along * in.radius;
+  double strength = 0.0;
+  for (const RimStrip& s : rim) strength += s.strength;
+  t.mean_shear = strength > 0.0 ? force.shear / strength : 0.0;
+  return t;
+}
+
+}  // namespace coupling_detail
+}  // namespace SHORE_BULLET_ABI
+}  // namespace shore::bullet
