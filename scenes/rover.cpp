@@ -39,7 +39,7 @@ constexpr double kDescentGrade = -0.34, kDescentFrom = 8.5, kDescentTo = 13.5;  
 constexpr double kExitGrade = 0.2, kExitFrom = 19.0, kExitTo = 22.0;            // rises 0.4 m
 constexpr double kWaterLevel = -0.15;                                           // m, the pool's still water
 constexpr double kPoolX0 = 11.5, kPoolX1 = 22.5;                                // m, the water surface along x
-constexpr double kPoolHalfY = 4.0;                                              // m, and across (the banks close it)
+constexpr double kPoolHalfY = 3.8;                                              // m, and across (the banks close it)
 constexpr double kTrackHalf = 2.5;                                  // m, the flat track's half width; banks rise beyond
 constexpr double kLandX0 = -4.0, kLandX1 = 26.0, kLandHalfY = 6.0;  // m, the land shown
 constexpr double kStartX = -2.0;                                    // m, where the rover starts
@@ -295,7 +295,8 @@ class Rover final : public Scene {
     const btVector3 c = rover_->getBasePos();
     return {double(c.x()) - half, double(c.y()) - half, double(c.x()) + half, double(c.y()) + half};
   }
-  /// Rim speed `speed` (m/s) on every wheel, the left side faster by `turn` of it.
+  /// Rim speed `speed` (m/s) on every wheel, the right side faster and the left slower by
+  /// `turn` of it (turn > 0 turns left).
   void drive(double speed, double turn) {
     for (int k = 0; k < kWheels; ++k) {
       const double side = k < 3 ? -1.0 : 1.0;
@@ -342,7 +343,7 @@ SceneType rover_scene() {
       .name = "rover",
       .description =
           "A six-wheeled rover (156 kg) built as a btMultiBody: a chassis and six wheels on revolute joints, each "
-          "driven by a btMultiBodyJointMotor at 1.5 m/s rim speed. It climbs a sand dune (20 % grade), runs down its "
+          "driven by a btMultiBodyJointMotor at 1.5 m/s rim speed. It climbs a sand dune (15 % grade), runs down its "
           "far side into a pool of shallow water, wades through it and climbs out. Every wheel is a link of the "
           "terrain coupling (add_link): it sinks, slips and leaves a rut; the chassis floats and drags in the pool "
           "and makes a wake. climb_drawbar_pull_N and climb_slip are measured on the dune's steady slope, where the "

@@ -207,9 +207,10 @@ class TerrainCoupling : public btActionInterface {
   /// for a null link, another kind of world, a multibody or collider not in the world, a
   /// non-finite pose or joint velocity, the shape checks of add_body, after detach(), and
   /// for a link another terrain coupling of this world holds over an overlapping region
-  /// or this one holds already (remove_body it first to change its settings). remove_body and terrain_force take links
-  /// too. A link whose multibody later leaves the world while its collider stays, or whose
-  /// joint velocities turn non-finite, is skipped each substep (stats().skipped_bodies).
+  /// or this one holds already (remove_body it first to change its settings). remove_body
+  /// and terrain_force take links too. A link whose multibody later leaves the world while
+  /// its collider stays, or whose joint velocities turn non-finite, is skipped each substep
+  /// (stats().skipped_bodies).
   void add_link(btMultiBodyLinkCollider* link, TerrainBodySettings body_settings = {});
   /// A stock btRaycastVehicle whose wheels press and feel the terrain: each wheel on soft
   /// ground sinks as far as the columns need to carry its suspension force (its ray then
