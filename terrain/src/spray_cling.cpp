@@ -127,8 +127,10 @@ void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, co
         continue;
       }
       ClingCell* found = piece(body, key);
+      const double capacity =
+          rules.capacity_by_index.empty() ? rules.capacity : rules.capacity_over(ground.material(i, j));
       if (found == nullptr) {
-        if (rules.capacity <= 0.0) continue;
+        if (capacity <= 0.0) continue;
         found = &fresh_.emplace_back();
         found->key = key;
       }
@@ -137,7 +139,7 @@ void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, co
       c.local.x = r[0], c.local.y = r[1], c.local.z = r[2];
       c.i = i, c.j = j;
       c.owed = 0.0;
-      c.pending = std::max(0.0, rules.capacity - c.volume);
+      c.pending = std::max(0.0, capacity - c.volume);
     }
   merge_fresh(body);
 }

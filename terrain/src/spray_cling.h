@@ -34,10 +34,17 @@ namespace shore::terrain {
 
 /// What a material, the terrain and the step's time make of the rule.
 struct ClingRules {
-  double dt = 0.0;                       ///< s
-  double cell = 0.0;                     ///< m, the column spacing (a piece is a cube of this side)
-  double tolerance = 0.0;                ///< m, a column is touched when the body lies this close to its top
-  double capacity = 0.0;                 ///< m^3 a piece holds, adhesion x cell^2
+  double dt = 0.0;         ///< s
+  double cell = 0.0;       ///< m, the column spacing (a piece is a cube of this side)
+  double tolerance = 0.0;  ///< m, a column is touched when the body lies this close to its top
+  double capacity = 0.0;   ///< m^3 a piece holds, adhesion x cell^2
+  /// Per palette index, the capacity a piece loads over a column of that material (its
+  /// adhesion x cell^2); empty (one material): `capacity` everywhere.
+  std::vector<double> capacity_by_index;
+  /// What a piece loads over a column of palette index `index`.
+  [[nodiscard]] double capacity_over(std::uint8_t index) const {
+    return capacity_by_index.empty() ? capacity : capacity_by_index[index];
+  }
   double min_speed = 0.0;                ///< m/s
   double particle_volume = 0.0;          ///< m^3
   double inverse_particle_volume = 0.0;  ///< 1 / particle_volume

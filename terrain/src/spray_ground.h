@@ -33,6 +33,8 @@ class SprayGround {
   [[nodiscard]] double x_of(std::int64_t i) const { return origin_x_ + static_cast<double>(i) * cell_; }
   [[nodiscard]] double y_of(std::int64_t j) const { return origin_y_ + static_cast<double>(j) * cell_; }
   [[nodiscard]] double cell() const { return cell_; }
+  /// The column's palette index (0 where never painted).
+  [[nodiscard]] std::uint8_t material(std::int64_t i, std::int64_t j) const { return store_.material_at(i, j); }
   /// A flight samples the columns it crosses one after another, mostly in one tile: the last
   /// tile found is kept with its corner, so the next column in it costs no hash lookup and
   /// no division (tiles are never released during a spray step; a column with no tile yet

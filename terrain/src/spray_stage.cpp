@@ -20,7 +20,7 @@ void Spray::step(TileStore& store, const TerrainSettings& s, std::span<const Mat
   SprayGround ground(store, s, palette);
   const FlightRules rules{s.spray.gravity, s.material.spray.drag, s.spray.max_flight};
   fly_all(ground, rules, dt, report);
-  cling_all(ground, s, rules, imprints, dt, report);
+  cling_all(ground, s, palette, rules, imprints, dt, report);
   ++state.step;
 }
 
@@ -98,14 +98,18 @@ void Spray::set_gone_down(SprayGround& ground, const ClingingBody& body) {
 
 // Bodies by key (the imprints' order never matters), merged with the bodies soil clung to
 // last step: a body missing from this step sets its soil down.
-void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, const FlightRules& rules,
-                      std::span<const Imprint> imprints, double dt, StepReport& report) {
+void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, std::span<const Material> palette,
+                      const FlightRules& rules, std::span<const Imprint> imprints, double dt, StepReport& report) {
   const SprayMaterial& m = s.material.spray;
   ClingRules r;
   r.dt = dt;
   r.cell = s.cell;
   r.tolerance = s.contact_tolerance;
   r.capacity = m.adhesion * s.cell * s.cell;
+  // A map: a piece loads the adhesion of the column it touches (the rest of the spray,
+  // particle size, half-life, drag, stays entry 0's: the state does not carry materials).
+  if (palette.size() > 1)
+    for (const Material& entry : palette) r.capacity_by_index.push_back(entry.spray.adhesion * s.cell * s.cell);
   r.min_speed = m.min_speed;
   r.particle_volume = m.particle_volume();
   r.inverse_particle_volume = 1.0 / r.particle_volume;

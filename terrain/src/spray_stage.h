@@ -35,8 +35,8 @@ class Spray {
   void fly_all(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report);
   /// Gives the ground the box the particles in flight can reach this step.
   void cover_flights(SprayGround& ground, double dt) const;
-  void cling_all(SprayGround& ground, const TerrainSettings& s, const FlightRules& rules,
-                 std::span<const Imprint> imprints, double dt, StepReport& report);
+  void cling_all(SprayGround& ground, const TerrainSettings& s, std::span<const Material> palette,
+                 const FlightRules& rules, std::span<const Imprint> imprints, double dt, StepReport& report);
   void set_gone_down(SprayGround& ground, const ClingingBody& body);
   /// Candidates and drops of one body, in order.
   void settle(SprayGround& ground, const TerrainSettings& s, const FlightRules& rules, StepReport& report);

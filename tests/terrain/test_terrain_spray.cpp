@@ -208,6 +208,39 @@ TEST(Spray, VolumeIsExactAtEveryStepOfASpinningWheel) {
   EXPECT_LT(watch.worst, 1e-12) << "worst |ground + compacted + airborne + lost - edited| / moved";
 }
 
+// A material map: a piece loads the adhesion of the column it touches (Sumner's area x
+// adhesion). Painted with a copy of sand, the wheel picks up and throws exactly what it does
+// on sand alone; painted with a gravel of no adhesion, nothing.
+TEST(Spray, APieceLoadsTheAdhesionOfTheColumnItTouches) {
+  const auto run = [](const Material* painted) {
+    Terrain t(sand());
+    if (painted != nullptr) {
+      t.set_palette({Material::sand(), *painted});
+      t.paint_rect({-50, -50, 400, 100}, 1);  // under the wheel's whole path
+    }
+    const SpinningWheel w;
+    shore::EnvelopeRaster env;
+    for (int k = 0; k < 240; ++k) {
+      const Imprint im = w.at(t, k / 240.0, env);
+      t.step({&im, 1}, 1.0 / 240);
+    }
+    return t.spray_counts();
+  };
+  const SprayCounts alone = run(nullptr);
+  ASSERT_GT(alone.picked_volume, 0.0) << "the wheel picked nothing up: this tests nothing";
+  Material copy = Material::sand();
+  copy.name = "sand copy";
+  const SprayCounts same = run(&copy);
+  EXPECT_EQ(same.picked_volume, alone.picked_volume);
+  EXPECT_EQ(same.created, alone.created);
+  Material gravel = Material::sand();
+  gravel.name = "gravel";
+  gravel.spray.adhesion = 0.0;
+  const SprayCounts none = run(&gravel);
+  EXPECT_EQ(none.picked_volume, 0.0);
+  EXPECT_EQ(none.created, 0);
+}
+
 TEST(Spray, BodiesAtRestOrCreepingMakeNothingAndHoldNoMemory) {
   // Rolling: no point of the ball moves faster than twice its speed, below sand's min_speed
   // of 0.3 m/s.

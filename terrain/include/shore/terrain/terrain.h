@@ -184,8 +184,9 @@ class Terrain {
   // in total, not per material. Shore's Bullet coupling shears each column by its own
   // material too. A rigid entry on deforming ground (a road, a rock) has its bedrock at its
   // columns' untouched top: they carry any load and are never pressed, carried off or
-  // eroded below it (loose soil laid on them can move again). Not yet per column: spray
-  // (entry 0's).
+  // eroded below it (loose soil laid on them can move again). Spray: a body picks up the
+  // adhesion of the column it touches; what it sheds and throws (particle size, half-life,
+  // drag, speeds) is entry 0's.
 
   /// At most this many materials.
   static constexpr int kMaxMaterials = 256;
