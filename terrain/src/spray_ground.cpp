@@ -5,10 +5,11 @@
 
 namespace shore::terrain {
 
-SprayGround::SprayGround(TileStore& store, const TerrainSettings& s, std::span<const Material> palette)
+SprayGround::SprayGround(TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
+                         UntiledTops* untiled)
     : store_(store),
       index_(store),
-      tops_(store),
+      tops_(store, untiled),
       n_(store.n()),
       cell_(s.cell),
       inverse_cell_(1.0 / s.cell),

@@ -17,7 +17,7 @@ namespace shore::terrain {
 
 void Spray::step(TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
                  std::span<const Imprint> imprints, double dt, StepReport& report) {
-  SprayGround ground(store, s, palette);
+  SprayGround ground(store, s, palette, &untiled_tops_);
   const FlightRules rules{s.spray.gravity, s.material.spray.drag, s.spray.max_flight};
   fly_all(ground, rules, dt, report);
   cling_all(ground, s, palette, rules, imprints, dt, report);

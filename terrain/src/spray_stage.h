@@ -18,6 +18,7 @@
 #include "spray_cling.h"
 #include "spray_flight.h"
 #include "spray_state.h"
+#include "spray_tops.h"
 #include "tile_store.h"
 
 namespace shore::terrain {
@@ -45,7 +46,8 @@ class Spray {
   void land(SprayGround& ground, const Particle& p, const FlightEnd& end, StepReport& report);
 
   Cling cling_;
-  SampleClock clock_;  ///< drag factors of the particles flying whole steps
+  SampleClock clock_;         ///< drag factors of the particles flying whole steps
+  UntiledTops untiled_tops_;  ///< bounds of blocks no tile covers (derived, kept across steps)
   std::vector<Candidate> candidates_;
   std::vector<Drop> drops_;
   std::vector<std::size_t> order_;

@@ -78,9 +78,22 @@ double SoilTops::compute_block(std::int64_t bx, std::int64_t by) const {
     if (const Tile* t = store_.find(key); t != nullptr)
       return b = highest(t->height.data() + index_.local(r.i0, r.j0), static_cast<std::size_t>(n), side);
   }
+  const bool base_only = untiled_ != nullptr && untiled(r.i0, r.j0, side);
+  if (base_only)
+    if (const double* kept = untiled_->find(r.i0, r.j0, side)) return b = *kept;
   heights_.resize(static_cast<std::size_t>(side) * static_cast<std::size_t>(side));
   store_.read(r, heights_, false);
-  return b = highest(heights_.data(), static_cast<std::size_t>(side), side);
+  b = highest(heights_.data(), static_cast<std::size_t>(side), side);
+  if (base_only) untiled_->keep(r.i0, r.j0, side, b);
+  return b;
+}
+
+bool SoilTops::untiled(std::int64_t i0, std::int64_t j0, int side) const {
+  const TileKey first = index_.key_of(i0, j0), last = index_.key_of(i0 + side - 1, j0 + side - 1);
+  for (std::int64_t ty = first.ty; ty <= last.ty; ++ty)
+    for (std::int64_t tx = first.tx; tx <= last.tx; ++tx)
+      if (store_.find(TileKey{tx, ty}) != nullptr) return false;
+  return true;
 }
 
 void SoilTops::raised(std::int64_t i, std::int64_t j, double height) {

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <unordered_map>
 #include <vector>
 
 #include "spray_tile_index.h"
@@ -19,9 +20,42 @@
 
 namespace shore::terrain {
 
+/// Bounds of blocks that no tile covers: their tops are the base ground's, which never
+/// changes, so the spray keeps them from step to step (a procedural base costs a noise
+/// evaluation per column: the rally scene spent half its time re-reading the same untiled
+/// blocks). Derived data, not state: never saved or hashed.
+class UntiledTops {
+ public:
+  [[nodiscard]] const double* find(std::int64_t i0, std::int64_t j0, int side) const {
+    const auto it = tops_.find(Key{i0, j0, side});
+    return it == tops_.end() ? nullptr : &it->second;
+  }
+  void keep(std::int64_t i0, std::int64_t j0, int side, double top) {
+    if (tops_.size() >= kMostBlocks) tops_.clear();  // bounded: a long flight path starts over
+    tops_.emplace(Key{i0, j0, side}, top);
+  }
+  [[nodiscard]] std::size_t bytes() const { return tops_.size() * (sizeof(Key) + sizeof(double) + 16); }
+
+ private:
+  static constexpr std::size_t kMostBlocks = 1u << 18;
+  struct Key {
+    std::int64_t i0 = 0, j0 = 0;
+    int side = 0;
+    friend bool operator==(const Key&, const Key&) = default;
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const noexcept {
+      return TileKeyHash{}(TileKey{k.i0, k.j0}) ^ (static_cast<std::size_t>(k.side) * 0x9e3779b97f4a7c15ull);
+    }
+  };
+  std::unordered_map<Key, double, KeyHash> tops_;
+};
+
 class SoilTops {
  public:
-  explicit SoilTops(const TileStore& store) : store_(store), index_(store) {}
+  /// untiled: where bounds of untiled blocks are kept across steps (null: none kept).
+  explicit SoilTops(const TileStore& store, UntiledTops* untiled = nullptr)
+      : store_(store), index_(store), untiled_(untiled) {}
   /// The window: columns [i0, i1] x [j0, j1]. Blocks have a side of 8 columns or more, so
   /// that at most 64 x 64 of them cover it (a few kB, allocated here).
   void cover(std::int64_t i0, std::int64_t j0, std::int64_t i1, std::int64_t j1);
@@ -63,6 +97,9 @@ class SoilTops {
   mutable double ceiling_ = 0.0;         ///< NaN: not computed yet
   mutable std::vector<double> block_;    ///< nbx_ * nby_ bounds, row-major; NaN: not computed yet
   mutable std::vector<double> heights_;  ///< one block's heights (scratch)
+  UntiledTops* untiled_ = nullptr;
+  /// No tile holds a column of the block: its heights are all the base's.
+  [[nodiscard]] bool untiled(std::int64_t i0, std::int64_t j0, int side) const;
 };
 
 }  // namespace shore::terrain
