@@ -421,20 +421,26 @@ TEST(MultiBodyLinks, ADrivenWheelOnARevoluteJointPullsAsWongAndReecePredict) {
   }
 }
 
-// A box floating as a multibody's base in still water (it does not disturb it): Archimedes.
-TEST(MultiBodyLinks, FloatingBaseAtArchimedesDraft) {
-  shore::scenes::Floater f;  // 0.3 x 0.3 x 0.2 m box at half water's density
+namespace {
+/// Still water 0.5 m deep on nodes x nodes of 5 cm, centred on the origin, level at 0.
+shore::water::SurfaceSettings still_water(int nodes, double damping_time) {
   shore::water::PhysicalParameters phys;
   phys.cell = 0.05;
   phys.depth = 0.5;
   phys.density = 1000.0;
-  phys.damping_time = 1.0;
-  const int nodes = 32;
+  phys.damping_time = damping_time;
   shore::water::SurfaceSettings ws = shore::water::SurfaceSettings::physical(phys, nodes, nodes);
   ws.origin_x = ws.origin_y = -0.5 * (nodes - 1) * phys.cell;
   ws.rest_height = 0.0;
   ws.threads = 1;
-  shore::water::Surface surface(ws);
+  return ws;
+}
+}  // namespace
+
+// A box floating as a multibody's base in still water (it does not disturb it): Archimedes.
+TEST(MultiBodyLinks, FloatingBaseAtArchimedesDraft) {
+  shore::scenes::Floater f;  // 0.3 x 0.3 x 0.2 m box at half water's density
+  shore::water::Surface surface(still_water(32, 1.0));
   MultiBodyWorld w;
   shore::bullet::WaterCoupling water(w.world(), surface);
   const btVector3 half = f.size * btScalar(0.5);
@@ -461,17 +467,7 @@ TEST(MultiBodyLinks, FloatingBaseAtArchimedesDraft) {
 // A raft of two boards hinged together, both added, making waves as they settle: each
 // floats at the boards' Archimedes' draft and the water carries the whole raft.
 TEST(MultiBodyLinks, AHingedRaftFloatsAtArchimedesDraft) {
-  shore::water::PhysicalParameters phys;
-  phys.cell = 0.05;
-  phys.depth = 0.5;
-  phys.density = 1000.0;
-  phys.damping_time = 0.5;
-  const int nodes = 48;
-  shore::water::SurfaceSettings ws = shore::water::SurfaceSettings::physical(phys, nodes, nodes);
-  ws.origin_x = ws.origin_y = -0.5 * (nodes - 1) * phys.cell;
-  ws.rest_height = 0.0;
-  ws.threads = 1;
-  shore::water::Surface surface(ws);
+  shore::water::Surface surface(still_water(48, 0.5));
   MultiBodyWorld w;
   shore::bullet::WaterCoupling water(w.world(), surface);
   const btVector3 half(0.2f, 0.15f, 0.05f);

@@ -14,6 +14,7 @@
 #include "shore/scenes/world.h"
 #include "shore/terrain/bekker.h"
 #include "shore/terrain/terrain.h"
+#include "soil_rig.h"
 
 namespace {
 
@@ -32,19 +33,7 @@ RaycastCarSettings heavy_car() {
   return s;
 }
 
-struct Rig {
-  explicit Rig(const shore::terrain::Material& m) : soil(settings(m)), coupling(world.world(), soil) {}
-  static shore::terrain::TerrainSettings settings(const shore::terrain::Material& m) {
-    shore::terrain::TerrainSettings s;
-    s.cell = 0.02;
-    s.material = m;
-    s.threads = 1;
-    return s;
-  }
-  World world;
-  shore::terrain::Terrain soil;
-  shore::bullet::TerrainCoupling coupling;
-};
+using Rig = SoilRig;
 
 /// Depth of the wheels' lowest points below the untouched surface (0), mean of four.
 double wheel_sinkage(const RaycastCar& car) {

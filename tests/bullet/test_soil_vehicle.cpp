@@ -16,6 +16,7 @@
 #include "shore/scenes/wong_reece.h"
 #include "shore/scenes/world.h"
 #include "shore/terrain/terrain.h"
+#include "soil_rig.h"
 
 namespace {
 
@@ -37,19 +38,7 @@ RaycastCarSettings wong_reece_car() {
   return s;
 }
 
-struct Rig {
-  explicit Rig(const shore::terrain::Material& m) : soil(settings(m)), coupling(world.world(), soil) {}
-  static shore::terrain::TerrainSettings settings(const shore::terrain::Material& m) {
-    shore::terrain::TerrainSettings s;
-    s.cell = 0.02;
-    s.material = m;
-    s.threads = 1;
-    return s;
-  }
-  World world;
-  shore::terrain::Terrain soil;
-  shore::bullet::TerrainCoupling coupling;
-};
+using Rig = SoilRig;
 
 SoilVehicle& soil_vehicle(RaycastCar& car) { return dynamic_cast<SoilVehicle&>(car.vehicle()); }
 

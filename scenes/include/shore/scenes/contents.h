@@ -47,7 +47,7 @@ struct SceneContents {
   World* world = nullptr;  ///< null: the scene has nothing to show live
   std::vector<SoilContents> soils = {};
   std::vector<WaterContents> waters = {};
-  Bounds bounds = {};                  ///< where the scene happens: soils are drawn inside it, the camera frames it
+  Bounds bounds = {};  ///< where the scene happens: soils are drawn inside it, the camera frames it
   /// What the camera follows (its origin: a rigid body's or a multibody link's centre of
   /// mass; null: the bounds' centre).
   const btCollisionObject* focus = nullptr;
