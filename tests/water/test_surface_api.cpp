@@ -2,12 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "shore/core/error.h"
+#include "shore/water/stability.h"
 #include "shore/water/surface.h"
 
 using namespace shore::water;
@@ -73,6 +75,41 @@ TEST(WaterInput, BadStepsAndDisturbancesLeaveTheStateUntouched) {
   expect_invalid([&] { surf.add_vertical_velocity(3, 3, inf); }, "water.Surface.add_vertical_velocity.dv", "inf");
   expect_invalid([&] { (void)surf.height(50, 3); }, "water.Surface.height.i", "50");
   EXPECT_EQ(surf.state_hash(), before);
+}
+
+// Edits within the caps, repeated without limit between steps, would drive a node beyond the
+// range where the exact sums hold (a restored corrupt state can start there too): the state
+// saturates at its documented range, stays finite, and the row sums never overflow (UBSan).
+TEST(WaterInput, RunawayEditsSaturateAtTheStatesRange) {
+  for (const SurfaceMode mode : {SurfaceMode::full_3d, SurfaceMode::vertical_only}) {
+    SurfaceSettings set = SurfaceSettings::paper();
+    set.mode = mode;
+    Surface surf(set);
+    const double h = surf.spacing();
+    const double omega =
+        mode == SurfaceMode::full_3d ? omega_max_at_rest(set.lattice) : omega_max_vertical(set.lattice);
+    const double dz = set.guard.max_disturbance_spacings * h, dv = dz * omega;  // the caps
+    for (int k = 0; k < 64; ++k)
+      for (int j = 8; j < 12; ++j)
+        for (int i = 8; i < 12; ++i) {
+          const double sign = (i + j) % 2 ? 1.0 : -1.0;
+          surf.add_height(i, j, sign * dz);
+          surf.add_vertical_velocity(i, j, -sign * dv);
+        }
+    // 64 caps is beyond 2^50 height quanta (at most 4096 spacings) and 2^49 velocity quanta.
+    EXPECT_LE(std::abs(surf.height(9, 9) - surf.height(0, 0)), 4096.0 * h);
+    EXPECT_GT(std::abs(surf.height(9, 9) - surf.height(0, 0)), 2000.0 * h);
+    for (int step = 0; step < 20; ++step) surf.step(1.0 / 60.0);
+    double top = 0.0;
+    for (int j = 0; j < surf.ny(); ++j)
+      for (int i = 0; i < surf.nx(); ++i) {
+        ASSERT_TRUE(std::isfinite(surf.height(i, j)) && std::isfinite(surf.vertical_velocity(i, j)));
+        EXPECT_LE(std::abs(surf.vertical_velocity(i, j)), 2048.0 * h * omega);
+        top = std::max(top, std::abs(surf.height(i, j) - surf.height(0, 0)));
+      }
+    EXPECT_LE(top, 4096.0 * h);
+    EXPECT_TRUE(std::isfinite(surf.volume()));
+  }
 }
 
 TEST(WaterQueries, NodeAndWorldHelpersAgree) {

@@ -69,6 +69,7 @@ struct Coefficients {
   double dt_z = 1.0;                  ///< dt
   double u_magic = 1.0, u_inv = 1.0;  ///< height quantum (quantum.h)
   double v_magic = 1.0, v_inv = 1.0;  ///< velocity quantum
+  double u_keep = 1.0, v_keep = 1.0;  ///< heights (and rises), velocities saturate at +- these (quantum.h)
   bool activity = true;               ///< measure the stretch part of the activity (false: nothing sleeps)
   double u_scale = 1.0;               ///< 1 / sleep height threshold (activity)
   double v_scale = 1.0;               ///< 1 / sleep velocity threshold

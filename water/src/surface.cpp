@@ -209,8 +209,8 @@ Surface::Surface(const SurfaceSettings& settings) : settings_(settings), s_(std:
   s.tiles_y = (settings_.ny + s.T - 1) / s.T;
   s.slot.assign(static_cast<std::size_t>(s.tiles_x) * static_cast<std::size_t>(s.tiles_y), -1);
   const double h = settings_.lattice.spacing, omega = top_frequency(settings_);
-  s.qu = quantum::Quantum::for_scale(h);
-  s.qv = quantum::Quantum::for_scale(h * omega);
+  s.qu = quantum::Quantum::for_scale(h, quantum::kKeepBitsHeight);
+  s.qv = quantum::Quantum::for_scale(h * omega, quantum::kKeepBitsVelocity);
   s.sleep_u = settings_.sleep.height > 0.0 ? settings_.sleep.height : 1e-5 * h;
   s.sleep_v =
       settings_.sleep.velocity > 0.0 ? settings_.sleep.velocity : s.sleep_u * omega_max_vertical(settings_.lattice);
@@ -350,7 +350,7 @@ void Surface::disturb(std::span<const Disturbance> ds) {
         const std::size_t k = t.at(i & (s.T - 1), j & (s.T - 1), s.T);
         if (t.flags[k] == static_cast<std::uint8_t>(NodeConstraint::fixed)) continue;
         double& target = height ? t.uz[k] : t.vz[k];
-        target += quantum::round_to(wy * ax.weights[a], q.magic);
+        target = quantum::saturate(target + quantum::round_to(wy * ax.weights[a], q.magic), q.keep);
       }
     }
     for (int ty = j0 >> s.shift; ty <= j1 >> s.shift; ++ty)
@@ -396,7 +396,9 @@ bool edit_node(const Surface& surface, Surface::State& s, int i, int j, double d
   s.wake_around(set, i >> s.shift, j >> s.shift);
   TileData& t = *s.find(i >> s.shift, j >> s.shift);
   const std::size_t k = t.at(i & (s.T - 1), j & (s.T - 1), s.T);
-  (height ? t.uz[k] : t.vz[k]) += quantum::round_to(delta, height ? s.qu.magic : s.qv.magic);
+  const quantum::Quantum& q = height ? s.qu : s.qv;
+  double& target = height ? t.uz[k] : t.vz[k];
+  target = quantum::saturate(target + quantum::round_to(delta, q.magic), q.keep);
   s.refresh_edges(t, t.cur);
   if (height) s.deformation.reset();
   return true;
@@ -465,9 +467,9 @@ double Surface::add_heights(int i0, int j0, int w, int h, std::span<const double
       TileData& t = *s.find(i >> s.shift, j >> s.shift);
       const std::size_t k = t.at(i & (s.T - 1), j & (s.T - 1), s.T);
       if (t.flags[k] == static_cast<std::uint8_t>(NodeConstraint::fixed)) continue;
-      const double r = quantum::round_to(d, s.qu.magic);
-      t.uz[k] += r;
-      quanta += quantum::count(r, s.qu.inv);
+      const double before = t.uz[k];
+      t.uz[k] = quantum::saturate(before + quantum::round_to(d, s.qu.magic), s.qu.keep);
+      quanta += quantum::count(t.uz[k], s.qu.inv) - quantum::count(before, s.qu.inv);
     }
   for (int ty = b0 >> s.shift; ty <= b1 >> s.shift; ++ty)
     for (int tx = a0 >> s.shift; tx <= a1 >> s.shift; ++tx) s.refresh_edges(*s.find(tx, ty), s.find(tx, ty)->cur);

@@ -31,15 +31,16 @@ void put_tile(ByteWriter& w, const TileData& t) {
     w.put_array(e.z), w.put_array(e.vz), w.put_array(e.x), w.put_array(e.y), w.put_array(e.vx), w.put_array(e.vy);
 }
 
-// Heights and vertical velocities are exact multiples of their quantum within +-2^51 of it
-// (quantum.h), which the kernels' exact sums rely on; a saved state holds no others (found
-// by fuzz_coupled_checkpoint: a velocity of ~2^62 quanta overflowed a kernel's row sum).
+// Heights and vertical velocities are exact multiples of their quantum within the range the
+// state is kept in (quantum.h), which the kernels' exact sums rely on; a saved state holds no
+// others (found by fuzz_coupled_checkpoint: a velocity of ~2^62 quanta overflowed a kernel's
+// row sum).
 void check_quantised(const ByteReader& r, const std::vector<double>& values, const quantum::Quantum& q,
                      const char* what) {
   for (const double x : values)
-    if (!(std::fabs(x) < q.limit) || quantum::round_to(x, q.magic) != x)
+    if (!(std::fabs(x) <= q.keep) || quantum::round_to(x, q.magic) != x)
       r.fail(std::string(what) + " " + detail::to_text(x) + " is not a multiple of its quantum " +
-             detail::to_text(q.q) + " within +-2^51 of it (corrupt)");
+             detail::to_text(q.q) + " within +-" + detail::to_text(q.keep) + " (corrupt)");
 }
 
 void check_finite(const ByteReader& r, const std::vector<float>& values, const char* what) {

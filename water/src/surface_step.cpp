@@ -188,6 +188,8 @@ kernel::Coefficients coefficients(const SurfaceSettings& s, const Surface::State
   k.u_inv = st.qu.inv;
   k.v_magic = st.qv.magic;
   k.v_inv = st.qv.inv;
+  k.u_keep = st.qu.keep;
+  k.v_keep = st.qv.keep;
   k.activity = s.sleep.enabled;
   k.u_scale = 1.0 / st.sleep_u;
   k.v_scale = 1.0 / st.sleep_v;

@@ -150,7 +150,11 @@ class Surface {
   [[nodiscard]] double vertical_velocity(int i, int j) const;
   /// Adds dz (m, finite) to node (i, j)'s height, dv (m/s, finite) to its vertical velocity
   /// (rounded to the state's quantum). Fixed nodes are left alone (returns false). Throws on
-  /// a non-finite value or a bad index.
+  /// a non-finite value, a value beyond the disturbance cap, or a bad index.
+  /// Every path that changes the state (edits, disturbances, steps) keeps heights within
+  /// +-2^50 height quanta (more than 2048 spacings) and vertical velocities within +-2^49
+  /// velocity quanta (more than 1024 spacings times the top frequency), saturating there: far
+  /// beyond any physical water, it keeps the exact sums exact for any input.
   bool add_height(int i, int j, double dz);
   bool add_vertical_velocity(int i, int j, double dv);
   /// Heights above rest (m) of the nodes [i0, i0 + w) x [j0, j0 + h), row-major, for a
