@@ -67,14 +67,15 @@ class BodyRegistry {
   [[nodiscard]] const Entry* find(const btCollisionObject* object) const {
     return const_cast<BodyRegistry*>(this)->find(object);
   }
-  /// Drops the entries whose object the world held and no longer does. Returns how many.
+  /// Drops the entries whose held object (CoupledBody::held) the world held and no longer
+  /// does. Returns how many.
   int forget_lost(const btCollisionWorld& world) {
     if (entries_.empty()) return 0;
     const HeldObjects held(world);
     for (Entry& e : entries_)
-      if (held.holds(&e.body->object())) e.seen_in_world = true;
+      if (held.holds(&e.body->held())) e.seen_in_world = true;
     const std::size_t before = entries_.size();
-    std::erase_if(entries_, [&](const Entry& e) { return e.seen_in_world && !held.holds(&e.body->object()); });
+    std::erase_if(entries_, [&](const Entry& e) { return e.seen_in_world && !held.holds(&e.body->held()); });
     return static_cast<int>(before - entries_.size());
   }
   void clear() { entries_.clear(); }

@@ -39,9 +39,12 @@ class CoupledBody {
   /// Where it is, in the coupling's ground coordinates (ground_frame.h; the world's
   /// unless a framed body says otherwise).
   [[nodiscard]] virtual btTransform pose() const { return object_->getWorldTransform(); }
-  [[nodiscard]] btBroadphaseProxy* proxy() const noexcept { return object_->getBroadphaseHandle(); }
-  [[nodiscard]] bool awake() const noexcept { return object_->isActive(); }
-  void wake() const { object_->activate(true); }
+  /// The object the world holds for the body: its own, or for a part of another (a raycast
+  /// wheel: its vehicle's chassis) that one. It is asleep or awake, in the world or lost.
+  [[nodiscard]] btCollisionObject& held() const noexcept { return *held_; }
+  [[nodiscard]] btBroadphaseProxy* proxy() const noexcept { return held_->getBroadphaseHandle(); }
+  [[nodiscard]] bool awake() const noexcept { return held_->isActive(); }
+  void wake() const { held_->activate(true); }
   /// Names the body from step to step whatever the order bodies were added in: its
   /// broadphase proxy's id, given in the order objects joined the world. 0 outside a world.
   [[nodiscard]] std::uint64_t key() const noexcept {
@@ -76,10 +79,12 @@ class CoupledBody {
   virtual void translate(const btVector3& offset) = 0;
 
  protected:
-  explicit CoupledBody(btCollisionObject& object) noexcept : object_(&object) {}
+  explicit CoupledBody(btCollisionObject& object) noexcept : object_(&object), held_(&object) {}
+  CoupledBody(btCollisionObject& object, btCollisionObject& held) noexcept : object_(&object), held_(&held) {}
 
  private:
   btCollisionObject* object_;
+  btCollisionObject* held_;
 };
 
 }  // namespace coupling_detail

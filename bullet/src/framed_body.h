@@ -18,7 +18,10 @@ namespace coupling_detail {
 class FramedBody final : public CoupledBody {
  public:
   FramedBody(std::unique_ptr<CoupledBody> body, const GroundFrame& frame)
-      : CoupledBody(body->object()), body_(std::move(body)), frame_(frame), to_ground_(frame.to_ground()) {}
+      : CoupledBody(body->object(), body->held()),
+        body_(std::move(body)),
+        frame_(frame),
+        to_ground_(frame.to_ground()) {}
 
   [[nodiscard]] btTransform pose() const override { return to_ground_ * body_->pose(); }
   [[nodiscard]] bool dynamic() const override { return body_->dynamic(); }

@@ -20,9 +20,23 @@ namespace {
 constexpr double kMaxWidth = 10.0;  // m: wider is no wheel
 constexpr double kRolling = 0.05;   // m/s: a wheel slower than this is standing
 
-/// The wheel's pose for its cylinder: resting on the point its ray hit (Bullet's own wheel
-/// transform is made before the ray and lags a falling wheel), local x along its steered
-/// axle, local z up the suspension.
+}  // namespace
+
+void check_wheel_widths(const btRaycastVehicle& vehicle, std::span<const double> widths, const std::string& where) {
+  const int n = vehicle.getNumWheels();
+  if (widths.size() != static_cast<std::size_t>(n))
+    throw InvalidSetting(where + "(widths)", std::to_string(widths.size()) + " widths",
+                         "must give one width per wheel (" + std::to_string(n) + ")");
+  for (int k = 0; k < n; ++k) {
+    const double b = widths[static_cast<std::size_t>(k)], r = double(vehicle.getWheelInfo(k).m_wheelsRadius);
+    if (!(b > 0.0 && b <= kMaxWidth))
+      throw InvalidSetting(where + "(widths[" + std::to_string(k) + "])", detail::to_text(b),
+                           "must be a wheel width in (0, 10] m");
+    if (!(r > 0.0 && std::isfinite(r)))
+      throw InvalidSetting(where + " wheel " + std::to_string(k) + " radius", detail::to_text(r), "must be > 0");
+  }
+}
+
 btTransform wheel_pose(const btWheelInfo& info) {
   const btVector3 up = -info.m_raycastInfo.m_wheelDirectionWS.normalized();
   btVector3 axle = info.m_raycastInfo.m_wheelAxleWS.rotate(up, info.m_steering);
@@ -31,6 +45,8 @@ btTransform wheel_pose(const btWheelInfo& info) {
   btMatrix3x3 basis(axle.x(), forward.x(), up.x(), axle.y(), forward.y(), up.y(), axle.z(), forward.z(), up.z());
   return btTransform(basis, info.m_raycastInfo.m_contactPointWS + up * info.m_wheelsRadius);
 }
+
+namespace {
 
 /// The columns' push on the cylinder's sloped faces, resolved horizontally along `forward`:
 /// a column at distance s ahead of the wheel's centre meets the rim at slope s / sqrt(R^2 - s^2).
@@ -132,19 +148,12 @@ void RaycastWheels::add(btRaycastVehicle* vehicle, std::span<const double> width
   if (vehicle == nullptr) throw InvalidSetting(where + "(vehicle)", "null", "must be a btRaycastVehicle");
   for (const Vehicle& v : vehicles_)
     if (v.vehicle == vehicle) throw InvalidSetting(where + "(vehicle)", "added already", "must be added once");
+  check_wheel_widths(*vehicle, widths, where);
   const int n = vehicle->getNumWheels();
-  if (widths.size() != static_cast<std::size_t>(n))
-    throw InvalidSetting(where + "(widths)", std::to_string(widths.size()) + " widths",
-                         "must give one width per wheel (" + std::to_string(n) + ")");
   Vehicle v{vehicle, dynamic_cast<SoilVehicle*>(vehicle), vehicle->getRigidBody(), {}};
   v.wheels.reserve(widths.size());
   for (int k = 0; k < n; ++k) {
     const double b = widths[static_cast<std::size_t>(k)], r = double(vehicle->getWheelInfo(k).m_wheelsRadius);
-    const std::string field = where + "(widths[" + std::to_string(k) + "])";
-    if (!(b > 0.0 && b <= kMaxWidth))
-      throw InvalidSetting(field, detail::to_text(b), "must be a wheel width in (0, 10] m");
-    if (!(r > 0.0 && std::isfinite(r)))
-      throw InvalidSetting(where + " wheel " + std::to_string(k) + " radius", detail::to_text(r), "must be > 0");
     Wheel w;
     w.shape = std::make_unique<btCylinderShapeX>(btVector3(btScalar(b / 2), btScalar(r), btScalar(r)));
     w.shape->setMargin(btScalar(0));

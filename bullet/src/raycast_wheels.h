@@ -17,6 +17,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
@@ -35,6 +36,14 @@ inline namespace SHORE_BULLET_ABI {
 namespace coupling_detail {
 
 struct SoftGround;
+
+/// A raycast wheel's pose for its cylinder, in world coordinates: resting on the point its
+/// ray hit (Bullet's own wheel transform is made before the ray and lags a falling wheel),
+/// local x along its steered axle, local y forward, local z up the suspension.
+btTransform wheel_pose(const btWheelInfo& info);
+/// Throws InvalidSetting (`where` names the call) unless `widths` holds one width in
+/// (0, 10] m per wheel of the vehicle and every wheel's radius is positive and finite.
+void check_wheel_widths(const btRaycastVehicle& vehicle, std::span<const double> widths, const std::string& where);
 
 class RaycastWheels {
  public:

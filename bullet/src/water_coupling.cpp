@@ -53,6 +53,7 @@ WaterCoupling::~WaterCoupling() { detach(); }
 void WaterCoupling::detach() {
   if (detached_) return;
   parts_->bodies.clear();
+  parts_->vehicles.clear();
   world_.removeAction(this);
   Directory::leave(this);
   detached_ = true;
@@ -125,12 +126,17 @@ void WaterCoupling::Parts::enroll(const WaterCoupling& self, std::unique_ptr<cou
   if (added.record.settings.disturb) displace(added);  // tracking starts at this pose
 }
 
-void WaterCoupling::remove_body(const btCollisionObject* body) { parts_->bodies.remove(body); }
+void WaterCoupling::remove_body(const btCollisionObject* body) {
+  for (const coupling_detail::WaterVehicle& v : parts_->vehicles)  // not a wheel's object: remove_vehicle
+    if (std::find(v.wheels.begin(), v.wheels.end(), body) != v.wheels.end()) return;
+  parts_->bodies.remove(body);
+}
 
 std::vector<const btCollisionObject*> WaterCoupling::bodies() const {
   std::vector<const btCollisionObject*> out;
   out.reserve(parts_->bodies.size());
-  for (const Parts::Entry& e : parts_->bodies) out.push_back(&e.body->object());
+  for (const Parts::Entry& e : parts_->bodies)
+    if (&e.body->held() == &e.body->object()) out.push_back(&e.body->object());  // a wheel's is its chassis
   return out;
 }
 
@@ -141,10 +147,13 @@ double WaterCoupling::submerged_volume(const btCollisionObject* body) const {
 
 BodyWater WaterCoupling::water_force(const btCollisionObject* body) const {
   const Parts::Entry* e = parts_->bodies.find(body);
-  if (e == nullptr) return {};
-  BodyWater b = e->record.last;  // in the water's coordinates
-  if (!settings_.frame.identity()) {
-    const GroundFrame& f = settings_.frame;
+  return e != nullptr ? parts_->in_world(*e) : BodyWater{};
+}
+
+BodyWater WaterCoupling::Parts::in_world(const Entry& e) const {
+  BodyWater b = e.record.last;  // in the water's coordinates
+  if (!settings.frame.identity()) {
+    const GroundFrame& f = settings.frame;
     b.centre_of_buoyancy = f.to_world()(b.centre_of_buoyancy);
     b.buoyancy = f.direction_to_world(b.buoyancy), b.drag = f.direction_to_world(b.drag);
     b.force = f.direction_to_world(b.force), b.torque = f.direction_to_world(b.torque);
@@ -170,6 +179,7 @@ void WaterCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   ++stats_.substeps;
   // First: nothing below may read a body the world no longer holds.
   stats_.lost_bodies += parts_->bodies.forget_lost(world_);
+  parts_->forget_lost_vehicles();
   const auto t0 = Clock::now();
   for (Parts::Entry& e : parts_->bodies) parts_->float_body(e, substep);
   stats_.coupling_seconds = seconds_since(t0);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <BulletDynamics/Vehicle/btRaycastVehicle.h>
 
 #include "body_registry.h"
 #include "coupled_body.h"
@@ -37,6 +38,13 @@ struct WaterBody {
   water_detail::Submerged wet;
 };
 
+/// A raycast vehicle whose wheels the water coupling serves: its wheels' collision objects
+/// (coupled_raycast_wheel.h), the keys of their entries, in wheel order.
+struct WaterVehicle {
+  const btRaycastVehicle* vehicle = nullptr;
+  std::vector<const btCollisionObject*> wheels;
+};
+
 /// Scratch reused across bodies and substeps.
 struct WaterWorkspace {
   std::vector<envelope_detail::Frame> frames;
@@ -63,6 +71,7 @@ struct WaterCoupling::Parts {
   const WaterCouplingSettings& settings;
   WaterCouplingStats& stats;
   coupling_detail::BodyRegistry<coupling_detail::WaterBody> bodies;
+  std::vector<coupling_detail::WaterVehicle> vehicles;  ///< their wheels are entries of `bodies`
   coupling_detail::WaterWorkspace work;
 
   /// A checked body or link joins (water_coupling.cpp): refused if another water coupling
@@ -70,6 +79,10 @@ struct WaterCoupling::Parts {
   /// "link", for the message); its shape prepared, its displacement tracked from here.
   void enroll(const WaterCoupling& self, std::unique_ptr<coupling_detail::CoupledBody> coupled,
               WaterBodySettings body_settings, const char* what, const char* kind);
+  /// Drops the vehicles whose wheels the registry forgot (their chassis left the world).
+  void forget_lost_vehicles();
+  /// The last substep's forces on a body, in world coordinates.
+  [[nodiscard]] BodyWater in_world(const Entry& e) const;
   /// Buoyancy and drag of one body for a substep of h, then its displacement
   /// (water_coupling.cpp).
   void float_body(Entry& e, double h);

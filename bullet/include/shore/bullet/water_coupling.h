@@ -55,6 +55,7 @@
 #include "shore/water/surface.h"
 
 class btMultiBodyLinkCollider;
+class btRaycastVehicle;
 
 namespace shore::terrain {
 class Terrain;
@@ -118,6 +119,22 @@ class WaterCoupling : public btActionInterface {
   /// holds already (remove_body it first to change its settings). remove_body and
   /// water_force take links too.
   void add_link(btMultiBodyLinkCollider* link, WaterBodySettings body_settings = {});
+  /// A btRaycastVehicle's wheels in the water: each wheel is a cylinder of its radius and
+  /// `wheel_widths[k]` (m, in (0, 10]) at the pose its ray found, floated, dragged and
+  /// making waves and a wake like a body (`body_settings` for each), its push acting on the
+  /// chassis at the wheel. The chassis is added apart (add_body) if it should float too.
+  /// Throws InvalidSetting for a null vehicle, one added already (here or in another water
+  /// coupling of this world), a width count other than the wheel count, a width out of
+  /// range, or after detach(). A vehicle whose chassis leaves the world is dropped at the
+  /// next substep (stats().lost_bodies counts each wheel); remove_vehicle before deleting
+  /// it. The wheels are in checkpoints after the bodies added before them, in order.
+  void add_vehicle(btRaycastVehicle* vehicle, std::span<const double> wheel_widths,
+                   WaterBodySettings body_settings = {});
+  /// Does nothing for a vehicle not added.
+  void remove_vehicle(const btRaycastVehicle* vehicle);
+  /// The water's force on wheel k of an added vehicle in the last substep (zeros for a
+  /// vehicle not added or a bad index), in world coordinates.
+  [[nodiscard]] BodyWater wheel_water(const btRaycastVehicle* vehicle, int wheel) const;
   /// Takes the coupling out of its world (the action removed, the bodies let go). After it
   /// the world may be destroyed before the coupling.
   void detach();
@@ -134,7 +151,7 @@ class WaterCoupling : public btActionInterface {
   [[nodiscard]] const WaterCouplingStats& stats() const noexcept { return stats_; }
   [[nodiscard]] const WaterCouplingSettings& settings() const noexcept { return settings_; }
   [[nodiscard]] const water::Surface& surface() const noexcept { return surface_; }
-  /// The added bodies' collision objects, in the order added.
+  /// The added bodies' (and links') collision objects, in the order added; not wheels.
   [[nodiscard]] std::vector<const btCollisionObject*> bodies() const;
   /// Submerged volume of a body in the last substep (m^3), 0 if unknown.
   [[nodiscard]] double submerged_volume(const btCollisionObject* body) const;
