@@ -62,7 +62,7 @@ constexpr double kX0 = -1.5, kX1 = 13.0;       // m, the land along the trail
 constexpr double kHalfY = 4.0;                 // m, the land across it
 constexpr double kGrade = 0.06;                // the hillside's rise along x
 constexpr double kSnowX = 5.0;                 // m, where the snow begins (the edge winds around it)
-constexpr double kSmokeStartX = kSnowX - 1.6;  // m: a smoke run starts just below the snow
+constexpr double kSmokeStartX = kSnowX - 1.0;  // m: a smoke run starts just below the snow
 constexpr int kFeetFilter = 1 << 12;           // the feet's broadphase group: the capsule's mask leaves it out
 
 double smooth(double u) {
@@ -221,7 +221,10 @@ class Walker final : public Scene {
     for (std::size_t k = 0; k < planted_.size(); ++k) {
       const double since = t - strike_time(static_cast<int>(k));
       const double flat_mid = kPhase[0] + kPhase[1] + 0.5 * kPhase[2];
-      if (since >= flat_mid && since < flat_mid + o_.substep) standing_depth_[k] = print_depth(planted_[k]);
+      if (since >= flat_mid && since < flat_mid + o_.substep) {
+        standing_depth_[k] = print_depth(planted_[k]);
+        standing_sinkage_[k] = print_depth(planted_[k], true);
+      }
     }
   }
 
@@ -247,11 +250,12 @@ class Walker final : public Scene {
       const int entry = std::string(name) == "sand" ? 0 : 1;
       const terrain::Material& mat = land_.palette()[static_cast<std::size_t>(entry)];
       const double bekker = terrain::bekker::plate_sinkage(mat, kFootWidth, pressure);
-      double standing = 0.0, left = 0.0;
+      double standing = 0.0, left = 0.0, sunk = 0.0;
       int n = 0, lifted = 0;
       for (std::size_t k = 0; k < planted_.size(); ++k) {
         if (planted_[k].material != entry || standing_depth_[k] <= 0.0) continue;
         standing += standing_depth_[k];
+        sunk += standing_sinkage_[k];
         ++n;
         if (t < strike_time(static_cast<int>(k)) + kStance) continue;
         const double d = print_depth(planted_[k]);
@@ -264,6 +268,8 @@ class Walker final : public Scene {
       m[p + "bekker_sinkage_m"] = bekker;
       m[p + "standing_depth_m"] = n > 0 ? standing / n : 0.0;
       m[p + "print_depth_m"] = lifted > 0 ? left / lifted : 0.0;
+      m[p + "standing_sinkage_m"] = n > 0 ? sunk / n : 0.0;
+      m[p + "bearing_Pa"] = n > 0 ? terrain::bekker::pressure(mat, kFootWidth, sunk / n) : 0.0;
       if (n > 0)
         add_check(m, p + "standing_depth_m", standing / n, bekker, 0.1 * bekker,
                   "Bekker's plate sinkage (b = foot width) for the weight on one foot in " + std::string(name));
@@ -439,6 +445,7 @@ class Walker final : public Scene {
       if (planted_.size() <= static_cast<std::size_t>(next)) {
         planted_.resize(static_cast<std::size_t>(next) + 1);
         standing_depth_.resize(planted_.size(), 0.0);
+        standing_sinkage_.resize(planted_.size(), 0.0);
       }
       Print& p = planted_[static_cast<std::size_t>(next)];
       if (p.depth == 0.0) p = plant(f, 0.0);
@@ -474,7 +481,7 @@ class Walker final : public Scene {
 
   /// m, the mean lowering below the untouched ground of the columns under the middle of the
   /// sole (half its length, half its width).
-  [[nodiscard]] double print_depth(const Print& p) const {
+  [[nodiscard]] double print_depth(const Print& p, bool sinkage = false) const {
     const double fx = det::cos(p.heading), fy = det::sin(p.heading), cell = land_.settings().cell;
     double sum = 0.0;
     int n = 0;
@@ -484,7 +491,7 @@ class Walker final : public Scene {
         const double dy = double(j) * cell + land_.settings().origin_y - p.y;
         const double u = dx * fx + dy * fy, v = -dx * fy + dy * fx;
         if (std::abs(u) > 0.25 * kFootLength || std::abs(v) > 0.25 * kFootWidth) continue;
-        sum += land_.base_height(i, j) - land_.height(i, j);
+        sum += sinkage ? land_.sinkage(i, j) : land_.base_height(i, j) - land_.height(i, j);
         ++n;
       }
     return n > 0 ? sum / n : 0.0;
@@ -501,8 +508,9 @@ class Walker final : public Scene {
   btGhostPairCallback ghost_pairs_;
   std::unique_ptr<btKinematicCharacterController> character_;
   std::array<btRigidBody*, 2> feet_{};
-  std::vector<Print> planted_;          // per print, once its heel struck
-  std::vector<double> standing_depth_;  // per print, m, measured in the middle of its stance
+  std::vector<Print> planted_;            // per print, once its heel struck
+  std::vector<double> standing_depth_;    // per print, m, measured in the middle of its stance
+  std::vector<double> standing_sinkage_;  // per print, m, the soil's plastic sinkage then
   HeightGrid frame_;
   double heading_ = 0.0, speed_ = kSpeed;
   bool driven_ = false;
@@ -524,7 +532,7 @@ SceneType walker_scene() {
           "under the capsule heel first, rolled flat and onto the toe, pressed as deep as Bekker's plate sinkage for "
           "75 kg on one foot, 3 cm in sand, 25 cm in snow. Sand prints slump into bowls, snow keeps them sharp. The "
           "camera follows the walker; in the viewer the arrow keys steer it.",
-      .defaults = {.seconds = 8.0, .substep = 1.0 / 120.0, .material = "sand", .cell = 0.02, .smoke_seconds = 2.0},
+      .defaults = {.seconds = 8.0, .substep = 1.0 / 120.0, .material = "sand", .cell = 0.02, .smoke_seconds = 1.5},
       .metric_help =
           {
               {"foot_pressure_Pa", "the character's weight over one foot's area, Pa"},
@@ -542,10 +550,16 @@ SceneType walker_scene() {
               {"sand_bekker_sinkage_m", "Bekker's plate sinkage in sand for foot_pressure_Pa (b = foot width), m"},
               {"sand_standing_depth_m", "the ground's lowering under the sole's middle at mid-stance, mean, m"},
               {"sand_print_depth_m", "the same after the foot lifted (the print left), mean, m"},
+              {"sand_standing_sinkage_m", "the soil's plastic sinkage under the sole's middle at mid-stance, mean, m"},
+              {"sand_bearing_Pa",
+               "Bekker's pressure at that sinkage: what the print now bears (foot_pressure_Pa if "
+               "it carries the character), Pa"},
               {"snow_prints", "prints planted in snow"},
               {"snow_bekker_sinkage_m", "Bekker's plate sinkage in snow for foot_pressure_Pa, m"},
               {"snow_standing_depth_m", "as for sand, m"},
               {"snow_print_depth_m", "as for sand, m"},
+              {"snow_standing_sinkage_m", "as for sand, m"},
+              {"snow_bearing_Pa", "as for sand, Pa"},
               {"footprints_count", "lifted prints at least half Bekker's depth deep"},
               {"note", "what --material means here"},
           },
