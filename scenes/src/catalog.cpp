@@ -15,12 +15,13 @@ SceneType rover_scene();
 SceneType rigid_drop_scene();
 SceneType tracks_scene();
 SceneType vehicle_scene();
+SceneType walker_scene();
 
 const std::vector<SceneType>& scenes() {
   static const std::vector<SceneType> list = [] {
     std::vector<SceneType> all = {beach_scene(),  footprints_scene(), impact_scene(), impact_y_up_scene(),
                                   pond_scene(),   rally_scene(),      rover_scene(),  rigid_drop_scene(),
-                                  tracks_scene(), vehicle_scene()};
+                                  tracks_scene(), vehicle_scene(),    walker_scene()};
     std::sort(all.begin(), all.end(), [](const SceneType& a, const SceneType& b) { return a.name < b.name; });
     return all;
   }();
