@@ -76,9 +76,9 @@ int run_scenes(const std::vector<const SceneType*>& list, const Cli& cli) {
         const Recorder::Sizes& z = recorder->sizes();
         std::printf(
             "recorded to %s: %zu bytes (%.0f per simulated second; uncompressed: initial state %zu, soil deltas "
-            "%zu, bodies %zu, water states %zu; the water frames add %zu bytes to the file)\n",
+            "%zu, bodies %zu, multibodies %zu, water states %zu; the water frames add %zu bytes to the file)\n",
             cli.record.c_str(), z.file, static_cast<double>(z.file) / m["sim_seconds"].get<double>(), z.initial,
-            z.terrain_deltas, z.bodies, z.water_states, z.water_compressed);
+            z.terrain_deltas, z.bodies, z.multibodies, z.water_states, z.water_compressed);
       }
       std::printf("%-16s %6.2f s simulated in %6.3f s (x%.1f real time), hash %s, %zu files in %s\n", s->name.c_str(),
                   m["sim_seconds"].get<double>(), m["wall_seconds"].get<double>(), m["realtime_factor"].get<double>(),
