@@ -117,7 +117,8 @@ std::vector<btScalar> Recording::body_scalars(const Frame& f, const std::string&
 }
 
 std::uint32_t Recording::MultiBodyLayout::collider_count() const {
-  return static_cast<std::uint32_t>(std::count(colliders.begin(), colliders.end(), std::uint8_t{1}));
+  // Nonzero (read_recording refuses all but 1), so that any flags written read back framed alike.
+  return static_cast<std::uint32_t>(colliders.size() - std::count(colliders.begin(), colliders.end(), std::uint8_t{0}));
 }
 
 std::uint64_t Recording::MultiBodyLayout::scalars() const {

@@ -32,10 +32,12 @@ void set_multibody_state(btMultiBody& m, std::span<const btScalar> v) {
   m.setBaseVel(take());
   m.setBaseOmega(take());
   for (int link = 0; link < m.getNumLinks(); ++link) {
-    btScalar* pos = m.getJointPosMultiDof(link);
-    for (int d = 0; d < m.getLink(link).m_posVarCount; ++d) pos[d] = v[k++];
-    btScalar* vel = m.getJointVelMultiDof(link);
-    for (int d = 0; d < m.getLink(link).m_dofCount; ++d) vel[d] = v[k++];
+    // Through setJointPosMultiDof, which also updates the link's cached rotation and offset
+    // from its parent: forward kinematics reads those, not the joint positions.
+    m.setJointPosMultiDof(link, v.data() + k);
+    k += static_cast<std::size_t>(m.getLink(link).m_posVarCount);
+    m.setJointVelMultiDof(link, v.data() + k);
+    k += static_cast<std::size_t>(m.getLink(link).m_dofCount);
   }
   btAlignedObjectArray<btQuaternion> rotations;
   btAlignedObjectArray<btVector3> offsets;

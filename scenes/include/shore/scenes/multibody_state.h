@@ -14,9 +14,11 @@ namespace shore::scenes {
 /// The state's values (13 for the base, then each link's position variables and dofs).
 [[nodiscard]] std::vector<btScalar> multibody_state(const btMultiBody& m);
 
-/// Sets multibody_state's values (v holds exactly as many, not checked here) and moves the
-/// colliders to where they put them (forward kinematics from the base pose and joint
-/// positions).
+/// Sets multibody_state's values (v holds exactly as many, not checked here), with each
+/// link's cached rotation and offset from its parent (which Bullet's forward kinematics and
+/// its next step read instead of the joint positions), and moves the colliders to where they
+/// put them: bit for bit where Bullet's own step put them for the same state (measured on
+/// rover; tests/scenes/test_recording.cpp, test_scene_checkpoint.cpp).
 void set_multibody_state(btMultiBody& m, std::span<const btScalar> v);
 
 }  // namespace shore::scenes
