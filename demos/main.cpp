@@ -42,8 +42,8 @@ void add_common_options(CLI::App& app, Cli& cli) {
   app.add_flag("--smoke", o.smoke, "short run (the scene's smoke_seconds), as the tests do");
   app.add_flag("!--no-pictures", cli.pictures, "no pictures (they need the OpenGL renderer, headless through EGL)");
   app.add_option("--record", cli.record,
-                 "record the run (one scene) to this file: its initial state, then per frame the soil deltas and "
-                 "body states; shore-demo replay <file> re-renders it");
+                 "record the run (one scene) to this file: its initial state, then per frame the soil deltas, "
+                 "water, body and multibody states; shore-demo replay <file> re-renders it");
   app.add_option("--progress", cli.progress, "progress on stderr: auto (bar on a terminal), bar, lines, quiet")
       ->check(CLI::IsMember({"auto", "bar", "lines", "quiet"}))
       ->capture_default_str();
