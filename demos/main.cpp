@@ -42,8 +42,8 @@ void add_common_options(CLI::App& app, Cli& cli) {
   app.add_flag("--smoke", o.smoke, "short run (the scene's smoke_seconds), as the tests do");
   app.add_flag("!--no-pictures", cli.pictures, "no pictures (they need the OpenGL renderer, headless through EGL)");
   app.add_option("--record", cli.record,
-                 "record the run (one scene) to this file: its initial state, then per frame the soil deltas and "
-                 "body states; shore-demo replay <file> re-renders it");
+                 "record the run (one scene) to this file: its initial state, then per frame the soil deltas, "
+                 "water, body and multibody states; shore-demo replay <file> re-renders it");
   app.add_option("--progress", cli.progress, "progress on stderr: auto (bar on a terminal), bar, lines, quiet")
       ->check(CLI::IsMember({"auto", "bar", "lines", "quiet"}))
       ->capture_default_str();
@@ -76,9 +76,9 @@ int run_scenes(const std::vector<const SceneType*>& list, const Cli& cli) {
         const Recorder::Sizes& z = recorder->sizes();
         std::printf(
             "recorded to %s: %zu bytes (%.0f per simulated second; uncompressed: initial state %zu, soil deltas "
-            "%zu, bodies %zu, water states %zu; the water frames add %zu bytes to the file)\n",
+            "%zu, bodies %zu, multibodies %zu, water states %zu; the water frames add %zu bytes to the file)\n",
             cli.record.c_str(), z.file, static_cast<double>(z.file) / m["sim_seconds"].get<double>(), z.initial,
-            z.terrain_deltas, z.bodies, z.water_states, z.water_compressed);
+            z.terrain_deltas, z.bodies, z.multibodies, z.water_states, z.water_compressed);
       }
       std::printf("%-16s %6.2f s simulated in %6.3f s (x%.1f real time), hash %s, %zu files in %s\n", s->name.c_str(),
                   m["sim_seconds"].get<double>(), m["wall_seconds"].get<double>(), m["realtime_factor"].get<double>(),

@@ -403,11 +403,11 @@ bool material_map(std::span<const std::uint8_t> data) {
   }
 }
 
-std::vector<unsigned char> wrap_recording_payload(std::span<const std::uint8_t> fields) {
+std::vector<unsigned char> wrap_recording_payload(std::span<const std::uint8_t> fields, std::uint32_t version) {
   if (fields.size() < 4) return {};
-  // The container's layout (shore/bullet/recording_file.h): version 2, u32 scalar bytes (the
-  // field given).
-  return zstd_container("SHOREREC", 2, fields.first(4), fields.subspan(4));
+  // The container's layout (shore/bullet/recording_file.h): version 2 (no multibodies) or 3,
+  // u32 scalar bytes (the field given).
+  return zstd_container("SHOREREC", version, fields.first(4), fields.subspan(4));
 }
 
 bool recording_seed_fits_build(std::span<const std::uint8_t> data) {
@@ -422,11 +422,19 @@ bool recording_seed_fits_build(std::span<const std::uint8_t> data) {
 bool recording(std::span<const std::uint8_t> data) {
   if (data.empty()) return false;
   const std::vector<unsigned char> file =
-      (data[0] & 2) ? wrap_recording_payload(data.subspan(1)) : with_checksum_mode(data);
+      (data[0] & 2) ? wrap_recording_payload(data.subspan(1), (data[0] & 4) ? 3 : 2) : with_checksum_mode(data);
   try {
     const bullet::Recording rec = bullet::read_recording(file, "fuzz input");
     // What a replay reads besides the scene's own loaders (checkpoint, soil deltas, water
-    // states: fuzzed by their targets): every frame's body states and water state chain.
+    // states: fuzzed by their targets): every frame's body and multibody states and water
+    // state chain.
+    std::uint64_t multibody_scalars = 0;
+    for (const bullet::Recording::MultiBodyLayout& m : rec.multibodies) {
+      require(m.colliders.size() == std::size_t{m.links} + 1, "a multibody's collider flags not one per part");
+      for (const std::uint8_t c : m.colliders) require(c <= 1, "a collider flag other than 0 or 1 accepted");
+      multibody_scalars += m.scalars();
+    }
+    require(rec.version >= 3 || rec.multibodies.empty(), "multibodies in a version 2 recording");
     std::vector<bullet::StateChain> water(rec.waters);
     int last = 0;
     for (const bullet::Recording::Frame& f : rec.frames) {
@@ -438,10 +446,13 @@ bool recording(std::span<const std::uint8_t> data) {
               "a frame's body section of the wrong size accepted");
       for (std::uint32_t w = 0; w < rec.waters; ++w)
         require(water[w].next(f.water_diffs[w]).size() == f.water_diffs[w].size(), "a water state of the wrong size");
+      require(f.multibodies.size() == multibody_scalars * sizeof(btScalar),
+              "a frame's multibody section of the wrong size accepted");
       (void)rec.body_scalars(f, "fuzz input");
+      (void)rec.multibody_scalars(f, "fuzz input");
     }
     require(last == rec.substeps, "a recording without its last frame accepted");
-    // Written again, it reads back to the same bytes.
+    // Written again (in its own version), it reads back to the same bytes.
     const bullet::Recording again = bullet::read_recording(bullet::write_recording(rec, 1), "fuzz round trip");
     require(again.raw == rec.raw, "a recording written again reads back otherwise");
     return true;

@@ -85,9 +85,9 @@ bool checkpoint_seed_fits_build(std::span<const std::uint8_t> data);
 std::vector<unsigned char> wrap_delta_payload(std::span<const std::uint8_t> fields, std::uint32_t version);
 /// recording's seed_fits_build: the precision field (mode 2: the scalar bytes field) is this build's.
 bool recording_seed_fits_build(std::span<const std::uint8_t> data);
-/// The recording container around a raw layout (recording's mode 2; shore-fuzz-corpus
-/// writes such seeds): `fields` is u32 scalar bytes, the rest the raw layout.
-std::vector<unsigned char> wrap_recording_payload(std::span<const std::uint8_t> fields);
+/// The recording container of `version` around a raw layout (recording's modes 2 and 6;
+/// shore-fuzz-corpus writes such seeds): `fields` is u32 scalar bytes, the rest the raw layout.
+std::vector<unsigned char> wrap_recording_payload(std::span<const std::uint8_t> fields, std::uint32_t version);
 /// Every target, in name order. A new loader adds its function here, in
 /// fuzz/CMakeLists.txt and in scripts/fuzz.sh (fuzz/README.md).
 const std::vector<Target>& targets();

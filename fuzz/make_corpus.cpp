@@ -218,12 +218,16 @@ void soil_delta_seeds(const fs::path& dir) {
 }
 
 /// A small recording's layout (shore/bullet/recording_file.h): one soil, one water, two
-/// bodies, three frames. The nested parts are short stand-ins (their own loaders are fuzzed
-/// by their own targets): what this loader reads is the layout around them, and the water
-/// states' XOR chain (a state that grows, changes in a few bytes, then shrinks).
-void recording_seeds(const fs::path& dir) {
+/// bodies, three frames, and with `multibodies` two multibodies (one of two links, its
+/// base and second link with colliders; one a lone base without a collider). The nested
+/// parts are short stand-ins (their own loaders are fuzzed by their own targets): what this
+/// loader reads is the layout around them, and the water states' XOR chain (a state that
+/// grows, changes in a few bytes, then shrinks). Without multibodies it is written as
+/// version 2 (the seeds seed_three_frames*), so that the old layout stays fuzzed.
+void recording_seeds(const fs::path& dir, bool multibodies) {
   shore::bullet::Recording rec;
-  rec.scene = "pond";
+  rec.version = multibodies ? shore::bullet::Recording::kVersion : 2;
+  rec.scene = multibodies ? "rover" : "pond";
   rec.seconds = 0.05, rec.substep = 1.0 / 60.0, rec.cell = 0.1, rec.material = "sand", rec.smoke = true;
   rec.substeps = 3;
   rec.state_hash = 0x0123456789abcdefull;
@@ -231,10 +235,17 @@ void recording_seeds(const fs::path& dir) {
   rec.initial = initial;
   rec.terrain_generations = {7};
   rec.waters = 1;
+  if (multibodies)
+    rec.multibodies = {{.links = 2, .values = 13 + 2 * 2, .colliders = {1, 0, 1}}, {.values = 13, .colliders = {0}}};
   std::vector<Bytes> owned;
   owned.reserve(16);
   shore::bullet::StateChain chain;
   const Bytes delta = {'S', 'H', 'O', 'R', 'E', 'S', 'D', 'L', 1, 0, 0, 0, 4, 3, 2, 1};
+  const auto keep = [&owned](const std::vector<btScalar>& v) {
+    const auto* p = reinterpret_cast<const unsigned char*>(v.data());
+    owned.emplace_back(p, p + v.size() * sizeof(btScalar));
+    return std::span<const unsigned char>(owned.back());
+  };
   for (int k = 1; k <= 3; ++k) {
     shore::bullet::Recording::Frame f;
     f.substep = k;
@@ -245,26 +256,37 @@ void recording_seeds(const fs::path& dir) {
                                   0, 0, 0};
       bodies.insert(bodies.end(), state, state + 18);
     }
-    const auto* p = reinterpret_cast<const unsigned char*>(bodies.data());
-    owned.emplace_back(p, p + bodies.size() * sizeof(btScalar));
-    f.bodies = owned.back();
+    f.bodies = keep(bodies);
     f.body_count = 2;
+    if (multibodies) {
+      std::vector<btScalar> m;
+      for (const shore::bullet::Recording::MultiBodyLayout& l : rec.multibodies) {
+        for (std::uint32_t v = 0; v < l.values; ++v) m.push_back(btScalar(0.01 * k * v));
+        for (std::uint32_t c = 0; c < l.collider_count(); ++c) {
+          const btScalar pose[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, btScalar(0.1 * k), btScalar(c), btScalar(0.5)};
+          m.insert(m.end(), pose, pose + 12);
+        }
+      }
+      f.multibodies = keep(m);
+    }
     Bytes water(k == 3 ? 24 : 40, 0);
     for (std::size_t i = 0; i < water.size(); ++i) water[i] = static_cast<unsigned char>(i * (k == 2 ? 5 : 3));
     owned.push_back(chain.encode(water));
     f.water_diffs = {owned.back()};
     rec.frames.push_back(std::move(f));
   }
+  const std::string name = multibodies ? "seed_multibodies" : "seed_three_frames";
   const Bytes file = shore::bullet::write_recording(rec);
-  write(dir / "seed_three_frames", entry_input(true, file));
-  write(dir / "seed_three_frames_whole", entry_input(false, file));
+  write(dir / name, entry_input(true, file));
+  write(dir / (name + "_whole"), entry_input(false, file));
   const shore::bullet::Recording back = shore::bullet::read_recording(file, "seed");
-  Bytes payload = {2};  // recording's mode 2: u32 scalar bytes, then the raw layout
+  // recording's mode 2 (a version 2 container) or 6 (version 3): u32 scalar bytes, then the raw layout
+  Bytes payload = {static_cast<unsigned char>(multibodies ? 6 : 2)};
   const std::uint32_t scalar = shore::bullet::scalar_bytes();
   const auto* p = reinterpret_cast<const unsigned char*>(&scalar);
   payload.insert(payload.end(), p, p + sizeof scalar);
   payload.insert(payload.end(), back.raw.begin(), back.raw.end());
-  write(dir / "seed_three_frames_payload", payload);
+  write(dir / (name + "_payload"), payload);
 }
 
 void png_seeds(const fs::path& dir) {
@@ -312,7 +334,8 @@ int main(int argc, char** argv) {
   raw_seeds(root / "heightmap_raw");
   material_map_seeds(root / "material_map");
   soil_delta_seeds(root / "soil_delta");
-  recording_seeds(root / "recording");
+  recording_seeds(root / "recording", false);
+  recording_seeds(root / "recording", true);
   std::printf("seeds written to %s\n", root.c_str());
   return 0;
 }

@@ -16,7 +16,7 @@ inline namespace SHORE_BULLET_ABI {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'R', 'E', 'C'};
-constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kVersion = Recording::kVersion;
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 4 + 8 + 8;
 constexpr std::uint64_t kMaxRawBytes = std::uint64_t{1} << 32;
@@ -63,8 +63,9 @@ class RawReader : public ByteReader {
   std::span<const unsigned char> raw_;
 };
 
-/// The checked, decompressed raw bytes of a recording file.
-std::vector<unsigned char> unpack(std::span<const unsigned char> bytes, const std::string& source) {
+/// The checked, decompressed raw bytes of a recording file, and its version.
+std::vector<unsigned char> unpack(std::span<const unsigned char> bytes, const std::string& source,
+                                  std::uint32_t& version_out) {
   ByteReader r(bytes, source);
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     r.fail("not a Shore recording (magic \"SHOREREC\" missing)");
@@ -72,11 +73,12 @@ std::vector<unsigned char> unpack(std::span<const unsigned char> bytes, const st
   r.skip(sizeof kMagic, "magic");
   const auto version = r.get<std::uint32_t>("version");
   if (version == 1)
-    r.fail("recording version 1 (written before recordings held water), this build reads version " +
-           std::to_string(kVersion) + " only: record the run again");
-  if (version != kVersion)
+    r.fail("recording version 1 (written before recordings held water), this build reads versions " +
+           std::to_string(Recording::kOldestVersion) + " to " + std::to_string(kVersion) +
+           " only: record the run again");
+  if (version < Recording::kOldestVersion || version > kVersion)
     r.fail("unsupported recording version " + std::to_string(version) + " (this build reads " +
-           std::to_string(kVersion) + ")");
+           std::to_string(Recording::kOldestVersion) + " to " + std::to_string(kVersion) + ")");
   if (r.get<std::uint32_t>("byte-order mark") != kByteOrderMark) r.fail("written with the other byte order");
   const auto scalar = r.get<std::uint32_t>("precision");
   const auto raw_size = r.get<std::uint64_t>("header"), frame_size = r.get<std::uint64_t>("header");
@@ -98,6 +100,7 @@ std::vector<unsigned char> unpack(std::span<const unsigned char> bytes, const st
   const std::size_t got = ZSTD_decompress(raw.data(), raw.size(), bytes.data() + kHeaderBytes, frame_size);
   if (ZSTD_isError(got) != 0) r.fail(std::string("zstd: ") + ZSTD_getErrorName(got));
   if (got != raw.size()) r.fail("corrupt (decompressed size differs from the header's)");
+  version_out = version;
   return raw;
 }
 
@@ -113,7 +116,58 @@ std::vector<btScalar> Recording::body_scalars(const Frame& f, const std::string&
   return v;
 }
 
+std::uint32_t Recording::MultiBodyLayout::collider_count() const {
+  // Nonzero (read_recording refuses all but 1), so that any flags written read back framed alike.
+  return static_cast<std::uint32_t>(colliders.size() - std::count(colliders.begin(), colliders.end(), std::uint8_t{0}));
+}
+
+std::uint64_t Recording::MultiBodyLayout::scalars() const {
+  return std::uint64_t{values} + std::uint64_t{kTransformScalars} * collider_count();
+}
+
+std::string Recording::MultiBodyLayout::describe(std::uint64_t k) const {
+  if (k < values) return "state value " + std::to_string(k) + " of " + std::to_string(values);
+  std::uint64_t collider = (k - values) / kTransformScalars;
+  for (std::size_t part = 0; part < colliders.size(); ++part) {
+    if (colliders[part] == 0) continue;
+    if (collider-- == 0)
+      return (part == 0 ? std::string("the base") : "link " + std::to_string(part - 1)) + "'s collider world transform";
+  }
+  return "scalar " + std::to_string(k);  // past the layout: not reached for a frame read by read_recording
+}
+
+std::vector<btScalar> Recording::multibody_scalars(const Frame& f, const std::string& source) const {
+  const ByteReader r(f.multibodies, source);
+  std::vector<btScalar> v(f.multibodies.size() / sizeof(btScalar));
+  if (!v.empty()) std::memcpy(v.data(), f.multibodies.data(), v.size() * sizeof(btScalar));
+  std::size_t at = 0;
+  for (std::size_t m = 0; m < multibodies.size(); ++m) {
+    const std::uint64_t n = multibodies[m].scalars();
+    for (std::uint64_t k = 0; k < n && at + k < v.size(); ++k)
+      if (!std::isfinite(static_cast<double>(v[at + k])))
+        r.fail("frame at substep " + std::to_string(f.substep) + ", multibody " + std::to_string(m) + ": corrupt (" +
+               multibodies[m].describe(k) + " is " + std::to_string(static_cast<double>(v[at + k])) + ", not finite)");
+    at += static_cast<std::size_t>(n);
+  }
+  return v;
+}
+
 std::vector<unsigned char> write_recording(const Recording& rec, int compression_level) {
+  const std::string field = "bullet::write_recording(rec)";
+  if (rec.version < Recording::kOldestVersion || rec.version > kVersion)
+    throw InvalidSetting(field + ".version", std::to_string(rec.version),
+                         "2 to " + std::to_string(kVersion) + " (the versions this build reads)");
+  const bool multibodies = rec.version >= 3;
+  if (!multibodies && !rec.multibodies.empty())
+    throw InvalidSetting(field + ".version", "2 with " + std::to_string(rec.multibodies.size()) + " multibodies",
+                         "version 3 or later (version 2 holds no multibodies)");
+  std::uint64_t multibody_bytes = 0;
+  for (const Recording::MultiBodyLayout& m : rec.multibodies) multibody_bytes += m.scalars() * sizeof(btScalar);
+  for (const Recording::Frame& f : rec.frames)
+    if (f.multibodies.size() != multibody_bytes)
+      throw InvalidSetting(field + ".frames[substep " + std::to_string(f.substep) + "].multibodies",
+                           std::to_string(f.multibodies.size()) + " bytes",
+                           std::to_string(multibody_bytes) + " (the multibodies' layouts)");
   ByteWriter raw;
   put_string(raw, rec.scene);
   raw.put(rec.seconds), raw.put(rec.substep), raw.put(rec.cell);
@@ -125,18 +179,26 @@ std::vector<unsigned char> write_recording(const Recording& rec, int compression
   raw.put(static_cast<std::uint32_t>(rec.terrain_generations.size()));
   for (const std::uint64_t g : rec.terrain_generations) raw.put(g);
   raw.put(rec.waters);
+  if (multibodies) {
+    raw.put(static_cast<std::uint32_t>(rec.multibodies.size()));
+    for (const Recording::MultiBodyLayout& m : rec.multibodies) {
+      raw.put(m.links), raw.put(m.values);
+      for (const std::uint8_t c : m.colliders) raw.put(c);
+    }
+  }
   raw.put(static_cast<std::uint32_t>(rec.frames.size()));
   for (const Recording::Frame& f : rec.frames) {
     raw.put(static_cast<std::int32_t>(f.substep));
     for (const auto& d : f.terrain_deltas) put_bytes(raw, d);
     raw.put(f.body_count);
     raw.bytes.insert(raw.bytes.end(), f.bodies.begin(), f.bodies.end());
+    raw.bytes.insert(raw.bytes.end(), f.multibodies.begin(), f.multibodies.end());
     for (const auto& x : f.water_diffs) put_bytes(raw, x);
   }
 
   ByteWriter out;
   for (char ch : kMagic) out.put(ch);
-  out.put(kVersion), out.put(kByteOrderMark), out.put(scalar_bytes());
+  out.put(rec.version), out.put(kByteOrderMark), out.put(scalar_bytes());
   out.put(static_cast<std::uint64_t>(raw.bytes.size()));
   const std::size_t frame_at = out.bytes.size() + 8;
   out.bytes.resize(frame_at + ZSTD_compressBound(raw.bytes.size()));
@@ -151,9 +213,41 @@ std::vector<unsigned char> write_recording(const Recording& rec, int compression
   return std::move(out.bytes);
 }
 
+namespace {
+/// Version 3's multibody layouts; returns the bytes each frame holds of them. Each layout's
+/// frame bytes are checked against what is left (every frame holds them), so their sum
+/// stays below the multibody count times the raw size: no overflow.
+std::uint64_t read_multibody_layouts(RawReader& r, std::vector<Recording::MultiBodyLayout>& out) {
+  const auto count = r.get<std::uint32_t>("multibody count");
+  // A layout holds at least its two counts and its base's collider flag.
+  if (count > r.remaining() / 9) r.fail("corrupt (" + std::to_string(count) + " multibodies)");
+  out.resize(count);
+  std::uint64_t bytes = 0;
+  for (std::size_t m = 0; m < out.size(); ++m) {
+    Recording::MultiBodyLayout& l = out[m];
+    const std::string which = "multibody " + std::to_string(m);
+    l.links = r.get<std::uint32_t>("a multibody's link count");
+    l.values = r.get<std::uint32_t>("a multibody's state value count");
+    if (std::uint64_t{l.links} + 1 > r.remaining())
+      r.fail(which + ": truncated (" + std::to_string(l.links) + " links' collider flags)");
+    l.colliders.resize(std::size_t{l.links} + 1);
+    for (std::size_t part = 0; part < l.colliders.size(); ++part) {
+      l.colliders[part] = r.get<std::uint8_t>("a collider flag");
+      if (l.colliders[part] > 1)
+        r.fail(which + ": corrupt (collider flag of " + (part == 0 ? "the base" : "link " + std::to_string(part - 1)) +
+               " is " + std::to_string(l.colliders[part]) + ", allowed 0 or 1)");
+    }
+    const std::uint64_t b = l.scalars() * sizeof(btScalar);
+    if (b > r.remaining()) r.fail(which + ": corrupt (" + std::to_string(l.values) + " state values per frame)");
+    bytes += b;
+  }
+  return bytes;
+}
+}  // namespace
+
 Recording read_recording(std::span<const unsigned char> file, const std::string& source) {
   Recording rec;
-  rec.raw = unpack(file, source);
+  rec.raw = unpack(file, source, rec.version);
   RawReader r(rec.raw, source);
   rec.scene = r.string("the scene name");
   rec.seconds = r.get<double>("options"), rec.substep = r.get<double>("options"), rec.cell = r.get<double>("options");
@@ -171,10 +265,12 @@ Recording read_recording(std::span<const unsigned char> file, const std::string&
   rec.terrain_generations.resize(terrains);
   for (auto& g : rec.terrain_generations) g = r.get<std::uint64_t>("a terrain's generation");
   rec.waters = r.get<std::uint32_t>("water count");
+  const std::uint64_t multibody_bytes = rec.version >= 3 ? read_multibody_layouts(r, rec.multibodies) : 0;
   const auto frames = r.get<std::uint32_t>("frame count");
   if (frames == 0) r.fail("truncated (no frames)");
-  // A frame holds at least its substep, a u64 size per terrain and water and its body count.
-  const std::uint64_t frame_min = 4 + 8 * (std::uint64_t{terrains} + rec.waters) + 4;
+  // A frame holds at least its substep, a u64 size per terrain and water, its body count
+  // and its multibodies' states.
+  const std::uint64_t frame_min = 4 + 8 * (std::uint64_t{terrains} + rec.waters) + 4 + multibody_bytes;
   if (frames > r.remaining() / frame_min) r.fail("corrupt (" + std::to_string(frames) + " frames)");
   rec.frames.resize(frames);
   int last = 0;
@@ -191,6 +287,8 @@ Recording read_recording(std::span<const unsigned char> file, const std::string&
     const std::uint64_t body_bytes = std::uint64_t{f.body_count} * Recording::kBodyScalars * sizeof(btScalar);
     if (body_bytes > r.remaining()) r.fail(where + ": truncated (" + std::to_string(f.body_count) + " bodies)");
     f.bodies = r.take(static_cast<std::size_t>(body_bytes));
+    if (multibody_bytes > r.remaining()) r.fail(where + ": truncated (ends inside the multibodies' states)");
+    f.multibodies = r.take(static_cast<std::size_t>(multibody_bytes));
     f.water_diffs.resize(rec.waters);
     for (auto& x : f.water_diffs) x = r.bytes("a water state");
   }

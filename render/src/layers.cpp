@@ -19,11 +19,17 @@ constexpr std::int64_t kMaxColumns = 1 << 16;
 // Texture units: 2 colour maps and 3 shadow map (renderer.cpp), 4 a soil's material map.
 constexpr int kMapTextureUnit = 4;
 
+/// k: the object's index in the world's collision objects. A multibody's part is coloured by
+/// its link instead (base first): the terrain coupling adds and removes its tiles during a
+/// run and a checkpoint restore re-adds them, and Bullet's remove moves the last object into
+/// the hole, so the parts' indices change while the same rover is drawn (a replay drew its
+/// wheels in other colours than the run).
 Eigen::Vector3d body_colour(const btCollisionObject& o, int k) {
   if (o.isStaticObject()) return {0.62, 0.60, 0.56};
   if (o.isKinematicObject()) return {0.85, 0.60, 0.35};
   static const Eigen::Vector3d palette[] = {{0.60, 0.66, 0.78}, {0.78, 0.42, 0.38}, {0.45, 0.65, 0.48},
                                             {0.82, 0.74, 0.42}, {0.62, 0.50, 0.74}, {0.40, 0.62, 0.70}};
+  if (const btMultiBodyLinkCollider* part = btMultiBodyLinkCollider::upcast(&o)) k = part->m_link + 1;
   return palette[k % 6];
 }
 

@@ -13,6 +13,7 @@
 #include "shore/core/byte_io.h"
 #include "shore/core/error.h"
 #include "shore/scenes/contents.h"
+#include "shore/scenes/multibody_state.h"
 #include "shore/scenes/world.h"
 #include "shore/terrain/terrain.h"
 #include "shore/water/surface.h"
@@ -31,56 +32,10 @@ SceneContents contents_with_world(Scene& scene) {
   return c;
 }
 
-/// A multibody's evolving state, in order: base origin, world-to-base quaternion, base
-/// linear and angular velocity, then each link's joint positions and rates.
-std::vector<btScalar> multibody_values(const btMultiBody& m) {
-  std::vector<btScalar> v;
-  const auto put = [&](const btVector3& x) { v.insert(v.end(), {x.x(), x.y(), x.z()}); };
-  put(m.getBasePos());
-  const btQuaternion& q = m.getWorldToBaseRot();
-  v.insert(v.end(), {q.x(), q.y(), q.z(), q.w()});
-  put(m.getBaseVel());
-  put(m.getBaseOmega());
-  for (int link = 0; link < m.getNumLinks(); ++link) {
-    const btScalar* pos = m.getJointPosMultiDof(link);
-    const btScalar* vel = m.getJointVelMultiDof(link);
-    v.insert(v.end(), pos, pos + m.getLink(link).m_posVarCount);
-    v.insert(v.end(), vel, vel + m.getLink(link).m_dofCount);
-  }
-  return v;
-}
-
-/// Sets multibody_values' values (as many as it writes) and moves the colliders along.
-void set_multibody_values(btMultiBody& m, const std::vector<btScalar>& v) {
-  std::size_t k = 0;
-  const auto take = [&] {
-    const btVector3 x(v[k], v[k + 1], v[k + 2]);
-    k += 3;
-    return x;
-  };
-  m.setBasePos(take());
-  m.setWorldToBaseRot(btQuaternion(v[k], v[k + 1], v[k + 2], v[k + 3]));
-  k += 4;
-  m.setBaseVel(take());
-  m.setBaseOmega(take());
-  for (int link = 0; link < m.getNumLinks(); ++link) {
-    btScalar* pos = m.getJointPosMultiDof(link);
-    for (int d = 0; d < m.getLink(link).m_posVarCount; ++d) pos[d] = v[k++];
-    btScalar* vel = m.getJointVelMultiDof(link);
-    for (int d = 0; d < m.getLink(link).m_dofCount; ++d) vel[d] = v[k++];
-  }
-  btAlignedObjectArray<btQuaternion> rotations;
-  btAlignedObjectArray<btVector3> offsets;
-  rotations.resize(m.getNumLinks() + 1);
-  offsets.resize(m.getNumLinks() + 1);
-  m.forwardKinematics(rotations, offsets);
-  m.updateCollisionObjectWorldTransforms(rotations, offsets);
-}
-
 /// MBODIES: every multibody's values, each as put_array (none in a rigid world: no section).
 std::vector<unsigned char> save_multibodies(const World& world) {
   ByteWriter w;
-  for (const btMultiBody* m : world.multibodies()) w.put_array(multibody_values(*m));
+  for (const btMultiBody* m : world.multibodies()) w.put_array(multibody_state(*m));
   return std::move(w.bytes);
 }
 
@@ -91,12 +46,12 @@ void restore_multibodies(World& world, std::span<const unsigned char> bytes, con
   std::vector<std::vector<btScalar>> all;
   for (const btMultiBody* m : world.multibodies()) {
     all.emplace_back();
-    r.get_array(all.back(), multibody_values(*m).size(), "a multibody's state");
+    r.get_array(all.back(), multibody_state(*m).size(), "a multibody's state");
     for (const btScalar x : all.back())
       if (!std::isfinite(double(x))) r.fail("a non-finite multibody state value");
   }
   if (r.remaining() != 0) r.fail("holds more multibodies than the scene's world");
-  for (std::size_t k = 0; k < all.size(); ++k) set_multibody_values(*world.multibodies()[k], all[k]);
+  for (std::size_t k = 0; k < all.size(); ++k) set_multibody_state(*world.multibodies()[k], all[k]);
 }
 
 }  // namespace

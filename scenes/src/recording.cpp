@@ -15,6 +15,7 @@
 #include "shore/scenes/checkpoint.h"
 #include "shore/scenes/contents.h"
 #include "shore/scenes/film.h"
+#include "shore/scenes/multibody_state.h"
 #include "shore/scenes/world.h"
 #include "shore/terrain/soil_delta.h"
 
@@ -51,6 +52,59 @@ void apply_bodies(const std::vector<btScalar>& v, World& world) {
     if (btMotionState* m = b.getMotionState()) m->setWorldTransform(t);
     b.setLinearVelocity(btVector3(p[12], p[13], p[14]));
     b.setAngularVelocity(btVector3(p[15], p[16], p[17]));
+  }
+}
+
+/// The collider of a multibody's part (0: the base, k: link k - 1), or null.
+const btMultiBodyLinkCollider* collider_of(const btMultiBody& m, std::size_t part) {
+  return part == 0 ? m.getBaseCollider() : m.getLinkCollider(static_cast<int>(part) - 1);
+}
+
+/// What each frame holds of a multibody: its links, state values and which parts have a
+/// collider (Recording::MultiBodyLayout).
+Recording::MultiBodyLayout layout_of(const btMultiBody& m) {
+  Recording::MultiBodyLayout l;
+  l.links = static_cast<std::uint32_t>(m.getNumLinks());
+  l.values = static_cast<std::uint32_t>(multibody_state(m).size());
+  for (std::size_t part = 0; part <= l.links; ++part) l.colliders.push_back(collider_of(m, part) != nullptr ? 1 : 0);
+  return l;
+}
+
+/// Every multibody of the world in the order the scene added them: its state (what the state
+/// hash covers: multibody_state.h), then each of its colliders' world transforms (basis rows,
+/// origin: what the pictures and the viewer draw), as btScalars. The colliders are recorded
+/// rather than recomputed from the state on replay, so that what a replay draws is the run's
+/// whatever Bullet's forward kinematics caches between steps.
+void put_multibodies(ByteWriter& w, const World& world) {
+  for (const btMultiBody* m : world.multibodies()) {
+    for (const btScalar v : multibody_state(*m)) w.put(v);
+    for (std::size_t part = 0; part <= static_cast<std::size_t>(m->getNumLinks()); ++part)
+      if (const btMultiBodyLinkCollider* c = collider_of(*m, part)) {
+        const btTransform& t = c->getWorldTransform();
+        for (int r = 0; r < 3; ++r)
+          for (int a = 0; a < 3; ++a) w.put(t.getBasis()[r][a]);
+        for (int a = 0; a < 3; ++a) w.put(t.getOrigin()[a]);
+      }
+  }
+}
+
+/// Sets the recorded multibody states and collider transforms (already checked finite and of
+/// the scene's layouts).
+void apply_multibodies(const std::vector<btScalar>& v, World& world) {
+  const btScalar* p = v.data();
+  for (btMultiBody* m : world.multibodies()) {
+    const std::size_t values = multibody_state(*m).size();
+    set_multibody_state(*m, {p, values});
+    p += values;
+    for (std::size_t part = 0; part <= static_cast<std::size_t>(m->getNumLinks()); ++part) {
+      btMultiBodyLinkCollider* c = part == 0 ? m->getBaseCollider() : m->getLinkCollider(static_cast<int>(part) - 1);
+      if (c == nullptr) continue;
+      const btTransform t(btMatrix3x3(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]),
+                          btVector3(p[9], p[10], p[11]));
+      c->setWorldTransform(t);
+      c->setInterpolationWorldTransform(t);
+      p += Recording::kTransformScalars;
+    }
   }
 }
 
@@ -112,6 +166,7 @@ void Recorder::begin(const SceneType& type, const SceneOptions& options, Scene& 
   }
   rec.waters = static_cast<std::uint32_t>(c.waters.size());
   im.water.resize(c.waters.size());
+  for (const btMultiBody* m : c.world->multibodies()) rec.multibodies.push_back(layout_of(*m));
 }
 
 void Recorder::after_substep(Scene& scene, int k) {
@@ -137,6 +192,10 @@ void Recorder::after_substep(Scene& scene, int k) {
   f.body_count = static_cast<std::uint32_t>(c.world->bodies().size());
   sizes_.bodies += bodies.bytes.size();
   f.bodies = keep(std::move(bodies.bytes));
+  ByteWriter multibodies;
+  put_multibodies(multibodies, *c.world);
+  sizes_.multibodies += multibodies.bytes.size();
+  f.multibodies = keep(std::move(multibodies.bytes));
   for (std::size_t w = 0; w < c.waters.size(); ++w) {
     f.water_diffs.push_back(keep(im.water[w].encode(c.waters[w].surface->save_state())));
     sizes_.water_states += f.water_diffs.back().size();
@@ -164,9 +223,11 @@ void Recorder::finish(std::uint64_t state_hash) {
     without.seconds = im.rec.seconds, without.substep = im.rec.substep, without.cell = im.rec.cell;
     without.smoke = im.rec.smoke, without.substeps = im.rec.substeps, without.state_hash = state_hash;
     without.initial = im.rec.initial, without.terrain_generations = im.rec.terrain_generations;
+    without.multibodies = im.rec.multibodies;
     for (const Recording::Frame& f : im.rec.frames) {
       Recording::Frame g;
       g.substep = f.substep, g.terrain_deltas = f.terrain_deltas, g.bodies = f.bodies, g.body_count = f.body_count;
+      g.multibodies = f.multibodies;
       without.frames.push_back(std::move(g));
     }
     sizes_.water_compressed = bytes.size() - std::min(bytes.size(), bullet::write_recording(without).size());
@@ -194,7 +255,37 @@ SceneOptions read_options(const Recording& rec, const std::filesystem::path& out
   return o;
 }
 
-/// Applies one frame's soil deltas, bodies and water states to the replaying scene.
+/// FileError naming the recording and the field if its multibodies are not the scene's: a
+/// version 2 file (none recorded) of a scene with multibodies, another count, or a
+/// multibody of other links, state values or colliders.
+void check_multibodies(const Recording& rec, const World& world, const std::string& source) {
+  const std::vector<btMultiBody*>& scene = world.multibodies();
+  if (rec.version < 3 && !scene.empty())
+    throw FileError(source + ": recording version " + std::to_string(rec.version) +
+                    " (written before recordings held multibodies) of a scene with " + std::to_string(scene.size()) +
+                    " multibodies: its replay could not move them, record the run again");
+  if (rec.multibodies.size() != scene.size())
+    throw FileError(source + ": holds " + std::to_string(rec.multibodies.size()) + " multibodies, the scene has " +
+                    std::to_string(scene.size()));
+  for (std::size_t m = 0; m < scene.size(); ++m) {
+    const Recording::MultiBodyLayout& have = rec.multibodies[m];
+    const Recording::MultiBodyLayout want = layout_of(*scene[m]);
+    const std::string which = source + ", multibody " + std::to_string(m) + ": ";
+    if (have.links != want.links)
+      throw FileError(which + "link count " + std::to_string(have.links) + ", the scene's has " +
+                      std::to_string(want.links));
+    if (have.values != want.values)
+      throw FileError(which + "state value count " + std::to_string(have.values) + ", the scene's has " +
+                      std::to_string(want.values));
+    for (std::size_t part = 0; part < want.colliders.size(); ++part)
+      if (have.colliders[part] != want.colliders[part])
+        throw FileError(
+            which + (part == 0 ? std::string("the base") : "link " + std::to_string(part - 1)) +
+            (have.colliders[part] ? " has a collider, the scene's has none" : " has no collider, the scene's has one"));
+  }
+}
+
+/// Applies one frame's soil deltas, bodies, multibodies and water states to the replaying scene.
 void apply_frame(const Recording& rec, const Recording::Frame& f, const SceneContents& c,
                  std::vector<std::uint64_t>& at, std::vector<bullet::StateChain>& water, const std::string& source) {
   const std::string where = source + ", frame at substep " + std::to_string(f.substep);
@@ -209,12 +300,14 @@ void apply_frame(const Recording& rec, const Recording::Frame& f, const SceneCon
     throw FileError(where + ": holds " + std::to_string(f.body_count) + " bodies, the scene has " +
                     std::to_string(c.world->bodies().size()));
   const std::vector<btScalar> bodies = rec.body_scalars(f, source);
+  const std::vector<btScalar> multibodies = rec.multibody_scalars(f, source);
   for (std::size_t w = 0; w < c.waters.size(); ++w) {
     const std::string what = where + ", water " + std::to_string(w);
     const std::vector<unsigned char>& state = water[w].next(f.water_diffs[w]);
     c.waters[w].surface->restore_state(state, what);  // FileError naming `what`, the surface unchanged
   }
   apply_bodies(bodies, *c.world);
+  apply_multibodies(multibodies, *c.world);
   if (c.clock) *c.clock = f.substep;
 }
 
@@ -242,7 +335,7 @@ void write_replay_metrics(ReplayResult& res, const SceneOptions& opt, const std:
 }  // namespace
 
 ReplayResult replay(const std::filesystem::path& file, const std::filesystem::path& out_root, bool write_files,
-                    Painter* painter, ProgressMode progress_mode) {
+                    Painter* painter, ProgressMode progress_mode, const FrameHook& after_frame) {
   const auto t0 = std::chrono::steady_clock::now();
   ReplayResult res;
   const std::string source = "recording " + file.string();
@@ -269,6 +362,7 @@ ReplayResult replay(const std::filesystem::path& file, const std::filesystem::pa
   if (rec.waters != c.waters.size())
     throw FileError(source + ": holds " + std::to_string(rec.waters) + " water surfaces, the scene has " +
                     std::to_string(c.waters.size()));
+  check_multibodies(rec, *c.world, source);
   std::vector<std::uint64_t> at = rec.terrain_generations;
   std::vector<bullet::StateChain> water(c.waters.size());
 
@@ -289,6 +383,7 @@ ReplayResult replay(const std::filesystem::path& file, const std::filesystem::pa
   res.frames = static_cast<int>(rec.frames.size());
   for (const Recording::Frame& f : rec.frames) {
     apply_frame(rec, f, c, at, water, source);
+    if (after_frame) after_frame(*scene, f.substep);
     take_film(f.substep);
     progress.update(static_cast<double>(f.substep) / substeps);
   }

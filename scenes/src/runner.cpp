@@ -149,9 +149,13 @@ SceneResult run_scene(const SceneType& type, const SceneOptions& options, Progre
   if (recorder != nullptr) {
     recorder->finish(result.state_hash);
     const Recorder::Sizes& z = recorder->sizes();
-    result.metrics["recording_bytes"] = {
-        {"file", z.file},     {"initial", z.initial},           {"terrain_deltas", z.terrain_deltas},
-        {"bodies", z.bodies}, {"water_states", z.water_states}, {"water_compressed", z.water_compressed}};
+    result.metrics["recording_bytes"] = {{"file", z.file},
+                                         {"initial", z.initial},
+                                         {"terrain_deltas", z.terrain_deltas},
+                                         {"bodies", z.bodies},
+                                         {"multibodies", z.multibodies},
+                                         {"water_states", z.water_states},
+                                         {"water_compressed", z.water_compressed}};
   }
   nlohmann::json files = nlohmann::json::array();
   if (options.write_files) {

@@ -2,21 +2,30 @@
 // replay restores the initial checkpoint and then only writes the recorded soil deltas and
 // body states; it steps nothing) must end in the original run's state hash. The original
 // run is the reference. Bad files are refused with a FileError naming the file and the cause.
-// Water scenes too: their frames carry the water's state.
+// Water scenes too: their frames carry the water's state; multibody scenes (rover) their
+// multibodies' states and colliders' world transforms, compared bit for bit with the live
+// run's at every frame.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
+#include "shore/bullet/body_state.h"
 #include "shore/bullet/recording_file.h"
 #include "shore/core/error.h"
 #include "shore/core/hash.h"
+#include "shore/scenes/contents.h"
+#include "shore/scenes/multibody_state.h"
 #include "shore/scenes/recording.h"
 #include "shore/scenes/runner.h"
+#include "shore/scenes/world.h"
 
 using namespace shore::scenes;
 namespace fs = std::filesystem;
@@ -159,7 +168,8 @@ TEST(WaterRecording, ACorruptWaterFrameIsRefusedNamingTheFrame) {
   fs::remove(file);
 }
 
-// Version 1 files (before water) are refused saying which version they are.
+// Version 1 files (before water) are refused saying which version they are (and so are
+// versions this build does not know).
 TEST(Recording, AVersionOneFileIsRefusedSayingSo) {
   const fs::path file = temp("v1_source.rec");
   record("footprints", file);
@@ -176,6 +186,15 @@ TEST(Recording, AVersionOneFileIsRefusedSayingSo) {
   EXPECT_NE(m.find(old.string()), std::string::npos) << m;
   EXPECT_NE(m.find("recording version 1"), std::string::npos) << m;
   EXPECT_NE(m.find("record the run again"), std::string::npos) << m;
+  const std::uint32_t four = 4;
+  std::memcpy(bytes.data() + 8, &four, sizeof four);
+  sum = shore::StateHash();
+  sum.add_bytes(bytes.data(), bytes.size() - 8);
+  const std::uint64_t checksum4 = sum.value();
+  std::memcpy(bytes.data() + bytes.size() - 8, &checksum4, sizeof checksum4);
+  write(old, bytes);
+  EXPECT_NE(replay_error(old).find("unsupported recording version 4 (this build reads 2 to 3)"), std::string::npos)
+      << replay_error(old);
   fs::remove(file), fs::remove(old);
 }
 
@@ -208,6 +227,207 @@ TEST(WaterRecording, TheStateChainIsExact) {
     EXPECT_EQ(frame.size(), state.size());
     EXPECT_EQ(reader.next(frame), state);
   }
+}
+
+}  // namespace
+
+namespace {
+
+using shore::bullet::Recording;
+
+/// What the pictures and the viewer draw of a scene's multibodies (every collider's world
+/// transform: basis rows, origin) and what its state hash covers of them (multibody_state.h),
+/// as btScalars.
+std::vector<btScalar> multibody_picture(Scene& scene) {
+  std::vector<btScalar> v;
+  for (btMultiBody* m : scene.contents().world->multibodies()) {
+    const std::vector<btScalar> state = multibody_state(*m);
+    v.insert(v.end(), state.begin(), state.end());
+    for (int part = -1; part < m->getNumLinks(); ++part) {
+      const btMultiBodyLinkCollider* c = part < 0 ? m->getBaseCollider() : m->getLinkCollider(part);
+      if (c == nullptr) continue;
+      const btTransform& t = c->getWorldTransform();
+      for (int r = 0; r < 3; ++r)
+        for (int a = 0; a < 3; ++a) v.push_back(t.getBasis()[r][a]);
+      for (int a = 0; a < 3; ++a) v.push_back(t.getOrigin()[a]);
+    }
+  }
+  return v;
+}
+
+bool same_bits(const std::vector<btScalar>& a, const std::vector<btScalar>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(btScalar)) == 0;
+}
+
+/// The smoke run of rover recorded to `file` as run_scene runs it (step, observe, record),
+/// keeping the live multibody pictures after every substep.
+struct LiveRover {
+  std::map<int, std::vector<btScalar>> pictures;  ///< by substep; 0: as created
+  std::uint64_t state_hash = 0;
+};
+LiveRover record_rover(const fs::path& file) {
+  const SceneType& type = *find_scene("rover");
+  const SceneOptions o = smoke_options("rover");
+  const std::unique_ptr<Scene> scene = type.create(o);
+  Recorder recorder(file);
+  recorder.begin(type, o, *scene);
+  LiveRover live;
+  live.pictures[0] = multibody_picture(*scene);
+  for (int k = 1; k <= o.substeps(); ++k) {
+    scene->step();
+    scene->observe();
+    recorder.after_substep(*scene, k);
+    live.pictures[k] = multibody_picture(*scene);
+  }
+  live.state_hash = state_hash(scene->state());
+  recorder.finish(live.state_hash);
+  EXPECT_GT(recorder.sizes().multibodies, 0u);
+  return live;
+}
+
+// rover: a six-wheeled btMultiBody. At every recorded frame the replay's multibody (its
+// state and every collider's world transform, what the pictures draw) is the live run's,
+// bit for bit, and the replay ends in the run's state hash. The rover must have moved
+// (else a replay that wrote nothing would pass). With the replay's multibody frames left
+// out, both fail (tried: the links stay where the initial checkpoint put them).
+TEST(MultiBodyRecording, RoverReplaysItsLinksBitForBitAtEveryFrame) {
+  const fs::path file = temp("rover.rec");
+  const LiveRover live = record_rover(file);
+  ASSERT_FALSE(live.pictures.at(0).empty());
+  ASSERT_FALSE(same_bits(live.pictures.at(0), live.pictures.rbegin()->second)) << "the rover did not move";
+  int compared = 0;
+  const ReplayResult r =
+      replay(file, testing::TempDir(), false, nullptr, ProgressMode::quiet, [&](Scene& scene, int substep) {
+        ++compared;
+        EXPECT_TRUE(same_bits(multibody_picture(scene), live.pictures.at(substep))) << "frame at substep " << substep;
+      });
+  EXPECT_EQ(compared, r.frames);
+  EXPECT_GT(r.frames, 2);
+  EXPECT_EQ(r.recorded_state_hash, live.state_hash);
+  EXPECT_EQ(r.state_hash, live.state_hash) << "the recording does not carry the whole hashed state";
+  fs::remove(file);
+}
+
+/// `rec` written to `name` in the temporary folder; the replay's error message.
+std::string replay_error_of(const Recording& rec, const std::string& name) {
+  const fs::path bad = temp(name);
+  write(bad, shore::bullet::write_recording(rec));
+  std::string m = replay_error(bad);
+  EXPECT_NE(m.find(bad.string()), std::string::npos) << m;
+  fs::remove(bad);
+  return m;
+}
+
+// A multibody section that does not fit the scene, or holds a non-finite value, is refused
+// naming the recording, the multibody and the field (and the frame by its substep).
+TEST(MultiBodyRecording, ACorruptMultibodySectionIsRefusedNamingTheField) {
+  const fs::path file = temp("rover_source.rec");
+  (void)record_rover(file);
+  const std::vector<unsigned char> good = bytes_of(file);
+  {  // one link more (no collider: the frames' sizes stay the same)
+    Recording rec = shore::bullet::read_recording(good, "test");
+    ASSERT_EQ(rec.multibodies.size(), 1u);
+    ASSERT_EQ(rec.multibodies[0].links, 6u);
+    rec.multibodies[0].links = 7;
+    rec.multibodies[0].colliders.push_back(0);
+    const std::string m = replay_error_of(rec, "rover_links.rec");
+    EXPECT_NE(m.find("multibody 0: link count 7, the scene's has 6"), std::string::npos) << m;
+  }
+  {  // the collider moved from link 5 to the new link 6
+    Recording rec = shore::bullet::read_recording(good, "test");
+    rec.multibodies[0].links = 7;
+    rec.multibodies[0].colliders.back() = 0;
+    rec.multibodies[0].colliders.push_back(1);
+    const std::string m = replay_error_of(rec, "rover_colliders.rec");
+    EXPECT_NE(m.find("multibody 0: link count 7"), std::string::npos) << m;
+  }
+  {  // no multibody at all
+    Recording rec = shore::bullet::read_recording(good, "test");
+    rec.multibodies.clear();
+    for (Recording::Frame& f : rec.frames) f.multibodies = {};
+    const std::string m = replay_error_of(rec, "rover_none.rec");
+    EXPECT_NE(m.find("holds 0 multibodies, the scene has 1"), std::string::npos) << m;
+  }
+  // Non-finite: the middle frame's first state value (the base's x), and link 2's collider
+  // origin x.
+  const std::uint32_t values = shore::bullet::read_recording(good, "test").multibodies[0].values;
+  ASSERT_EQ(values, 13u + 6u * 2u);                             // base, then each revolute wheel's angle and rate
+  const std::size_t base_x = 0, link2_x = values + 12 * 3 + 9;  // colliders: base, link 0, 1, 2
+  for (const std::size_t at : {base_x, link2_x}) {
+    Recording rec = shore::bullet::read_recording(good, "test");
+    Recording::Frame& f = rec.frames[rec.frames.size() / 2];
+    std::vector<btScalar> v(f.multibodies.size() / sizeof(btScalar));
+    std::memcpy(v.data(), f.multibodies.data(), f.multibodies.size());
+    v[at] = std::numeric_limits<btScalar>::infinity();
+    const std::vector<unsigned char> bytes(reinterpret_cast<const unsigned char*>(v.data()),
+                                           reinterpret_cast<const unsigned char*>(v.data() + v.size()));
+    f.multibodies = bytes;
+    const std::string m = replay_error_of(rec, "rover_inf.rec");
+    EXPECT_NE(m.find("frame at substep " + std::to_string(f.substep) + ", multibody 0"), std::string::npos) << m;
+    EXPECT_NE(m.find(at == base_x ? "state value 0 of 25 is inf" : "link 2's collider world transform is inf"),
+              std::string::npos)
+        << m;
+  }
+  fs::remove(file);
+}
+
+// Version 2 files (before multibodies) still replay, to the run's hash, for scenes without
+// multibodies (footprints: written by this build's version 2 writer; rigid_drop: a file
+// the version 2 build wrote, committed), and are refused saying so for scenes with some.
+TEST(MultiBodyRecording, AVersionTwoFileStillReplaysWithoutMultibodies) {
+  const fs::path file = temp("v2_source.rec");
+  const std::uint64_t run = record("footprints", file);
+  Recording rec = shore::bullet::read_recording(bytes_of(file), "test");
+  ASSERT_TRUE(rec.multibodies.empty());
+  rec.version = 2;
+  const fs::path old = temp("v2.rec");
+  write(old, shore::bullet::write_recording(rec));
+  const ReplayResult r = replay(old, testing::TempDir(), false, nullptr, ProgressMode::quiet);
+  EXPECT_EQ(r.state_hash, run);
+  EXPECT_EQ(r.recorded_state_hash, run);
+
+  if (shore::bullet::scalar_bytes() == 4) {  // the committed file is a float build's
+    const fs::path committed = fs::path(SHORE_RECORDING_DATA_DIR) / "rigid_drop_v2.rec";
+    const std::vector<unsigned char> bytes = bytes_of(committed);
+    ASSERT_GT(bytes.size(), 12u) << committed;
+    std::uint32_t version = 0;
+    std::memcpy(&version, bytes.data() + 8, sizeof version);
+    ASSERT_EQ(version, 2u);
+    const ReplayResult c = replay(committed, testing::TempDir(), false, nullptr, ProgressMode::quiet);
+    EXPECT_EQ(c.scene, "rigid_drop");
+    EXPECT_EQ(c.state_hash, c.recorded_state_hash);
+    EXPECT_GT(c.frames, 2);
+  }
+
+  const fs::path rover = temp("rover_v2_source.rec");
+  (void)record_rover(rover);
+  Recording r2 = shore::bullet::read_recording(bytes_of(rover), "test");
+  r2.version = 2;
+  EXPECT_THROW((void)shore::bullet::write_recording(r2), shore::InvalidSetting);  // it would lose them
+  r2.multibodies.clear();
+  for (Recording::Frame& f : r2.frames) f.multibodies = {};
+  const std::string m = replay_error_of(r2, "rover_v2.rec");
+  EXPECT_NE(m.find("recording version 2 (written before recordings held multibodies)"), std::string::npos) << m;
+  EXPECT_NE(m.find("record the run again"), std::string::npos) << m;
+  for (const fs::path& f : {file, old, rover}) fs::remove(f);
+}
+
+// The file layer refuses a collider flag other than 0 or 1, naming the multibody and part.
+TEST(MultiBodyRecording, ACorruptColliderFlagIsRefused) {
+  const fs::path file = temp("rover_flag_source.rec");
+  (void)record_rover(file);
+  Recording rec = shore::bullet::read_recording(bytes_of(file), "test");
+  rec.multibodies[0].colliders[3] = 2;  // link 2's
+  try {
+    (void)shore::bullet::read_recording(shore::bullet::write_recording(rec), "flagged");
+    ADD_FAILURE() << "a collider flag of 2 was accepted";
+  } catch (const shore::FileError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("flagged: multibody 0: corrupt (collider flag of link 2 is 2, allowed 0 or 1)"),
+        std::string::npos)
+        << e.what();
+  }
+  fs::remove(file);
 }
 
 }  // namespace

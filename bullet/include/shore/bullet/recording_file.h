@@ -5,17 +5,23 @@
 // parts hold (the initial checkpoint, the terrains' deltas (terrain::SoilDelta), the water states) is read by their
 // own loaders when a replay applies them.
 //
-// File: "SHOREREC", u32 version (2), u32 byte-order mark 0x01020304, u32 scalar bytes
+// File: "SHOREREC", u32 version (3), u32 byte-order mark 0x01020304, u32 scalar bytes
 // (sizeof(btScalar) of the writer), u64 raw size, u64 compressed size, zstd frame of the
 // raw bytes, u64 FNV-1a of every byte before it. Raw bytes: u32 length + scene name; f64
 // seconds, substep, cell; u32 length + material; u8 smoke; i32 substeps; u64 the run's final
 // state hash; u64 size + initial checkpoint (SHORECKP); u32 terrains, per terrain u64 its
-// generation at the start; u32 waters; u32 frames, per frame: i32 substep, per terrain u64 size
-// + delta, u32 bodies, per body 18 btScalars (basis rows, origin, linear, angular velocity),
+// generation at the start; u32 waters; u32 multibodies, per multibody u32 links, u32 state
+// values and one u8 per part (its base, then its links in order): 1 if the part has a
+// collider, else 0; u32 frames, per frame: i32 substep, per terrain u64 size + delta, u32
+// bodies, per body 18 btScalars (basis rows, origin, linear, angular velocity), per
+// multibody its state values (btScalars: the state a scene's state hash covers) and then per
+// part with a collider that collider's world transform (12 btScalars: basis rows, origin),
 // per water u64 size + that water's state (Surface::save_state) XOR the previous frame's
 // (0 past the previous state's end; the first frame's previous state is empty), its bytes
 // grouped by place in an 8-byte word (byte k into plane k % 8, the planes in order).
-// Version 1 (no water) is refused with a message saying so.
+// Version 2 (no multibodies: no multibody count, no multibody section in the frames) is
+// read as a recording of none (a replay refuses it for a scene that has some). Version 1
+// (no water) is refused with a message saying so.
 
 #include <cstdint>
 #include <span>
@@ -34,14 +40,37 @@ inline namespace SHORE_BULLET_ABI {
 struct Recording {
   /// Scalars per body and frame: basis rows, origin, linear and angular velocity.
   static constexpr int kBodyScalars = 18;
+  /// Scalars per multibody collider and frame: its world transform's basis rows and origin.
+  static constexpr int kTransformScalars = 12;
+  /// The version write_recording writes by default, and the oldest read_recording reads.
+  static constexpr std::uint32_t kVersion = 3, kOldestVersion = 2;
+
+  /// What every frame holds of one multibody (the same in every frame).
+  struct MultiBodyLayout {
+    std::uint32_t links = 0;   ///< btMultiBody::getNumLinks()
+    std::uint32_t values = 0;  ///< state values per frame
+    /// Per part (base, then links; links + 1 entries): 1 if it has a collider, else 0.
+    std::vector<std::uint8_t> colliders;
+    [[nodiscard]] std::uint32_t collider_count() const;
+    /// Scalars per frame: the values, then 12 per collider.
+    [[nodiscard]] std::uint64_t scalars() const;
+    /// Names scalar k of a frame's section ("state value 3", "link 2's world transform").
+    [[nodiscard]] std::string describe(std::uint64_t k) const;
+  };
 
   struct Frame {
     int substep = 0;
     std::vector<std::span<const unsigned char>> terrain_deltas;  ///< one per terrain
     std::span<const unsigned char> bodies;                       ///< count * kBodyScalars btScalars
     std::uint32_t body_count = 0;
+    /// Per multibody, in order: its MultiBodyLayout::scalars() btScalars.
+    std::span<const unsigned char> multibodies;
     std::vector<std::span<const unsigned char>> water_diffs;  ///< one per water: its XOR (see above)
   };
+
+  /// The file's version: read_recording sets it; write_recording writes it (kOldestVersion
+  /// only for a recording without multibodies).
+  std::uint32_t version = kVersion;
 
   std::string scene;
   double seconds = 0.0, substep = 0.0, cell = 0.0;
@@ -52,6 +81,7 @@ struct Recording {
   std::span<const unsigned char> initial;
   std::vector<std::uint64_t> terrain_generations;
   std::uint32_t waters = 0;
+  std::vector<MultiBodyLayout> multibodies;  ///< none in version 2
   std::vector<Frame> frames;
   std::vector<unsigned char> raw;  ///< the decompressed bytes the spans point into
 
@@ -63,16 +93,22 @@ struct Recording {
 
   /// The body states of frame f, as btScalars (FileError naming `source` if any is not finite).
   [[nodiscard]] std::vector<btScalar> body_scalars(const Frame& f, const std::string& source) const;
+  /// The multibody states of frame f, as btScalars, every multibody's in turn (FileError
+  /// naming `source`, the frame, the multibody and the value or part if any is not finite).
+  [[nodiscard]] std::vector<btScalar> multibody_scalars(const Frame& f, const std::string& source) const;
 };
 
 /// Writes the file's bytes: the header, one zstd frame of the raw layout (frames' spans
-/// as given, water_diffs already XORed) and the checksum. FileError if zstd fails.
+/// as given, water_diffs already XORed) and the checksum, in rec.version. FileError if zstd
+/// fails; InvalidSetting for a version this build does not write (2 and 3), multibodies in
+/// version 2, or a frame's multibody section of another size than the layouts give.
 [[nodiscard]] std::vector<unsigned char> write_recording(const Recording& rec, int compression_level = 3);
 
 /// Reads a recording file's bytes. FileError naming `source` and the cause for bytes that
 /// are not a recording, truncated or padded, corrupt (checksum, zstd, sizes), of another
 /// version, byte order or btScalar precision, frames out of order or past the substeps,
-/// another number of terrains or waters in a frame, or bytes after the last frame. Every
+/// another number of terrains or waters in a frame, a multibody's collider flag other than
+/// 0 or 1, or bytes after the last frame. Every
 /// size read is checked against what is left, so memory stays within a bounded multiple
 /// of the input's size (zstd's best ratio).
 [[nodiscard]] Recording read_recording(std::span<const unsigned char> file, const std::string& source);
