@@ -199,15 +199,13 @@ class CoupledWorld {
     return std::move(w.bytes);
   }
   /// FileError naming `source` (the multibody unchanged) for a truncated section, another
-  /// count, a non-finite value or a quaternion far from unit length.
+  /// count, or a state no simulation has (bullet::multibody_state_problem).
   void restore_robot(std::span<const unsigned char> bytes, const std::string& source) {
     ByteReader r(bytes, source);
     std::vector<btScalar> v;
     r.get_array(v, kMultiBodyValues, "the multibody's state");
-    for (const btScalar x : v)
-      if (!std::isfinite(double(x))) r.fail("a non-finite multibody state value");
+    if (const std::string problem = bullet::multibody_state_problem(*robot_, v); !problem.empty()) r.fail(problem);
     const btQuaternion q(v[3], v[4], v[5], v[6]);
-    if (!(std::abs(double(q.length()) - 1.0) < 1e-3)) r.fail("a base rotation that is not a unit quaternion");
     robot_->setBasePos(btVector3(v[0], v[1], v[2]));
     robot_->setWorldToBaseRot(q);
     robot_->setBaseVel(btVector3(v[7], v[8], v[9]));

@@ -3,6 +3,7 @@
 #include <BulletCollision/BroadphaseCollision/btDispatcher.h>
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBody.h>
 
 #include <cmath>
 
@@ -166,6 +167,32 @@ void restore_bodies(btDiscreteDynamicsWorld& world, std::span<btRigidBody* const
   ClockAccess::local_time(world) = local_time;
   if (auto* solver = dynamic_cast<btSequentialImpulseConstraintSolver*>(world.getConstraintSolver()))
     solver->setRandSeed(static_cast<unsigned long>(seed));
+}
+
+std::string multibody_state_problem(const btMultiBody& m, std::span<const btScalar> v) {
+  std::size_t expected = 13;
+  for (int link = 0; link < m.getNumLinks(); ++link)
+    expected += static_cast<std::size_t>(m.getLink(link).m_posVarCount + m.getLink(link).m_dofCount);
+  if (v.size() != expected)
+    return std::to_string(v.size()) + " state values, the multibody has " + std::to_string(expected);
+  for (std::size_t k = 0; k < v.size(); ++k)
+    if (!std::isfinite(double(v[k])))
+      return "state value " + std::to_string(k) + " of " + std::to_string(v.size()) + " is not finite";
+  if (!coupling_detail::within(btVector3(v[0], v[1], v[2]), coupling_detail::kMaxCoordinate))
+    return "the base lies farther than 1e9 m from the origin";
+  if (!(std::abs(double(btQuaternion(v[3], v[4], v[5], v[6]).length()) - 1.0) < 1e-3))
+    return "the base rotation is not a unit quaternion";
+  if (!coupling_detail::within(btVector3(v[7], v[8], v[9]), kMaxSavedSpeed) ||
+      !coupling_detail::within(btVector3(v[10], v[11], v[12]), kMaxSavedSpeed))
+    return "the base moves faster than 1e6 m/s or rad/s";
+  std::size_t k = 13;
+  for (int link = 0; link < m.getNumLinks(); ++link) {
+    k += static_cast<std::size_t>(m.getLink(link).m_posVarCount);
+    for (int d = 0; d < m.getLink(link).m_dofCount; ++d, ++k)
+      if (!(std::abs(double(v[k])) <= kMaxSavedSpeed))
+        return "link " + std::to_string(link) + "'s joint moves faster than 1e6 m/s or rad/s";
+  }
+  return {};
 }
 
 int clear_contact_points(btDiscreteDynamicsWorld& world) {

@@ -40,15 +40,15 @@ std::vector<unsigned char> save_multibodies(const World& world) {
 }
 
 /// Reads all of MBODIES before changing anything: FileError for a count that does not
-/// match the world's multibodies or a non-finite value.
+/// match the world's multibodies or a state no simulation has (multibody_state_problem).
 void restore_multibodies(World& world, std::span<const unsigned char> bytes, const std::string& source) {
   ByteReader r(bytes, source);
   std::vector<std::vector<btScalar>> all;
   for (const btMultiBody* m : world.multibodies()) {
     all.emplace_back();
     r.get_array(all.back(), multibody_state(*m).size(), "a multibody's state");
-    for (const btScalar x : all.back())
-      if (!std::isfinite(double(x))) r.fail("a non-finite multibody state value");
+    if (const std::string problem = bullet::multibody_state_problem(*m, all.back()); !problem.empty())
+      r.fail("multibody " + std::to_string(all.size() - 1) + ": " + problem);
   }
   if (r.remaining() != 0) r.fail("holds more multibodies than the scene's world");
   for (std::size_t k = 0; k < all.size(); ++k) set_multibody_state(*world.multibodies()[k], all[k]);

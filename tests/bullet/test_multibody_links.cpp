@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -18,12 +19,14 @@
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 #include <btBulletDynamicsCommon.h>
 
+#include "shore/bullet/body_state.h"
 #include "shore/bullet/debug_draw.h"
 #include "shore/bullet/ground_frame.h"
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/bullet/water_coupling.h"
 #include "shore/core/error.h"
 #include "shore/scenes/multibody_cases.h"
+#include "shore/scenes/multibody_state.h"
 #include "shore/scenes/pool_cases.h"
 #include "shore/scenes/soil_cases.h"
 #include "shore/scenes/validation_matrix.h"
@@ -609,6 +612,28 @@ std::vector<double> heights(const shore::terrain::Terrain& soil) {
 }  // namespace
 
 // The same bits whatever the soil's thread count.
+// A saved multibody state that no simulation has is named before Bullet steps it (a base
+// flung at 4e37 m/s turned the whole multibody into NaN in one Featherstone step).
+TEST(MultiBodyLinks, SavedStatesNoSimulationHasAreNamed) {
+  MultiBodyWorld w;
+  btMultiBodyLinkCollider* box = add_box_base(w, 2.0, btVector3(0.1f, 0.1f, 0.05f), btVector3(0, 0, 0.05f));
+  const btMultiBody& mb = *box->m_multiBody;
+  const std::vector<btScalar> good = shore::scenes::multibody_state(mb);
+  EXPECT_EQ(shore::bullet::multibody_state_problem(mb, good), "");
+  const auto problem = [&](std::size_t k, btScalar value) {
+    std::vector<btScalar> v = good;
+    v[k] = value;
+    return shore::bullet::multibody_state_problem(mb, v);
+  };
+  EXPECT_NE(problem(8, btScalar(-4.25e37)).find("faster than 1e6"), std::string::npos);
+  EXPECT_NE(problem(11, btScalar(2e6)).find("faster than 1e6"), std::string::npos);
+  EXPECT_NE(problem(0, btScalar(2e9)).find("farther than 1e9"), std::string::npos);
+  EXPECT_NE(problem(6, btScalar(0.5)).find("unit quaternion"), std::string::npos);
+  EXPECT_NE(problem(2, std::numeric_limits<btScalar>::quiet_NaN()).find("state value 2 of 13"), std::string::npos);
+  EXPECT_NE(shore::bullet::multibody_state_problem(mb, std::span(good).first(12)).find("12 state values"),
+            std::string::npos);
+}
+
 TEST(MultiBodyLinks, TheSameBitsOnOneOrFourThreads) {
   PlateRun one(1), four(4);
   one.step(240);

@@ -34,6 +34,8 @@
 
 #include "shore/bullet/config.h"
 
+class btMultiBody;
+
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
@@ -59,6 +61,16 @@ void restore_bodies(btDiscreteDynamicsWorld& world, std::span<const unsigned cha
                                                      std::span<btRigidBody* const> bodies);
 void restore_bodies(btDiscreteDynamicsWorld& world, std::span<btRigidBody* const> bodies,
                     std::span<const unsigned char> bytes, const std::string& source);
+
+/// Why saved values of a btMultiBody's evolving state cannot be a simulated state ("" if
+/// they can), for a game's own multibody checkpoints and recordings. The values' order: base
+/// origin, world-to-base quaternion (x, y, z, w), base linear and angular velocity, then per
+/// link its joint positions and its joint velocities; `v` holds exactly that many (checked).
+/// Refused as restore_bodies refuses a rigid body's: a non-finite value, a base farther
+/// than 1e9 m from the origin, a quaternion whose length is off 1 by 1e-3 or more, a base
+/// or joint velocity beyond 1e6 m/s or rad/s (Bullet's Featherstone step turns such speeds
+/// into NaN).
+[[nodiscard]] std::string multibody_state_problem(const btMultiBody& m, std::span<const btScalar> v);
 
 /// Empties every contact manifold of the world (the points and their warm-starting
 /// impulses; the pairs stay). Returns the number of points removed.
