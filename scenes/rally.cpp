@@ -174,7 +174,7 @@ class Rally final : public Scene {
                     .bounds = {kX0 + 2.0, -kHalfY + 2.0, kX1 - 2.0, kHalfY - 2.0},
                     .focus = car_->chassis(),
                     .clock = &k_,
-                    .vehicles = {&car_->vehicle()}};
+                    .vehicles = {{&car_->vehicle(), kWheelWidth}}};
     c.drive = [this](double forward, double turn) {
       driven_ = forward != 0.0 || turn != 0.0;
       if (driven_) car_->drive(kEngine * forward, forward == 0.0 ? 200.0 : 0.0, 0.35 * turn);

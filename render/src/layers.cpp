@@ -257,29 +257,43 @@ std::int64_t Layers::draw_bodies(GLuint p, bool depth_only) {
   const GLint colour = glGetUniformLocation(p, "uColour");
   std::int64_t triangles = 0;
   bodies_drawn = 0;
-  for (int k = 0; k < objects.size(); ++k) {
-    const btCollisionObject* o = objects[k];
-    if (o->getCollisionShape() == nullptr || is_soil_tile(o)) continue;
-    const GpuMesh& m = mesh_of(o->getCollisionShape());
+  // Drawn in the ground's coordinates, as the soil and the water are (Y-up worlds too).
+  const bullet::GroundFrame& ground = contents_.world->ground();
+  const auto draw = [&](const btCollisionShape* shape, const btTransform& pose, const Eigen::Vector3d& c) {
+    const GpuMesh& m = mesh_of(shape);
     btScalar gl_matrix[16];
-    // Drawn in the ground's coordinates, as the soil and the water are (Y-up worlds too).
-    const bullet::GroundFrame& ground = contents_.world->ground();
-    (ground.identity() ? o->getWorldTransform() : ground.to_ground() * o->getWorldTransform())
-        .getOpenGLMatrix(gl_matrix);
+    (ground.identity() ? pose : ground.to_ground() * pose).getOpenGLMatrix(gl_matrix);
     float f[16];
-    for (int c = 0; c < 16; ++c) f[c] = float(gl_matrix[c]);
+    for (int e = 0; e < 16; ++e) f[e] = float(gl_matrix[e]);
     glUniformMatrix4fv(model, 1, GL_FALSE, f);
-    if (!depth_only) {
-      const Eigen::Vector3d c = body_colour(*o, k);
-      glUniform3f(colour, float(c.x()), float(c.y()), float(c.z()));
-    }
+    if (!depth_only) glUniform3f(colour, float(c.x()), float(c.y()), float(c.z()));
     glBindVertexArray(m.vao.get());
     glDrawElements(GL_TRIANGLES, m.index_count, GL_UNSIGNED_INT, nullptr);
     triangles += m.index_count / 3;
+  };
+  for (int k = 0; k < objects.size(); ++k) {
+    const btCollisionObject* o = objects[k];
+    if (o->getCollisionShape() == nullptr || is_soil_tile(o)) continue;
+    draw(o->getCollisionShape(), o->getWorldTransform(), body_colour(*o, k));
     ++bodies_drawn;
   }
+  // Raycast wheels have no collision object: a dark cylinder at Bullet's wheel transform
+  // (local x along the axle, turned by the wheel's rotation).
+  const Eigen::Vector3d tyre(0.13, 0.12, 0.12);
+  for (const scenes::VehicleContents& v : contents_.vehicles)
+    for (int k = 0; k < v.vehicle->getNumWheels(); ++k) {
+      const btWheelInfo& w = v.vehicle->getWheelInfo(k);
+      draw(wheel_shape(double(w.m_wheelsRadius), v.wheel_width), w.m_worldTransform, tyre);
+    }
   glBindVertexArray(0);
   return triangles;
+}
+
+const btCollisionShape* Layers::wheel_shape(double radius, double width) {
+  std::unique_ptr<btCollisionShape>& shape = wheel_shapes_[{radius, width}];
+  if (!shape)
+    shape = std::make_unique<btCylinderShapeX>(btVector3(btScalar(width / 2), btScalar(radius), btScalar(radius)));
+  return shape.get();
 }
 
 double Layers::mid_height() const {

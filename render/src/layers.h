@@ -4,9 +4,11 @@
 // are not drawn), and one mesh per collision shape (drawn at each body's pose).
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -62,6 +64,8 @@ class Layers {
 
  private:
   GpuMesh& mesh_of(const btCollisionShape* shape);
+  /// A raycast wheel's cylinder for drawing (one per radius and width, kept).
+  const btCollisionShape* wheel_shape(double radius, double width);
   void build_surfaces();
   void add_soil(const scenes::SoilContents& s);
   void add_water(const scenes::WaterContents& w);
@@ -72,6 +76,7 @@ class Layers {
   std::vector<std::unique_ptr<SoilLayer>> soils_;
   std::vector<std::unique_ptr<WaterLayer>> waters_;
   std::unordered_map<const btCollisionShape*, GpuMesh> meshes_;  // drawing only: never hashed or summed
+  std::map<std::pair<double, double>, std::unique_ptr<btCollisionShape>> wheel_shapes_;
   RenderSettings settings_;
   double mesh_error_pixels_ = 1.0;  // the bound the meshes are made with
   double ground_scale_ = 0, water_scale_ = 0, wave_gain_ = 1;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstring>
 
+#include <BulletDynamics/Vehicle/btRaycastVehicle.h>
+
 #include "shore/bullet/body_state.h"
 #include "shore/bullet/recording_file.h"
 #include "shore/core/byte_io.h"
@@ -308,6 +310,10 @@ void apply_frame(const Recording& rec, const Recording::Frame& f, const SceneCon
   }
   apply_bodies(bodies, *c.world);
   apply_multibodies(multibodies, *c.world);
+  // Raycast wheels are drawn where Bullet's vehicle puts them: on the replayed chassis, at
+  // the suspension length the replaying vehicle last had (a recording holds no wheels).
+  for (const VehicleContents& v : c.vehicles)
+    for (int k = 0; k < v.vehicle->getNumWheels(); ++k) v.vehicle->updateWheelTransform(k, false);
   if (c.clock) *c.clock = f.substep;
 }
 

@@ -35,6 +35,12 @@ struct WaterContents {
   bullet::WaterCoupling* coupling = nullptr;
 };
 
+/// A raycast vehicle and its wheels' width (Bullet's vehicle knows only their radius).
+struct VehicleContents {
+  btRaycastVehicle* vehicle = nullptr;
+  double wheel_width = 0.3;  ///< m
+};
+
 /// A world rectangle, m: x in [x0, x1], y in [y0, y1].
 struct Bounds {
   double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
@@ -58,9 +64,9 @@ struct SceneContents {
   /// The scene's substep counter, which its script reads (null: its script keeps no
   /// clock); checkpoints save and restore it (checkpoint.h).
   int* clock = nullptr;
-  /// The scene's raycast vehicles, whose wheels' state checkpoints save and restore beside
-  /// their chassis (shore/bullet/vehicle_state.h).
-  std::vector<btRaycastVehicle*> vehicles = {};
+  /// The scene's raycast vehicles: checkpoints save and restore their wheels' state beside
+  /// their chassis (shore/bullet/vehicle_state.h), pictures draw their wheels.
+  std::vector<VehicleContents> vehicles = {};
 };
 
 }  // namespace shore::scenes
