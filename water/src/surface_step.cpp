@@ -421,7 +421,11 @@ void update_sleep(const SurfaceSettings& settings, Surface::State& s, const std:
     slept.emplace_back(&t, put_to_sleep(s, t));
   }
   if (slept.empty()) return;
-  s.rebuild_awake_list();
+  // Only tiles left the list: dropping them keeps it ascending, in O(awake) rather than a
+  // pass over every tile ever created (a large lake holds many more asleep than awake).
+  std::erase_if(s.awake, [&s](std::int32_t slot) {
+    return !s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(slot)])]->awake;
+  });
   for (const auto& [t, momentum] : slept) spread_momentum(s, *t, momentum);
 }
 
