@@ -37,6 +37,26 @@ void copy_edge(const std::vector<V>* edge, std::size_t first, int count, V* to, 
     for (int k = 0; k < count; ++k) to[k * step] = from[k];
   }
 }
+
+// The largest steps between a side's ghosts (a[q * as]) and the tile's nodes their springs
+// reach (b[q * bs]), a loop per component with its test out of it (this ran per ghost, with
+// a test of the mode per entry, on every side of every tile each substep). Max of
+// non-negative values is exact in any order; a NaN entry is skipped as before.
+double largest_step(const double* a, std::ptrdiff_t as, const double* b, std::size_t bs, int count) {
+  double m = 0.0;
+  for (int q = 0; q < count; ++q) m = std::max(m, std::abs(a[q * as] - b[static_cast<std::size_t>(q) * bs]));
+  return m;
+}
+/// The same for the in-plane components: max over entries of max(|dx|, |dy|).
+float largest_step_xy(const float* ax, const float* ay, std::ptrdiff_t as, const float* bx, const float* by,
+                      std::size_t bs, int count) {
+  float m = 0.f;
+  for (int q = 0; q < count; ++q) {
+    const std::size_t b = static_cast<std::size_t>(q) * bs;
+    m = std::max(m, std::max(std::abs(ax[q * as] - bx[b]), std::abs(ay[q * as] - by[b])));
+  }
+  return m;
+}
 }  // namespace
 
 kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
@@ -118,14 +138,10 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
     k.boundary_activity[g.side] = 0.0;
     if (k.sides[g.side] == kernel::Side::absent) continue;
     // The steps across this side: a tile at rest next to water at another level is not at rest.
-    double step = 0.0;
-    for (int q = 0; q < g.count; ++q) {
-      const std::ptrdiff_t a = g.at + q * g.step;
-      const std::size_t b = g.node + static_cast<std::size_t>(q) * g.along;
-      step = std::max(step, std::abs(bz[a] - t.uz[b]));
-      if (full)
-        step = std::max(step, static_cast<double>(std::max(std::abs(bx[a] - t.ux[b]), std::abs(by[a] - t.uy[b]))));
-    }
+    double step = largest_step(bz + g.at, g.step, t.uz.data() + g.node, g.along, g.count);
+    if (full)
+      step = std::max(step, static_cast<double>(largest_step_xy(bx + g.at, by + g.at, g.step, t.ux.data() + g.node,
+                                                                t.uy.data() + g.node, g.along, g.count)));
     k.boundary_activity[g.side] = step / sleep_u;
   }
   return k;
