@@ -4,7 +4,7 @@
 //
 //   water_steps <3d|vertical> <nodes per side> <tile> <steps> [sleep|dense] [automatic|generic|avx2|unfused]
 //   water_steps lake <tile> <substeps>
-
+//   water_steps asleep <tile> <substeps>
 //
 // The paper's lattice at dt 0.3 with a drop in the middle (the benchmark's kernel case);
 // `sleep` turns sleeping tiles on (off by default, as in shore-bench's kernel cases); the
@@ -12,6 +12,9 @@
 // fused one replaced, generic instruction set). `lake`: the benchmark's 1 km lake at 10 cm
 // (vertical-only, 2 m deep, open edges, 1/60 s substeps) with a source of waves moving at
 // 2 m/s from the middle and the tiles around it kept awake, as a boat's coupling does.
+// `asleep`: the same lake woken in 16 places (as shore-bench's asleep lake), stepped until
+// every tile sleeps again, then stepped `substeps` more times with nothing awake: the
+// difference of two such runs is what a fully asleep lake costs per substep.
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -22,7 +25,7 @@
 using namespace shore;
 
 namespace {
-int lake(int tile, int substeps) {
+water::SurfaceSettings lake_settings(int tile) {
   water::PhysicalParameters p;
   p.cell = 0.1;
   p.depth = 2.0;
@@ -31,23 +34,51 @@ int lake(int tile, int substeps) {
   s.boundary = water::Boundary::open;
   s.threads = 1;
   s.sleep.tile = tile;
-  water::Surface surf(s);
+  return s;
+}
+
+int lake(int tile, int substeps) {
+  water::Surface surf(lake_settings(tile));
   const double dt = 1.0 / 60;
+  long long node_substeps = 0;  // awake nodes summed over the substeps (tile_stats: a pass over the tiles)
   for (int k = 0; k < substeps; ++k) {
     const double x = 500.0 + 2.0 * dt * k, y = 500.0;
     surf.wake(x - 1.5, y - 1.0, x + 1.5, y + 1.0);
     surf.disturb(water::Disturbance::point_velocity(x, y, 0.3, -0.05));
+    node_substeps += surf.tile_stats().awake_nodes;
     surf.step(dt);
   }
   const water::TileStats st = surf.tile_stats();
-  std::printf("%016llx awake nodes %lld\n", static_cast<unsigned long long>(surf.state_hash()),
-              static_cast<long long>(st.awake_nodes));
+  std::printf("%016llx awake nodes %lld, awake node-substeps %lld\n",
+              static_cast<unsigned long long>(surf.state_hash()), static_cast<long long>(st.awake_nodes),
+              node_substeps);
+  return 0;
+}
+
+int asleep(int tile, int substeps) {
+  water::Surface surf(lake_settings(tile));
+  const double dt = 1.0 / 60, side = 1000.0;
+  for (int k = 0; k < 16; ++k) {
+    const double x = (0.1 + 0.05 * k) * side, y = (0.9 - 0.05 * k) * side;
+    surf.wake(x, y, x + 10.0, y + 10.0);
+  }
+  int settle = 0;
+  for (; settle < 10000 && surf.tile_stats().awake > 0; ++settle) surf.step(dt);
+  if (surf.tile_stats().awake > 0) {
+    std::fprintf(stderr, "the lake did not settle in %d substeps\n", settle);
+    return 1;
+  }
+  for (int k = 0; k < substeps; ++k) surf.step(dt);
+  const water::TileStats st = surf.tile_stats();
+  std::printf("%016llx settled in %d substeps, tiles created %lld\n",
+              static_cast<unsigned long long>(surf.state_hash()), settle, static_cast<long long>(st.created));
   return 0;
 }
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc == 4 && std::strcmp(argv[1], "lake") == 0) return lake(std::atoi(argv[2]), std::atoi(argv[3]));
+  if (argc == 4 && std::strcmp(argv[1], "asleep") == 0) return asleep(std::atoi(argv[2]), std::atoi(argv[3]));
   if (argc < 5) {
     std::fprintf(stderr, "usage: %s <3d|vertical> <nodes per side> <tile> <steps> [sleep|dense] [kernel]\n", argv[0]);
     return 2;

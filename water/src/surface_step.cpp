@@ -37,6 +37,26 @@ void copy_edge(const std::vector<V>* edge, std::size_t first, int count, V* to, 
     for (int k = 0; k < count; ++k) to[k * step] = from[k];
   }
 }
+
+// The largest steps between a side's ghosts (a[q * as]) and the tile's nodes their springs
+// reach (b[q * bs]), a loop per component with its test out of it (this ran per ghost, with
+// a test of the mode per entry, on every side of every tile each substep). Max of
+// non-negative values is exact in any order; a NaN entry is skipped as before.
+double largest_step(const double* a, std::ptrdiff_t as, const double* b, std::size_t bs, int count) {
+  double m = 0.0;
+  for (int q = 0; q < count; ++q) m = std::max(m, std::abs(a[q * as] - b[static_cast<std::size_t>(q) * bs]));
+  return m;
+}
+/// The same for the in-plane components: max over entries of max(|dx|, |dy|).
+float largest_step_xy(const float* ax, const float* ay, std::ptrdiff_t as, const float* bx, const float* by,
+                      std::size_t bs, int count) {
+  float m = 0.f;
+  for (int q = 0; q < count; ++q) {
+    const std::size_t b = static_cast<std::size_t>(q) * bs;
+    m = std::max(m, std::max(std::abs(ax[q * as] - bx[b]), std::abs(ay[q * as] - by[b])));
+  }
+  return m;
+}
 }  // namespace
 
 kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
@@ -118,14 +138,10 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
     k.boundary_activity[g.side] = 0.0;
     if (k.sides[g.side] == kernel::Side::absent) continue;
     // The steps across this side: a tile at rest next to water at another level is not at rest.
-    double step = 0.0;
-    for (int q = 0; q < g.count; ++q) {
-      const std::ptrdiff_t a = g.at + q * g.step;
-      const std::size_t b = g.node + static_cast<std::size_t>(q) * g.along;
-      step = std::max(step, std::abs(bz[a] - t.uz[b]));
-      if (full)
-        step = std::max(step, static_cast<double>(std::max(std::abs(bx[a] - t.ux[b]), std::abs(by[a] - t.uy[b]))));
-    }
+    double step = largest_step(bz + g.at, g.step, t.uz.data() + g.node, g.along, g.count);
+    if (full)
+      step = std::max(step, static_cast<double>(largest_step_xy(bx + g.at, by + g.at, g.step, t.ux.data() + g.node,
+                                                                t.uy.data() + g.node, g.along, g.count)));
     k.boundary_activity[g.side] = step / sleep_u;
   }
   return k;
@@ -230,6 +246,24 @@ double Surface::omega_bound() const {
 
 namespace {
 
+/// Largest |v_o - v_m|^2 (bit patterns) of count entries; o null: velocities of 0.
+std::uint32_t largest_relative(const float* ox, const float* oy, const double* oz, const float* mx, const float* my,
+                               const double* mz, int count) {
+  std::uint32_t m = 0u;
+  if (!ox) {
+    for (int k = 0; k < count; ++k) {
+      const float dx = 0.f - mx[k], dy = 0.f - my[k], dz = static_cast<float>(0.0 - mz[k]);
+      m = std::max(m, std::bit_cast<std::uint32_t>(dx * dx + dy * dy + dz * dz));
+    }
+    return m;
+  }
+  for (int k = 0; k < count; ++k) {
+    const float dx = ox[k] - mx[k], dy = oy[k] - my[k], dz = static_cast<float>(oz[k] - mz[k]);
+    m = std::max(m, std::bit_cast<std::uint32_t>(dx * dx + dy * dy + dz * dz));
+  }
+  return m;
+}
+
 /// Largest |v_b - v_a|^2 over the axis springs across a tile's side, from the edges' new
 /// velocities (3-D): the kernel measures only the springs inside a tile.
 std::uint32_t relative_across(const Surface::State& s, const TileData& t, int side) {
@@ -240,15 +274,15 @@ std::uint32_t relative_across(const Surface::State& s, const TileData& t, int si
                      : side == kernel::kWest  ? kernel::kEast
                                               : kernel::kWest;
   const int count = side <= kernel::kNorth ? t.w : t.h;
-  std::uint32_t m = 0u;
-  for (int k = 0; k < count; ++k) {
-    const std::size_t a = static_cast<std::size_t>(side * s.T + k), b = static_cast<std::size_t>(facing * s.T + k);
-    const TileData::Edges* o = n ? &n->edges[static_cast<std::size_t>(n->cur)] : nullptr;
-    const float dx = (o ? o->vx[b] : 0.f) - mine.vx[a], dy = (o ? o->vy[b] : 0.f) - mine.vy[a];
-    const float dz = static_cast<float>((o ? o->vz[b] : 0.0) - mine.vz[a]);
-    m = std::max(m, std::bit_cast<std::uint32_t>(dx * dx + dy * dy + dz * dz));
-  }
-  return m;
+  const std::size_t a = static_cast<std::size_t>(side * s.T), b = static_cast<std::size_t>(facing * s.T);
+  // The neighbour's test out of the loop (it ran per entry, every substep, on two sides of
+  // every tile): where there is none its velocities read as 0, the same arithmetic.
+  if (!n)
+    return largest_relative(nullptr, nullptr, nullptr, mine.vx.data() + a, mine.vy.data() + a, mine.vz.data() + a,
+                            count);
+  const TileData::Edges& o = n->edges[static_cast<std::size_t>(n->cur)];
+  return largest_relative(o.vx.data() + b, o.vy.data() + b, o.vz.data() + b, mine.vx.data() + a, mine.vy.data() + a,
+                          mine.vz.data() + a, count);
 }
 
 struct Totals {
@@ -421,7 +455,11 @@ void update_sleep(const SurfaceSettings& settings, Surface::State& s, const std:
     slept.emplace_back(&t, put_to_sleep(s, t));
   }
   if (slept.empty()) return;
-  s.rebuild_awake_list();
+  // Only tiles left the list: dropping them keeps it ascending, in O(awake) rather than a
+  // pass over every tile ever created (a large lake holds many more asleep than awake).
+  std::erase_if(s.awake, [&s](std::int32_t slot) {
+    return !s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(slot)])]->awake;
+  });
   for (const auto& [t, momentum] : slept) spread_momentum(s, *t, momentum);
 }
 

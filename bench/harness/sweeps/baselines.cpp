@@ -24,6 +24,7 @@
 #include "shore/scenes/terrain_step_cases.h"
 #include "shore/scenes/water_kernel_cases.h"
 #include "shore/scenes/world.h"
+#include "shore/water/surface_settings.h"
 #include "sweep.h"
 #include "sweep_util.h"
 
@@ -181,12 +182,13 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
               .op = ">=",
               .threshold = 7.0,
               .unit = "x"});
-  // The same cases with larger tiles (sleeping is off here, so only the unit of work
-  // changes, not the bits): how much of the default case is the fixed cost per tile row,
-  // and what a larger default tile would give (docs/water.md).
+  // The same cases with other tiles (sleeping is off here, so only the unit of work
+  // changes, not the bits): the former default (32) and a larger one, how much of the
+  // default case is the fixed cost per tile row (docs/water.md).
   constexpr int kDenseTile = 128;
+  const int default_tile = water::SleepSettings{}.tile;
   const std::string dense = "_tile" + std::to_string(kDenseTile);
-  for (int tile : {64, kDenseTile}) {
+  for (int tile : {32, kDenseTile}) {
     const std::string suffix = "_tile" + std::to_string(tile);
     ctx.progress("water 256^2: fast kernels with tiles of " + std::to_string(tile));
     const wb::KernelThroughput f =
@@ -194,8 +196,8 @@ void water_kernels(const SweepContext& ctx, SweepResult& out) {
     const wb::KernelThroughput v =
         add(wb::measure_kernel_throughput(wb::KernelVariant::vertical_only, 256, 1, min_s, tile), suffix);
     out.figure("water.fast_vs_reference_256" + suffix, f.node_steps_per_second / ref256.node_steps_per_second,
-               "x (3-D, 256 x 256, 1 thread, tiles of " + std::to_string(tile) +
-                   " instead of the default 32; not the target's case)");
+               "x (3-D, 256 x 256, 1 thread, tiles of " + std::to_string(tile) + " instead of the default " +
+                   std::to_string(default_tile) + "; not the target's case)");
     out.figure("water.fast_vs_reference_256_vertical" + suffix, v.node_steps_per_second / vref256.node_steps_per_second,
                "x (vertical-only, 256 x 256, 1 thread, tiles of " + std::to_string(tile) + ")");
   }
