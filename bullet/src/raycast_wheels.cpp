@@ -223,20 +223,22 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   wheel.bearing_part = wheel.envelope;
   if (std::abs(speed) > kRolling)
     keep_front(terrain, p.pose.getOrigin(), speed > 0 ? forward : -forward, wheel.bearing_part);
-  double offset = terrain.bearing_offset(wheel.bearing_part, p.load);
-  terrain::Bearing bearing = terrain.bearing(wheel.bearing_part, offset);
+  // One solve for both loads below: the second re-measures no offset the first measured.
+  wheel.solve.reset(terrain, wheel.bearing_part);
+  double offset = wheel.solve.offset(p.load);
+  const terrain::Bearing* bearing = &wheel.solve.bearing(offset);
   if (vehicle.soil != nullptr) {
     // Its traction; the soil it shears bears less (shear::loosening): a slipping wheel
     // sinks deeper, pressed as if its load were 1 / s^n times larger.
     const terrain::Material& m =
         terrain.material_at(terrain.column_i(p.pose.getOrigin().x()), terrain.column_j(p.pose.getOrigin().y()));
-    const double s = terrain::shear::loosening(m, grip(terrain, bearing, m, h, vehicle, k, p));
+    const double s = terrain::shear::loosening(m, grip(terrain, *bearing, m, h, vehicle, k, p));
     if (s < 1.0) {
-      offset = terrain.bearing_offset(wheel.bearing_part, p.load / det::pow(s, m.bekker_n));
-      bearing = terrain.bearing(wheel.bearing_part, offset);
+      offset = wheel.solve.offset(p.load / det::pow(s, m.bekker_n));
+      bearing = &wheel.solve.bearing(offset);
     }
   }
-  const double push = compaction_push(terrain, bearing, p.pose.getOrigin(), forward, p.radius, p.load);
+  const double push = compaction_push(terrain, *bearing, p.pose.getOrigin(), forward, p.radius, p.load);
   chassis->applyImpulse(world_forward * btScalar(push * h), p.at);
   wheel.push = push;
   if (vehicle.soil != nullptr) vehicle.soil->soil(k).last.resistance = push;

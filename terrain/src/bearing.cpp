@@ -51,6 +51,14 @@ std::vector<BearingColumn> bearing_columns(const TileStore& store, const Terrain
 Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats, const TerrainSettings& s,
                  std::span<const Material> palette, double offset, bool with_columns) {
   Bearing out;
+  capacity_into(columns, mats, s, palette, offset, with_columns, out);
+  return out;
+}
+
+void capacity_into(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats, const TerrainSettings& s,
+                   std::span<const Material> palette, double offset, bool with_columns, Bearing& out) {
+  out.capacity = 0.0, out.patch_width = 0.0, out.contact_columns = 0;
+  out.columns.clear();
   const double tol = s.contact_tolerance;
   std::int64_t i0 = std::numeric_limits<std::int64_t>::max(), j0 = i0;
   std::int64_t i1 = std::numeric_limits<std::int64_t>::min(), j1 = i1;
@@ -59,7 +67,7 @@ Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::ui
     ++out.contact_columns;
     i0 = std::min(i0, c.i), i1 = std::max(i1, c.i), j0 = std::min(j0, c.j), j1 = std::max(j1, c.j);
   }
-  if (out.contact_columns == 0) return out;
+  if (out.contact_columns == 0) return;
   const double b = static_cast<double>(std::min(i1 - i0 + 1, j1 - j0 + 1)) * s.cell;
   out.patch_width = b;
   const bool rigid = s.material.rigid;
@@ -84,7 +92,6 @@ Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::ui
     add_columns([&](std::size_t) -> const Material& { return palette[0]; });
   else
     add_columns([&](std::size_t k) -> const Material& { return palette[mats[k]]; });
-  return out;
 }
 
 // Capacity grows with the offset (more columns touch, each sinks further), so a bracket
@@ -93,8 +100,14 @@ Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::ui
 // so the soil carries at least the load.
 double offset_for_load(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
                        const TerrainSettings& s, std::span<const Material> palette, double load) {
+  return offset_for_load(columns, load,
+                         [&](double o) { return capacity(columns, mats, s, palette, o, false).capacity; });
+}
+
+double offset_for_load(std::span<const BearingColumn> columns, double load,
+                       const std::function<double(double)>& capacity_at) {
   if (columns.empty()) return 0.0;  // the body covers no column: nothing to sink into
-  auto f = [&](double o) { return capacity(columns, mats, s, palette, o, false).capacity - load; };
+  auto f = [&](double o) { return capacity_at(o) - load; };
   double f_lo = f(0.0);
   if (f_lo >= 0.0) return 0.0;
   // Every covered column at bedrock bears anything: that offset closes the bracket.

@@ -3,6 +3,7 @@
 // touches), and the offset at which it bears a load.
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -35,8 +36,15 @@ struct BearingColumn {
 [[nodiscard]] Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
                                const TerrainSettings& s, std::span<const Material> palette, double offset,
                                bool with_columns);
+/// capacity() into out, whose buffers it reuses (out.columns is cleared first).
+void capacity_into(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats, const TerrainSettings& s,
+                   std::span<const Material> palette, double offset, bool with_columns, Bearing& out);
 /// The offset at which the capacity equals load (Terrain::bearing_offset).
 [[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
                                      const TerrainSettings& s, std::span<const Material> palette, double load);
+/// The same solve with the capacity at an offset (N) from capacity_at: every offset it
+/// returns was measured by capacity_at, except 0 when columns is empty.
+[[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, double load,
+                                     const std::function<double(double)>& capacity_at);
 
 }  // namespace shore::terrain
