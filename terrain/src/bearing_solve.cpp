@@ -13,6 +13,7 @@ struct BearingSolve::State {
   const Terrain::Impl* terrain = nullptr;
   std::vector<BearingColumn> columns;
   std::vector<std::uint8_t> mats;
+  std::vector<det::FixedPower> powers;  ///< the palette's z^n, kept while its exponents stay
   /// Every offset measured since the reset with its bearing; entries past `used` are
   /// spare buffers from earlier envelopes.
   std::vector<double> offsets;
@@ -28,7 +29,7 @@ struct BearingSolve::State {
     if (const Bearing* known = find(offset)) return *known;
     if (used == measured.size()) measured.emplace_back(), offsets.push_back(0.0);
     offsets[used] = offset;
-    capacity_into(columns, mats, terrain->s, terrain->palette, offset, true, measured[used]);
+    capacity_into(columns, mats, terrain->s, terrain->palette, powers, offset, true, measured[used]);
     return measured[used++];
   }
 };
@@ -42,6 +43,7 @@ void BearingSolve::reset(const Terrain& terrain, const EnvelopeRaster& envelope)
   check_envelope(&envelope, "terrain.BearingSolve.reset.envelope");
   State& st = *state_;
   st.terrain = terrain.impl_.get();
+  if (!powers_fit(st.powers, st.terrain->palette)) st.powers = bearing_powers(st.terrain->palette);
   st.used = 0;
   st.mats.clear();
   st.columns = bearing_columns(st.terrain->tiles, st.terrain->s, st.terrain->palette, envelope, false, 0.0,
