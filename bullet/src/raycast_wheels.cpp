@@ -90,13 +90,16 @@ RimSpan rim_strips(const terrain::Terrain& terrain, const terrain::Bearing& bear
   rim.assign(static_cast<std::size_t>(2 * half + 1), RimStrip{});
   const terrain::Material* last = nullptr;
   double tan_phi = 0.0;
+  // One material: no column needs looking up (material_at finds the column's tile).
+  const std::span<const terrain::Material> palette = terrain.palette();
+  const bool one_material = palette.size() == 1;
   int front = -half - 1, back = half + 1;
   for (const terrain::ColumnForce& c : bearing.columns) {
     if (!(c.force > 0.0)) continue;
     const double dx = terrain.column_x(c.i) - double(centre.x()), dy = terrain.column_y(c.j) - double(centre.y());
     const double s = std::clamp(dx * double(forward.x()) + dy * double(forward.y()), -reach, reach);
     const int b = std::clamp(static_cast<int>(std::lround(s / cell)), -half, half);
-    const terrain::Material& m = terrain.material_at(c.i, c.j);
+    const terrain::Material& m = one_material ? palette[0] : terrain.material_at(c.i, c.j);
     if (&m != last) last = &m, tan_phi = det::tan(m.friction_angle);
     rim[static_cast<std::size_t>(b + half)].strength += m.cohesion * area + share * c.force * tan_phi;
     front = std::max(front, b), back = std::min(back, b);
