@@ -74,6 +74,11 @@ TEST(BearingSolve, RuttedPaintedGroundMatchesTerrainBitForBit) {
   const shore::EnvelopeRaster ball = sphere_envelope(t, 0.05, 0.03, 0.15, 0.12);
   const Imprint im{&ball};
   t.step({&im, 1});
+  {  // the plate sinks (the solve brackets and narrows) for the larger loads
+    BearingSolve solve;
+    solve.reset(t, box_envelope(-15, -15, kPlate, kPlate, 0.0));
+    EXPECT_GT(solve.offset(3000.0), 1e-3);
+  }
   for (const double bottom : {0.0, -0.01, -0.04}) {
     const shore::EnvelopeRaster env = box_envelope(-15, -15, kPlate, kPlate, bottom);
     expect_like_terrain(t, env, {200.0, 3000.0, 1500.0, 3000.0, 0.0});
