@@ -19,9 +19,17 @@ constexpr double kCarriesAnything = std::numeric_limits<double>::infinity();
 std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s,
                                            std::span<const Material> palette, const EnvelopeRaster& env,
                                            bool only_touching, double offset, std::vector<std::uint8_t>* mats) {
+  std::vector<BearingColumn> columns;
+  bearing_columns_into(store, s, palette, env, only_touching, offset, mats, columns);
+  return columns;
+}
+
+void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
+                          const EnvelopeRaster& env, bool only_touching, double offset, std::vector<std::uint8_t>* mats,
+                          std::vector<BearingColumn>& columns) {
   const BedrockDepth depth(palette, s.material.soil_depth);
   const double tol = s.contact_tolerance;
-  std::vector<BearingColumn> columns;
+  columns.clear();
   store.for_each_run({env.i0, env.j0, env.nx, env.ny}, [&](const Tile* t, const TileRun& run) {
     const double* lower = env.lower.data() + static_cast<std::size_t>(run.y) * env.nx + run.x;
     const std::int64_t i0 = env.i0 + run.x, j = env.j0 + run.y;
@@ -41,7 +49,6 @@ std::vector<BearingColumn> bearing_columns(const TileStore& store, const Terrain
       if (mats) mats->push_back(t && !t->material.empty() ? t->material[run.local + static_cast<std::size_t>(r)] : 0);
     }
   });
-  return columns;
 }
 
 std::vector<det::FixedPower> bearing_powers(std::span<const Material> palette) {

@@ -32,6 +32,10 @@ struct BearingColumn {
                                                          std::span<const Material> palette, const EnvelopeRaster& env,
                                                          bool only_touching, double offset,
                                                          std::vector<std::uint8_t>* mats);
+/// bearing_columns() into columns (cleared first), whose buffer it reuses.
+void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
+                          const EnvelopeRaster& env, bool only_touching, double offset, std::vector<std::uint8_t>* mats,
+                          std::vector<BearingColumn>& columns);
 /// z^n for each palette entry's Bekker exponent n, in palette order: the bearing's power law.
 [[nodiscard]] std::vector<det::FixedPower> bearing_powers(std::span<const Material> palette);
 /// Whether powers were made by bearing_powers(palette) for a palette with these exponents.

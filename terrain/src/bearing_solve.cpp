@@ -46,8 +46,8 @@ void BearingSolve::reset(const Terrain& terrain, const EnvelopeRaster& envelope)
   if (!powers_fit(st.powers, st.terrain->palette)) st.powers = bearing_powers(st.terrain->palette);
   st.used = 0;
   st.mats.clear();
-  st.columns = bearing_columns(st.terrain->tiles, st.terrain->s, st.terrain->palette, envelope, false, 0.0,
-                               st.terrain->palette.size() > 1 ? &st.mats : nullptr);
+  bearing_columns_into(st.terrain->tiles, st.terrain->s, st.terrain->palette, envelope, false, 0.0,
+                       st.terrain->palette.size() > 1 ? &st.mats : nullptr, st.columns);
 }
 
 double BearingSolve::offset(double load) {
