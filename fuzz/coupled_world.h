@@ -6,7 +6,9 @@
 // of one restores into another (docs/checkpoints.md). The multibody's state (base pose and
 // velocities, joint position and rate) is its own section, MBODY: a checkpoint holds it
 // exactly when its world has links (the ball-only checkpoints, kept crash inputs among
-// them, stay what they were).
+// them, stay what they were). With a car, the world also holds a small raycast car
+// (Shore's SoilVehicle) whose wheels are in both couplings; its wheels' state is the
+// section VEHICLE (bullet::save_vehicle).
 
 #include <cmath>
 #include <memory>
@@ -21,7 +23,9 @@
 #include <btBulletDynamicsCommon.h>
 
 #include "shore/bullet/body_state.h"
+#include "shore/bullet/soil_vehicle.h"
 #include "shore/bullet/terrain_coupling.h"
+#include "shore/bullet/vehicle_state.h"
 #include "shore/bullet/water_coupling.h"
 #include "shore/core/byte_io.h"
 #include "shore/core/checkpoint_file.h"
@@ -68,8 +72,8 @@ constexpr int kMultiBodyValues = 3 + 4 + 3 + 3 + 2;
 class CoupledWorld {
  public:
   static constexpr double kSubstep = 1.0 / 240.0;
-  /// links: the world has the multibody too.
-  explicit CoupledWorld(bool links)
+  /// links: the world has the multibody too; car: the raycast car too.
+  explicit CoupledWorld(bool links, bool car = false)
       : config_(small_pools()),
         dispatcher_(&config_),
         world_(&dispatcher_, &broadphase_, &solver_, &config_),
@@ -79,7 +83,8 @@ class CoupledWorld {
         water_(world_, surface_),
         ball_shape_(btScalar(0.08)),
         base_shape_(btVector3(0.06f, 0.05f, 0.03f)),
-        wheel_shape_(btVector3(0.06f, 0.03f, 0.06f)) {
+        wheel_shape_(btVector3(0.06f, 0.03f, 0.06f)),
+        chassis_shape_(btVector3(0.12f, 0.08f, 0.02f)) {
     world_.setGravity(btVector3(0, 0, btScalar(-9.81)));
     btVector3 inertia;
     ball_shape_.calculateLocalInertia(btScalar(1.0), inertia);
@@ -91,8 +96,13 @@ class CoupledWorld {
     ground_.add_body(ball_.get());
     water_.add_body(ball_.get());
     if (links) add_robot();
+    if (car) add_car();
   }
   ~CoupledWorld() {
+    if (car_) {
+      world_.removeAction(car_.get());
+      world_.removeRigidBody(chassis_.get());
+    }
     if (robot_) {
       world_.removeCollisionObject(wheel_.get());
       world_.removeCollisionObject(base_.get());
@@ -111,22 +121,27 @@ class CoupledWorld {
     w.add("TERRCP", ground_.save_state());
     w.add("WATER", surface_.save_state());
     w.add("WATERCP", water_.save_state());
-    w.add("BODIES", bullet::save_bodies(world_));
+    w.add("BODIES", bullet::save_bodies(world_, bodies()));
     if (robot_) w.add("MBODY", save_robot());
+    if (car_) w.add("VEHICLE", bullet::save_vehicle(*car_));
     return w.bytes();
   }
   /// The order restores must keep: what the couplings read (soil, water, bodies) first.
   void restore(const CheckpointReader& r) {
     soil_ = terrain::Terrain::load_bytes(r.section("TERRAIN"), r.describe("TERRAIN"));
     surface_.restore_state(r.section("WATER"), r.describe("WATER"));
-    bullet::restore_bodies(world_, r.section("BODIES"), r.describe("BODIES"));
+    bullet::restore_bodies(world_, bodies(), r.section("BODIES"), r.describe("BODIES"));
     if (robot_) restore_robot(r.section("MBODY"), r.describe("MBODY"));
+    if (car_) bullet::restore_vehicle(*car_, r.section("VEHICLE"), r.describe("VEHICLE"));
     ground_.restore_state(r.section("TERRCP"), r.describe("TERRCP"));
     water_.restore_state(r.section("WATERCP"), r.describe("WATERCP"));
   }
 
   [[nodiscard]] const btRigidBody& ball() const { return *ball_; }
   [[nodiscard]] bool links() const { return robot_ != nullptr; }
+  [[nodiscard]] bool car() const { return car_ != nullptr; }
+  /// The car's chassis (null without a car).
+  [[nodiscard]] const btRigidBody* chassis() const { return chassis_.get(); }
   /// The multibody's state as doubles, in MBODY's order (hashes, finiteness); empty
   /// without links.
   [[nodiscard]] std::vector<double> robot_state() const {
@@ -153,6 +168,36 @@ class CoupledWorld {
   [[nodiscard]] const water::Surface& surface() const { return surface_; }
 
  private:
+  /// The rigid bodies in the order added (save_bodies' list: the world's collision-object
+  /// order changes as tiles come and go).
+  [[nodiscard]] std::vector<btRigidBody*> bodies() const {
+    std::vector<btRigidBody*> out{ball_.get()};
+    if (chassis_) out.push_back(chassis_.get());
+    return out;
+  }
+  /// A 4 kg chassis on four 4 cm wheels, a SoilVehicle driving its rear wheels, its wheels
+  /// in both couplings; it stands beside the ball, half over the water.
+  void add_car() {
+    btVector3 inertia;
+    chassis_shape_.calculateLocalInertia(btScalar(4.0), inertia);
+    chassis_ = std::make_unique<btRigidBody>(btScalar(4.0), nullptr, &chassis_shape_, inertia);
+    chassis_->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(-0.15f, 0.15f, 0.1f)));
+    chassis_->setActivationState(DISABLE_DEACTIVATION);
+    world_.addRigidBody(chassis_.get());
+    btRaycastVehicle::btVehicleTuning tuning;
+    raycaster_ = std::make_unique<btDefaultVehicleRaycaster>(&world_);
+    car_ = std::make_unique<bullet::SoilVehicle>(tuning, chassis_.get(), raycaster_.get());
+    car_->setCoordinateSystem(1, 2, 0);  // right y, up z, forward x
+    for (int k = 0; k < 4; ++k) {
+      const btVector3 at(k < 2 ? 0.09f : -0.09f, k % 2 == 0 ? 0.07f : -0.07f, -0.01f);
+      car_->addWheel(at, btVector3(0, 0, -1), btVector3(0, -1, 0), btScalar(0.05), btScalar(0.04), tuning, k < 2);
+      car_->applyEngineForce(btScalar(k < 2 ? 0.0 : 3.0), k);
+    }
+    world_.addAction(car_.get());
+    const double widths[] = {0.03, 0.03, 0.03, 0.03};
+    ground_.add_vehicle(car_.get(), widths);
+    water_.add_vehicle(car_.get(), widths);
+  }
   /// A 2 kg box base, free, with a 0.5 kg wheel hinged to its side (about y), both links of
   /// both couplings; it lands on the soil beside the ball, in the water.
   void add_robot() {
@@ -230,6 +275,10 @@ class CoupledWorld {
   btCylinderShape wheel_shape_;  // its axis along the link's y, the hinge's
   std::unique_ptr<btMultiBody> robot_;
   std::unique_ptr<btMultiBodyLinkCollider> base_, wheel_;
+  btBoxShape chassis_shape_;
+  std::unique_ptr<btRigidBody> chassis_;
+  std::unique_ptr<btDefaultVehicleRaycaster> raycaster_;
+  std::unique_ptr<bullet::SoilVehicle> car_;
 };
 
 }  // namespace shore::fuzz

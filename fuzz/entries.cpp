@@ -124,6 +124,9 @@ std::uint64_t world_hash(const CoupledWorld& w) {
     h.add(double(t.getOrigin()[k])), h.add(double(w.ball().getLinearVelocity()[k])),
         h.add(double(w.ball().getAngularVelocity()[k]));
   for (const double v : w.robot_state()) h.add(v);
+  if (const btRigidBody* c = w.chassis())
+    for (int k = 0; k < 3; ++k)
+      h.add(double(c->getWorldTransform().getOrigin()[k])), h.add(double(c->getLinearVelocity()[k]));
   return h.value();
 }
 
@@ -134,6 +137,10 @@ void require_finite_world(const CoupledWorld& w, const char* when) {
                 std::isfinite(w.ball().getAngularVelocity()[k]),
             std::string("non-finite ball ") + when);
   for (const double v : w.robot_state()) require(std::isfinite(v), std::string("non-finite multibody ") + when);
+  if (const btRigidBody* c = w.chassis())
+    for (int k = 0; k < 3; ++k)
+      require(std::isfinite(c->getWorldTransform().getOrigin()[k]) && std::isfinite(c->getLinearVelocity()[k]),
+              std::string("non-finite car ") + when);
   require_finite_volume(w.soil(), when);
   require(std::isfinite(w.surface().volume()), std::string("non-finite water volume ") + when);
 }
@@ -149,8 +156,9 @@ bool coupled_checkpoint(std::span<const std::uint8_t> data) {
   } catch (const FileError&) {
     return false;
   }
-  // A checkpoint with the multibody's section restores into the world with links.
-  auto world = std::make_unique<CoupledWorld>(reader->has("MBODY"));
+  // A checkpoint with the multibody's section restores into the world with links, one with
+  // a vehicle's into the world with the car.
+  auto world = std::make_unique<CoupledWorld>(reader->has("MBODY"), reader->has("VEHICLE"));
   try {
     world->restore(*reader);
   } catch (const FileError&) {
@@ -166,7 +174,7 @@ bool coupled_checkpoint(std::span<const std::uint8_t> data) {
     return true;  // a step refused (an envelope window too large to gather): allowed
   }
   require_finite_world(*world, "after three steps");
-  CoupledWorld again(world->links());
+  CoupledWorld again(world->links(), world->car());
   again.restore(CheckpointReader(saved, "fuzz round trip", bullet::scalar_bytes()));
   for (int k = 0; k < 3; ++k) again.step();
   require(world_hash(again) == world_hash(*world), "a saved checkpoint does not continue identically");

@@ -167,11 +167,13 @@ void material_map_seeds(const fs::path& dir) {
 }
 
 /// A coupled world mid-run: the ball has pressed the soil and entered the water; with
-/// links (seed_links_*), the multibody's base and wheel have too.
+/// links (seed_links_*), the multibody's base and wheel have too; with the car
+/// (seed_car_*), its wheels.
 void checkpoint_seeds(const fs::path& dir) {
-  for (const bool links : {false, true}) {
-    shore::fuzz::CoupledWorld w(links);
-    const std::string prefix = links ? "seed_links_" : "seed_";
+  for (const int kind : {0, 1, 2}) {
+    const bool links = kind == 1, car = kind == 2;
+    shore::fuzz::CoupledWorld w(links, car);
+    const std::string prefix = links ? "seed_links_" : car ? "seed_car_" : "seed_";
     const Bytes start = w.checkpoint();
     write(dir / (prefix + "start"), entry_input(true, start));
     for (int k = 0; k < 30; ++k) w.step();

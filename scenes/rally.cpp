@@ -1,10 +1,10 @@
 // rally: a four-wheel-drive raycast car (Bullet's VehicleDemo set-up: RaycastCar, built as
 // Shore's SoilVehicle so its wheels grip as the soil does) driven by a script up a valley of
-// rolling sand, through a mud patch and into a ford, where it stalls at the far bank with
+// rolling sand, through a mud patch and into a ford, where it stalls in the muddy bed with
 // its wheels spinning. Its wheels sink and leave ruts (TerrainCoupling::add_vehicle),
-// its chassis floats and drags in the ford (WaterCoupling) and makes a wake. The camera
-// follows the car; the viewer drives it with the arrow keys. One terrain with a material
-// map: sand, with mud painted where the valley floor is wet.
+// its chassis and wheels float and drag in the ford (WaterCoupling::add_body, add_vehicle)
+// and make a wake. The camera follows the car; the viewer drives it with the arrow keys.
+// One terrain with a material map: sand, with mud painted where the valley floor is wet.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -36,7 +36,7 @@ constexpr double kFordRadius = 6.0;       // m
 constexpr double kFordDepth = 0.9;        // m the valley floor drops at the ford's centre
 constexpr double kWaterLevel = -0.3;      // m, the ford's still water
 constexpr double kMudX = 10.0;            // m, centre of the mud patch
-constexpr double kMudRadius = 3.0;        // m
+constexpr double kMudRadius = 2.0;        // m
 constexpr double kStartX = -4.0;          // m, where the car starts
 constexpr double kEngine = 1400.0;        // N per driven wheel, the script's throttle
 constexpr double kWheelWidth = 0.3;       // m
@@ -110,7 +110,7 @@ class Rally final : public Scene {
         water_(world_.world(), ford_) {
     land_.set_palette({terrain::Material::sand(), terrain::Material::mud()});
     land_.paint_disc(kMudX, floor_line(kMudX), kMudRadius, 1);           // the wet hollow
-    land_.paint_disc(kFordX, floor_line(kFordX), kFordRadius + 1.0, 1);  // the ford's banks and bed
+    land_.paint_disc(kFordX, floor_line(kFordX), kFordRadius - 2.0, 1);  // the ford's muddy bed
     water_.fix_shoreline(land_);
     RaycastCarSettings car;
     car.soil_traction = true;  // the wheels grip as the soil does (shore::bullet::SoilVehicle)
@@ -124,6 +124,7 @@ class Rally final : public Scene {
     const std::array<double, 4> widths{kWheelWidth, kWheelWidth, kWheelWidth, kWheelWidth};
     ground_.add_vehicle(&car_->vehicle(), widths);
     water_.add_body(car_->chassis());
+    water_.add_vehicle(&car_->vehicle(), widths);  // the wheels float, drag and make waves too
     bodies_.push_back(car_->chassis());
     start_ = car_->chassis()->getCenterOfMassPosition();
   }
@@ -140,6 +141,9 @@ class Rally final : public Scene {
     wheels_down_ += car_->wheels_on_ground();
     if (c.z() < land_.bedrock(land_.column_i(c.x()), land_.column_j(c.y()))) ++fallthrough_;
     in_water_ = std::max(in_water_, water_.submerged_volume(car_->chassis()));
+    double wheels = 0.0;
+    for (int k = 0; k < 4; ++k) wheels += water_.wheel_water(&car_->vehicle(), k).submerged_volume;
+    wheels_in_water_ = std::max(wheels_in_water_, wheels);
   }
 
   [[nodiscard]] SceneState state() const override {
@@ -154,6 +158,7 @@ class Rally final : public Scene {
     m["volume_drift_rel"] = volume_drift_rel(land_);
     m["deepest_rut_m"] = deepest_rut();
     m["chassis_submerged_m3"] = in_water_;
+    m["wheels_submerged_m3"] = wheels_in_water_;
     m["water_displaced_m3"] = water_.stats().displaced_volume;
   }
 
@@ -168,7 +173,8 @@ class Rally final : public Scene {
                     .waters = {{&ford_, &water_}},
                     .bounds = {kX0 + 2.0, -kHalfY + 2.0, kX1 - 2.0, kHalfY - 2.0},
                     .focus = car_->chassis(),
-                    .clock = &k_};
+                    .clock = &k_,
+                    .vehicles = {&car_->vehicle()}};
     c.drive = [this](double forward, double turn) {
       driven_ = forward != 0.0 || turn != 0.0;
       if (driven_) car_->drive(kEngine * forward, forward == 0.0 ? 200.0 : 0.0, 0.35 * turn);
@@ -233,7 +239,7 @@ class Rally final : public Scene {
   btVector3 start_{0, 0, 0};
   int k_ = 0;
   bool driven_ = false;
-  double distance_ = 0.0, in_water_ = 0.0;
+  double distance_ = 0.0, in_water_ = 0.0, wheels_in_water_ = 0.0;
   long wheels_down_ = 0, fallthrough_ = 0;
 };
 
@@ -245,9 +251,10 @@ SceneType rally_scene() {
       .description =
           "A four-wheel-drive btRaycastVehicle car (800 kg, Bullet's VehicleDemo set-up, built as Shore's SoilVehicle) "
           "is driven up a valley of rolling sand, through a hollow painted mud and into a ford. Its wheels sink as the "
-          "soil's bearing needs, grip as its shear strength allows and leave ruts behind; the chassis floats and drags "
-          "in the ford and makes a wake. It stalls at the ford's far bank, its wheels spin and dig in there: "
-          "deepest_rut_m is that hole, not a rut of the open drive. One terrain with a material "
+          "soil's bearing needs, grip as its shear strength allows and leave ruts behind; the chassis and the wheels "
+          "float and drag in the ford and make waves and a wake. It stalls in the ford's muddy bed, its wheels spin "
+          "and "
+          "dig in there: deepest_rut_m is that hole, not a rut of the open drive. One terrain with a material "
           "map (sand, mud). The camera follows the car; in the viewer the arrow keys drive it.",
       .defaults = {.seconds = 14.0, .substep = 1.0 / 60.0, .material = "sand", .cell = 0.04, .smoke_seconds = 1.0},
       .metric_help =
@@ -259,6 +266,7 @@ SceneType rally_scene() {
               {"volume_drift_rel", "|ground + compacted + airborne - edited| / moved volume (must be < 1e-6)"},
               {"deepest_rut_m", "largest lowering of the ground below its untouched surface along the track, m"},
               {"chassis_submerged_m3", "largest volume of the chassis under water, m^3"},
+              {"wheels_submerged_m3", "largest volume of the four wheels under water together, m^3"},
               {"water_displaced_m3", "water the car pushed aside in total (signed), m^3"},
           },
       .create = make_scene<Rally>,

@@ -22,6 +22,15 @@ constexpr double kRolling = 0.05;   // m/s: a wheel slower than this is standing
 
 }  // namespace
 
+void cast_wheel_rays(btRaycastVehicle& vehicle) {
+  for (int k = 0; k < vehicle.getNumWheels(); ++k) {
+    vehicle.rayCast(vehicle.getWheelInfo(k));
+    vehicle.updateWheelTransform(k, false);
+    vehicle.getWheelInfo(k).m_skidInfo = btScalar(1);  // where Bullet's friction starts from: no skid
+  }
+  vehicle.updateSuspension(btScalar(0));  // its step does not enter the suspension force
+}
+
 void check_wheel_widths(const btRaycastVehicle& vehicle, std::span<const double> widths, const std::string& where) {
   const int n = vehicle.getNumWheels();
   if (widths.size() != static_cast<std::size_t>(n))
@@ -164,6 +173,7 @@ void RaycastWheels::add(btRaycastVehicle* vehicle, std::span<const double> width
     v.wheels.push_back(std::move(w));
   }
   if (v.soil != nullptr) v.soil->grounds_.push_back(ground_);
+  cast_wheel_rays(*vehicle);
   vehicles_.push_back(std::move(v));
 }
 

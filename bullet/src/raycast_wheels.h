@@ -42,6 +42,11 @@ struct SoftGround;
 /// ray hit (Bullet's own wheel transform is made before the ray and lags a falling wheel),
 /// local x along its steered axle, local y forward, local z up the suspension.
 btTransform wheel_pose(const btWheelInfo& info);
+/// Casts the vehicle's wheel rays and finds their suspension forces as the vehicle's next
+/// update does first (its own rayCast, updateWheelTransform and updateSuspension). Bullet leaves a wheel's ray
+/// uninitialised until the vehicle first updates, and a coupling whose action runs before
+/// the vehicle's reads it in that substep: after this it reads what the vehicle would.
+void cast_wheel_rays(btRaycastVehicle& vehicle);
 /// Throws InvalidSetting (`where` names the call) unless `widths` holds one width in
 /// (0, 10] m per wheel of the vehicle and every wheel's radius is positive and finite.
 void check_wheel_widths(const btRaycastVehicle& vehicle, std::span<const double> widths, const std::string& where);

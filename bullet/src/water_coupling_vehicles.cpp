@@ -38,6 +38,7 @@ void WaterCoupling::add_vehicle(btRaycastVehicle* vehicle, std::span<const doubl
                            "must be in one water coupling (else both would float its wheels)");
   });
   coupling_detail::check_wheel_widths(*vehicle, wheel_widths, where);
+  coupling_detail::cast_wheel_rays(*vehicle);
   coupling_detail::WaterVehicle added{vehicle, {}};
   for (int k = 0; k < vehicle->getNumWheels(); ++k) {
     auto wheel = coupling_detail::CoupledRaycastWheel::make(*vehicle, k, wheel_widths[static_cast<std::size_t>(k)]);

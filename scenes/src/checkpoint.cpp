@@ -9,6 +9,7 @@
 
 #include "shore/bullet/body_state.h"
 #include "shore/bullet/terrain_coupling.h"
+#include "shore/bullet/vehicle_state.h"
 #include "shore/bullet/water_coupling.h"
 #include "shore/core/byte_io.h"
 #include "shore/core/error.h"
@@ -69,6 +70,7 @@ CheckpointWriter save_checkpoint(Scene& scene) {
   }
   w.add("BODIES", bullet::save_bodies(c.world->world(), c.world->bodies()));
   if (!c.world->multibodies().empty()) w.add("MBODIES", save_multibodies(*c.world));
+  for (std::size_t k = 0; k < c.vehicles.size(); ++k) w.add(tag("VEHICLE", k), bullet::save_vehicle(*c.vehicles[k]));
   ByteWriter clock;
   clock.put(static_cast<std::int64_t>(c.clock ? *c.clock : -1));
   w.add("SCENE", std::move(clock.bytes));
@@ -89,6 +91,10 @@ void restore_checkpoint(Scene& scene, const CheckpointReader& r) {
   }
   bullet::restore_bodies(c.world->world(), c.world->bodies(), r.section("BODIES"), r.describe("BODIES"));
   if (!c.world->multibodies().empty()) restore_multibodies(*c.world, r.section("MBODIES"), r.describe("MBODIES"));
+  for (std::size_t k = 0; k < c.vehicles.size(); ++k) {
+    const std::string t = tag("VEHICLE", k);
+    bullet::restore_vehicle(*c.vehicles[k], r.section(t), r.describe(t));
+  }
   for (std::size_t k = 0; k < c.soils.size(); ++k)
     if (c.soils[k].coupling) {
       const std::string t = tag("TERRCP", k);

@@ -112,9 +112,11 @@ TEST(SceneCheckpointSoilClock, RestoredOnEitherSideOfASoilStepContinuesBitIdenti
 // feet on three soils; tracks: a bicycle in a rut; rover: a btMultiBody on sand and water
 // (its joint positions restored with the links' cached rotations, which the colliders'
 // poses are built from: written past them, the restored wheels stood at the fresh scene's
-// angles until the next step and the run went on otherwise).
+// angles until the next step and the run went on otherwise); rally: a raycast car (its
+// wheels' rotations and spins restored beside its chassis: bullet::save_vehicle) whose
+// wheels are in the soil and the water.
 INSTANTIATE_TEST_SUITE_P(Scenes, SceneCheckpoint,
-                         testing::Values("impact", "pond", "beach", "footprints", "tracks", "rover"),
+                         testing::Values("impact", "pond", "beach", "footprints", "tracks", "rover", "rally"),
                          [](const auto& p) { return p.param; });
 
 // Bodies that touch through Bullet (the vehicle's wheels on rigid ground, a box resting on a

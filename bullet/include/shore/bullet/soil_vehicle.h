@@ -36,6 +36,7 @@ inline namespace SHORE_BULLET_ABI {
 namespace coupling_detail {
 class RaycastWheels;
 struct SoftGround;
+struct SoilVehicleState;
 }  // namespace coupling_detail
 
 /// What the soil did to one wheel of a SoilVehicle in the last substep (all zero, on_soil
@@ -70,6 +71,7 @@ class SoilVehicle : public btRaycastVehicle {
 
  private:
   friend class coupling_detail::RaycastWheels;
+  friend struct coupling_detail::SoilVehicleState;  // checkpoints (vehicle_state.cpp)
   struct WheelSoil {
     WheelTraction last;
     double held_spin = std::numeric_limits<double>::quiet_NaN();  ///< rad/s, NaN: not held

@@ -9,7 +9,8 @@
 // TerrainCoupling::save_state), WATER, WATER1, ... (Surface::save_state), WATERCP, ...
 // (WaterCoupling::save_state), BODIES (bullet::save_bodies), MBODIES (a Featherstone
 // world's multibodies, if it has any: per multibody its base pose and velocities and its
-// joints' positions and rates as btScalars), SCENE (the clock).
+// joints' positions and rates as btScalars), VEHICLE, VEHICLE1, ... (its raycast vehicles'
+// wheels: bullet::save_vehicle), SCENE (the clock).
 
 #include <span>
 #include <string>

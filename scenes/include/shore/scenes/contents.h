@@ -15,6 +15,7 @@
 #include "shore/water/surface.h"
 
 class btCollisionObject;
+class btRaycastVehicle;
 
 namespace shore::scenes {
 
@@ -57,6 +58,9 @@ struct SceneContents {
   /// The scene's substep counter, which its script reads (null: its script keeps no
   /// clock); checkpoints save and restore it (checkpoint.h).
   int* clock = nullptr;
+  /// The scene's raycast vehicles, whose wheels' state checkpoints save and restore beside
+  /// their chassis (shore/bullet/vehicle_state.h).
+  std::vector<btRaycastVehicle*> vehicles = {};
 };
 
 }  // namespace shore::scenes
