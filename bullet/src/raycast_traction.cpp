@@ -11,7 +11,7 @@ namespace coupling_detail {
 
 namespace {
 
-constexpr int kSpinIterations = 40;  // bisection: the spin to 1e-12 of its range
+constexpr double kSpinTolerance = 0x1p-40;  // the spin to this fraction of its range, as 40 bisections
 
 /// The rim in the direction the wheel rolls: angles and speeds mirrored when it rolls back.
 struct RollingFrame {
@@ -52,18 +52,42 @@ RimForce rim_force(std::span<const RimStrip> rim, const TractionInput& in, const
   return out;
 }
 
+/// A root of g on [0, top] given g_lo = g(0) < 0 <= g_hi = g(top): regula falsi (Illinois: an
+/// end that stays twice has its value halved), each step kept 1 % of the bracket from its
+/// ends, until the bracket is `width` wide; its middle. Some ten evaluations where bisection
+/// took forty to the same width.
+template <class G>
+double bracketed_root(G g, double top, double g_lo, double g_hi, double width) {
+  double lo = 0.0, hi = top;
+  int side = 0;
+  for (int it = 0; it < 200 && hi - lo > width; ++it) {
+    double mid = 0.5 * (lo + hi);
+    const double secant = lo - g_lo * (hi - lo) / (g_hi - g_lo);
+    if (secant > lo && secant < hi) mid = secant;
+    mid = std::clamp(mid, lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo));
+    const double g_mid = g(mid);
+    if (g_mid < 0.0) {
+      lo = mid, g_lo = g_mid;
+      if (side == -1) g_hi *= 0.5;
+      side = -1;
+    } else {
+      hi = mid, g_hi = g_mid;
+      if (side == 1) g_lo *= 0.5;
+      side = 1;
+    }
+  }
+  return 0.5 * (lo + hi);
+}
+
 /// The spin at which the rim's shear balances the drive less the brake (rolling frame).
 double balancing_spin(std::span<const RimStrip> rim, const TractionInput& in, const RollingFrame& f) {
   const double target = f.dir * in.drive - std::max(in.brake, 0.0);
-  if (target <= rim_force(rim, in, f, 0.0).along) return 0.0;  // locked: the brake holds it
-  const double top = (5.0 * std::max(f.speed, 0.0) + 2.0) / in.radius;
-  if (target >= rim_force(rim, in, f, top).along) return top;  // spins: more than the soil takes
-  double lo = 0.0, hi = top;
-  for (int k = 0; k < kSpinIterations; ++k) {
-    const double mid = 0.5 * (lo + hi);
-    (rim_force(rim, in, f, mid).along < target ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
+  const auto g = [&](double omega) { return rim_force(rim, in, f, omega).along - target; };
+  const double g_lo = g(0.0);
+  if (g_lo >= 0.0) return 0.0;  // locked: the brake holds it
+  const double top = (5.0 * std::max(f.speed, 0.0) + 2.0) / in.radius, g_hi = g(top);
+  if (g_hi <= 0.0) return top;  // spins: more than the soil takes
+  return bracketed_root(g, top, g_lo, g_hi, kSpinTolerance * top);
 }
 
 double slip_of(double omega, double speed, double r) {

@@ -99,13 +99,16 @@ RimSpan rim_strips(const terrain::Terrain& terrain, const terrain::Bearing& bear
   rim.assign(static_cast<std::size_t>(2 * half + 1), RimStrip{});
   const terrain::Material* last = nullptr;
   double tan_phi = 0.0;
+  // One material: no column needs looking up (material_at finds the column's tile).
+  const std::span<const terrain::Material> palette = terrain.palette();
+  const bool one_material = palette.size() == 1;
   int front = -half - 1, back = half + 1;
   for (const terrain::ColumnForce& c : bearing.columns) {
     if (!(c.force > 0.0)) continue;
     const double dx = terrain.column_x(c.i) - double(centre.x()), dy = terrain.column_y(c.j) - double(centre.y());
     const double s = std::clamp(dx * double(forward.x()) + dy * double(forward.y()), -reach, reach);
     const int b = std::clamp(static_cast<int>(std::lround(s / cell)), -half, half);
-    const terrain::Material& m = terrain.material_at(c.i, c.j);
+    const terrain::Material& m = one_material ? palette[0] : terrain.material_at(c.i, c.j);
     if (&m != last) last = &m, tan_phi = det::tan(m.friction_angle);
     rim[static_cast<std::size_t>(b + half)].strength += m.cohesion * area + share * c.force * tan_phi;
     front = std::max(front, b), back = std::min(back, b);
@@ -233,20 +236,22 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   wheel.bearing_part = wheel.envelope;
   if (std::abs(speed) > kRolling)
     keep_front(terrain, p.pose.getOrigin(), speed > 0 ? forward : -forward, wheel.bearing_part);
-  double offset = terrain.bearing_offset(wheel.bearing_part, p.load);
-  terrain::Bearing bearing = terrain.bearing(wheel.bearing_part, offset);
+  // One solve for both loads below: the second re-measures no offset the first measured.
+  wheel.solve.reset(terrain, wheel.bearing_part);
+  double offset = wheel.solve.offset(p.load);
+  const terrain::Bearing* bearing = &wheel.solve.bearing(offset);
   if (vehicle.soil != nullptr) {
     // Its traction; the soil it shears bears less (shear::loosening): a slipping wheel
     // sinks deeper, pressed as if its load were 1 / s^n times larger.
     const terrain::Material& m =
         terrain.material_at(terrain.column_i(p.pose.getOrigin().x()), terrain.column_j(p.pose.getOrigin().y()));
-    const double s = terrain::shear::loosening(m, grip(terrain, bearing, m, h, vehicle, k, p));
+    const double s = terrain::shear::loosening(m, grip(terrain, *bearing, m, h, vehicle, k, p));
     if (s < 1.0) {
-      offset = terrain.bearing_offset(wheel.bearing_part, p.load / det::pow(s, m.bekker_n));
-      bearing = terrain.bearing(wheel.bearing_part, offset);
+      offset = wheel.solve.offset(p.load / det::pow(s, m.bekker_n));
+      bearing = &wheel.solve.bearing(offset);
     }
   }
-  const double push = compaction_push(terrain, bearing, p.pose.getOrigin(), forward, p.radius, p.load);
+  const double push = compaction_push(terrain, *bearing, p.pose.getOrigin(), forward, p.radius, p.load);
   chassis->applyImpulse(world_forward * btScalar(push * h), p.at);
   wheel.push = push;
   if (vehicle.soil != nullptr) vehicle.soil->soil(k).last.resistance = push;

@@ -4,8 +4,8 @@
 // the wheel sits in) and carries the chassis on its suspension. On soft ground Shore adds
 // what the ray cannot feel:
 // - sinkage: the wheel's cylinder, resting where its ray hit, is pressed into the terrain
-//   as far as the column model needs to carry the wheel's suspension force (Terrain::
-//   bearing_offset, with the columns' memory of earlier passes) on its front arc when it
+//   as far as the column model needs to carry the wheel's suspension force (BearingSolve,
+//   Terrain::bearing_offset's answer, with the columns' memory of earlier passes) on its front arc when it
 //   rolls, on the whole rim when it stands (Bekker's rolling and static wheels); the next
 //   ray finds the rut;
 // - compaction resistance: the columns' push on the cylinder's sloped front, resolved along
@@ -29,6 +29,7 @@
 #include "shore/bullet/ground_frame.h"
 #include "shore/bullet/soil_vehicle.h"
 #include "shore/core/envelope.h"
+#include "shore/terrain/bearing_solve.h"
 #include "shore/terrain/terrain.h"
 
 namespace shore::bullet {
@@ -88,6 +89,7 @@ class RaycastWheels {
     double reach = 0.0;                       ///< m (check_rasterizable)
     EnvelopeRaster envelope;                  ///< the whole cylinder: what it presses
     EnvelopeRaster bearing_part;              ///< what bears its load (the front arc when rolling)
+    terrain::BearingSolve solve;              ///< scratch: bearing_part's columns and capacities
     terrain::Imprint imprint;
     double push = 0.0;          ///< N along the heading, last substep
     std::vector<RimStrip> rim;  ///< scratch: the rim's strips in contact

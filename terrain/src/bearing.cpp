@@ -19,9 +19,17 @@ constexpr double kCarriesAnything = std::numeric_limits<double>::infinity();
 std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s,
                                            std::span<const Material> palette, const EnvelopeRaster& env,
                                            bool only_touching, double offset, std::vector<std::uint8_t>* mats) {
+  std::vector<BearingColumn> columns;
+  bearing_columns_into(store, s, palette, env, only_touching, offset, mats, columns);
+  return columns;
+}
+
+void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
+                          const EnvelopeRaster& env, bool only_touching, double offset, std::vector<std::uint8_t>* mats,
+                          std::vector<BearingColumn>& columns) {
   const BedrockDepth depth(palette, s.material.soil_depth);
   const double tol = s.contact_tolerance;
-  std::vector<BearingColumn> columns;
+  columns.clear();
   store.for_each_run({env.i0, env.j0, env.nx, env.ny}, [&](const Tile* t, const TileRun& run) {
     const double* lower = env.lower.data() + static_cast<std::size_t>(run.y) * env.nx + run.x;
     const std::int64_t i0 = env.i0 + run.x, j = env.j0 + run.y;
@@ -41,16 +49,40 @@ std::vector<BearingColumn> bearing_columns(const TileStore& store, const Terrain
       if (mats) mats->push_back(t && !t->material.empty() ? t->material[run.local + static_cast<std::size_t>(r)] : 0);
     }
   });
-  return columns;
+}
+
+std::vector<det::FixedPower> bearing_powers(std::span<const Material> palette) {
+  std::vector<det::FixedPower> powers;
+  powers.reserve(palette.size());
+  for (const Material& m : palette) powers.emplace_back(m.bekker_n);
+  return powers;
+}
+
+bool powers_fit(std::span<const det::FixedPower> powers, std::span<const Material> palette) {
+  if (powers.size() != palette.size()) return false;
+  for (std::size_t k = 0; k < palette.size(); ++k)
+    if (!(powers[k].exponent() == palette[k].bekker_n)) return false;
+  return true;
+}
+
+Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats, const TerrainSettings& s,
+                 std::span<const Material> palette, std::span<const det::FixedPower> powers, double offset,
+                 bool with_columns) {
+  Bearing out;
+  capacity_into(columns, mats, s, palette, powers, offset, with_columns, out);
+  return out;
 }
 
 // A column touches when the envelope is within contact_tolerance of its top; its sinkage if
 // pressed to the envelope is its plastic sinkage plus how far the envelope lies below its
 // top. b is the smaller side of the touching columns' bounding box (each column counts as
 // one cell wide). A touched column at bedrock carries anything.
-Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats, const TerrainSettings& s,
-                 std::span<const Material> palette, double offset, bool with_columns) {
-  Bearing out;
+// Pressure: bekker::pressure's expression, z^n from the palette entry's table (det_power.h).
+void capacity_into(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats, const TerrainSettings& s,
+                   std::span<const Material> palette, std::span<const det::FixedPower> powers, double offset,
+                   bool with_columns, Bearing& out) {
+  out.capacity = 0.0, out.patch_width = 0.0, out.contact_columns = 0;
+  out.columns.clear();
   const double tol = s.contact_tolerance;
   std::int64_t i0 = std::numeric_limits<std::int64_t>::max(), j0 = i0;
   std::int64_t i1 = std::numeric_limits<std::int64_t>::min(), j1 = i1;
@@ -59,14 +91,17 @@ Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::ui
     ++out.contact_columns;
     i0 = std::min(i0, c.i), i1 = std::max(i1, c.i), j0 = std::min(j0, c.j), j1 = std::max(j1, c.j);
   }
-  if (out.contact_columns == 0) return out;
+  if (out.contact_columns == 0) return;
   const double b = static_cast<double>(std::min(i1 - i0 + 1, j1 - j0 + 1)) * s.cell;
   out.patch_width = b;
   const bool rigid = s.material.rigid;
   const double cell_area = s.cell * s.cell;
-  if (with_columns) out.columns.reserve(static_cast<std::size_t>(out.contact_columns));
-  // material_of(k): column k's material; one material: a fixed reference the loop keeps.
-  const auto add_columns = [&](auto material_of) {
+  // Written by index into a sized buffer: push_back's bookkeeping cost as much as the rest.
+  if (with_columns) out.columns.resize(static_cast<std::size_t>(out.contact_columns));
+  ColumnForce* const written = out.columns.data();
+  std::size_t n = 0;
+  // coefficient(k): column k's k_c / b + k_phi; one material: hoisted out of the loop.
+  const auto add_columns = [&](auto entry_of, auto coefficient) {
     for (std::size_t k = 0; k < columns.size(); ++k) {
       const BearingColumn& c = columns[k];
       const double e = c.lower - offset;
@@ -74,17 +109,21 @@ Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::ui
       double force;
       if (rigid || e <= c.bed || c.top <= c.bed)
         force = kCarriesAnything;
-      else
-        force = bekker::pressure(material_of(k), b, c.sink + std::max(0.0, c.top - e)) * cell_area;
+      else {
+        const double z = c.sink + std::max(0.0, c.top - e);
+        force = z <= 0.0 ? 0.0 : coefficient(k) * powers[entry_of(k)](z) * cell_area;
+      }
       out.capacity += force;
-      if (with_columns) out.columns.push_back({c.i, c.j, force});
+      if (with_columns) written[n++] = {c.i, c.j, force};
     }
   };
-  if (mats.empty())
-    add_columns([&](std::size_t) -> const Material& { return palette[0]; });
-  else
-    add_columns([&](std::size_t k) -> const Material& { return palette[mats[k]]; });
-  return out;
+  const auto law = [&](std::size_t m) { return palette[m].bekker_kc / b + palette[m].bekker_kphi; };
+  if (mats.empty()) {
+    const double only = law(0);
+    add_columns([](std::size_t) { return std::size_t{0}; }, [&](std::size_t) { return only; });
+  } else {
+    add_columns([&](std::size_t k) { return std::size_t{mats[k]}; }, [&](std::size_t k) { return law(mats[k]); });
+  }
 }
 
 // Capacity grows with the offset (more columns touch, each sinks further), so a bracket
@@ -92,9 +131,16 @@ Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::ui
 // variant), falling back to bisection, until it is 1e-7 m wide; the upper end is returned
 // so the soil carries at least the load.
 double offset_for_load(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
-                       const TerrainSettings& s, std::span<const Material> palette, double load) {
+                       const TerrainSettings& s, std::span<const Material> palette,
+                       std::span<const det::FixedPower> powers, double load) {
+  return offset_for_load(columns, load,
+                         [&](double o) { return capacity(columns, mats, s, palette, powers, o, false).capacity; });
+}
+
+double offset_for_load(std::span<const BearingColumn> columns, double load,
+                       const std::function<double(double)>& capacity_at) {
   if (columns.empty()) return 0.0;  // the body covers no column: nothing to sink into
-  auto f = [&](double o) { return capacity(columns, mats, s, palette, o, false).capacity - load; };
+  auto f = [&](double o) { return capacity_at(o) - load; };
   double f_lo = f(0.0);
   if (f_lo >= 0.0) return 0.0;
   // Every covered column at bedrock bears anything: that offset closes the bracket.
@@ -137,7 +183,7 @@ Bearing Terrain::bearing(const EnvelopeRaster& envelope, double offset) const {
   std::vector<std::uint8_t> mats;
   const std::vector<BearingColumn> columns = bearing_columns(impl_->tiles, impl_->s, impl_->palette, envelope, true,
                                                              offset, impl_->palette.size() > 1 ? &mats : nullptr);
-  return capacity(columns, mats, impl_->s, impl_->palette, offset, true);
+  return capacity(columns, mats, impl_->s, impl_->palette, bearing_powers(impl_->palette), offset, true);
 }
 
 double Terrain::bearing_offset(const EnvelopeRaster& envelope, double load) const {
@@ -146,7 +192,7 @@ double Terrain::bearing_offset(const EnvelopeRaster& envelope, double load) cons
   std::vector<std::uint8_t> mats;
   const std::vector<BearingColumn> columns = bearing_columns(impl_->tiles, impl_->s, impl_->palette, envelope, false,
                                                              0.0, impl_->palette.size() > 1 ? &mats : nullptr);
-  return offset_for_load(columns, mats, impl_->s, impl_->palette, load);
+  return offset_for_load(columns, mats, impl_->s, impl_->palette, bearing_powers(impl_->palette), load);
 }
 
 }  // namespace shore::terrain

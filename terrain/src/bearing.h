@@ -3,9 +3,11 @@
 // touches), and the offset at which it bears a load.
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
+#include "shore/core/det_power.h"
 #include "shore/core/envelope.h"
 #include "shore/terrain/terrain.h"
 #include "tile_store.h"
@@ -30,13 +32,31 @@ struct BearingColumn {
                                                          std::span<const Material> palette, const EnvelopeRaster& env,
                                                          bool only_touching, double offset,
                                                          std::vector<std::uint8_t>* mats);
+/// bearing_columns() into columns (cleared first), whose buffer it reuses.
+void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
+                          const EnvelopeRaster& env, bool only_touching, double offset, std::vector<std::uint8_t>* mats,
+                          std::vector<BearingColumn>& columns);
+/// z^n for each palette entry's Bekker exponent n, in palette order: the bearing's power law.
+[[nodiscard]] std::vector<det::FixedPower> bearing_powers(std::span<const Material> palette);
+/// Whether powers were made by bearing_powers(palette) for a palette with these exponents.
+[[nodiscard]] bool powers_fit(std::span<const det::FixedPower> powers, std::span<const Material> palette);
 /// Bekker capacity of the columns the envelope, lowered by offset, touches (Terrain::bearing).
-/// Each column bears by its own material's law: palette[mats[k]] (mats empty: palette[0]).
+/// Each column bears by its own material's law: palette[mats[k]] (mats empty: palette[0]),
+/// its z^n by powers[mats[k]] (bearing_powers(palette)).
 [[nodiscard]] Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
-                               const TerrainSettings& s, std::span<const Material> palette, double offset,
-                               bool with_columns);
+                               const TerrainSettings& s, std::span<const Material> palette,
+                               std::span<const det::FixedPower> powers, double offset, bool with_columns);
+/// capacity() into out, whose buffers it reuses (out.columns is cleared first).
+void capacity_into(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats, const TerrainSettings& s,
+                   std::span<const Material> palette, std::span<const det::FixedPower> powers, double offset,
+                   bool with_columns, Bearing& out);
 /// The offset at which the capacity equals load (Terrain::bearing_offset).
 [[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
-                                     const TerrainSettings& s, std::span<const Material> palette, double load);
+                                     const TerrainSettings& s, std::span<const Material> palette,
+                                     std::span<const det::FixedPower> powers, double load);
+/// The same solve with the capacity at an offset (N) from capacity_at: every offset it
+/// returns was measured by capacity_at, except 0 when columns is empty.
+[[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, double load,
+                                     const std::function<double(double)>& capacity_at);
 
 }  // namespace shore::terrain

@@ -352,7 +352,8 @@ class Terrain {
                             std::shared_ptr<const HeightSource> base = nullptr);
 
  private:
-  friend class SoilDelta;  // reads and writes columns in bulk (shore/terrain/soil_delta.h)
+  friend class SoilDelta;     // reads and writes columns in bulk (shore/terrain/soil_delta.h)
+  friend class BearingSolve;  // reads the columns under an envelope once for several loads
   void read_rect(const GridRect& rect, std::span<double> out, bool base) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;

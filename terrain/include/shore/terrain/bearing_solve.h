@@ -1,0 +1,43 @@
+#pragma once
+// The bearing of one envelope solved for several loads in turn (a raycast wheel's
+// suspension load, then the larger load its slipping, loosened soil feels). The columns the
+// envelope covers are read once, and every capacity the solves find is kept with its
+// per-column forces, so the second load re-measures none of the offsets the first one
+// measured (both bracket from the same offsets), and the answer's Bearing is the one the
+// solve measured last, not a fresh one. Results are bit-identical to
+// Terrain::bearing_offset(envelope, load) and Terrain::bearing(envelope, that offset).
+
+#include <memory>
+
+#include "shore/core/envelope.h"
+#include "shore/terrain/terrain.h"
+
+namespace shore::terrain {
+
+class BearingSolve {
+ public:
+  BearingSolve();
+  ~BearingSolve();
+  BearingSolve(BearingSolve&&) noexcept;
+  BearingSolve& operator=(BearingSolve&&) noexcept;
+
+  /// Reads the columns `envelope` covers on `terrain` and forgets earlier loads (its
+  /// buffers are kept for the next envelope). The terrain must outlive the solves and stay
+  /// unchanged until the next reset. Throws InvalidSetting on a bad envelope, like
+  /// Terrain::bearing_offset.
+  void reset(const Terrain& terrain, const EnvelopeRaster& envelope);
+  /// The offset (m, >= 0) at which the soil carries `load` (N, >= 0): exactly
+  /// Terrain::bearing_offset's. Throws InvalidSetting on a negative or NaN load, or before
+  /// the first reset.
+  [[nodiscard]] double offset(double load);
+  /// What the soil bears with the envelope lowered by an offset offset() returned since the
+  /// last reset: exactly Terrain::bearing(envelope, offset). Valid until the next call of
+  /// offset() or reset(). Throws InvalidSetting for an offset no solve measured.
+  [[nodiscard]] const Bearing& bearing(double offset) const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace shore::terrain

@@ -1,0 +1,108 @@
+// BearingSolve: one envelope solved for two loads in turn gives exactly what
+// Terrain::bearing_offset and Terrain::bearing give for each, on a fresh plate (Bekker's
+// sinkage) and on painted, already rutted ground; bad use is refused by name.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "shore/core/error.h"
+#include "shore/terrain/bearing_solve.h"
+#include "shore/terrain/bekker.h"
+#include "shore/terrain/terrain.h"
+#include "terrain_fixtures.h"
+
+using namespace shore::terrain;
+using namespace shore::terrain::testing;
+
+namespace {
+
+constexpr int kPlate = 30;  // 0.3 m x 0.3 m at 1 cm
+
+/// Both bearings hold the same bits (capacity, width, every column's force).
+void expect_same(const Bearing& a, const Bearing& b) {
+  EXPECT_EQ(std::memcmp(&a.capacity, &b.capacity, sizeof(double)), 0);
+  EXPECT_EQ(a.patch_width, b.patch_width);
+  EXPECT_EQ(a.contact_columns, b.contact_columns);
+  ASSERT_EQ(a.columns.size(), b.columns.size());
+  for (std::size_t k = 0; k < a.columns.size(); ++k) {
+    EXPECT_EQ(a.columns[k].i, b.columns[k].i);
+    EXPECT_EQ(a.columns[k].j, b.columns[k].j);
+    EXPECT_EQ(a.columns[k].force, b.columns[k].force);
+  }
+}
+
+/// Solves env for each load in turn with one BearingSolve and checks it against the terrain.
+void expect_like_terrain(const Terrain& t, const shore::EnvelopeRaster& env, std::initializer_list<double> loads) {
+  BearingSolve solve;
+  solve.reset(t, env);
+  for (const double load : loads) {
+    const double o = solve.offset(load);
+    EXPECT_EQ(o, t.bearing_offset(env, load)) << "load " << load;
+    expect_same(solve.bearing(o), t.bearing(env, o));
+  }
+}
+
+}  // namespace
+
+TEST(BearingSolve, FreshPlateSinksAsBekkerForBothLoads) {
+  TerrainSettings s;
+  s.material = Material::sand();
+  const Terrain t(s);
+  const shore::EnvelopeRaster env = box_envelope(-15, -15, kPlate, kPlate, 0.0);
+  BearingSolve solve;
+  solve.reset(t, env);
+  for (const double p : {20e3, 50e3}) {  // Pa: the second load re-uses the first's bracket
+    const double o = solve.offset(p * 0.09);
+    EXPECT_NEAR(o, bekker::plate_sinkage(s.material, 0.3, p), 2e-7) << p << " Pa";
+    EXPECT_GE(solve.bearing(o).capacity, p * 0.09);
+  }
+  expect_like_terrain(t, env, {20e3 * 0.09, 50e3 * 0.09, 10e3 * 0.09});
+}
+
+TEST(BearingSolve, RuttedPaintedGroundMatchesTerrainBitForBit) {
+  TerrainSettings s;
+  s.material = Material::sand();
+  s.threads = 1;
+  Terrain t(s);
+  Material packed = Material::sand();
+  packed.name = "packed";
+  packed.bekker_kphi *= 4.0;
+  t.set_palette({Material::sand(), packed, Material::mud()});
+  t.paint_rect({0, -20, 20, 40}, 1);
+  t.paint_rect({-20, 0, 20, 20}, 2);
+  // A ball pressed in off centre leaves a rut with sinkage the plate then meets.
+  const shore::EnvelopeRaster ball = sphere_envelope(t, 0.05, 0.03, 0.15, 0.12);
+  const Imprint im{&ball};
+  t.step({&im, 1});
+  {  // the plate sinks (the solve brackets and narrows) for the larger loads
+    BearingSolve solve;
+    solve.reset(t, box_envelope(-15, -15, kPlate, kPlate, 0.0));
+    EXPECT_GT(solve.offset(3000.0), 1e-3);
+  }
+  for (const double bottom : {0.0, -0.01, -0.04}) {
+    const shore::EnvelopeRaster env = box_envelope(-15, -15, kPlate, kPlate, bottom);
+    expect_like_terrain(t, env, {200.0, 3000.0, 1500.0, 3000.0, 0.0});
+  }
+  // A body that covers no column: offset 0 and an empty bearing, as the terrain's.
+  shore::EnvelopeRaster none;
+  none.resize(0, 0, 4, 4, false);
+  expect_like_terrain(t, none, {100.0});
+}
+
+TEST(BearingSolve, BadUseIsRefusedByName) {
+  const Terrain t(TerrainSettings{});
+  BearingSolve solve;
+  EXPECT_THROW((void)solve.offset(1.0), shore::InvalidSetting);  // before any reset
+  shore::EnvelopeRaster bad = box_envelope(0, 0, 4, 4, 0.0);
+  bad.lower.pop_back();
+  EXPECT_THROW(solve.reset(t, bad), shore::InvalidSetting);
+  solve.reset(t, box_envelope(0, 0, 4, 4, 0.0));
+  try {
+    (void)solve.offset(-1.0);
+    FAIL() << "a negative load was taken";
+  } catch (const shore::InvalidSetting& e) {
+    EXPECT_NE(std::string(e.what()).find("load"), std::string::npos) << e.what();
+  }
+  const double o = solve.offset(50.0);
+  EXPECT_THROW((void)solve.bearing(o + 1e-3), shore::InvalidSetting);  // never measured
+}
