@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "shore/core/det_math.h"
+#include "shore/core/illinois.h"
 
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
@@ -52,33 +53,6 @@ RimForce rim_force(std::span<const RimStrip> rim, const TractionInput& in, const
   return out;
 }
 
-/// A root of g on [0, top] given g_lo = g(0) < 0 <= g_hi = g(top): regula falsi (Illinois: an
-/// end that stays twice has its value halved), each step kept 1 % of the bracket from its
-/// ends, until the bracket is `width` wide; its middle. Some ten evaluations where bisection
-/// took forty to the same width.
-template <class G>
-double bracketed_root(G g, double top, double g_lo, double g_hi, double width) {
-  double lo = 0.0, hi = top;
-  int side = 0;
-  for (int it = 0; it < 200 && hi - lo > width; ++it) {
-    double mid = 0.5 * (lo + hi);
-    const double secant = lo - g_lo * (hi - lo) / (g_hi - g_lo);
-    if (secant > lo && secant < hi) mid = secant;
-    mid = std::clamp(mid, lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo));
-    const double g_mid = g(mid);
-    if (g_mid < 0.0) {
-      lo = mid, g_lo = g_mid;
-      if (side == -1) g_hi *= 0.5;
-      side = -1;
-    } else {
-      hi = mid, g_hi = g_mid;
-      if (side == 1) g_lo *= 0.5;
-      side = 1;
-    }
-  }
-  return 0.5 * (lo + hi);
-}
-
 /// The spin at which the rim's shear balances the drive less the brake (rolling frame).
 double balancing_spin(std::span<const RimStrip> rim, const TractionInput& in, const RollingFrame& f) {
   const double target = f.dir * in.drive - std::max(in.brake, 0.0);
@@ -87,7 +61,10 @@ double balancing_spin(std::span<const RimStrip> rim, const TractionInput& in, co
   if (g_lo >= 0.0) return 0.0;  // locked: the brake holds it
   const double top = (5.0 * std::max(f.speed, 0.0) + 2.0) / in.radius, g_hi = g(top);
   if (g_hi <= 0.0) return top;  // spins: more than the soil takes
-  return bracketed_root(g, top, g_lo, g_hi, kSpinTolerance * top);
+  // Some ten evaluations where bisection took forty to the same width; the middle of the
+  // last bracket.
+  const Bracket b = illinois_narrow(g, {0.0, top}, g_lo, g_hi, kSpinTolerance * top);
+  return 0.5 * (b.lo + b.hi);
 }
 
 double slip_of(double omega, double speed, double r) {

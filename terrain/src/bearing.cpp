@@ -6,6 +6,7 @@
 
 #include "bedrock_depth.h"
 #include "shore/core/error.h"
+#include "shore/core/illinois.h"
 #include "shore/terrain/bekker.h"
 #include "terrain_impl.h"
 #include "validation.h"
@@ -154,27 +155,7 @@ double offset_for_load(std::span<const BearingColumn> columns, double load,
   }
   if (f_hi < 0.0) return limit;  // unreachable (bedrock carries anything); kept as a guard
   constexpr double kTolerance = 1e-7;
-  int side = 0;
-  for (int it = 0; it < 200 && hi - lo > kTolerance; ++it) {
-    double mid = 0.5 * (lo + hi);
-    if (std::isfinite(f_hi)) {
-      const double secant = lo - f_lo * (hi - lo) / (f_hi - f_lo);
-      if (secant > lo && secant < hi) mid = secant;
-    }
-    // Keep the step from crawling when one end stalls.
-    mid = std::clamp(mid, lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo));
-    const double f_mid = f(mid);
-    if (f_mid < 0.0) {
-      lo = mid, f_lo = f_mid;
-      if (side == -1) f_hi *= 0.5;
-      side = -1;
-    } else {
-      hi = mid, f_hi = f_mid;
-      if (side == 1) f_lo *= 0.5;
-      side = 1;
-    }
-  }
-  return hi;
+  return illinois_narrow(f, {lo, hi}, f_lo, f_hi, kTolerance).hi;
 }
 
 Bearing Terrain::bearing(const EnvelopeRaster& envelope, double offset) const {
