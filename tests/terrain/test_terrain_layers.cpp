@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <string>
@@ -14,6 +15,7 @@
 
 #include "shore/core/error.h"
 #include "shore/terrain/bekker.h"
+#include "shore/terrain/soil_delta.h"
 #include "shore/terrain/terrain.h"
 #include "terrain_fixtures.h"
 
@@ -82,6 +84,70 @@ double two_piece_sinkage(const Material& upper, const Material& lower, double d,
   for (int it = 0; it < 200; ++it) {
     const double mid = 0.5 * (lo + hi);
     (two_piece(upper, lower, d, b, mid) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+/// Lowest line of a wheel (axis along y, diameter D, width b) whose bottom is at `bottom`,
+/// axle at x.
+shore::EnvelopeRaster wheel(const Terrain& t, double x, double bottom, double D, double b) {
+  const double r = D / 2;
+  shore::EnvelopeRaster env;
+  const std::int64_t i0 = t.column_i(x - r), i1 = t.column_i(x + r);
+  const std::int64_t j0 = t.column_j(-b / 2), j1 = t.column_j(b / 2);
+  env.resize(i0 - 1, j0 - 1, static_cast<int>(i1 - i0 + 3), static_cast<int>(j1 - j0 + 3), false);
+  for (std::int64_t j = j0; j <= j1; ++j)
+    for (std::int64_t i = i0; i <= i1; ++i) {
+      const double dx = t.column_x(i) - x;
+      if (std::abs(dx) < r && std::abs(t.column_y(j)) <= b / 2)
+        env.lower[env.index(i, j)] = bottom + r - std::sqrt(r * r - dx * dx);
+    }
+  return env;
+}
+
+/// A wheel carrying W towed at 1 m/s for 2 m (1/240 s steps): each step its bottom goes to
+/// the depth at which the soil carries W, and it presses there. The depth at each step.
+std::vector<double> tow(Terrain& t, double W, double D, double b) {
+  std::vector<double> depth;
+  for (int k = 0; k < 480; ++k) {
+    const double x = k / 240.0;
+    const double d = t.bearing_offset(wheel(t, x, 0.0, D, b), W);
+    const shore::EnvelopeRaster env = wheel(t, x, -d, D, b);
+    const Imprint im{&env};
+    t.step({&im, 1});
+    depth.push_back(d);
+  }
+  return depth;
+}
+
+/// Mean of the depths while the axle is in [x0, x1) m.
+double mean_depth(const std::vector<double>& depth, double x0, double x1) {
+  double sum = 0.0;
+  int n = 0;
+  for (std::size_t k = 0; k < depth.size(); ++k)
+    if (k / 240.0 >= x0 && k / 240.0 < x1) sum += depth[k], ++n;
+  return sum / n;
+}
+
+/// Bekker's rolling wheel on the two-piece law: the sinkage z0 at which the front arc,
+/// pressing fresh soil to z(x) = z0 - (r - sqrt(r^2 - x^2)), carries W = b * integral of
+/// p(z(x)) dx (midpoint rule, 4000 strips; bisection on z0).
+double rolling_two_piece(const Material& upper, const Material& lower, double d, double W, double D, double b) {
+  const double r = D / 2;
+  const auto carried = [&](double z0) {
+    const double reach = std::sqrt(2 * r * z0 - z0 * z0);
+    constexpr int kStrips = 4000;
+    double sum = 0.0;
+    for (int k = 0; k < kStrips; ++k) {
+      const double x = (k + 0.5) * reach / kStrips;
+      sum += two_piece(upper, lower, d, b, z0 - (r - std::sqrt(r * r - x * x)));
+    }
+    return b * sum * reach / kStrips;
+  };
+  double lo = 0.0, hi = 0.5 * r;
+  for (int it = 0; it < 100; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (carried(mid) < W ? lo : hi) = mid;
   }
   return 0.5 * (lo + hi);
 }
@@ -258,4 +324,83 @@ TEST(Layers, AnUnlayeredColumnOfALayeredTerrainComputesAsWithoutLayers) {
     }
   const shore::EnvelopeRaster env = sphere_envelope(plain, 0.03, 0.0, 0.05, 0.08);
   EXPECT_EQ(layered.bearing_offset(env, 40.0), plain.bearing_offset(env, 40.0));
+}
+
+TEST(Layers, DeltasCarryTheLayersToAReplica) {
+  // A server that paints a crust, presses through it, re-layers part and clears part; a
+  // replica driven only by exact deltas ends with its layers and its state hash.
+  const Material crust = packed_sand(), sand = Material::sand();
+  Terrain server(one_thread(sand)), replica(one_thread(sand));
+  std::uint64_t sent = server.generation(), mirrored = sent;
+  std::vector<std::uint32_t> versions;
+  const auto sync = [&] {
+    DeltaSettings exact;
+    exact.quantum = 0.0;
+    const std::vector<unsigned char> delta = SoilDelta::encode(server, sent, exact);
+    std::uint32_t v = 0;
+    std::memcpy(&v, delta.data() + 8, sizeof v);
+    versions.push_back(v);
+    sent = server.generation();
+    mirrored = SoilDelta::apply(replica, delta, mirrored);
+  };
+  server.set_palette({sand, crust});
+  server.paint_rect({-40, -40, 80, 80}, 1);
+  sync();  // a map without layers: version 3
+  server.paint_layer_rect({-40, -40, 80, 80}, 0, 0.005);
+  (void)ramp_plate(server, -15, -15, 30e3);
+  sync();
+  server.paint_layer_disc(0.2, 0.2, 0.1, 0, 0.01);
+  server.clear_layers({-40, -40, 20, 80});
+  sync();
+  EXPECT_EQ(versions, (std::vector<std::uint32_t>{3, 4, 4}));
+  EXPECT_EQ(replica.state_hash(), server.state_hash());
+  for (std::int64_t j = -40; j < 40; j += 3)
+    for (std::int64_t i = -40; i < 40; i += 3) {
+      ASSERT_EQ(replica.lower_index(i, j), server.lower_index(i, j)) << i << ", " << j;
+      ASSERT_EQ(replica.layer_boundary(i, j), server.layer_boundary(i, j)) << i << ", " << j;
+    }
+  // The replica bears as the server does (the two-piece law on its broken crust).
+  const shore::EnvelopeRaster env = box_envelope(-10, -10, 20, 20, server.height(0, 0));
+  EXPECT_EQ(replica.bearing_offset(env, 2000.0), server.bearing_offset(env, 2000.0));
+}
+
+TEST(Layers, ATowedWheelCrossingOntoACrustRidesOnItOrBreaksThrough) {
+  // The bench's wheel (D 0.8 m, b 0.2 m, 4 kN) towed over sand, then from x = 1 m over a
+  // packed crust on sand: 5 cm thick it carries the wheel as packed sand alone would; 1.5 cm
+  // thick the wheel breaks through, to the two-piece law's rolling sinkage.
+  const double W = 4000, D = 0.8, b = 0.2;
+  const Material sand = Material::sand(), crust = packed_sand();
+  const auto crusted = [&](double depth) {
+    Terrain t(one_thread(sand));
+    t.set_palette({sand, crust});
+    t.paint_rect({100, -50, 400, 100}, 1);
+    t.paint_layer_rect({100, -50, 400, 100}, 0, depth);
+    return tow(t, W, D, b);
+  };
+  const std::vector<double> thick = crusted(0.05), thin = crusted(0.015);
+  Terrain packed_alone(one_thread(crust));
+  const std::vector<double> on_packed = tow(packed_alone, W, D, b);
+  const double thick_z = mean_depth(thick, 1.75, 2.0), thin_z = mean_depth(thin, 1.75, 2.0);
+  const double packed_z = mean_depth(on_packed, 1.75, 2.0), sand_z = mean_depth(thick, 0.35, 0.6);
+  const double ref_thick = rolling_two_piece(crust, sand, 0.05, W, D, b);
+  const double ref_thin = rolling_two_piece(crust, sand, 0.015, W, D, b);
+  const double ref_sand = rolling_two_piece(sand, sand, 1.0, W, D, b);
+  std::printf(
+      "[ towed ] sand %.4f m (arc integral %.4f, Bekker rolling %.4f); 5 cm crust %.4f m (packed alone %.4f, arc "
+      "integral %.4f); 1.5 cm crust %.4f m (two-piece arc integral %.4f)\n",
+      sand_z, ref_sand, bekker::wheel_sinkage_rolling(sand, W, D, b), thick_z, packed_z, ref_thick, thin_z, ref_thin);
+  ASSERT_LT(ref_thick, 0.05);
+  EXPECT_NEAR(thick_z, packed_z, 0.01 * packed_z);  // within the crust: as on the crust alone
+  ASSERT_GT(ref_thin, 0.015);
+  EXPECT_GT(thin_z, 0.015);  // broken through
+  EXPECT_GT(thin_z, 1.1 * packed_z);
+  EXPECT_LT(thin_z, sand_z);
+  // The quasi-static column wheel against the front arc's Bekker integral (as the one-soil
+  // towed wheel against Bekker's rolling wheel).
+  EXPECT_NEAR(sand_z, ref_sand, 0.1 * ref_sand);
+  EXPECT_NEAR(thick_z, ref_thick, 0.1 * ref_thick);
+  EXPECT_NEAR(thin_z, ref_thin, 0.1 * ref_thin);
+  // The column wheel falls short of the arc integral by the same share on the broken crust
+  // as on sand alone.
+  EXPECT_NEAR(thin_z / ref_thin, sand_z / ref_sand, 0.03);
 }
