@@ -340,8 +340,12 @@ class PatchBuilder {
     if (!(el.pressure < kInf)) return;
     const Material& m = exposed_of(soil_index);
     const double z = sinkage_at(soil_index, el.point.z), step = kRateStep * s_.cell;
-    // A layered column takes the secant everywhere: its tangent jumps at the boundary.
-    if (z >= kRateTangentSteps * step && !layered(soil_index)) {
+    // A layered column takes the tangent only where the next step stays within its crust
+    // (there its law is the crust's); near and beyond the boundary the secant, as the
+    // tangent jumps there.
+    const bool one_piece =
+        !layered(soil_index) || (z + step) * shear::loosening(m, j) <= soil_.layer[soil_index].boundary;
+    if (z >= kRateTangentSteps * step && one_piece) {
       el.pressure_rate = m.bekker_n * el.pressure / z;
       return;
     }
