@@ -5,11 +5,13 @@
 // with the terrain untouched; layers are state (hash, file) and cost nothing unpainted.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -403,4 +405,64 @@ TEST(Layers, ATowedWheelCrossingOntoACrustRidesOnItOrBreaksThrough) {
   // The column wheel falls short of the arc integral by the same share on the broken crust
   // as on sand alone.
   EXPECT_NEAR(thin_z / ref_thin, sand_z / ref_sand, 0.03);
+}
+
+TEST(Layers, APressedColumnCompactsByTheCrustsAlphaThenTheLowerOnes) {
+  // A box pressed 1 cm into fresh mud (alpha 0.41) layered over snow (alpha 0) 4 mm down:
+  // each column compacts 4 mm by mud's share and 6 mm by snow's.
+  const Material mud = Material::mud(), snow = Material::snow();
+  Terrain t(one_thread(mud));
+  t.set_palette({mud, snow});
+  t.paint_layer_rect({-20, -20, 40, 40}, 1, 0.004);
+  const shore::EnvelopeRaster env = box_envelope(-10, -10, 20, 20, -0.01);
+  const Imprint im{&env};
+  const StepReport r = t.step({&im, 1});
+  const double area = 0.01 * 0.01;
+  const double expected = 400 * area * (0.004 * (1.0 - mud.alpha) + 0.006 * (1.0 - snow.alpha));
+  EXPECT_EQ(r.contact_columns, 400);
+  EXPECT_NEAR(r.compacted_volume, expected, 1e-12 * expected);
+  EXPECT_EQ(t.exposed_index(0, 0), 1);
+}
+
+TEST(Layers, ErosionGivesByTheExposedLayersSlopeLimits) {
+  // A 60 degree cone on columns pressed 1 cm: a mud crust (repose 63 degrees) 5 cm thick
+  // holds it; 5 mm thick it is broken through, and the sand beneath (repose 25 degrees)
+  // slumps.
+  const Material mud = Material::mud(), sand = Material::sand();
+  const auto steepest_after_relax = [&](double crust) {
+    TerrainSettings s = one_thread(mud);
+    s.max_erosion_passes = 1000;
+    Terrain t(s);
+    t.set_palette({mud, sand});
+    t.paint_layer_rect({-40, -40, 80, 80}, 1, crust);
+    const shore::EnvelopeRaster env = box_envelope(-30, -30, 60, 60, -0.01);
+    const Imprint im{&env};
+    t.step({&im, 1});
+    const double r = 0.10, slope = std::numbers::pi / 3;
+    for (std::int64_t j = -12; j <= 12; ++j)
+      for (std::int64_t i = -12; i <= 12; ++i) {
+        const double d = std::hypot(t.column_x(i), t.column_y(j));
+        if (d < r) t.set_height(i, j, -0.01 + (r - d) * std::tan(slope));
+      }
+    int rounds = 0;
+    while (t.relax({-25, -25, 50, 50}).erosion_passes == s.max_erosion_passes && rounds < 200) ++rounds;
+    double steepest = 0.0;
+    for (std::int64_t j = -20; j < 20; ++j)
+      for (std::int64_t i = -20; i < 20; ++i)
+        for (int dj = -1; dj <= 1; ++dj)
+          for (int di = -1; di <= 1; ++di) {
+            if (!di && !dj) continue;
+            const double drop = t.height(i, j) - t.height(i + di, j + dj);
+            steepest = std::max(steepest, std::atan(drop / (0.01 * std::hypot(di, dj))));
+          }
+    return steepest;
+  };
+  const double one_degree = std::numbers::pi / 180;
+  const double whole = steepest_after_relax(0.05), broken = steepest_after_relax(0.005);
+  std::printf(
+      "[ erosion ] steepest %.2f deg on a whole mud crust (repose %.2f), %.2f deg broken through to sand "
+      "(repose %.2f)\n",
+      whole / one_degree, mud.theta_out / one_degree, broken / one_degree, sand.theta_out / one_degree);
+  EXPECT_GT(whole, std::numbers::pi / 3 - 5 * one_degree);
+  EXPECT_LE(broken, sand.theta_out + one_degree);
 }
