@@ -171,7 +171,7 @@ RimSpan rim_strips(const terrain::Terrain& terrain, const terrain::Bearing& bear
     const double dx = terrain.column_x(c.i) - double(centre.x()), dy = terrain.column_y(c.j) - double(centre.y());
     const double s = std::clamp(dx * double(forward.x()) + dy * double(forward.y()), -reach, reach);
     const int b = std::clamp(static_cast<int>(std::lround(s / cell)), -half, half);
-    const terrain::Material& m = one_material ? palette[0] : terrain.material_at(c.i, c.j);
+    const terrain::Material& m = one_material ? palette[0] : terrain.exposed_material(c.i, c.j);
     if (&m != last) last = &m, tan_phi = det::tan(m.friction_angle);
     rim[static_cast<std::size_t>(b + half)].strength += m.cohesion * area + share * c.force * tan_phi;
     front = std::max(front, b), back = std::min(back, b);
@@ -318,7 +318,7 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
     // Its traction; the soil it shears bears less (shear::loosening): a slipping wheel
     // sinks deeper, pressed as if its load were 1 / s^n times larger.
     const terrain::Material& m =
-        terrain.material_at(terrain.column_i(p.pose.getOrigin().x()), terrain.column_j(p.pose.getOrigin().y()));
+        terrain.exposed_material(terrain.column_i(p.pose.getOrigin().x()), terrain.column_j(p.pose.getOrigin().y()));
     const double s = terrain::shear::loosening(m, grip(terrain, *bearing, m, h, vehicle, k, p));
     if (s < 1.0) {
       offset = wheel.solve.offset(p.load / det::pow(s, m.bekker_n));
