@@ -197,9 +197,11 @@ std::size_t Surface::State::memory_bytes() const {
 Surface::Surface(const SurfaceSettings& settings) : settings_(settings), s_(std::make_unique<State>()) {
   settings_.validate();
   State& s = *s_;
-  const bool avx2 = settings_.kernel == KernelChoice::avx2 ||
-                    (settings_.kernel == KernelChoice::automatic && kernel::avx2_available());
+  const bool automatic = settings_.kernel == KernelChoice::automatic;
+  const bool avx512 = settings_.kernel == KernelChoice::avx512 || (automatic && kernel::avx512_available());
+  const bool avx2 = settings_.kernel == KernelChoice::avx2 || (automatic && kernel::avx2_available());
   s.variant = settings_.kernel == KernelChoice::unfused ? kernel::Variant::unfused
+              : avx512                                  ? kernel::Variant::avx512
               : avx2                                    ? kernel::Variant::avx2
                                                         : kernel::Variant::generic;
   s.full = settings_.mode == SurfaceMode::full_3d;
@@ -239,10 +241,17 @@ void Surface::set_threads(int threads) {
   s_->pacer = Pacer{};
 }
 
-const char* Surface::fast_kernel_isa() { return kernel::avx2_available() ? "avx2" : "generic"; }
-bool Surface::kernel_available(KernelChoice choice) { return choice != KernelChoice::avx2 || kernel::avx2_available(); }
+const char* Surface::fast_kernel_isa() {
+  return kernel::avx512_available() ? "avx512" : kernel::avx2_available() ? "avx2" : "generic";
+}
+bool Surface::kernel_available(KernelChoice choice) {
+  if (choice == KernelChoice::avx2) return kernel::avx2_available();
+  if (choice == KernelChoice::avx512) return kernel::avx512_available();
+  return true;
+}
 const char* Surface::kernel_isa() const noexcept {
-  return s_->variant == kernel::Variant::avx2      ? "avx2"
+  return s_->variant == kernel::Variant::avx512    ? "avx512"
+         : s_->variant == kernel::Variant::avx2    ? "avx2"
          : s_->variant == kernel::Variant::unfused ? "unfused"
                                                    : "generic";
 }
