@@ -39,10 +39,17 @@ struct Tile {
   float* vx = nullptr;
   float* vy = nullptr;
   const std::uint8_t* flags = nullptr;  ///< storage: 0 free, 1 vertical-only, 2 fixed
-  double* bz = nullptr;                 ///< block: old heights with the ghost ring (scratch: the
-                                        ///< vertical-only kernel overwrites it; for the fused
-                                        ///< vertical-only kernel only the ring is gathered)
-  const float* bx = nullptr;            ///< block, 3-D only
+  /// The masks of flags kept with the tile (the surface rebuilds them when a constraint
+  /// changes, not every substep): per node of the storage, all ones where the node is not
+  /// fixed (moving) and, 3-D, where it is free (free_nodes); both null where no node is
+  /// constrained. Where masks_given is false the fused kernels make them from flags.
+  bool masks_given = false;
+  const std::uint64_t* moving = nullptr;
+  const std::uint32_t* free_nodes = nullptr;
+  double* bz = nullptr;       ///< block: old heights with the ghost ring (scratch: the
+                              ///< vertical-only kernel overwrites it; for the fused
+                              ///< vertical-only kernel only the ring is gathered)
+  const float* bx = nullptr;  ///< block, 3-D only
   const float* by = nullptr;
   Side sides[kSides] = {};
   /// Activity of the steps between the tile's edges and the ghost ring per side (computed

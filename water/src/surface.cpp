@@ -86,6 +86,7 @@ TileData& Surface::State::obtain(const SurfaceSettings& s, int tx, int ty) {
     }
   }
   fill_sponge(s, *t);
+  tile_bytes += bytes_of(*t);
   slot[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x) + static_cast<std::size_t>(tx)] =
       static_cast<std::int32_t>(tiles.size());
   tiles.push_back(std::move(t));
@@ -176,17 +177,19 @@ void Surface::State::refresh_edges(TileData& t, int parity) const {
   }
 }
 
+std::size_t bytes_of(const TileData& t) {
+  std::size_t b =
+      sizeof(TileData) + t.uz.capacity() * 8 + t.vz.capacity() * 8 + t.flags.capacity() + t.sponge.capacity() * 8;
+  b += (t.ux.capacity() + t.uy.capacity() + t.vx.capacity() + t.vy.capacity()) * 4 + mask_bytes(t);
+  for (const TileData::Edges& e : t.edges)
+    b += (e.z.capacity() + e.vz.capacity()) * 8 +
+         (e.x.capacity() + e.y.capacity() + e.vx.capacity() + e.vy.capacity()) * 4;
+  return b;
+}
+
 std::size_t Surface::State::memory_bytes() const {
   std::size_t b = slot.capacity() * sizeof(std::int32_t) + awake.capacity() * sizeof(std::int32_t) +
-                  tiles.capacity() * sizeof(void*);
-  for (const auto& t : tiles) {
-    b +=
-        sizeof(TileData) + t->uz.capacity() * 8 + t->vz.capacity() * 8 + t->flags.capacity() + t->sponge.capacity() * 8;
-    b += (t->ux.capacity() + t->uy.capacity() + t->vx.capacity() + t->vy.capacity()) * 4;
-    for (const TileData::Edges& e : t->edges)
-      b += (e.z.capacity() + e.vz.capacity()) * 8 +
-           (e.x.capacity() + e.y.capacity() + e.vx.capacity() + e.vy.capacity()) * 4;
-  }
+                  tiles.capacity() * sizeof(void*) + tile_bytes;
   for (const Scratch& s : scratch)
     b += s.bz.capacity() * 8 + (s.bx.capacity() + s.by.capacity()) * 4 + s.rows.capacity();
   return b;
@@ -282,6 +285,7 @@ void Surface::set_constraint(int i, int j, NodeConstraint c) {
   TileData& t = *s.find(a.tile, b.tile);
   const std::size_t k = t.at(a.local, b.local, s.T);
   t.flags[k] = static_cast<std::uint8_t>(c);
+  t.masks_stale = true;
   if (c == NodeConstraint::fixed) t.vz[k] = 0.0;
   if (c != NodeConstraint::free && s.full) {
     t.vx[k] = 0.f;
@@ -307,7 +311,11 @@ void Surface::apply_boundary(Boundary b) {
   State& s = *s_;
   s.set_layer(settings_);
   const NodeConstraint c = default_constraint(b, 0, 0, nx(), ny());
-  for (const auto& t : s.tiles) s.fill_sponge(settings_, *t);
+  s.tile_bytes = 0;
+  for (const auto& t : s.tiles) {
+    s.fill_sponge(settings_, *t);
+    s.tile_bytes += bytes_of(*t);
+  }
   for (int i = 0; i < nx(); ++i) {
     if (constraint(i, 0) != c || s.find(i >> s.shift, 0)) set_constraint(i, 0, c);
     if (constraint(i, ny() - 1) != c || s.find(i >> s.shift, (ny() - 1) >> s.shift)) set_constraint(i, ny() - 1, c);
