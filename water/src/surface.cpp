@@ -197,11 +197,24 @@ std::size_t Surface::State::memory_bytes() const {
 
 // ---- construction --------------------------------------------------------------------------
 
+namespace {
+// KernelChoice::automatic takes the AVX-512 variant only where every variant gives the same
+// bits (the default build): without SHORE_CROSS_PLATFORM_DETERMINISTIC the wide variants may
+// contract multiply-adds each its own way, and one binary must still give the same bits on
+// every CPU with AVX2 + FMA.
+#ifdef SHORE_CROSS_PLATFORM_DETERMINISTIC
+constexpr bool kAutomaticAvx512 = true;
+#else
+constexpr bool kAutomaticAvx512 = false;
+#endif
+bool automatic_avx512() { return kAutomaticAvx512 && kernel::avx512_available(); }
+}  // namespace
+
 Surface::Surface(const SurfaceSettings& settings) : settings_(settings), s_(std::make_unique<State>()) {
   settings_.validate();
   State& s = *s_;
   const bool automatic = settings_.kernel == KernelChoice::automatic;
-  const bool avx512 = settings_.kernel == KernelChoice::avx512 || (automatic && kernel::avx512_available());
+  const bool avx512 = settings_.kernel == KernelChoice::avx512 || (automatic && automatic_avx512());
   const bool avx2 = settings_.kernel == KernelChoice::avx2 || (automatic && kernel::avx2_available());
   s.variant = settings_.kernel == KernelChoice::unfused ? kernel::Variant::unfused
               : avx512                                  ? kernel::Variant::avx512
@@ -245,7 +258,7 @@ void Surface::set_threads(int threads) {
 }
 
 const char* Surface::fast_kernel_isa() {
-  return kernel::avx512_available() ? "avx512" : kernel::avx2_available() ? "avx2" : "generic";
+  return automatic_avx512() ? "avx512" : kernel::avx2_available() ? "avx2" : "generic";
 }
 bool Surface::kernel_available(KernelChoice choice) {
   if (choice == KernelChoice::avx2) return kernel::avx2_available();

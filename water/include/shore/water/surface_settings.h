@@ -43,7 +43,8 @@ enum class SurfaceMode : std::uint8_t {
 /// Which compiled step kernel runs. All give the same bits in the default build
 /// (SHORE_CROSS_PLATFORM_DETERMINISTIC); forcing one is for tests and benchmarks.
 enum class KernelChoice : std::uint8_t {
-  automatic,  ///< the widest variant the build has and the CPU runs: avx512, else avx2, else generic
+  automatic,  ///< the widest variant the build has and the CPU runs: avx512 (only in the cross-platform
+              ///< deterministic build, SHORE_CROSS_PLATFORM_DETERMINISTIC), else avx2, else generic
   generic,    ///< the baseline-instruction-set variant
   avx2,       ///< the AVX2 + FMA variant: invalid where it is not available
   unfused,    ///< the generic variant as it was before its row passes were fused (a pass per
