@@ -8,9 +8,12 @@
 //   (in key order) i64 tx, ty; u8 painted; if 1 its n * n palette indices as one coded
 //   sequence (0: the tile was painted back to all index 0);
 //   (version 2 on) u8 spray flag; if 1 (exact deltas), the spray state as the terrain's
-//   state file writes it (spray_io.h), to the end.
+//   state file writes it (spray_io.h), to the end; from version 4 on with each particle's
+//   and clinging cell's palette index, as the state file's version 7 writes it.
 // A delta with no map block to send (no palette set, no tile repainted after its start:
-// every terrain that never paints) is written as version 2, byte for byte as before maps.
+// every terrain that never paints) and no spray of another material than entry 0 is
+// written as version 2, byte for byte as before maps; any other as version 4 (its map
+// block empty when there is nothing to send).
 // A value is an integer: quantised, round((height - base) / quantum) and
 // round(sinkage / quantum); exact, the double's bit pattern. A sequence codes each value's
 // difference from the one before (the first from 0), wrapping, zig-zag mapped and written
@@ -37,7 +40,8 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'S', 'D', 'L'};
-constexpr std::uint32_t kVersion = 3;  // 1: no spray flag, 2: no map (both still read)
+constexpr std::uint32_t kVersion = 4;  // 1: no spray flag, 2: no map, 3: no spray indices (all still read)
+constexpr std::uint32_t kSprayMaterialsVersion = 4;
 constexpr std::uint32_t kNoMapVersion = 2;
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8 + 8 + 8 + 8;
@@ -219,14 +223,19 @@ std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_
     put_sequence(raw.bytes, sinkages);
     st.columns += heights.size();
   }
-  const bool map = write_map(raw, im, since, st);
+  const bool exact = settings.quantum == 0.0;
+  bool map = write_map(raw, im, since, st);
+  if (!map && exact && im.spray.state.has_materials()) {  // the spray's indices need version 4: an empty map block
+    raw.put(std::uint8_t{0}), raw.put(std::uint32_t{0});
+    map = true;
+  }
   // Exact deltas carry the spray too: with it the replica's whole soil state, and so its
   // state_hash, is the server's. Quantised ones do not (bodies on a replica read heights
   // and sinkages only; the spray would cost more than the columns).
-  raw.put(static_cast<std::uint8_t>(settings.quantum == 0.0 ? 1 : 0));
-  if (settings.quantum == 0.0) {
+  raw.put(static_cast<std::uint8_t>(exact ? 1 : 0));
+  if (exact) {
     Writer spray;
-    write_spray_state(spray, im.spray.state);
+    write_spray_state(spray, im.spray.state, map);
     raw.bytes.insert(raw.bytes.end(), spray.bytes.begin(), spray.bytes.end());
   }
   ByteWriter w;
@@ -339,7 +348,7 @@ DecodedRect read_rect(RawReader& r, const TileStore& tiles, double quantum) {
 }
 
 /// The spray block of a version 2 delta, from where `r` stands to the end.
-void read_spray(RawReader& r, std::span<const unsigned char> raw, Decoded& d) {
+void read_spray(RawReader& r, std::span<const unsigned char> raw, Decoded& d, bool materials) {
   const auto flag = r.get<std::uint8_t>("spray flag");
   if (flag > 1) refuse("corrupt (spray flag " + std::to_string(flag) + ")");
   d.has_spray = flag == 1;
@@ -349,7 +358,7 @@ void read_spray(RawReader& r, std::span<const unsigned char> raw, Decoded& d) {
     return;
   }
   Reader spray(rest, rest.size(), "in a soil delta");
-  read_spray_state(spray, d.spray);
+  read_spray_state(spray, d.spray, materials);
   if (spray.remaining() != 0) refuse("corrupt (bytes after the spray state)");
 }
 
@@ -411,7 +420,7 @@ Decoded decode(std::span<const unsigned char> raw, const TileStore& tiles, const
   for (std::uint32_t k = 0; k < count; ++k) d.rects.push_back(read_rect(r, tiles, quantum));
   if (h.version >= 3) read_map(r, raw, tiles, d);
   if (h.version >= 2) {
-    read_spray(r, raw, d);
+    read_spray(r, raw, d, h.version >= kSprayMaterialsVersion);
     return d;
   }
   if (!r.done()) refuse("corrupt (bytes after the last rectangle)");
@@ -441,6 +450,11 @@ void check_map(const auto& im, const Decoded& d) {
     throw InvalidSetting(
         "terrain.SoilDelta.palette.size()", std::to_string(size),
         "must be more than the largest index left painted on the replica (" + std::to_string(largest) + ")");
+  if (const int largest = (d.has_spray ? d.spray : im.spray.state).largest_material();
+      static_cast<std::size_t>(largest) >= size)
+    throw InvalidSetting(
+        "terrain.SoilDelta.spray", std::to_string(largest),
+        "a particle's or clinging piece's palette index must be in [0, " + std::to_string(size - 1) + "]");
 }
 
 }  // namespace

@@ -35,6 +35,9 @@
 //             order, each one of the tiles below) i64 tx, ty; u8[n*n] palette index.
 //             A terrain with one material and no painted tile is written as version 5,
 //             byte for byte what it was before maps existed; older files load as one material
+//   (version 7 on, which every terrain with a map is written as) the spray state above
+//             carries each particle's palette index (u8 after its age) and each clinging
+//             cell's (u8 after its touched); version 6 files load every one as entry 0
 //   u64 tile count
 //   per tile (in key order): i64 tx, ty; f64[n*n] height, sinkage, base
 //   u64 FNV-1a of every byte before it
@@ -64,7 +67,9 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'T', 'R', 'N'};
-constexpr std::uint32_t kVersion = 6;
+constexpr std::uint32_t kVersion = 7;
+/// The first version whose spray state carries palette indices.
+constexpr std::uint32_t kSprayMaterialsVersion = 7;
 /// Written for terrains without a material map (one material, nothing painted).
 constexpr std::uint32_t kOneMaterialVersion = 5;
 constexpr std::uint32_t kOldestVersion = 1;
@@ -335,7 +340,7 @@ std::vector<unsigned char> Terrain::save_bytes() const {
   w.put(static_cast<std::uint64_t>(im.unsettled.size()));
   for (const GridRect& r : im.unsettled)
     w.put(r.i0), w.put(r.j0), w.put(static_cast<std::int32_t>(r.nx)), w.put(static_cast<std::int32_t>(r.ny));
-  write_spray_state(w, im.spray.state);
+  write_spray_state(w, im.spray.state, map);
   if (map) write_map(w, im.palette, im.tiles, keys);
   w.put(static_cast<std::uint64_t>(keys.size()));
   for (const TileKey& key : keys) {
@@ -365,7 +370,7 @@ Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::str
   im.edited = hr.get<double>("volume bookkeeping");
   if (!std::isfinite(im.compacted) || !std::isfinite(im.edited)) hr.fail("volume bookkeeping is not finite");
   if (version >= 2) im.unsettled = read_unsettled(hr);
-  if (version >= 4) read_spray_state(hr, im.spray.state);
+  if (version >= 4) read_spray_state(hr, im.spray.state, version >= kSprayMaterialsVersion);
   SavedMap map;
   if (version >= 6) map = read_map(hr, im.s.tile_columns);
   read_tiles(hr, im.s.tile_columns, im.tiles);
@@ -382,6 +387,7 @@ Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::str
     im.adopt_palette(std::move(palette));
     apply_map(hr, map, im.palette.size(), im.tiles);
   }
+  check_spray_materials(hr, im.spray.state, im.palette.size());
   check_unsettled_on_tiles(hr, im.unsettled, im.tiles);
   return t;
 }

@@ -100,11 +100,12 @@ TEST(SoilDeltaMaterialMap, ExactReplicaHasTheServersMapAndHash) {
   EXPECT_EQ(run.replica.state_hash(), run.server.state_hash());
   ASSERT_EQ(run.replica.palette().size(), 3u);
   EXPECT_EQ(run.replica.palette()[2].bekker_kphi, gravel().bekker_kphi);
-  // Only the deltas after a paint carry the map (version 3); the others are version 2.
+  // Only the deltas after a paint carry the map (version 4); the others are version 2 (the
+  // plough throws no spray of another material than entry 0).
   ASSERT_EQ(run.versions.size(), 12u);
-  EXPECT_EQ(run.versions[0], 3u);
+  EXPECT_EQ(run.versions[0], 4u);
   EXPECT_EQ(run.versions[1], 2u);
-  EXPECT_EQ(run.versions[6], 3u);  // steps 30 to 34: the repaint
+  EXPECT_EQ(run.versions[6], 4u);  // steps 30 to 34: the repaint
   EXPECT_GT(run.painted_tiles, 0u);
   // The map is read as the server reads it: a plate on the replica's gravel, mud and sand
   // sinks by each one's Bekker law, as on the server (unploughed columns, j 28 to 37).

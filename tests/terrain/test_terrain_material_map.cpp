@@ -398,7 +398,7 @@ TEST(MaterialMap, SaveLoadRoundTripOfAPaintedTerrain) {
     a.step({&im, 1});
   }
   const std::vector<unsigned char> bytes = a.save_bytes();
-  EXPECT_EQ(bytes[8], 6);
+  EXPECT_EQ(bytes[8], 7);
   Terrain b = Terrain::load_bytes(bytes, "painted");
   EXPECT_EQ(b.state_hash(), a.state_hash());
   ASSERT_EQ(b.palette().size(), 3u);

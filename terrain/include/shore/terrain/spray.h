@@ -88,6 +88,7 @@ struct SprayParticle {
   double radius = 0.0;  ///< m, of the sphere of its volume
   double volume = 0.0;  ///< m^3
   Vec3 velocity;        ///< m/s (motion blur, streaks)
+  int material = 0;     ///< its palette index (Terrain::palette): the soil it flies and lands as
 };
 
 /// What spray has done since the terrain was made (totals) and holds now.
