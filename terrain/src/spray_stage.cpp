@@ -39,32 +39,37 @@ void Spray::set_materials(const TerrainSettings& s, std::span<const Material> pa
   if (clocks_.size() < palette.size()) clocks_.resize(palette.size());
 }
 
-const FlightRules& Spray::flight_rules(const FlightRules& one, std::uint8_t index) const {
-  return flight_by_index_.empty() ? one : flight_by_index_[index];
-}
-
 void Spray::fly_all(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report) {
-  const bool map = !flight_by_index_.empty();
   clock_.reset(rules, dt, ground.cell());
   for (std::size_t m = 0; m < flight_by_index_.size(); ++m) clocks_[m].reset(flight_by_index_[m], dt, ground.cell());
   cover_flights(ground, dt);
+  if (flight_by_index_.empty())
+    fly_each<false>(ground, rules, dt, report);
+  else
+    fly_each<true>(ground, rules, dt, report);
+}
+
+// kMap false: one material, the loop as it was before maps (no index read or moved).
+template <bool kMap>
+void Spray::fly_each(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report) {
   std::vector<std::uint8_t>& materials = state.particle_materials;
   std::size_t kept = 0;
   for (std::size_t k = 0; k < state.particles.size(); ++k) {  // oldest first; landings raise columns in this order
     Particle& p = state.particles[k];  // moved in place (kept <= k: no particle still to fly is overwritten)
-    const std::uint8_t index = map ? materials[k] : 0;
+    std::uint8_t index = 0;
+    if constexpr (kMap) index = materials[k];
     // the ceiling as raised by the landings so far
-    const FlightEnd end = fly(p, dt, ground, map ? flight_by_index_[index] : rules, map ? &clocks_[index] : &clock_,
+    const FlightEnd end = fly(p, dt, ground, kMap ? flight_by_index_[index] : rules, kMap ? &clocks_[index] : &clock_,
                               ground.ceiling(state.particles.size()));
     if (end.fate != FlightEnd::Fate::flying) {
       land(ground, p, end, report);
     } else if (kept++ != k) {
       state.particles[kept - 1] = p;
-      if (map) materials[kept - 1] = index;
+      if constexpr (kMap) materials[kept - 1] = index;
     }
   }
   state.particles.resize(kept);
-  if (map) materials.resize(kept);
+  if constexpr (kMap) materials.resize(kept);
 }
 
 // The box every particle's path this step lies in (the horizontal speed only falls).

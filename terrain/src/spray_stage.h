@@ -34,6 +34,9 @@ class Spray {
 
  private:
   void fly_all(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report);
+  /// The particles' flights, with (kMap) or without their palette indices.
+  template <bool kMap>
+  void fly_each(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report);
   /// Gives the ground the box the particles in flight can reach this step.
   void cover_flights(SprayGround& ground, double dt) const;
   void cling_all(SprayGround& ground, const TerrainSettings& s, std::span<const Material> palette,
@@ -46,7 +49,9 @@ class Spray {
   /// particles' indices kept in step with the palette.
   void set_materials(const TerrainSettings& s, std::span<const Material> palette);
   /// The flight rules of a particle of this palette index (`one`: entry 0's, for one material).
-  [[nodiscard]] const FlightRules& flight_rules(const FlightRules& one, std::uint8_t index) const;
+  [[nodiscard]] const FlightRules& flight_rules(const FlightRules& one, std::uint8_t index) const {
+    return flight_by_index_.empty() ? one : flight_by_index_[index];
+  }
   /// Soil straight down onto the column below a point (lost outside the region).
   void drop(SprayGround& ground, const Drop& d);
   void land(SprayGround& ground, const Particle& p, const FlightEnd& end, StepReport& report);
