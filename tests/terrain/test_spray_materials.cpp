@@ -326,3 +326,44 @@ TEST(SprayMaterials, ExactDeltasCarryTheSpraysIndices) {
   }
   EXPECT_GT(mud, 0);
 }
+
+// A piece holds one material: a plate that carried sand away and then skims mud lays its
+// sand there (counted as set down) and leaves with mud, adhesion x area of it per piece.
+TEST(SprayMaterials, APieceThatLoadsAnotherMaterialLaysWhatItHeldFirst) {
+  const double dt = 1.0 / 240;
+  Material sand = shedding("sand-like", 10.0), mud = shedding("mud-like", 10.0);  // hardly sheds in this test
+  mud.spray.adhesion = 0.005;
+  TerrainSettings s = sand_settings();
+  s.material = sand;
+  Terrain t(s);
+  t.set_palette({sand, mud});
+  t.paint_rect({40, -20, 60, 40}, 1);  // mud from x = 0.4 m
+  // 100 pieces at 1 m/s: on sand (x ~ 0 to 0.04), lifted (x ~ 0.04 to 0.4), down on mud, lifted.
+  double after_sand = 0.0;
+  std::int64_t set_down_before = 0;
+  for (int k = 0; k < 180; ++k) {
+    const double x = 1.0 * k * dt;
+    const bool down = k < 10 || (x > 0.5 && x < 0.55);
+    const double bottom = down ? -0.001 : 0.1;
+    const std::int64_t i0 = t.column_i(x) - 5;
+    const shore::EnvelopeRaster env = box_envelope(i0, -5, 10, 10, bottom);
+    Imprint im{&env};
+    im.velocity.x = 1.0;
+    im.centre.x = t.column_x(i0 + 5), im.centre.z = bottom + 0.05;
+    im.key = 3;
+    if (down && x > 0.5 && after_sand == 0.0) {
+      after_sand = t.volume().clinging;
+      set_down_before = t.spray_counts().set_down;
+    }
+    t.step({&im, 1}, dt);
+  }
+  const double area = 1e-4, sand_load = 100 * 0.002 * area, mud_load = 100 * 0.005 * area;
+  const std::int64_t laid = t.spray_counts().set_down - set_down_before;
+  std::printf(
+      "[ swap ] clinging %.3g m^3 after sand (100 pieces x adhesion: %.3g), %.3g after mud (%.3g); %lld pieces "
+      "laid their sand\n",
+      after_sand, sand_load, t.volume().clinging, mud_load, static_cast<long long>(laid));
+  EXPECT_NEAR(after_sand, sand_load, 0.05 * sand_load);
+  EXPECT_GE(laid, 80) << "the pieces that touched mud laid their sand first";  // 90: a tenth miss by a sub-cell shift
+  EXPECT_NEAR(t.volume().clinging, mud_load, 0.05 * mud_load) << "what clings is mud alone, not sand + mud";
+}
