@@ -81,9 +81,9 @@ class HeightfieldTile {
   /// Computes Bullet's internal-edge info from the current heights and has contacts with
   /// the tile corrected by it (adjust_internal_edge_contact), so bodies slide over the
   /// tile's flat parts as over one face. For ground that no longer changes (rigid
-  /// material): after a height edit the info is stale. Installs Bullet's global
-  /// gContactAddedCallback if it is unset; an application with its own callback calls
-  /// adjust_internal_edge_contact from it.
+  /// material): after a height edit the info is stale. Installs terrain_contact_added as
+  /// Bullet's global gContactAddedCallback if it is unset; an application with its own
+  /// callback calls terrain_contact_added (or adjust_internal_edge_contact) from it.
   void smooth_internal_edges();
 
   /// Friction per vertex, row-major (index j * columns + i, columns^2 values, each >= 0),
