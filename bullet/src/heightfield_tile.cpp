@@ -6,7 +6,9 @@
 #include <BulletCollision/NarrowPhaseCollision/btManifoldPoint.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <string>
 
 #include "shore/core/error.h"
 
@@ -113,12 +115,59 @@ HeightfieldTile::RowWrite HeightfieldTile::set_row(int i0, int j, std::span<cons
   return out;
 }
 
+namespace {
+/// Tags a tile's shape (its user index; its user pointer is the HeightfieldTile): the
+/// callback finds the tile's vertex friction through it.
+constexpr int kTileShapeTag = 0x5e0e72;
+
+/// Shore's callback in Bullet's global slot, unless the application has its own there.
+void install_callback() {
+  if (gContactAddedCallback == nullptr || gContactAddedCallback == adjust_internal_edge_contact)
+    gContactAddedCallback = terrain_contact_added;
+}
+}  // namespace
+
+void HeightfieldTile::update_callback_flag() {
+  const int flag = btCollisionObject::CF_CUSTOM_MATERIAL_CALLBACK;
+  const bool wanted = edge_info_ != nullptr || !vertex_friction_.empty();
+  object_->setCollisionFlags(wanted ? object_->getCollisionFlags() | flag : object_->getCollisionFlags() & ~flag);
+}
+
 void HeightfieldTile::smooth_internal_edges() {
   if (!edge_info_) edge_info_ = std::make_unique<btTriangleInfoMap>();
   *edge_info_ = btTriangleInfoMap();
   btGenerateInternalEdgeInfo(shape_.get(), edge_info_.get());
-  object_->setCollisionFlags(object_->getCollisionFlags() | btCollisionObject::CF_CUSTOM_MATERIAL_CALLBACK);
-  if (gContactAddedCallback == nullptr) gContactAddedCallback = adjust_internal_edge_contact;
+  update_callback_flag();
+  install_callback();
+}
+
+void HeightfieldTile::set_vertex_friction(std::vector<btScalar> friction) {
+  const std::size_t n = static_cast<std::size_t>(settings_.columns);
+  if (!friction.empty() && friction.size() != n * n)
+    throw InvalidSetting("bullet.HeightfieldTile.set_vertex_friction(friction).size()", std::to_string(friction.size()),
+                         "must be 0 or columns^2 = " + std::to_string(n * n));
+  for (std::size_t k = 0; k < friction.size(); ++k)
+    if (!(friction[k] >= btScalar(0)) || !std::isfinite(double(friction[k])))
+      throw InvalidSetting("bullet.HeightfieldTile.set_vertex_friction(friction)[" + std::to_string(k) + "]",
+                           detail::to_text(double(friction[k])), "must be finite and >= 0");
+  vertex_friction_ = std::move(friction);
+  shape_->setUserIndex(vertex_friction_.empty() ? -1 : kTileShapeTag);
+  shape_->setUserPointer(vertex_friction_.empty() ? nullptr : this);
+  update_callback_flag();
+  if (!vertex_friction_.empty()) install_callback();
+}
+
+btScalar HeightfieldTile::friction_near(const btVector3& local) const {
+  if (vertex_friction_.empty()) return object_->getFriction();
+  // Bullet's vertex (i, j) lies at ((i - (n - 1) / 2) cell, (j - (n - 1) / 2) cell) in the
+  // object's frame (the shape's origin is the middle of its span).
+  const int n = settings_.columns;
+  const double half = 0.5 * (n - 1), inverse = 1.0 / settings_.cell;
+  const auto nearest = [&](btScalar x) {
+    return std::clamp(static_cast<int>(std::floor(double(x) * inverse + half + 0.5)), 0, n - 1);
+  };
+  return vertex_friction_[static_cast<std::size_t>(nearest(local.y())) * static_cast<std::size_t>(n) +
+                          static_cast<std::size_t>(nearest(local.x()))];
 }
 
 namespace {
@@ -127,7 +176,32 @@ bool smoothed_terrain(const btCollisionObjectWrapper* w) {
   return shape->getShapeType() == TERRAIN_SHAPE_PROXYTYPE &&
          static_cast<const btHeightfieldTerrainShape*>(shape)->getTriangleInfoMap() != nullptr;
 }
+
+/// The tile of a wrapper's object if it has a vertex friction, else null.
+const HeightfieldTile* painted_tile(const btCollisionObjectWrapper* w) {
+  const btCollisionShape* shape = w->getCollisionObject()->getCollisionShape();
+  if (shape->getShapeType() != TERRAIN_SHAPE_PROXYTYPE || shape->getUserIndex() != kTileShapeTag) return nullptr;
+  return static_cast<const HeightfieldTile*>(shape->getUserPointer());
+}
+
+/// Bullet's default combination (btManifoldResult::calculateCombinedFriction).
+btScalar combined_friction(btScalar body, btScalar ground) {
+  constexpr btScalar kMaxFriction = 10;
+  return std::clamp(body * ground, -kMaxFriction, kMaxFriction);
+}
 }  // namespace
+
+bool terrain_contact_added(btManifoldPoint& cp, const btCollisionObjectWrapper* a, int part_a, int index_a,
+                           const btCollisionObjectWrapper* b, int part_b, int index_b) {
+  adjust_internal_edge_contact(cp, a, part_a, index_a, b, part_b, index_b);
+  if (const HeightfieldTile* tile = painted_tile(a); tile != nullptr)
+    cp.m_combinedFriction =
+        combined_friction(b->getCollisionObject()->getFriction(), tile->friction_near(cp.m_localPointA));
+  else if (const HeightfieldTile* t = painted_tile(b); t != nullptr)
+    cp.m_combinedFriction =
+        combined_friction(a->getCollisionObject()->getFriction(), t->friction_near(cp.m_localPointB));
+  return false;
+}
 
 bool adjust_internal_edge_contact(btManifoldPoint& cp, const btCollisionObjectWrapper* a, int part_a, int index_a,
                                   const btCollisionObjectWrapper* b, int part_b, int index_b) {

@@ -23,6 +23,8 @@ TerrainTiles::TerrainTiles(btCollisionWorld& world, const terrain::Terrain& terr
                            const TerrainTilesSettings& settings)
     : world_(world), terrain_(terrain), settings_(settings), friction_(terrain.settings().material.friction) {
   settings_.validate();
+  frictions_ = palette_friction();  // a terrain painted before its coupling: tiles are made painted
+  painted_seen_ = terrain.generation();
 }
 
 TerrainTiles::~TerrainTiles() { remove_all(); }
@@ -47,7 +49,67 @@ bool is_terrain_tile(const btCollisionObject* object) noexcept {
 
 void TerrainTiles::set_friction(double friction) {
   friction_ = friction;
-  for (auto& [k, tile] : tiles_) tile.field->object()->setFriction(btScalar(friction));
+  frictions_ = palette_friction();
+  for (auto& [k, tile] : tiles_) {
+    tile.field->object()->setFriction(btScalar(friction));
+    if (!frictions_.empty() || tile.field->has_vertex_friction()) paint_friction(tile);
+  }
+}
+
+std::vector<double> TerrainTiles::palette_friction() const {
+  const std::span<const terrain::Material> palette = terrain_.palette();
+  std::vector<double> f(palette.size(), friction_);
+  bool uniform = true;
+  for (std::size_t k = 1; k < palette.size(); ++k) {
+    f[k] = palette[k].friction;
+    uniform = uniform && f[k] == friction_;
+  }
+  if (uniform) f.clear();
+  return f;
+}
+
+// Every vertex's friction from its column's palette entry; a tile of one friction keeps it
+// as its object's (Bullet's plain contact), one of several keeps it per vertex.
+void TerrainTiles::paint_friction(Tile& tile) {
+  HeightfieldTile& field = *tile.field;
+  if (frictions_.empty()) {
+    if (field.has_vertex_friction()) field.set_vertex_friction({});
+    field.object()->setFriction(btScalar(friction_));
+    return;
+  }
+  const int n = field.columns();
+  indices_.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
+  terrain_.material_indices({tile.i0, tile.j0, n, n}, indices_);
+  const std::uint8_t first = indices_[0];
+  const bool one = std::all_of(indices_.begin(), indices_.end(), [&](std::uint8_t m) { return m == first; });
+  if (one) {
+    if (field.has_vertex_friction()) field.set_vertex_friction({});
+    field.object()->setFriction(btScalar(frictions_[first]));
+    return;
+  }
+  std::vector<btScalar> friction(indices_.size());
+  for (std::size_t k = 0; k < indices_.size(); ++k) friction[k] = btScalar(frictions_[indices_[k]]);
+  field.object()->setFriction(btScalar(friction_));
+  field.set_vertex_friction(std::move(friction));
+}
+
+void TerrainTiles::follow_map() {
+  const std::uint64_t now = terrain_.generation();
+  if (terrain_.palette().size() == 1 && frictions_.empty()) {  // nothing painted differs: no work
+    painted_seen_ = now;
+    return;
+  }
+  if (std::vector<double> f = palette_friction(); f != frictions_) {
+    frictions_ = std::move(f);
+    for (auto& [k, tile] : tiles_) paint_friction(tile);
+  } else if (!frictions_.empty()) {
+    const int T = terrain_.settings().tile_columns;
+    for (const GridRect& r : terrain_.painted_since(painted_seen_))  // soil tiles; ours share their edges
+      for (std::int64_t ty = floor_div(r.j0 - 1, T); ty <= floor_div(r.j1() - 1, T); ++ty)
+        for (std::int64_t tx = floor_div(r.i0 - 1, T); tx <= floor_div(r.i1() - 1, T); ++tx)
+          if (auto it = tiles_.find(key(tx, ty)); it != tiles_.end()) paint_friction(it->second);
+  }
+  painted_seen_ = now;
 }
 
 TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
@@ -88,6 +150,7 @@ TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, const He
     for (int a = 0; a <= T; ++a) tile.field->set_height(a, b, heights[static_cast<std::size_t>(b) * (T + 1) + a]);
   // Rigid ground never changes: its tiles can carry Bullet's internal-edge info.
   if (terrain_.settings().material.rigid && settings_.smooth_rigid_edges) tile.field->smooth_internal_edges();
+  if (!frictions_.empty()) paint_friction(tile);
   tile.field->object()->setUserIndex2(kTileTag);
   if (framed_) tile.field->object()->setWorldTransform(frame_.to_world() * tile.field->object()->getWorldTransform());
   world_.addCollisionObject(tile.field->object(), group_,
@@ -150,6 +213,7 @@ std::int64_t TerrainTiles::copy_rect(Tile& tile, const GridRect& columns) {
 
 std::int64_t TerrainTiles::push(std::span<const GridRect> changed) {
   if (observer_ && !changed.empty()) observer_(changed);
+  follow_map();
   const int T = terrain_.settings().tile_columns;
   std::int64_t written = 0;
   // Vertices still catching up with a capped rise.

@@ -85,6 +85,9 @@ void TerrainTiles::restore_state(ByteReader& r) {
       r.fail("tile (" + std::to_string(t.tx) + ", " + std::to_string(t.ty) + ") is saved twice");
   remove_all();
   clamped_ = clamped;
+  // The terrain (loaded before) brings its map: the tiles are made with its friction.
+  frictions_ = palette_friction();
+  painted_seen_ = terrain_.generation();
   for (const SavedTile& t : saved) {
     Tile& tile = add(t.tx, t.ty, t.settings, t.heights);
     tile.lag = t.lag.empty() ? GridRect{} : t.lag;

@@ -172,6 +172,9 @@ void Terrain::set_palette(std::vector<Material> palette) {
   if (const int largest = impl_->tiles.largest_material(); static_cast<std::size_t>(largest) >= palette.size())
     throw InvalidSetting(where + ".size()", std::to_string(palette.size()),
                          "must be more than the largest index painted on the map (" + std::to_string(largest) + ")");
+  if (const int largest = impl_->spray.state.largest_material(); static_cast<std::size_t>(largest) >= palette.size())
+    throw InvalidSetting(where + ".size()", std::to_string(palette.size()),
+                         "must be more than the largest index of soil in spray (" + std::to_string(largest) + ")");
   impl_->tiles.advance_generation();  // a soil delta sends the palette set in this generation
   impl_->adopt_palette(std::move(palette));
 }

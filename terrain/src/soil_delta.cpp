@@ -11,10 +11,13 @@
 //   column is not layered) and the n * n lower indices, each as one coded sequence (0: the
 //   tile has no layer);
 //   (version 2 on) u8 spray flag; if 1 (exact deltas), the spray state as the terrain's
-//   state file writes it (spray_io.h), to the end.
+//   state file writes it (spray_io.h), to the end; from version 5 on with each particle's
+//   and clinging cell's palette index, as the state file's version 8 writes it.
 // A delta with no map block to send (no palette set, no tile repainted after its start:
-// every terrain that never paints) is written as version 2, byte for byte as before maps;
-// one with a map block from a terrain that never had a layer as version 3, as before layers.
+// every terrain that never paints) and no spray of another material than entry 0 is
+// written as version 2, byte for byte as before maps; one with a map block from a terrain
+// that never had a layer and whose spray is all entry 0's as version 3, as before layers;
+// any other as version 5 (its map block empty when there is nothing to send).
 // A value is an integer: quantised, round((height - base) / quantum) and
 // round(sinkage / quantum); exact, the double's bit pattern. A sequence codes each value's
 // difference from the one before (the first from 0), wrapping, zig-zag mapped and written
@@ -41,7 +44,8 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'S', 'D', 'L'};
-constexpr std::uint32_t kVersion = 4;  // 1: no spray flag, 2: no map, 3: no layers (all still read)
+constexpr std::uint32_t kVersion = 5;  // 1: no spray flag, 2: no map, 3: no layers, 4: no spray indices
+constexpr std::uint32_t kSprayMaterialsVersion = 5;
 constexpr std::uint32_t kNoLayerVersion = 3;
 constexpr std::uint32_t kNoMapVersion = 2;
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
@@ -238,20 +242,27 @@ std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_
     put_sequence(raw.bytes, sinkages);
     st.columns += heights.size();
   }
-  const bool layers = im.tiles.layered();
-  const bool map = write_map(raw, im, since, layers, st);
+  const bool exact = settings.quantum == 0.0;
+  const bool spray_materials = exact && im.spray.state.has_materials();
+  const bool layers = im.tiles.layered() || spray_materials;  // version 5 carries the layer flags as 4 did
+  bool map = write_map(raw, im, since, layers, st);
+  if (!map && spray_materials) {  // the spray's indices need version 5: an empty map block
+    raw.put(std::uint8_t{0}), raw.put(std::uint32_t{0});
+    map = true;
+  }
+  const std::uint32_t version = !map ? kNoMapVersion : layers ? kVersion : kNoLayerVersion;
   // Exact deltas carry the spray too: with it the replica's whole soil state, and so its
   // state_hash, is the server's. Quantised ones do not (bodies on a replica read heights
   // and sinkages only; the spray would cost more than the columns).
-  raw.put(static_cast<std::uint8_t>(settings.quantum == 0.0 ? 1 : 0));
-  if (settings.quantum == 0.0) {
+  raw.put(static_cast<std::uint8_t>(exact ? 1 : 0));
+  if (exact) {
     Writer spray;
-    write_spray_state(spray, im.spray.state);
+    write_spray_state(spray, im.spray.state, version >= kSprayMaterialsVersion);
     raw.bytes.insert(raw.bytes.end(), spray.bytes.begin(), spray.bytes.end());
   }
   ByteWriter w;
   for (char c : kMagic) w.put(c);
-  w.put(!map ? kNoMapVersion : layers ? kVersion : kNoLayerVersion), w.put(kByteOrderMark), w.put(settings.quantum);
+  w.put(version), w.put(kByteOrderMark), w.put(settings.quantum);
   w.put(since), w.put(im.tiles.generation()), w.put(static_cast<std::uint64_t>(raw.bytes.size()));
   std::vector<unsigned char>& out = w.bytes;
   const std::size_t frame_at = out.size() + sizeof(std::uint64_t);
@@ -359,7 +370,7 @@ DecodedRect read_rect(RawReader& r, const TileStore& tiles, double quantum) {
 }
 
 /// The spray block of a version 2 delta, from where `r` stands to the end.
-void read_spray(RawReader& r, std::span<const unsigned char> raw, Decoded& d) {
+void read_spray(RawReader& r, std::span<const unsigned char> raw, Decoded& d, bool materials) {
   const auto flag = r.get<std::uint8_t>("spray flag");
   if (flag > 1) refuse("corrupt (spray flag " + std::to_string(flag) + ")");
   d.has_spray = flag == 1;
@@ -369,7 +380,7 @@ void read_spray(RawReader& r, std::span<const unsigned char> raw, Decoded& d) {
     return;
   }
   Reader spray(rest, rest.size(), "in a soil delta");
-  read_spray_state(spray, d.spray);
+  read_spray_state(spray, d.spray, materials);
   if (spray.remaining() != 0) refuse("corrupt (bytes after the spray state)");
 }
 
@@ -458,7 +469,7 @@ Decoded decode(std::span<const unsigned char> raw, const TileStore& tiles, const
   for (std::uint32_t k = 0; k < count; ++k) d.rects.push_back(read_rect(r, tiles, quantum));
   if (h.version >= 3) read_map(r, raw, tiles, h.version, d);
   if (h.version >= 2) {
-    read_spray(r, raw, d);
+    read_spray(r, raw, d, h.version >= kSprayMaterialsVersion);
     return d;
   }
   if (!r.done()) refuse("corrupt (bytes after the last rectangle)");
@@ -494,6 +505,11 @@ void check_map(const auto& im, const Decoded& d) {
     throw InvalidSetting(
         "terrain.SoilDelta.palette.size()", std::to_string(size),
         "must be more than the largest index left painted on the replica (" + std::to_string(largest) + ")");
+  if (const int largest = (d.has_spray ? d.spray : im.spray.state).largest_material();
+      static_cast<std::size_t>(largest) >= size)
+    throw InvalidSetting(
+        "terrain.SoilDelta.spray", std::to_string(largest),
+        "a particle's or clinging piece's palette index must be in [0, " + std::to_string(size - 1) + "]");
 }
 
 }  // namespace

@@ -108,7 +108,6 @@ void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, co
   fresh_.clear();
   index_.build(body.cells);
   const ClingKeys keys(ground.cell());
-  const SpeedTest speed(rules.min_speed);
   heights_.resize(env.lower.size());
   ground.heights({env.i0, env.j0, env.nx, env.ny}, heights_);
   for (int y = 0; y < env.ny; ++y)
@@ -119,20 +118,25 @@ void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, co
       const double e = env.lower[k] - im.offset;
       if (!(e <= heights_[k] + rules.tolerance)) continue;
       const std::int64_t i = env.i0 + x, j = env.j0 + y;
+      const std::uint8_t index = rules.map() ? ground.material(i, j) : 0;
+      const MaterialRules& mr = rules.of(index);
       const Vec3 p{ground.x_of(i), ground.y_of(j), e};
       const Vec3 r = m.to_body(p);
       const std::uint64_t key = keys.of(r);
-      if (speed.slower(m.velocity_at(p))) {
+      if (mr.min_speed.slower(m.velocity_at(p))) {
         if (ClingCell* c = piece(body, key); c != nullptr) set_down(*c, p, drops);
         continue;
       }
       ClingCell* found = piece(body, key);
-      const double capacity =
-          rules.capacity_by_index.empty() ? rules.capacity : rules.capacity_over(ground.material(i, j));
+      const double capacity = mr.capacity;
       if (found == nullptr) {
         if (capacity <= 0.0) continue;
         found = &fresh_.emplace_back();
         found->key = key;
+        found->material = index;
+      } else if (found->material != index && capacity > 0.0) {  // a column of no adhesion leaves its soil
+        set_down(*found, p, drops);                             // one material per piece: it lays its old soil here
+        found->material = index;
       }
       ClingCell& c = *found;
       c.touched = rules.step;
@@ -175,22 +179,22 @@ void Cling::set_down(ClingCell& c, const Vec3& p, std::vector<Drop>& drops) {
 void Cling::shed(std::uint64_t body_key, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
                  std::vector<Candidate>& candidates) {
   if (!(c.volume > 0.0)) return;
+  const MaterialRules& mr = rules.of(c.material);
   const CounterRandom rnd = CounterRandom::of_piece(body_key, c.key);
   // Sumner's n = dv phi particles, rounded at random (up with the probability of the
   // fraction), so the number shed keeps its expected value however small dv is; what the
   // rounding sheds early or late is evened out by `owed` in the next steps.
-  const double vp = rules.particle_volume;
-  c.owed += std::max(0.0, c.volume - c.owed) * rules.shed_share;
-  const double whole =
-      particles_due(std::max(0.0, c.owed), vp, rules.inverse_particle_volume, rnd.uniform(kRounding, 0));
+  const double vp = mr.particle_volume;
+  c.owed += std::max(0.0, c.volume - c.owed) * mr.shed_share;
+  const double whole = particles_due(std::max(0.0, c.owed), vp, mr.inverse_particle_volume, rnd.uniform(kRounding, 0));
   // Most steps a piece sheds nothing (neither a whole particle nor its last half): it then
   // needs no more than this.
   if (!(0.0 < whole) && !(c.volume < 0.5 * vp)) return;
-  emit(rnd, whole, c, m, rules, candidates);
+  emit(rnd, whole, c, m, rules, mr, candidates);
 }
 
 void Cling::emit(const CounterRandom& rnd, double whole, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
-                 std::vector<Candidate>& candidates) {
+                 const MaterialRules& mr, std::vector<Candidate>& candidates) {
   // Where the piece is and how fast it moves, once for all its candidates.
   const Vec3 p = m.to_world(c.local), u = m.velocity_at(p);
   const double speed = length(u);
@@ -203,17 +207,18 @@ void Cling::emit(const CounterRandom& rnd, double whole, ClingCell& c, const Bod
     s.position.x = p[0] - u[0] * flight + half * rnd.symmetric(n, 1);
     s.position.y = p[1] - u[1] * flight + half * rnd.symmetric(n, 2);
     s.position.z = p[2] - u[2] * flight + half * rnd.symmetric(n, 3);
-    s.velocity.x = u[0] + rules.jitter * speed * rnd.symmetric(n, 4);
-    s.velocity.y = u[1] + rules.jitter * speed * rnd.symmetric(n, 5);
-    s.velocity.z = u[2] + rules.jitter * speed * rnd.symmetric(n, 6);
+    s.velocity.x = u[0] + mr.jitter * speed * rnd.symmetric(n, 4);
+    s.velocity.y = u[1] + mr.jitter * speed * rnd.symmetric(n, 5);
+    s.velocity.z = u[2] + mr.jitter * speed * rnd.symmetric(n, 6);
     s.volume = volume;
     k.flight = flight;
     k.speed = speed;
     k.chance = rnd.uniform(n, 7);
+    k.material = c.material;
     c.volume -= volume;
     ++n;
   };
-  const double vp = rules.particle_volume;
+  const double vp = mr.particle_volume;
   for (double k = 0.0; k < whole && c.volume > 0.0; k += 1.0) {
     one(std::min(vp, c.volume));
     c.owed -= vp;
@@ -223,13 +228,13 @@ void Cling::emit(const CounterRandom& rnd, double whole, ClingCell& c, const Bod
 }
 
 bool Cling::can_start(const Imprint& im, const SprayGround& ground, const ClingRules& rules) {
-  if (rules.capacity <= 0.0) return false;
+  if (rules.most_capacity <= 0.0) return false;
   const double v =
       std::sqrt(im.velocity.x * im.velocity.x + im.velocity.y * im.velocity.y + im.velocity.z * im.velocity.z);
   const double spin =
       std::sqrt(im.angular_velocity.x * im.angular_velocity.x + im.angular_velocity.y * im.angular_velocity.y +
                 im.angular_velocity.z * im.angular_velocity.z);
-  return v + (spin > 0.0 ? spin * std::sqrt(reach_squared(im, ground)) : 0.0) >= rules.min_speed;
+  return v + (spin > 0.0 ? spin * std::sqrt(reach_squared(im, ground)) : 0.0) >= rules.least_min_speed;
 }
 
 double Cling::step(ClingingBody& body, const Imprint& im, SprayGround& ground, const ClingRules& rules,
@@ -242,7 +247,6 @@ double Cling::step(ClingingBody& body, const Imprint& im, SprayGround& ground, c
   // they carry their load away from the column they last touched, and shed.
   const double band = 0.5 * rules.cell + rules.tolerance;
   const double area = rules.cell * rules.cell;
-  const SpeedTest speed(rules.min_speed);
   const std::uint64_t body_key = CounterRandom::body_key(rules.seed, static_cast<std::uint64_t>(rules.step), body.key);
   double picked = 0.0;
   for (ClingCell& c : body.cells) {
@@ -250,7 +254,7 @@ double Cling::step(ClingingBody& body, const Imprint& im, SprayGround& ground, c
     const Vec3 p = m.to_world(c.local);
     const double top = ground.height(ground.column_i(p[0]), ground.column_j(p[1]));
     if (p[2] <= top + band) {
-      if (speed.slower(m.velocity_at(p))) set_down(c, p, drops);
+      if (rules.of(c.material).min_speed.slower(m.velocity_at(p))) set_down(c, p, drops);
       continue;
     }
     if (c.pending > 0.0) {

@@ -6,6 +6,12 @@
 //             top) where the piece there moves at min_speed or more loads that piece: it
 //             will hold area x adhesion (area = cell^2);
 //   set down  a piece touching the soil slower than min_speed lays its soil back at once;
+//   materials a piece holds one material, the one of the column it loads from; loading from
+//             a column of another material (one that clings, adhesion > 0), it first
+//             lays what it holds there (the tyre's sand pressed off into the mud it now
+//             picks up); a column that holds nothing (a road) leaves its soil as it is.
+//             What a piece loads, how fast it must move, and how it sheds (particle size,
+//             half-life, jitter) are its material's;
 //   leave     a piece that has left the ground (more than half a column above the soil top
 //             below it) takes its load off the top of the column it last touched: soil is
 //             carried away where the surface lifts from it, never from under a body that
@@ -32,34 +38,43 @@
 
 namespace shore::terrain {
 
-/// What a material, the terrain and the step's time make of the rule.
-struct ClingRules {
-  double dt = 0.0;         ///< s
-  double cell = 0.0;       ///< m, the column spacing (a piece is a cube of this side)
-  double tolerance = 0.0;  ///< m, a column is touched when the body lies this close to its top
-  double capacity = 0.0;   ///< m^3 a piece holds, adhesion x cell^2
-  /// Per palette index, the capacity a piece loads over a column of that material (its
-  /// adhesion x cell^2); empty (one material): `capacity` everywhere.
-  std::vector<double> capacity_by_index;
-  /// What a piece loads over a column of palette index `index`.
-  [[nodiscard]] double capacity_over(std::uint8_t index) const {
-    return capacity_by_index.empty() ? capacity : capacity_by_index[index];
-  }
-  double min_speed = 0.0;                ///< m/s
+/// What one material and the step's time make of the rule.
+struct MaterialRules {
+  explicit MaterialRules(double least_speed = 0.0) : min_speed(least_speed) {}
+  double capacity = 0.0;                 ///< m^3 a piece holds, adhesion x cell^2
+  SpeedTest min_speed;                   ///< m/s, the material's min_speed
   double particle_volume = 0.0;          ///< m^3
   double inverse_particle_volume = 0.0;  ///< 1 / particle_volume
   double shed_share = 0.0;               ///< 1 - 2^(-dt / half_life): share of what clings that drops off this step
   double jitter = 0.0;
+};
+
+/// What the materials, the terrain and the step's time make of the rule.
+struct ClingRules {
+  double dt = 0.0;         ///< s
+  double cell = 0.0;       ///< m, the column spacing (a piece is a cube of this side)
+  double tolerance = 0.0;  ///< m, a column is touched when the body lies this close to its top
+  MaterialRules one;       ///< entry 0's (the only one on a terrain with one material)
+  /// Per palette index (a terrain with a map); empty (one material): `one` everywhere.
+  std::vector<MaterialRules> by_index;
+  [[nodiscard]] bool map() const { return !by_index.empty(); }
+  /// The rules of palette index `index`.
+  [[nodiscard]] const MaterialRules& of(std::uint8_t index) const { return by_index.empty() ? one : by_index[index]; }
+  /// Whether a body can start to cling: the most any material holds (> 0) and the least
+  /// speed any loads at.
+  double most_capacity = 0.0;
+  double least_min_speed = 0.0;
   std::uint64_t seed = 0;
   std::int64_t step = 0;
 };
 
 /// A particle a piece sheds, before Sumner's speed test.
 struct Candidate {
-  Particle start;       ///< at its creation time
-  double flight = 0.0;  ///< s of the step left after its creation
-  double speed = 0.0;   ///< m/s, |v + w x r| of its piece (Sumner's |p0'|)
-  double chance = 0.0;  ///< the uniform number in [0, 1) its speed test must beat
+  Particle start;             ///< at its creation time
+  double flight = 0.0;        ///< s of the step left after its creation
+  double speed = 0.0;         ///< m/s, |v + w x r| of its piece (Sumner's |p0'|)
+  double chance = 0.0;        ///< the uniform number in [0, 1) its speed test must beat
+  std::uint8_t material = 0;  ///< its palette index (its piece's)
 };
 
 /// Soil that goes straight down onto the column below a point (set down, or a candidate
@@ -114,7 +129,7 @@ class Cling {
   /// The candidates of a piece that sheds this step: `whole` particles, and the rest if less
   /// than half a particle is left.
   static void emit(const CounterRandom& rnd, double whole, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
-                   std::vector<Candidate>& candidates);
+                   const MaterialRules& mr, std::vector<Candidate>& candidates);
   /// The piece of this key, among the body's pieces or those first touched this step.
   ClingCell* piece(ClingingBody& body, std::uint64_t key);
   /// Puts the pieces first touched this step into the body's list, which stays sorted by key.

@@ -1,5 +1,6 @@
 #include "spray_io.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -42,17 +43,20 @@ void read_spray_settings(Reader& r, TerrainSettings& s) {
     *v = r.get<double>("spray settings");
 }
 
-void write_spray_state(Writer& w, const SprayState& st) {
+void write_spray_state(Writer& w, const SprayState& st, bool materials) {
   w.put(st.step);
   w.put(st.lost);
   const SprayCounts& c = st.counts;
   for (std::int64_t v : {c.created, c.landed, c.lost, c.clumps, c.limited, c.set_down}) w.put(v);
   w.put(c.picked_volume);
   w.put(static_cast<std::uint64_t>(st.particles.size()));
-  for (const Particle& p : st.particles)
+  for (std::size_t k = 0; k < st.particles.size(); ++k) {
+    const Particle& p = st.particles[k];
     for (double v :
          {p.position.x, p.position.y, p.position.z, p.velocity.x, p.velocity.y, p.velocity.z, p.volume, p.age})
       w.put(v);
+    if (materials) w.put(st.particle_materials.empty() ? std::uint8_t{0} : st.particle_materials[k]);
+  }
   w.put(static_cast<std::uint64_t>(st.bodies.size()));
   for (const ClingingBody& b : st.bodies) {
     w.put(b.key);
@@ -63,12 +67,13 @@ void write_spray_state(Writer& w, const SprayState& st) {
       w.put(cell.key);
       for (double v : {cell.local.x, cell.local.y, cell.local.z, cell.volume, cell.owed, cell.pending}) w.put(v);
       for (std::int64_t v : {cell.i, cell.j, cell.touched}) w.put(v);
+      if (materials) w.put(cell.material);
     }
   }
 }
 
 namespace {
-void read_bodies(Reader& r, SprayState& st) {
+void read_bodies(Reader& r, SprayState& st, bool materials) {
   const auto bodies = r.get<std::uint64_t>("spray bodies");
   if (bodies > r.remaining() / 64) r.fail("spray body count " + std::to_string(bodies) + " (corrupt)");
   for (std::uint64_t k = 0; k < bodies; ++k) {
@@ -79,7 +84,8 @@ void read_bodies(Reader& r, SprayState& st) {
                       &b.orientation.z})
       need_finite(r, *v = r.get<double>("spray bodies"), "a spray body");
     const auto cells = r.get<std::uint64_t>("spray bodies");
-    if (cells > r.remaining() / kCellBytes) r.fail("clinging cell count " + std::to_string(cells) + " (corrupt)");
+    if (cells > r.remaining() / (kCellBytes + (materials ? 1 : 0)))
+      r.fail("clinging cell count " + std::to_string(cells) + " (corrupt)");
     for (std::uint64_t n = 0; n < cells; ++n) {
       ClingCell c;
       c.key = r.get<std::uint64_t>("clinging cells");
@@ -87,6 +93,7 @@ void read_bodies(Reader& r, SprayState& st) {
       for (double* v : {&c.local.x, &c.local.y, &c.local.z, &c.volume, &c.owed, &c.pending})
         need_finite(r, *v = r.get<double>("clinging cells"), "a clinging cell");
       for (std::int64_t* v : {&c.i, &c.j, &c.touched}) *v = r.get<std::int64_t>("clinging cells");
+      if (materials) c.material = r.get<std::uint8_t>("clinging cells");
       b.cells.push_back(c);
     }
     st.bodies.push_back(std::move(b));
@@ -94,7 +101,7 @@ void read_bodies(Reader& r, SprayState& st) {
 }
 }  // namespace
 
-void read_spray_state(Reader& r, SprayState& st) {
+void read_spray_state(Reader& r, SprayState& st, bool materials) {
   st.step = r.get<std::int64_t>("spray state");
   need_finite(r, st.lost = r.get<double>("spray state"), "the lost spray volume");
   SprayCounts& c = st.counts;
@@ -102,14 +109,37 @@ void read_spray_state(Reader& r, SprayState& st) {
     *v = r.get<std::int64_t>("spray counts");
   need_finite(r, c.picked_volume = r.get<double>("spray counts"), "the spray counts");
   const auto particles = r.get<std::uint64_t>("spray particles");
-  if (particles > r.remaining() / kParticleBytes)
+  if (particles > r.remaining() / (kParticleBytes + (materials ? 1 : 0)))
     r.fail("spray particle count " + std::to_string(particles) + " (corrupt)");
   st.particles.resize(particles);
-  for (Particle& p : st.particles)
+  if (materials) st.particle_materials.resize(particles);
+  for (std::size_t k = 0; k < st.particles.size(); ++k) {
+    Particle& p = st.particles[k];
     for (double* v :
          {&p.position.x, &p.position.y, &p.position.z, &p.velocity.x, &p.velocity.y, &p.velocity.z, &p.volume, &p.age})
       need_finite(r, *v = r.get<double>("spray particles"), "a spray particle");
-  read_bodies(r, st);
+    if (materials) st.particle_materials[k] = r.get<std::uint8_t>("spray particles");
+  }
+  // Every index 0 (a map whose spray is all entry 0's) is kept as no indices, as a terrain
+  // that never had a map keeps it.
+  if (std::all_of(st.particle_materials.begin(), st.particle_materials.end(), [](std::uint8_t m) { return m == 0; }))
+    std::vector<std::uint8_t>().swap(st.particle_materials);
+  read_bodies(r, st, materials);
+}
+
+void check_spray_materials(const Reader& r, const SprayState& st, std::size_t palette_size) {
+  const auto refuse = [&](const std::string& what, int index) {
+    r.fail(what + " holds palette index " + std::to_string(index) + ", beyond the palette (0 to " +
+           std::to_string(palette_size - 1) + ")");
+  };
+  for (std::size_t k = 0; k < st.particle_materials.size(); ++k)
+    if (st.particle_materials[k] >= palette_size)
+      refuse("spray particle " + std::to_string(k), st.particle_materials[k]);
+  for (const ClingingBody& b : st.bodies)
+    for (const ClingCell& c : b.cells)
+      if (c.material >= palette_size)
+        refuse("the clinging soil of spray body " + std::to_string(b.key) + " (piece " + std::to_string(c.key) + ")",
+               c.material);
 }
 
 }  // namespace shore::terrain

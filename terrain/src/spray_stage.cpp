@@ -19,25 +19,57 @@ void Spray::step(TileStore& store, const TerrainSettings& s, std::span<const Mat
                  std::span<const Imprint> imprints, double dt, StepReport& report) {
   SprayGround ground(store, s, palette, &untiled_tops_);
   const FlightRules rules{s.spray.gravity, s.material.spray.drag, s.spray.max_flight};
+  set_materials(s, palette);
   fly_all(ground, rules, dt, report);
   cling_all(ground, s, palette, rules, imprints, dt, report);
   ++state.step;
 }
 
+// A terrain with one material keeps no indices and one set of rules (its particles and
+// pieces are all entry 0's); with a map every particle has its index, and each palette
+// entry its flight rules and sample clock.
+void Spray::set_materials(const TerrainSettings& s, std::span<const Material> palette) {
+  flight_by_index_.clear();
+  if (palette.size() <= 1) {
+    std::vector<std::uint8_t>().swap(state.particle_materials);  // all 0: the set_palette checks
+    return;
+  }
+  state.particle_materials.resize(state.particles.size(), 0);  // a palette set since: what flies is entry 0's
+  for (const Material& m : palette) flight_by_index_.emplace_back(s.spray.gravity, m.spray.drag, s.spray.max_flight);
+  if (clocks_.size() < palette.size()) clocks_.resize(palette.size());
+}
+
 void Spray::fly_all(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report) {
   clock_.reset(rules, dt, ground.cell());
+  for (std::size_t m = 0; m < flight_by_index_.size(); ++m) clocks_[m].reset(flight_by_index_[m], dt, ground.cell());
   cover_flights(ground, dt);
+  if (flight_by_index_.empty())
+    fly_each<false>(ground, rules, dt, report);
+  else
+    fly_each<true>(ground, rules, dt, report);
+}
+
+// kMap false: one material, the loop as it was before maps (no index read or moved).
+template <bool kMap>
+void Spray::fly_each(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report) {
+  std::vector<std::uint8_t>& materials = state.particle_materials;
   std::size_t kept = 0;
   for (std::size_t k = 0; k < state.particles.size(); ++k) {  // oldest first; landings raise columns in this order
     Particle& p = state.particles[k];  // moved in place (kept <= k: no particle still to fly is overwritten)
+    std::uint8_t index = 0;
+    if constexpr (kMap) index = materials[k];
     // the ceiling as raised by the landings so far
-    const FlightEnd end = fly(p, dt, ground, rules, &clock_, ground.ceiling(state.particles.size()));
-    if (end.fate != FlightEnd::Fate::flying)
+    const FlightEnd end = fly(p, dt, ground, kMap ? flight_by_index_[index] : rules, kMap ? &clocks_[index] : &clock_,
+                              ground.ceiling(state.particles.size()));
+    if (end.fate != FlightEnd::Fate::flying) {
       land(ground, p, end, report);
-    else if (kept++ != k)
+    } else if (kept++ != k) {
       state.particles[kept - 1] = p;
+      if constexpr (kMap) materials[kept - 1] = index;
+    }
   }
   state.particles.resize(kept);
+  if constexpr (kMap) materials.resize(kept);
 }
 
 // The box every particle's path this step lies in (the horizontal speed only falls).
@@ -96,25 +128,35 @@ void Spray::set_gone_down(SprayGround& ground, const ClingingBody& body) {
   drops_.clear();
 }
 
-// Bodies by key (the imprints' order never matters), merged with the bodies soil clung to
-// last step: a body missing from this step sets its soil down.
-void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, std::span<const Material> palette,
-                      const FlightRules& rules, std::span<const Imprint> imprints, double dt, StepReport& report) {
-  const SprayMaterial& m = s.material.spray;
-  ClingRules r;
-  r.dt = dt;
-  r.cell = s.cell;
-  r.tolerance = s.contact_tolerance;
-  r.capacity = m.adhesion * s.cell * s.cell;
-  // A map: a piece loads the adhesion of the column it touches (the rest of the spray,
-  // particle size, half-life, drag, stays entry 0's: the state does not carry materials).
-  if (palette.size() > 1)
-    for (const Material& entry : palette) r.capacity_by_index.push_back(entry.spray.adhesion * s.cell * s.cell);
-  r.min_speed = m.min_speed;
+namespace {
+MaterialRules material_rules(const SprayMaterial& m, double cell, double dt) {
+  MaterialRules r(m.min_speed);
+  r.capacity = m.adhesion * cell * cell;
   r.particle_volume = m.particle_volume();
   r.inverse_particle_volume = 1.0 / r.particle_volume;
   r.shed_share = 1.0 - det::exp(-std::numbers::ln2 * dt / m.half_life);
   r.jitter = m.jitter;
+  return r;
+}
+}  // namespace
+
+// Bodies by key (the imprints' order never matters), merged with the bodies soil clung to
+// last step: a body missing from this step sets its soil down.
+void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, std::span<const Material> palette,
+                      const FlightRules& rules, std::span<const Imprint> imprints, double dt, StepReport& report) {
+  ClingRules r;
+  r.dt = dt;
+  r.cell = s.cell;
+  r.tolerance = s.contact_tolerance;
+  r.one = material_rules(s.material.spray, s.cell, dt);
+  r.most_capacity = r.one.capacity, r.least_min_speed = s.material.spray.min_speed;
+  // A map: a piece loads, sheds and throws by the material it holds.
+  if (palette.size() > 1)
+    for (const Material& entry : palette) {
+      r.by_index.push_back(material_rules(entry.spray, s.cell, dt));
+      r.most_capacity = std::max(r.most_capacity, r.by_index.back().capacity);
+      r.least_min_speed = std::min(r.least_min_speed, entry.spray.min_speed);
+    }
   r.seed = s.spray.seed;
   r.step = state.step;
 
@@ -141,7 +183,7 @@ void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, std::span<c
     const double picked = cling_.step(body, im, ground, r, candidates_, drops_);
     report.picked_volume += picked;
     state.counts.picked_volume += picked;
-    settle(ground, s, rules, report);
+    settle(ground, s, palette, rules, report);
     if (!body.cells.empty()) next_bodies_.push_back(std::move(body));
   }
   for (; b < old.size(); ++b) set_gone_down(ground, old[b]);
@@ -150,11 +192,13 @@ void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, std::span<c
 }
 
 // Sumner's test: a candidate flies where (speed / s)^gamma exceeds its uniform number.
-void Spray::settle(SprayGround& ground, const TerrainSettings& s, const FlightRules& rules, StepReport& report) {
+void Spray::settle(SprayGround& ground, const TerrainSettings& s, std::span<const Material> palette,
+                   const FlightRules& rules, StepReport& report) {
   for (const Drop& d : drops_) drop(ground, d);
   drops_.clear();
-  const SprayMaterial& m = s.material.spray;
+  const bool map = !flight_by_index_.empty();
   for (const Candidate& c : candidates_) {
+    const SprayMaterial& m = map ? palette[c.material].spray : s.material.spray;
     const double ratio = c.speed / m.speed_scale;
     const bool flies = ratio >= 1.0 || det::pow(ratio, m.exponent) > c.chance;
     if (!flies || state.particles.size() >= static_cast<std::size_t>(s.spray.max_particles)) {
@@ -165,17 +209,22 @@ void Spray::settle(SprayGround& ground, const TerrainSettings& s, const FlightRu
     Particle p = c.start;
     ++state.counts.created;
     ++report.particles_created;
-    const FlightEnd end = fly(p, c.flight, ground, rules);
-    if (end.fate == FlightEnd::Fate::flying)
+    const FlightEnd end = fly(p, c.flight, ground, flight_rules(rules, c.material));
+    if (end.fate == FlightEnd::Fate::flying) {
       state.particles.push_back(p);
-    else
+      if (map) state.particle_materials.push_back(c.material);
+    } else {
       land(ground, p, end, report);
+    }
   }
   candidates_.clear();
 }
 
 std::size_t Spray::bytes() const {
-  return state.bytes() + cling_.bytes() + clock_.bytes() + capacity_bytes(candidates_, drops_, order_, next_bodies_);
+  std::size_t clocks = capacity_bytes(clocks_, flight_by_index_);
+  for (const SampleClock& c : clocks_) clocks += c.bytes();
+  return state.bytes() + cling_.bytes() + clock_.bytes() + clocks +
+         capacity_bytes(candidates_, drops_, order_, next_bodies_);
 }
 
 }  // namespace shore::terrain

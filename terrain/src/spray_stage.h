@@ -34,19 +34,34 @@ class Spray {
 
  private:
   void fly_all(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report);
+  /// The particles' flights, with (kMap) or without their palette indices.
+  template <bool kMap>
+  void fly_each(SprayGround& ground, const FlightRules& rules, double dt, StepReport& report);
   /// Gives the ground the box the particles in flight can reach this step.
   void cover_flights(SprayGround& ground, double dt) const;
   void cling_all(SprayGround& ground, const TerrainSettings& s, std::span<const Material> palette,
                  const FlightRules& rules, std::span<const Imprint> imprints, double dt, StepReport& report);
   void set_gone_down(SprayGround& ground, const ClingingBody& body);
   /// Candidates and drops of one body, in order.
-  void settle(SprayGround& ground, const TerrainSettings& s, const FlightRules& rules, StepReport& report);
+  void settle(SprayGround& ground, const TerrainSettings& s, std::span<const Material> palette,
+              const FlightRules& rules, StepReport& report);
+  /// The flight rules and clocks of the palette's entries (none for one material), and the
+  /// particles' indices kept in step with the palette.
+  void set_materials(const TerrainSettings& s, std::span<const Material> palette);
+  /// The flight rules of a particle of this palette index (`one`: entry 0's, for one material).
+  [[nodiscard]] const FlightRules& flight_rules(const FlightRules& one, std::uint8_t index) const {
+    return flight_by_index_.empty() ? one : flight_by_index_[index];
+  }
   /// Soil straight down onto the column below a point (lost outside the region).
   void drop(SprayGround& ground, const Drop& d);
   void land(SprayGround& ground, const Particle& p, const FlightEnd& end, StepReport& report);
 
   Cling cling_;
-  SampleClock clock_;         ///< drag factors of the particles flying whole steps
+  SampleClock clock_;  ///< drag factors of the particles flying whole steps
+  /// A map's: per palette index, its particles' flight rules and sample clock (empty: one
+  /// material, `clock_`).
+  std::vector<FlightRules> flight_by_index_;
+  std::vector<SampleClock> clocks_;
   UntiledTops untiled_tops_;  ///< bounds of blocks no tile covers (derived, kept across steps)
   std::vector<Candidate> candidates_;
   std::vector<Drop> drops_;

@@ -1,5 +1,7 @@
 #include "spray_state.h"
 
+#include <algorithm>
+
 #include "capacity_bytes.h"
 
 namespace shore::terrain {
@@ -24,6 +26,14 @@ std::int64_t SprayState::cell_count() const {
   return n;
 }
 
+int SprayState::largest_material() const {
+  int most = 0;
+  for (const std::uint8_t m : particle_materials) most = std::max(most, int{m});
+  for (const ClingingBody& b : bodies)
+    for (const ClingCell& c : b.cells) most = std::max(most, int{c.material});
+  return most;
+}
+
 void SprayState::hash_into(StateHash& h) const {
   h.add(step);
   h.add(lost);
@@ -32,6 +42,10 @@ void SprayState::hash_into(StateHash& h) const {
     for (double v :
          {p.position.x, p.position.y, p.position.z, p.velocity.x, p.velocity.y, p.velocity.z, p.volume, p.age})
       h.add(v);
+  // Palette indices only where not 0 (as the map's tiles only where painted), so a terrain
+  // with one material keeps its hashes.
+  for (std::size_t k = 0; k < particle_materials.size(); ++k)
+    if (particle_materials[k] != 0) h.add(static_cast<std::uint64_t>(k)), h.add(std::uint64_t{particle_materials[k]});
   h.add(static_cast<std::uint64_t>(bodies.size()));
   for (const ClingingBody& b : bodies) {
     h.add(b.key);
@@ -42,12 +56,13 @@ void SprayState::hash_into(StateHash& h) const {
       h.add(c.key);
       for (double v : {c.local.x, c.local.y, c.local.z, c.volume, c.owed, c.pending}) h.add(v);
       for (std::int64_t v : {c.i, c.j, c.touched}) h.add(v);
+      if (c.material != 0) h.add(std::uint64_t{c.material});
     }
   }
 }
 
 std::size_t SprayState::bytes() const {
-  std::size_t n = capacity_bytes(particles, bodies);
+  std::size_t n = capacity_bytes(particles, particle_materials, bodies);
   for (const ClingingBody& b : bodies) n += capacity_bytes(b.cells);
   return n;
 }

@@ -35,6 +35,9 @@ struct ClingCell {
   double pending = 0.0;
   std::int64_t i = 0, j = 0;  ///< the column it last touched
   std::int64_t touched = -1;  ///< the spray step it last touched the soil in, moving fast enough
+  /// The palette index of the soil it holds (a piece holds one material: the column's it
+  /// last loaded from); 0 on a terrain with one material.
+  std::uint8_t material = 0;
 };
 
 /// The soil clinging to one body, and where the body was last seen.
@@ -46,7 +49,11 @@ struct ClingingBody {
 };
 
 struct SprayState {
-  std::vector<Particle> particles;   ///< in flight, oldest first
+  std::vector<Particle> particles;  ///< in flight, oldest first
+  /// The palette index of each particle (the material it flies and lands as), in the order
+  /// of `particles`; empty: every particle is entry 0's. Kept apart from Particle so that a
+  /// terrain with one material (which never fills it) moves the particles it always moved.
+  std::vector<std::uint8_t> particle_materials;
   std::vector<ClingingBody> bodies;  ///< sorted by key
   std::int64_t step = 0;             ///< steps with a time step so far (keys the random numbers)
   double lost = 0.0;                 ///< m^3 that left the region or the world
@@ -56,6 +63,10 @@ struct SprayState {
   [[nodiscard]] double in_flight() const;
   [[nodiscard]] double clinging() const;
   [[nodiscard]] std::int64_t cell_count() const;
+  /// The largest palette index a particle or a clinging piece holds (0 if none).
+  [[nodiscard]] int largest_material() const;
+  /// Whether some particle or piece holds a palette index other than 0.
+  [[nodiscard]] bool has_materials() const { return largest_material() > 0; }
   void hash_into(StateHash& h) const;
   [[nodiscard]] std::size_t bytes() const;
 };

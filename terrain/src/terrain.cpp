@@ -192,8 +192,13 @@ VolumeTotals Terrain::volume() const {
 std::vector<SprayParticle> Terrain::spray_particles() const {
   std::vector<SprayParticle> out;
   out.reserve(impl_->spray.state.particles.size());
-  for (const Particle& p : impl_->spray.state.particles)
-    out.push_back({p.position, det::pow(p.volume * (3.0 / (4.0 * std::numbers::pi)), 1.0 / 3.0), p.volume, p.velocity});
+  const SprayState& st = impl_->spray.state;
+  for (std::size_t k = 0; k < st.particles.size(); ++k) {
+    const Particle& p = st.particles[k];
+    const int index = st.particle_materials.empty() ? 0 : st.particle_materials[k];
+    out.push_back(
+        {p.position, det::pow(p.volume * (3.0 / (4.0 * std::numbers::pi)), 1.0 / 3.0), p.volume, p.velocity, index});
+  }
   return out;
 }
 

@@ -38,9 +38,11 @@
 //   (version 7 on) layers in depth: u64 layered tile count, per layered tile (in key order,
 //             each one of the tiles below) i64 tx, ty; f64[n*n] boundary (the sinkage at
 //             which the crust ends, m; +infinity where the column is not layered);
-//             u8[n*n] lower palette index. Written only by a terrain with a layer; one
-//             without is written as version 6 (or 5) as before, and older files load
-//             without layers
+//             u8[n*n] lower palette index (version 7 was written by a terrain with a
+//             layer; version 8 by every terrain with a map, its count 0 if none)
+//   (version 8 on, which every terrain with a map is written as) the spray state above
+//             carries each particle's palette index (u8 after its age) and each clinging
+//             cell's (u8 after its touched); earlier files load every one as entry 0
 //   u64 tile count
 //   per tile (in key order): i64 tx, ty; f64[n*n] height, sinkage, base
 //   u64 FNV-1a of every byte before it
@@ -70,9 +72,11 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'T', 'R', 'N'};
-constexpr std::uint32_t kVersion = 7;
-/// Written for terrains with a material map but no layer.
-constexpr std::uint32_t kMapVersion = 6;
+constexpr std::uint32_t kVersion = 8;
+/// The first version whose spray state carries palette indices.
+constexpr std::uint32_t kSprayMaterialsVersion = 8;
+/// The first version with a layers block.
+constexpr std::uint32_t kLayersVersion = 7;
 /// Written for terrains without a material map (one material, nothing painted).
 constexpr std::uint32_t kOneMaterialVersion = 5;
 constexpr std::uint32_t kOldestVersion = 1;
@@ -410,9 +414,8 @@ std::vector<unsigned char> Terrain::save_bytes() const {
   Writer w;
   for (char c : kMagic) w.put(c);
   const std::vector<TileKey> keys = im.tiles.sorted_keys();
-  const bool layers = has_layers(im.tiles, keys);
-  const bool map = layers || has_map(im.palette, im.tiles, keys);
-  w.put(layers ? kVersion : map ? kMapVersion : kOneMaterialVersion);
+  const bool map = has_layers(im.tiles, keys) || has_map(im.palette, im.tiles, keys);
+  w.put(map ? kVersion : kOneMaterialVersion);
   w.put(kByteOrderMark);
   w.put(kRealBytes);
   write_settings(w, im.s);
@@ -420,9 +423,9 @@ std::vector<unsigned char> Terrain::save_bytes() const {
   w.put(static_cast<std::uint64_t>(im.unsettled.size()));
   for (const GridRect& r : im.unsettled)
     w.put(r.i0), w.put(r.j0), w.put(static_cast<std::int32_t>(r.nx)), w.put(static_cast<std::int32_t>(r.ny));
-  write_spray_state(w, im.spray.state);
+  write_spray_state(w, im.spray.state, map);
   if (map) write_map(w, im.palette, im.tiles, keys);
-  if (layers) write_layers(w, im.tiles, keys);
+  if (map) write_layers(w, im.tiles, keys);
   w.put(static_cast<std::uint64_t>(keys.size()));
   for (const TileKey& key : keys) {
     const Tile& t = *im.tiles.find(key);
@@ -451,11 +454,11 @@ Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::str
   im.edited = hr.get<double>("volume bookkeeping");
   if (!std::isfinite(im.compacted) || !std::isfinite(im.edited)) hr.fail("volume bookkeeping is not finite");
   if (version >= 2) im.unsettled = read_unsettled(hr);
-  if (version >= 4) read_spray_state(hr, im.spray.state);
+  if (version >= 4) read_spray_state(hr, im.spray.state, version >= kSprayMaterialsVersion);
   SavedMap map;
   if (version >= 6) map = read_map(hr, im.s.tile_columns);
   SavedLayers layers;
-  if (version >= 7) layers = read_layers(hr, im.s.tile_columns);
+  if (version >= kLayersVersion) layers = read_layers(hr, im.s.tile_columns);
   read_tiles(hr, im.s.tile_columns, im.tiles);
   if (version >= 6) {
     // Validated as Terrain::set_palette does, but without a new generation: a loaded
@@ -471,6 +474,7 @@ Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::str
     apply_map(hr, map, im.palette.size(), im.tiles);
     apply_layers(hr, layers, im.palette.size(), im.tiles);
   }
+  check_spray_materials(hr, im.spray.state, im.palette.size());
   check_unsettled_on_tiles(hr, im.unsettled, im.tiles);
   return t;
 }

@@ -105,6 +105,7 @@ int TileStore::largest_material(std::span<const TileKey> skip) const {
 
 std::vector<TileKey> TileStore::painted_since(std::uint64_t g) const {
   std::vector<TileKey> keys;
+  if (g >= last_painted_) return keys;  // nothing painted since: no pass over the tiles (asked every substep)
   for (const auto& [key, tile] : tiles_)
     if (tile->painted_at > g) keys.push_back(key);
   std::sort(keys.begin(), keys.end());

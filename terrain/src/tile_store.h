@@ -143,7 +143,10 @@ class TileStore {
   [[nodiscard]] bool layered() const noexcept { return layered_; }
   void mark_layered() noexcept { layered_ = true; }
   /// Records that the tile's material array was written in the current generation.
-  void mark_painted(Tile& t) const noexcept { t.painted_at = generation_; }
+  void mark_painted(Tile& t) const noexcept {
+    t.painted_at = generation_;
+    last_painted_ = generation_;
+  }
   /// The tiles whose material array was written after generation g, in key order
   /// (painted_since(0): every tile ever painted, including those painted back to all 0).
   [[nodiscard]] std::vector<TileKey> painted_since(std::uint64_t g) const;
@@ -225,6 +228,8 @@ class TileStore {
   void log_change(TileKey key, Tile& t, const GridRect& local);
   [[nodiscard]] GridRect whole_tile(TileKey key) const;
   std::uint64_t generation_ = 1;  ///< changes are stamped with it; 0 means "before anything"
+  /// The generation of the last mark_painted (0: never): painted_since(g >= it) is empty at once.
+  mutable std::uint64_t last_painted_ = 0;
   std::vector<ChangeEntry> log_;  ///< in generation order; complete for generations > log_floor_
   std::uint64_t log_floor_ = 0;
   std::int64_t clock_ = 0;

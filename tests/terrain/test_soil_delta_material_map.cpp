@@ -100,7 +100,8 @@ TEST(SoilDeltaMaterialMap, ExactReplicaHasTheServersMapAndHash) {
   EXPECT_EQ(run.replica.state_hash(), run.server.state_hash());
   ASSERT_EQ(run.replica.palette().size(), 3u);
   EXPECT_EQ(run.replica.palette()[2].bekker_kphi, gravel().bekker_kphi);
-  // Only the deltas after a paint carry the map (version 3); the others are version 2.
+  // Only the deltas after a paint carry the map (version 3: no layer, the plough throws no
+  // spray of another material than entry 0); the others are version 2.
   ASSERT_EQ(run.versions.size(), 12u);
   EXPECT_EQ(run.versions[0], 3u);
   EXPECT_EQ(run.versions[1], 2u);

@@ -298,10 +298,10 @@ TEST(Layers, ASavedLayeredTerrainLoadsBitIdenticalAndStepsOnAlike) {
   // Both press on alike.
   EXPECT_EQ(ramp_plate(back, -5, -5, 40e3), ramp_plate(t, -5, -5, 40e3));
   EXPECT_EQ(back.state_hash(), t.state_hash());
-  // Unlayered again, the file is the map's version 6, and loads without layers.
+  // Unlayered again, the file (a map's, version 8, its layers block empty) loads without layers.
   t.clear_layers({-100, -100, 200, 200});
   const std::vector<unsigned char> unlayered = t.save_bytes();
-  EXPECT_EQ(unlayered[8], 6);
+  EXPECT_EQ(unlayered[8], 8);
   EXPECT_EQ(Terrain::load_bytes(unlayered, "unlayered").lower_index(0, 0), -1);
 }
 
@@ -354,7 +354,7 @@ TEST(Layers, DeltasCarryTheLayersToAReplica) {
   server.paint_layer_disc(0.2, 0.2, 0.1, 0, 0.01);
   server.clear_layers({-40, -40, 20, 80});
   sync();
-  EXPECT_EQ(versions, (std::vector<std::uint32_t>{3, 4, 4}));
+  EXPECT_EQ(versions, (std::vector<std::uint32_t>{3, 5, 5}));
   EXPECT_EQ(replica.state_hash(), server.state_hash());
   for (std::int64_t j = -40; j < 40; j += 3)
     for (std::int64_t i = -40; i < 40; i += 3) {

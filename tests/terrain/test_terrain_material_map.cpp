@@ -398,7 +398,7 @@ TEST(MaterialMap, SaveLoadRoundTripOfAPaintedTerrain) {
     a.step({&im, 1});
   }
   const std::vector<unsigned char> bytes = a.save_bytes();
-  EXPECT_EQ(bytes[8], 6);
+  EXPECT_EQ(bytes[8], 8);
   Terrain b = Terrain::load_bytes(bytes, "painted");
   EXPECT_EQ(b.state_hash(), a.state_hash());
   ASSERT_EQ(b.palette().size(), 3u);
@@ -423,9 +423,10 @@ TEST(MaterialMap, AFileWithAnIndexBeyondItsPaletteIsRefusedByName) {
   a.set_palette({Material::sand(), Material::mud(), Material::snow()});
   a.paint_rect({0, 0, 4, 4}, 2);  // one tile, painted whole
   std::vector<unsigned char> bytes = a.save_bytes();
-  // Layout (terrain_io.cpp): ... painted tiles, u64 tile count, one tile of 16 + 3 x 16 x 8
-  // bytes, u64 checksum. The painted tile's last index is the byte before the tile count.
-  const std::size_t last_index = bytes.size() - 8 - (16 + 3 * 16 * 8) - 8 - 1;
+  // Layout (terrain_io.cpp): ... painted tiles, u64 layered tile count (0), u64 tile count,
+  // one tile of 16 + 3 x 16 x 8 bytes, u64 checksum. The painted tile's last index is the
+  // byte before the layered tile count.
+  const std::size_t last_index = bytes.size() - 8 - (16 + 3 * 16 * 8) - 8 - 8 - 1;
   ASSERT_EQ(bytes[last_index], 2);
   bytes[last_index] = 7;
   bytes.resize(bytes.size() - 8);

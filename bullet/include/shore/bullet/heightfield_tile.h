@@ -20,6 +20,8 @@
 #include <span>
 #include <vector>
 
+#include <LinearMath/btScalar.h>
+
 #include <BulletCollision/CollisionDispatch/btCollisionObject.h>
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
 #include <BulletCollision/CollisionShapes/btTriangleInfoMap.h>
@@ -79,23 +81,49 @@ class HeightfieldTile {
   /// Computes Bullet's internal-edge info from the current heights and has contacts with
   /// the tile corrected by it (adjust_internal_edge_contact), so bodies slide over the
   /// tile's flat parts as over one face. For ground that no longer changes (rigid
-  /// material): after a height edit the info is stale. Installs Bullet's global
-  /// gContactAddedCallback if it is unset; an application with its own callback calls
-  /// adjust_internal_edge_contact from it.
+  /// material): after a height edit the info is stale. Installs terrain_contact_added as
+  /// Bullet's global gContactAddedCallback if it is unset; an application with its own
+  /// callback calls terrain_contact_added (or adjust_internal_edge_contact) from it.
   void smooth_internal_edges();
 
+  /// Friction per vertex, row-major (index j * columns + i, columns^2 values, each >= 0),
+  /// for the bodies Bullet collides with the tile (a painted material map): a contact takes
+  /// the friction of the vertex nearest its point on the tile, combined with the body's as
+  /// Bullet combines by default (the product, clamped to 10), in terrain_contact_added.
+  /// Empty: the object's one friction everywhere, and no per-contact work. Installs
+  /// terrain_contact_added as Bullet's global gContactAddedCallback if it is unset (or is
+  /// adjust_internal_edge_contact); an application with its own callback calls
+  /// terrain_contact_added from it. Throws InvalidSetting on a wrong size or a bad value.
+  void set_vertex_friction(std::vector<btScalar> friction);
+  [[nodiscard]] bool has_vertex_friction() const noexcept { return !vertex_friction_.empty(); }
+  /// The friction of the vertex nearest a point given in the tile object's own frame (the
+  /// object's one friction without a vertex friction).
+  [[nodiscard]] btScalar friction_near(const btVector3& local) const;
+
  private:
+  /// Sets or clears the object's custom-material flag: on while the tile has internal-edge
+  /// info or a vertex friction.
+  void update_callback_flag();
   HeightfieldTileSettings settings_;
   std::vector<float> heights_;  // row-major, index j * columns + i
   std::unique_ptr<btHeightfieldTerrainShape> shape_;
   std::unique_ptr<btRigidBody> object_;
   std::unique_ptr<btTriangleInfoMap> edge_info_;
+  std::vector<btScalar> vertex_friction_;  ///< empty: the object's friction everywhere
 };
 
 /// Bullet's ContactAddedCallback signature: corrects a contact with a smoothed tile (either
 /// object) by its internal-edge info; does nothing for other pairs. Always returns false.
 bool adjust_internal_edge_contact(btManifoldPoint& cp, const btCollisionObjectWrapper* a, int part_a, int index_a,
                                   const btCollisionObjectWrapper* b, int part_b, int index_b);
+
+/// Bullet's ContactAddedCallback signature, what Shore installs: a contact with a tile
+/// (either object) is corrected by the tile's internal-edge info if it has any
+/// (adjust_internal_edge_contact), then given the friction of the tile's vertex nearest the
+/// contact if the tile has a vertex friction (set_vertex_friction). Does nothing for other
+/// pairs. Always returns false.
+bool terrain_contact_added(btManifoldPoint& cp, const btCollisionObjectWrapper* a, int part_a, int index_a,
+                           const btCollisionObjectWrapper* b, int part_b, int index_b);
 
 }  // namespace SHORE_BULLET_ABI
 }  // namespace shore::bullet

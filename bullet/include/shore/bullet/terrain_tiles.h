@@ -10,6 +10,12 @@
 // refreshes cached points from their local positions, so a body would otherwise hover
 // over lowered ground) and the bodies there are woken. A rise is capped per substep so
 // raised ground (a rim) cannot jump over a body; the tile catches up on later substeps.
+//
+// A painted terrain (Terrain::set_palette, paint_*) gives the bodies Bullet collides with the
+// tiles each column's Material::friction: a tile all of one friction takes it as its
+// object's friction (no per-contact work), a tile of several keeps one per vertex and each
+// contact takes its nearest vertex's (HeightfieldTile::set_vertex_friction). Repaints and
+// palette changes are followed at push().
 
 #include <cstdint>
 #include <functional>
@@ -91,7 +97,8 @@ class TerrainTiles {
   [[nodiscard]] std::int64_t clamped_vertices() const noexcept { return clamped_; }
   /// Broadphase group of tiles created from now on (default StaticFilter).
   void set_collision_group(int group) { group_ = group; }
-  /// Sets the friction of every tile, present and future.
+  /// Sets the friction of every tile, present and future: of the columns of palette entry 0
+  /// on a painted terrain (the others take their entry's Material::friction).
   void set_friction(double friction);
 
   /// The tiles for a checkpoint (TerrainCoupling::save_state): which exist, their height
@@ -114,6 +121,13 @@ class TerrainTiles {
   /// Copies the terrain's heights of `columns` that are the tile's vertices; returns how many.
   std::int64_t copy_rect(Tile& tile, const GridRect& columns);
   void drop_stale_contacts(const GridRect& columns);
+  /// Each palette entry's friction as the tiles give it (entry 0: friction_); empty when
+  /// every column has friction_ (one entry, or all of the same friction).
+  [[nodiscard]] std::vector<double> palette_friction() const;
+  /// The tile's friction from the map: one for the object, or one per vertex.
+  void paint_friction(Tile& tile);
+  /// Repaints and palette changes since the last push, into the tiles' friction.
+  void follow_map();
 
   btCollisionWorld& world_;
   const terrain::Terrain& terrain_;
@@ -125,7 +139,10 @@ class TerrainTiles {
   GroundFrame frame_;
   bool framed_ = false;  // the frame is not the identity
   int group_ = btBroadphaseProxy::StaticFilter;
-  std::vector<double> scratch_;  // heights of the rectangle being copied
+  std::vector<double> scratch_;        // heights of the rectangle being copied
+  std::vector<double> frictions_;      // palette_friction() as the tiles have it
+  std::uint64_t painted_seen_ = 0;     // the terrain generation whose paint the tiles have
+  std::vector<std::uint8_t> indices_;  // scratch: a tile's vertices' palette indices
   PushObserver observer_;
 };
 

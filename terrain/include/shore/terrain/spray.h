@@ -9,9 +9,10 @@
 // others drop straight onto the column below, as clumps. docs/terrain.md, "Spray", gives
 // the model as built and the choices made where the paper is silent.
 //
-// The material's parameters are in SprayMaterial (Material::spray), the terrain's switch,
-// limits and random seed in SpraySettings (TerrainSettings::spray); each body's velocity,
-// angular velocity, pose and key come with its Imprint (terrain.h).
+// The material's parameters are in SprayMaterial (Material::spray; on a painted terrain
+// each clinging piece and particle goes by the palette entry it was picked up from), the
+// terrain's switch, limits and random seed in SpraySettings (TerrainSettings::spray); each
+// body's velocity, angular velocity, pose and key come with its Imprint (terrain.h).
 
 #include <cstddef>
 #include <cstdint>
@@ -88,6 +89,7 @@ struct SprayParticle {
   double radius = 0.0;  ///< m, of the sphere of its volume
   double volume = 0.0;  ///< m^3
   Vec3 velocity;        ///< m/s (motion blur, streaks)
+  int material = 0;     ///< its palette index (Terrain::palette): the soil it flies and lands as
 };
 
 /// What spray has done since the terrain was made (totals) and holds now.
@@ -100,7 +102,8 @@ struct SprayCounts {
   std::int64_t clumps = 0;          ///< candidates too slow to fly, dropped onto the column below
   std::int64_t limited = 0;         ///< candidates laid at once because max_particles was reached
   /// Pieces of surface whose soil was set back down at once: touching the soil slower than
-  /// min_speed, or their body gone from the step's imprints (at rest, removed, spray off).
+  /// min_speed, loading from a column of another material (a piece holds one), or their
+  /// body gone from the step's imprints (at rest, removed, spray off).
   std::int64_t set_down = 0;
   double picked_volume = 0.0;  ///< m^3 picked up by bodies, in all
   std::size_t bytes = 0;       ///< memory spray holds now (particles, clinging soil, scratch)
