@@ -61,6 +61,7 @@ std::int64_t own_column(const EnvelopeRaster& env, const terrain::ContactElement
 void ContactMemory::remap(const GridRect& from, const GridRect& to) {
   remap_values(shear_, from, to);
   remap_values(shear_length_, from, to);
+  remap_values(remould_, from, to);
   remap_values(unloading_, from, to, kNone);
   remap_indices(touched_, from, to);
 }
@@ -79,14 +80,19 @@ void ContactMemory::advance(std::span<terrain::ContactElement> elements, const E
   const std::size_t size = envelope.lower.size();
   const bool had = shear_.size() == size;
   // The new values first, from the old ones (nothing is reset before all are read).
-  new_shear_.clear(), new_unloading_.clear();
+  new_shear_.clear(), new_unloading_.clear(), new_remould_.clear();
   for (terrain::ContactElement& e : elements) {
     if (e.wall || e.raster_index < 0 || !envelope.contains(e.i, e.j)) continue;
     const Vec3 n = e.normal;
     const Vec3 u = body.point_velocity(e.point);
     const auto k = static_cast<std::uint32_t>(e.raster_index);
     const Vec3 slip = u - n * dot(u, n);
-    new_shear_.emplace_back(k, (had ? shear_[k] : Vec3{}) + slip * h);
+    const Vec3 j = (had ? shear_[k] : Vec3{}) + slip * h;
+    new_shear_.emplace_back(k, j);
+    // Yields: pressed plastically, or its spring reaches the yield pressure over the substep.
+    const double length = std::sqrt(dot(j, j));
+    const bool yields = !(e.stiffness < kRigid) || e.preload + e.stiffness * h * -dot(u, n) >= e.pressure;
+    new_remould_.emplace_back(k, yields ? length : std::min(length, had ? remould_[k] : 0.0));
     if (!(e.stiffness < kRigid)) continue;
     // The spring at the end of the substep: what the column carries on, and where a patch
     // kept for the next substep (follow_drift) starts from.
@@ -95,10 +101,11 @@ void ContactMemory::advance(std::span<terrain::ContactElement> elements, const E
   }
   // Back to fresh: only the entries touched last substep, when the arrays fit; else all.
   if (had) {
-    for (const std::uint32_t k : touched_) shear_[k] = {}, shear_length_[k] = 0.0;
+    for (const std::uint32_t k : touched_) shear_[k] = {}, shear_length_[k] = 0.0, remould_[k] = 0.0;
   } else {
     shear_.assign(size, {});
     shear_length_.assign(size, 0.0);
+    remould_.assign(size, 0.0);
   }
   if (new_unloading_.empty()) {
     unloading_.clear();
@@ -114,21 +121,28 @@ void ContactMemory::advance(std::span<terrain::ContactElement> elements, const E
     touched_.push_back(k);
   }
   for (const auto& [k, p] : new_unloading_) unloading_[k] = p;  // k is among the shear's
+  for (const auto& [k, r] : new_remould_) remould_[k] = r;
 }
 
 void ContactMemory::save(ByteWriter& w) const {
   coupling_detail::put_fields(w, shear_, [](ByteWriter& out, const Vec3& v) { coupling_detail::put_vec3(out, v); });
   coupling_detail::put_fields(w, shear_length_, [](ByteWriter& out, double v) { out.put(v); });
   coupling_detail::put_fields(w, unloading_, [](ByteWriter& out, double v) { out.put(v); });
+  coupling_detail::put_fields(w, remould_, [](ByteWriter& out, double v) { out.put(v); });
 }
 
-void ContactMemory::restore(ByteReader& r, std::size_t columns) {
+void ContactMemory::restore(ByteReader& r, std::size_t columns, bool with_remould) {
   coupling_detail::get_fields(r, shear_, 3 * sizeof(double), "shear displacement",
                               [](ByteReader& in) { return coupling_detail::get_vec3(in, "shear displacement"); });
   coupling_detail::get_fields(r, shear_length_, sizeof(double), "shear displacement",
                               [](ByteReader& in) { return in.get<double>("shear displacement"); });
   coupling_detail::get_fields(r, unloading_, sizeof(double), "unloading pressure",
                               [](ByteReader& in) { return in.get<double>("unloading pressure"); });
+  if (with_remould)
+    coupling_detail::get_fields(r, remould_, sizeof(double), "remould displacement",
+                                [](ByteReader& in) { return in.get<double>("remould displacement"); });
+  else
+    remould_ = shear_length_;
   // What the next substeps index or divide by must be sound: a corrupt state is refused,
   // never read out of bounds or turned into NaN.
   if (!shear_.empty() && shear_.size() != columns)
@@ -140,8 +154,14 @@ void ContactMemory::restore(ByteReader& r, std::size_t columns) {
   if (!unloading_.empty() && unloading_.size() != columns)
     r.fail("unloading pressure of " + std::to_string(unloading_.size()) + " columns, the envelope has " +
            std::to_string(columns));
+  if (remould_.size() != shear_.size())
+    r.fail("remould displacements of " + std::to_string(remould_.size()) + " columns, shear displacements of " +
+           std::to_string(shear_.size()));
   for (std::size_t k = 0; k < shear_.size(); ++k)
     if (!finite(shear_[k]) || !std::isfinite(shear_length_[k])) r.fail("a shear displacement that is not finite");
+  for (const double j : remould_)
+    if (!(j >= 0.0 && std::isfinite(j)))
+      r.fail("a remould displacement of " + detail::to_text(j) + " m (must be finite, >= 0)");
   for (const double p : unloading_)
     if (!(p >= 0.0)) r.fail("an unloading pressure of " + detail::to_text(p) + " Pa (must be >= 0 or +infinity)");
   // Every column whose bits differ from fresh counts as touched, so the next substep resets
@@ -149,7 +169,7 @@ void ContactMemory::restore(ByteReader& r, std::size_t columns) {
   const auto set = [](double v) { return std::bit_cast<std::uint64_t>(v) != 0; };
   touched_.clear();
   for (std::size_t k = 0; k < shear_.size(); ++k)
-    if (set(shear_[k].x) || set(shear_[k].y) || set(shear_[k].z) || set(shear_length_[k]) ||
+    if (set(shear_[k].x) || set(shear_[k].y) || set(shear_[k].z) || set(shear_length_[k]) || set(remould_[k]) ||
         (!unloading_.empty() && unloading_[k] != kNone))
       touched_.push_back(static_cast<std::uint32_t>(k));
 }
