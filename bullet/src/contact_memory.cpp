@@ -80,7 +80,7 @@ void ContactMemory::advance(std::span<terrain::ContactElement> elements, const E
   const std::size_t size = envelope.lower.size();
   const bool had = shear_.size() == size;
   // The new values first, from the old ones (nothing is reset before all are read).
-  new_shear_.clear(), new_unloading_.clear(), new_remould_.clear();
+  new_shear_.clear(), new_unloading_.clear();
   for (terrain::ContactElement& e : elements) {
     if (e.wall || e.raster_index < 0 || !envelope.contains(e.i, e.j)) continue;
     const Vec3 n = e.normal;
@@ -88,15 +88,16 @@ void ContactMemory::advance(std::span<terrain::ContactElement> elements, const E
     const auto k = static_cast<std::uint32_t>(e.raster_index);
     const Vec3 slip = u - n * dot(u, n);
     const Vec3 j = (had ? shear_[k] : Vec3{}) + slip * h;
-    new_shear_.emplace_back(k, j);
-    // Yields: pressed plastically, or its spring reaches the yield pressure over the substep.
     const double length = std::sqrt(dot(j, j));
-    const bool yields = !(e.stiffness < kRigid) || e.preload + e.stiffness * h * -dot(u, n) >= e.pressure;
-    new_remould_.emplace_back(k, yields ? length : std::min(length, had ? remould_[k] : 0.0));
-    if (!(e.stiffness < kRigid)) continue;
+    const bool elastic = e.stiffness < kRigid;
     // The spring at the end of the substep: what the column carries on, and where a patch
-    // kept for the next substep (follow_drift) starts from.
-    e.preload = std::clamp(e.preload + e.stiffness * h * -dot(u, n), 0.0, e.pressure);
+    // kept for the next substep (follow_drift) starts from. It yields where that reaches
+    // the yield pressure; a column pressed plastically yields.
+    const double spring = elastic ? e.preload + e.stiffness * h * -dot(u, n) : 0.0;
+    const bool yields = !elastic || spring >= e.pressure;
+    new_shear_.push_back({k, j, length, yields ? length : std::min(length, had ? remould_[k] : 0.0)});
+    if (!elastic) continue;
+    e.preload = std::clamp(spring, 0.0, e.pressure);
     if (envelope.index(e.i, e.j) == k) new_unloading_.emplace_back(k, e.preload);  // its own column (a fringe's is not)
   }
   // Back to fresh: only the entries touched last substep, when the arrays fit; else all.
@@ -115,13 +116,13 @@ void ContactMemory::advance(std::span<terrain::ContactElement> elements, const E
     unloading_.assign(size, kNone);
   }
   touched_.clear();
-  for (const auto& [k, j] : new_shear_) {
-    shear_[k] = j;
-    shear_length_[k] = std::sqrt(dot(j, j));
-    touched_.push_back(k);
+  for (const NewShear& s : new_shear_) {
+    shear_[s.k] = s.j;
+    shear_length_[s.k] = s.length;
+    remould_[s.k] = s.remould;
+    touched_.push_back(s.k);
   }
   for (const auto& [k, p] : new_unloading_) unloading_[k] = p;  // k is among the shear's
-  for (const auto& [k, r] : new_remould_) remould_[k] = r;
 }
 
 void ContactMemory::save(ByteWriter& w) const {

@@ -81,9 +81,13 @@ class ContactMemory {
   // arrays the window's size (a wheel's window is three times its patch).
   std::vector<std::uint32_t> touched_;
   // Scratch of advance: the new values by raster index, in element order.
-  std::vector<std::pair<std::uint32_t, Vec3>> new_shear_;
+  struct NewShear {
+    std::uint32_t k;  // raster index
+    Vec3 j;
+    double length, remould;  // m: |j| and the remould displacement
+  };
+  std::vector<NewShear> new_shear_;
   std::vector<std::pair<std::uint32_t, double>> new_unloading_;
-  std::vector<std::pair<std::uint32_t, double>> new_remould_;
 };
 
 }  // namespace contact_detail
