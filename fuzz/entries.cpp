@@ -413,8 +413,8 @@ bool material_map(std::span<const std::uint8_t> data) {
 
 std::vector<unsigned char> wrap_recording_payload(std::span<const std::uint8_t> fields, std::uint32_t version) {
   if (fields.size() < 4) return {};
-  // The container's layout (shore/bullet/recording_file.h): version 2 (no multibodies) or 3,
-  // u32 scalar bytes (the field given).
+  // The container's layout (shore/bullet/recording_file.h): version 2 (no multibodies), 3 (no
+  // wheels) or 4, u32 scalar bytes (the field given).
   return zstd_container("SHOREREC", version, fields.first(4), fields.subspan(4));
 }
 
@@ -429,8 +429,10 @@ bool recording_seed_fits_build(std::span<const std::uint8_t> data) {
 
 bool recording(std::span<const std::uint8_t> data) {
   if (data.empty()) return false;
-  const std::vector<unsigned char> file =
-      (data[0] & 2) ? wrap_recording_payload(data.subspan(1), (data[0] & 4) ? 3 : 2) : with_checksum_mode(data);
+  const std::vector<unsigned char> file = (data[0] & 2) ? wrap_recording_payload(data.subspan(1), (data[0] & 8)   ? 4
+                                                                                                  : (data[0] & 4) ? 3
+                                                                                                                  : 2)
+                                                        : with_checksum_mode(data);
   try {
     const bullet::Recording rec = bullet::read_recording(file, "fuzz input");
     // What a replay reads besides the scene's own loaders (checkpoint, soil deltas, water
@@ -443,6 +445,7 @@ bool recording(std::span<const std::uint8_t> data) {
       multibody_scalars += m.scalars();
     }
     require(rec.version >= 3 || rec.multibodies.empty(), "multibodies in a version 2 recording");
+    require(rec.version >= 4 || rec.vehicle_wheels.empty(), "wheels in a recording before version 4");
     std::vector<bullet::StateChain> water(rec.waters);
     int last = 0;
     for (const bullet::Recording::Frame& f : rec.frames) {
@@ -457,7 +460,9 @@ bool recording(std::span<const std::uint8_t> data) {
       require(f.multibodies.size() == multibody_scalars * sizeof(btScalar),
               "a frame's multibody section of the wrong size accepted");
       (void)rec.body_scalars(f, "fuzz input");
+      require(f.wheels.size() == rec.wheel_bytes(), "a frame's wheel section of the wrong size accepted");
       (void)rec.multibody_scalars(f, "fuzz input");
+      (void)rec.wheel_scalars(f, "fuzz input");
     }
     require(last == rec.substeps, "a recording without its last frame accepted");
     // Written again (in its own version), it reads back to the same bytes.

@@ -221,7 +221,8 @@ void soil_delta_seeds(const fs::path& dir) {
 
 /// A small recording's layout (shore/bullet/recording_file.h): one soil, one water, two
 /// bodies, three frames, and with `multibodies` two multibodies (one of two links, its
-/// base and second link with colliders; one a lone base without a collider). The nested
+/// base and second link with colliders; one a lone base without a collider) and two
+/// vehicles (of four wheels and of one). The nested
 /// parts are short stand-ins (their own loaders are fuzzed by their own targets): what this
 /// loader reads is the layout around them, and the water states' XOR chain (a state that
 /// grows, changes in a few bytes, then shrinks). Without multibodies it is written as
@@ -237,8 +238,10 @@ void recording_seeds(const fs::path& dir, bool multibodies) {
   rec.initial = initial;
   rec.terrain_generations = {7};
   rec.waters = 1;
-  if (multibodies)
+  if (multibodies) {
     rec.multibodies = {{.links = 2, .values = 13 + 2 * 2, .colliders = {1, 0, 1}}, {.values = 13, .colliders = {0}}};
+    rec.vehicle_wheels = {4, 1};
+  }
   std::vector<Bytes> owned;
   owned.reserve(16);
   shore::bullet::StateChain chain;
@@ -270,6 +273,12 @@ void recording_seeds(const fs::path& dir, bool multibodies) {
         }
       }
       f.multibodies = keep(m);
+      std::vector<btScalar> wheels;
+      for (int w = 0; w < 5; ++w) {
+        const btScalar pose[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, btScalar(0.1 * k), btScalar(w), btScalar(0.4)};
+        wheels.insert(wheels.end(), pose, pose + 12);
+      }
+      f.wheels = keep(wheels);
     }
     Bytes water(k == 3 ? 24 : 40, 0);
     for (std::size_t i = 0; i < water.size(); ++i) water[i] = static_cast<unsigned char>(i * (k == 2 ? 5 : 3));
@@ -282,8 +291,8 @@ void recording_seeds(const fs::path& dir, bool multibodies) {
   write(dir / name, entry_input(true, file));
   write(dir / (name + "_whole"), entry_input(false, file));
   const shore::bullet::Recording back = shore::bullet::read_recording(file, "seed");
-  // recording's mode 2 (a version 2 container) or 6 (version 3): u32 scalar bytes, then the raw layout
-  Bytes payload = {static_cast<unsigned char>(multibodies ? 6 : 2)};
+  // recording's mode 2 (a version 2 container) or 14 (version 4): u32 scalar bytes, then the raw layout
+  Bytes payload = {static_cast<unsigned char>(multibodies ? 14 : 2)};
   const std::uint32_t scalar = shore::bullet::scalar_bytes();
   const auto* p = reinterpret_cast<const unsigned char*>(&scalar);
   payload.insert(payload.end(), p, p + sizeof scalar);

@@ -2,7 +2,7 @@
 // for counting the kernel's instructions (callgrind, perf stat) where timings are noisy:
 // the cost per node-step is the difference of two runs with different step counts.
 //
-//   water_steps <3d|vertical> <nodes per side> <tile> <steps> [sleep|dense] [automatic|generic|avx2|unfused]
+//   water_steps <3d|vertical> <nodes per side> <tile> <steps> [sleep|dense] [automatic|generic|avx2|avx512|unfused]
 //   water_steps lake <tile> <substeps>
 //   water_steps asleep <tile> <substeps>
 //
@@ -96,6 +96,7 @@ int main(int argc, char** argv) {
     const char* k = argv[6];
     s.kernel = std::strcmp(k, "generic") == 0   ? water::KernelChoice::generic
                : std::strcmp(k, "avx2") == 0    ? water::KernelChoice::avx2
+               : std::strcmp(k, "avx512") == 0  ? water::KernelChoice::avx512
                : std::strcmp(k, "unfused") == 0 ? water::KernelChoice::unfused
                                                 : water::KernelChoice::automatic;
   }

@@ -72,6 +72,69 @@ double compaction_push(const terrain::Terrain& terrain, const terrain::Bearing& 
   return std::clamp(push, -load, load);
 }
 
+/// Most a column's surface tilts across the wheel in the wall push (a 72 degree wall: a rut's
+/// wall one cell wide and deeper than three cells reads as this steep).
+constexpr double kMaxWallSlope = 3.0;
+
+/// The soil's push across the wheel, N along `across` (the axle's horizontal direction in the
+/// ground's coordinates). The loaded soil pushes along its surface's normal, so where the
+/// surface slopes across the wheel it pushes the wheel sideways, towards the lower side, by
+/// the load there times the slope. A wheel in its own rut has the rut's walls beside both its
+/// edges, and they cancel; one that has drifted towards a wall has the higher wall beside one
+/// edge (the soil it has not pressed yet) and the rut's floor beside the other, and is pushed
+/// back into the rut. The load is taken as even across the wheel in each strip along its
+/// heading (the strip's mean column force): a cylinder presses a strip evenly, and the two
+/// edges' own column forces differ with how the grid cuts them, which would push the wheel
+/// about at random. Bullet already pushes the whole suspension force along the normal its ray
+/// found (`ray_normal`, the ground's coordinates), under the wheel's centre line: only the
+/// difference is returned, so a wheel on an even slope gets nothing more than Bullet gives it.
+double wall_push(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const GridRect& rect,
+                 const btVector3& centre, const btVector3& across, const btVector3& ray_normal, double load,
+                 double radius, WallScratch& scratch) {
+  if (!(bearing.capacity > 0.0) || !std::isfinite(bearing.capacity) || !(ray_normal.z() > 0)) return 0.0;
+  const GridRect ring{rect.i0 - 1, rect.j0 - 1, rect.nx + 2, rect.ny + 2};  // each column's neighbours too
+  std::vector<double>& heights = scratch.heights;
+  heights.resize(ring.size());
+  terrain.heights(ring, heights);
+  const double ax = double(across.x()), ay = double(across.y()), cell = terrain.settings().cell;
+  // The surface's height one cell along `sign` across from a column's centre, bilinear between
+  // the four columns around it: the slope across the wheel itself, not along the grid's axes
+  // (a yawed wheel's rut front is a staircase across the grid, level along the wheel's axle).
+  auto beside = [&](std::int64_t i, std::int64_t j, double sign) {
+    const double u = double(i - ring.i0) + sign * ax, v = double(j - ring.j0) + sign * ay;
+    const double fu = std::clamp(std::floor(u), 0.0, double(ring.nx - 2));
+    const double fv = std::clamp(std::floor(v), 0.0, double(ring.ny - 2));
+    const double tu = u - fu, tv = v - fv;
+    const auto at = static_cast<std::size_t>(fv) * static_cast<std::size_t>(ring.nx) + static_cast<std::size_t>(fu);
+    const std::size_t up = at + static_cast<std::size_t>(ring.nx);
+    return (1 - tv) * ((1 - tu) * heights[at] + tu * heights[at + 1]) +
+           tv * ((1 - tu) * heights[up] + tu * heights[up + 1]);
+  };
+  // Strips one cell long along the heading (-ay, ax), as the rim's strips.
+  const int half = static_cast<int>(std::ceil(radius / cell)) + 1;
+  auto strip = [&](const terrain::ColumnForce& c) {
+    const double s =
+        (terrain.column_y(c.j) - double(centre.y())) * ax - (terrain.column_x(c.i) - double(centre.x())) * ay;
+    return static_cast<std::size_t>(std::clamp(static_cast<int>(std::lround(s / cell)), -half, half) + half);
+  };
+  scratch.force.assign(static_cast<std::size_t>(2 * half + 1), 0.0);
+  scratch.slope.assign(scratch.force.size(), 0.0);
+  scratch.count.assign(scratch.force.size(), 0);
+  for (const terrain::ColumnForce& c : bearing.columns) {
+    const std::size_t b = strip(c);
+    const double slope = (beside(c.i, c.j, 1.0) - beside(c.i, c.j, -1.0)) / (2 * cell);
+    scratch.force[b] += c.force;
+    scratch.slope[b] += std::clamp(slope, -kMaxWallSlope, kMaxWallSlope);
+    ++scratch.count[b];
+  }
+  const double share = load / bearing.capacity;
+  double push = 0.0;
+  for (std::size_t b = 0; b < scratch.force.size(); ++b)
+    if (scratch.count[b] > 0) push -= share * scratch.force[b] / scratch.count[b] * scratch.slope[b];
+  push -= load * double(ray_normal.dot(across) / ray_normal.z());  // what Bullet's suspension force gives already
+  return std::clamp(push, -load, load);
+}
+
 /// Keeps the columns at and ahead of the wheel's lowest point along `heading`: a rolling
 /// wheel bears on its front arc (Bekker's rolling wheel); the soil behind it unloads as the
 /// rim rises away.
@@ -108,7 +171,7 @@ RimSpan rim_strips(const terrain::Terrain& terrain, const terrain::Bearing& bear
     const double dx = terrain.column_x(c.i) - double(centre.x()), dy = terrain.column_y(c.j) - double(centre.y());
     const double s = std::clamp(dx * double(forward.x()) + dy * double(forward.y()), -reach, reach);
     const int b = std::clamp(static_cast<int>(std::lround(s / cell)), -half, half);
-    const terrain::Material& m = one_material ? palette[0] : terrain.material_at(c.i, c.j);
+    const terrain::Material& m = one_material ? palette[0] : terrain.exposed_material(c.i, c.j);
     if (&m != last) last = &m, tan_phi = det::tan(m.friction_angle);
     rim[static_cast<std::size_t>(b + half)].strength += m.cohesion * area + share * c.force * tan_phi;
     front = std::max(front, b), back = std::min(back, b);
@@ -191,11 +254,21 @@ void RaycastWheels::remove(const btRaycastVehicle* vehicle) {
   });
 }
 
-double RaycastWheels::push(const btRaycastVehicle* vehicle, int k) const {
+const RaycastWheels::Wheel* RaycastWheels::find(const btRaycastVehicle* vehicle, int k) const {
   for (const Vehicle& v : vehicles_)
     if (v.vehicle == vehicle && k >= 0 && static_cast<std::size_t>(k) < v.wheels.size())
-      return v.wheels[static_cast<std::size_t>(k)].push;
-  return 0.0;
+      return &v.wheels[static_cast<std::size_t>(k)];
+  return nullptr;
+}
+
+double RaycastWheels::push(const btRaycastVehicle* vehicle, int k) const {
+  const Wheel* w = find(vehicle, k);
+  return w != nullptr ? w->push : 0.0;
+}
+
+double RaycastWheels::side_push(const btRaycastVehicle* vehicle, int k) const {
+  const Wheel* w = find(vehicle, k);
+  return w != nullptr ? w->wall_push : 0.0;
 }
 
 int RaycastWheels::forget_lost(const btCollisionWorld& world) {
@@ -209,6 +282,7 @@ void RaycastWheels::serve(const terrain::Terrain& terrain, EnvelopeRasterizer& r
   for (Vehicle& v : vehicles_)
     for (int k = 0; k < static_cast<int>(v.wheels.size()); ++k) {
       v.wheels[static_cast<std::size_t>(k)].push = 0.0;
+      v.wheels[static_cast<std::size_t>(k)].wall_push = 0.0;
       if (v.soil != nullptr) v.soil->soil(k).last = WheelTraction{};
       const btWheelInfo& info = v.vehicle->getWheelInfo(k);
       if (!info.m_raycastInfo.m_isInContact || !ground_->holds(info.m_raycastInfo.m_contactPointWS)) continue;
@@ -244,7 +318,7 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
     // Its traction; the soil it shears bears less (shear::loosening): a slipping wheel
     // sinks deeper, pressed as if its load were 1 / s^n times larger.
     const terrain::Material& m =
-        terrain.material_at(terrain.column_i(p.pose.getOrigin().x()), terrain.column_j(p.pose.getOrigin().y()));
+        terrain.exposed_material(terrain.column_i(p.pose.getOrigin().x()), terrain.column_j(p.pose.getOrigin().y()));
     const double s = terrain::shear::loosening(m, grip(terrain, *bearing, m, h, vehicle, k, p));
     if (s < 1.0) {
       offset = wheel.solve.offset(p.load / det::pow(s, m.bekker_n));
@@ -253,6 +327,7 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   }
   const double push = compaction_push(terrain, *bearing, p.pose.getOrigin(), forward, p.radius, p.load);
   chassis->applyImpulse(world_forward * btScalar(push * h), p.at);
+  steer_by_walls(terrain, *bearing, vehicle, k, p, h);
   wheel.push = push;
   if (vehicle.soil != nullptr) vehicle.soil->soil(k).last.resistance = push;
   if (!deforms) return nullptr;
@@ -277,6 +352,28 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
     if (wheel.imprint.spray) wheel.imprint.key = wheel_key(*chassis, k);
   }
   return &wheel.imprint;
+}
+
+void RaycastWheels::steer_by_walls(const terrain::Terrain& terrain, const terrain::Bearing& bearing, Vehicle& vehicle,
+                                   int k, const Pressed& p, double h) {
+  Wheel& wheel = vehicle.wheels[static_cast<std::size_t>(k)];
+  const btWheelInfo& info = vehicle.vehicle->getWheelInfo(k);
+  btVector3 across = p.pose.getBasis().getColumn(0);  // the axle, flattened onto the ground's plane
+  across.setZ(0);
+  if (!(across.length2() > btScalar(1e-6))) return;  // an axle standing upright: no across
+  across.normalize();
+  const btVector3 ray_normal =
+      framed_ ? to_ground_.getBasis() * info.m_raycastInfo.m_contactNormalWS : info.m_raycastInfo.m_contactNormalWS;
+  const double push =
+      wall_push(terrain, bearing, wheel.envelope, p.pose.getOrigin(), across, ray_normal, p.load, p.radius, wheel.wall);
+  wheel.wall_push = push;
+  if (push == 0.0) return;
+  btRigidBody* chassis = vehicle.vehicle->getRigidBody();
+  const btVector3 world_across = framed_ ? to_ground_.getBasis().transpose() * across : across;
+  // At the height the vehicle's roll influence sets, as Bullet's own side impulse.
+  const btVector3 up = chassis->getCenterOfMassTransform().getBasis().getColumn(vehicle.vehicle->getUpAxis());
+  const btVector3 side_at = p.at - up * (up.dot(p.at) * (btScalar(1) - info.m_rollInfluence));
+  chassis->applyImpulse(world_across * btScalar(push * h), side_at);
 }
 
 double RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const terrain::Material& m,

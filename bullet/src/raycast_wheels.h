@@ -51,6 +51,13 @@ void cast_wheel_rays(btRaycastVehicle& vehicle);
 /// (0, 10] m per wheel of the vehicle and every wheel's radius is positive and finite.
 void check_wheel_widths(const btRaycastVehicle& vehicle, std::span<const double> widths, const std::string& where);
 
+/// Scratch of the rut walls' push (raycast_wheels.cpp, wall_push).
+struct WallScratch {
+  std::vector<double> heights;       ///< the surface under the envelope and one column around it
+  std::vector<double> force, slope;  ///< per strip along the heading: column forces, slopes across
+  std::vector<int> count;            ///< per strip: loaded columns
+};
+
 class RaycastWheels {
  public:
   RaycastWheels();
@@ -82,6 +89,8 @@ class RaycastWheels {
   /// N, the terrain's push on wheel k along its heading in the last substep (negative: it
   /// resists forward motion); 0 for a wheel off the terrain or a vehicle not added.
   [[nodiscard]] double push(const btRaycastVehicle* vehicle, int k) const;
+  /// N, the rut walls' push on wheel k along its axle's horizontal direction (wall_push).
+  [[nodiscard]] double side_push(const btRaycastVehicle* vehicle, int k) const;
 
  private:
   struct Wheel {
@@ -91,9 +100,12 @@ class RaycastWheels {
     EnvelopeRaster bearing_part;              ///< what bears its load (the front arc when rolling)
     terrain::BearingSolve solve;              ///< scratch: bearing_part's columns and capacities
     terrain::Imprint imprint;
-    double push = 0.0;          ///< N along the heading, last substep
+    double push = 0.0;       ///< N along the heading, last substep
+    double wall_push = 0.0;  ///< N along the axle's horizontal direction, last substep (wall_push)
+    WallScratch wall;
     std::vector<RimStrip> rim;  ///< scratch: the rim's strips in contact
   };
+  [[nodiscard]] const Wheel* find(const btRaycastVehicle* vehicle, int k) const;
   struct Vehicle {
     btRaycastVehicle* vehicle = nullptr;
     SoilVehicle* soil = nullptr;  ///< the same vehicle if it takes the soil's traction
@@ -109,6 +121,9 @@ class RaycastWheels {
   /// The wheel's rut and resistance; its imprint if the terrain deforms, else null.
   const terrain::Imprint* press(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h, bool deforms,
                                 Vehicle& vehicle, int k);
+  /// The rut walls' push across the wheel (wall_push in the .cpp), applied to the chassis.
+  void steer_by_walls(const terrain::Terrain& terrain, const terrain::Bearing& bearing, Vehicle& vehicle, int k,
+                      const Pressed& p, double h);
   /// A SoilVehicle's wheel: the soil's shear on its rim (material `m`, the one under the
   /// wheel's centre, gives K and the strength loss), applied to the chassis. Returns the
   /// mean shear displacement under the rim, m.

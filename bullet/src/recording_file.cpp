@@ -152,6 +152,26 @@ std::vector<btScalar> Recording::multibody_scalars(const Frame& f, const std::st
   return v;
 }
 
+std::uint64_t Recording::wheel_bytes() const {
+  std::uint64_t wheels = 0;
+  for (const std::uint32_t n : vehicle_wheels) wheels += n;
+  return wheels * kWheelScalars * sizeof(btScalar);
+}
+
+std::vector<btScalar> Recording::wheel_scalars(const Frame& f, const std::string& source) const {
+  std::vector<btScalar> v(f.wheels.size() / sizeof(btScalar));
+  if (!v.empty()) std::memcpy(v.data(), f.wheels.data(), v.size() * sizeof(btScalar));
+  std::size_t at = 0;
+  for (std::size_t m = 0; m < vehicle_wheels.size(); ++m)
+    for (std::uint32_t w = 0; w < vehicle_wheels[m]; ++w)
+      for (int k = 0; k < kWheelScalars; ++k, ++at)
+        if (at < v.size() && !std::isfinite(static_cast<double>(v[at])))
+          throw FileError(source + ": frame at substep " + std::to_string(f.substep) + ", vehicle " +
+                          std::to_string(m) + ", wheel " + std::to_string(w) + ": corrupt (its world transform holds " +
+                          std::to_string(static_cast<double>(v[at])) + ", not finite)");
+  return v;
+}
+
 std::vector<unsigned char> write_recording(const Recording& rec, int compression_level) {
   const std::string field = "bullet::write_recording(rec)";
   if (rec.version < Recording::kOldestVersion || rec.version > kVersion)
@@ -161,13 +181,23 @@ std::vector<unsigned char> write_recording(const Recording& rec, int compression
   if (!multibodies && !rec.multibodies.empty())
     throw InvalidSetting(field + ".version", "2 with " + std::to_string(rec.multibodies.size()) + " multibodies",
                          "version 3 or later (version 2 holds no multibodies)");
+  const bool wheels = rec.version >= 4;
+  if (!wheels && !rec.vehicle_wheels.empty())
+    throw InvalidSetting(
+        field + ".version",
+        std::to_string(rec.version) + " with " + std::to_string(rec.vehicle_wheels.size()) + " vehicles",
+        "version 4 or later (earlier versions hold no wheels)");
   std::uint64_t multibody_bytes = 0;
   for (const Recording::MultiBodyLayout& m : rec.multibodies) multibody_bytes += m.scalars() * sizeof(btScalar);
-  for (const Recording::Frame& f : rec.frames)
+  for (const Recording::Frame& f : rec.frames) {
+    const std::string frame = field + ".frames[substep " + std::to_string(f.substep) + "]";
     if (f.multibodies.size() != multibody_bytes)
-      throw InvalidSetting(field + ".frames[substep " + std::to_string(f.substep) + "].multibodies",
-                           std::to_string(f.multibodies.size()) + " bytes",
+      throw InvalidSetting(frame + ".multibodies", std::to_string(f.multibodies.size()) + " bytes",
                            std::to_string(multibody_bytes) + " (the multibodies' layouts)");
+    if (f.wheels.size() != rec.wheel_bytes())
+      throw InvalidSetting(frame + ".wheels", std::to_string(f.wheels.size()) + " bytes",
+                           std::to_string(rec.wheel_bytes()) + " (the vehicles' wheel counts)");
+  }
   ByteWriter raw;
   put_string(raw, rec.scene);
   raw.put(rec.seconds), raw.put(rec.substep), raw.put(rec.cell);
@@ -186,6 +216,10 @@ std::vector<unsigned char> write_recording(const Recording& rec, int compression
       for (const std::uint8_t c : m.colliders) raw.put(c);
     }
   }
+  if (wheels) {
+    raw.put(static_cast<std::uint32_t>(rec.vehicle_wheels.size()));
+    for (const std::uint32_t n : rec.vehicle_wheels) raw.put(n);
+  }
   raw.put(static_cast<std::uint32_t>(rec.frames.size()));
   for (const Recording::Frame& f : rec.frames) {
     raw.put(static_cast<std::int32_t>(f.substep));
@@ -193,6 +227,7 @@ std::vector<unsigned char> write_recording(const Recording& rec, int compression
     raw.put(f.body_count);
     raw.bytes.insert(raw.bytes.end(), f.bodies.begin(), f.bodies.end());
     raw.bytes.insert(raw.bytes.end(), f.multibodies.begin(), f.multibodies.end());
+    raw.bytes.insert(raw.bytes.end(), f.wheels.begin(), f.wheels.end());
     for (const auto& x : f.water_diffs) put_bytes(raw, x);
   }
 
@@ -243,6 +278,23 @@ std::uint64_t read_multibody_layouts(RawReader& r, std::vector<Recording::MultiB
   }
   return bytes;
 }
+
+/// Version 4's wheel counts, one per vehicle; returns the bytes each frame holds of them.
+/// Checked against what is left (every frame holds them): no overflow.
+std::uint64_t read_vehicle_wheels(RawReader& r, Recording& rec) {
+  const auto count = r.get<std::uint32_t>("vehicle count");
+  if (count > r.remaining() / 4) r.fail("corrupt (" + std::to_string(count) + " vehicles)");
+  rec.vehicle_wheels.resize(count);
+  for (std::size_t v = 0; v < rec.vehicle_wheels.size(); ++v) {
+    rec.vehicle_wheels[v] = r.get<std::uint32_t>("a vehicle's wheel count");
+    const std::uint64_t wheel = Recording::kWheelScalars * sizeof(btScalar);
+    if (rec.vehicle_wheels[v] > r.remaining() / wheel)
+      r.fail("vehicle " + std::to_string(v) + ": corrupt (" + std::to_string(rec.vehicle_wheels[v]) + " wheels)");
+  }
+  const std::uint64_t bytes = rec.wheel_bytes();
+  if (bytes > r.remaining()) r.fail("corrupt (the vehicles' wheels per frame exceed the file)");
+  return bytes;
+}
 }  // namespace
 
 Recording read_recording(std::span<const unsigned char> file, const std::string& source) {
@@ -266,11 +318,12 @@ Recording read_recording(std::span<const unsigned char> file, const std::string&
   for (auto& g : rec.terrain_generations) g = r.get<std::uint64_t>("a terrain's generation");
   rec.waters = r.get<std::uint32_t>("water count");
   const std::uint64_t multibody_bytes = rec.version >= 3 ? read_multibody_layouts(r, rec.multibodies) : 0;
+  const std::uint64_t wheel_bytes = rec.version >= 4 ? read_vehicle_wheels(r, rec) : 0;
   const auto frames = r.get<std::uint32_t>("frame count");
   if (frames == 0) r.fail("truncated (no frames)");
   // A frame holds at least its substep, a u64 size per terrain and water, its body count
-  // and its multibodies' states.
-  const std::uint64_t frame_min = 4 + 8 * (std::uint64_t{terrains} + rec.waters) + 4 + multibody_bytes;
+  // and its multibodies' and wheels' states.
+  const std::uint64_t frame_min = 4 + 8 * (std::uint64_t{terrains} + rec.waters) + 4 + multibody_bytes + wheel_bytes;
   if (frames > r.remaining() / frame_min) r.fail("corrupt (" + std::to_string(frames) + " frames)");
   rec.frames.resize(frames);
   int last = 0;
@@ -289,6 +342,8 @@ Recording read_recording(std::span<const unsigned char> file, const std::string&
     f.bodies = r.take(static_cast<std::size_t>(body_bytes));
     if (multibody_bytes > r.remaining()) r.fail(where + ": truncated (ends inside the multibodies' states)");
     f.multibodies = r.take(static_cast<std::size_t>(multibody_bytes));
+    if (wheel_bytes > r.remaining()) r.fail(where + ": truncated (ends inside the wheels)");
+    f.wheels = r.take(static_cast<std::size_t>(wheel_bytes));
     f.water_diffs.resize(rec.waters);
     for (auto& x : f.water_diffs) x = r.bytes("a water state");
   }

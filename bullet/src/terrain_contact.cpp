@@ -16,14 +16,14 @@ void TerrainContact::build(const terrain::Terrain& terrain, const EnvelopeRaster
   drift = 0.0;
   memory.limit_unloading(patch.elements, envelope);
   std::swap(previous, blocks);
-  // Each element's shear law is its column's material; a one-material terrain looks
-  // nothing up.
+  // Each element's shear law is its column's material (the one it shows: a layered
+  // column's lower material once broken through); a one-material terrain looks nothing up.
   const std::span<const terrain::Material> palette = terrain.palette();
   thread_local std::vector<std::uint8_t> material;  // kept per thread: no allocation per build
   material.clear();
   if (palette.size() > 1)
     for (const terrain::ContactElement& e : patch.elements)
-      material.push_back(static_cast<std::uint8_t>(terrain.material_index(e.i, e.j)));
+      material.push_back(static_cast<std::uint8_t>(terrain.exposed_index(e.i, e.j)));
   gather_blocks(patch.elements, palette, material, memory.shear_length(), memory.remould_length(), block_columns,
                 blocks);
   warm_start(previous, blocks);

@@ -178,6 +178,10 @@ double TerrainCoupling::wheel_push(const btRaycastVehicle* vehicle, int wheel) c
   return parts_->wheels.push(vehicle, wheel);
 }
 
+double TerrainCoupling::wheel_side_push(const btRaycastVehicle* vehicle, int wheel) const {
+  return parts_->wheels.side_push(vehicle, wheel);
+}
+
 TerrainForce TerrainCoupling::terrain_force(const btCollisionObject* body) const {
   const Parts::Entry* e = parts_->bodies.find(body);
   if (e == nullptr) return {};

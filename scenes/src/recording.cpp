@@ -57,6 +57,18 @@ void apply_bodies(const std::vector<btScalar>& v, World& world) {
   }
 }
 
+/// A world transform as 12 btScalars: basis rows, origin (Recording::kTransformScalars).
+void put_transform(ByteWriter& w, const btTransform& t) {
+  for (int r = 0; r < 3; ++r)
+    for (int a = 0; a < 3; ++a) w.put(t.getBasis()[r][a]);
+  for (int a = 0; a < 3; ++a) w.put(t.getOrigin()[a]);
+}
+
+/// The transform put_transform wrote at p.
+btTransform take_transform(const btScalar* p) {
+  return btTransform(btMatrix3x3(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]), btVector3(p[9], p[10], p[11]));
+}
+
 /// The collider of a multibody's part (0: the base, k: link k - 1), or null.
 const btMultiBodyLinkCollider* collider_of(const btMultiBody& m, std::size_t part) {
   return part == 0 ? m.getBaseCollider() : m.getLinkCollider(static_cast<int>(part) - 1);
@@ -81,13 +93,31 @@ void put_multibodies(ByteWriter& w, const World& world) {
   for (const btMultiBody* m : world.multibodies()) {
     for (const btScalar v : multibody_state(*m)) w.put(v);
     for (std::size_t part = 0; part <= static_cast<std::size_t>(m->getNumLinks()); ++part)
-      if (const btMultiBodyLinkCollider* c = collider_of(*m, part)) {
-        const btTransform& t = c->getWorldTransform();
-        for (int r = 0; r < 3; ++r)
-          for (int a = 0; a < 3; ++a) w.put(t.getBasis()[r][a]);
-        for (int a = 0; a < 3; ++a) w.put(t.getOrigin()[a]);
-      }
+      if (const btMultiBodyLinkCollider* c = collider_of(*m, part)) put_transform(w, c->getWorldTransform());
   }
+}
+
+/// Every raycast wheel of the scene's vehicles, in order: its world transform (basis rows,
+/// origin), as Bullet's vehicle left it and the pictures draw it.
+void put_wheels(ByteWriter& w, const SceneContents& c) {
+  for (const VehicleContents& v : c.vehicles)
+    for (int k = 0; k < v.vehicle->getNumWheels(); ++k) put_transform(w, v.vehicle->getWheelInfo(k).m_worldTransform);
+}
+
+/// Places the scene's raycast wheels: as recorded (`wheels`, checked finite and of the scene's
+/// counts), or, from a recording without wheels (empty), on the replayed chassis at the
+/// suspension length the replaying vehicle last had.
+void apply_wheels(const std::vector<btScalar>& wheels, const SceneContents& c) {
+  const btScalar* p = wheels.data();
+  for (const VehicleContents& v : c.vehicles)
+    for (int k = 0; k < v.vehicle->getNumWheels(); ++k) {
+      if (wheels.empty()) {
+        v.vehicle->updateWheelTransform(k, false);
+        continue;
+      }
+      v.vehicle->getWheelInfo(k).m_worldTransform = take_transform(p);
+      p += Recording::kWheelScalars;
+    }
 }
 
 /// Sets the recorded multibody states and collider transforms (already checked finite and of
@@ -101,8 +131,7 @@ void apply_multibodies(const std::vector<btScalar>& v, World& world) {
     for (std::size_t part = 0; part <= static_cast<std::size_t>(m->getNumLinks()); ++part) {
       btMultiBodyLinkCollider* c = part == 0 ? m->getBaseCollider() : m->getLinkCollider(static_cast<int>(part) - 1);
       if (c == nullptr) continue;
-      const btTransform t(btMatrix3x3(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]),
-                          btVector3(p[9], p[10], p[11]));
+      const btTransform t = take_transform(p);
       c->setWorldTransform(t);
       c->setInterpolationWorldTransform(t);
       p += Recording::kTransformScalars;
@@ -169,6 +198,8 @@ void Recorder::begin(const SceneType& type, const SceneOptions& options, Scene& 
   rec.waters = static_cast<std::uint32_t>(c.waters.size());
   im.water.resize(c.waters.size());
   for (const btMultiBody* m : c.world->multibodies()) rec.multibodies.push_back(layout_of(*m));
+  for (const VehicleContents& v : c.vehicles)
+    rec.vehicle_wheels.push_back(static_cast<std::uint32_t>(v.vehicle->getNumWheels()));
 }
 
 void Recorder::after_substep(Scene& scene, int k) {
@@ -198,6 +229,10 @@ void Recorder::after_substep(Scene& scene, int k) {
   put_multibodies(multibodies, *c.world);
   sizes_.multibodies += multibodies.bytes.size();
   f.multibodies = keep(std::move(multibodies.bytes));
+  ByteWriter wheels;
+  put_wheels(wheels, c);
+  sizes_.wheels += wheels.bytes.size();
+  f.wheels = keep(std::move(wheels.bytes));
   for (std::size_t w = 0; w < c.waters.size(); ++w) {
     f.water_diffs.push_back(keep(im.water[w].encode(c.waters[w].surface->save_state())));
     sizes_.water_states += f.water_diffs.back().size();
@@ -226,10 +261,12 @@ void Recorder::finish(std::uint64_t state_hash) {
     without.smoke = im.rec.smoke, without.substeps = im.rec.substeps, without.state_hash = state_hash;
     without.initial = im.rec.initial, without.terrain_generations = im.rec.terrain_generations;
     without.multibodies = im.rec.multibodies;
+    without.vehicle_wheels = im.rec.vehicle_wheels;
     for (const Recording::Frame& f : im.rec.frames) {
       Recording::Frame g;
       g.substep = f.substep, g.terrain_deltas = f.terrain_deltas, g.bodies = f.bodies, g.body_count = f.body_count;
       g.multibodies = f.multibodies;
+      g.wheels = f.wheels;
       without.frames.push_back(std::move(g));
     }
     sizes_.water_compressed = bytes.size() - std::min(bytes.size(), bullet::write_recording(without).size());
@@ -287,6 +324,19 @@ void check_multibodies(const Recording& rec, const World& world, const std::stri
   }
 }
 
+/// FileError naming the recording if its vehicles are not the scene's: another count, or a
+/// vehicle of another wheel count. A recording without wheels (before version 4) fits any.
+void check_vehicles(const Recording& rec, const SceneContents& c, const std::string& source) {
+  if (rec.version < 4) return;
+  if (rec.vehicle_wheels.size() != c.vehicles.size())
+    throw FileError(source + ": holds " + std::to_string(rec.vehicle_wheels.size()) + " vehicles, the scene has " +
+                    std::to_string(c.vehicles.size()));
+  for (std::size_t v = 0; v < c.vehicles.size(); ++v)
+    if (rec.vehicle_wheels[v] != static_cast<std::uint32_t>(c.vehicles[v].vehicle->getNumWheels()))
+      throw FileError(source + ", vehicle " + std::to_string(v) + ": holds " + std::to_string(rec.vehicle_wheels[v]) +
+                      " wheels, the scene's has " + std::to_string(c.vehicles[v].vehicle->getNumWheels()));
+}
+
 /// Applies one frame's soil deltas, bodies, multibodies and water states to the replaying scene.
 void apply_frame(const Recording& rec, const Recording::Frame& f, const SceneContents& c,
                  std::vector<std::uint64_t>& at, std::vector<bullet::StateChain>& water, const std::string& source) {
@@ -303,6 +353,7 @@ void apply_frame(const Recording& rec, const Recording::Frame& f, const SceneCon
                     std::to_string(c.world->bodies().size()));
   const std::vector<btScalar> bodies = rec.body_scalars(f, source);
   const std::vector<btScalar> multibodies = rec.multibody_scalars(f, source);
+  const std::vector<btScalar> wheels = rec.wheel_scalars(f, source);
   for (std::size_t w = 0; w < c.waters.size(); ++w) {
     const std::string what = where + ", water " + std::to_string(w);
     const std::vector<unsigned char>& state = water[w].next(f.water_diffs[w]);
@@ -310,10 +361,7 @@ void apply_frame(const Recording& rec, const Recording::Frame& f, const SceneCon
   }
   apply_bodies(bodies, *c.world);
   apply_multibodies(multibodies, *c.world);
-  // Raycast wheels are drawn where Bullet's vehicle puts them: on the replayed chassis, at
-  // the suspension length the replaying vehicle last had (a recording holds no wheels).
-  for (const VehicleContents& v : c.vehicles)
-    for (int k = 0; k < v.vehicle->getNumWheels(); ++k) v.vehicle->updateWheelTransform(k, false);
+  apply_wheels(wheels, c);
   if (c.clock) *c.clock = f.substep;
 }
 
@@ -369,6 +417,7 @@ ReplayResult replay(const std::filesystem::path& file, const std::filesystem::pa
     throw FileError(source + ": holds " + std::to_string(rec.waters) + " water surfaces, the scene has " +
                     std::to_string(c.waters.size()));
   check_multibodies(rec, *c.world, source);
+  check_vehicles(rec, c, source);
   std::vector<std::uint64_t> at = rec.terrain_generations;
   std::vector<bullet::StateChain> water(c.waters.size());
 

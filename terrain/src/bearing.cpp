@@ -19,15 +19,17 @@ constexpr double kCarriesAnything = std::numeric_limits<double>::infinity();
 
 std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s,
                                            std::span<const Material> palette, const EnvelopeRaster& env,
-                                           bool only_touching, double offset, std::vector<std::uint8_t>* mats) {
+                                           bool only_touching, double offset, std::vector<std::uint8_t>* mats,
+                                           std::vector<ColumnLayer>* layers) {
   std::vector<BearingColumn> columns;
-  bearing_columns_into(store, s, palette, env, only_touching, offset, mats, columns);
+  bearing_columns_into(store, s, palette, env, only_touching, offset, mats, layers, columns);
   return columns;
 }
 
 void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
                           const EnvelopeRaster& env, bool only_touching, double offset, std::vector<std::uint8_t>* mats,
-                          std::vector<BearingColumn>& columns) {
+                          std::vector<ColumnLayer>* layers, std::vector<BearingColumn>& columns) {
+  if (layers) layers->clear();
   const BedrockDepth depth(palette, s.material.soil_depth);
   const double tol = s.contact_tolerance;
   columns.clear();
@@ -48,6 +50,7 @@ void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std:
       if (only_touching && !(e - offset <= c.top + tol)) continue;
       columns.push_back(c);
       if (mats) mats->push_back(t && !t->material.empty() ? t->material[run.local + static_cast<std::size_t>(r)] : 0);
+      if (layers) layers->push_back(t ? t->layer(run.local + static_cast<std::size_t>(r)) : ColumnLayer{});
     }
   });
 }
@@ -66,11 +69,11 @@ bool powers_fit(std::span<const det::FixedPower> powers, std::span<const Materia
   return true;
 }
 
-Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats, const TerrainSettings& s,
-                 std::span<const Material> palette, std::span<const det::FixedPower> powers, double offset,
-                 bool with_columns) {
+Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
+                 std::span<const ColumnLayer> layers, const TerrainSettings& s, std::span<const Material> palette,
+                 std::span<const det::FixedPower> powers, double offset, bool with_columns) {
   Bearing out;
-  capacity_into(columns, mats, s, palette, powers, offset, with_columns, out);
+  capacity_into(columns, mats, layers, s, palette, powers, offset, with_columns, out);
   return out;
 }
 
@@ -79,9 +82,9 @@ Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::ui
 // top. b is the smaller side of the touching columns' bounding box (each column counts as
 // one cell wide). A touched column at bedrock carries anything.
 // Pressure: bekker::pressure's expression, z^n from the palette entry's table (det_power.h).
-void capacity_into(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats, const TerrainSettings& s,
-                   std::span<const Material> palette, std::span<const det::FixedPower> powers, double offset,
-                   bool with_columns, Bearing& out) {
+void capacity_into(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
+                   std::span<const ColumnLayer> layers, const TerrainSettings& s, std::span<const Material> palette,
+                   std::span<const det::FixedPower> powers, double offset, bool with_columns, Bearing& out) {
   out.capacity = 0.0, out.patch_width = 0.0, out.contact_columns = 0;
   out.columns.clear();
   const double tol = s.contact_tolerance;
@@ -101,8 +104,9 @@ void capacity_into(std::span<const BearingColumn> columns, std::span<const std::
   if (with_columns) out.columns.resize(static_cast<std::size_t>(out.contact_columns));
   ColumnForce* const written = out.columns.data();
   std::size_t n = 0;
-  // coefficient(k): column k's k_c / b + k_phi; one material: hoisted out of the loop.
-  const auto add_columns = [&](auto entry_of, auto coefficient) {
+  // force_of(k, z): column k's Bekker force at sinkage z > 0 (one material: its
+  // coefficient hoisted out of the loop).
+  const auto add_columns = [&](auto force_of) {
     for (std::size_t k = 0; k < columns.size(); ++k) {
       const BearingColumn& c = columns[k];
       const double e = c.lower - offset;
@@ -112,7 +116,7 @@ void capacity_into(std::span<const BearingColumn> columns, std::span<const std::
         force = kCarriesAnything;
       else {
         const double z = c.sink + std::max(0.0, c.top - e);
-        force = z <= 0.0 ? 0.0 : coefficient(k) * powers[entry_of(k)](z) * cell_area;
+        force = z <= 0.0 ? 0.0 : force_of(k, z);
       }
       out.capacity += force;
       if (with_columns) written[n++] = {c.i, c.j, force};
@@ -121,9 +125,17 @@ void capacity_into(std::span<const BearingColumn> columns, std::span<const std::
   const auto law = [&](std::size_t m) { return palette[m].bekker_kc / b + palette[m].bekker_kphi; };
   if (mats.empty()) {
     const double only = law(0);
-    add_columns([](std::size_t) { return std::size_t{0}; }, [&](std::size_t) { return only; });
+    add_columns([&](std::size_t, double z) { return only * powers[0](z) * cell_area; });
+  } else if (layers.empty()) {
+    add_columns([&](std::size_t k, double z) { return law(mats[k]) * powers[mats[k]](z) * cell_area; });
   } else {
-    add_columns([&](std::size_t k) { return std::size_t{mats[k]}; }, [&](std::size_t k) { return law(mats[k]); });
+    // The two-piece law (layers.h); an unlayered column's boundary is never reached, so it
+    // takes the first piece, the expression above.
+    const auto piece = [&](std::uint8_t m, double z) { return z <= 0.0 ? 0.0 : law(m) * powers[m](z); };
+    add_columns([&](std::size_t k, double z) {
+      if (!layers[k].layered()) return law(mats[k]) * powers[mats[k]](z) * cell_area;
+      return layered_pressure(layers[k], mats[k], z, piece) * cell_area;
+    });
   }
 }
 
@@ -132,10 +144,10 @@ void capacity_into(std::span<const BearingColumn> columns, std::span<const std::
 // variant), falling back to bisection, until it is 1e-7 m wide; the upper end is returned
 // so the soil carries at least the load.
 double offset_for_load(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
-                       const TerrainSettings& s, std::span<const Material> palette,
+                       std::span<const ColumnLayer> layers, const TerrainSettings& s, std::span<const Material> palette,
                        std::span<const det::FixedPower> powers, double load) {
-  return offset_for_load(columns, load,
-                         [&](double o) { return capacity(columns, mats, s, palette, powers, o, false).capacity; });
+  return offset_for_load(
+      columns, load, [&](double o) { return capacity(columns, mats, layers, s, palette, powers, o, false).capacity; });
 }
 
 double offset_for_load(std::span<const BearingColumn> columns, double load,
@@ -162,18 +174,24 @@ Bearing Terrain::bearing(const EnvelopeRaster& envelope, double offset) const {
   check_envelope(&envelope, "terrain.Terrain.bearing.envelope");
   Check{"terrain.Terrain.bearing"}.non_negative("offset", offset);
   std::vector<std::uint8_t> mats;
-  const std::vector<BearingColumn> columns = bearing_columns(impl_->tiles, impl_->s, impl_->palette, envelope, true,
-                                                             offset, impl_->palette.size() > 1 ? &mats : nullptr);
-  return capacity(columns, mats, impl_->s, impl_->palette, bearing_powers(impl_->palette), offset, true);
+  std::vector<ColumnLayer> layers;
+  const bool layered = impl_->tiles.layered();
+  const std::vector<BearingColumn> columns =
+      bearing_columns(impl_->tiles, impl_->s, impl_->palette, envelope, true, offset,
+                      impl_->palette.size() > 1 || layered ? &mats : nullptr, layered ? &layers : nullptr);
+  return capacity(columns, mats, layers, impl_->s, impl_->palette, bearing_powers(impl_->palette), offset, true);
 }
 
 double Terrain::bearing_offset(const EnvelopeRaster& envelope, double load) const {
   check_envelope(&envelope, "terrain.Terrain.bearing_offset.envelope");
   Check{"terrain.Terrain.bearing_offset"}.non_negative("load", load);
   std::vector<std::uint8_t> mats;
-  const std::vector<BearingColumn> columns = bearing_columns(impl_->tiles, impl_->s, impl_->palette, envelope, false,
-                                                             0.0, impl_->palette.size() > 1 ? &mats : nullptr);
-  return offset_for_load(columns, mats, impl_->s, impl_->palette, bearing_powers(impl_->palette), load);
+  std::vector<ColumnLayer> layers;
+  const bool layered = impl_->tiles.layered();
+  const std::vector<BearingColumn> columns =
+      bearing_columns(impl_->tiles, impl_->s, impl_->palette, envelope, false, 0.0,
+                      impl_->palette.size() > 1 || layered ? &mats : nullptr, layered ? &layers : nullptr);
+  return offset_for_load(columns, mats, layers, impl_->s, impl_->palette, bearing_powers(impl_->palette), load);
 }
 
 }  // namespace shore::terrain

@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "layers.h"
 #include "shore/core/det_power.h"
 #include "shore/core/envelope.h"
 #include "shore/terrain/terrain.h"
@@ -26,34 +27,39 @@ struct BearingColumn {
 /// The columns the envelope covers, in window order. With only_touching, only those the
 /// envelope lowered by `offset` touches (bearing at one offset needs no others). With mats,
 /// their palette indices into *mats (kept apart: a one-material terrain reads none and its
-/// columns stay as compact as they were). Each column's bedrock lies its palette entry's
-/// soil depth below its base (bedrock_depth.h: a rigid entry's at its base). Reads only.
+/// columns stay as compact as they were). With layers, their layering into *layers (layers.h;
+/// the caller asks only when the store is layered, and then asks for mats too). Each column's bedrock lies its palette
+/// entry's soil depth below its base (bedrock_depth.h: a rigid entry's at its base). Reads only.
 [[nodiscard]] std::vector<BearingColumn> bearing_columns(const TileStore& store, const TerrainSettings& s,
                                                          std::span<const Material> palette, const EnvelopeRaster& env,
                                                          bool only_touching, double offset,
-                                                         std::vector<std::uint8_t>* mats);
+                                                         std::vector<std::uint8_t>* mats,
+                                                         std::vector<ColumnLayer>* layers = nullptr);
 /// bearing_columns() into columns (cleared first), whose buffer it reuses.
 void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
                           const EnvelopeRaster& env, bool only_touching, double offset, std::vector<std::uint8_t>* mats,
-                          std::vector<BearingColumn>& columns);
+                          std::vector<ColumnLayer>* layers, std::vector<BearingColumn>& columns);
 /// z^n for each palette entry's Bekker exponent n, in palette order: the bearing's power law.
 [[nodiscard]] std::vector<det::FixedPower> bearing_powers(std::span<const Material> palette);
 /// Whether powers were made by bearing_powers(palette) for a palette with these exponents.
 [[nodiscard]] bool powers_fit(std::span<const det::FixedPower> powers, std::span<const Material> palette);
 /// Bekker capacity of the columns the envelope, lowered by offset, touches (Terrain::bearing).
 /// Each column bears by its own material's law: palette[mats[k]] (mats empty: palette[0]),
-/// its z^n by powers[mats[k]] (bearing_powers(palette)).
+/// its z^n by powers[mats[k]] (bearing_powers(palette)); a layered column (layers[k], when
+/// layers is not empty) by its two-piece law (layers.h).
 [[nodiscard]] Bearing capacity(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
-                               const TerrainSettings& s, std::span<const Material> palette,
-                               std::span<const det::FixedPower> powers, double offset, bool with_columns);
+                               std::span<const ColumnLayer> layers, const TerrainSettings& s,
+                               std::span<const Material> palette, std::span<const det::FixedPower> powers,
+                               double offset, bool with_columns);
 /// capacity() into out, whose buffers it reuses (out.columns is cleared first).
-void capacity_into(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats, const TerrainSettings& s,
-                   std::span<const Material> palette, std::span<const det::FixedPower> powers, double offset,
-                   bool with_columns, Bearing& out);
+void capacity_into(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
+                   std::span<const ColumnLayer> layers, const TerrainSettings& s, std::span<const Material> palette,
+                   std::span<const det::FixedPower> powers, double offset, bool with_columns, Bearing& out);
 /// The offset at which the capacity equals load (Terrain::bearing_offset).
 [[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
-                                     const TerrainSettings& s, std::span<const Material> palette,
-                                     std::span<const det::FixedPower> powers, double load);
+                                     std::span<const ColumnLayer> layers, const TerrainSettings& s,
+                                     std::span<const Material> palette, std::span<const det::FixedPower> powers,
+                                     double load);
 /// The same solve with the capacity at an offset (N) from capacity_at: every offset it
 /// returns was measured by capacity_at, except 0 when columns is empty.
 [[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, double load,

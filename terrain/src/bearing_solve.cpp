@@ -13,6 +13,7 @@ struct BearingSolve::State {
   const Terrain::Impl* terrain = nullptr;
   std::vector<BearingColumn> columns;
   std::vector<std::uint8_t> mats;
+  std::vector<ColumnLayer> layers;
   std::vector<det::FixedPower> powers;  ///< the palette's z^n, kept while its exponents stay
   /// Every offset measured since the reset with its bearing; entries past `used` are
   /// spare buffers from earlier envelopes.
@@ -29,7 +30,7 @@ struct BearingSolve::State {
     if (const Bearing* known = find(offset)) return *known;
     if (used == measured.size()) measured.emplace_back(), offsets.push_back(0.0);
     offsets[used] = offset;
-    capacity_into(columns, mats, terrain->s, terrain->palette, powers, offset, true, measured[used]);
+    capacity_into(columns, mats, layers, terrain->s, terrain->palette, powers, offset, true, measured[used]);
     return measured[used++];
   }
 };
@@ -46,8 +47,11 @@ void BearingSolve::reset(const Terrain& terrain, const EnvelopeRaster& envelope)
   if (!powers_fit(st.powers, st.terrain->palette)) st.powers = bearing_powers(st.terrain->palette);
   st.used = 0;
   st.mats.clear();
+  const bool layered = st.terrain->tiles.layered();
   bearing_columns_into(st.terrain->tiles, st.terrain->s, st.terrain->palette, envelope, false, 0.0,
-                       st.terrain->palette.size() > 1 ? &st.mats : nullptr, st.columns);
+                       st.terrain->palette.size() > 1 || layered ? &st.mats : nullptr, layered ? &st.layers : nullptr,
+                       st.columns);
+  if (!layered) st.layers.clear();
 }
 
 double BearingSolve::offset(double load) {

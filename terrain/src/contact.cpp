@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bedrock_depth.h"
+#include "layers.h"
 #include "shore/core/det_math.h"
 #include "shore/core/error.h"
 #include "shore/terrain/bekker.h"
@@ -42,7 +43,8 @@ constexpr int kSy[4] = {0, 0, 1, -1};
 struct SoilWindow {
   GridRect r;
   std::vector<double> top, sink, bed;
-  std::vector<std::uint8_t> mat;  ///< palette index; empty with a one-entry palette
+  std::vector<std::uint8_t> mat;   ///< palette index; empty with a one-entry palette
+  std::vector<ColumnLayer> layer;  ///< layering (layers.h); empty while the terrain has none
 
   [[nodiscard]] bool inside(std::int64_t i, std::int64_t j) const {
     return i >= r.i0 && j >= r.j0 && i < r.i0 + r.nx && j < r.j0 + r.ny;
@@ -52,8 +54,8 @@ struct SoilWindow {
   }
 };
 
-void read_soil(const TileStore& store, const BedrockDepth& depth, bool with_materials, const GridRect& r,
-               SoilWindow& out) {
+void read_soil(const TileStore& store, const BedrockDepth& depth, bool with_materials, bool with_layers,
+               const GridRect& r, SoilWindow& out) {
   out.r = r;
   const std::size_t size = static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny);
   out.top.resize(size), out.sink.resize(size), out.bed.resize(size);
@@ -61,8 +63,14 @@ void read_soil(const TileStore& store, const BedrockDepth& depth, bool with_mate
     out.mat.assign(size, 0);
   else
     out.mat.clear();
+  if (with_layers)
+    out.layer.assign(size, ColumnLayer{});
+  else
+    out.layer.clear();
   store.for_each_run(r, [&](const Tile* t, const TileRun& run) {
     const std::size_t dst = static_cast<std::size_t>(run.y) * static_cast<std::size_t>(r.nx) + run.x;
+    if (with_layers && t && t->layered())
+      for (int k = 0; k < run.count; ++k) out.layer[dst + k] = t->layer(run.local + k);
     if (with_materials && t && !t->material.empty())
       std::copy_n(t->material.data() + run.local, run.count, out.mat.data() + dst);
     for (int k = 0; k < run.count; ++k) {
@@ -209,6 +217,21 @@ class PatchBuilder {
   [[nodiscard]] const Material& material_of(std::size_t soil_index) const {
     return soil_.mat.empty() ? s_.material : palette_[soil_.mat[soil_index]];
   }
+  /// The material a window column shows: its lower layer's once its sinkage is beyond its
+  /// crust (broken through), else material_of.
+  [[nodiscard]] const Material& exposed_of(std::size_t soil_index) const {
+    if (soil_.layer.empty()) return material_of(soil_index);
+    return palette_[soil_.layer[soil_index].exposed(soil_.mat[soil_index], soil_.sink[soil_index])];
+  }
+  [[nodiscard]] bool layered(std::size_t soil_index) const {
+    return !soil_.layer.empty() && soil_.layer[soil_index].layered();
+  }
+  /// Bekker's pressure of a window column at sinkage z (its two-piece law if layered).
+  [[nodiscard]] double pressure_at(std::size_t soil_index, double b, double z) const {
+    if (!layered(soil_index)) return bekker::pressure(material_of(soil_index), b, z);
+    return layered_pressure(soil_.layer[soil_index], soil_.mat[soil_index], z,
+                            [&](std::uint8_t m, double zz) { return bekker::pressure(palette_[m], b, zz); });
+  }
   [[nodiscard]] bool touches(double lower, std::size_t soil_index) const {
     const double reach = soil_.top[soil_index] + s_.contact_tolerance;
     // The elastic reach (a pow) only where it decides: it is >= 0 and <= the sinkage, and
@@ -222,12 +245,12 @@ class PatchBuilder {
   /// Bekker's b bounded by the window (the footprint is not known yet; a wider b lowers
   /// p_yield by k_c / b only). 0 for rigid-plastic soil, fresh columns and bedrock.
   [[nodiscard]] double rebound(std::size_t soil_index) const {
-    const Material& m = material_of(soil_index);
+    const Material& m = exposed_of(soil_index);
     const double z = soil_.sink[soil_index];
     if (!(m.unload_modulus > 0.0) || !(z > 0.0) || m.rigid || soil_.top[soil_index] <= soil_.bed[soil_index])
       return 0.0;
     const double b = static_cast<double>(std::min(env_.nx, env_.ny)) * s_.cell;
-    return std::min(bekker::pressure(m, b, z) / (m.unload_modulus * z), z);
+    return std::min(pressure_at(soil_index, b, z) / (m.unload_modulus * z), z);
   }
   /// Wong's k_u = A_u z, stiffened where it would let the column spring back above the
   /// ground it was pressed from (more than its sinkage z: soft exponents n < 1 at small z).
@@ -237,7 +260,7 @@ class PatchBuilder {
   /// Gives `el` (its pressure already set) the elastic unloading branch where the body lies
   /// at or above the column's top.
   void set_unloading(std::size_t soil_index, ContactElement& el) const {
-    const Material& m = material_of(soil_index);
+    const Material& m = exposed_of(soil_index);
     const double z = soil_.sink[soil_index], gap = el.point.z - soil_.top[soil_index];
     if (!(m.unload_modulus > 0.0) || !(z > 0.0) || !(gap >= 0.0) || !(el.pressure < kInf)) return;
     el.stiffness = unloading_stiffness(m, z, el.pressure);
@@ -306,22 +329,27 @@ class PatchBuilder {
   /// Bekker's yield pressure of a column pressed to `lower`, loosened by its shear (shear::loosening).
   [[nodiscard]] double yield_pressure(std::size_t soil_index, double lower, double j) const {
     const double top = soil_.top[soil_index], bed = soil_.bed[soil_index];
-    const Material& m = material_of(soil_index);
+    const Material& m = exposed_of(soil_index);
     if (m.rigid || lower <= bed || top <= bed) return kInf;
-    return bekker::pressure(m, out_.patch_width, sinkage_at(soil_index, lower) * shear::loosening(m, j));
+    return pressure_at(soil_index, out_.patch_width, sinkage_at(soil_index, lower) * shear::loosening(m, j));
   }
   /// Gives `el` (its pressure already set) how fast its pressure grows as the body presses
   /// on: Bekker's tangent n p / z where the column is pressed deeper than a few steps, else
   /// the secant over the next step (at zero sinkage the tangent is 0 or infinite).
   void set_pressure_rate(std::size_t soil_index, double j, ContactElement& el) const {
     if (!(el.pressure < kInf)) return;
-    const Material& m = material_of(soil_index);
+    const Material& m = exposed_of(soil_index);
     const double z = sinkage_at(soil_index, el.point.z), step = kRateStep * s_.cell;
-    if (z >= kRateTangentSteps * step) {
+    // A layered column takes the tangent only where the next step stays within its crust
+    // (there its law is the crust's); near and beyond the boundary the secant, as the
+    // tangent jumps there.
+    const bool one_piece =
+        !layered(soil_index) || (z + step) * shear::loosening(m, j) <= soil_.layer[soil_index].boundary;
+    if (z >= kRateTangentSteps * step && one_piece) {
       el.pressure_rate = m.bekker_n * el.pressure / z;
       return;
     }
-    const double further = bekker::pressure(m, out_.patch_width, (z + step) * shear::loosening(m, j));
+    const double further = pressure_at(soil_index, out_.patch_width, (z + step) * shear::loosening(m, j));
     el.pressure_rate = std::max(0.0, further - el.pressure) / step;
   }
 
@@ -456,7 +484,9 @@ void Terrain::contact(const EnvelopeRaster& envelope, std::span<const double> sh
   if (envelope.nx == 0 || envelope.ny == 0) return;
   thread_local PatchScratch scratch;
   // The window and a one-column ring (fringes and walls lie there).
-  read_soil(impl_->tiles, BedrockDepth(impl_->palette, impl_->s.material.soil_depth), impl_->palette.size() > 1,
+  const bool layered = impl_->tiles.layered();
+  read_soil(impl_->tiles, BedrockDepth(impl_->palette, impl_->s.material.soil_depth),
+            impl_->palette.size() > 1 || layered, layered,
             {envelope.i0 - 1, envelope.j0 - 1, envelope.nx + 2, envelope.ny + 2}, scratch.soil);
   PatchBuilder(impl_->s, impl_->palette, envelope, shear, probe, scratch, out).build();
 }

@@ -60,6 +60,77 @@ void paint(TileStore& store, const GridRect& rect, std::span<const unsigned char
     store.for_each_run_creating(rect, write);
 }
 
+void check_layer(int lower_index, double depth, std::size_t palette_size, const std::string& where) {
+  if (lower_index < 0 || static_cast<std::size_t>(lower_index) >= palette_size)
+    throw InvalidSetting(where + ".lower_index", std::to_string(lower_index),
+                         "must be a palette entry, in [0, " + std::to_string(palette_size - 1) + "]");
+  Check{where}.in_closed("depth", depth, 0.0, 1e6);
+}
+
+/// Gives the columns of `rect` whose entry in `mask` is set (empty: all) a lower layer of
+/// `lower` whose crust ends `depth` below their present top (at sinkage max(0, sinkage) +
+/// depth), stamping the tiles with the current generation.
+void paint_layer(TileStore& store, const GridRect& rect, std::span<const unsigned char> mask, int lower, double depth) {
+  const auto value = static_cast<std::uint8_t>(lower);
+  store.for_each_run_creating(rect, [&](Tile& t, const TileRun& run) {
+    const std::size_t row = static_cast<std::size_t>(run.y) * static_cast<std::size_t>(rect.nx) + run.x;
+    bool any = mask.empty();
+    for (int k = 0; k < run.count && !any; ++k) any = mask[row + k] != 0;
+    if (!any) return;
+    if (!t.layered()) {
+      t.layer_boundary.assign(t.height.size(), kNoLayer);
+      t.layer_lower.assign(t.height.size(), 0);
+    }
+    for (int k = 0; k < run.count; ++k) {
+      if (!mask.empty() && !mask[row + k]) continue;
+      const std::size_t c = run.local + static_cast<std::size_t>(k);
+      t.layer_boundary[c] = std::max(0.0, t.sinkage[c]) + depth;
+      t.layer_lower[c] = value;
+    }
+    store.mark_painted(t);
+  });
+  store.mark_layered();
+}
+
+/// The columns of a disc (centres within radius of (x, y)) as a rectangle and its mask.
+std::pair<GridRect, std::vector<unsigned char>> disc_mask(const Terrain& terrain, double x, double y, double radius,
+                                                          const std::string& where) {
+  const Check c{where};
+  c.in_closed("x", x, -1e12, 1e12);
+  c.in_closed("y", y, -1e12, 1e12);
+  c.in_closed("radius", radius, 0.0, 1e12);
+  const TerrainSettings& s = terrain.settings();
+  // Every column whose centre can lie within the radius, then the exact test per column.
+  const auto first_i = static_cast<std::int64_t>(std::floor((x - radius - s.origin_x) / s.cell));
+  const auto last_i = static_cast<std::int64_t>(std::ceil((x + radius - s.origin_x) / s.cell));
+  const auto first_j = static_cast<std::int64_t>(std::floor((y - radius - s.origin_y) / s.cell));
+  const auto last_j = static_cast<std::int64_t>(std::ceil((y + radius - s.origin_y) / s.cell));
+  const std::int64_t nx = last_i - first_i + 1, ny = last_j - first_j + 1;  // each at most 2e16: no overflow
+  if (nx > kMaxRegionColumns || ny > kMaxRegionColumns || nx * ny > kMaxRegionColumns)
+    throw InvalidSetting(c.name("radius"), detail::to_text(radius),
+                         "must cover at most " + detail::to_text(kMaxRegionColumns) + " columns");
+  const GridRect rect = GridRect::spanning(first_i, first_j, last_i, last_j);
+  std::vector<unsigned char> mask(rect.size());
+  for (std::int64_t j = first_j; j <= last_j; ++j)
+    for (std::int64_t i = first_i; i <= last_i; ++i) {
+      const double dx = terrain.column_x(i) - x, dy = terrain.column_y(j) - y;
+      mask[rect.index(i, j)] = dx * dx + dy * dy <= radius * radius ? 1 : 0;
+    }
+  return {rect, std::move(mask)};
+}
+
+/// The mask of a predicate over a rectangle's column centres, whole before anything is
+/// painted: a predicate that throws leaves the map untouched.
+std::vector<unsigned char> where_mask(const Terrain& terrain, const GridRect& rect,
+                                      const std::function<bool(double x, double y)>& inside, const std::string& where) {
+  if (!inside) throw InvalidSetting(where + ".inside", "empty", "must be a callable predicate");
+  std::vector<unsigned char> mask(rect.size());
+  for (std::int64_t j = rect.j0; j < rect.j1(); ++j)
+    for (std::int64_t i = rect.i0; i < rect.i1(); ++i)
+      mask[rect.index(i, j)] = inside(terrain.column_x(i), terrain.column_y(j)) ? 1 : 0;
+  return mask;
+}
+
 }  // namespace
 
 std::span<const Material> Terrain::palette() const noexcept { return impl_->palette; }
@@ -142,27 +213,7 @@ void Terrain::paint_rect(const GridRect& rect, int index) {
 void Terrain::paint_disc(double x, double y, double radius, int index) {
   const std::string where = "terrain.Terrain.paint_disc";
   check_index(index, impl_->palette.size(), where);
-  const Check c{where};
-  c.in_closed("x", x, -1e12, 1e12);
-  c.in_closed("y", y, -1e12, 1e12);
-  c.in_closed("radius", radius, 0.0, 1e12);
-  const TerrainSettings& s = impl_->s;
-  // Every column whose centre can lie within the radius, then the exact test per column.
-  const auto first_i = static_cast<std::int64_t>(std::floor((x - radius - s.origin_x) / s.cell));
-  const auto last_i = static_cast<std::int64_t>(std::ceil((x + radius - s.origin_x) / s.cell));
-  const auto first_j = static_cast<std::int64_t>(std::floor((y - radius - s.origin_y) / s.cell));
-  const auto last_j = static_cast<std::int64_t>(std::ceil((y + radius - s.origin_y) / s.cell));
-  const std::int64_t nx = last_i - first_i + 1, ny = last_j - first_j + 1;  // each at most 2e16: no overflow
-  if (nx > kMaxRegionColumns || ny > kMaxRegionColumns || nx * ny > kMaxRegionColumns)
-    throw InvalidSetting(c.name("radius"), detail::to_text(radius),
-                         "must cover at most " + detail::to_text(kMaxRegionColumns) + " columns");
-  const GridRect rect = GridRect::spanning(first_i, first_j, last_i, last_j);
-  std::vector<unsigned char> mask(rect.size());
-  for (std::int64_t j = first_j; j <= last_j; ++j)
-    for (std::int64_t i = first_i; i <= last_i; ++i) {
-      const double dx = column_x(i) - x, dy = column_y(j) - y;
-      mask[rect.index(i, j)] = dx * dx + dy * dy <= radius * radius ? 1 : 0;
-    }
+  const auto [rect, mask] = disc_mask(*this, x, y, radius, where);
   impl_->tiles.advance_generation();
   paint(impl_->tiles, rect, mask, index);
 }
@@ -171,12 +222,7 @@ void Terrain::paint_where(const GridRect& rect, const std::function<bool(double 
   const std::string where = "terrain.Terrain.paint_where";
   check_index(index, impl_->palette.size(), where);
   check_rect(rect, where);
-  if (!inside) throw InvalidSetting(where + ".inside", "empty", "must be a callable predicate");
-  // The whole mask first: a predicate that throws leaves the map untouched.
-  std::vector<unsigned char> mask(rect.size());
-  for (std::int64_t j = rect.j0; j < rect.j1(); ++j)
-    for (std::int64_t i = rect.i0; i < rect.i1(); ++i)
-      mask[rect.index(i, j)] = inside(column_x(i), column_y(j)) ? 1 : 0;
+  const std::vector<unsigned char> mask = where_mask(*this, rect, inside, where);
   impl_->tiles.advance_generation();
   paint(impl_->tiles, rect, mask, index);
 }
@@ -210,6 +256,61 @@ void Terrain::paint_image(const MaterialImage& image, const GridRect& rect) {
     }
     paint(impl_->tiles, rect, mask, index);
   }
+}
+
+void Terrain::paint_layer_rect(const GridRect& rect, int lower_index, double depth) {
+  const std::string where = "terrain.Terrain.paint_layer_rect";
+  check_layer(lower_index, depth, impl_->palette.size(), where);
+  check_rect(rect, where);
+  impl_->tiles.advance_generation();
+  paint_layer(impl_->tiles, rect, {}, lower_index, depth);
+}
+
+void Terrain::paint_layer_disc(double x, double y, double radius, int lower_index, double depth) {
+  const std::string where = "terrain.Terrain.paint_layer_disc";
+  check_layer(lower_index, depth, impl_->palette.size(), where);
+  const auto [rect, mask] = disc_mask(*this, x, y, radius, where);
+  impl_->tiles.advance_generation();
+  paint_layer(impl_->tiles, rect, mask, lower_index, depth);
+}
+
+void Terrain::paint_layer_where(const GridRect& rect, const std::function<bool(double x, double y)>& inside,
+                                int lower_index, double depth) {
+  const std::string where = "terrain.Terrain.paint_layer_where";
+  check_layer(lower_index, depth, impl_->palette.size(), where);
+  check_rect(rect, where);
+  const std::vector<unsigned char> mask = where_mask(*this, rect, inside, where);
+  impl_->tiles.advance_generation();
+  paint_layer(impl_->tiles, rect, mask, lower_index, depth);
+}
+
+void Terrain::clear_layers(const GridRect& rect) {
+  const std::string where = "terrain.Terrain.clear_layers";
+  check_rect(rect, where);
+  impl_->tiles.advance_generation();
+  impl_->tiles.for_each_existing_run(rect, [&](Tile& t, const TileRun& run) {
+    if (!t.layered()) return;
+    std::fill_n(t.layer_boundary.begin() + static_cast<std::ptrdiff_t>(run.local), run.count, kNoLayer);
+    t.normalize_layers();
+    impl_->tiles.mark_painted(t);
+  });
+}
+
+int Terrain::lower_index(std::int64_t i, std::int64_t j) const {
+  const ColumnLayer layer = impl_->tiles.layer_at(i, j);
+  return layer.layered() ? layer.lower : -1;
+}
+
+double Terrain::layer_boundary(std::int64_t i, std::int64_t j) const { return impl_->tiles.layer_at(i, j).boundary; }
+
+int Terrain::exposed_index(std::int64_t i, std::int64_t j) const {
+  const std::uint8_t upper = impl_->tiles.material_at(i, j);
+  if (!impl_->tiles.layered()) return upper;
+  return impl_->tiles.layer_at(i, j).exposed(upper, sinkage(i, j));
+}
+
+const Material& Terrain::exposed_material(std::int64_t i, std::int64_t j) const {
+  return impl_->palette[static_cast<std::size_t>(exposed_index(i, j))];
 }
 
 }  // namespace shore::terrain

@@ -53,8 +53,10 @@ void Pipeline::gather(TileStore& store, const TerrainSettings& s, std::span<cons
       threads > 1 && columns >= s.parallel_min_columns && (s.parallel_min_columns == 0 || pacer_.choose_parallel());
   if (parallel && (!team_ || team_->size() != threads)) team_ = std::make_unique<Team>(threads);
   region_.prepare({region.i0 - 1, region.j0 - 1, region.nx + 2, region.ny + 2}, parallel ? team_.get() : nullptr);
-  // One material: no map to read, every stage takes its one-material path.
-  region_.gather(store, BedrockDepth(palette, s.material.soil_depth), palette.size() > 1);
+  // One material: no map to read, every stage takes its one-material path; no layer: no
+  // layers to read.
+  const bool layered = store.layered();
+  region_.gather(store, BedrockDepth(palette, s.material.soil_depth), palette.size() > 1 || layered, layered);
 }
 
 void Pipeline::record(const TerrainSettings& s, std::int64_t columns, double seconds) {
@@ -73,6 +75,7 @@ StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, std::span<c
   for (const Material& m : palette) alpha_.push_back(m.alpha);
   const double compacted_height = displace_.run(region_, contour_.levels(), imprint_.displaced(), alpha_);
   StepReport report;
+  if (!region_.layer.empty()) region_.expose_layers();  // erosion gives by the exposed layer's limits
   report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, palette, false);
   loosen_deposits(region_);
   region_.scatter(store);
@@ -91,6 +94,7 @@ StepReport Pipeline::relax(TileStore& store, const TerrainSettings& s, std::span
   const Clock::time_point t0 = Clock::now();
   gather(store, s, palette, region);
   imprint_.no_bodies(region_);
+  if (!region_.layer.empty()) region_.expose_layers();
   StepReport report;
   report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, palette, true);
   region_.scatter(store);

@@ -11,13 +11,17 @@ void Region::prepare(const GridRect& with_halo, Team* rows_team) {
   team = rows_team;
 }
 
-void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_materials) {
+void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_materials, bool with_layers) {
   // Sized, not cleared: gather writes every column.
   for (auto* v : {&ht, &sink, &bed}) v->resize(size());
   if (with_materials)
     mat.resize(size());
   else
     mat.clear();
+  if (with_layers)
+    layer.resize(size());
+  else
+    layer.clear();
   store.for_each_run_creating({si0, sj0, w, h}, [&](Tile& t, const TileRun& run) {
     const std::size_t src = run.local;
     const std::size_t dst = at(run.x, run.y);
@@ -29,6 +33,8 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
     } else {
       for (int k = 0; k < run.count; ++k) bed[dst + k] = t.base[src + k] - depth.at(t.material, src + k);
     }
+    if (with_layers)
+      for (int k = 0; k < run.count; ++k) layer[dst + k] = t.layer(src + k);
     if (!with_materials) return;
     if (t.material.empty())
       std::memset(&mat[dst], 0, static_cast<std::size_t>(run.count));
@@ -36,6 +42,10 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
       std::memcpy(&mat[dst], &t.material[src], static_cast<std::size_t>(run.count));
   });
   ht_orig = ht;
+}
+
+void Region::expose_layers() {
+  for (std::size_t k = 0; k < layer.size(); ++k) mat[k] = layer[k].exposed(mat[k], sink[k]);
 }
 
 void Region::scatter(TileStore& store) const {
@@ -54,6 +64,6 @@ void Region::scatter(TileStore& store) const {
   });
 }
 
-std::size_t Region::bytes() const { return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat); }
+std::size_t Region::bytes() const { return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat, layer); }
 
 }  // namespace shore::terrain

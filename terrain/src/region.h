@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bedrock_depth.h"
+#include "layers.h"
 #include "shore/core/team.h"
 #include "shore/terrain/terrain.h"
 #include "tile_store.h"
@@ -34,11 +35,18 @@ struct Region {
   /// Palette index per column; empty when the palette has one entry (every column is 0,
   /// and the stages take their one material's fast path).
   std::vector<std::uint8_t> mat;
+  /// Layering per column (layers.h); empty while the terrain has no layer (then every
+  /// stage takes the path it took before layers).
+  std::vector<ColumnLayer> layer;
 
   /// Takes the rectangle (halo included) and the team its rows run on (nullptr: serial).
   void prepare(const GridRect& with_halo, Team* rows_team);
-  /// Creates the tiles it touches; fills mat only with_materials.
-  void gather(TileStore& store, const BedrockDepth& depth, bool with_materials);
+  /// Creates the tiles it touches; fills mat only with_materials, layer only with_layers
+  /// (which needs with_materials).
+  void gather(TileStore& store, const BedrockDepth& depth, bool with_materials, bool with_layers);
+  /// Replaces mat with each column's exposed index (its lower layer's where its sinkage is
+  /// beyond its crust): what erosion reads. mat is not scattered, so nothing else sees it.
+  void expose_layers();
   void scatter(TileStore& store) const;  ///< and marks what changed
 
   [[nodiscard]] std::size_t size() const noexcept { return static_cast<std::size_t>(w) * static_cast<std::size_t>(h); }

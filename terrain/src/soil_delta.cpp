@@ -6,11 +6,15 @@
 //   the delta's start), u32 palette size and every entry as the state file writes it
 //   (material_io.h, entry 0 too); u32 count of tiles repainted after the start, per tile
 //   (in key order) i64 tx, ty; u8 painted; if 1 its n * n palette indices as one coded
-//   sequence (0: the tile was painted back to all index 0);
+//   sequence (0: the tile was painted back to all index 0); (version 4 on) then u8
+//   layered; if 1 its layers: the n * n boundaries' bit patterns (exact, +infinity where a
+//   column is not layered) and the n * n lower indices, each as one coded sequence (0: the
+//   tile has no layer);
 //   (version 2 on) u8 spray flag; if 1 (exact deltas), the spray state as the terrain's
 //   state file writes it (spray_io.h), to the end.
 // A delta with no map block to send (no palette set, no tile repainted after its start:
-// every terrain that never paints) is written as version 2, byte for byte as before maps.
+// every terrain that never paints) is written as version 2, byte for byte as before maps;
+// one with a map block from a terrain that never had a layer as version 3, as before layers.
 // A value is an integer: quantised, round((height - base) / quantum) and
 // round(sinkage / quantum); exact, the double's bit pattern. A sequence codes each value's
 // difference from the one before (the first from 0), wrapping, zig-zag mapped and written
@@ -37,7 +41,8 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'S', 'D', 'L'};
-constexpr std::uint32_t kVersion = 3;  // 1: no spray flag, 2: no map (both still read)
+constexpr std::uint32_t kVersion = 4;  // 1: no spray flag, 2: no map, 3: no layers (all still read)
+constexpr std::uint32_t kNoLayerVersion = 3;
 constexpr std::uint32_t kNoMapVersion = 2;
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8 + 8 + 8 + 8;
@@ -133,6 +138,9 @@ struct DecodedRect {
 struct DecodedPaint {
   TileKey key;
   std::vector<std::uint8_t> material;
+  bool layers_sent = false;      ///< version 4 on: the tile's layers below replace the replica's
+  std::vector<double> boundary;  ///< empty: no layer
+  std::vector<std::uint8_t> lower;
 };
 
 struct Decoded {
@@ -165,7 +173,9 @@ namespace {
 
 /// The map block (version 3) into `raw` (im: the server's Terrain::Impl) if the palette was set or a tile repainted
 /// after `since`; false (nothing written) otherwise.
-bool write_map(ByteWriter& raw, const auto& im, std::uint64_t since, DeltaStats& st) {
+/// With `layers` (a server that has painted a layer: version 4) each repainted tile's
+/// layers follow its indices.
+bool write_map(ByteWriter& raw, const auto& im, std::uint64_t since, bool layers, DeltaStats& st) {
   const bool palette = im.palette_at > since;
   const std::vector<TileKey> painted = im.tiles.painted_since(since);
   if (!palette && painted.empty()) return false;
@@ -182,8 +192,17 @@ bool write_map(ByteWriter& raw, const auto& im, std::uint64_t since, DeltaStats&
     const Tile& t = *im.tiles.find(key);
     raw.put(key.tx), raw.put(key.ty);
     raw.put(static_cast<std::uint8_t>(t.material.empty() ? 0 : 1));
-    if (t.material.empty()) continue;
-    values.assign(t.material.begin(), t.material.end());
+    if (!t.material.empty()) {
+      values.assign(t.material.begin(), t.material.end());
+      put_sequence(raw.bytes, values);
+    }
+    if (!layers) continue;
+    raw.put(static_cast<std::uint8_t>(t.layered() ? 1 : 0));
+    if (!t.layered()) continue;
+    values.resize(t.layer_boundary.size());
+    for (std::size_t c = 0; c < values.size(); ++c) std::memcpy(&values[c], &t.layer_boundary[c], sizeof(double));
+    put_sequence(raw.bytes, values);
+    values.assign(t.layer_lower.begin(), t.layer_lower.end());
     put_sequence(raw.bytes, values);
   }
   st.painted_tiles = painted.size();
@@ -219,7 +238,8 @@ std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_
     put_sequence(raw.bytes, sinkages);
     st.columns += heights.size();
   }
-  const bool map = write_map(raw, im, since, st);
+  const bool layers = im.tiles.layered();
+  const bool map = write_map(raw, im, since, layers, st);
   // Exact deltas carry the spray too: with it the replica's whole soil state, and so its
   // state_hash, is the server's. Quantised ones do not (bodies on a replica read heights
   // and sinkages only; the spray would cost more than the columns).
@@ -231,7 +251,7 @@ std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_
   }
   ByteWriter w;
   for (char c : kMagic) w.put(c);
-  w.put(map ? kVersion : kNoMapVersion), w.put(kByteOrderMark), w.put(settings.quantum);
+  w.put(!map ? kNoMapVersion : layers ? kVersion : kNoLayerVersion), w.put(kByteOrderMark), w.put(settings.quantum);
   w.put(since), w.put(im.tiles.generation()), w.put(static_cast<std::uint64_t>(raw.bytes.size()));
   std::vector<unsigned char>& out = w.bytes;
   const std::size_t frame_at = out.size() + sizeof(std::uint64_t);
@@ -354,7 +374,33 @@ void read_spray(RawReader& r, std::span<const unsigned char> raw, Decoded& d) {
 }
 
 /// The map block of a version 3 delta, from where `r` stands.
-void read_map(RawReader& r, std::span<const unsigned char> raw, const TileStore& tiles, Decoded& d) {
+/// A repainted tile's layers (version 4 on), from where `r` stands.
+void read_layers(RawReader& r, DecodedPaint& p, std::size_t columns) {
+  p.layers_sent = true;
+  const auto layered = r.get<std::uint8_t>("a painted tile's layers");
+  if (layered > 1) refuse("corrupt (layered flag " + std::to_string(layered) + ")");
+  if (layered == 0) return;
+  std::vector<std::uint64_t> values(columns, 0);
+  r.sequence(values);
+  p.boundary.resize(columns);
+  for (std::size_t c = 0; c < columns; ++c) std::memcpy(&p.boundary[c], &values[c], sizeof(double));
+  values.assign(columns, 0);
+  r.sequence(values);
+  p.lower.resize(columns);
+  for (std::size_t c = 0; c < columns; ++c) {
+    const double d = p.boundary[c];
+    if (d != kNoLayer && !(d >= 0.0 && d <= 2e7))
+      refuse("corrupt (tile (" + std::to_string(p.key.tx) + ", " + std::to_string(p.key.ty) + ") column " +
+             std::to_string(c) + " has layer boundary " + detail::to_text(d) + " m; allowed: 0 to 2e7 or +infinity)");
+    if (values[c] >= static_cast<std::uint64_t>(Terrain::kMaxMaterials))
+      refuse("corrupt (tile (" + std::to_string(p.key.tx) + ", " + std::to_string(p.key.ty) + ") column " +
+             std::to_string(c) + " holds lower index " + std::to_string(values[c]) + ")");
+    p.lower[c] = static_cast<std::uint8_t>(values[c]);
+  }
+}
+
+void read_map(RawReader& r, std::span<const unsigned char> raw, const TileStore& tiles, std::uint32_t version,
+              Decoded& d) {
   const auto flag = r.get<std::uint8_t>("palette flag");
   if (flag > 1) refuse("corrupt (palette flag " + std::to_string(flag) + ")");
   d.has_palette = flag == 1;
@@ -396,6 +442,7 @@ void read_map(RawReader& r, std::span<const unsigned char> raw, const TileStore&
         p.material[c] = static_cast<std::uint8_t>(values[c]);
       }
     }
+    if (version >= 4) read_layers(r, p, columns);
     d.painted.push_back(std::move(p));
   }
 }
@@ -409,7 +456,7 @@ Decoded decode(std::span<const unsigned char> raw, const TileStore& tiles, const
   const auto count = r.get<std::uint32_t>("rectangle count");
   if (count > raw.size() / 20) refuse("corrupt (rectangle count " + std::to_string(count) + ")");
   for (std::uint32_t k = 0; k < count; ++k) d.rects.push_back(read_rect(r, tiles, quantum));
-  if (h.version >= 3) read_map(r, raw, tiles, d);
+  if (h.version >= 3) read_map(r, raw, tiles, h.version, d);
   if (h.version >= 2) {
     read_spray(r, raw, d);
     return d;
@@ -436,6 +483,12 @@ void check_map(const auto& im, const Decoded& d) {
                                  ").column(" + std::to_string(c) + ")",
                              std::to_string(p.material[c]),
                              "must be a palette entry, in [0, " + std::to_string(size - 1) + "]");
+    for (std::size_t c = 0; c < p.lower.size(); ++c)
+      if (p.boundary[c] != kNoLayer && p.lower[c] >= size)
+        throw InvalidSetting("terrain.SoilDelta.tile(" + std::to_string(p.key.tx) + ", " + std::to_string(p.key.ty) +
+                                 ").column(" + std::to_string(c) + ").lower_index",
+                             std::to_string(p.lower[c]),
+                             "must be a palette entry, in [0, " + std::to_string(size - 1) + "]");
   }
   if (const int largest = im.tiles.largest_material(keys); static_cast<std::size_t>(largest) >= size)
     throw InvalidSetting(
@@ -461,6 +514,12 @@ std::uint64_t SoilDelta::apply(Terrain& replica, std::span<const unsigned char> 
     Tile& t = tiles.tile(p.key);
     t.material = std::move(p.material);
     t.normalize_material();
+    if (p.layers_sent) {
+      t.layer_boundary = std::move(p.boundary);
+      t.layer_lower = std::move(p.lower);
+      t.normalize_layers();
+      if (t.layered()) tiles.mark_layered();
+    }
     tiles.mark_painted(t);
   }
   for (const DecodedRect& r : d.rects)

@@ -19,6 +19,20 @@ void DisplaceStage::sort_by_level(std::span<const int> levels, int top_level) {
     if (levels[k] > 0) order_[static_cast<std::size_t>(count_[static_cast<std::size_t>(top_level - levels[k])]++)] = k;
 }
 
+// A layered column pressed across its crust's boundary in this step: the part of its
+// pressing that lay within the crust (sinkage before it: the sinkage after less the
+// displaced height) takes the crust's alpha, the rest the lower layer's.
+double DisplaceStage::layered_alpha(const Region& region, std::size_t k, double displaced,
+                                    std::span<const double> alpha) {
+  const ColumnLayer& layer = region.layer[k];
+  const double upper = alpha[region.mat[k]];
+  if (!layer.layered() || !(displaced > 0.0)) return upper;
+  const double before = region.sink[k] - displaced;
+  const double in_crust = std::clamp(layer.boundary - before, 0.0, displaced);
+  if (in_crust == displaced) return upper;
+  return (upper * in_crust + alpha[layer.lower] * (displaced - in_crust)) / displaced;
+}
+
 double DisplaceStage::run(Region& region, std::span<const int> levels, std::span<const double> displaced,
                           std::span<const double> alpha) {
   int top_level = 0;
@@ -38,8 +52,10 @@ double DisplaceStage::run(Region& region, std::span<const int> levels, std::span
   };
   if (region.mat.empty())
     for (std::size_t k : order_) split(k, alpha[0]);
-  else
+  else if (region.layer.empty())
     for (std::size_t k : order_) split(k, alpha[region.mat[k]]);
+  else
+    for (std::size_t k : order_) split(k, layered_alpha(region, k, displaced[k], alpha));
   for (std::size_t k : order_) {
     const double carry = carry_[k];
     if (carry == 0.0) continue;

@@ -18,13 +18,16 @@ class DisplaceStage {
   /// Moves the displaced soil (ImprintStage::displaced) down the contour levels
   /// (ContourStage::levels) onto region.ht. Returns the compacted height, m (sum over
   /// columns). alpha: per palette entry; a contact column pushes its own material's share
-  /// to the rim (region.mat; empty: entry 0 everywhere). Serial in a fixed order: cheap, it
+  /// to the rim (region.mat; empty: entry 0 everywhere); a layered column the crust's share
+  /// for what it was pressed within its crust and the lower layer's beyond. Serial in a fixed order: cheap, it
   /// visits contact columns only.
   double run(Region& region, std::span<const int> levels, std::span<const double> displaced,
              std::span<const double> alpha);
   [[nodiscard]] std::size_t bytes() const;
 
  private:
+  [[nodiscard]] static double layered_alpha(const Region& region, std::size_t k, double displaced,
+                                            std::span<const double> alpha);
   void sort_by_level(std::span<const int> levels, int top_level);
 
   std::vector<int> count_;          ///< counting sort: columns per level

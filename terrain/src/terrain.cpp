@@ -221,6 +221,11 @@ std::uint64_t Terrain::state_hash() const {
     h.add(std::span<const double>(t.sinkage));
     // The map only where painted (empty elsewhere): unpainted soil keeps its hashes.
     if (!t.material.empty()) h.add_bytes(t.material.data(), t.material.size());
+    // Layers only where a column is layered: unlayered soil keeps its hashes.
+    if (t.layered()) {
+      h.add(std::span<const double>(t.layer_boundary));
+      h.add_bytes(t.layer_lower.data(), t.layer_lower.size());
+    }
   }
   // Spray, once a step has had time to make any (so soils that never sprayed keep the
   // hashes they had before spray existed).

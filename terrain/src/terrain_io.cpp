@@ -35,6 +35,12 @@
 //             order, each one of the tiles below) i64 tx, ty; u8[n*n] palette index.
 //             A terrain with one material and no painted tile is written as version 5,
 //             byte for byte what it was before maps existed; older files load as one material
+//   (version 7 on) layers in depth: u64 layered tile count, per layered tile (in key order,
+//             each one of the tiles below) i64 tx, ty; f64[n*n] boundary (the sinkage at
+//             which the crust ends, m; +infinity where the column is not layered);
+//             u8[n*n] lower palette index. Written only by a terrain with a layer; one
+//             without is written as version 6 (or 5) as before, and older files load
+//             without layers
 //   u64 tile count
 //   per tile (in key order): i64 tx, ty; f64[n*n] height, sinkage, base
 //   u64 FNV-1a of every byte before it
@@ -64,7 +70,9 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'T', 'R', 'N'};
-constexpr std::uint32_t kVersion = 6;
+constexpr std::uint32_t kVersion = 7;
+/// Written for terrains with a material map but no layer.
+constexpr std::uint32_t kMapVersion = 6;
 /// Written for terrains without a material map (one material, nothing painted).
 constexpr std::uint32_t kOneMaterialVersion = 5;
 constexpr std::uint32_t kOldestVersion = 1;
@@ -115,6 +123,82 @@ void write_map(Writer& w, std::span<const Material> palette, const TileStore& ti
     w.put(key.tx), w.put(key.ty);
     for (const std::uint8_t m : t.material) w.put(m);
   }
+}
+
+bool has_layers(const TileStore& tiles, const std::vector<TileKey>& keys) {
+  for (const TileKey& key : keys)
+    if (tiles.find(key)->layered()) return true;
+  return false;
+}
+
+void write_layers(Writer& w, const TileStore& tiles, const std::vector<TileKey>& keys) {
+  std::uint64_t layered = 0;
+  for (const TileKey& key : keys) layered += tiles.find(key)->layered() ? 1 : 0;
+  w.put(layered);
+  for (const TileKey& key : keys) {
+    const Tile& t = *tiles.find(key);
+    if (!t.layered()) continue;
+    w.put(key.tx), w.put(key.ty);
+    w.put_doubles(t.layer_boundary);
+    for (const std::uint8_t m : t.layer_lower) w.put(m);
+  }
+}
+
+/// Layers read from a file, applied once its tiles and palette are.
+struct SavedLayers {
+  struct Entry {
+    TileKey key;
+    std::vector<double> boundary;
+    std::vector<std::uint8_t> lower;
+  };
+  std::vector<Entry> tiles;
+};
+
+SavedLayers read_layers(Reader& hr, int n) {
+  SavedLayers layers;
+  const auto count = hr.get<std::uint64_t>("layers");
+  const std::size_t columns = static_cast<std::size_t>(n) * n;
+  if (count > hr.remaining() / (16 + 9 * columns))
+    hr.fail("layered tile count " + std::to_string(count) + " does not fit the file (corrupt)");
+  for (std::uint64_t k = 0; k < count; ++k) {
+    SavedLayers::Entry e;
+    e.key.tx = hr.get<std::int64_t>("layers");
+    e.key.ty = hr.get<std::int64_t>("layers");
+    e.boundary.resize(columns);
+    hr.get_doubles(e.boundary, "layers");
+    e.lower.resize(columns);
+    for (std::uint8_t& m : e.lower) m = hr.get<std::uint8_t>("layers");
+    layers.tiles.push_back(std::move(e));
+  }
+  return layers;
+}
+
+/// A boundary beyond this (m of sinkage) is corrupt: a painted depth is at most 1e6 m.
+constexpr double kMaxBoundary = 2e7;
+
+/// Gives the saved tiles their layers (the palette already set), stamped as painted.
+void apply_layers(const Reader& hr, SavedLayers& layers, std::size_t palette_size, TileStore& store) {
+  for (SavedLayers::Entry& e : layers.tiles) {
+    const std::string where = "layers of tile (" + std::to_string(e.key.tx) + ", " + std::to_string(e.key.ty) + ")";
+    Tile* tile = store.find(e.key);
+    if (tile == nullptr) hr.fail(where + ": no such tile in the file (corrupt)");
+    if (tile->layered()) hr.fail(where + " appear twice (corrupt)");
+    for (std::size_t c = 0; c < e.boundary.size(); ++c) {
+      const double d = e.boundary[c];
+      if (d == kNoLayer) continue;
+      if (!(d >= 0.0 && d <= kMaxBoundary))
+        hr.fail(where + ": column " + std::to_string(c) + " has boundary " + detail::to_text(d) +
+                " m (allowed: 0 to 2e7, or +infinity; corrupt)");
+      if (e.lower[c] >= palette_size)
+        hr.fail(where + ": column " + std::to_string(c) + " holds lower index " + std::to_string(e.lower[c]) +
+                ", beyond the palette (0 to " + std::to_string(palette_size - 1) + ")");
+    }
+    tile->layer_boundary = std::move(e.boundary);
+    tile->layer_lower = std::move(e.lower);
+    tile->normalize_layers();
+    store.mark_painted(*tile);
+  }
+  if (!layers.tiles.empty()) store.mark_layered();
 }
 
 /// A map read from a file, applied once its tiles are.
@@ -326,8 +410,9 @@ std::vector<unsigned char> Terrain::save_bytes() const {
   Writer w;
   for (char c : kMagic) w.put(c);
   const std::vector<TileKey> keys = im.tiles.sorted_keys();
-  const bool map = has_map(im.palette, im.tiles, keys);
-  w.put(map ? kVersion : kOneMaterialVersion);
+  const bool layers = has_layers(im.tiles, keys);
+  const bool map = layers || has_map(im.palette, im.tiles, keys);
+  w.put(layers ? kVersion : map ? kMapVersion : kOneMaterialVersion);
   w.put(kByteOrderMark);
   w.put(kRealBytes);
   write_settings(w, im.s);
@@ -337,6 +422,7 @@ std::vector<unsigned char> Terrain::save_bytes() const {
     w.put(r.i0), w.put(r.j0), w.put(static_cast<std::int32_t>(r.nx)), w.put(static_cast<std::int32_t>(r.ny));
   write_spray_state(w, im.spray.state);
   if (map) write_map(w, im.palette, im.tiles, keys);
+  if (layers) write_layers(w, im.tiles, keys);
   w.put(static_cast<std::uint64_t>(keys.size()));
   for (const TileKey& key : keys) {
     const Tile& t = *im.tiles.find(key);
@@ -368,6 +454,8 @@ Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::str
   if (version >= 4) read_spray_state(hr, im.spray.state);
   SavedMap map;
   if (version >= 6) map = read_map(hr, im.s.tile_columns);
+  SavedLayers layers;
+  if (version >= 7) layers = read_layers(hr, im.s.tile_columns);
   read_tiles(hr, im.s.tile_columns, im.tiles);
   if (version >= 6) {
     // Validated as Terrain::set_palette does, but without a new generation: a loaded
@@ -381,6 +469,7 @@ Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::str
     }
     im.adopt_palette(std::move(palette));
     apply_map(hr, map, im.palette.size(), im.tiles);
+    apply_layers(hr, layers, im.palette.size(), im.tiles);
   }
   check_unsettled_on_tiles(hr, im.unsettled, im.tiles);
   return t;

@@ -7,8 +7,8 @@ namespace shore::terrain {
 Tile::Tile(int n) : height(static_cast<std::size_t>(n) * n), sinkage(height.size(), 0.0), base(height.size()) {}
 
 bool Tile::holds_only_base() const {
-  if (!material.empty()) return false;  // painted: differs from the default map
-  bool same = true;                     // no early exit: a branch-free pass over the arrays
+  if (!material.empty() || layered()) return false;  // painted: differs from the default map
+  bool same = true;                                  // no early exit: a branch-free pass over the arrays
   for (std::size_t k = 0; k < height.size(); ++k) same &= height[k] == base[k] && sinkage[k] == 0.0;
   return same;
 }
@@ -18,7 +18,16 @@ void Tile::normalize_material() {
     std::vector<std::uint8_t>().swap(material);  // frees it
 }
 
-std::size_t Tile::bytes() const { return sizeof(Tile) + capacity_bytes(height, sinkage, base, material); }
+void Tile::normalize_layers() {
+  if (std::all_of(layer_boundary.begin(), layer_boundary.end(), [](double d) { return d == kNoLayer; })) {
+    std::vector<double>().swap(layer_boundary);
+    std::vector<std::uint8_t>().swap(layer_lower);
+  }
+}
+
+std::size_t Tile::bytes() const {
+  return sizeof(Tile) + capacity_bytes(height, sinkage, base, material, layer_boundary, layer_lower);
+}
 
 TileStore::TileStore(const TerrainSettings& s)
     : n_(s.tile_columns),
@@ -86,8 +95,11 @@ void TileStore::read(const GridRect& r, std::span<double> out, bool base) const 
 int TileStore::largest_material(std::span<const TileKey> skip) const {
   int largest = 0;
   for (const auto& [key, tile] : tiles_)
-    if (!std::binary_search(skip.begin(), skip.end(), key))
+    if (!std::binary_search(skip.begin(), skip.end(), key)) {
       for (const std::uint8_t m : tile->material) largest = std::max(largest, static_cast<int>(m));
+      for (std::size_t k = 0; k < tile->layer_lower.size(); ++k)
+        if (tile->layer_boundary[k] < kNoLayer) largest = std::max(largest, static_cast<int>(tile->layer_lower[k]));
+    }
   return largest;
 }
 
@@ -171,6 +183,7 @@ std::vector<GridRect> TileStore::take_changed() {
 bool TileStore::adopt(TileKey key, std::unique_ptr<Tile> t) {
   Tile& added = *t;
   added.last_used = clock_;
+  if (added.layered()) layered_ = true;
   if (!tiles_.emplace(key, std::move(t)).second) return false;
   mark_changed(key, added, {0, 0, n_, n_});
   return true;

@@ -14,6 +14,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "layers.h"
 #include "shore/core/floor_div.h"
 #include "shore/terrain/height_source.h"
 #include "shore/terrain/terrain.h"
@@ -43,7 +44,12 @@ struct Tile {
   /// Palette index per column; empty while every column is 0 (the one-material terrain's
   /// tiles never hold it). Kept empty whenever it would be all 0 (normalize_material).
   std::vector<std::uint8_t> material;
-  /// The change generation of the last write to `material` (0: never painted), so a soil
+  /// Layers in depth (layers.h): per column the sinkage at which its crust ends (kNoLayer:
+  /// not layered) and its lower palette index. Both empty while no column of the tile is
+  /// layered (normalize_layers), as `material` is while nothing is painted.
+  std::vector<double> layer_boundary;
+  std::vector<std::uint8_t> layer_lower;
+  /// The change generation of the last write to `material` or the layers (0: never painted), so a soil
   /// delta can send the tiles repainted since a generation (TileStore::painted_since).
   std::uint64_t painted_at = 0;
   /// Columns whose height changed since the last take_changed (local; empty: none).
@@ -61,6 +67,13 @@ struct Tile {
   [[nodiscard]] bool holds_only_base() const;
   /// Drops the material array if every entry is 0 (the map's default).
   void normalize_material();
+  /// Drops the layer arrays if no column is layered.
+  void normalize_layers();
+  [[nodiscard]] bool layered() const noexcept { return !layer_boundary.empty(); }
+  /// Column k's layering (not layered where the tile has no layers).
+  [[nodiscard]] ColumnLayer layer(std::size_t k) const noexcept {
+    return layered() ? ColumnLayer{layer_boundary[k], layer_lower[k]} : ColumnLayer{};
+  }
   [[nodiscard]] std::size_t bytes() const;  ///< this tile and its arrays
 };
 
@@ -120,12 +133,22 @@ class TileStore {
     const Tile* t = find(key_of(i, j));
     return t && !t->material.empty() ? t->material[local(i, j)] : std::uint8_t{0};
   }
+  /// The column's layering (not layered without a tile or layers).
+  [[nodiscard]] ColumnLayer layer_at(std::int64_t i, std::int64_t j) const {
+    const Tile* t = find(key_of(i, j));
+    return t ? t->layer(local(i, j)) : ColumnLayer{};
+  }
+  /// Whether any column may be layered: false until a layer is painted or loaded (then the
+  /// readers gather the layers; before, they look nothing up).
+  [[nodiscard]] bool layered() const noexcept { return layered_; }
+  void mark_layered() noexcept { layered_ = true; }
   /// Records that the tile's material array was written in the current generation.
   void mark_painted(Tile& t) const noexcept { t.painted_at = generation_; }
   /// The tiles whose material array was written after generation g, in key order
   /// (painted_since(0): every tile ever painted, including those painted back to all 0).
   [[nodiscard]] std::vector<TileKey> painted_since(std::uint64_t g) const;
-  /// The largest palette index painted on any tile but those in `skip` (sorted; 0: none).
+  /// The largest palette index painted on any tile but those in `skip` (sorted; 0: none),
+  /// lower layers' indices included.
   [[nodiscard]] int largest_material(std::span<const TileKey> skip = {}) const;
   /// Heights (base: untouched ground) of a rectangle, row-major into out (nx * ny).
   void read(const GridRect& r, std::span<double> out, bool base) const;
@@ -205,6 +228,7 @@ class TileStore {
   std::vector<ChangeEntry> log_;  ///< in generation order; complete for generations > log_floor_
   std::uint64_t log_floor_ = 0;
   std::int64_t clock_ = 0;
+  bool layered_ = false;
 };
 
 }  // namespace shore::terrain

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <limits>
 #include <map>
@@ -186,14 +187,14 @@ TEST(Recording, AVersionOneFileIsRefusedSayingSo) {
   EXPECT_NE(m.find(old.string()), std::string::npos) << m;
   EXPECT_NE(m.find("recording version 1"), std::string::npos) << m;
   EXPECT_NE(m.find("record the run again"), std::string::npos) << m;
-  const std::uint32_t four = 4;
-  std::memcpy(bytes.data() + 8, &four, sizeof four);
+  const std::uint32_t five = 5;
+  std::memcpy(bytes.data() + 8, &five, sizeof five);
   sum = shore::StateHash();
   sum.add_bytes(bytes.data(), bytes.size() - 8);
   const std::uint64_t checksum4 = sum.value();
   std::memcpy(bytes.data() + bytes.size() - 8, &checksum4, sizeof checksum4);
   write(old, bytes);
-  EXPECT_NE(replay_error(old).find("unsupported recording version 4 (this build reads 2 to 3)"), std::string::npos)
+  EXPECT_NE(replay_error(old).find("unsupported recording version 5 (this build reads 2 to 4)"), std::string::npos)
       << replay_error(old);
   fs::remove(file), fs::remove(old);
 }
@@ -259,30 +260,77 @@ bool same_bits(const std::vector<btScalar>& a, const std::vector<btScalar>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(btScalar)) == 0;
 }
 
-/// The smoke run of rover recorded to `file` as run_scene runs it (step, observe, record),
-/// keeping the live multibody pictures after every substep.
-struct LiveRover {
+/// `rec` written to `name` in the temporary folder; the replay's error message.
+std::string replay_error_of(const Recording& rec, const std::string& name) {
+  const fs::path bad = temp(name);
+  write(bad, shore::bullet::write_recording(rec));
+  std::string m = replay_error(bad);
+  EXPECT_NE(m.find(bad.string()), std::string::npos) << m;
+  fs::remove(bad);
+  return m;
+}
+
+/// Every raycast wheel's world transform (basis rows, origin), what the pictures draw.
+std::vector<btScalar> wheel_picture(Scene& scene) {
+  std::vector<btScalar> v;
+  for (const VehicleContents& c : scene.contents().vehicles)
+    for (int k = 0; k < c.vehicle->getNumWheels(); ++k) {
+      const btTransform& t = c.vehicle->getWheelInfo(k).m_worldTransform;
+      for (int r = 0; r < 3; ++r)
+        for (int a = 0; a < 3; ++a) v.push_back(t.getBasis()[r][a]);
+      for (int a = 0; a < 3; ++a) v.push_back(t.getOrigin()[a]);
+    }
+  return v;
+}
+
+/// The smoke run of a scene recorded to `file` as run_scene runs it (step, observe, record),
+/// keeping the live `picture` after every substep.
+struct LiveRun {
   std::map<int, std::vector<btScalar>> pictures;  ///< by substep; 0: as created
   std::uint64_t state_hash = 0;
+  Recorder::Sizes sizes;
 };
-LiveRover record_rover(const fs::path& file) {
-  const SceneType& type = *find_scene("rover");
-  const SceneOptions o = smoke_options("rover");
+LiveRun record_live(const std::string& name, const fs::path& file,
+                    const std::function<std::vector<btScalar>(Scene&)>& picture) {
+  const SceneType& type = *find_scene(name);
+  const SceneOptions o = smoke_options(name);
   const std::unique_ptr<Scene> scene = type.create(o);
   Recorder recorder(file);
   recorder.begin(type, o, *scene);
-  LiveRover live;
-  live.pictures[0] = multibody_picture(*scene);
+  LiveRun live;
+  live.pictures[0] = picture(*scene);
   for (int k = 1; k <= o.substeps(); ++k) {
     scene->step();
     scene->observe();
     recorder.after_substep(*scene, k);
-    live.pictures[k] = multibody_picture(*scene);
+    live.pictures[k] = picture(*scene);
   }
   live.state_hash = state_hash(scene->state());
   recorder.finish(live.state_hash);
-  EXPECT_GT(recorder.sizes().multibodies, 0u);
+  live.sizes = recorder.sizes();
   return live;
+}
+
+LiveRun record_rover(const fs::path& file) {
+  LiveRun live = record_live("rover", file, multibody_picture);
+  EXPECT_GT(live.sizes.multibodies, 0u);
+  return live;
+}
+
+/// Replays `file`; every frame's `picture` must be the live run's, bit for bit, and the
+/// replay must end in the run's state hash.
+void expect_replay_matches(const fs::path& file, const LiveRun& live,
+                           const std::function<std::vector<btScalar>(Scene&)>& picture) {
+  int compared = 0;
+  const ReplayResult r =
+      replay(file, testing::TempDir(), false, nullptr, ProgressMode::quiet, [&](Scene& scene, int substep) {
+        ++compared;
+        EXPECT_TRUE(same_bits(picture(scene), live.pictures.at(substep))) << "frame at substep " << substep;
+      });
+  EXPECT_EQ(compared, r.frames);
+  EXPECT_GT(r.frames, 2);
+  EXPECT_EQ(r.recorded_state_hash, live.state_hash);
+  EXPECT_EQ(r.state_hash, live.state_hash) << "the recording does not carry the whole hashed state";
 }
 
 // rover: a six-wheeled btMultiBody. At every recorded frame the replay's multibody (its
@@ -292,30 +340,76 @@ LiveRover record_rover(const fs::path& file) {
 // out, both fail (tried: the links stay where the initial checkpoint put them).
 TEST(MultiBodyRecording, RoverReplaysItsLinksBitForBitAtEveryFrame) {
   const fs::path file = temp("rover.rec");
-  const LiveRover live = record_rover(file);
+  const LiveRun live = record_rover(file);
   ASSERT_FALSE(live.pictures.at(0).empty());
   ASSERT_FALSE(same_bits(live.pictures.at(0), live.pictures.rbegin()->second)) << "the rover did not move";
-  int compared = 0;
-  const ReplayResult r =
-      replay(file, testing::TempDir(), false, nullptr, ProgressMode::quiet, [&](Scene& scene, int substep) {
-        ++compared;
-        EXPECT_TRUE(same_bits(multibody_picture(scene), live.pictures.at(substep))) << "frame at substep " << substep;
-      });
-  EXPECT_EQ(compared, r.frames);
-  EXPECT_GT(r.frames, 2);
-  EXPECT_EQ(r.recorded_state_hash, live.state_hash);
-  EXPECT_EQ(r.state_hash, live.state_hash) << "the recording does not carry the whole hashed state";
+  expect_replay_matches(file, live, multibody_picture);
   fs::remove(file);
 }
 
-/// `rec` written to `name` in the temporary folder; the replay's error message.
-std::string replay_error_of(const Recording& rec, const std::string& name) {
-  const fs::path bad = temp(name);
-  write(bad, shore::bullet::write_recording(rec));
-  std::string m = replay_error(bad);
-  EXPECT_NE(m.find(bad.string()), std::string::npos) << m;
-  fs::remove(bad);
-  return m;
+// rally: a btRaycastVehicle. At every recorded frame the replay's wheels (their world
+// transforms: where the suspension, the steering and the spin put them, what the pictures
+// draw) are the live run's, bit for bit. Without the recorded wheels (a version 3 file) they are not: the replay draws
+// them at the suspension length the replaying vehicle last had, unturned.
+TEST(VehicleRecording, RallyReplaysItsWheelsBitForBitAtEveryFrame) {
+  const fs::path file = temp("rally.rec");
+  const LiveRun live = record_live("rally", file, wheel_picture);
+  ASSERT_EQ(live.pictures.at(0).size(), 4u * 12u);
+  ASSERT_FALSE(same_bits(live.pictures.at(0), live.pictures.rbegin()->second)) << "the wheels did not move";
+  EXPECT_GT(live.sizes.wheels, 0u);
+  expect_replay_matches(file, live, wheel_picture);
+
+  Recording old = shore::bullet::read_recording(bytes_of(file), "test");
+  ASSERT_EQ(old.vehicle_wheels, std::vector<std::uint32_t>{4});
+  old.version = 3;
+  EXPECT_THROW((void)shore::bullet::write_recording(old), shore::InvalidSetting);  // it would lose them
+  old.vehicle_wheels.clear();
+  for (Recording::Frame& f : old.frames) f.wheels = {};
+  const fs::path v3 = temp("rally_v3.rec");
+  write(v3, shore::bullet::write_recording(old));
+  int differing = 0;
+  const ReplayResult r =
+      replay(v3, testing::TempDir(), false, nullptr, ProgressMode::quiet, [&](Scene& scene, int substep) {
+        differing += same_bits(wheel_picture(scene), live.pictures.at(substep)) ? 0 : 1;
+      });
+  EXPECT_EQ(r.state_hash, live.state_hash) << "a version 3 file still replays the hashed state";
+  EXPECT_GT(differing, r.frames / 2) << "without recorded wheels the replay cannot draw them as the run had them";
+  for (const fs::path& f : {file, v3}) fs::remove(f);
+}
+
+// A wheel section that does not fit the scene, or holds a non-finite value, is refused naming
+// the recording, the vehicle and the wheel.
+TEST(VehicleRecording, ACorruptWheelSectionIsRefusedNamingTheWheel) {
+  const fs::path file = temp("rally_source.rec");
+  (void)record_live("rally", file, wheel_picture);
+  const std::vector<unsigned char> good = bytes_of(file);
+  {  // a vehicle of three wheels: the scene's has four
+    Recording rec = shore::bullet::read_recording(good, "test");
+    rec.vehicle_wheels[0] = 3;
+    std::vector<std::vector<unsigned char>> kept;
+    for (Recording::Frame& f : rec.frames) {
+      kept.emplace_back(f.wheels.begin(), f.wheels.end() - Recording::kWheelScalars * sizeof(btScalar));
+      f.wheels = kept.back();
+    }
+    const std::string m = replay_error_of(rec, "rally_wheels.rec");
+    EXPECT_NE(m.find("vehicle 0: holds 3 wheels, the scene's has 4"), std::string::npos) << m;
+  }
+  {  // a rotation that is not finite
+    Recording rec = shore::bullet::read_recording(good, "test");
+    std::vector<unsigned char> bad(rec.frames[1].wheels.begin(), rec.frames[1].wheels.end());
+    const btScalar inf = std::numeric_limits<btScalar>::infinity();
+    std::memcpy(bad.data() + (Recording::kWheelScalars * 2 + 11) * sizeof(btScalar), &inf, sizeof inf);  // wheel 2's z
+    rec.frames[1].wheels = bad;
+    const std::string m = replay_error_of(rec, "rally_inf.rec");
+    EXPECT_NE(m.find("vehicle 0, wheel 2: corrupt (its world transform holds inf, not finite)"), std::string::npos)
+        << m;
+  }
+  {  // the file layer: a frame's wheel section of the wrong size is not written
+    Recording rec = shore::bullet::read_recording(good, "test");
+    rec.frames[0].wheels = {};
+    EXPECT_THROW((void)shore::bullet::write_recording(rec), shore::InvalidSetting);
+  }
+  fs::remove(file);
 }
 
 // A multibody section that does not fit the scene, or holds a non-finite value, is refused

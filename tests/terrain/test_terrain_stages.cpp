@@ -181,7 +181,7 @@ TEST(Bearing, FlatPlateCapacityIsBekkersPressureTimesItsArea) {
   std::vector<BearingColumn> plate;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) plate.push_back({i, j, 0.0, sunk, -1.0, -pressed});
-  const Bearing b = capacity(plate, {}, s, {&s.material, 1}, bearing_powers({&s.material, 1}), 0.0, true);
+  const Bearing b = capacity(plate, {}, {}, s, {&s.material, 1}, bearing_powers({&s.material, 1}), 0.0, true);
   const Material& m = s.material;
   const double width = ny * s.cell;
   const double p = (m.bekker_kc / width + m.bekker_kphi) * std::pow(sunk + pressed, m.bekker_n);
@@ -203,9 +203,9 @@ TEST(Bearing, OffsetForALoadInvertsBekkersLaw) {
   const double area = n * n * s.cell * s.cell, load = 50e3 * area;
   const double expected = std::pow(load / area / (m.bekker_kc / (n * s.cell) + m.bekker_kphi), 1.0 / m.bekker_n);
   const std::vector<shore::det::FixedPower> powers = bearing_powers({&s.material, 1});
-  const double offset = offset_for_load(plate, {}, s, {&s.material, 1}, powers, load);
+  const double offset = offset_for_load(plate, {}, {}, s, {&s.material, 1}, powers, load);
   EXPECT_NEAR(offset, expected, 2e-7);  // the bracket is narrowed to 1e-7
-  EXPECT_GE(capacity(plate, {}, s, {&s.material, 1}, powers, offset, false).capacity, load);  // its upper end
+  EXPECT_GE(capacity(plate, {}, {}, s, {&s.material, 1}, powers, offset, false).capacity, load);  // its upper end
 }
 
 TEST(TileStore, RunsCoverARectangleOnceWithoutCrossingATileEdge) {

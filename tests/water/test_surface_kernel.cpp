@@ -124,57 +124,59 @@ INSTANTIATE_TEST_SUITE_P(Modes, ThreadCount, ::testing::Values(SurfaceMode::vert
                            return std::string(c.param == SurfaceMode::full_3d ? "Full3d" : "VerticalOnly");
                          });
 
-/// The AVX2 and the generic kernel in one process: in the cross-platform deterministic
-/// build (the default) they must give the same bits, so a state pinned on one machine holds
-/// on every other, whichever kernel its CPU runs.
-class KernelVariants : public ::testing::TestWithParam<SurfaceMode> {};
+/// A vectorised kernel (AVX2 or AVX-512) and the generic one in one process: in the
+/// cross-platform deterministic build (the default) they must give the same bits, so a
+/// state pinned on one machine holds on every other, whichever kernel its CPU runs.
+struct WideKernel {
+  SurfaceMode mode;
+  KernelChoice kernel;
+  const char* isa;
+};
+class KernelVariants : public ::testing::TestWithParam<WideKernel> {};
 
-TEST_P(KernelVariants, Avx2AndGenericAgreeBitwiseAfter1000ViolentSteps) {
-  if (!Surface::kernel_available(KernelChoice::avx2)) GTEST_SKIP() << "no AVX2 kernel in this build or on this CPU";
-  SurfaceSettings s = mixed_settings(GetParam());
-  s.kernel = KernelChoice::avx2;
-  Surface avx2(s);
+TEST_P(KernelVariants, AgreeBitwiseWithGenericAfter1000ViolentSteps) {
+  const WideKernel c = GetParam();
+  if (!Surface::kernel_available(c.kernel)) GTEST_SKIP() << "no " << c.isa << " kernel in this build or on this CPU";
+  SurfaceSettings s = mixed_settings(c.mode);
+  s.kernel = c.kernel;
+  Surface wide(s);
   s.kernel = KernelChoice::generic;
   Surface generic(s);
-  EXPECT_STREQ(avx2.kernel_isa(), "avx2");
+  EXPECT_STREQ(wide.kernel_isa(), c.isa);
   EXPECT_STREQ(generic.kernel_isa(), "generic");
-  for (Surface* surf : {&avx2, &generic}) {
+  for (Surface* surf : {&wide, &generic}) {
     add_island_and_drops(*surf);
     surf->disturb(Disturbance::point_height(26.0, 23.0, 2.0, 20.0));  // violent: the guard substeps
     surf->disturb(Disturbance::point_velocity(12.0, 33.0, 1.0, 8.0));
   }
   int substeps = 0;
   for (int k = 0; k < 1000; ++k) {
-    substeps += avx2.step(0.4).substeps;
+    substeps += wide.step(0.4).substeps;
     generic.step(0.4);
   }
-  if (GetParam() == SurfaceMode::full_3d) {
+  if (c.mode == SurfaceMode::full_3d) {
     EXPECT_GT(substeps, 1000);  // the disturbance was violent enough to need substeps
   }
-  const DenseState a = avx2.dense_state(), g = generic.dense_state();
+  const DenseState a = wide.dense_state(), g = generic.dense_state();
   std::size_t differing = 0;
   for (std::size_t k = 0; k < a.uz.size(); ++k)
     differing += std::bit_cast<std::uint64_t>(a.uz[k]) != std::bit_cast<std::uint64_t>(g.uz[k]);
 #ifdef SHORE_CROSS_PLATFORM_DETERMINISTIC
   EXPECT_EQ(differing, 0u) << "nodes whose height differs in any bit";
-  EXPECT_EQ(avx2.state_hash(), generic.state_hash());
+  EXPECT_EQ(wide.state_hash(), generic.state_hash());
 #else
   RecordProperty("differing_heights", std::to_string(differing));
-  GTEST_SKIP() << differing << " heights differ: without SHORE_CROSS_PLATFORM_DETERMINISTIC the AVX2 kernel may "
-               << "fuse multiply-adds";
+  GTEST_SKIP() << differing << " heights differ: without SHORE_CROSS_PLATFORM_DETERMINISTIC the " << c.isa
+               << " kernel may fuse multiply-adds";
 #endif
 }
 
-INSTANTIATE_TEST_SUITE_P(Modes, KernelVariants, ::testing::Values(SurfaceMode::vertical_only, SurfaceMode::full_3d),
-                         [](const ::testing::TestParamInfo<SurfaceMode>& c) {
-                           return std::string(c.param == SurfaceMode::full_3d ? "Full3d" : "VerticalOnly");
-                         });
-
 // The same on a sleeping, tiled surface with an open edge: tiles fall asleep and wake
 // during the run, and threads take tiles in any order.
-TEST_P(KernelVariants, Avx2AndGenericAgreeBitwiseOnASleepingTiledSurface) {
-  if (!Surface::kernel_available(KernelChoice::avx2)) GTEST_SKIP() << "no AVX2 kernel in this build or on this CPU";
-  SurfaceSettings s = mixed_settings(GetParam());
+TEST_P(KernelVariants, AgreeBitwiseWithGenericOnASleepingTiledSurface) {
+  const WideKernel c = GetParam();
+  if (!Surface::kernel_available(c.kernel)) GTEST_SKIP() << "no " << c.isa << " kernel in this build or on this CPU";
+  SurfaceSettings s = mixed_settings(c.mode);
   s.nx = 101;
   s.ny = 93;
   s.boundary = Boundary::open;
@@ -184,31 +186,41 @@ TEST_P(KernelVariants, Avx2AndGenericAgreeBitwiseOnASleepingTiledSurface) {
   s.lattice.damping = 0.5;  // amplitude e-folding time 16 s
   s.threads = 2;
   s.parallel_min_nodes = 0;
-  s.kernel = KernelChoice::avx2;
-  Surface avx2(s);
+  s.kernel = c.kernel;
+  Surface wide(s);
   s.kernel = KernelChoice::generic;
   s.threads = 1;
   Surface generic(s);
-  for (Surface* surf : {&avx2, &generic}) {
+  for (Surface* surf : {&wide, &generic}) {
     add_island_and_drops(*surf);
     surf->disturb(Disturbance::point_height(70.0, 60.0, 2.0, 5.0));
   }
   std::int64_t slept = 0;
   for (int k = 0; k < 600; ++k) {
-    avx2.step(0.4);
+    wide.step(0.4);
     generic.step(0.4);
-    slept = std::max<std::int64_t>(slept, avx2.tile_stats().created - avx2.tile_stats().awake);
+    slept = std::max<std::int64_t>(slept, wide.tile_stats().created - wide.tile_stats().awake);
     if (k == 300) {
-      for (Surface* surf : {&avx2, &generic}) surf->disturb(Disturbance::point_velocity(20.0, 70.0, 1.5, 0.5));
+      for (Surface* surf : {&wide, &generic}) surf->disturb(Disturbance::point_velocity(20.0, 70.0, 1.5, 0.5));
     }
   }
   EXPECT_GT(slept, 0) << "no tile slept: the case does not test sleeping";
 #ifdef SHORE_CROSS_PLATFORM_DETERMINISTIC
-  EXPECT_EQ(avx2.state_hash(), generic.state_hash());
+  EXPECT_EQ(wide.state_hash(), generic.state_hash());
 #else
-  GTEST_SKIP() << "without SHORE_CROSS_PLATFORM_DETERMINISTIC the AVX2 kernel may fuse multiply-adds";
+  GTEST_SKIP() << "without SHORE_CROSS_PLATFORM_DETERMINISTIC the " << c.isa << " kernel may fuse multiply-adds";
 #endif
 }
+
+INSTANTIATE_TEST_SUITE_P(Modes, KernelVariants,
+                         ::testing::Values(WideKernel{SurfaceMode::vertical_only, KernelChoice::avx2, "avx2"},
+                                           WideKernel{SurfaceMode::full_3d, KernelChoice::avx2, "avx2"},
+                                           WideKernel{SurfaceMode::vertical_only, KernelChoice::avx512, "avx512"},
+                                           WideKernel{SurfaceMode::full_3d, KernelChoice::avx512, "avx512"}),
+                         [](const ::testing::TestParamInfo<WideKernel>& c) {
+                           return std::string(c.param.kernel == KernelChoice::avx512 ? "Avx512" : "Avx2") +
+                                  (c.param.mode == SurfaceMode::full_3d ? "Full3d" : "VerticalOnly");
+                         });
 
 // Threads never hurt: below parallel_min_nodes a step never wakes the team (a 53 x 47 grid
 // at the default), above it (here forced) it does.
@@ -224,19 +236,24 @@ TEST(Threads, SmallGridsNeverForkTheTeam) {
   EXPECT_EQ(forced.step(0.3).parallel_substeps, 1);
 }
 
-TEST(KernelChoice, Avx2IsRefusedWhereItCannotRun) {
+TEST(KernelChoice, WideKernelsAreRefusedWhereTheyCannotRun) {
   SurfaceSettings s = mixed_settings(SurfaceMode::full_3d);
-  s.kernel = KernelChoice::avx2;
-  if (Surface::kernel_available(KernelChoice::avx2)) {
-    EXPECT_NO_THROW(Surface{s});
-  } else {
-    try {
-      Surface surf(s);
-      FAIL() << "expected InvalidSetting";
-    } catch (const shore::InvalidSetting& e) {
-      EXPECT_NE(std::string(e.what()).find("water.SurfaceSettings.kernel"), std::string::npos) << e.what();
+  for (KernelChoice k : {KernelChoice::avx2, KernelChoice::avx512}) {
+    s.kernel = k;
+    if (Surface::kernel_available(k)) {
+      EXPECT_NO_THROW(Surface{s});
+    } else {
+      try {
+        Surface surf(s);
+        FAIL() << "expected InvalidSetting";
+      } catch (const shore::InvalidSetting& e) {
+        EXPECT_NE(std::string(e.what()).find("water.SurfaceSettings.kernel"), std::string::npos) << e.what();
+      }
     }
   }
+  // automatic takes the widest variant this CPU runs
+  s.kernel = KernelChoice::automatic;
+  EXPECT_STREQ(Surface(s).kernel_isa(), Surface::fast_kernel_isa());
   s.kernel = static_cast<KernelChoice>(7);
   EXPECT_THROW(Surface{s}, shore::InvalidSetting);
 }

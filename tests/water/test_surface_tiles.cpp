@@ -169,4 +169,36 @@ TEST(Lake, CreationAllocatesNothingDenseAndMemoryFollowsTheWokenArea) {
   RecordProperty("memory_over_dense", std::to_string(double(st.memory_bytes) / dense_bytes));
 }
 
+// The memory tile_stats reports is kept as a running count (it no longer walks the tiles):
+// it must hold at least the created tiles' state (a 3-D node keeps 2 doubles, 4 floats and
+// a flag), grow with the constraint masks a constrained tile keeps, and come out the same
+// for a surface restored from a saved state once both have stepped.
+TEST(Memory, CountsEveryCreatedTileAndItsMasks) {
+  SurfaceSettings set;
+  set.nx = set.ny = 200;
+  set.sleep.tile = 16;
+  set.threads = 1;
+  set.boundary = Boundary::free;  // no constrained node at first (a free 3-D edge is free)
+  Surface water(set);
+  water.disturb(Disturbance::point_height(100.0, 100.0, 3.0, 0.5));
+  water.step(0.3);
+  const TileStats before = water.tile_stats();
+  const double node_state = 2 * 8 + 4 * 4 + 1;  // bytes
+  EXPECT_GE(double(before.memory_bytes), double(before.created) * 16 * 16 * node_state);
+  water.set_constraint(100, 100, NodeConstraint::fixed);  // its tile keeps masks from its next substep
+  water.step(0.3);
+  const TileStats after = water.tile_stats();
+  const double grown = double(after.created - before.created) * 16 * 16 * node_state + 16 * 16 * 12;
+  EXPECT_GE(double(after.memory_bytes), double(before.memory_bytes) + grown)
+      << "the new tiles' state and one tile's masks (8 + 4 bytes a node)";
+  Surface restored(set);
+  restored.restore_state(water.save_state(), "test");
+  water.step(0.3);
+  restored.step(0.3);
+  EXPECT_EQ(restored.state_hash(), water.state_hash());
+  EXPECT_EQ(restored.tile_stats().created, water.tile_stats().created);
+  // Within 1 KB (the tile lists' capacities may differ): a tile is about 10 KB, its masks 3 KB.
+  EXPECT_NEAR(double(restored.tile_stats().memory_bytes), double(water.tile_stats().memory_bytes), 1024.0);
+}
+
 }  // namespace

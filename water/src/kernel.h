@@ -39,10 +39,17 @@ struct Tile {
   float* vx = nullptr;
   float* vy = nullptr;
   const std::uint8_t* flags = nullptr;  ///< storage: 0 free, 1 vertical-only, 2 fixed
-  double* bz = nullptr;                 ///< block: old heights with the ghost ring (scratch: the
-                                        ///< vertical-only kernel overwrites it; for the fused
-                                        ///< vertical-only kernel only the ring is gathered)
-  const float* bx = nullptr;            ///< block, 3-D only
+  /// The masks of flags kept with the tile (the surface rebuilds them when a constraint
+  /// changes, not every substep): per node of the storage, all ones where the node is not
+  /// fixed (moving) and, 3-D, where it is free (free_nodes); both null where no node is
+  /// constrained. Where masks_given is false the fused kernels make them from flags.
+  bool masks_given = false;
+  const std::uint64_t* moving = nullptr;
+  const std::uint32_t* free_nodes = nullptr;
+  double* bz = nullptr;       ///< block: old heights with the ghost ring (scratch: the
+                              ///< vertical-only kernel overwrites it; for the fused
+                              ///< vertical-only kernel only the ring is gathered)
+  const float* bx = nullptr;  ///< block, 3-D only
   const float* by = nullptr;
   Side sides[kSides] = {};
   /// Activity of the steps between the tile's edges and the ghost ring per side (computed
@@ -111,14 +118,16 @@ struct TileResult {
   Extremes extremes;  ///< 3-D: the springs the tile computed, and relative speeds within it
 };
 
-/// Which compiled variant runs: the fused kernels for AVX2 + FMA or the baseline, or the
-/// unfused reference (kernel_unfused.inc; the same bits, slower, for the tests).
-enum class Variant : std::uint8_t { generic, avx2, unfused };
+/// Which compiled variant runs: the fused kernels for AVX-512 (512-bit vectors), AVX2 + FMA
+/// or the baseline, or the unfused reference (kernel_unfused.inc; the same bits, slower,
+/// for the tests).
+enum class Variant : std::uint8_t { generic, avx2, unfused, avx512 };
 
 /// Bytes of scratch one thread needs for tiles of up to `tile` nodes per side.
 std::size_t workspace_bytes(int tile);
 
-// One substep of one tile with variant v (avx2 only where avx2_available()).
+// One substep of one tile with variant v (avx2 only where avx2_available(), avx512 only
+// where avx512_available()).
 // workspace: workspace_bytes(tile) bytes, 64-byte aligned.
 TileResult step_3d(Variant v, const Tile& t, const Coefficients& k, void* workspace);
 TileResult step_vertical(Variant v, const Tile& t, const Coefficients& k, void* workspace);
@@ -127,12 +136,20 @@ Extremes measure_3d(Variant v, const Tile& t, const Coefficients& k, void* works
 
 /// Whether this build has the AVX2 variant and this CPU can run it (AVX2 and FMA).
 bool avx2_available();
+/// Whether this build has the AVX-512 variant and this CPU (and OS) can run it (AVX-512 F,
+/// VL, DQ and BW besides AVX2 and FMA).
+bool avx512_available();
 
 namespace avx2 {
 TileResult step_3d(const Tile& t, const Coefficients& k, void* workspace);
 TileResult step_vertical(const Tile& t, const Coefficients& k, void* workspace);
 Extremes measure_3d(const Tile& t, const Coefficients& k, void* workspace);
 }  // namespace avx2
+namespace avx512 {
+TileResult step_3d(const Tile& t, const Coefficients& k, void* workspace);
+TileResult step_vertical(const Tile& t, const Coefficients& k, void* workspace);
+Extremes measure_3d(const Tile& t, const Coefficients& k, void* workspace);
+}  // namespace avx512
 namespace generic {
 TileResult step_3d(const Tile& t, const Coefficients& k, void* workspace);
 TileResult step_vertical(const Tile& t, const Coefficients& k, void* workspace);

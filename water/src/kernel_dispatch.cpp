@@ -22,36 +22,55 @@ bool avx2_available() {
 #endif
 }
 
+bool avx512_available() {
+#if !defined(SHORE_WATER_NO_AVX2) && (defined(__x86_64__) || defined(__i386__))
+  // __builtin_cpu_supports reports AVX-512 only where the OS saves the zmm state too.
+  static const bool has = avx2_available() && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+                          __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
+  return has;
+#else
+  return false;
+#endif
+}
+
 namespace {
 #ifdef SHORE_WATER_NO_AVX2
-constexpr bool kAvx2Built = false;  // callers never ask for AVX2 when it is not available
+constexpr bool kAvx2Built = false;  // callers never ask for AVX2 (or AVX-512) when it is not available
 #else
 constexpr bool kAvx2Built = true;
 #endif
-/// The function of variant v among the three; avx2 only where it was built.
+/// The function of variant v among the four; avx2 and avx512 only where they were built.
 template <class F>
-F pick(Variant v, F avx2_fn, F generic_fn, F unfused_fn) {
+F pick(Variant v, F avx512_fn, F avx2_fn, F generic_fn, F unfused_fn) {
   if (v == Variant::unfused) return unfused_fn;
-  return kAvx2Built && v == Variant::avx2 ? avx2_fn : generic_fn;
+  if (!kAvx2Built) return generic_fn;
+  return v == Variant::avx512 ? avx512_fn : v == Variant::avx2 ? avx2_fn : generic_fn;
 }
 }  // namespace
 
 #ifdef SHORE_WATER_NO_AVX2
-namespace avx2 {  // never called (kAvx2Built): lets pick() name the functions
+// Never called (kAvx2Built): lets pick() name the functions.
+namespace avx2 {
 TileResult step_3d(const Tile& t, const Coefficients& k, void* w) { return generic::step_3d(t, k, w); }
 TileResult step_vertical(const Tile& t, const Coefficients& k, void* w) { return generic::step_vertical(t, k, w); }
 Extremes measure_3d(const Tile& t, const Coefficients& k, void* w) { return generic::measure_3d(t, k, w); }
 }  // namespace avx2
+namespace avx512 {
+TileResult step_3d(const Tile& t, const Coefficients& k, void* w) { return generic::step_3d(t, k, w); }
+TileResult step_vertical(const Tile& t, const Coefficients& k, void* w) { return generic::step_vertical(t, k, w); }
+Extremes measure_3d(const Tile& t, const Coefficients& k, void* w) { return generic::measure_3d(t, k, w); }
+}  // namespace avx512
 #endif
 
 TileResult step_3d(Variant v, const Tile& t, const Coefficients& k, void* w) {
-  return pick(v, &avx2::step_3d, &generic::step_3d, &unfused::step_3d)(t, k, w);
+  return pick(v, &avx512::step_3d, &avx2::step_3d, &generic::step_3d, &unfused::step_3d)(t, k, w);
 }
 TileResult step_vertical(Variant v, const Tile& t, const Coefficients& k, void* w) {
-  return pick(v, &avx2::step_vertical, &generic::step_vertical, &unfused::step_vertical)(t, k, w);
+  return pick(v, &avx512::step_vertical, &avx2::step_vertical, &generic::step_vertical, &unfused::step_vertical)(t, k,
+                                                                                                                 w);
 }
 Extremes measure_3d(Variant v, const Tile& t, const Coefficients& k, void* w) {
-  return pick(v, &avx2::measure_3d, &generic::measure_3d, &unfused::measure_3d)(t, k, w);
+  return pick(v, &avx512::measure_3d, &avx2::measure_3d, &generic::measure_3d, &unfused::measure_3d)(t, k, w);
 }
 
 }  // namespace shore::water::kernel

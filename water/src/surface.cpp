@@ -86,6 +86,7 @@ TileData& Surface::State::obtain(const SurfaceSettings& s, int tx, int ty) {
     }
   }
   fill_sponge(s, *t);
+  tile_bytes += bytes_of(*t);
   slot[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x) + static_cast<std::size_t>(tx)] =
       static_cast<std::int32_t>(tiles.size());
   tiles.push_back(std::move(t));
@@ -176,17 +177,19 @@ void Surface::State::refresh_edges(TileData& t, int parity) const {
   }
 }
 
+std::size_t bytes_of(const TileData& t) {
+  std::size_t b =
+      sizeof(TileData) + t.uz.capacity() * 8 + t.vz.capacity() * 8 + t.flags.capacity() + t.sponge.capacity() * 8;
+  b += (t.ux.capacity() + t.uy.capacity() + t.vx.capacity() + t.vy.capacity()) * 4 + mask_bytes(t);
+  for (const TileData::Edges& e : t.edges)
+    b += (e.z.capacity() + e.vz.capacity()) * 8 +
+         (e.x.capacity() + e.y.capacity() + e.vx.capacity() + e.vy.capacity()) * 4;
+  return b;
+}
+
 std::size_t Surface::State::memory_bytes() const {
   std::size_t b = slot.capacity() * sizeof(std::int32_t) + awake.capacity() * sizeof(std::int32_t) +
-                  tiles.capacity() * sizeof(void*);
-  for (const auto& t : tiles) {
-    b +=
-        sizeof(TileData) + t->uz.capacity() * 8 + t->vz.capacity() * 8 + t->flags.capacity() + t->sponge.capacity() * 8;
-    b += (t->ux.capacity() + t->uy.capacity() + t->vx.capacity() + t->vy.capacity()) * 4;
-    for (const TileData::Edges& e : t->edges)
-      b += (e.z.capacity() + e.vz.capacity()) * 8 +
-           (e.x.capacity() + e.y.capacity() + e.vx.capacity() + e.vy.capacity()) * 4;
-  }
+                  tiles.capacity() * sizeof(void*) + tile_bytes;
   for (const Scratch& s : scratch)
     b += s.bz.capacity() * 8 + (s.bx.capacity() + s.by.capacity()) * 4 + s.rows.capacity();
   return b;
@@ -194,12 +197,27 @@ std::size_t Surface::State::memory_bytes() const {
 
 // ---- construction --------------------------------------------------------------------------
 
+namespace {
+// KernelChoice::automatic takes the AVX-512 variant only where every variant gives the same
+// bits (the default build): without SHORE_CROSS_PLATFORM_DETERMINISTIC the wide variants may
+// contract multiply-adds each its own way, and one binary must still give the same bits on
+// every CPU with AVX2 + FMA.
+#ifdef SHORE_CROSS_PLATFORM_DETERMINISTIC
+constexpr bool kAutomaticAvx512 = true;
+#else
+constexpr bool kAutomaticAvx512 = false;
+#endif
+bool automatic_avx512() { return kAutomaticAvx512 && kernel::avx512_available(); }
+}  // namespace
+
 Surface::Surface(const SurfaceSettings& settings) : settings_(settings), s_(std::make_unique<State>()) {
   settings_.validate();
   State& s = *s_;
-  const bool avx2 = settings_.kernel == KernelChoice::avx2 ||
-                    (settings_.kernel == KernelChoice::automatic && kernel::avx2_available());
+  const bool automatic = settings_.kernel == KernelChoice::automatic;
+  const bool avx512 = settings_.kernel == KernelChoice::avx512 || (automatic && automatic_avx512());
+  const bool avx2 = settings_.kernel == KernelChoice::avx2 || (automatic && kernel::avx2_available());
   s.variant = settings_.kernel == KernelChoice::unfused ? kernel::Variant::unfused
+              : avx512                                  ? kernel::Variant::avx512
               : avx2                                    ? kernel::Variant::avx2
                                                         : kernel::Variant::generic;
   s.full = settings_.mode == SurfaceMode::full_3d;
@@ -239,10 +257,17 @@ void Surface::set_threads(int threads) {
   s_->pacer = Pacer{};
 }
 
-const char* Surface::fast_kernel_isa() { return kernel::avx2_available() ? "avx2" : "generic"; }
-bool Surface::kernel_available(KernelChoice choice) { return choice != KernelChoice::avx2 || kernel::avx2_available(); }
+const char* Surface::fast_kernel_isa() {
+  return automatic_avx512() ? "avx512" : kernel::avx2_available() ? "avx2" : "generic";
+}
+bool Surface::kernel_available(KernelChoice choice) {
+  if (choice == KernelChoice::avx2) return kernel::avx2_available();
+  if (choice == KernelChoice::avx512) return kernel::avx512_available();
+  return true;
+}
 const char* Surface::kernel_isa() const noexcept {
-  return s_->variant == kernel::Variant::avx2      ? "avx2"
+  return s_->variant == kernel::Variant::avx512    ? "avx512"
+         : s_->variant == kernel::Variant::avx2    ? "avx2"
          : s_->variant == kernel::Variant::unfused ? "unfused"
                                                    : "generic";
 }
@@ -273,6 +298,7 @@ void Surface::set_constraint(int i, int j, NodeConstraint c) {
   TileData& t = *s.find(a.tile, b.tile);
   const std::size_t k = t.at(a.local, b.local, s.T);
   t.flags[k] = static_cast<std::uint8_t>(c);
+  t.masks_stale = true;
   if (c == NodeConstraint::fixed) t.vz[k] = 0.0;
   if (c != NodeConstraint::free && s.full) {
     t.vx[k] = 0.f;
@@ -298,7 +324,11 @@ void Surface::apply_boundary(Boundary b) {
   State& s = *s_;
   s.set_layer(settings_);
   const NodeConstraint c = default_constraint(b, 0, 0, nx(), ny());
-  for (const auto& t : s.tiles) s.fill_sponge(settings_, *t);
+  s.tile_bytes = 0;
+  for (const auto& t : s.tiles) {
+    s.fill_sponge(settings_, *t);
+    s.tile_bytes += bytes_of(*t);
+  }
   for (int i = 0; i < nx(); ++i) {
     if (constraint(i, 0) != c || s.find(i >> s.shift, 0)) set_constraint(i, 0, c);
     if (constraint(i, ny() - 1) != c || s.find(i >> s.shift, (ny() - 1) >> s.shift)) set_constraint(i, ny() - 1, c);

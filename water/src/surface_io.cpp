@@ -68,6 +68,7 @@ void get_tile(ByteReader& r, TileData& t) {
   for (auto* v : {&t.uz, &t.vz}) r.get_array(*v, v->size(), "tile nodes");
   for (auto* v : {&t.ux, &t.uy, &t.vx, &t.vy}) r.get_array(*v, v->size(), "tile nodes");
   r.get_array(t.flags, t.flags.size(), "tile constraints");
+  t.masks_stale = true;
   for (TileData::Edges& e : t.edges) {
     for (auto* v : {&e.z, &e.vz}) r.get_array(*v, v->size(), "tile edges");
     for (auto* v : {&e.x, &e.y, &e.vx, &e.vy}) r.get_array(*v, v->size(), "tile edges");

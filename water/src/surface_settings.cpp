@@ -43,11 +43,15 @@ void SurfaceSettings::validate() const {
   c.at_least("parallel_min_nodes", parallel_min_nodes, 0);
   c.in_closed("boundary", static_cast<int>(boundary), 0, 3);
   c.in_closed("mode", static_cast<int>(mode), 0, 1);
-  c.in_closed("kernel", static_cast<int>(kernel), 0, 3);
+  c.in_closed("kernel", static_cast<int>(kernel), 0, 4);
   if (kernel == KernelChoice::avx2 && !Surface::kernel_available(KernelChoice::avx2))
     throw InvalidSetting(c.name("kernel"), "avx2",
                          "needs a build with the AVX2 kernel (SHORE_WATER_NO_AVX2=OFF, x86-64) and a CPU with AVX2 "
                          "and FMA; use automatic or generic here");
+  if (kernel == KernelChoice::avx512 && !Surface::kernel_available(KernelChoice::avx512))
+    throw InvalidSetting(c.name("kernel"), "avx512",
+                         "needs a build with the AVX2 and AVX-512 kernels (SHORE_WATER_NO_AVX2=OFF, x86-64) and a CPU "
+                         "with AVX-512 F, VL, DQ and BW; use automatic or generic here");
   lattice.validate();
   guard.validate();
   sleep.validate();

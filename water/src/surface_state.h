@@ -26,6 +26,12 @@ struct TileData {
   std::vector<float> ux, uy, vx, vy;  // 3-D only
   std::vector<std::uint8_t> flags;    // NodeConstraint values
   std::vector<double> sponge;         // sigma per node (1/s) where the open boundary's layer reaches; else empty
+  /// The kernel's masks of flags (kernel::Tile::moving, free_nodes), remade only when a
+  /// constraint changed (masks_stale) rather than every substep; empty where no node is
+  /// constrained.
+  std::vector<std::uint64_t> moving;
+  std::vector<std::uint32_t> free_nodes;
+  bool masks_stale = true;
   /// Positions (and in 3-D velocities) of the edge nodes: south row, north row, west column,
   /// east column, T entries each (side s at s * T). Two copies: a substep reads edges[cur]
   /// of its neighbours and writes its own edges[1 - cur].
@@ -42,6 +48,12 @@ struct TileData {
     return static_cast<std::size_t>(j) * static_cast<std::size_t>(stride) + static_cast<std::size_t>(i);
   }
 };
+
+/// Bytes a tile holds: all of it (bytes_of) and its masks (mask_bytes).
+[[nodiscard]] std::size_t bytes_of(const TileData& t);
+[[nodiscard]] inline std::size_t mask_bytes(const TileData& t) {
+  return t.moving.capacity() * sizeof(std::uint64_t) + t.free_nodes.capacity() * sizeof(std::uint32_t);
+}
 
 /// Which side a tile's ghost ring takes from which neighbour: (dx, dy) per SideIndex.
 inline constexpr int kSideDx[kernel::kSides] = {0, 0, -1, 1, -1, 1, -1, 1};
@@ -86,6 +98,9 @@ struct Surface::State {
   double last_substep = 0.0;
   double time = 0.0;
   std::int64_t ever_awake = 0;
+  /// bytes_of summed over the created tiles, kept as tiles are made and their sponge or
+  /// masks change, so memory_bytes (and tile_stats) does not walk every tile.
+  std::size_t tile_bytes = 0;
 
   // ---- tiles ----
   [[nodiscard]] TileData* find(int tx, int ty) const;
@@ -103,6 +118,10 @@ struct Surface::State {
   /// Recomputes the sponge sigma of a tile (empty where the layer does not reach).
   void fill_sponge(const SurfaceSettings& s, TileData& t) const;
   [[nodiscard]] std::size_t memory_bytes() const;
+  /// Remakes the tile's masks from its flags (TileData::moving, free_nodes): moving where a
+  /// node is not fixed, free (3-D) where it is free; none where no node is constrained (in
+  /// vertical-only mode only fixed nodes count). Not thread-safe (it counts tile_bytes).
+  void refresh_masks(TileData& t);
 
   // ---- blocks ----
   /// Gathers the tile's positions with the ghost ring into the scratch block and fills the

@@ -59,6 +59,29 @@ float largest_step_xy(const float* ax, const float* ay, std::ptrdiff_t as, const
 }
 }  // namespace
 
+void Surface::State::refresh_masks(TileData& t) {
+  const std::size_t count = static_cast<std::size_t>(t.h) * static_cast<std::size_t>(T);
+  const auto fixed = static_cast<std::uint8_t>(NodeConstraint::fixed);
+  const auto free = static_cast<std::uint8_t>(NodeConstraint::free);
+  const bool any = std::any_of(t.flags.begin(), t.flags.begin() + static_cast<std::ptrdiff_t>(count),
+                               [&](std::uint8_t f) { return full ? f != free : f == fixed; });
+  tile_bytes -= mask_bytes(t);
+  t.moving.clear();
+  t.free_nodes.clear();
+  if (any) {
+    t.moving.resize(count);
+    for (std::size_t k = 0; k < count; ++k) t.moving[k] = t.flags[k] != fixed ? ~std::uint64_t{0} : 0u;
+    if (full) {
+      t.free_nodes.resize(count);
+      for (std::size_t k = 0; k < count; ++k) t.free_nodes[k] = t.flags[k] == free ? ~std::uint32_t{0} : 0u;
+    }
+  }
+  t.moving.shrink_to_fit();
+  t.free_nodes.shrink_to_fit();
+  tile_bytes += mask_bytes(t);
+  t.masks_stale = false;
+}
+
 kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
   const int bs = T + 2;
   const std::size_t cells = static_cast<std::size_t>(bs) * static_cast<std::size_t>(bs);
@@ -76,6 +99,13 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
   k.uz = t.uz.data();
   k.vz = t.vz.data();
   k.flags = t.flags.data();
+  // The masks kept with the tile (step_tiles remakes stale ones before it forks); the
+  // unfused reference makes its own per row.
+  if (variant != kernel::Variant::unfused && !t.masks_stale) {
+    k.masks_given = true;
+    k.moving = t.moving.empty() ? nullptr : t.moving.data();
+    k.free_nodes = t.free_nodes.empty() ? nullptr : t.free_nodes.data();
+  }
   k.sponge = t.sponge.empty() ? nullptr : t.sponge.data();
   double* bz = sc.bz.data() + bs + 1;
   float* bx = full ? sc.bx.data() + bs + 1 : nullptr;
@@ -474,6 +504,10 @@ bool step_tiles(const SurfaceSettings& settings, Surface::State& s, double dt) {
   const int slots = parallel ? s.team->size() : 1;
   if (static_cast<int>(s.scratch.size()) < slots) s.scratch.resize(static_cast<std::size_t>(slots));
   std::vector<kernel::TileResult> results(stepped.size());
+  for (std::int32_t slot : stepped) {  // here, not in the tasks: it allocates and counts memory
+    TileData& t = *s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(slot)])];
+    if (t.masks_stale) s.refresh_masks(t);
+  }
   const auto one = [&](int item, int slot_index) {
     TileData& t =
         *s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(stepped[static_cast<std::size_t>(item)])])];

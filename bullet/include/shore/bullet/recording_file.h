@@ -5,7 +5,7 @@
 // parts hold (the initial checkpoint, the terrains' deltas (terrain::SoilDelta), the water states) is read by their
 // own loaders when a replay applies them.
 //
-// File: "SHOREREC", u32 version (3), u32 byte-order mark 0x01020304, u32 scalar bytes
+// File: "SHOREREC", u32 version (4), u32 byte-order mark 0x01020304, u32 scalar bytes
 // (sizeof(btScalar) of the writer), u64 raw size, u64 compressed size, zstd frame of the
 // raw bytes, u64 FNV-1a of every byte before it. Raw bytes: u32 length + scene name; f64
 // seconds, substep, cell; u32 length + material; u8 smoke; i32 substeps; u64 the run's final
@@ -16,12 +16,16 @@
 // bodies, per body 18 btScalars (basis rows, origin, linear, angular velocity), per
 // multibody its state values (btScalars: the state a scene's state hash covers) and then per
 // part with a collider that collider's world transform (12 btScalars: basis rows, origin),
-// per water u64 size + that water's state (Surface::save_state) XOR the previous frame's
-// (0 past the previous state's end; the first frame's previous state is empty), its bytes
-// grouped by place in an 8-byte word (byte k into plane k % 8, the planes in order).
-// Version 2 (no multibodies: no multibody count, no multibody section in the frames) is
-// read as a recording of none (a replay refuses it for a scene that has some). Version 1
-// (no water) is refused with a message saying so.
+// then (version 4) per raycast vehicle per wheel its world transform (12 btScalars: basis
+// rows, origin; Bullet's btWheelInfo::m_worldTransform, what pictures draw), per water u64 size + that water's
+// state (Surface::save_state) XOR the previous frame's (0 past the previous state's end; the
+// first frame's previous state is empty), its bytes grouped by place in an 8-byte word (byte
+// k into plane k % 8, the planes in order). The header holds, after the multibodies'
+// layouts (version 4), u32 vehicles, per vehicle u32 wheels.
+// Version 3 (no wheels) is read as a recording of no vehicles: a replay draws the wheels
+// where the replaying vehicle last had them. Version 2 (no multibodies: no multibody count,
+// no multibody section in the frames) is read as a recording of none (a replay refuses it
+// for a scene that has some). Version 1 (no water) is refused with a message saying so.
 
 #include <cstdint>
 #include <span>
@@ -42,8 +46,10 @@ struct Recording {
   static constexpr int kBodyScalars = 18;
   /// Scalars per multibody collider and frame: its world transform's basis rows and origin.
   static constexpr int kTransformScalars = 12;
+  /// Scalars per raycast wheel and frame: its world transform's basis rows and origin.
+  static constexpr int kWheelScalars = 12;
   /// The version write_recording writes by default, and the oldest read_recording reads.
-  static constexpr std::uint32_t kVersion = 3, kOldestVersion = 2;
+  static constexpr std::uint32_t kVersion = 4, kOldestVersion = 2;
 
   /// What every frame holds of one multibody (the same in every frame).
   struct MultiBodyLayout {
@@ -65,6 +71,8 @@ struct Recording {
     std::uint32_t body_count = 0;
     /// Per multibody, in order: its MultiBodyLayout::scalars() btScalars.
     std::span<const unsigned char> multibodies;
+    /// Per vehicle, per wheel: kWheelScalars btScalars (none before version 4).
+    std::span<const unsigned char> wheels;
     std::vector<std::span<const unsigned char>> water_diffs;  ///< one per water: its XOR (see above)
   };
 
@@ -81,7 +89,8 @@ struct Recording {
   std::span<const unsigned char> initial;
   std::vector<std::uint64_t> terrain_generations;
   std::uint32_t waters = 0;
-  std::vector<MultiBodyLayout> multibodies;  ///< none in version 2
+  std::vector<MultiBodyLayout> multibodies;   ///< none in version 2
+  std::vector<std::uint32_t> vehicle_wheels;  ///< per raycast vehicle, its wheel count; none before version 4
   std::vector<Frame> frames;
   std::vector<unsigned char> raw;  ///< the decompressed bytes the spans point into
 
@@ -96,12 +105,18 @@ struct Recording {
   /// The multibody states of frame f, as btScalars, every multibody's in turn (FileError
   /// naming `source`, the frame, the multibody and the value or part if any is not finite).
   [[nodiscard]] std::vector<btScalar> multibody_scalars(const Frame& f, const std::string& source) const;
+  /// The wheels of frame f, as btScalars, every vehicle's in turn (FileError naming `source`,
+  /// the frame, the vehicle and the wheel if any value is not finite).
+  [[nodiscard]] std::vector<btScalar> wheel_scalars(const Frame& f, const std::string& source) const;
+  /// Bytes each frame holds of the wheels: kWheelScalars btScalars per wheel of every vehicle.
+  [[nodiscard]] std::uint64_t wheel_bytes() const;
 };
 
 /// Writes the file's bytes: the header, one zstd frame of the raw layout (frames' spans
 /// as given, water_diffs already XORed) and the checksum, in rec.version. FileError if zstd
-/// fails; InvalidSetting for a version this build does not write (2 and 3), multibodies in
-/// version 2, or a frame's multibody section of another size than the layouts give.
+/// fails; InvalidSetting for a version this build does not write (2 to 4), multibodies in
+/// version 2, vehicles before version 4, or a frame's multibody or wheel section of another
+/// size than the layouts give.
 [[nodiscard]] std::vector<unsigned char> write_recording(const Recording& rec, int compression_level = 3);
 
 /// Reads a recording file's bytes. FileError naming `source` and the cause for bytes that

@@ -226,6 +226,13 @@ class TerrainCoupling : public btActionInterface {
   /// substep (its compaction resistance: negative against forward motion); 0 for a wheel
   /// off this terrain, a bad index or a vehicle not added.
   [[nodiscard]] double wheel_push(const btRaycastVehicle* vehicle, int wheel) const;
+  /// N, the terrain's push on the wheel across it in the last substep, along its axle's
+  /// horizontal direction (positive along Bullet's m_wheelAxleWS as steered): the rut
+  /// walls' push beyond what Bullet's suspension force along the ray's normal gives. Each
+  /// loaded column pushes along its surface's normal, so a wheel drifting into the wall of
+  /// a rut is pushed back into it; on an even surface it is zero. 0 for a wheel off this
+  /// terrain, a bad index or a vehicle not added.
+  [[nodiscard]] double wheel_side_push(const btRaycastVehicle* vehicle, int wheel) const;
   /// Takes the coupling out of its world: its tiles and itself (the action) are removed,
   /// the bodies are let go. After it the world may be destroyed before the coupling.
   void detach();

@@ -10,7 +10,9 @@
 // added them (World::bodies(); not bullet::save_bodies, whose collision-object order
 // changes as the couplings add and remove heightfield tiles during a run), every
 // multibody's state (World::multibodies(), multibody_state.h: base pose and velocities,
-// joint positions and velocities) and each of its colliders' world transforms, and each water
+// joint positions and velocities) and each of its colliders' world transforms, every raycast
+// vehicle's wheels (SceneContents::vehicles: suspension length, steering, rotation, so that a
+// replay draws each wheel where the run had it), and each water
 // surface's whole state (Surface::save_state) XORed with the previous frame's, so that what
 // did not change is zeros for the file's zstd. A replay does NOT step the physics: it
 // restores the initial checkpoint into a fresh scene and then only writes the recorded
@@ -21,7 +23,8 @@
 // and its pictures show exactly the recorded states. The water couplings' own state (not
 // hashed, read only by the next step) is not recorded per frame.
 //
-// File layout: shore/bullet/recording_file.h (version 3). Version 2 files (without
+// File layout: shore/bullet/recording_file.h (version 4). Version 3 files (without wheels)
+// replay with the wheels where the replaying vehicle last had them. Version 2 files (without
 // multibodies) replay as before for scenes without multibodies and are refused, saying so,
 // for scenes with some; version 1 files (without water) are refused with a message saying so.
 
@@ -58,10 +61,10 @@ class Recorder {
   void finish(std::uint64_t state_hash);
   /// What the file holds, bytes: the whole file (written by finish; 0 before), and before
   /// the outer compression the initial checkpoint, the soil deltas, the body states, the
-  /// multibody states and collider transforms, and the water states (XORed); water_compressed: how much larger the file
-  /// is for its water frames (the file compressed without them, subtracted; written by finish).
+  /// multibody states and collider transforms, the raycast wheels, and the water states (XORed); water_compressed: how
+  /// much larger the file is for its water frames (the file compressed without them, subtracted; written by finish).
   struct Sizes {
-    std::size_t file = 0, initial = 0, terrain_deltas = 0, bodies = 0, multibodies = 0, water_states = 0,
+    std::size_t file = 0, initial = 0, terrain_deltas = 0, bodies = 0, multibodies = 0, wheels = 0, water_states = 0,
                 water_compressed = 0;
   };
   [[nodiscard]] const Sizes& sizes() const noexcept { return sizes_; }

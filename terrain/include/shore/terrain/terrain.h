@@ -227,6 +227,41 @@ class Terrain {
   /// its value and the allowed range.
   void paint_image(const MaterialImage& image, const GridRect& rect);
 
+  // ---- layers in depth ----
+  // A column may hold a second, lower material under its own (a crust over soft soil, snow
+  // over ice): its painted index is the crust, and the crust ends `depth` below the column's
+  // top as painted (at sinkage max(0, sinkage) + depth, m). Its Bekker law has two pieces,
+  // continuous in pressure: the crust's p_u(z) while the sinkage z stays within the crust,
+  // then p_u(d) + p_l(z - d) beyond it (the lower soil's own law, from fresh, on top of the
+  // pressure the crust reached). Bearing, contact (yield pressure, pressure rate,
+  // unloading) read it. A column pressed beyond its crust is broken through: from then on
+  // it reads as its lower material wherever the column's material decides (alpha while
+  // pressed beyond the crust, erosion's slope limits, shear and remoulding, unloading):
+  // exposed_index. Painting a column's index (paint_rect...) keeps its layer; clear_layers
+  // removes it. A terrain that never paints a layer computes and costs as before.
+
+  /// Gives every column of the rectangle a lower layer of palette entry `lower_index`
+  /// under a crust `depth` m thick (finite, in [0, 1e6]). Throws InvalidSetting naming the
+  /// field, the value and the allowed range (terrain untouched) for an index beyond the
+  /// palette, a bad depth or a negative rectangle.
+  void paint_layer_rect(const GridRect& rect, int lower_index, double depth);
+  /// The same on the columns whose centres lie within `radius` of (x, y) (as paint_disc).
+  void paint_layer_disc(double x, double y, double radius, int lower_index, double depth);
+  /// The same on the columns of the rectangle whose centre satisfies inside(x, y).
+  void paint_layer_where(const GridRect& rect, const std::function<bool(double x, double y)>& inside, int lower_index,
+                         double depth);
+  /// Removes the layers of the rectangle's columns (their painted index stays).
+  void clear_layers(const GridRect& rect);
+  /// The column's lower palette index, or -1 where it is not layered.
+  [[nodiscard]] int lower_index(std::int64_t i, std::int64_t j) const;
+  /// The sinkage at which the column's crust ends, m (+infinity where not layered).
+  [[nodiscard]] double layer_boundary(std::int64_t i, std::int64_t j) const;
+  /// The palette index the column shows: its lower layer's once its sinkage is beyond its
+  /// crust (broken through), else material_index.
+  [[nodiscard]] int exposed_index(std::int64_t i, std::int64_t j) const;
+  /// The material of exposed_index.
+  [[nodiscard]] const Material& exposed_material(std::int64_t i, std::int64_t j) const;
+
   // ---- grid geometry ----
   [[nodiscard]] std::int64_t column_i(double x) const;  ///< nearest column to world x
   [[nodiscard]] std::int64_t column_j(double y) const;  ///< nearest column to world y

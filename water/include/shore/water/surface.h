@@ -109,11 +109,11 @@ class Surface {
   StepStats step(double dt);
   /// Threads for step() (0: the machine's hardware threads). Results do not depend on it.
   void set_threads(int threads);
-  /// "avx2" or "generic": the kernel KernelChoice::automatic picks on this CPU.
+  /// "avx512", "avx2" or "generic": the kernel KernelChoice::automatic picks on this CPU.
   [[nodiscard]] static const char* fast_kernel_isa();
   /// Whether this build and CPU can run the kernel (automatic and generic always can).
   [[nodiscard]] static bool kernel_available(KernelChoice kernel);
-  /// "avx2", "generic" or "unfused": the kernel this surface steps with (SurfaceSettings::kernel).
+  /// "avx512", "avx2", "generic" or "unfused": the kernel this surface steps with (SurfaceSettings::kernel).
   [[nodiscard]] const char* kernel_isa() const noexcept;
   /// The guard's current bound on the highest lattice frequency (rad/s) from the present
   /// deformation.

@@ -40,14 +40,16 @@ enum class SurfaceMode : std::uint8_t {
   vertical_only,
 };
 
-/// Which compiled step kernel runs. Both give the same bits in the default build
+/// Which compiled step kernel runs. All give the same bits in the default build
 /// (SHORE_CROSS_PLATFORM_DETERMINISTIC); forcing one is for tests and benchmarks.
 enum class KernelChoice : std::uint8_t {
-  automatic,  ///< AVX2 + FMA where the build has that variant and the CPU runs it, else generic
+  automatic,  ///< the widest variant the build has and the CPU runs: avx512 (only in the cross-platform
+              ///< deterministic build, SHORE_CROSS_PLATFORM_DETERMINISTIC), else avx2, else generic
   generic,    ///< the baseline-instruction-set variant
   avx2,       ///< the AVX2 + FMA variant: invalid where it is not available
   unfused,    ///< the generic variant as it was before its row passes were fused (a pass per
               ///< spring family and update): the bitwise reference of the tests; slower
+  avx512,     ///< the AVX-512 (F, VL, DQ, BW) variant, 512-bit vectors: invalid where it is not available
 };
 
 /// Stability guard: each step(dt) is split into enough substeps that the bound on the
