@@ -61,6 +61,7 @@ std::int64_t own_column(const EnvelopeRaster& env, const terrain::ContactElement
 void ContactMemory::remap(const GridRect& from, const GridRect& to) {
   remap_values(shear_, from, to);
   remap_values(shear_length_, from, to);
+  remap_values(remould_, from, to);
   remap_values(unloading_, from, to, kNone);
   remap_indices(touched_, from, to);
 }
@@ -86,19 +87,26 @@ void ContactMemory::advance(std::span<terrain::ContactElement> elements, const E
     const Vec3 u = body.point_velocity(e.point);
     const auto k = static_cast<std::uint32_t>(e.raster_index);
     const Vec3 slip = u - n * dot(u, n);
-    new_shear_.emplace_back(k, (had ? shear_[k] : Vec3{}) + slip * h);
-    if (!(e.stiffness < kRigid)) continue;
+    const Vec3 j = (had ? shear_[k] : Vec3{}) + slip * h;
+    const double length = std::sqrt(dot(j, j));
+    const bool elastic = e.stiffness < kRigid;
     // The spring at the end of the substep: what the column carries on, and where a patch
-    // kept for the next substep (follow_drift) starts from.
-    e.preload = std::clamp(e.preload + e.stiffness * h * -dot(u, n), 0.0, e.pressure);
+    // kept for the next substep (follow_drift) starts from. It yields where that reaches
+    // the yield pressure; a column pressed plastically yields.
+    const double spring = elastic ? e.preload + e.stiffness * h * -dot(u, n) : 0.0;
+    const bool yields = !elastic || spring >= e.pressure;
+    new_shear_.push_back({k, j, length, yields ? length : std::min(length, had ? remould_[k] : 0.0)});
+    if (!elastic) continue;
+    e.preload = std::clamp(spring, 0.0, e.pressure);
     if (envelope.index(e.i, e.j) == k) new_unloading_.emplace_back(k, e.preload);  // its own column (a fringe's is not)
   }
   // Back to fresh: only the entries touched last substep, when the arrays fit; else all.
   if (had) {
-    for (const std::uint32_t k : touched_) shear_[k] = {}, shear_length_[k] = 0.0;
+    for (const std::uint32_t k : touched_) shear_[k] = {}, shear_length_[k] = 0.0, remould_[k] = 0.0;
   } else {
     shear_.assign(size, {});
     shear_length_.assign(size, 0.0);
+    remould_.assign(size, 0.0);
   }
   if (new_unloading_.empty()) {
     unloading_.clear();
@@ -108,10 +116,11 @@ void ContactMemory::advance(std::span<terrain::ContactElement> elements, const E
     unloading_.assign(size, kNone);
   }
   touched_.clear();
-  for (const auto& [k, j] : new_shear_) {
-    shear_[k] = j;
-    shear_length_[k] = std::sqrt(dot(j, j));
-    touched_.push_back(k);
+  for (const NewShear& s : new_shear_) {
+    shear_[s.k] = s.j;
+    shear_length_[s.k] = s.length;
+    remould_[s.k] = s.remould;
+    touched_.push_back(s.k);
   }
   for (const auto& [k, p] : new_unloading_) unloading_[k] = p;  // k is among the shear's
 }
@@ -120,15 +129,21 @@ void ContactMemory::save(ByteWriter& w) const {
   coupling_detail::put_fields(w, shear_, [](ByteWriter& out, const Vec3& v) { coupling_detail::put_vec3(out, v); });
   coupling_detail::put_fields(w, shear_length_, [](ByteWriter& out, double v) { out.put(v); });
   coupling_detail::put_fields(w, unloading_, [](ByteWriter& out, double v) { out.put(v); });
+  coupling_detail::put_fields(w, remould_, [](ByteWriter& out, double v) { out.put(v); });
 }
 
-void ContactMemory::restore(ByteReader& r, std::size_t columns) {
+void ContactMemory::restore(ByteReader& r, std::size_t columns, bool with_remould) {
   coupling_detail::get_fields(r, shear_, 3 * sizeof(double), "shear displacement",
                               [](ByteReader& in) { return coupling_detail::get_vec3(in, "shear displacement"); });
   coupling_detail::get_fields(r, shear_length_, sizeof(double), "shear displacement",
                               [](ByteReader& in) { return in.get<double>("shear displacement"); });
   coupling_detail::get_fields(r, unloading_, sizeof(double), "unloading pressure",
                               [](ByteReader& in) { return in.get<double>("unloading pressure"); });
+  if (with_remould)
+    coupling_detail::get_fields(r, remould_, sizeof(double), "remould displacement",
+                                [](ByteReader& in) { return in.get<double>("remould displacement"); });
+  else
+    remould_ = shear_length_;
   // What the next substeps index or divide by must be sound: a corrupt state is refused,
   // never read out of bounds or turned into NaN.
   if (!shear_.empty() && shear_.size() != columns)
@@ -140,8 +155,14 @@ void ContactMemory::restore(ByteReader& r, std::size_t columns) {
   if (!unloading_.empty() && unloading_.size() != columns)
     r.fail("unloading pressure of " + std::to_string(unloading_.size()) + " columns, the envelope has " +
            std::to_string(columns));
+  if (remould_.size() != shear_.size())
+    r.fail("remould displacements of " + std::to_string(remould_.size()) + " columns, shear displacements of " +
+           std::to_string(shear_.size()));
   for (std::size_t k = 0; k < shear_.size(); ++k)
     if (!finite(shear_[k]) || !std::isfinite(shear_length_[k])) r.fail("a shear displacement that is not finite");
+  for (const double j : remould_)
+    if (!(j >= 0.0 && std::isfinite(j)))
+      r.fail("a remould displacement of " + detail::to_text(j) + " m (must be finite, >= 0)");
   for (const double p : unloading_)
     if (!(p >= 0.0)) r.fail("an unloading pressure of " + detail::to_text(p) + " Pa (must be >= 0 or +infinity)");
   // Every column whose bits differ from fresh counts as touched, so the next substep resets
@@ -149,7 +170,7 @@ void ContactMemory::restore(ByteReader& r, std::size_t columns) {
   const auto set = [](double v) { return std::bit_cast<std::uint64_t>(v) != 0; };
   touched_.clear();
   for (std::size_t k = 0; k < shear_.size(); ++k)
-    if (set(shear_[k].x) || set(shear_[k].y) || set(shear_[k].z) || set(shear_length_[k]) ||
+    if (set(shear_[k].x) || set(shear_[k].y) || set(shear_[k].z) || set(shear_length_[k]) || set(remould_[k]) ||
         (!unloading_.empty() && unloading_[k] != kNone))
       touched_.push_back(static_cast<std::uint32_t>(k));
 }

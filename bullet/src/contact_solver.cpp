@@ -36,9 +36,10 @@ int kind_of(const terrain::ContactElement& e) {
 double length(Vec3 a) { return std::sqrt(dot(a, a)); }
 
 /// Share of the shear strength acting at shear displacement j: Janosi-Hanamoto's
-/// mobilisation, in soil remoulded by the same shear.
-double mobilisation(const terrain::Material& m, double j) {
-  return terrain::shear::mobilisation(m, j) * terrain::shear::strength_remoulding(m, j);
+/// mobilisation, in soil remoulded by the shear j_yield it took while it yielded (the
+/// column's remould displacement, ContactMemory).
+double mobilisation(const terrain::Material& m, double j, double j_yield) {
+  return terrain::shear::mobilisation(m, j) * terrain::shear::strength_remoulding(m, j_yield);
 }
 Vec3 normalized(Vec3 a) {
   const double n = length(a);
@@ -183,7 +184,7 @@ void SolverBody::apply_impulse(Vec3 impulse, Vec3 at) {
 
 void gather_blocks(std::span<const terrain::ContactElement> elements, std::span<const terrain::Material> palette,
                    std::span<const std::uint8_t> material, std::span<const double> shear_displacement,
-                   int block_columns, std::vector<Block>& blocks) {
+                   std::span<const double> remould_displacement, int block_columns, std::vector<Block>& blocks) {
   blocks.clear();
   if (elements.empty()) return;
   // Each palette entry's tan(phi), worked out on first use (kept per thread, no allocation
@@ -218,17 +219,22 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, std::span<
                ? shear_displacement[static_cast<std::size_t>(e.raster_index)]
                : 0.0;
   };
+  auto remould_of = [&](const terrain::ContactElement& e) {
+    return (e.raster_index >= 0 && !remould_displacement.empty())
+               ? remould_displacement[static_cast<std::size_t>(e.raster_index)]
+               : 0.0;
+  };
   if (material.empty()) {
     const terrain::Material& m = *law(0).material;
     for (const terrain::ContactElement& e : elements)
-      tallies[slot(block_of(e.i), block_of(e.j), kind_of(e))].add<false>(e, mobilisation(m, shear_of(e)), m.cohesion, 0,
-                                                                         0.0);
+      tallies[slot(block_of(e.i), block_of(e.j), kind_of(e))].add<false>(e, mobilisation(m, shear_of(e), remould_of(e)),
+                                                                         m.cohesion, 0, 0.0);
   } else {
     for (std::size_t k = 0; k < elements.size(); ++k) {
       const terrain::ContactElement& e = elements[k];
       const ShearLaw& l = law(material[k]);
-      tallies[slot(block_of(e.i), block_of(e.j), kind_of(e))].add<true>(e, mobilisation(*l.material, shear_of(e)),
-                                                                        l.material->cohesion, material[k], l.tan_phi);
+      tallies[slot(block_of(e.i), block_of(e.j), kind_of(e))].add<true>(
+          e, mobilisation(*l.material, shear_of(e), remould_of(e)), l.material->cohesion, material[k], l.tan_phi);
     }
   }
   // In key order: rows of blocks, then columns, then kind.

@@ -100,10 +100,12 @@ struct SolveResult {
 /// Gathers contact elements into blocks, sorted by key. palette: the terrain's materials;
 /// material: each element's palette index (its column's), or empty: all palette[0] (a
 /// one-material terrain; no look-ups). A block of one material gets exactly the friction
-/// of that material alone.
+/// of that material alone. shear_displacement and remould_displacement: per envelope
+/// column (by the elements' raster_index; empty: none), Janosi-Hanamoto's j and the j the
+/// column's strength loss follows (ContactMemory::remould_length).
 void gather_blocks(std::span<const terrain::ContactElement> elements, std::span<const terrain::Material> palette,
                    std::span<const std::uint8_t> material, std::span<const double> shear_displacement,
-                   int block_columns, std::vector<Block>& blocks);
+                   std::span<const double> remould_displacement, int block_columns, std::vector<Block>& blocks);
 
 /// Warm start: the impulses the same blocks ended the last substep with (both sorted by key).
 void warm_start(std::span<const Block> previous, std::span<Block> blocks);

@@ -24,7 +24,8 @@ void TerrainContact::build(const terrain::Terrain& terrain, const EnvelopeRaster
   if (palette.size() > 1)
     for (const terrain::ContactElement& e : patch.elements)
       material.push_back(static_cast<std::uint8_t>(terrain.exposed_index(e.i, e.j)));
-  gather_blocks(patch.elements, palette, material, memory.shear_length(), block_columns, blocks);
+  gather_blocks(patch.elements, palette, material, memory.shear_length(), memory.remould_length(), block_columns,
+                blocks);
   warm_start(previous, blocks);
 }
 

@@ -61,8 +61,9 @@ class TerrainContact {
   void save(ByteWriter& w) const;
   /// Reads save's form for an envelope of `columns` columns; FileError (the contact
   /// unchanged where it throws before the end) for corrupt or non-finite values or indices
-  /// beyond the envelope.
-  void restore(ByteReader& r, std::size_t columns);
+  /// beyond the envelope. with_remould: the state holds the memory's remould displacements
+  /// (ContactMemory::restore).
+  void restore(ByteReader& r, std::size_t columns, bool with_remould);
   /// Multiplies the blocks' friction by tan_phi: blocks saved when the friction held the
   /// mobilisation alone (one material's tan(phi) applied at the solve).
   void scale_friction(double tan_phi);

@@ -109,7 +109,7 @@ void TerrainContact::save(ByteWriter& w) const {
   if (end) coupling_detail::put_vector(w, end->linear), coupling_detail::put_vector(w, end->angular);
 }
 
-void TerrainContact::restore(ByteReader& r, std::size_t columns) {
+void TerrainContact::restore(ByteReader& r, std::size_t columns, bool with_remould) {
   const auto kind = r.get<std::uint8_t>("contact state");
   if (kind > static_cast<std::uint8_t>(ContactState::resting)) r.fail("contact state " + std::to_string(kind));
   state = static_cast<ContactState>(kind);
@@ -118,7 +118,7 @@ void TerrainContact::restore(ByteReader& r, std::size_t columns) {
   patch.touching_columns = r.get<std::int32_t>("contact patch");
   coupling_detail::get_fields(r, blocks, kBlockBytes, "contact blocks", get_block);
   coupling_detail::get_fields(r, previous, kBlockBytes, "contact blocks", get_block);
-  memory.restore(r, columns);
+  memory.restore(r, columns, with_remould);
   last = get_force(r);
   drift = r.get<double>("contact drift");
   end.reset();

@@ -18,7 +18,8 @@ namespace {
 constexpr char kMagic[8] = {'S', 'H', 'T', 'E', 'R', 'R', 'C', 'P'};
 // 2: the ground frame (1: Z up). 3: a block's friction is its columns' tan(phi) times their
 // mobilisation (before, the mobilisation alone, times entry 0's tan(phi) when solved).
-constexpr std::uint32_t kVersion = 3;
+// 4: each column's remould displacement (the shear it took while it last yielded).
+constexpr std::uint32_t kVersion = 4;
 
 /// The totals of the statistics (not the last substep's timings: a checkpoint of the same
 /// state is the same bytes).
@@ -101,7 +102,7 @@ void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const 
     s.pose = coupling_detail::get_transform(r, "envelope pose");
     if (!coupling_detail::finite(s.pose)) r.fail("body " + std::to_string(k) + "'s envelope pose is not finite");
     s.imprint_pending = r.get<std::uint8_t>("body's imprint") != 0;
-    s.contact.restore(r, s.envelope.size());
+    s.contact.restore(r, s.envelope.size(), version >= 4);
     if (version < 3) s.contact.scale_friction(det::tan(terrain_.settings().material.friction_angle));
     if (s.envelope.lower.empty() != (s.contact.state == contact_detail::ContactState::none))
       r.fail("body " + std::to_string(k) + "'s contact state does not match its envelope");

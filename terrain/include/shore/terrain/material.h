@@ -33,7 +33,9 @@ struct Material {
   /// Sheared soil is remoulded: it is loosened, bearing at sinkage z what intact soil bears
   /// at s z, s = 1 - remould_ratio (1 - exp(-j / remould_length)) (Bekker's pressure times
   /// s^n), and its shear strength is multiplied by 1 - remould_shear_ratio (1 - exp(-j /
-  /// remould_length)), j the shear displacement. This is what makes a slipping wheel dig in
+  /// remould_length)), j the shear displacement (for the strength, under a Bullet body, the
+  /// shear the column had taken when it last yielded: soil that carries a sliding body
+  /// elastically keeps its strength). This is what makes a slipping wheel dig in
   /// (slip sinkage, a multiple 1 / s of the sinkage whatever n) and its pull level off with
   /// slip. Calibrated for dry sand against Wong and Reece's driven wheel; because the loss
   /// acts on the sinkage, not the pressure, the same ratios hold Wong-Reece's pull and
