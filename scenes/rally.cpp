@@ -4,7 +4,9 @@
 // its wheels spinning. Its wheels sink and leave ruts (TerrainCoupling::add_vehicle),
 // its chassis and wheels float and drag in the ford (WaterCoupling::add_body, add_vehicle)
 // and make a wake. The camera follows the car; the viewer drives it with the arrow keys.
-// One terrain with a material map: sand, with mud painted where the valley floor is wet.
+// One terrain with a material map: sand, with mud painted where the valley floor is wet; the
+// hollow's mud has dried into a crust 1.5 cm thick (a layer in depth over the wet mud) that the
+// car's wheels break through.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -37,6 +39,7 @@ constexpr double kFordDepth = 0.9;        // m the valley floor drops at the for
 constexpr double kWaterLevel = -0.3;      // m, the ford's still water
 constexpr double kMudX = 10.0;            // m, centre of the mud patch
 constexpr double kMudRadius = 2.0;        // m
+constexpr double kCrustDepth = 0.015;     // m of dried mud over the hollow's wet mud
 constexpr double kStartX = -4.0;          // m, where the car starts
 constexpr double kEngine = 1400.0;        // N per driven wheel, the script's throttle
 constexpr double kWheelWidth = 0.3;       // m
@@ -84,6 +87,15 @@ terrain::TerrainSettings land_settings(const SceneOptions& o) {
   return s;
 }
 
+/// Mud dried into a crust: twice as stiff (k_phi) and twice as cohesive as wet mud.
+terrain::Material dried_mud() {
+  terrain::Material m = terrain::Material::mud();
+  m.name = "dried mud";
+  m.bekker_kphi *= 2.0;
+  m.cohesion *= 2.0;
+  return m;
+}
+
 water::SurfaceSettings ford_settings(const SceneOptions& o) {
   water::PhysicalParameters phys;
   phys.cell = 2.0 * land_cell(o);
@@ -108,9 +120,10 @@ class Rally final : public Scene {
         ford_(ford_settings(o)),
         ground_(world_.world(), land_),
         water_(world_.world(), ford_) {
-    land_.set_palette({terrain::Material::sand(), terrain::Material::mud()});
-    land_.paint_disc(kMudX, floor_line(kMudX), kMudRadius, 1);           // the wet hollow
-    land_.paint_disc(kFordX, floor_line(kFordX), kFordRadius - 2.0, 1);  // the ford's muddy bed
+    land_.set_palette({terrain::Material::sand(), terrain::Material::mud(), dried_mud()});
+    land_.paint_disc(kMudX, floor_line(kMudX), kMudRadius, 2);                     // the hollow: dried on top,
+    land_.paint_layer_disc(kMudX, floor_line(kMudX), kMudRadius, 1, kCrustDepth);  // wet below
+    land_.paint_disc(kFordX, floor_line(kFordX), kFordRadius - 2.0, 1);            // the ford's muddy bed
     water_.fix_shoreline(land_);
     RaycastCarSettings car;
     car.soil_traction = true;  // the wheels grip as the soil does (shore::bullet::SoilVehicle)
@@ -157,6 +170,7 @@ class Rally final : public Scene {
     m["fallthrough_count"] = fallthrough_ + ground_.stats().rescues;
     m["volume_drift_rel"] = volume_drift_rel(land_);
     m["deepest_rut_m"] = deepest_rut();
+    m["crust_broken_m2"] = crust_broken();
     m["chassis_submerged_m3"] = in_water_;
     m["wheels_submerged_m3"] = wheels_in_water_;
     m["water_displaced_m3"] = water_.stats().displaced_volume;
@@ -219,6 +233,15 @@ class Rally final : public Scene {
     const double want = std::atan2(floor_y - double(c.y()), 4.0), have = std::atan2(heading.y(), heading.x());
     car_->drive(kEngine, 0.0, std::clamp(1.5 * (want - have), -0.4, 0.4));
   }
+  /// Area of the hollow's crust the wheels broke through (columns pressed past its depth), m^2.
+  [[nodiscard]] double crust_broken() const {
+    const double cell = land_.settings().cell, y = floor_line(kMudX);
+    int broken = 0;
+    for (std::int64_t j = land_.column_j(y - kMudRadius); j <= land_.column_j(y + kMudRadius); ++j)
+      for (std::int64_t i = land_.column_i(kMudX - kMudRadius); i <= land_.column_i(kMudX + kMudRadius); ++i)
+        broken += land_.lower_index(i, j) >= 0 && land_.exposed_index(i, j) == land_.lower_index(i, j) ? 1 : 0;
+    return broken * cell * cell;
+  }
   [[nodiscard]] double deepest_rut() const {
     double most = 0.0;
     const double x1 = kStartX + distance_ + 2.0;
@@ -255,7 +278,8 @@ SceneType rally_scene() {
           "float and drag in the ford and make waves and a wake. It stalls in the ford's muddy bed, its wheels spin "
           "and "
           "dig in there: deepest_rut_m is that hole, not a rut of the open drive. One terrain with a material "
-          "map (sand, mud). The camera follows the car; in the viewer the arrow keys drive it.",
+          "map (sand, mud, and a crust of dried mud over the hollow's wet mud, a layer in depth the wheels break "
+          "through). The camera follows the car; in the viewer the arrow keys drive it.",
       .defaults = {.seconds = 14.0, .substep = 1.0 / 60.0, .material = "sand", .cell = 0.04, .smoke_seconds = 1.0},
       .metric_help =
           {
@@ -265,6 +289,7 @@ SceneType rally_scene() {
               {"fallthrough_count", "times the chassis was below bedrock or a body was lifted back (must be 0)"},
               {"volume_drift_rel", "|ground + compacted + airborne - edited| / moved volume (must be < 1e-6)"},
               {"deepest_rut_m", "largest lowering of the ground below its untouched surface along the track, m"},
+              {"crust_broken_m2", "area of the hollow's dried crust the wheels broke through to the wet mud, m^2"},
               {"chassis_submerged_m3", "largest volume of the chassis under water, m^3"},
               {"wheels_submerged_m3", "largest volume of the four wheels under water together, m^3"},
               {"water_displaced_m3", "water the car pushed aside in total (signed), m^3"},

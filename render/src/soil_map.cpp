@@ -22,6 +22,7 @@ void upload(const terrain::Terrain& soil, const GridRect& region, const GridRect
 Eigen::Vector3d material_colour(const std::string& name, const RenderSettings& settings) {
   if (const auto it = settings.material_colours.find(name); it != settings.material_colours.end()) return it->second;
   if (name == "mud") return {0.45, 0.36, 0.27};
+  if (name == "dried mud") return {0.58, 0.49, 0.38};
   if (name == "snow") return {0.93, 0.94, 0.97};
   if (name == "rigid") return {0.60, 0.60, 0.60};
   if (name == "gravel") return {0.56, 0.55, 0.52};

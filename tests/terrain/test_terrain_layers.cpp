@@ -90,47 +90,6 @@ double two_piece_sinkage(const Material& upper, const Material& lower, double d,
   return 0.5 * (lo + hi);
 }
 
-/// Lowest line of a wheel (axis along y, diameter D, width b) whose bottom is at `bottom`,
-/// axle at x.
-shore::EnvelopeRaster wheel(const Terrain& t, double x, double bottom, double D, double b) {
-  const double r = D / 2;
-  shore::EnvelopeRaster env;
-  const std::int64_t i0 = t.column_i(x - r), i1 = t.column_i(x + r);
-  const std::int64_t j0 = t.column_j(-b / 2), j1 = t.column_j(b / 2);
-  env.resize(i0 - 1, j0 - 1, static_cast<int>(i1 - i0 + 3), static_cast<int>(j1 - j0 + 3), false);
-  for (std::int64_t j = j0; j <= j1; ++j)
-    for (std::int64_t i = i0; i <= i1; ++i) {
-      const double dx = t.column_x(i) - x;
-      if (std::abs(dx) < r && std::abs(t.column_y(j)) <= b / 2)
-        env.lower[env.index(i, j)] = bottom + r - std::sqrt(r * r - dx * dx);
-    }
-  return env;
-}
-
-/// A wheel carrying W towed at 1 m/s for 2 m (1/240 s steps): each step its bottom goes to
-/// the depth at which the soil carries W, and it presses there. The depth at each step.
-std::vector<double> tow(Terrain& t, double W, double D, double b) {
-  std::vector<double> depth;
-  for (int k = 0; k < 480; ++k) {
-    const double x = k / 240.0;
-    const double d = t.bearing_offset(wheel(t, x, 0.0, D, b), W);
-    const shore::EnvelopeRaster env = wheel(t, x, -d, D, b);
-    const Imprint im{&env};
-    t.step({&im, 1});
-    depth.push_back(d);
-  }
-  return depth;
-}
-
-/// Mean of the depths while the axle is in [x0, x1) m.
-double mean_depth(const std::vector<double>& depth, double x0, double x1) {
-  double sum = 0.0;
-  int n = 0;
-  for (std::size_t k = 0; k < depth.size(); ++k)
-    if (k / 240.0 >= x0 && k / 240.0 < x1) sum += depth[k], ++n;
-  return sum / n;
-}
-
 /// Bekker's rolling wheel on the two-piece law: the sinkage z0 at which the front arc,
 /// pressing fresh soil to z(x) = z0 - (r - sqrt(r^2 - x^2)), carries W = b * integral of
 /// p(z(x)) dx (midpoint rule, 4000 strips; bisection on z0).

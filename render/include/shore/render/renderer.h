@@ -59,7 +59,7 @@ struct RenderSettings {
 
 /// A material's natural colour: settings.material_colours[name] if set, else the default of
 /// its preset: sand (0.80, 0.70, 0.52), mud (0.45, 0.36, 0.27), snow (0.93, 0.94, 0.97),
-/// rigid (0.60, 0.60, 0.60), gravel (0.56, 0.55, 0.52); any other name sand's.
+/// rigid (0.60, 0.60, 0.60), gravel (0.56, 0.55, 0.52), dried mud (0.58, 0.49, 0.38); any other name sand's.
 Eigen::Vector3d material_colour(const std::string& name, const RenderSettings& settings);
 
 /// What the last draw() did.
