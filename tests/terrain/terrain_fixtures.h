@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "shore/core/envelope.h"
+#include "shore/core/hash.h"
 #include "shore/terrain/terrain.h"
 
 namespace shore::terrain::testing {
@@ -123,6 +124,33 @@ inline double mean_depth(const std::vector<double>& depth, double x0, double x1)
   for (std::size_t k = 0; k < depth.size(); ++k)
     if (k / 240.0 >= x0 && k / 240.0 < x1) sum += depth[k], ++n;
   return sum / n;
+}
+
+/// Ramps a square plate (`columns` wide, `width` m) whose lower-left column is (i0, j0) from 0
+/// to pressure p over 20 steps, each lowering it by the bearing offset for the load and
+/// pressing it in. Returns its depth.
+inline double ramp_plate(Terrain& t, std::int64_t i0, std::int64_t j0, double p, int columns = 30, double width = 0.3) {
+  constexpr int kSteps = 20;
+  double depth = 0.0;
+  for (int k = 1; k <= kSteps; ++k) {
+    const double load = p * width * width * k / kSteps;
+    const EnvelopeRaster here = box_envelope(i0, j0, columns, columns, -depth);
+    depth += t.bearing_offset(here, load);
+    const EnvelopeRaster env = box_envelope(i0, j0, columns, columns, -depth);
+    const Imprint im{&env};
+    t.step({&im, 1});
+  }
+  return depth;
+}
+
+/// Replaces a state file's trailing checksum with that of the bytes before it.
+inline void reseal(std::vector<unsigned char>& bytes) {
+  bytes.resize(bytes.size() - 8);
+  StateHash sum;
+  sum.add_bytes(bytes.data(), bytes.size());
+  const std::uint64_t checksum = sum.value();
+  bytes.insert(bytes.end(), reinterpret_cast<const unsigned char*>(&checksum),
+               reinterpret_cast<const unsigned char*>(&checksum) + sizeof checksum);
 }
 
 }  // namespace shore::terrain::testing

@@ -276,12 +276,7 @@ TEST(SprayMaterials, AFileWithASprayIndexBeyondItsPaletteIsRefusedByName) {
   const std::size_t index_at = static_cast<std::size_t>(at - bytes.begin()) + 64;
   ASSERT_EQ(bytes[index_at], 1);
   bytes[index_at] = 9;
-  bytes.resize(bytes.size() - 8);
-  shore::StateHash sum;
-  sum.add_bytes(bytes.data(), bytes.size());
-  const std::uint64_t checksum = sum.value();
-  bytes.insert(bytes.end(), reinterpret_cast<const unsigned char*>(&checksum),
-               reinterpret_cast<const unsigned char*>(&checksum) + sizeof checksum);
+  reseal(bytes);
   const std::string m = message_of<shore::FileError>([&] { (void)Terrain::load_bytes(bytes, "sprayed.state"); });
   EXPECT_NE(m.find("sprayed.state"), std::string::npos) << m;
   const std::string particle = "spray particle " + std::to_string(first_mud - flying.begin());

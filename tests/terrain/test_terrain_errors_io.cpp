@@ -188,16 +188,6 @@ void strip_spray(std::vector<unsigned char>& bytes) {
   bytes[8] = 3;  // version, little-endian u32
 }
 
-/// Replaces the trailing checksum with that of the bytes before it.
-void reseal(std::vector<unsigned char>& bytes) {
-  bytes.resize(bytes.size() - 8);
-  shore::StateHash sum;
-  sum.add_bytes(bytes.data(), bytes.size());
-  const std::uint64_t checksum = sum.value();
-  bytes.insert(bytes.end(), reinterpret_cast<const unsigned char*>(&checksum),
-               reinterpret_cast<const unsigned char*>(&checksum) + sizeof checksum);
-}
-
 }  // namespace
 
 TEST(Files, VersionThreeStatesLoadWithSprayOff) {

@@ -54,22 +54,6 @@ TerrainSettings one_thread(const Material& m) {
   return s;
 }
 
-/// Ramps a plate whose lower-left column is (i0, j0) from 0 to pressure p over 20 steps,
-/// each lowering it by the bearing offset for the load and pressing it in. Returns its depth.
-double ramp_plate(Terrain& t, std::int64_t i0, std::int64_t j0, double p) {
-  constexpr int kSteps = 20;
-  double depth = 0.0;
-  for (int k = 1; k <= kSteps; ++k) {
-    const double load = p * kWidth * kWidth * k / kSteps;
-    const shore::EnvelopeRaster here = box_envelope(i0, j0, kPlate, kPlate, -depth);
-    depth += t.bearing_offset(here, load);
-    const shore::EnvelopeRaster env = box_envelope(i0, j0, kPlate, kPlate, -depth);
-    const Imprint im{&env};
-    t.step({&im, 1});
-  }
-  return depth;
-}
-
 /// The two-piece Bekker law of a plate of width b on a crust of `upper`, d thick, over
 /// `lower`: p(z) = P_u(z) for z <= d, P_u(d) + P_l(z - d) beyond (std::pow, not the
 /// terrain's tables).

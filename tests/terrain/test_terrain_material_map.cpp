@@ -34,22 +34,6 @@ Material packed_sand() {
   return m;
 }
 
-/// Ramps a plate whose lower-left column is (i0, j0) from 0 to pressure p over 20 steps,
-/// each lowering it by the bearing offset for the load and pressing it in. Returns its depth.
-double ramp_plate(Terrain& t, std::int64_t i0, std::int64_t j0, double p) {
-  constexpr int kSteps = 20;
-  double depth = 0.0;
-  for (int k = 1; k <= kSteps; ++k) {
-    const double load = p * kWidth * kWidth * k / kSteps;
-    const shore::EnvelopeRaster here = box_envelope(i0, j0, kPlate, kPlate, -depth);
-    depth += t.bearing_offset(here, load);
-    const shore::EnvelopeRaster env = box_envelope(i0, j0, kPlate, kPlate, -depth);
-    const Imprint im{&env};
-    t.step({&im, 1});
-  }
-  return depth;
-}
-
 TerrainSettings one_thread(const Material& m) {
   TerrainSettings s;
   s.material = m;
@@ -387,12 +371,7 @@ TEST(MaterialMap, AFileWithAnIndexBeyondItsPaletteIsRefusedByName) {
   const std::size_t last_index = bytes.size() - 8 - (16 + 3 * 16 * 8) - 8 - 8 - 1;
   ASSERT_EQ(bytes[last_index], 2);
   bytes[last_index] = 7;
-  bytes.resize(bytes.size() - 8);
-  shore::StateHash sum;
-  sum.add_bytes(bytes.data(), bytes.size());
-  const std::uint64_t checksum = sum.value();
-  bytes.insert(bytes.end(), reinterpret_cast<const unsigned char*>(&checksum),
-               reinterpret_cast<const unsigned char*>(&checksum) + sizeof checksum);
+  reseal(bytes);
   const std::string m = message_of<shore::FileError>([&] { (void)Terrain::load_bytes(bytes, "repainted.state"); });
   EXPECT_NE(m.find("repainted.state"), std::string::npos) << m;
   EXPECT_NE(m.find("tile (0, 0)"), std::string::npos) << m;
