@@ -75,6 +75,13 @@ double slip_of(double omega, double speed, double r) {
 
 }  // namespace
 
+double RimShear::at(double theta) const {
+  const double th = std::min(dir * theta, entry);  // in the rolling frame, as rim_force
+  const double arc = radius * (entry - th);
+  const double jx = rim * arc - ground * radius * (sin_entry - det::sin(th)), jy = side * arc;
+  return std::sqrt(jx * jx + jy * jy);
+}
+
 Traction soil_traction(std::span<const RimStrip> rim, const TractionInput& in) {
   RollingFrame f;
   if (in.hold)
@@ -97,6 +104,9 @@ Traction soil_traction(std::span<const RimStrip> rim, const TractionInput& in) {
   double strength = 0.0;
   for (const RimStrip& s : rim) strength += s.strength;
   t.mean_shear = strength > 0.0 ? force.shear / strength : 0.0;
+  const double scale = std::max({std::fabs(omega) * in.radius, std::fabs(f.speed), kTractionSpeedFloor});
+  t.shear = RimShear{f.dir, in.radius, f.entry, f.sin_entry, omega * in.radius / scale, f.speed / scale,
+                     in.side_speed / scale};
   return t;
 }
 

@@ -8,7 +8,6 @@
 #include "bt_convert.h"
 #include "shore/core/det_math.h"
 #include "shore/core/error.h"
-#include "shore/terrain/shear.h"
 #include "soft_ground.h"
 
 namespace shore::bullet {
@@ -315,14 +314,13 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   double offset = wheel.solve.offset(p.load);
   const terrain::Bearing* bearing = &wheel.solve.bearing(offset);
   if (vehicle.soil != nullptr) {
-    // Its traction; the soil it shears bears less (shear::loosening): a slipping wheel
-    // sinks deeper, pressed as if its load were 1 / s^n times larger.
+    // Its traction; the soil it shears bears less, each strip by its own shear (loosen).
     const terrain::Material& m =
         terrain.exposed_material(terrain.column_i(p.pose.getOrigin().x()), terrain.column_j(p.pose.getOrigin().y()));
-    const double s = terrain::shear::loosening(m, grip(terrain, *bearing, m, h, vehicle, k, p));
-    if (s < 1.0) {
-      offset = wheel.solve.offset(p.load / det::pow(s, m.bekker_n));
-      bearing = &wheel.solve.bearing(offset);
+    const RimShear shear = grip(terrain, *bearing, m, h, vehicle, k, p);
+    if (shear.radius > 0.0) {
+      offset = loosen(terrain, m, shear, wheel, p);
+      bearing = &wheel.loosened;
     }
   }
   const double push = compaction_push(terrain, *bearing, p.pose.getOrigin(), forward, p.radius, p.load);
@@ -376,14 +374,24 @@ void RaycastWheels::steer_by_walls(const terrain::Terrain& terrain, const terrai
   chassis->applyImpulse(world_across * btScalar(push * h), side_at);
 }
 
-double RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const terrain::Material& m,
+double RaycastWheels::loosen(const terrain::Terrain& terrain, const terrain::Material& m, const RimShear& shear,
+                             Wheel& wheel, const Pressed& p) {
+  wheel.loosening.build(terrain, wheel.bearing_part, p.pose.getOrigin(), p.pose.getBasis().getColumn(1), p.radius,
+                        shear, m);
+  const double offset =
+      wheel.solve.offset(p.load, [&](const terrain::Bearing& b) { return wheel.loosening.capacity(b); });
+  wheel.loosening.apply(wheel.solve.bearing(offset), wheel.loosened);
+  return offset;
+}
+
+RimShear RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const terrain::Material& m,
                            double h, Vehicle& vehicle, int k, const Pressed& p) {
-  if (!(bearing.capacity > 0.0) || !std::isfinite(bearing.capacity)) return 0.0;
+  if (!(bearing.capacity > 0.0) || !std::isfinite(bearing.capacity)) return {};
   Wheel& wheel = vehicle.wheels[static_cast<std::size_t>(k)];
   const double r = p.radius;
   const btVector3 centre = p.pose.getOrigin(), forward = p.pose.getBasis().getColumn(1);
   const RimSpan span = rim_strips(terrain, bearing, centre, forward, r, p.load / bearing.capacity, wheel.rim);
-  if (wheel.rim.empty()) return 0.0;
+  if (wheel.rim.empty()) return {};
   btWheelInfo& info = vehicle.vehicle->getWheelInfo(k);
   btRigidBody* chassis = vehicle.vehicle->getRigidBody();
   const btVector3 world_forward = p.world_pose.getBasis().getColumn(1),
@@ -417,7 +425,7 @@ double RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Beari
   info.m_rotation += btScalar((t.spin - in.forward_speed / r) * h);  // Bullet turned it as if it rolled
   info.m_deltaRotation = btScalar(t.spin * h);
   vehicle.soil->soil(k).last = WheelTraction{true, t.spin, t.slip, along / h, across / h, t.torque, 0.0};
-  return t.mean_shear;
+  return t.shear;
 }
 
 }  // namespace coupling_detail

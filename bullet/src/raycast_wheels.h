@@ -25,6 +25,7 @@
 #include <BulletDynamics/Vehicle/btRaycastVehicle.h>
 
 #include "raycast_traction.h"
+#include "raycast_wheels_loosening.h"
 #include "shore/bullet/envelope.h"
 #include "shore/bullet/ground_frame.h"
 #include "shore/bullet/soil_vehicle.h"
@@ -104,6 +105,8 @@ class RaycastWheels {
     double wall_push = 0.0;  ///< N along the axle's horizontal direction, last substep (wall_push)
     WallScratch wall;
     std::vector<RimStrip> rim;  ///< scratch: the rim's strips in contact
+    RimLoosening loosening;     ///< scratch: a slipping wheel's loosened columns
+    terrain::Bearing loosened;  ///< the bearing it pressed with, loosened
   };
   [[nodiscard]] const Wheel* find(const btRaycastVehicle* vehicle, int k) const;
   struct Vehicle {
@@ -124,10 +127,14 @@ class RaycastWheels {
   /// The rut walls' push across the wheel (wall_push in the .cpp), applied to the chassis.
   void steer_by_walls(const terrain::Terrain& terrain, const terrain::Bearing& bearing, Vehicle& vehicle, int k,
                       const Pressed& p, double h);
+  /// A slipping wheel's soil loosened strip by strip (RimLoosening): the offset at which it
+  /// carries the load, its loosened bearing in the wheel's `loosened`.
+  double loosen(const terrain::Terrain& terrain, const terrain::Material& m, const RimShear& shear, Wheel& wheel,
+                const Pressed& p);
   /// A SoilVehicle's wheel: the soil's shear on its rim (material `m`, the one under the
   /// wheel's centre, gives K and the strength loss), applied to the chassis. Returns the
-  /// mean shear displacement under the rim, m.
-  double grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const terrain::Material& m, double h,
+  /// shear displacement along the rim (a default RimShear, no shear, off the soil).
+  RimShear grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const terrain::Material& m, double h,
               Vehicle& vehicle, int k, const Pressed& p);
   std::vector<Vehicle> vehicles_;
   std::shared_ptr<SoftGround> ground_;

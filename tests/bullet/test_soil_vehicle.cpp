@@ -69,9 +69,9 @@ TEST(SoilVehicle, DrivenWheelsPullAsWongAndReecePredict) {
     const shore::scenes::WongReeceResult want = shore::scenes::wong_reece(ref, slip);
     std::printf(
         "[ soil vehicle ] slip %.1f (measured %.3f): load %.0f N, pull %.1f N (Wong-Reece %.1f), thrust %.1f N "
-        "(%.1f), torque %.1f N m (%.1f), sinkage %.4f m (%.4f)\n",
-        slip, run.slip, run.load, run.pull, want.drawbar_pull, run.thrust, want.thrust, run.torque, want.torque,
-        run.sinkage, want.sinkage);
+        "(%.1f), resistance / load %.3f (%.3f), torque %.1f N m (%.1f), sinkage %.4f m (%.4f)\n",
+        slip, run.slip, run.load, run.pull, want.drawbar_pull, run.thrust, want.thrust, -run.resistance / run.load,
+        want.resistance / run.load, run.torque, want.torque, run.sinkage, want.sinkage);
     EXPECT_NEAR(run.slip, slip, 0.01) << "the held spin is the slip asked for";
     EXPECT_LT(std::abs(run.pull - want.drawbar_pull) / run.load, 0.10) << "slip " << slip;
     EXPECT_LT(std::abs(run.torque - want.torque) / want.torque, 0.15) << "slip " << slip;
