@@ -64,13 +64,12 @@ struct RimShear {
 };
 
 struct Traction {
-  double spin = 0.0;        ///< rad/s, positive rolling forward
-  double slip = 0.0;        ///< Wong's i = 1 - v / (omega r) driving, omega r / v - 1 braking
-  double forward = 0.0;     ///< N on the chassis along the heading (thrust: the rim's shear, horizontal)
-  double side = 0.0;        ///< N on the chassis along the axle
-  double torque = 0.0;      ///< N m, the shear's moment about the axle (what drives the wheel)
-  double mean_shear = 0.0;  ///< m, |j| over the rim, weighted by the strips' strength
-  RimShear shear;           ///< j along the rim at this spin
+  double spin = 0.0;     ///< rad/s, positive rolling forward
+  double slip = 0.0;     ///< Wong's i = 1 - v / (omega r) driving, omega r / v - 1 braking
+  double forward = 0.0;  ///< N on the chassis along the heading (thrust: the rim's shear, horizontal)
+  double side = 0.0;     ///< N on the chassis along the axle
+  double torque = 0.0;   ///< N m, the shear's moment about the axle (what drives the wheel)
+  RimShear shear;        ///< j along the rim at this spin
 };
 
 /// Below this (m/s) a slip velocity is measured against it rather than the wheel's speed:

@@ -384,8 +384,8 @@ double RaycastWheels::loosen(const terrain::Terrain& terrain, const terrain::Mat
   return offset;
 }
 
-RimShear RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const terrain::Material& m,
-                           double h, Vehicle& vehicle, int k, const Pressed& p) {
+RimShear RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing,
+                             const terrain::Material& m, double h, Vehicle& vehicle, int k, const Pressed& p) {
   if (!(bearing.capacity > 0.0) || !std::isfinite(bearing.capacity)) return {};
   Wheel& wheel = vehicle.wheels[static_cast<std::size_t>(k)];
   const double r = p.radius;

@@ -135,7 +135,7 @@ class RaycastWheels {
   /// wheel's centre, gives K and the strength loss), applied to the chassis. Returns the
   /// shear displacement along the rim (a default RimShear, no shear, off the soil).
   RimShear grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const terrain::Material& m, double h,
-              Vehicle& vehicle, int k, const Pressed& p);
+                Vehicle& vehicle, int k, const Pressed& p);
   std::vector<Vehicle> vehicles_;
   std::shared_ptr<SoftGround> ground_;
   bool framed_ = false;
