@@ -148,16 +148,25 @@ double wall_push(const terrain::Terrain& terrain, const terrain::Bearing& bearin
   return std::clamp(push, -load, load);
 }
 
-/// Keeps the columns at and ahead of the wheel's lowest point along `heading`: a rolling
-/// wheel bears on its front arc (Bekker's rolling wheel); the soil behind it unloads as the
-/// rim rises away.
-void keep_front(const ColumnOffsets& from_centre, const btVector3& heading, EnvelopeRaster& envelope) {
+/// `envelope`'s columns at and ahead of the wheel's lowest point along `heading` into
+/// `front`, the others left uncovered: a rolling wheel bears on its front arc (Bekker's
+/// rolling wheel); the soil behind it unloads as the rim rises away. Only `lower` is kept
+/// (the bearing reads nothing else).
+void keep_front(const ColumnOffsets& from_centre, const btVector3& heading, const EnvelopeRaster& envelope,
+                EnvelopeRaster& front) {
+  static_cast<GridRect&>(front) = envelope;
+  front.lower.resize(envelope.lower.size());
+  front.upper.clear();
   const double hx = double(heading.x()), hy = double(heading.y());
+  const auto nx = static_cast<std::size_t>(envelope.nx);
   for (int b = 0; b < envelope.ny; ++b) {
     const double along_y = from_centre.dy(envelope.j0 + b) * hy;
-    double* row = envelope.lower.data() + static_cast<std::size_t>(b) * static_cast<std::size_t>(envelope.nx);
-    for (int a = 0; a < envelope.nx; ++a)
-      if (from_centre.dx(envelope.i0 + a) * hx + along_y < 0.0) row[a] = EnvelopeRaster::kNoLower;
+    const double* in = envelope.lower.data() + static_cast<std::size_t>(b) * nx;
+    double* out = front.lower.data() + static_cast<std::size_t>(b) * nx;
+    for (std::size_t a = 0; a < nx; ++a)
+      out[a] = from_centre.dx(envelope.i0 + static_cast<std::int64_t>(a)) * hx + along_y < 0.0
+                   ? EnvelopeRaster::kNoLower
+                   : in[a];
   }
 }
 
@@ -320,8 +329,10 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   // Rolling (faster than kRolling along its heading): the front arc bears; at rest, both.
   const double speed = double(world_velocity.dot(world_forward));
   wheel.from_centre.read(terrain, wheel.envelope, double(p.pose.getOrigin().x()), double(p.pose.getOrigin().y()));
-  wheel.bearing_part = wheel.envelope;
-  if (std::abs(speed) > kRolling) keep_front(wheel.from_centre, speed > 0 ? forward : -forward, wheel.bearing_part);
+  if (std::abs(speed) > kRolling)
+    keep_front(wheel.from_centre, speed > 0 ? forward : -forward, wheel.envelope, wheel.bearing_part);
+  else
+    wheel.bearing_part = wheel.envelope;
   // One solve for both loads below: the second re-measures no offset the first measured.
   wheel.solve.reset(terrain, wheel.bearing_part);
   double offset = wheel.solve.offset(p.load);
