@@ -10,6 +10,10 @@ namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 namespace coupling_detail {
 
+namespace {
+constexpr double kUnknown = -1.0;  // a strip's weight not worked out yet (weights lie in (0, 1])
+}  // namespace
+
 void RimLoosening::angles(double radius, double cell) {
   if (radius == radius_ && cell == cell_) return;
   radius_ = radius, cell_ = cell;
@@ -22,40 +26,30 @@ void RimLoosening::angles(double radius, double cell) {
   }
 }
 
-void RimLoosening::build(const terrain::Terrain& terrain, const EnvelopeRaster& envelope, const btVector3& centre,
+void RimLoosening::build(double cell, const EnvelopeRaster& envelope, const ColumnOffsets& from_centre,
                          const btVector3& forward, double radius, const RimShear& shear, const terrain::Material& m) {
-  const double cell = terrain.settings().cell, reach = 0.95 * radius;
+  const double reach = 0.95 * radius;
   angles(radius, cell);
-  // Each covered column's strip first (the columns' offsets along the heading, per axis),
-  // then the weights of the strips that hold one: a rolling wheel's rear half holds none.
+  // A strip's weight is worked out when a covered column first falls in it (kUnknown until
+  // then): a rolling wheel's rear half covers none.
   rect_ = envelope;
   weight_.resize(envelope.size());
+  strip_.assign(theta_.size(), kUnknown);
   along_x_.resize(static_cast<std::size_t>(envelope.nx));
   const double fx = double(forward.x()), fy = double(forward.y()), inv_cell = 1.0 / cell;
-  for (int x = 0; x < envelope.nx; ++x)
-    along_x_[static_cast<std::size_t>(x)] = (terrain.column_x(envelope.i0 + x) - double(centre.x())) * fx;
-  std::vector<int>& strip = strip_of_;
-  strip.resize(envelope.size());
-  int lo = half_, hi = -half_;
+  for (int x = 0; x < envelope.nx; ++x) along_x_[static_cast<std::size_t>(x)] = from_centre.dx(envelope.i0 + x) * fx;
   for (int y = 0; y < envelope.ny; ++y) {
-    const double along_y = (terrain.column_y(envelope.j0 + y) - double(centre.y())) * fy;
+    const double along_y = from_centre.dy(envelope.j0 + y) * fy;
     const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(envelope.nx);
     for (std::size_t x = 0; x < static_cast<std::size_t>(envelope.nx); ++x) {
       if (envelope.lower[row + x] == EnvelopeRaster::kNoLower) continue;  // not covered: never bears
       const double s = std::clamp(along_x_[x] + along_y, -reach, reach);
-      const double q = s * inv_cell;  // rounded half away from zero, as lround (a call) would
-      const int b = std::clamp(static_cast<int>(q + (q < 0.0 ? -0.5 : 0.5)), -half_, half_);
-      strip[row + x] = b + half_;
-      lo = std::min(lo, b), hi = std::max(hi, b);
+      const auto k =
+          static_cast<std::size_t>(std::clamp(static_cast<int>(round_half_away(s * inv_cell)), -half_, half_) + half_);
+      if (strip_[k] == kUnknown) strip_[k] = terrain::shear::remoulding(m, shear.at(theta_[k]));
+      weight_[row + x] = strip_[k];
     }
   }
-  strip_.resize(theta_.size());
-  for (int b = lo; b <= hi; ++b) {
-    const auto k = static_cast<std::size_t>(b + half_);
-    strip_[k] = terrain::shear::remoulding(m, shear.at(theta_[k]));
-  }
-  for (std::size_t k = 0; k < envelope.size(); ++k)
-    weight_[k] = envelope.lower[k] == EnvelopeRaster::kNoLower ? 1.0 : strip_[static_cast<std::size_t>(strip[k])];
 }
 
 double RimLoosening::capacity(const terrain::Bearing& bearing) const {

@@ -12,6 +12,7 @@
 #include <LinearMath/btVector3.h>
 
 #include "raycast_traction.h"
+#include "raycast_wheel_grid.h"
 #include "shore/core/envelope.h"
 #include "shore/core/grid_rect.h"
 #include "shore/terrain/material.h"
@@ -23,12 +24,13 @@ namespace coupling_detail {
 
 class RimLoosening {
  public:
-  /// Weighs each column `envelope` covers (the wheel's bearing part on `terrain`'s grid) by the bearing
-  /// left in soil sheared by `shear` at its strip's rim angle, shear::remoulding(m, j): the
-  /// rim cut into strips one cell long along `forward` (the ground's coordinates), each at
-  /// the angle of its centre, as the rim's shear takes them. `centre` is the wheel's.
-  void build(const terrain::Terrain& terrain, const EnvelopeRaster& envelope, const btVector3& centre,
-             const btVector3& forward, double radius, const RimShear& shear, const terrain::Material& m);
+  /// Weighs each column `envelope` covers (the wheel's bearing part, on a grid of `cell` m)
+  /// by the bearing left in soil sheared by `shear` at its strip's rim angle,
+  /// shear::remoulding(m, j): the rim cut into strips one cell long along `forward` (the
+  /// ground's coordinates), each at the angle of its centre, as the rim's shear takes them.
+  /// `from_centre` holds the envelope's columns' offsets from the wheel's centre.
+  void build(double cell, const EnvelopeRaster& envelope, const ColumnOffsets& from_centre, const btVector3& forward,
+             double radius, const RimShear& shear, const terrain::Material& m);
   /// N, what the columns of `bearing` (within the built rect) carry loosened.
   [[nodiscard]] double capacity(const terrain::Bearing& bearing) const;
   /// `bearing` loosened into `out`: each column's force and the capacity times its weight.
@@ -39,11 +41,10 @@ class RimLoosening {
   /// The strips' rim angles, kept while the radius and the cell stay.
   void angles(double radius, double cell);
   GridRect rect_;
-  std::vector<double> weight_;   ///< per column of rect_, row-major
+  std::vector<double> weight_;   ///< per covered column of rect_, row-major (others unread)
   std::vector<double> strip_;    ///< per strip along the heading: its weight
   std::vector<double> theta_;    ///< per strip: its centre's rim angle, rad
   std::vector<double> along_x_;  ///< scratch: per column along x, its offset's part along the heading
-  std::vector<int> strip_of_;    ///< scratch: per column of rect_, its strip
   double radius_ = 0.0, cell_ = 0.0;
   int half_ = 0;  ///< strips -half_..half_
 };
