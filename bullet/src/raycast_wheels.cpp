@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "body_registry.h"
 #include "bt_convert.h"
+#include "envelope_below.h"
 #include "raycast_wheel_grid.h"
 #include "shore/core/det_math.h"
 #include "shore/core/error.h"
@@ -18,6 +20,11 @@ namespace coupling_detail {
 namespace {
 
 constexpr double kMaxWidth = 10.0;  // m: wider is no wheel
+// m: the least depth a wheel's envelope is cut to (rasterize_wheel): most presses measure
+// a few millimetres (the soil carried the load last substep); a wheel that measured deeper
+// last time is cut to twice that.
+constexpr double kCutDepthLeast = 0.01;
+constexpr double kCutSlack = 1e-6;  // m, against rounding in the comparisons the cut relies on
 constexpr double kRolling = 0.05;   // m/s: a wheel slower than this is standing
 
 }  // namespace
@@ -320,21 +327,20 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   p.world_pose = wheel_pose(info);
   p.pose = framed_ ? to_ground_ * p.world_pose : p.world_pose;  // in the terrain's coordinates
   if (!(p.load > 0.0) || !pose_rasterizable(p.pose, wheel.reach, rasterizer.grid())) return nullptr;
-  if (rasterizer.rasterize(*wheel.shape, p.pose, wheel.envelope) == 0) return nullptr;
+  if (rasterize_wheel(terrain, rasterizer, wheel, p.pose, false) == 0) return nullptr;
   const btVector3 forward = p.pose.getBasis().getColumn(1), world_forward = p.world_pose.getBasis().getColumn(1);
   btRigidBody* chassis = vehicle.vehicle->getRigidBody();
   p.at = info.m_raycastInfo.m_contactPointWS - chassis->getCenterOfMassPosition();
   const btVector3 world_velocity = chassis->getVelocityInLocalPoint(p.at);
-  // Rolling (faster than kRolling along its heading): the front arc bears; at rest, both.
   const double speed = double(world_velocity.dot(world_forward));
-  wheel.from_centre.read(terrain, wheel.envelope, double(p.pose.getOrigin().x()), double(p.pose.getOrigin().y()));
-  if (std::abs(speed) > kRolling)
-    keep_front(wheel.from_centre, speed > 0 ? forward : -forward, wheel.envelope, wheel.bearing_part);
-  else
-    wheel.bearing_part = wheel.envelope;
+  read_bearing(terrain, wheel, p, speed);
   // One solve for both loads below: the second re-measures no offset the first measured.
-  wheel.solve.reset(terrain, wheel.bearing_part);
   double offset = wheel.solve.offset(p.load);
+  if (!cut_ok(wheel)) {  // pressed deeper than the cut allows: the whole cylinder, as if never cut
+    rasterize_wheel(terrain, rasterizer, wheel, p.pose, true);
+    read_bearing(terrain, wheel, p, speed);
+    offset = wheel.solve.offset(p.load);
+  }
   const terrain::Bearing* bearing = &wheel.solve.bearing(offset);
   if (vehicle.soil != nullptr) {
     // Its traction; the soil it shears bears less, each strip by its own shear (loosen).
@@ -343,9 +349,16 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
     const RimShear shear = grip(terrain, *bearing, m, h, vehicle, k, p);
     if (shear.radius > 0.0) {
       offset = loosen(terrain, m, shear, wheel, p);
+      if (!cut_ok(wheel)) {  // the loosened soil let it sink deeper than the cut allows
+        rasterize_wheel(terrain, rasterizer, wheel, p.pose, true);
+        read_bearing(terrain, wheel, p, speed);
+        (void)wheel.solve.offset(p.load);  // the offsets the loosened solve brackets from
+        offset = loosen(terrain, m, shear, wheel, p);
+      }
       bearing = &wheel.loosened;
     }
   }
+  wheel.last_deepest = wheel.solve.deepest();
   const double push = compaction_push(*bearing, wheel.from_centre, forward, p.radius, p.load);
   chassis->applyImpulse(world_forward * btScalar(push * h), p.at);
   steer_by_walls(terrain, *bearing, vehicle, k, p, h);
@@ -373,6 +386,54 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
     if (wheel.imprint.spray) wheel.imprint.key = wheel_key(*chassis, k);
   }
   return &wheel.imprint;
+}
+
+int RaycastWheels::rasterize_wheel(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, Wheel& wheel,
+                                   const btTransform& pose, bool whole) {
+  wheel.cut_depth = 0.0;
+  const terrain::TerrainSettings& s = terrain.settings();
+  if (whole || !std::isfinite(s.active_reach)) return rasterizer.rasterize(*wheel.shape, pose, wheel.envelope);
+  // A column whose lowest point, lowered by the solve's deepest offset, stays above every
+  // ground column under the cylinder by more than the reach (and the contact tolerance)
+  // changes nothing: it bears nothing at any offset the solve measured, is in no active
+  // region, is under the body for no stage and holds no clinging soil. Only columns reaching
+  // that and a depth more are rasterized (twice the deepest offset the wheel's last solve
+  // measured, at least kCutDepthLeast); a solve that goes deeper is redone whole.
+  const GridRect all = rasterizer.window_of(*wheel.shape, pose);
+  wheel.ground.resize(all.size());
+  terrain.heights(all, wheel.ground);
+  double highest = -std::numeric_limits<double>::infinity();
+  for (double z : wheel.ground) highest = std::max(highest, z);
+  const double depth = std::max(kCutDepthLeast, 2.0 * wheel.last_deepest);
+  const double z_top = highest + std::max(s.active_reach, s.contact_tolerance) + depth;
+  const btVector3 axle = pose.getBasis().getColumn(0);  // btCylinderShapeX: along local x
+  const GridRect cut = cylinder_window_below(rasterizer.grid(), all, to_vec3(pose.getOrigin()), to_vec3(axle),
+                                             double(wheel.shape->getHalfExtentsWithMargin().x()),
+                                             double(wheel.shape->getRadius()), z_top);
+  if (cut.empty() || (cut.nx == all.nx && cut.ny == all.ny))
+    return rasterizer.rasterize(*wheel.shape, pose, wheel.envelope);
+  const int covered = rasterizer.rasterize(*wheel.shape, pose, cut, wheel.envelope);
+  if (covered == 0) return rasterizer.rasterize(*wheel.shape, pose, wheel.envelope);
+  wheel.cut_depth = depth;
+  return covered;
+}
+
+void RaycastWheels::read_bearing(const terrain::Terrain& terrain, Wheel& wheel, const Pressed& p, double speed) {
+  const btVector3 forward = p.pose.getBasis().getColumn(1);
+  wheel.from_centre.read(terrain, wheel.envelope, double(p.pose.getOrigin().x()), double(p.pose.getOrigin().y()));
+  // Rolling (faster than kRolling along its heading): the front arc bears; at rest, both.
+  if (std::abs(speed) > kRolling)
+    keep_front(wheel.from_centre, speed > 0 ? forward : -forward, wheel.envelope, wheel.bearing_part);
+  else
+    wheel.bearing_part = wheel.envelope;
+  wheel.solve.reset(terrain, wheel.bearing_part);
+}
+
+bool RaycastWheels::cut_ok(const Wheel& wheel) {
+  if (wheel.cut_depth == 0.0) return true;
+  // Below the bedrock offset the bracket grew as on the whole envelope (bedrock_offset).
+  const double deepest = wheel.solve.deepest();
+  return deepest < wheel.solve.bedrock_offset() && deepest <= wheel.cut_depth - kCutSlack;
 }
 
 void RaycastWheels::steer_by_walls(const terrain::Terrain& terrain, const terrain::Bearing& bearing, Vehicle& vehicle,

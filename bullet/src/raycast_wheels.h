@@ -106,10 +106,18 @@ class RaycastWheels {
   struct Wheel {
     std::unique_ptr<btCylinderShapeX> shape;  ///< axis along the wheel's local x (its axle)
     double reach = 0.0;                       ///< m (check_rasterizable)
-    EnvelopeRaster envelope;                  ///< the whole cylinder: what it presses
-    EnvelopeRaster bearing_part;              ///< what bears its load (the front arc when rolling)
-    terrain::BearingSolve solve;              ///< scratch: bearing_part's columns and capacities
-    ColumnOffsets from_centre;                ///< scratch: the envelope's columns from the wheel's centre
+    /// What it presses: the cylinder, or only its columns that can reach the ground
+    /// (rasterize_wheel): the same answers.
+    EnvelopeRaster envelope;
+    /// m: the envelope holds the columns reaching below the highest ground under the wheel
+    /// + the terrain's reach + this (0: the whole cylinder). A solve that measures no offset
+    /// this deep answers as on the whole cylinder (cut_ok).
+    double cut_depth = 0.0;
+    double last_deepest = 0.0;    ///< m: the deepest offset its last press measured
+    std::vector<double> ground;   ///< scratch: the heights under the whole cylinder
+    EnvelopeRaster bearing_part;  ///< what bears its load (the front arc when rolling)
+    terrain::BearingSolve solve;  ///< scratch: bearing_part's columns and capacities
+    ColumnOffsets from_centre;    ///< scratch: the envelope's columns from the wheel's centre
     terrain::Imprint imprint;
     double push = 0.0;       ///< N along the heading, last substep
     double wall_push = 0.0;  ///< N along the axle's horizontal direction, last substep (wall_push)
@@ -134,6 +142,15 @@ class RaycastWheels {
   /// The wheel's rut and resistance; its imprint if the terrain deforms, else null.
   const terrain::Imprint* press(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h, bool deforms,
                                 Vehicle& vehicle, int k);
+  /// Rasterizes the wheel at `pose` into its envelope, cut to the columns that can reach the
+  /// ground unless `whole` (or no cut is known to be safe). Returns the covered columns.
+  static int rasterize_wheel(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, Wheel& wheel,
+                             const btTransform& pose, bool whole);
+  /// The wheel's bearing part (its front arc when rolling) read into its solve.
+  static void read_bearing(const terrain::Terrain& terrain, Wheel& wheel, const Pressed& p, double speed);
+  /// True if the wheel's solve measured no offset as deep as its envelope's cut (cut_ok):
+  /// its answers are the whole envelope's.
+  static bool cut_ok(const Wheel& wheel);
   /// The rut walls' push across the wheel (wall_push in the .cpp), applied to the chassis.
   void steer_by_walls(const terrain::Terrain& terrain, const terrain::Bearing& bearing, Vehicle& vehicle, int k,
                       const Pressed& p, double h);

@@ -1,5 +1,6 @@
 #include "shore/terrain/bearing_solve.h"
 
+#include <algorithm>
 #include <vector>
 
 #include "bearing.h"
@@ -20,6 +21,7 @@ struct BearingSolve::State {
   std::vector<double> offsets;
   std::vector<Bearing> measured;
   std::size_t used = 0;
+  double bedrock = 0.0;  ///< offset_for_load's bracket limit for these columns
 
   const Bearing* find(double offset) const {
     for (std::size_t k = 0; k < used; ++k)
@@ -52,6 +54,8 @@ void BearingSolve::reset(const Terrain& terrain, const EnvelopeRaster& envelope)
                        st.terrain->palette.size() > 1 || layered ? &st.mats : nullptr, layered ? &st.layers : nullptr,
                        st.columns);
   if (!layered) st.layers.clear();
+  st.bedrock = 0.0;  // as offset_for_load's limit
+  for (const BearingColumn& c : st.columns) st.bedrock = std::max(st.bedrock, c.lower - c.bed);
 }
 
 double BearingSolve::offset(double load) {
@@ -79,5 +83,14 @@ const Bearing& BearingSolve::bearing(double offset) const {
                          "must be an offset offset() returned since the last reset");
   return *b;
 }
+
+double BearingSolve::deepest() const noexcept {
+  const State& st = *state_;
+  double most = 0.0;
+  for (std::size_t k = 0; k < st.used; ++k) most = std::max(most, st.offsets[k]);
+  return most;
+}
+
+double BearingSolve::bedrock_offset() const noexcept { return state_->bedrock; }
 
 }  // namespace shore::terrain

@@ -40,6 +40,13 @@ class BearingSolve {
   /// last reset: exactly Terrain::bearing(envelope, offset). Valid until the next call of
   /// offset() or reset(). Throws InvalidSetting for an offset no solve measured.
   [[nodiscard]] const Bearing& bearing(double offset) const;
+  /// The largest offset (m) measured since the last reset (0 before any solve).
+  [[nodiscard]] double deepest() const noexcept;
+  /// The offset (m) at which every covered column stands at bedrock, where the solve's
+  /// bracket stops growing (0 if the envelope covers no column). A solve whose deepest()
+  /// stays below it measured the same offsets as on any envelope holding these columns and
+  /// more that touch at none of them, and answered the same.
+  [[nodiscard]] double bedrock_offset() const noexcept;
 
  private:
   struct State;
