@@ -391,6 +391,7 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
 int RaycastWheels::rasterize_wheel(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, Wheel& wheel,
                                    const btTransform& pose, bool whole) {
   wheel.cut_depth = 0.0;
+  wheel.window = rasterizer.window_of(*wheel.shape, pose);
   const terrain::TerrainSettings& s = terrain.settings();
   if (whole || !std::isfinite(s.active_reach)) return rasterizer.rasterize(*wheel.shape, pose, wheel.envelope);
   // A column whose lowest point, lowered by the solve's deepest offset, stays above every
@@ -399,7 +400,7 @@ int RaycastWheels::rasterize_wheel(const terrain::Terrain& terrain, EnvelopeRast
   // region, is under the body for no stage and holds no clinging soil. Only columns reaching
   // that and a depth more are rasterized (twice the deepest offset the wheel's last solve
   // measured, at least kCutDepthLeast); a solve that goes deeper is redone whole.
-  const GridRect all = rasterizer.window_of(*wheel.shape, pose);
+  const GridRect& all = wheel.window;
   wheel.ground.resize(all.size());
   terrain.heights(all, wheel.ground);
   double highest = -std::numeric_limits<double>::infinity();
@@ -447,7 +448,7 @@ void RaycastWheels::steer_by_walls(const terrain::Terrain& terrain, const terrai
   const btVector3 ray_normal =
       framed_ ? to_ground_.getBasis() * info.m_raycastInfo.m_contactNormalWS : info.m_raycastInfo.m_contactNormalWS;
   const double push =
-      wall_push(terrain, bearing, wheel.envelope, wheel.from_centre, across, ray_normal, p.load, p.radius, wheel.wall);
+      wall_push(terrain, bearing, wheel.window, wheel.from_centre, across, ray_normal, p.load, p.radius, wheel.wall);
   wheel.wall_push = push;
   if (push == 0.0) return;
   btRigidBody* chassis = vehicle.vehicle->getRigidBody();

@@ -113,6 +113,9 @@ class RaycastWheels {
     /// + the terrain's reach + this (0: the whole cylinder). A solve that measures no offset
     /// this deep answers as on the whole cylinder (cut_ok).
     double cut_depth = 0.0;
+    /// The whole cylinder's window: the rut walls read the ground over it, whether the
+    /// envelope is cut or not (their bilinear weights depend on a column's place in it).
+    GridRect window;
     double last_deepest = 0.0;    ///< m: the deepest offset its last press measured
     std::vector<double> ground;   ///< scratch: the heights under the whole cylinder
     EnvelopeRaster bearing_part;  ///< what bears its load (the front arc when rolling)
