@@ -130,7 +130,15 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
         std::copy_n(t.uy.data() + o, t.w, by + r * bs);
       }
     }
-  for (int side = 0; side < kernel::kSides; ++side) k.sides[side] = side_of(t, side);
+  // Each neighbour looked up once, for its side's state and for its edge below.
+  const TileData* around[kernel::kSides];
+  for (int side = 0; side < kernel::kSides; ++side) {
+    const int tx = t.tx + kSideDx[side], ty = t.ty + kSideDy[side];
+    around[side] = inside(tx, ty) ? find(tx, ty) : nullptr;
+    k.sides[side] = !inside(tx, ty)                       ? kernel::Side::absent
+                    : around[side] && around[side]->awake ? kernel::Side::live
+                                                          : kernel::Side::frozen;
+  }
   // The ghost ring: each side from the facing edge of the neighbour (zeros where there is
   // none: rest, or beyond the grid, where the kernel ignores them).
   struct Ghost {
@@ -160,8 +168,7 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
   // than two columns of the storage with each entry on a cache line of its own.
   const TileData::Edges& mine = t.edges[static_cast<std::size_t>(t.cur)];
   for (const Ghost& g : ghosts) {
-    const TileData* n =
-        k.sides[g.side] == kernel::Side::absent ? nullptr : find(t.tx + kSideDx[g.side], t.ty + kSideDy[g.side]);
+    const TileData* n = k.sides[g.side] == kernel::Side::absent ? nullptr : around[g.side];
     const TileData::Edges* e = n ? &n->edges[static_cast<std::size_t>(n->cur)] : nullptr;
     const std::size_t first = static_cast<std::size_t>(g.facing * T + g.first);
     copy_edge(e ? &e->z : nullptr, first, g.count, bz + g.at, g.step);
