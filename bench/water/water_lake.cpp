@@ -20,8 +20,8 @@ int main(int argc, char** argv) {
   for (int k = 0; k < runs; ++k) r = shore::scenes::run_lake(c);
   long long awake = 0;
   for (const shore::scenes::LakeSample& s : r.samples) {
-    std::printf("t %.1f awake %lld ms %.4f ns/node %.3f\n", s.t, static_cast<long long>(s.awake_nodes), s.step_ms,
-                s.awake_nodes > 0 ? 1e6 * s.step_ms / double(s.awake_nodes) : 0.0);
+    std::printf("t %.1f awake %lld (mean %.0f) ms %.4f ns/node %.3f\n", s.t, static_cast<long long>(s.awake_nodes),
+                s.mean_awake_nodes, s.step_ms, s.mean_awake_nodes > 0 ? 1e6 * s.step_ms / s.mean_awake_nodes : 0.0);
     awake += s.awake_nodes;
   }
   std::printf("sum of sampled awake nodes %lld\n", awake);
