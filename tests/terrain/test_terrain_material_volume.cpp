@@ -125,7 +125,31 @@ int sand_over(const Terrain& t, int lower) {
   return n;
 }
 
+/// The cone slumped for `steps` steps under a body hovering 1 cm above its top.
+void slump(Terrain& t, int steps) {
+  const shore::EnvelopeRaster env = box_envelope(-20, -20, 40, 40, t.height(0, 0) + 0.01);
+  const Imprint im{&env};
+  for (int k = 0; k < steps; ++k) t.step({&im, 1});
+}
+
 }  // namespace
+
+TEST(MaterialVolume, TheLayersErosionLaysAreTheSameForAnyThreadCount) {
+  TerrainSettings two = settings();
+  two.threads = 2;
+  two.parallel_min_columns = 0;  // every region's rows on the team
+  Terrain one_thread(settings()), two_threads(two);
+  paint_cone(one_thread);
+  paint_cone(two_threads);
+  const double top = one_thread.height(0, 0);
+  slump(one_thread, 30);
+  slump(two_threads, 30);
+  EXPECT_EQ(two_threads.state_hash(), one_thread.state_hash());
+  EXPECT_LT(one_thread.height(0, 0), top - 0.01) << "the steps slumped the cone";
+  for (Terrain* t : {&one_thread, &two_threads}) (void)t->relax({-35, -35, 70, 70});
+  EXPECT_EQ(two_threads.state_hash(), one_thread.state_hash());
+  EXPECT_GT(sand_over(one_thread, kGravel) + sand_over(one_thread, kMud), 0) << "sand lies on the ground";
+}
 
 TEST(MaterialVolume, ASandConeOnAGravelMudBorderKeepsEachMaterialsVolume) {
   Terrain server(settings()), replica(settings());
