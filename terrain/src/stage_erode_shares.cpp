@@ -38,6 +38,7 @@ bool ErodeStage::compute_shares_as(const Region& region) {
       double excess_sum = 0.0;
       int count = 0;
       unsigned mk = 0, steep_mk = 0;
+      [[maybe_unused]] bool mixed = false;  // a pair of another material or a layered column
 #pragma GCC unroll 8
       for (int d = 0; d < 8; ++d) {
         const std::size_t nk = k + off[d];  // interior: neighbours exist
@@ -48,7 +49,11 @@ bool ErodeStage::compute_shares_as(const Region& region) {
         if constexpr (kMap) {
           // The soil keeps its material: a neighbour that may not take it holds the pair.
           // (A rigid column's loose soil lands as the receiver's own, as before maps.)
-          if (region.mat[nk] != top && !rigid_[top] && !takes(region, nk, top)) continue;
+          if (region.mat[nk] != top) {
+            if (!rigid_[top] && !takes(region, nk, top)) continue;
+            mixed = true;
+          }
+          mixed = mixed || kind_[nk] != kUnlayered;
         }
         excess_sum += diff - lim.thr[d][c];
         ++count;
@@ -73,10 +78,7 @@ bool ErodeStage::compute_shares_as(const Region& region) {
         if (!(mk & (1u << d))) continue;
         const double cap = cap_[k + off[d]];
         total += std::min(share, cap);
-        if constexpr (kMap) {
-          spent = spent && cap >= share;
-          cross = cross || region.mat[k + off[d]] != top || kind_[k + off[d]] != kUnlayered;
-        }
+        if constexpr (kMap) spent = spent && cap >= share;
         // A pair whose flow the body caps (the column under it is full) stays steep: the
         // body holds that slope, erosion cannot relax it.
         steep_here = steep_here || ((steep_mk & (1u << d)) && cap >= share);
@@ -87,7 +89,7 @@ bool ErodeStage::compute_shares_as(const Region& region) {
       out_[k] = total;
       if constexpr (kMap) {
         spent_[k] = spent;
-        cross = cross || kind_[k] != kUnlayered;
+        cross = cross || mixed || kind_[k] != kUnlayered;
       }
       giver_row[x >> 6] |= ColumnBits::bit(x);
       flow = true;
