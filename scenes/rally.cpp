@@ -9,8 +9,11 @@
 // car's wheels break through.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -73,13 +76,64 @@ class Valley final : public terrain::HeightSource {
   terrain::LatticeNoise noise_;
 };
 
+/// The valley's heights at the land's columns, each worked out once and then looked up. A
+/// column's base height is asked again and again: by each heightfield tile and soil tile made
+/// over it (soil tiles idle for a while are released and made afresh), and by each grain of
+/// spray in flight or landing where no soil tile is yet; the valley's noise costs some 3000
+/// instructions a call. Answers bit for bit what Valley does: only a point that is exactly a
+/// column's centre (origin + i cell, as the terrain asks) is kept, any other is worked out.
+/// Filled as asked, from any thread (each entry is written whole, with the same value).
+class CachedValley final : public terrain::HeightSource {
+ public:
+  /// Columns of `cell` m from (origin_x, origin_y) over the land and a margin; none kept if
+  /// that would take more than kMaxEntries.
+  CachedValley(double cell, double origin_x, double origin_y) : cell_(cell), ox_(origin_x), oy_(origin_y) {
+    constexpr double kMargin = 4.0;  // m beyond the land: spray flies off it
+    i0_ = static_cast<std::int64_t>(std::floor((kX0 - kMargin - ox_) / cell_));
+    j0_ = static_cast<std::int64_t>(std::floor((-kHalfY - kMargin - oy_) / cell_));
+    nx_ = static_cast<std::int64_t>(std::ceil((kX1 + kMargin - ox_) / cell_)) - i0_ + 1;
+    ny_ = static_cast<std::int64_t>(std::ceil((kHalfY + kMargin - oy_) / cell_)) - j0_ + 1;
+    if (nx_ * ny_ > kMaxEntries) return;
+    kept_ = std::vector<std::atomic<double>>(static_cast<std::size_t>(nx_ * ny_));
+    for (std::atomic<double>& h : kept_) h.store(kNotYet, std::memory_order_relaxed);
+  }
+  [[nodiscard]] double height(double x, double y) const override {
+    const std::optional<std::size_t> k = entry(x, y);
+    if (!k) return valley_.height(x, y);
+    std::atomic<double>& kept = kept_[*k];
+    double h = kept.load(std::memory_order_relaxed);
+    if (std::isnan(h)) kept.store(h = valley_.height(x, y), std::memory_order_relaxed);
+    return h;
+  }
+
+ private:
+  static constexpr std::int64_t kMaxEntries = std::int64_t{8} << 20;  // 64 MB
+  static constexpr double kNotYet = std::numeric_limits<double>::quiet_NaN();
+
+  /// The entry of the column whose centre is exactly (x, y); none for any other point.
+  [[nodiscard]] std::optional<std::size_t> entry(double x, double y) const {
+    if (kept_.empty()) return std::nullopt;
+    const double u = (x - ox_) / cell_, v = (y - oy_) / cell_;
+    if (!(std::abs(u) < 1e15 && std::abs(v) < 1e15)) return std::nullopt;
+    const std::int64_t i = std::llround(u), j = std::llround(v);
+    if (i < i0_ || i >= i0_ + nx_ || j < j0_ || j >= j0_ + ny_) return std::nullopt;
+    if (ox_ + static_cast<double>(i) * cell_ != x || oy_ + static_cast<double>(j) * cell_ != y) return std::nullopt;
+    return static_cast<std::size_t>((j - j0_) * nx_ + (i - i0_));
+  }
+
+  Valley valley_;
+  double cell_, ox_, oy_;
+  std::int64_t i0_ = 0, j0_ = 0, nx_ = 0, ny_ = 0;
+  mutable std::vector<std::atomic<double>> kept_;
+};
+
 double land_cell(const SceneOptions& o) { return o.smoke ? std::max(o.cell, 0.08) : o.cell; }
 
 terrain::TerrainSettings land_settings(const SceneOptions& o) {
   terrain::TerrainSettings s = soil_settings(o);
   s.cell = land_cell(o);
   s.material = terrain::Material::sand();
-  s.base = std::make_shared<Valley>();
+  s.base = std::make_shared<CachedValley>(s.cell, s.origin_x, s.origin_y);
   // Spinning wheels throw sand; each grain in flight asks the valley's height where no soil
   // tile is yet (a noise evaluation, about 2 us a grain and substep): 500 grains at most
   // keep the spray visible and the scene fast.

@@ -26,7 +26,6 @@ struct RimForce {
   double along = 0.0;   ///< N, the shear along the rim (its sum: the torque over r)
   double thrust = 0.0;  ///< N, its horizontal part along the heading
   double side = 0.0;    ///< N along the axle
-  double shear = 0.0;   ///< N m, the strips' strength times their |j|
 };
 
 /// The rim's shear at spin `omega` (rad/s, in the rolling frame).
@@ -45,7 +44,6 @@ RimForce rim_force(std::span<const RimStrip> rim, const TractionInput& in, const
     if (!(j > 0.0)) continue;
     const double kept = 1.0 - in.remould_shear_ratio * (1.0 - det::exp(-j * inv_l));
     const double tau = s.strength * kept * (1.0 - det::exp(-j * inv_k)) / j;
-    out.shear += s.strength * j;
     out.along += tau * jx;
     out.thrust += tau * jx * s.cos_theta;
     out.side -= tau * jy;
@@ -75,6 +73,13 @@ double slip_of(double omega, double speed, double r) {
 
 }  // namespace
 
+double RimShear::at(double theta) const {
+  const double th = std::min(dir * theta, entry);  // in the rolling frame, as rim_force
+  const double arc = radius * (entry - th);
+  const double jx = rim * arc - ground * radius * (sin_entry - det::sin(th)), jy = side * arc;
+  return std::sqrt(jx * jx + jy * jy);
+}
+
 Traction soil_traction(std::span<const RimStrip> rim, const TractionInput& in) {
   RollingFrame f;
   if (in.hold)
@@ -94,9 +99,9 @@ Traction soil_traction(std::span<const RimStrip> rim, const TractionInput& in) {
   t.forward = f.dir * force.thrust;
   t.side = force.side;
   t.torque = f.dir * force.along * in.radius;
-  double strength = 0.0;
-  for (const RimStrip& s : rim) strength += s.strength;
-  t.mean_shear = strength > 0.0 ? force.shear / strength : 0.0;
+  const double scale = std::max({std::fabs(omega) * in.radius, std::fabs(f.speed), kTractionSpeedFloor});
+  t.shear = RimShear{
+      f.dir, in.radius, f.entry, f.sin_entry, omega * in.radius / scale, f.speed / scale, in.side_speed / scale};
   return t;
 }
 

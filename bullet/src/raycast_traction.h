@@ -48,13 +48,28 @@ struct TractionInput {
   bool hold = false;
 };
 
+/// Wong and Reece's shear displacement along the rim at the spin found, to read |j| at any
+/// angle of the rim: the soil there has been sheared by it (what loosens it, shear::loosening).
+struct RimShear {
+  double dir = 1.0;        ///< +1 rolling along the heading, -1 against it
+  double radius = 0.0;     ///< m
+  double entry = 0.0;      ///< rad, theta_1 in the rolling frame
+  double sin_entry = 0.0;  ///< sin(entry)
+  double rim = 0.0;        ///< the rim's speed over the slip's scale (1 for a driven wheel)
+  double ground = 0.0;     ///< the ground's speed over the slip's scale (1 - i for a driven wheel)
+  double side = 0.0;       ///< the sideways speed over the slip's scale
+  /// m, |j| at rim angle theta (rad from the bottom, positive ahead along the heading, as
+  /// RimStrip::theta): the rim_force's j; 0 for a default RimShear.
+  [[nodiscard]] double at(double theta) const;
+};
+
 struct Traction {
-  double spin = 0.0;        ///< rad/s, positive rolling forward
-  double slip = 0.0;        ///< Wong's i = 1 - v / (omega r) driving, omega r / v - 1 braking
-  double forward = 0.0;     ///< N on the chassis along the heading (thrust: the rim's shear, horizontal)
-  double side = 0.0;        ///< N on the chassis along the axle
-  double torque = 0.0;      ///< N m, the shear's moment about the axle (what drives the wheel)
-  double mean_shear = 0.0;  ///< m, |j| over the rim, weighted by the strips' strength
+  double spin = 0.0;     ///< rad/s, positive rolling forward
+  double slip = 0.0;     ///< Wong's i = 1 - v / (omega r) driving, omega r / v - 1 braking
+  double forward = 0.0;  ///< N on the chassis along the heading (thrust: the rim's shear, horizontal)
+  double side = 0.0;     ///< N on the chassis along the axle
+  double torque = 0.0;   ///< N m, the shear's moment about the axle (what drives the wheel)
+  RimShear shear;        ///< j along the rim at this spin
 };
 
 /// Below this (m/s) a slip velocity is measured against it rather than the wheel's speed:

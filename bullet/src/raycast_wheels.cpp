@@ -6,9 +6,9 @@
 
 #include "body_registry.h"
 #include "bt_convert.h"
+#include "raycast_wheel_grid.h"
 #include "shore/core/det_math.h"
 #include "shore/core/error.h"
-#include "shore/terrain/shear.h"
 #include "soft_ground.h"
 
 namespace shore::bullet {
@@ -59,17 +59,29 @@ namespace {
 
 /// The columns' push on the cylinder's sloped faces, resolved horizontally along `forward`:
 /// a column at distance s ahead of the wheel's centre meets the rim at slope s / sqrt(R^2 - s^2).
-double compaction_push(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const btVector3& centre,
-                       const btVector3& forward, double radius, double load) {
+double compaction_push(const terrain::Bearing& bearing, const ColumnOffsets& from_centre, const btVector3& forward,
+                       double radius, double load) {
   if (!(bearing.capacity > 0.0) || !std::isfinite(bearing.capacity)) return 0.0;
   const double share = load / bearing.capacity;  // the load the columns carry, in proportion to their capacity
   double push = 0.0;
   for (const terrain::ColumnForce& c : bearing.columns) {
-    const double dx = terrain.column_x(c.i) - double(centre.x()), dy = terrain.column_y(c.j) - double(centre.y());
+    const double dx = from_centre.dx(c.i), dy = from_centre.dy(c.j);
     const double s = std::clamp(dx * double(forward.x()) + dy * double(forward.y()), -0.95 * radius, 0.95 * radius);
     push -= share * c.force * s / std::sqrt(radius * radius - s * s);
   }
   return std::clamp(push, -load, load);
+}
+
+/// For each offset a in [0, n) of a row of columns, where the point a + shift falls: the
+/// cell to its left (clamped so that the cell and the next one are in the row) and its
+/// fraction from there.
+void axis_steps(int n, double shift, std::vector<AxisStep>& steps) {
+  steps.resize(static_cast<std::size_t>(n));
+  for (int a = 0; a < n; ++a) {
+    const double u = double(a) + shift;
+    const double f = std::clamp(floor_small(u), 0.0, double(n - 2));
+    steps[static_cast<std::size_t>(a)] = {static_cast<std::size_t>(f), u - f};
+  }
 }
 
 /// Most a column's surface tilts across the wheel in the wall push (a 72 degree wall: a rut's
@@ -89,7 +101,7 @@ constexpr double kMaxWallSlope = 3.0;
 /// found (`ray_normal`, the ground's coordinates), under the wheel's centre line: only the
 /// difference is returned, so a wheel on an even slope gets nothing more than Bullet gives it.
 double wall_push(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const GridRect& rect,
-                 const btVector3& centre, const btVector3& across, const btVector3& ray_normal, double load,
+                 const ColumnOffsets& from_centre, const btVector3& across, const btVector3& ray_normal, double load,
                  double radius, WallScratch& scratch) {
   if (!(bearing.capacity > 0.0) || !std::isfinite(bearing.capacity) || !(ray_normal.z() > 0)) return 0.0;
   const GridRect ring{rect.i0 - 1, rect.j0 - 1, rect.nx + 2, rect.ny + 2};  // each column's neighbours too
@@ -100,29 +112,29 @@ double wall_push(const terrain::Terrain& terrain, const terrain::Bearing& bearin
   // The surface's height one cell along `sign` across from a column's centre, bilinear between
   // the four columns around it: the slope across the wheel itself, not along the grid's axes
   // (a yawed wheel's rut front is a staircase across the grid, level along the wheel's axle).
-  auto beside = [&](std::int64_t i, std::int64_t j, double sign) {
-    const double u = double(i - ring.i0) + sign * ax, v = double(j - ring.j0) + sign * ay;
-    const double fu = std::clamp(std::floor(u), 0.0, double(ring.nx - 2));
-    const double fv = std::clamp(std::floor(v), 0.0, double(ring.ny - 2));
-    const double tu = u - fu, tv = v - fv;
-    const auto at = static_cast<std::size_t>(fv) * static_cast<std::size_t>(ring.nx) + static_cast<std::size_t>(fu);
-    const std::size_t up = at + static_cast<std::size_t>(ring.nx);
-    return (1 - tv) * ((1 - tu) * heights[at] + tu * heights[at + 1]) +
-           tv * ((1 - tu) * heights[up] + tu * heights[up + 1]);
+  // Where a point one cell across falls depends on the column's offset along each axis alone.
+  axis_steps(ring.nx, ax, scratch.u_ahead), axis_steps(ring.nx, -ax, scratch.u_behind);
+  axis_steps(ring.ny, ay, scratch.v_ahead), axis_steps(ring.ny, -ay, scratch.v_behind);
+  const auto nx = static_cast<std::size_t>(ring.nx);
+  auto beside = [&](const AxisStep& u, const AxisStep& v) {
+    const std::size_t at = v.cell * nx + u.cell, up = at + nx;
+    return (1 - v.t) * ((1 - u.t) * heights[at] + u.t * heights[at + 1]) +
+           v.t * ((1 - u.t) * heights[up] + u.t * heights[up + 1]);
   };
   // Strips one cell long along the heading (-ay, ax), as the rim's strips.
   const int half = static_cast<int>(std::ceil(radius / cell)) + 1;
   auto strip = [&](const terrain::ColumnForce& c) {
-    const double s =
-        (terrain.column_y(c.j) - double(centre.y())) * ax - (terrain.column_x(c.i) - double(centre.x())) * ay;
-    return static_cast<std::size_t>(std::clamp(static_cast<int>(std::lround(s / cell)), -half, half) + half);
+    const double s = from_centre.dy(c.j) * ax - from_centre.dx(c.i) * ay;
+    return static_cast<std::size_t>(std::clamp(static_cast<int>(round_half_away(s / cell)), -half, half) + half);
   };
   scratch.force.assign(static_cast<std::size_t>(2 * half + 1), 0.0);
   scratch.slope.assign(scratch.force.size(), 0.0);
   scratch.count.assign(scratch.force.size(), 0);
   for (const terrain::ColumnForce& c : bearing.columns) {
     const std::size_t b = strip(c);
-    const double slope = (beside(c.i, c.j, 1.0) - beside(c.i, c.j, -1.0)) / (2 * cell);
+    const auto x = static_cast<std::size_t>(c.i - ring.i0), y = static_cast<std::size_t>(c.j - ring.j0);
+    const double ahead = beside(scratch.u_ahead[x], scratch.v_ahead[y]);
+    const double slope = (ahead - beside(scratch.u_behind[x], scratch.v_behind[y])) / (2 * cell);
     scratch.force[b] += c.force;
     scratch.slope[b] += std::clamp(slope, -kMaxWallSlope, kMaxWallSlope);
     ++scratch.count[b];
@@ -135,18 +147,26 @@ double wall_push(const terrain::Terrain& terrain, const terrain::Bearing& bearin
   return std::clamp(push, -load, load);
 }
 
-/// Keeps the columns at and ahead of the wheel's lowest point along `heading`: a rolling
-/// wheel bears on its front arc (Bekker's rolling wheel); the soil behind it unloads as the
-/// rim rises away.
-void keep_front(const terrain::Terrain& terrain, const btVector3& centre, const btVector3& heading,
-                EnvelopeRaster& envelope) {
-  for (int b = 0; b < envelope.ny; ++b)
-    for (int a = 0; a < envelope.nx; ++a) {
-      const std::int64_t i = envelope.i0 + a, j = envelope.j0 + b;
-      const double dx = terrain.column_x(i) - double(centre.x()), dy = terrain.column_y(j) - double(centre.y());
-      if (dx * double(heading.x()) + dy * double(heading.y()) < 0.0)
-        envelope.lower[envelope.index(i, j)] = EnvelopeRaster::kNoLower;
-    }
+/// `envelope`'s columns at and ahead of the wheel's lowest point along `heading` into
+/// `front`, the others left uncovered: a rolling wheel bears on its front arc (Bekker's
+/// rolling wheel); the soil behind it unloads as the rim rises away. Only `lower` is kept
+/// (the bearing reads nothing else).
+void keep_front(const ColumnOffsets& from_centre, const btVector3& heading, const EnvelopeRaster& envelope,
+                EnvelopeRaster& front) {
+  static_cast<GridRect&>(front) = envelope;
+  front.lower.resize(envelope.lower.size());
+  front.upper.clear();
+  const double hx = double(heading.x()), hy = double(heading.y());
+  const auto nx = static_cast<std::size_t>(envelope.nx);
+  for (int b = 0; b < envelope.ny; ++b) {
+    const double along_y = from_centre.dy(envelope.j0 + b) * hy;
+    const double* in = envelope.lower.data() + static_cast<std::size_t>(b) * nx;
+    double* out = front.lower.data() + static_cast<std::size_t>(b) * nx;
+    for (std::size_t a = 0; a < nx; ++a)
+      out[a] = from_centre.dx(envelope.i0 + static_cast<std::int64_t>(a)) * hx + along_y < 0.0
+                   ? EnvelopeRaster::kNoLower
+                   : in[a];
+  }
 }
 
 struct RimSpan {
@@ -155,7 +175,7 @@ struct RimSpan {
 
 /// The rim in contact as strips one cell long along `forward`: each loaded column's shear
 /// strength, (c A + F tan phi) over the rim's slope there, summed into its strip.
-RimSpan rim_strips(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const btVector3& centre,
+RimSpan rim_strips(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const ColumnOffsets& from_centre,
                    const btVector3& forward, double radius, double share, std::vector<RimStrip>& rim) {
   const double cell = terrain.settings().cell, area = cell * cell, reach = 0.95 * radius;
   const int half = static_cast<int>(std::ceil(reach / cell));
@@ -168,9 +188,9 @@ RimSpan rim_strips(const terrain::Terrain& terrain, const terrain::Bearing& bear
   int front = -half - 1, back = half + 1;
   for (const terrain::ColumnForce& c : bearing.columns) {
     if (!(c.force > 0.0)) continue;
-    const double dx = terrain.column_x(c.i) - double(centre.x()), dy = terrain.column_y(c.j) - double(centre.y());
+    const double dx = from_centre.dx(c.i), dy = from_centre.dy(c.j);
     const double s = std::clamp(dx * double(forward.x()) + dy * double(forward.y()), -reach, reach);
-    const int b = std::clamp(static_cast<int>(std::lround(s / cell)), -half, half);
+    const int b = std::clamp(static_cast<int>(round_half_away(s / cell)), -half, half);
     const terrain::Material& m = one_material ? palette[0] : terrain.exposed_material(c.i, c.j);
     if (&m != last) last = &m, tan_phi = det::tan(m.friction_angle);
     rim[static_cast<std::size_t>(b + half)].strength += m.cohesion * area + share * c.force * tan_phi;
@@ -184,7 +204,7 @@ RimSpan rim_strips(const terrain::Terrain& terrain, const terrain::Bearing& bear
     s = std::clamp(s, -reach, reach);
     return det::atan2(s, std::sqrt(radius * radius - s * s));
   };
-  std::vector<RimStrip> kept;
+  std::size_t kept = 0;  // compacted in place: strip b is read before any later write reaches it
   for (int b = back; b <= front; ++b) {
     RimStrip strip = rim[static_cast<std::size_t>(b + half)];
     if (!(strip.strength > 0.0)) continue;
@@ -192,9 +212,9 @@ RimSpan rim_strips(const terrain::Terrain& terrain, const terrain::Bearing& bear
     strip.sin_theta = det::sin(strip.theta);
     strip.cos_theta = det::cos(strip.theta);
     strip.strength /= strip.cos_theta;  // the rim's area over the strip's plan area
-    kept.push_back(strip);
+    rim[kept++] = strip;
   }
-  rim.swap(kept);
+  rim.resize(kept);
   return {angle((front + 0.5) * cell), angle((back - 0.5) * cell)};
 }
 
@@ -307,25 +327,26 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   const btVector3 world_velocity = chassis->getVelocityInLocalPoint(p.at);
   // Rolling (faster than kRolling along its heading): the front arc bears; at rest, both.
   const double speed = double(world_velocity.dot(world_forward));
-  wheel.bearing_part = wheel.envelope;
+  wheel.from_centre.read(terrain, wheel.envelope, double(p.pose.getOrigin().x()), double(p.pose.getOrigin().y()));
   if (std::abs(speed) > kRolling)
-    keep_front(terrain, p.pose.getOrigin(), speed > 0 ? forward : -forward, wheel.bearing_part);
+    keep_front(wheel.from_centre, speed > 0 ? forward : -forward, wheel.envelope, wheel.bearing_part);
+  else
+    wheel.bearing_part = wheel.envelope;
   // One solve for both loads below: the second re-measures no offset the first measured.
   wheel.solve.reset(terrain, wheel.bearing_part);
   double offset = wheel.solve.offset(p.load);
   const terrain::Bearing* bearing = &wheel.solve.bearing(offset);
   if (vehicle.soil != nullptr) {
-    // Its traction; the soil it shears bears less (shear::loosening): a slipping wheel
-    // sinks deeper, pressed as if its load were 1 / s^n times larger.
+    // Its traction; the soil it shears bears less, each strip by its own shear (loosen).
     const terrain::Material& m =
         terrain.exposed_material(terrain.column_i(p.pose.getOrigin().x()), terrain.column_j(p.pose.getOrigin().y()));
-    const double s = terrain::shear::loosening(m, grip(terrain, *bearing, m, h, vehicle, k, p));
-    if (s < 1.0) {
-      offset = wheel.solve.offset(p.load / det::pow(s, m.bekker_n));
-      bearing = &wheel.solve.bearing(offset);
+    const RimShear shear = grip(terrain, *bearing, m, h, vehicle, k, p);
+    if (shear.radius > 0.0) {
+      offset = loosen(terrain, m, shear, wheel, p);
+      bearing = &wheel.loosened;
     }
   }
-  const double push = compaction_push(terrain, *bearing, p.pose.getOrigin(), forward, p.radius, p.load);
+  const double push = compaction_push(*bearing, wheel.from_centre, forward, p.radius, p.load);
   chassis->applyImpulse(world_forward * btScalar(push * h), p.at);
   steer_by_walls(terrain, *bearing, vehicle, k, p, h);
   wheel.push = push;
@@ -365,7 +386,7 @@ void RaycastWheels::steer_by_walls(const terrain::Terrain& terrain, const terrai
   const btVector3 ray_normal =
       framed_ ? to_ground_.getBasis() * info.m_raycastInfo.m_contactNormalWS : info.m_raycastInfo.m_contactNormalWS;
   const double push =
-      wall_push(terrain, bearing, wheel.envelope, p.pose.getOrigin(), across, ray_normal, p.load, p.radius, wheel.wall);
+      wall_push(terrain, bearing, wheel.envelope, wheel.from_centre, across, ray_normal, p.load, p.radius, wheel.wall);
   wheel.wall_push = push;
   if (push == 0.0) return;
   btRigidBody* chassis = vehicle.vehicle->getRigidBody();
@@ -376,14 +397,25 @@ void RaycastWheels::steer_by_walls(const terrain::Terrain& terrain, const terrai
   chassis->applyImpulse(world_across * btScalar(push * h), side_at);
 }
 
-double RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const terrain::Material& m,
-                           double h, Vehicle& vehicle, int k, const Pressed& p) {
-  if (!(bearing.capacity > 0.0) || !std::isfinite(bearing.capacity)) return 0.0;
+double RaycastWheels::loosen(const terrain::Terrain& terrain, const terrain::Material& m, const RimShear& shear,
+                             Wheel& wheel, const Pressed& p) {
+  wheel.loosening.build(terrain.settings().cell, wheel.bearing_part, wheel.from_centre, p.pose.getBasis().getColumn(1),
+                        p.radius, shear, m);
+  const double offset =
+      wheel.solve.offset(p.load, [&](const terrain::Bearing& b) { return wheel.loosening.capacity(b); });
+  wheel.loosening.apply(wheel.solve.bearing(offset), wheel.loosened);
+  return offset;
+}
+
+RimShear RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing,
+                             const terrain::Material& m, double h, Vehicle& vehicle, int k, const Pressed& p) {
+  if (!(bearing.capacity > 0.0) || !std::isfinite(bearing.capacity)) return {};
   Wheel& wheel = vehicle.wheels[static_cast<std::size_t>(k)];
   const double r = p.radius;
-  const btVector3 centre = p.pose.getOrigin(), forward = p.pose.getBasis().getColumn(1);
-  const RimSpan span = rim_strips(terrain, bearing, centre, forward, r, p.load / bearing.capacity, wheel.rim);
-  if (wheel.rim.empty()) return 0.0;
+  const btVector3 forward = p.pose.getBasis().getColumn(1);
+  const RimSpan span =
+      rim_strips(terrain, bearing, wheel.from_centre, forward, r, p.load / bearing.capacity, wheel.rim);
+  if (wheel.rim.empty()) return {};
   btWheelInfo& info = vehicle.vehicle->getWheelInfo(k);
   btRigidBody* chassis = vehicle.vehicle->getRigidBody();
   const btVector3 world_forward = p.world_pose.getBasis().getColumn(1),
@@ -417,7 +449,7 @@ double RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Beari
   info.m_rotation += btScalar((t.spin - in.forward_speed / r) * h);  // Bullet turned it as if it rolled
   info.m_deltaRotation = btScalar(t.spin * h);
   vehicle.soil->soil(k).last = WheelTraction{true, t.spin, t.slip, along / h, across / h, t.torque, 0.0};
-  return t.mean_shear;
+  return t.shear;
 }
 
 }  // namespace coupling_detail

@@ -25,6 +25,8 @@
 #include <BulletDynamics/Vehicle/btRaycastVehicle.h>
 
 #include "raycast_traction.h"
+#include "raycast_wheel_grid.h"
+#include "raycast_wheels_loosening.h"
 #include "shore/bullet/envelope.h"
 #include "shore/bullet/ground_frame.h"
 #include "shore/bullet/soil_vehicle.h"
@@ -51,9 +53,17 @@ void cast_wheel_rays(btRaycastVehicle& vehicle);
 /// (0, 10] m per wheel of the vehicle and every wheel's radius is positive and finite.
 void check_wheel_widths(const btRaycastVehicle& vehicle, std::span<const double> widths, const std::string& where);
 
+/// Where a point one cell across from a column falls along one axis (raycast_wheels.cpp, wall_push).
+struct AxisStep {
+  std::size_t cell = 0;  ///< the column before it along the axis, from the ring's first
+  double t = 0.0;        ///< its fraction from that column to the next
+};
+
 /// Scratch of the rut walls' push (raycast_wheels.cpp, wall_push).
 struct WallScratch {
-  std::vector<double> heights;       ///< the surface under the envelope and one column around it
+  std::vector<double> heights;  ///< the surface under the envelope and one column around it
+  /// Per column offset along x (u) and y (v): one cell ahead and behind along the axle.
+  std::vector<AxisStep> u_ahead, u_behind, v_ahead, v_behind;
   std::vector<double> force, slope;  ///< per strip along the heading: column forces, slopes across
   std::vector<int> count;            ///< per strip: loaded columns
 };
@@ -99,11 +109,14 @@ class RaycastWheels {
     EnvelopeRaster envelope;                  ///< the whole cylinder: what it presses
     EnvelopeRaster bearing_part;              ///< what bears its load (the front arc when rolling)
     terrain::BearingSolve solve;              ///< scratch: bearing_part's columns and capacities
+    ColumnOffsets from_centre;                ///< scratch: the envelope's columns from the wheel's centre
     terrain::Imprint imprint;
     double push = 0.0;       ///< N along the heading, last substep
     double wall_push = 0.0;  ///< N along the axle's horizontal direction, last substep (wall_push)
     WallScratch wall;
     std::vector<RimStrip> rim;  ///< scratch: the rim's strips in contact
+    RimLoosening loosening;     ///< scratch: a slipping wheel's loosened columns
+    terrain::Bearing loosened;  ///< the bearing it pressed with, loosened
   };
   [[nodiscard]] const Wheel* find(const btRaycastVehicle* vehicle, int k) const;
   struct Vehicle {
@@ -124,11 +137,15 @@ class RaycastWheels {
   /// The rut walls' push across the wheel (wall_push in the .cpp), applied to the chassis.
   void steer_by_walls(const terrain::Terrain& terrain, const terrain::Bearing& bearing, Vehicle& vehicle, int k,
                       const Pressed& p, double h);
+  /// A slipping wheel's soil loosened strip by strip (RimLoosening): the offset at which it
+  /// carries the load, its loosened bearing in the wheel's `loosened`.
+  double loosen(const terrain::Terrain& terrain, const terrain::Material& m, const RimShear& shear, Wheel& wheel,
+                const Pressed& p);
   /// A SoilVehicle's wheel: the soil's shear on its rim (material `m`, the one under the
   /// wheel's centre, gives K and the strength loss), applied to the chassis. Returns the
-  /// mean shear displacement under the rim, m.
-  double grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const terrain::Material& m, double h,
-              Vehicle& vehicle, int k, const Pressed& p);
+  /// shear displacement along the rim (a default RimShear, no shear, off the soil).
+  RimShear grip(const terrain::Terrain& terrain, const terrain::Bearing& bearing, const terrain::Material& m, double h,
+                Vehicle& vehicle, int k, const Pressed& p);
   std::vector<Vehicle> vehicles_;
   std::shared_ptr<SoftGround> ground_;
   bool framed_ = false;

@@ -113,26 +113,35 @@ void TerrainTiles::follow_map() {
 }
 
 TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
-  const int T = terrain_.settings().tile_columns;
+  const terrain::TerrainSettings& s = terrain_.settings();
+  const int T = s.tile_columns;
   const std::int64_t i0 = tx * T, j0 = ty * T;
+  // The vertices read in bulk: where no soil tile is yet, a column's heights come from the
+  // base source, which may be costly (a noise); read a column at a time (bedrock, base and
+  // height, then height again), it was asked four times instead of twice.
+  const GridRect vertices{i0, j0, T + 1, T + 1};
+  std::vector<double> heights(vertices.size()), base(vertices.size());
+  std::vector<std::uint8_t> mats(vertices.size());
+  terrain_.heights(vertices, heights);
+  terrain_.base_heights(vertices, base);
+  terrain_.material_indices(vertices, mats);
+  const std::span<const terrain::Material> palette = terrain_.palette();
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (int b = 0; b <= T; ++b)
-    for (int a = 0; a <= T; ++a) {
-      lo = std::min(lo, terrain_.bedrock(i0 + a, j0 + b));
-      hi = std::max(hi, std::max(terrain_.base_height(i0 + a, j0 + b), terrain_.height(i0 + a, j0 + b)));
-    }
+  for (std::size_t k = 0; k < vertices.size(); ++k) {
+    // Terrain::bedrock: a rigid entry on deforming ground has its bedrock at its surface.
+    const bool rigid_patch = palette[mats[k]].rigid && !s.material.rigid;
+    lo = std::min(lo, base[k] - (rigid_patch ? 0.0 : s.material.soil_depth));
+    hi = std::max(hi, std::max(base[k], heights[k]));
+  }
   HeightfieldTileSettings hs;
   hs.columns = T + 1;
-  hs.cell = terrain_.settings().cell;
+  hs.cell = s.cell;
   hs.origin_x = terrain_.column_x(i0);
   hs.origin_y = terrain_.column_y(j0);
   hs.min_height = lo - 0.01;
   hs.max_height = hi + settings_.headroom;
   hs.initial_height = hi;
   hs.friction = friction_;
-  std::vector<double> heights(static_cast<std::size_t>(T + 1) * static_cast<std::size_t>(T + 1));
-  for (int b = 0; b <= T; ++b)
-    for (int a = 0; a <= T; ++a) heights[static_cast<std::size_t>(b) * (T + 1) + a] = terrain_.height(i0 + a, j0 + b);
   return add(tx, ty, hs, heights);
 }
 

@@ -63,6 +63,15 @@ double BearingSolve::offset(double load) {
   return offset_for_load(st.columns, load, [&](double o) { return st.measure(o).capacity; });
 }
 
+double BearingSolve::offset(double load, const std::function<double(const Bearing&)>& capacity_of) {
+  Check{"terrain.BearingSolve.offset"}.non_negative("load", load);
+  State& st = *state_;
+  if (st.terrain == nullptr)
+    throw InvalidSetting("terrain.BearingSolve.offset", "no envelope", "must follow reset(terrain, envelope)");
+  if (st.columns.empty()) (void)st.measure(0.0);
+  return offset_for_load(st.columns, load, [&](double o) { return capacity_of(st.measure(o)); });
+}
+
 const Bearing& BearingSolve::bearing(double offset) const {
   const Bearing* b = state_->find(offset);
   if (b == nullptr)

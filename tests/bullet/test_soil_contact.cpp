@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -181,6 +182,11 @@ TEST(SoilContact, ADrivenWheelPullsAndSinksAsWongAndReecePredict) {
     c.slip = slip;
     const DrivenWheelResult r = run_driven_wheel(c);
     const WongReeceResult want = wong_reece(ref, slip);
+    std::printf(
+        "[ driven wheel ] slip %.1f: pull %.1f N (Wong-Reece %.1f), resistance / load %.3f (%.3f), sinkage %.4f m "
+        "(%.4f)\n",
+        slip, r.drawbar_pull, want.drawbar_pull, r.resistance / c.load, want.resistance / c.load, r.sinkage,
+        want.sinkage);
     EXPECT_LT(rel(r.torque, want.torque), 0.15) << "slip " << slip << ": torque " << r.torque << " vs " << want.torque;
     EXPECT_LT(std::abs(r.drawbar_pull - want.drawbar_pull) / c.load, 0.08)
         << "slip " << slip << ": pull " << r.drawbar_pull << " vs " << want.drawbar_pull;

@@ -45,8 +45,13 @@ Continuation continue_from(const std::string& name, double save_share, bool clea
   const SceneOptions opt = smoke_options(name);
   const SceneType& type = *find_scene(name);
   const int total = opt.substeps(), save_at = static_cast<int>(save_share * total) + nudge;
-  const std::filesystem::path file =
-      std::filesystem::path(testing::TempDir()) / ("shore_scene_checkpoint_" + name + ".ckp");
+  // Named by the test too: ctest runs each test in its own process, and two tests that
+  // continue the same scene at once must not write one file.
+  const testing::TestInfo& test = *testing::UnitTest::GetInstance()->current_test_info();
+  const std::string tag = std::string(test.test_suite_name()) + "." + test.name();
+  std::string file_name = "shore_scene_checkpoint_" + tag + "_" + name + "_" + std::to_string(nudge) + ".ckp";
+  std::replace(file_name.begin(), file_name.end(), '/', '_');
+  const std::filesystem::path file = std::filesystem::path(testing::TempDir()) / file_name;
   Continuation out;
 
   const std::unique_ptr<Scene> reference = type.create(opt);

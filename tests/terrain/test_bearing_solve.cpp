@@ -106,3 +106,25 @@ TEST(BearingSolve, BadUseIsRefusedByName) {
   const double o = solve.offset(50.0);
   EXPECT_THROW((void)solve.bearing(o + 1e-3), shore::InvalidSetting);  // never measured
 }
+
+// The caller's capacity (a share of each column's force, as a slipping wheel's loosened
+// soil): a plate whose columns bear half their Bekker force sinks as Bekker's plate under
+// twice the pressure, and its offset is the plain solve's for twice the load.
+TEST(BearingSolve, ColumnsBearingHalfSinkAsUnderTwiceTheLoad) {
+  TerrainSettings s;
+  s.material = Material::sand();
+  const Terrain t(s);
+  const shore::EnvelopeRaster env = box_envelope(-15, -15, kPlate, kPlate, 0.0);
+  BearingSolve solve;
+  solve.reset(t, env);
+  const auto half = [](const Bearing& b) {
+    double sum = 0.0;
+    for (const ColumnForce& c : b.columns) sum += 0.5 * c.force;
+    return sum;
+  };
+  const double p = 20e3;  // Pa
+  const double o = solve.offset(p * 0.09, half);
+  EXPECT_NEAR(o, bekker::plate_sinkage(s.material, 0.3, 2 * p), 2e-7);
+  EXPECT_GE(half(solve.bearing(o)), p * 0.09);
+  EXPECT_EQ(o, t.bearing_offset(env, 2 * p * 0.09));
+}

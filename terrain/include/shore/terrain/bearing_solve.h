@@ -7,6 +7,7 @@
 // solve measured last, not a fresh one. Results are bit-identical to
 // Terrain::bearing_offset(envelope, load) and Terrain::bearing(envelope, that offset).
 
+#include <functional>
 #include <memory>
 
 #include "shore/core/envelope.h"
@@ -30,6 +31,11 @@ class BearingSolve {
   /// Terrain::bearing_offset's. Throws InvalidSetting on a negative or NaN load, or before
   /// the first reset.
   [[nodiscard]] double offset(double load);
+  /// The same search, the soil's capacity at each offset measured taken as
+  /// `capacity_of(bearing(offset))` (N, growing with the offset as the plain capacity does):
+  /// the caller's share of each column's force, as a slipping wheel's loosened soil. The
+  /// offsets the plain solve measured are not measured again.
+  [[nodiscard]] double offset(double load, const std::function<double(const Bearing&)>& capacity_of);
   /// What the soil bears with the envelope lowered by an offset offset() returned since the
   /// last reset: exactly Terrain::bearing(envelope, offset). Valid until the next call of
   /// offset() or reset(). Throws InvalidSetting for an offset no solve measured.
