@@ -49,6 +49,12 @@ class DeltaServer {
     soil_.paint_rect({0, 0, 6, 3}, 2);
     soil_.paint_disc(0.2, 0.2, 0.08, 1);
   }
+  /// After paint(): lower layers under the gravel and the mud, for the seeds of deltas that
+  /// carry layers (version 5).
+  void layer() {
+    soil_.paint_layer_rect({0, 0, 6, 3}, 1, 0.01);
+    soil_.paint_layer_disc(0.2, 0.2, 0.08, 0, 0.005);
+  }
   [[nodiscard]] const terrain::Terrain& soil() const { return soil_; }
   [[nodiscard]] std::uint64_t first_generation() const { return first_generation_; }
   /// Generation 0 to first_generation(), quantised by the default 1e-4 m.

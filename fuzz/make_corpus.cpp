@@ -5,9 +5,11 @@
 // checksum the fuzz entry appends), PNG heightmaps of every colour type stb_image_write
 // writes plus a 16-bit one, raw float32 maps, checkpoints of a small coupled world (a
 // float build writes them: a double build refuses their precision), material maps (palette
-// texts, index PNGs and raw indices; painted terrain states of format 6), soil deltas of a
-// small server (delta_server.h: a snapshot and increments, quantised and exact, painted (with
-// the map, version 3), whole and as payloads), recordings' layouts (whole, without the checksum, as a raw payload).
+// texts, index PNGs and raw indices; painted terrain states of format 6; painted, layered
+// states with spray of a painted material, format 8), soil deltas of a small server
+// (delta_server.h: a snapshot and increments, quantised and exact, painted (with the map,
+// version 3), layered (version 5), whole and as payloads), recordings' layouts (whole, without the checksum, as a raw
+// payload).
 #include <stb_image_write.h>
 #include <zstd.h>
 
@@ -82,6 +84,42 @@ shore::terrain::Terrain painted_state() {
   return t;
 }
 
+/// A 3 x 3 column plate 1 mm into the soil over rows [j0, j0 + 3), moving at 1 m/s along x
+/// from column i0 for `steps` steps of 1/240 s, then lifted: soil clings to it (spray).
+inline void slide_plate(shore::terrain::Terrain& t, int i0, int j0, int steps) {
+  for (int k = 0; k <= steps; ++k) {  // the last step lifts it 5 cm: the soil it loaded goes with it
+    shore::EnvelopeRaster env;
+    env.resize(i0 + k, j0, 3, 3, false);
+    for (double& v : env.lower) v = k < steps ? -0.001 : 0.05;
+    shore::terrain::Imprint im{&env};
+    im.velocity.x = 1.0;
+    im.centre.x = t.column_x(i0 + k + 1), im.centre.y = t.column_y(j0 + 1), im.centre.z = 0.05;
+    im.key = 3;
+    t.step({&im, 1}, 1.0 / 240);
+  }
+}
+
+/// Format 8: the painted terrain with layers in depth (a crust of the soft entry over
+/// gravel under its disc, gravel over entry 0 under its rectangle) and soil of the soft
+/// entry clinging to a plate that slid over it (spray carrying palette indices).
+shore::terrain::Terrain layered_state() {
+  shore::terrain::Terrain t = painted_state();
+  t.paint_layer_disc(0.1, 0.1, 0.08, 2, 0.004);
+  t.paint_layer_rect({2, -2, 3, 3}, 0, 0.01);
+  slide_plate(t, -1, 1, 4);
+  // Soil of an entry other than 0 clings: a palette of entry 0 alone is refused.
+  bool refused = false;
+  try {
+    shore::terrain::Terrain copy = shore::terrain::Terrain::load_bytes(t.save_bytes(), "the layered seed");
+    copy.set_palette({copy.settings().material});
+  } catch (const std::exception&) {
+    refused = true;
+  }
+  if (!(t.volume().clinging > 0.0) || !refused)
+    throw std::runtime_error("no soil of a painted entry clings to the layered seed's plate");
+  return t;
+}
+
 /// A version 5 file as version 3 wrote it: no precision field (bytes 16-19), no
 /// idle_tile_steps (the 4 bytes after active_reach), no spray settings and no
 /// unload_modulus (after the material's shear fields) and no spray state (after the eroding
@@ -137,6 +175,10 @@ void terrain_seeds(const fs::path& dir) {
   const Bytes v6 = painted_state().save_bytes();
   write(dir / "seed_v6_painted", entry_input(true, v6));
   write(dir / "seed_v6_painted_whole", entry_input(false, v6));
+  const Bytes v8 = layered_state().save_bytes();
+  if (v8.size() < 12 || v8[8] != 8) throw std::runtime_error("the layered seed soil was not written as version 8");
+  write(dir / "seed_v8_layered_spray", entry_input(true, v8));
+  write(dir / "seed_v8_layered_spray_whole", entry_input(false, v8));
 }
 
 /// material_map's inputs: palette texts (mode 0), index PNGs (1: CRCs fixed; 2: as is) and
@@ -217,6 +259,12 @@ void soil_delta_seeds(const fs::path& dir) {
   const Bytes painted = shore::terrain::SoilDelta::encode(server.soil(), since, {.quantum = 0.0});
   write(dir / "seed_painted_exact", entry_input(true, painted));
   write(dir / "seed_painted_payload", payload_input(painted, 6));
+  // Version 5: the repainted tiles' layers travel too.
+  server.layer();
+  const Bytes layered = shore::terrain::SoilDelta::encode(server.soil(), since, {.quantum = 0.0});
+  if (layered.size() < 12 || layered[8] != 5) throw std::runtime_error("the layered seed delta was not version 5");
+  write(dir / "seed_layered_exact", entry_input(true, layered));
+  write(dir / "seed_layered_payload", payload_input(layered, 10));
 }
 
 /// A small recording's layout (shore/bullet/recording_file.h): one soil, one water, two

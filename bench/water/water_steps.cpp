@@ -5,6 +5,7 @@
 //   water_steps <3d|vertical> <nodes per side> <tile> <steps> [sleep|dense] [automatic|generic|avx2|avx512|unfused]
 //   water_steps lake <tile> <substeps>
 //   water_steps asleep <tile> <substeps>
+//   water_steps resting <nodes per side> <steps>
 //
 // The paper's lattice at dt 0.3 with a drop in the middle (the benchmark's kernel case);
 // `sleep` turns sleeping tiles on (off by default, as in shore-bench's kernel cases); the
@@ -40,18 +41,19 @@ water::SurfaceSettings lake_settings(int tile) {
 int lake(int tile, int substeps) {
   water::Surface surf(lake_settings(tile));
   const double dt = 1.0 / 60;
-  long long node_substeps = 0;  // awake nodes summed over the substeps (tile_stats: a pass over the tiles)
+  long long node_substeps = 0;    // awake nodes summed over the substeps (tile_stats: a pass over the tiles)
+  long long kernel_substeps = 0;  // the surface's own substeps (the guard may split a step)
   for (int k = 0; k < substeps; ++k) {
     const double x = 500.0 + 2.0 * dt * k, y = 500.0;
     surf.wake(x - 1.5, y - 1.0, x + 1.5, y + 1.0);
     surf.disturb(water::Disturbance::point_velocity(x, y, 0.3, -0.05));
     node_substeps += surf.tile_stats().awake_nodes;
-    surf.step(dt);
+    kernel_substeps += surf.step(dt).substeps;
   }
   const water::TileStats st = surf.tile_stats();
-  std::printf("%016llx awake nodes %lld, awake node-substeps %lld\n",
-              static_cast<unsigned long long>(surf.state_hash()), static_cast<long long>(st.awake_nodes),
-              node_substeps);
+  std::printf("%016llx awake nodes %lld, awake node-substeps %lld, kernel substeps %lld\n",
+              static_cast<unsigned long long>(surf.state_hash()), static_cast<long long>(st.awake_nodes), node_substeps,
+              kernel_substeps);
   return 0;
 }
 
@@ -76,7 +78,30 @@ int asleep(int tile, int substeps) {
 }
 }  // namespace
 
+/// The benchmark's 3-D kernel case (256 x 256, drop in the middle, dt 0.3, sleeping off): the
+/// fraction of nodes whose velocity is exactly 0 after a number of steps, i.e. whose
+/// position the step leaves unchanged (a spring between two such nodes keeps its length).
+int resting(int n, int steps) {
+  water::SurfaceSettings s;
+  s.nx = s.ny = n;
+  s.lattice = water::LatticeParameters::paper();
+  s.threads = 1;
+  s.sleep.enabled = false;
+  water::Surface surf(s);
+  surf.disturb(water::Disturbance::point_height(0.5 * (n - 1), 0.5 * (n - 1), 3.0, 1.0));
+  for (int k = 1; k <= steps; ++k) {
+    surf.step(0.3);
+    if (k % (steps / 10 > 0 ? steps / 10 : 1) != 0) continue;
+    long still = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) still += surf.velocity(i, j).squaredNorm() == 0.0;
+    std::printf("step %d: %.4f of the nodes did not move\n", k, double(still) / (double(n) * n));
+  }
+  return 0;
+}
+
 int main(int argc, char** argv) {
+  if (argc == 4 && std::strcmp(argv[1], "resting") == 0) return resting(std::atoi(argv[2]), std::atoi(argv[3]));
   if (argc == 4 && std::strcmp(argv[1], "lake") == 0) return lake(std::atoi(argv[2]), std::atoi(argv[3]));
   if (argc == 4 && std::strcmp(argv[1], "asleep") == 0) return asleep(std::atoi(argv[2]), std::atoi(argv[3]));
   if (argc < 5) {

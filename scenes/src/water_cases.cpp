@@ -160,12 +160,15 @@ LakeResult run_lake(const LakeCase& c) {
   btTransform pose = boat->getWorldTransform();
   const auto steps = static_cast<long>(std::lround(c.seconds / c.substep));
   const long every = std::max(1L, static_cast<long>(std::lround(1.0 / c.substep)));
-  double busy = 0.0;
+  double busy = 0.0, awake_sum = 0.0;  // awake nodes summed over the substeps since the last sample
   for (long k = 1; k <= steps; ++k) {
     pose.setOrigin(pose.getOrigin() + btVector3(btScalar(c.speed * c.substep), 0, 0));
     boat->getMotionState()->setWorldTransform(pose);
+    const auto awake_before = double(lake->tile_stats().awake_nodes);
     world.step(c.substep);
     busy += coupling.stats().coupling_seconds + coupling.stats().water_seconds;
+    // The nodes a substep stepped: between those awake before it and after it (a wake grows).
+    awake_sum += 0.5 * (awake_before + double(lake->tile_stats().awake_nodes));
     if (k % every == 0 || k == steps) {
       const water::TileStats st = lake->tile_stats();
       LakeSample sample;
@@ -173,9 +176,11 @@ LakeResult run_lake(const LakeCase& c) {
       sample.awake_nodes = st.awake_nodes;
       sample.woken_nodes = st.ever_awake * st.tile * st.tile;
       sample.memory_bytes = st.memory_bytes;
-      sample.step_ms = 1e3 * busy / double(k % every == 0 ? every : k % every);
+      const double substeps = double(k % every == 0 ? every : k % every);
+      sample.step_ms = 1e3 * busy / substeps;
+      sample.mean_awake_nodes = awake_sum / substeps;
       out.samples.push_back(sample);
-      busy = 0.0;
+      busy = awake_sum = 0.0;
     }
   }
   return out;

@@ -76,8 +76,9 @@ StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, std::span<c
   const double compacted_height = displace_.run(region_, contour_.levels(), imprint_.displaced(), alpha_);
   StepReport report;
   if (!region_.layer.empty()) region_.expose_layers();  // erosion gives by the exposed layer's limits
-  report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, palette, false);
+  report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, palette, false, true);
   loosen_deposits(region_);
+  erode_.settle_layers(region_);  // the boundaries of the layers erosion changed, from the loosened sinkage
   region_.scatter(store);
   record(s, halo_columns(region), std::chrono::duration<double>(Clock::now() - t0).count());
 
@@ -97,6 +98,7 @@ StepReport Pipeline::relax(TileStore& store, const TerrainSettings& s, std::span
   if (!region_.layer.empty()) region_.expose_layers();
   StepReport report;
   report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, palette, true);
+  erode_.settle_layers(region_);
   region_.scatter(store);
   record(s, halo_columns(region), std::chrono::duration<double>(Clock::now() - t0).count());
   report.active_columns = region.nx * region.ny;

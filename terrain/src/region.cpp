@@ -42,9 +42,11 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
       std::memcpy(&mat[dst], &t.material[src], static_cast<std::size_t>(run.count));
   });
   ht_orig = ht;
+  relayered.clear();
 }
 
 void Region::expose_layers() {
+  upper = mat;
   for (std::size_t k = 0; k < layer.size(); ++k) mat[k] = layer[k].exposed(mat[k], sink[k]);
 }
 
@@ -62,8 +64,36 @@ void Region::scatter(TileStore& store) const {
     std::memcpy(&t.sinkage[dst], &sink[src], sizeof(double) * run.count);
     if (first >= 0) store.mark_changed(run.key, t, GridRect::spanning(run.li + first, run.lj, run.li + last, run.lj));
   });
+  if (!relayered.empty()) scatter_relayered(store);
 }
 
-std::size_t Region::bytes() const { return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat, layer); }
+void Region::scatter_relayered(TileStore& store) const {
+  bool any_layer = false;
+  for (const Relayered& c : relayered) {
+    const std::int64_t i = si0 + static_cast<std::int64_t>(c.k % static_cast<std::size_t>(w));
+    const std::int64_t j = sj0 + static_cast<std::int64_t>(c.k / static_cast<std::size_t>(w));
+    Tile& t = store.tile(store.key_of(i, j));
+    const std::size_t local = store.local(i, j);
+    if (t.material.empty() && c.index != 0) t.material.assign(t.height.size(), 0);
+    if (!t.material.empty()) t.material[local] = c.index;
+    if (c.layer.layered() && !t.layered()) {
+      t.layer_boundary.assign(t.height.size(), kNoLayer);
+      t.layer_lower.assign(t.height.size(), 0);
+    }
+    if (t.layered()) {
+      t.layer_boundary[local] = c.layer.boundary;
+      t.layer_lower[local] = c.layer.layered() ? c.layer.lower : std::uint8_t{0};
+    }
+    any_layer = any_layer || c.layer.layered();
+    if (c.index == 0) t.normalize_material();  // a tile's map is dropped once all 0, as painting does
+    if (!c.layer.layered()) t.normalize_layers();
+    store.mark_painted(t);
+  }
+  if (any_layer) store.mark_layered();
+}
+
+std::size_t Region::bytes() const {
+  return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat, layer, upper, relayered);
+}
 
 }  // namespace shore::terrain

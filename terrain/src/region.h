@@ -38,6 +38,17 @@ struct Region {
   /// Layering per column (layers.h); empty while the terrain has no layer (then every
   /// stage takes the path it took before layers).
   std::vector<ColumnLayer> layer;
+  /// The painted (upper) index per column, kept by expose_layers before it overwrites mat;
+  /// empty without layers.
+  std::vector<std::uint8_t> upper;
+  /// A column whose painted index or layer erosion changed (soil of another material laid
+  /// on it, or its top layer given away): what scatter writes to its tile.
+  struct Relayered {
+    std::size_t k = 0;       ///< region column
+    std::uint8_t index = 0;  ///< its painted index
+    ColumnLayer layer;       ///< its layering (not layered: kNoLayer)
+  };
+  std::vector<Relayered> relayered;  ///< set by erosion, cleared by gather
 
   /// Takes the rectangle (halo included) and the team its rows run on (nullptr: serial).
   void prepare(const GridRect& with_halo, Team* rows_team);
@@ -45,9 +56,12 @@ struct Region {
   /// (which needs with_materials).
   void gather(TileStore& store, const BedrockDepth& depth, bool with_materials, bool with_layers);
   /// Replaces mat with each column's exposed index (its lower layer's where its sinkage is
-  /// beyond its crust): what erosion reads. mat is not scattered, so nothing else sees it.
+  /// beyond its crust): what erosion reads; the painted index goes to upper. mat is not
+  /// scattered, so nothing else sees it.
   void expose_layers();
-  void scatter(TileStore& store) const;  ///< and marks what changed
+  /// Heights and sinkage back into the tiles, marking what changed; and the relayered
+  /// columns' painted indices and layers (their tiles marked painted, the store layered).
+  void scatter(TileStore& store) const;
 
   [[nodiscard]] std::size_t size() const noexcept { return static_cast<std::size_t>(w) * static_cast<std::size_t>(h); }
   [[nodiscard]] std::size_t at(int x, int y) const noexcept {
@@ -73,6 +87,9 @@ struct Region {
     });
   }
   [[nodiscard]] std::size_t bytes() const;
+
+ private:
+  void scatter_relayered(TileStore& store) const;
 };
 
 }  // namespace shore::terrain

@@ -400,9 +400,11 @@ void read_layers(RawReader& r, DecodedPaint& p, std::size_t columns) {
   p.lower.resize(columns);
   for (std::size_t c = 0; c < columns; ++c) {
     const double d = p.boundary[c];
-    if (d != kNoLayer && !(d >= 0.0 && d <= 2e7))
+    // (Below 0: a top layer erosion laid on loose soil, whose sinkage is negative.)
+    if (d != kNoLayer && !(d >= -2e7 && d <= 2e7))
       refuse("corrupt (tile (" + std::to_string(p.key.tx) + ", " + std::to_string(p.key.ty) + ") column " +
-             std::to_string(c) + " has layer boundary " + detail::to_text(d) + " m; allowed: 0 to 2e7 or +infinity)");
+             std::to_string(c) + " has layer boundary " + detail::to_text(d) +
+             " m; allowed: -2e7 to 2e7 or +infinity)");
     if (values[c] >= static_cast<std::uint64_t>(Terrain::kMaxMaterials))
       refuse("corrupt (tile (" + std::to_string(p.key.tx) + ", " + std::to_string(p.key.ty) + ") column " +
              std::to_string(c) + " holds lower index " + std::to_string(values[c]) + ")");

@@ -6,8 +6,13 @@
 // Choices where the paper leaves room:
 // - with a material map, the giver's material sets the limits (theta_in, theta_out,
 //   theta_stop) and sigma of its pairs: soil slides by its own law, whatever it slides onto
-//   (sand slumping onto gravel keeps sand's angle); what lands on a column becomes that
-//   column's material (the map belongs to the columns), so volume is conserved in total;
+//   (sand slumping onto gravel keeps sand's angle). The moved soil keeps its material, so
+//   volume is conserved per material (stage_erode_layers.cpp): a giver gives only its top
+//   layer; what lands on a column of the same top material thickens that layer, and soil
+//   of another material becomes a top layer over an unlayered column (one such material
+//   per column and pass: the smallest index among its neighbours'); a layered column takes
+//   its lower material under its top layer, and soil of a third material not at all. A pair
+//   that may not flow is held, like a pair under a body;
 // - a pair is too steep when h_ij - h_kl exceeds dist * tan(theta) (theta_in if column kl
 //   lies under a body, theta_out otherwise); the column moves sigma times the average
 //   EXCESS over that limit, shared equally among its too-steep downhill neighbours, so
@@ -74,8 +79,14 @@ class ErodeStage {
   /// ignored). Returns the number of passes that moved soil.
   /// Each giver moves soil by its own material's limits and sigma (region.mat indexes
   /// palette; empty: palette[0] everywhere), whatever its receivers' materials.
+  /// loosens: the step will loosen the deposits after erosion (pipeline.cpp) and has
+  /// region.ht_pressed; relax does not. Then settle_layers.
   int run(Region& region, std::span<const unsigned char> flags, std::span<const double> body, const TerrainSettings& s,
-          std::span<const Material> palette, bool to_rest);
+          std::span<const Material> palette, bool to_rest, bool loosens = false);
+  /// After run (and after the deposits' loosening, which moves sinkage): the columns whose
+  /// layering erosion changed, into region.relayered, each layer's boundary from its final
+  /// sinkage. Nothing without a map.
+  void settle_layers(Region& region) const;
   /// Set by run when it stopped at max_erosion_passes with slopes still too steep: the
   /// bounding box of the last pass's givers that had such a pair (global columns), to carry
   /// on with next step; else nx = 0.
@@ -99,6 +110,14 @@ class ErodeStage {
   void mark_receivers(const Region& region);
   void move_soil(Region& region);
   void clear_givers(const Region& region);
+  // layers (with a map only: stage_erode_layers.cpp)
+  void start_layers(const Region& region, std::span<const Material> palette, bool loosens);
+  /// Whether column j, of another top material than m, takes soil of material m this pass
+  /// (stage_erode_layers.cpp).
+  [[nodiscard]] bool takes(const Region& region, std::size_t j, std::uint8_t m) const;
+  /// After move_soil: each changed column's top layer and material (what it gave was its
+  /// top layer; what it took, its top material or a new top layer).
+  void track_layers(Region& region);
 
   /// The limits of palette[0], except least_give_in: the least over the palette, as a
   /// column's cap must count givers of any material.
@@ -111,6 +130,22 @@ class ErodeStage {
   std::vector<unsigned char> mask_;      ///< a giver's too-steep directions (bit d)
   std::vector<unsigned char> cover_;     ///< 1 under a body: selects the limit toward it
   std::vector<unsigned char> row_flow_;  ///< per row: something flows this pass
+  // Per column, with a map only: its layering as erosion keeps it (region.mat is the top).
+  enum Kind : unsigned char { kUnlayered = 0, kCrust = 1, kBroken = 2 };
+  std::vector<unsigned char>
+      kind_;                   ///< kUnlayered: one material; kCrust: top layer over lower_; kBroken: lower_ exposed
+  std::vector<double> thick_;  ///< kCrust: top layer's thickness, m; kBroken: boundary - sinkage (< 0)
+  std::vector<std::uint8_t> lower_;       ///< kCrust, kBroken: the lower index
+  std::vector<unsigned char> spent_;      ///< a crust giver gives its whole top layer this pass
+  std::vector<unsigned char> rigid_;      ///< per palette entry: rigid (takes any soil as its own)
+  std::vector<unsigned char> row_cross_;  ///< per row: a pair of another material or a layer moves soil
+  ColumnBits dirty_;                      ///< layering changed by this erosion
+  struct Retop {
+    std::size_t k;
+    std::uint8_t top;
+  };
+  std::vector<Retop> retop_;  ///< track_layers' new top materials, applied after the pass
+  bool map_ = false;
   // Column sets.
   ColumnBits givable_;       ///< may give: interior, not in contact
   ColumnBits overhang_;      ///< under a body, not in contact: capped

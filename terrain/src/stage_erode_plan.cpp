@@ -43,7 +43,7 @@ ErosionLimits ErosionLimits::from(const TerrainSettings& s, const Material& m) {
 }
 
 int ErodeStage::run(Region& region, std::span<const unsigned char> flags, std::span<const double> body,
-                    const TerrainSettings& s, std::span<const Material> palette, bool to_rest) {
+                    const TerrainSettings& s, std::span<const Material> palette, bool to_rest, bool loosens) {
   lim_ = ErosionLimits::from(s, palette[0]);
   lims_.clear();
   if (!region.mat.empty())
@@ -53,6 +53,8 @@ int ErodeStage::run(Region& region, std::span<const unsigned char> flags, std::s
         lim_.least_give_in[kind] = std::min(lim_.least_give_in[kind], lims_.back().least_give_in[kind]);
     }
   assign_roles(region, flags);
+  map_ = !region.mat.empty();
+  if (map_) start_layers(region, palette, loosens);
   int passes = 0;
   while (passes < s.max_erosion_passes) {
     plan_pass(passes, to_rest);
@@ -65,6 +67,7 @@ int ErodeStage::run(Region& region, std::span<const unsigned char> flags, std::s
     // Every giver and receiver takes what it gave off and gathers what it was given.
     mark_receivers(region);
     move_soil(region);
+    if (map_) track_layers(region);
     clear_givers(region);
     ++passes;
   }
@@ -136,9 +139,10 @@ void ErodeStage::find_still_flowing(const Region& region, int passes, int max_pa
 }
 
 std::size_t ErodeStage::bytes() const {
-  return capacity_bytes(q_, out_, cap_, mask_, cover_, row_flow_, lims_) + givable_.bytes() + overhang_.bytes() +
-         cand_.bytes() + changed_.bytes() + givers_.bytes() + near_.bytes() + recap_.bytes() + steep_givers_.bytes() +
-         live_.bytes();
+  return capacity_bytes(q_, out_, cap_, mask_, cover_, row_flow_, lims_, kind_, thick_, lower_, spent_, rigid_,
+                        row_cross_, retop_) +
+         dirty_.bytes() + givable_.bytes() + overhang_.bytes() + cand_.bytes() + changed_.bytes() + givers_.bytes() +
+         near_.bytes() + recap_.bytes() + steep_givers_.bytes() + live_.bytes();
 }
 
 }  // namespace shore::terrain

@@ -10,8 +10,9 @@ namespace shore::terrain {
 
 // A pair is too steep when the drop exceeds its limit by more than eps; the giver moves
 // sigma times the average excess, split equally among those neighbours and never more than
-// it holds above bedrock, and only what the receivers' caps let through. Sets q_, mask_,
-// out_, givers_ and steep_givers_; returns whether anything flows.
+// it holds above bedrock (with a map: than its top layer), and only what the receivers'
+// caps let through. Sets q_, mask_, out_, givers_ and steep_givers_ (with a map spent_ and
+// row_cross_ too); returns whether anything flows.
 bool ErodeStage::compute_shares(const Region& region) {
   return region.mat.empty() ? compute_shares_as<false>(region) : compute_shares_as<true>(region);
 }
@@ -25,10 +26,11 @@ bool ErodeStage::compute_shares_as(const Region& region) {
   region.for_rows(0, h, [&](int y) {
     std::uint64_t* giver_row = givers_.row(y);
     std::uint64_t* steep_row = steep_givers_.row(y);
-    bool flow = false;
+    bool flow = false, cross = false;
     cand_.for_each_in_row(y, [&](int x) {
       const std::size_t k = region.at(x, y);
       const ErosionLimits& lim = kMap ? lims_[region.mat[k]] : one;
+      [[maybe_unused]] const std::uint8_t top = kMap ? region.mat[k] : 0;
       const double h0 = region.ht[k];
       const NeighbourExtremes lowest =
           neighbour_extremes(&region.ht[k], w, [](double a, double b) { return std::min(a, b); });
@@ -36,6 +38,7 @@ bool ErodeStage::compute_shares_as(const Region& region) {
       double excess_sum = 0.0;
       int count = 0;
       unsigned mk = 0, steep_mk = 0;
+      [[maybe_unused]] bool mixed = false;  // a pair of another material or a layered column
 #pragma GCC unroll 8
       for (int d = 0; d < 8; ++d) {
         const std::size_t nk = k + off[d];  // interior: neighbours exist
@@ -43,6 +46,15 @@ bool ErodeStage::compute_shares_as(const Region& region) {
         const double diff = h0 - region.ht[nk];
         const int c = cover_[nk];
         if (!(diff > lim.give[d][c])) continue;
+        if constexpr (kMap) {
+          // The soil keeps its material: a neighbour that may not take it holds the pair.
+          // (A rigid column's loose soil lands as the receiver's own, as before maps.)
+          if (region.mat[nk] != top) {
+            if (!rigid_[top] && !takes(region, nk, top)) continue;
+            mixed = true;
+          }
+          mixed = mixed || kind_[nk] != kUnlayered;
+        }
         excess_sum += diff - lim.thr[d][c];
         ++count;
         mk |= 1u << d;
@@ -51,6 +63,13 @@ bool ErodeStage::compute_shares_as(const Region& region) {
       if (count == 0) return;
       double share = lim.sigma * (excess_sum / count) / count;
       share = std::min(share, std::max(0.0, h0 - region.bed[k]) / count);
+      bool spent = false;  // the top layer bounds the share: all of it goes
+      if constexpr (kMap) {
+        if (kind_[k] == kCrust && !(share < std::max(0.0, thick_[k]) / count)) {
+          share = std::max(0.0, thick_[k]) / count;
+          spent = true;
+        }
+      }
       if (!(share > 0.0)) return;
       double total = 0.0;
       bool steep_here = false;
@@ -59,6 +78,7 @@ bool ErodeStage::compute_shares_as(const Region& region) {
         if (!(mk & (1u << d))) continue;
         const double cap = cap_[k + off[d]];
         total += std::min(share, cap);
+        if constexpr (kMap) spent = spent && cap >= share;
         // A pair whose flow the body caps (the column under it is full) stays steep: the
         // body holds that slope, erosion cannot relax it.
         steep_here = steep_here || ((steep_mk & (1u << d)) && cap >= share);
@@ -67,11 +87,16 @@ bool ErodeStage::compute_shares_as(const Region& region) {
       q_[k] = share;
       mask_[k] = static_cast<unsigned char>(mk);
       out_[k] = total;
+      if constexpr (kMap) {
+        spent_[k] = spent;
+        cross = cross || mixed || kind_[k] != kUnlayered;
+      }
       giver_row[x >> 6] |= ColumnBits::bit(x);
       flow = true;
       if (steep_here) steep_row[x >> 6] |= ColumnBits::bit(x);
     });
     row_flow_[static_cast<std::size_t>(y)] = flow;  // only this row's task writes it
+    if constexpr (kMap) row_cross_[static_cast<std::size_t>(y)] = cross;
   });
   bool flow = false;
   for (int y = 0; y < h; ++y) flow = flow || row_flow_[static_cast<std::size_t>(y)];

@@ -177,7 +177,8 @@ SavedLayers read_layers(Reader& hr, int n) {
   return layers;
 }
 
-/// A boundary beyond this (m of sinkage) is corrupt: a painted depth is at most 1e6 m.
+/// A boundary beyond this (m of sinkage, either way) is corrupt: a painted depth is at most
+/// 1e6 m. (Below 0: a top layer erosion laid on loose soil, whose sinkage is negative.)
 constexpr double kMaxBoundary = 2e7;
 
 /// Gives the saved tiles their layers (the palette already set), stamped as painted.
@@ -190,9 +191,9 @@ void apply_layers(const Reader& hr, SavedLayers& layers, std::size_t palette_siz
     for (std::size_t c = 0; c < e.boundary.size(); ++c) {
       const double d = e.boundary[c];
       if (d == kNoLayer) continue;
-      if (!(d >= 0.0 && d <= kMaxBoundary))
+      if (!(d >= -kMaxBoundary && d <= kMaxBoundary))
         hr.fail(where + ": column " + std::to_string(c) + " has boundary " + detail::to_text(d) +
-                " m (allowed: 0 to 2e7, or +infinity; corrupt)");
+                " m (allowed: -2e7 to 2e7, or +infinity; corrupt)");
       if (e.lower[c] >= palette_size)
         hr.fail(where + ": column " + std::to_string(c) + " holds lower index " + std::to_string(e.lower[c]) +
                 ", beyond the palette (0 to " + std::to_string(palette_size - 1) + ")");

@@ -100,12 +100,15 @@ TEST(SoilDeltaMaterialMap, ExactReplicaHasTheServersMapAndHash) {
   EXPECT_EQ(run.replica.state_hash(), run.server.state_hash());
   ASSERT_EQ(run.replica.palette().size(), 3u);
   EXPECT_EQ(run.replica.palette()[2].bekker_kphi, gravel().bekker_kphi);
-  // Only the deltas after a paint carry the map (version 3: no layer, the plough throws no
-  // spray of another material than entry 0); the others are version 2.
+  // Only the deltas after a paint carry the map (version 3 before any layer: the plough
+  // throws no spray of another material than entry 0); the others are version 2, until the
+  // plough's slumping rims carry soil across the mud hole's border, laid there as a layer of
+  // its own material (steps 20 on): from then on each delta that repaints is version 5.
   ASSERT_EQ(run.versions.size(), 12u);
   EXPECT_EQ(run.versions[0], 3u);
   EXPECT_EQ(run.versions[1], 2u);
-  EXPECT_EQ(run.versions[6], 3u);  // steps 30 to 34: the repaint
+  EXPECT_EQ(run.versions[4], 5u);  // steps 20 to 24: the first layers erosion laid
+  EXPECT_EQ(run.versions[6], 5u);  // steps 30 to 34: the repaint
   EXPECT_GT(run.painted_tiles, 0u);
   // The map is read as the server reads it: a plate on the replica's gravel, mud and sand
   // sinks by each one's Bekker law, as on the server (unploughed columns, j 28 to 37).

@@ -287,7 +287,9 @@ TEST(SprayMaterials, AFileWithASprayIndexBeyondItsPaletteIsRefusedByName) {
 TEST(SprayMaterials, APaletteTooShortForTheSprayIsRefused) {
   Terrain t = half_sand_half_mud();
   run_wheel(t, 0, 120);
-  t.paint_rect({-60, 0, 400, 60}, 0);  // nothing painted 1 is left, but mud still flies
+  // Nothing painted 1 is left (the mud laid over sand by erosion cleared too), but mud still flies.
+  t.paint_rect({-60, -60, 400, 120}, 0);
+  t.clear_layers({-60, -60, 400, 120});
   const std::string m = message_of<shore::InvalidSetting>([&] { t.set_palette({Material::sand()}); });
   EXPECT_NE(m.find("largest index of soil in spray (1)"), std::string::npos) << m;
   EXPECT_EQ(t.palette().size(), 2u);

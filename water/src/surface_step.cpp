@@ -130,7 +130,15 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
         std::copy_n(t.uy.data() + o, t.w, by + r * bs);
       }
     }
-  for (int side = 0; side < kernel::kSides; ++side) k.sides[side] = side_of(t, side);
+  // Each neighbour looked up once, for its side's state and for its edge below.
+  const TileData* around[kernel::kSides];
+  for (int side = 0; side < kernel::kSides; ++side) {
+    const int tx = t.tx + kSideDx[side], ty = t.ty + kSideDy[side];
+    around[side] = inside(tx, ty) ? find(tx, ty) : nullptr;
+    k.sides[side] = !inside(tx, ty)                       ? kernel::Side::absent
+                    : around[side] && around[side]->awake ? kernel::Side::live
+                                                          : kernel::Side::frozen;
+  }
   // The ghost ring: each side from the facing edge of the neighbour (zeros where there is
   // none: rest, or beyond the grid, where the kernel ignores them).
   struct Ghost {
@@ -139,25 +147,28 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
     int first;                // first entry of that edge
     int count;                // entries
     std::ptrdiff_t at, step;  // block offset of the first ghost and the step between ghosts
-    std::size_t node, along;  // storage index of the tile's node the first ghost's spring
-                              // reaches, and the step between those nodes
+    std::size_t own;          // entry of the tile's own edge snapshot (edges[cur]) the first
+                              // ghost's spring reaches; the next ones follow it
   };
   const std::ptrdiff_t hs = static_cast<std::ptrdiff_t>(t.h) * bs;
-  const std::size_t top = t.at(0, t.h - 1, T), right = static_cast<std::size_t>(t.w - 1),
-                    row = static_cast<std::size_t>(T);
+  const auto edge = [this](int side) { return static_cast<std::size_t>(side * T); };
+  const std::size_t right = static_cast<std::size_t>(t.w - 1);
   const Ghost ghosts[] = {
-      {kernel::kSouth, kernel::kNorth, 0, t.w, -bs, 1, 0, 1},
-      {kernel::kNorth, kernel::kSouth, 0, t.w, hs, 1, top, 1},
-      {kernel::kWest, kernel::kEast, 0, t.h, -1, bs, 0, row},
-      {kernel::kEast, kernel::kWest, 0, t.h, t.w, bs, right, row},
-      {kernel::kSouthWest, kernel::kNorth, T - 1, 1, -bs - 1, 1, 0, 0},
-      {kernel::kSouthEast, kernel::kNorth, 0, 1, -bs + t.w, 1, right, 0},
-      {kernel::kNorthWest, kernel::kSouth, T - 1, 1, hs - 1, 1, top, 0},
-      {kernel::kNorthEast, kernel::kSouth, 0, 1, hs + t.w, 1, top + right, 0},
+      {kernel::kSouth, kernel::kNorth, 0, t.w, -bs, 1, edge(kernel::kSouth)},
+      {kernel::kNorth, kernel::kSouth, 0, t.w, hs, 1, edge(kernel::kNorth)},
+      {kernel::kWest, kernel::kEast, 0, t.h, -1, bs, edge(kernel::kWest)},
+      {kernel::kEast, kernel::kWest, 0, t.h, t.w, bs, edge(kernel::kEast)},
+      {kernel::kSouthWest, kernel::kNorth, T - 1, 1, -bs - 1, 1, edge(kernel::kSouth)},
+      {kernel::kSouthEast, kernel::kNorth, 0, 1, -bs + t.w, 1, edge(kernel::kSouth) + right},
+      {kernel::kNorthWest, kernel::kSouth, T - 1, 1, hs - 1, 1, edge(kernel::kNorth)},
+      {kernel::kNorthEast, kernel::kSouth, 0, 1, hs + t.w, 1, edge(kernel::kNorth) + right},
   };
+  // The tile's own nodes along each side, from its edge snapshot: the same values as its
+  // storage (every change of the storage rewrites edges[cur]), in four short rows rather
+  // than two columns of the storage with each entry on a cache line of its own.
+  const TileData::Edges& mine = t.edges[static_cast<std::size_t>(t.cur)];
   for (const Ghost& g : ghosts) {
-    const TileData* n =
-        k.sides[g.side] == kernel::Side::absent ? nullptr : find(t.tx + kSideDx[g.side], t.ty + kSideDy[g.side]);
+    const TileData* n = k.sides[g.side] == kernel::Side::absent ? nullptr : around[g.side];
     const TileData::Edges* e = n ? &n->edges[static_cast<std::size_t>(n->cur)] : nullptr;
     const std::size_t first = static_cast<std::size_t>(g.facing * T + g.first);
     copy_edge(e ? &e->z : nullptr, first, g.count, bz + g.at, g.step);
@@ -168,10 +179,10 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
     k.boundary_activity[g.side] = 0.0;
     if (k.sides[g.side] == kernel::Side::absent) continue;
     // The steps across this side: a tile at rest next to water at another level is not at rest.
-    double step = largest_step(bz + g.at, g.step, t.uz.data() + g.node, g.along, g.count);
+    double step = largest_step(bz + g.at, g.step, mine.z.data() + g.own, 1, g.count);
     if (full)
-      step = std::max(step, static_cast<double>(largest_step_xy(bx + g.at, by + g.at, g.step, t.ux.data() + g.node,
-                                                                t.uy.data() + g.node, g.along, g.count)));
+      step = std::max(step, static_cast<double>(largest_step_xy(bx + g.at, by + g.at, g.step, mine.x.data() + g.own,
+                                                                mine.y.data() + g.own, 1, g.count)));
     k.boundary_activity[g.side] = step / sleep_u;
   }
   return k;

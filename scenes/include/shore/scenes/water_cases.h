@@ -70,11 +70,12 @@ struct LakeCase {
   int threads = 1;
 };
 struct LakeSample {
-  double t = 0.0;                ///< s
-  std::int64_t awake_nodes = 0;  ///< nodes in awake tiles
-  std::int64_t woken_nodes = 0;  ///< nodes in tiles ever woken
-  std::size_t memory_bytes = 0;  ///< the surface's memory
-  double step_ms = 0.0;          ///< ms, mean wall time of water + coupling per substep since the last sample
+  double t = 0.0;                 ///< s
+  std::int64_t awake_nodes = 0;   ///< nodes in awake tiles at the sample
+  double mean_awake_nodes = 0.0;  ///< nodes awake during the substeps since the last sample, their mean
+  std::int64_t woken_nodes = 0;   ///< nodes in tiles ever woken
+  std::size_t memory_bytes = 0;   ///< the surface's memory
+  double step_ms = 0.0;           ///< ms, mean wall time of water + coupling per substep since the last sample
 };
 struct LakeResult {
   double creation_ms = 0.0;            ///< ms to construct the surface

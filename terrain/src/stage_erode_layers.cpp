@@ -1,0 +1,150 @@
+// Erosion with a material map: the moved soil keeps its material, so volume is conserved per
+// material (docs/terrain.md, "Erosion across a border"). A column's soil above bedrock is its
+// top layer (its painted index, `thick` m down from its top) over its lower layer (the rest),
+// or one material where it is not layered; the crust's thickness is its boundary less its
+// sinkage (layers.h), so whatever changes the sinkage (pressing, loosening a deposit) and the
+// height together keeps the layers, and only what erosion moves needs keeping here:
+// - a giver gives only its top layer (its share is bounded by it); a crust given away whole
+//   leaves the column its lower material, unlayered;
+// - a column takes its own top material onto its top layer (a broken-through column's is its
+//   lower one: it stays broken through);
+// - an unlayered column also takes soil of another material, which becomes its top layer, of
+//   one material per pass: the smallest palette index among its neighbours of another
+//   material (decided from the heights and materials as the pass found them, so threads and
+//   the order of givers never matter);
+// - a layered column takes its lower material too, into its lower layer: the top layer keeps
+//   its thickness and rides up on it (two layers are all a column holds, so the deposit
+//   cannot lie above a top layer of another material);
+// - soil of a third material (neither of a layered column's two) is held at its edge;
+// - a rigid column (a road) takes any soil as its own loose soil, and soil it gives lands as
+//   the receiver's own, as before: its bedrock is read by its painted index everywhere
+//   (bearing, contact), so it can neither hold a top layer of a deforming material nor lay a
+//   rigid one. Volume per material is conserved wherever no rigid column gives or takes.
+
+#include <algorithm>
+#include <bit>
+
+#include "neighbours.h"
+#include "stage_erode.h"
+
+namespace shore::terrain {
+
+void ErodeStage::start_layers(const Region& region, std::span<const Material> palette, bool loosens) {
+  const std::size_t size = region.size();
+  kind_.assign(size, kUnlayered);
+  thick_.resize(size);
+  lower_.resize(size);
+  spent_.resize(size);
+  rigid_.clear();
+  for (const Material& m : palette) rigid_.push_back(m.rigid ? 1 : 0);
+  row_cross_.assign(static_cast<std::size_t>(region.h), 0);
+  dirty_.reset(region.w, region.h);
+  for (std::size_t k = 0; k < region.layer.size(); ++k) {
+    const ColumnLayer& layer = region.layer[k];
+    if (!layer.layered()) continue;
+    lower_[k] = layer.lower;
+    if (region.sink[k] > layer.boundary) {
+      kind_[k] = kBroken;
+      thick_[k] = layer.boundary - region.sink[k];
+    } else {
+      // A step loosens what displacement laid on the column after erosion: that soil is the
+      // top layer's already (its sinkage will drop by it).
+      const double laid = loosens ? std::max(0.0, region.ht[k] - region.ht_pressed[k]) : 0.0;
+      kind_[k] = kCrust;
+      thick_[k] = layer.boundary - (region.sink[k] - laid);
+    }
+  }
+}
+
+bool ErodeStage::takes(const Region& region, std::size_t j, std::uint8_t m) const {
+  if (kind_[j] == kCrust) return m == lower_[j];  // into its lower layer, under its top one
+  if (kind_[j] == kBroken) return false;          // its top is its lower layer: m is a third
+  const std::uint8_t own = region.mat[j];
+  if (rigid_[own]) return true;
+  // The smallest index among its neighbours of another material than its own.
+  const int x = static_cast<int>(j % static_cast<std::size_t>(region.w));
+  const int y = static_cast<int>(j / static_cast<std::size_t>(region.w));
+  unsigned smallest = 256;
+  for (int d = 0; d < 8; ++d) {
+    const int nx = x + kDx[d], ny = y + kDy[d];
+    if (nx < 0 || ny < 0 || nx >= region.w || ny >= region.h) continue;
+    const std::uint8_t other = region.mat[region.at(nx, ny)];
+    if (other != own) smallest = std::min<unsigned>(smallest, other);
+  }
+  return m == smallest;
+}
+
+void ErodeStage::track_layers(Region& region) {
+  bool cross = false;
+  for (const unsigned char c : row_cross_) cross = cross || c != 0;
+  if (!cross) return;  // every pair moved soil between unlayered columns of one material
+  const int w = region.w, h = region.h;
+  retop_.clear();
+  for (int y = 0; y < h; ++y)
+    near_.for_each_in_row(y, [&](int x) {
+      const std::size_t k = region.at(x, y);
+      const std::uint8_t top = region.mat[k];
+      // What it took: of its top material, and of another (one material: see takes).
+      double same = 0.0, other = 0.0;
+      std::uint8_t other_index = top;
+      if (cap_[k] > 0.0)
+        for (int d = 0; d < 8; ++d) {
+          const int nx = x + kDx[d], ny = y + kDy[d];
+          if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+          const std::size_t nk = region.at(nx, ny);
+          if (!(mask_[nk] & (1u << (d ^ 1)))) continue;
+          const double got = std::min(q_[nk], cap_[k]);
+          if (region.mat[nk] == top || rigid_[region.mat[nk]]) {  // a road's loose soil lands as the receiver's
+            same += got;
+          } else {
+            other += got;
+            other_index = region.mat[nk];
+          }
+        }
+      const double gave = out_[k];
+      if (gave == 0.0 && same == 0.0 && other == 0.0) return;
+      switch (kind_[k]) {
+        case kCrust: {  // what it took of its lower material went under its top layer
+          // (spent_ is this pass's only for a column that gave: out_ is cleared after each pass.)
+          const double left = gave > 0.0 && spent_[k] ? 0.0 : thick_[k] - gave;
+          thick_[k] = left + same;
+          if (!(thick_[k] > 0.0)) {  // its top layer all given away: its lower material, unlayered
+            kind_[k] = kUnlayered;
+            retop_.push_back({k, lower_[k]});
+          }
+          dirty_.set(x, y);
+          break;
+        }
+        case kBroken:  // all of it the lower material: only the boundary follows the sinkage
+          dirty_.set(x, y);
+          break;
+        default:
+          if (other > 0.0 && !rigid_[top]) {  // a new top layer of the other material
+            kind_[k] = kCrust;
+            lower_[k] = top;
+            thick_[k] = other;
+            retop_.push_back({k, other_index});
+            dirty_.set(x, y);
+          }
+      }
+    });
+  for (const Retop& r : retop_) region.mat[r.k] = r.top;
+}
+
+void ErodeStage::settle_layers(Region& region) const {
+  if (!map_) return;
+  for (int y = 0; y < region.h; ++y)
+    dirty_.for_each_in_row(y, [&](int x) {
+      const std::size_t k = region.at(x, y);
+      Region::Relayered c{k, region.mat[k], ColumnLayer{}};
+      if (kind_[k] != kUnlayered) {
+        // The boundary is where the sinkage meets the top layer's bottom: the sinkage now
+        // (after any loosening) plus its thickness.
+        c.layer = {region.sink[k] + thick_[k], lower_[k]};
+        if (kind_[k] == kBroken) c.index = region.upper[k];
+      }
+      region.relayered.push_back(c);
+    });
+}
+
+}  // namespace shore::terrain

@@ -1,0 +1,161 @@
+// The vertical-only tile kernels one tile at a time (water/src/kernel.h, internal): every
+// compiled variant of the fused kernel against the unfused reference on the same tile, its
+// new state and everything it reports (the exact sums and each activity: the whole tile,
+// each side, each corner). The surface-level tests see the activity only through which
+// tiles sleep, where a lower or higher value rarely changes a decision; here any bit of it
+// counts. Tiles with and without fixed nodes, with and without the open boundary's sponge,
+// every side live, frozen or absent, even and odd row counts, and a spike (one node far from
+// the others) at every node of the tile in turn, so that each spring in turn is the largest.
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "kernel.h"
+#include "quantum.h"
+
+namespace shore::water::kernel {
+namespace {
+
+constexpr int kStride = 16;
+
+struct TileCase {
+  int w = kStride, h = kStride;
+  bool fixed_nodes = false;  // a few fixed nodes (the masked passes)
+  bool sponge = false;
+  Side sides[kSides] = {};
+};
+
+/// One tile's inputs: its storage, its flags and sponge, the block with the ghost ring.
+struct TileInputs {
+  std::vector<double> uz, vz, block, sigma;
+  std::vector<std::uint8_t> flags;
+};
+
+Coefficients coefficients() {
+  const quantum::Quantum qu = quantum::Quantum::for_scale(0.05, quantum::kKeepBitsHeight);
+  const quantum::Quantum qv = quantum::Quantum::for_scale(2.0, quantum::kKeepBitsVelocity);
+  Coefficients k;
+  k.kappa = 0.21;
+  k.beta = 0.013;
+  k.dt_z = 1.0 / 240;
+  k.u_magic = qu.magic;
+  k.u_inv = qu.inv;
+  k.u_keep = qu.keep;
+  k.v_magic = qv.magic;
+  k.v_inv = qv.inv;
+  k.v_keep = qv.keep;
+  k.activity = true;
+  k.u_scale = 1.0 / (1e-5 * 0.05);
+  k.v_scale = 1.0 / 1e-4;
+  return k;
+}
+
+/// Heights and velocities of a few hundred quanta, one node `spike` (row-major over the
+/// tile and its ring) far higher, and the ring's values from the same field.
+TileInputs inputs(const TileCase& c, int spike, std::mt19937& rng, const Coefficients& k) {
+  const double qu = 1.0 / k.u_inv, qv = 1.0 / k.v_inv;
+  std::uniform_int_distribution<int> small(-300, 300);
+  const int bs = kStride + 2;
+  TileInputs in;
+  in.uz.assign(kStride * kStride, 0.0);
+  in.vz.assign(kStride * kStride, 0.0);
+  in.flags.assign(kStride * kStride, 0);
+  in.block.assign(static_cast<std::size_t>(bs) * bs, 0.0);
+  for (int r = -1; r <= c.h; ++r)
+    for (int i = -1; i <= c.w; ++i) {
+      const bool at_spike = (r + 1) * (c.w + 2) + (i + 1) == spike;
+      const double u = (at_spike ? 40000 : small(rng)) * qu;
+      in.block[static_cast<std::size_t>((r + 1) * bs + i + 1)] = u;  // the unfused kernel reads the interior here
+      if (r >= 0 && r < c.h && i >= 0 && i < c.w) {
+        in.uz[static_cast<std::size_t>(r * kStride + i)] = u;
+        in.vz[static_cast<std::size_t>(r * kStride + i)] = small(rng) * qv;
+      }
+    }
+  if (c.fixed_nodes)
+    for (const int n : {0, kStride + 3, 5 * kStride + 5, (c.h - 1) * kStride + c.w - 1})
+      if (n % kStride < c.w && n / kStride < c.h) in.flags[static_cast<std::size_t>(n)] = 2;
+  if (c.sponge) {
+    in.sigma.assign(kStride * kStride, 0.0);
+    for (int n = 0; n < kStride * kStride; ++n) in.sigma[static_cast<std::size_t>(n)] = 0.25 * (n % 7);
+  }
+  return in;
+}
+
+struct Stepped {
+  TileResult result;
+  std::vector<double> uz, vz;
+};
+
+Stepped step(Variant v, const TileCase& c, TileInputs in, const Coefficients& k) {
+  std::vector<unsigned char> scratch(workspace_bytes(kStride) + 64);
+  void* ws = reinterpret_cast<void*>((reinterpret_cast<std::uintptr_t>(scratch.data()) + 63) & ~std::uintptr_t{63});
+  Tile t;
+  t.w = c.w;
+  t.h = c.h;
+  t.stride = kStride;
+  t.block_stride = kStride + 2;
+  t.uz = in.uz.data();
+  t.vz = in.vz.data();
+  t.flags = in.flags.data();
+  t.bz = in.block.data() + t.block_stride + 1;
+  t.sponge = c.sponge ? in.sigma.data() : nullptr;
+  for (int s = 0; s < kSides; ++s) t.sides[s] = c.sides[s];
+  Stepped out;
+  out.result = step_vertical(v, t, k, ws);
+  out.uz = in.uz;
+  out.vz = in.vz;
+  return out;
+}
+
+void expect_same(const Stepped& a, const Stepped& b, const std::string& what) {
+  EXPECT_TRUE(a.result.v_before == b.result.v_before) << what;
+  EXPECT_TRUE(a.result.damped == b.result.damped) << what;
+  EXPECT_TRUE(a.result.v_after == b.result.v_after) << what;
+  EXPECT_TRUE(a.result.rise == b.result.rise) << what;
+  EXPECT_EQ(a.result.activity, b.result.activity) << what;
+  for (int s = 0; s < kSides; ++s)
+    EXPECT_EQ(a.result.side_activity[s], b.result.side_activity[s]) << what << ", side " << s;
+  EXPECT_EQ(a.uz, b.uz) << what;
+  EXPECT_EQ(a.vz, b.vz) << what;
+}
+
+TEST(VerticalTileKernels, ReportTheUnfusedKernelsSumsAndActivityToTheBit) {
+  std::vector<Variant> fused{Variant::generic};
+  if (avx2_available()) fused.push_back(Variant::avx2);
+  if (avx512_available()) fused.push_back(Variant::avx512);
+  const Coefficients k = coefficients();
+  std::mt19937 rng(7);
+  int compared = 0;
+  for (const int h : {16, 15, 2, 1})
+    for (const int w : {16, 13, 1})
+      for (const bool fixed_nodes : {false, true})
+        for (const bool sponge : {false, true}) {
+          TileCase c;
+          c.w = w;
+          c.h = h;
+          c.fixed_nodes = fixed_nodes;
+          c.sponge = sponge;
+          for (int s = 0; s < kSides; ++s) c.sides[s] = static_cast<Side>((s + w + h) % 3);
+          const int nodes = (w + 2) * (h + 2);
+          for (int spike = 0; spike < nodes; ++spike) {
+            const TileInputs in = inputs(c, spike, rng, k);
+            const Stepped reference = step(Variant::unfused, c, in, k);
+            for (const Variant v : fused) {
+              expect_same(step(v, c, in, k), reference,
+                          "variant " + std::to_string(static_cast<int>(v)) + ", " + std::to_string(w) + " x " +
+                              std::to_string(h) + (fixed_nodes ? ", fixed nodes" : "") + (sponge ? ", sponge" : "") +
+                              ", spike " + std::to_string(spike));
+              ++compared;
+            }
+            if (::testing::Test::HasFailure()) return;  // one case's messages are enough
+          }
+        }
+  EXPECT_GT(compared, 1000);
+}
+
+}  // namespace
+}  // namespace shore::water::kernel
