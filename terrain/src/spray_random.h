@@ -5,6 +5,8 @@
 // order bodies are given in. The mixing function is SplitMix64's finaliser (Steele, Lea &
 // Flood 2014), a bijection of 64-bit words whose outputs pass BigCrush.
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace shore::terrain {
@@ -15,6 +17,15 @@ namespace shore::terrain {
   z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
   return z ^ (z >> 31);
 }
+
+/// mix64(k) for the first kMixedCounters counters k = candidate * 16 + draw: a piece's
+/// candidates number from 0, so most draws find their counter's mix here (the same word).
+inline constexpr std::size_t kMixedCounters = 1024;
+inline constexpr std::array<std::uint64_t, kMixedCounters> kMixedCounter = [] {
+  std::array<std::uint64_t, kMixedCounters> t{};
+  for (std::size_t k = 0; k < kMixedCounters; ++k) t[k] = mix64(k);
+  return t;
+}();
 
 /// The random numbers of one (seed, step, body, piece) tuple; uniform(candidate, draw) is
 /// the draw-th number of the candidate-th particle.
@@ -34,7 +45,8 @@ class CounterRandom {
   }
   /// In [0, 1), 53 random bits.
   [[nodiscard]] double uniform(std::uint64_t candidate, std::uint64_t draw) const noexcept {
-    const std::uint64_t bits = mix64(key_ ^ mix64(candidate * 16u + draw));
+    const std::uint64_t counter = candidate * 16u + draw;
+    const std::uint64_t bits = mix64(key_ ^ (counter < kMixedCounters ? kMixedCounter[counter] : mix64(counter)));
     return static_cast<double>(bits >> 11) * 0x1.0p-53;
   }
   /// In [-1, 1).

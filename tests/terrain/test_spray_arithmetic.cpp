@@ -192,3 +192,20 @@ TEST(SprayArithmetic, TileKeysAndLocalIndicesAreTheStoresOwn) {
     }
   }
 }
+
+TEST(SprayArithmetic, CounterNumbersAreTheHashChainWithOrWithoutTheTable) {
+  // A candidate's draw is mix64(key ^ mix64(candidate * 16 + draw)), the counter's mix read
+  // from a table for the first counters: the same numbers either side of the table's end.
+  std::mt19937_64 gen(5);
+  for (int trial = 0; trial < 20; ++trial) {
+    const std::uint64_t seed = gen(), step = gen() % 1000, body = gen(), piece = gen();
+    const CounterRandom rnd(seed, step, body, piece);
+    const std::uint64_t key = mix64(mix64(mix64(mix64(seed) ^ step) ^ body) ^ piece);
+    for (std::uint64_t candidate = 0; candidate < 80; ++candidate)
+      for (std::uint64_t draw = 0; draw < 8; ++draw) {
+        const std::uint64_t bits = mix64(key ^ mix64(candidate * 16u + draw));
+        ASSERT_EQ(rnd.uniform(candidate, draw), static_cast<double>(bits >> 11) * 0x1.0p-53)
+            << "candidate " << candidate << ", draw " << draw;
+      }
+  }
+}
