@@ -10,14 +10,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <vector>
 
+#include "shore/terrain/height_source.h"
 #include "spray_cling.h"
 #include "spray_flight.h"
 #include "spray_ground.h"
 #include "spray_motion.h"
 #include "spray_tile_index.h"
+#include "spray_tops.h"
 #include "tile_store.h"
 
 using namespace shore::terrain;
@@ -207,5 +210,44 @@ TEST(SprayArithmetic, CounterNumbersAreTheHashChainWithOrWithoutTheTable) {
         ASSERT_EQ(rnd.uniform(candidate, draw), static_cast<double>(bits >> 11) * 0x1.0p-53)
             << "candidate " << candidate << ", draw " << draw;
       }
+  }
+}
+
+// The spray's landing bounds over blocks of columns: kept across steps by pieces of 8 x 8
+// columns (whatever the window's block side), they are what reading every column of the
+// blocks gives, and never below a column they cover: over untiled ground (a lattice-noise
+// base), over tiles with raised columns, and across windows of four block sides sharing
+// one keep. A tile side that is no multiple of 8 reads blocks as before.
+TEST(SprayArithmetic, BlockBoundsKeptByPiecesAreTheColumnsHighest) {
+  for (const int side : {64, 48, 20}) {
+    TerrainSettings s;
+    s.cell = 0.05;
+    s.tile_columns = side;
+    s.base = std::make_shared<LatticeNoise>(LatticeNoiseSettings{
+        .seed = 3, .spacing = 1.0, .amplitude = 0.3, .mean = 0.0, .octaves = 2, .persistence = 0.5});
+    TileStore store(s);
+    for (const TileKey key : {TileKey{0, 0}, TileKey{1, 0}, TileKey{-1, -1}}) {
+      Tile& t = store.tile(key);
+      for (std::size_t k = 0; k < t.height.size(); k += 37) t.height[k] += 0.4;  // raised columns
+    }
+    UntiledTops kept;
+    std::mt19937_64 gen(11);
+    for (const std::int64_t width : {40, 300, 1000, 2500}) {  // block sides 8, 8, 16, 64
+      const std::int64_t i0 = -width / 2 - 13, j0 = -width / 3 - 5;
+      SoilTops by_pieces(store, &kept), by_columns(store, nullptr);
+      by_pieces.cover(i0, j0, i0 + width, j0 + width);
+      by_columns.cover(i0, j0, i0 + width, j0 + width);
+      for (int q = 0; q < 12; ++q) {
+        const std::int64_t a = i0 + static_cast<std::int64_t>(gen() % static_cast<std::uint64_t>(width - 20));
+        const std::int64_t b = j0 + static_cast<std::int64_t>(gen() % static_cast<std::uint64_t>(width - 20));
+        const std::int64_t c = a + static_cast<std::int64_t>(gen() % 20), d = b + static_cast<std::int64_t>(gen() % 20);
+        const double bound = by_pieces.bound(a, b, c, d);
+        ASSERT_EQ(bound, by_columns.bound(a, b, c, d)) << side << " " << width << " " << a << " " << b;
+        const shore::GridRect r{a, b, static_cast<int>(c - a + 1), static_cast<int>(d - b + 1)};
+        std::vector<double> h(static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny));
+        store.read(r, h, false);
+        ASSERT_GE(bound, *std::max_element(h.begin(), h.end())) << side << " " << width;
+      }
+    }
   }
 }
