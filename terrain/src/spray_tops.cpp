@@ -78,12 +78,6 @@ double SoilTops::compute_block(std::int64_t bx, std::int64_t by) const {
     if (const Tile* t = store_.find(key); t != nullptr)
       return b = highest(t->height.data() + index_.local(r.i0, r.j0), static_cast<std::size_t>(n), side);
   }
-  if (untiled_ != nullptr && n % kPiece == 0) {  // pieces each in one tile: the maximum of theirs
-    double top = -std::numeric_limits<double>::infinity();
-    for (int y = 0; y < side; y += kPiece)
-      for (int x = 0; x < side; x += kPiece) top = std::max(top, piece_top(r.i0 + x, r.j0 + y));
-    return b = top;
-  }
   const bool base_only = untiled_ != nullptr && untiled(r.i0, r.j0, side);
   if (base_only)
     if (const double* kept = untiled_->find(r.i0, r.j0, side)) return b = *kept;
@@ -92,18 +86,6 @@ double SoilTops::compute_block(std::int64_t bx, std::int64_t by) const {
   b = highest(heights_.data(), static_cast<std::size_t>(side), side);
   if (base_only) untiled_->keep(r.i0, r.j0, side, b);
   return b;
-}
-
-double SoilTops::piece_top(std::int64_t i0, std::int64_t j0) const {
-  const int n = store_.n();
-  if (const Tile* t = store_.find(index_.key_of(i0, j0)); t != nullptr)
-    return highest(t->height.data() + index_.local(i0, j0), static_cast<std::size_t>(n), kPiece);
-  if (const double* kept = untiled_->find(i0, j0, kPiece)) return *kept;
-  heights_.resize(static_cast<std::size_t>(kPiece) * kPiece);
-  store_.read(GridRect{i0, j0, kPiece, kPiece}, heights_, false);
-  const double top = highest(heights_.data(), kPiece, kPiece);
-  untiled_->keep(i0, j0, kPiece, top);
-  return top;
 }
 
 bool SoilTops::untiled(std::int64_t i0, std::int64_t j0, int side) const {

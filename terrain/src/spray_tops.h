@@ -23,8 +23,7 @@ namespace shore::terrain {
 /// Bounds of blocks that no tile covers: their tops are the base ground's, which never
 /// changes, so the spray keeps them from step to step (a procedural base costs a noise
 /// evaluation per column: the rally scene spent half its time re-reading the same untiled
-/// blocks). Kept by pieces of 8 x 8 columns where the tiles are a whole number of pieces wide
-/// (SoilTops::piece_top), else by block. Derived data, not state: never saved or hashed.
+/// blocks). Derived data, not state: never saved or hashed.
 class UntiledTops {
  public:
   [[nodiscard]] const double* find(std::int64_t i0, std::int64_t j0, int side) const {
@@ -99,14 +98,6 @@ class SoilTops {
   mutable std::vector<double> block_;    ///< nbx_ * nby_ bounds, row-major; NaN: not computed yet
   mutable std::vector<double> heights_;  ///< one block's heights (scratch)
   UntiledTops* untiled_ = nullptr;
-  /// Where tiles are a whole number of pieces wide, a block's bound is the highest of its
-  /// pieces' (kPiece columns square, each in one tile): a piece in a tile is read from it,
-  /// a piece in none is the base's, kept in untiled_ across steps whatever the blocks' side
-  /// (the window's size sets that, and changes from step to step), and read once. The same
-  /// maximum as reading the block's columns.
-  static constexpr int kPiece = 8;
-  /// The highest top of the piece of columns [i0, i0 + kPiece) x [j0, j0 + kPiece).
-  [[nodiscard]] double piece_top(std::int64_t i0, std::int64_t j0) const;
   /// No tile holds a column of the block: its heights are all the base's.
   [[nodiscard]] bool untiled(std::int64_t i0, std::int64_t j0, int side) const;
 };

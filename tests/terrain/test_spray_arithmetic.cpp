@@ -213,12 +213,12 @@ TEST(SprayArithmetic, CounterNumbersAreTheHashChainWithOrWithoutTheTable) {
   }
 }
 
-// The spray's landing bounds over blocks of columns: kept across steps by pieces of 8 x 8
-// columns (whatever the window's block side), they are what reading every column of the
-// blocks gives, and never below a column they cover: over untiled ground (a lattice-noise
-// base), over tiles with raised columns, and across windows of four block sides sharing
-// one keep. A tile side that is no multiple of 8 reads blocks as before.
-TEST(SprayArithmetic, BlockBoundsKeptByPiecesAreTheColumnsHighest) {
+// The spray's landing bounds over blocks of columns, those of untiled blocks kept across
+// steps (UntiledTops), are what reading every column of the blocks gives, and never below
+// a column they cover: over untiled ground (a lattice-noise base), over tiles with raised
+// columns, across windows of three block sides sharing one keep, for tile sides that are
+// and are not multiples of the block side.
+TEST(SprayArithmetic, KeptBlockBoundsAreTheColumnsHighest) {
   for (const int side : {64, 48, 20}) {
     TerrainSettings s;
     s.cell = 0.05;
@@ -234,14 +234,14 @@ TEST(SprayArithmetic, BlockBoundsKeptByPiecesAreTheColumnsHighest) {
     std::mt19937_64 gen(11);
     for (const std::int64_t width : {40, 300, 1000, 2500}) {  // block sides 8, 8, 16, 64
       const std::int64_t i0 = -width / 2 - 13, j0 = -width / 3 - 5;
-      SoilTops by_pieces(store, &kept), by_columns(store, nullptr);
-      by_pieces.cover(i0, j0, i0 + width, j0 + width);
+      SoilTops kept_too(store, &kept), by_columns(store, nullptr);
+      kept_too.cover(i0, j0, i0 + width, j0 + width);
       by_columns.cover(i0, j0, i0 + width, j0 + width);
       for (int q = 0; q < 12; ++q) {
         const std::int64_t a = i0 + static_cast<std::int64_t>(gen() % static_cast<std::uint64_t>(width - 20));
         const std::int64_t b = j0 + static_cast<std::int64_t>(gen() % static_cast<std::uint64_t>(width - 20));
         const std::int64_t c = a + static_cast<std::int64_t>(gen() % 20), d = b + static_cast<std::int64_t>(gen() % 20);
-        const double bound = by_pieces.bound(a, b, c, d);
+        const double bound = kept_too.bound(a, b, c, d);
         ASSERT_EQ(bound, by_columns.bound(a, b, c, d)) << side << " " << width << " " << a << " " << b;
         const shore::GridRect r{a, b, static_cast<int>(c - a + 1), static_cast<int>(d - b + 1)};
         std::vector<double> h(static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny));
