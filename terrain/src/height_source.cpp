@@ -59,8 +59,8 @@ constexpr std::uint64_t kSeedSalt = 0x9e3779b97f4a7c15ull;
 /// 53 random bits of a hash to [0, 1), then to [-1, 1).
 double unit(std::uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-52 - 1.0; }
 
-// Catmull-Rom spline through p1 (t = 0) and p2 (t = 1).
-double catmull_rom(double p0, double p1, double p2, double p3, double t) {
+// Catmull-Rom spline through p1 (t = 0) and p2 (t = 1); inline: 15 a noise call.
+[[gnu::always_inline]] inline double catmull_rom(double p0, double p1, double p2, double p3, double t) {
   return 0.5 * (2.0 * p1 + (p2 - p0) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t * t +
                 (3.0 * (p1 - p2) + p3 - p0) * t * t * t);
 }
