@@ -31,6 +31,8 @@ inline constexpr std::array<std::uint64_t, kMixedCounters> kMixedCounter = [] {
 /// the draw-th number of the candidate-th particle.
 class CounterRandom {
  public:
+  /// The numbers of key 0 (a placeholder, to be assigned).
+  CounterRandom() noexcept = default;
   CounterRandom(std::uint64_t seed, std::uint64_t step, std::uint64_t body, std::uint64_t piece) noexcept
       : key_(mix64(body_key(seed, step, body) ^ piece)) {}
   /// The part of the key (seed, step, body) fix, to be mixed with each piece's.
@@ -56,7 +58,7 @@ class CounterRandom {
 
  private:
   explicit CounterRandom(std::uint64_t key) noexcept : key_(key) {}
-  std::uint64_t key_;
+  std::uint64_t key_ = 0;
 };
 
 }  // namespace shore::terrain
