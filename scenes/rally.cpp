@@ -115,7 +115,9 @@ class CachedValley final : public terrain::HeightSource {
     if (kept_.empty()) return std::nullopt;
     const double u = (x - ox_) / cell_, v = (y - oy_) / cell_;
     if (!(std::abs(u) < 1e15 && std::abs(v) < 1e15)) return std::nullopt;
-    const std::int64_t i = std::llround(u), j = std::llround(v);
+    // The nearest integers by floor(q + 0.5), inline (llround is a library call): any
+    // rounding will do, as only a point whose column gives back exactly x and y is kept.
+    const auto i = static_cast<std::int64_t>(std::floor(u + 0.5)), j = static_cast<std::int64_t>(std::floor(v + 0.5));
     if (i < i0_ || i >= i0_ + nx_ || j < j0_ || j >= j0_ + ny_) return std::nullopt;
     if (ox_ + static_cast<double>(i) * cell_ != x || oy_ + static_cast<double>(j) * cell_ != y) return std::nullopt;
     return static_cast<std::size_t>((j - j0_) * nx_ + (i - i0_));
