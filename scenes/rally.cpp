@@ -79,7 +79,7 @@ class Valley final : public terrain::HeightSource {
 /// The valley's heights at the land's columns, each worked out once and then looked up. A
 /// column's base height is asked again and again: by each heightfield tile and soil tile made
 /// over it (soil tiles idle for a while are released and made afresh), and by each grain of
-/// spray in flight or landing where no soil tile is yet; the valley's noise costs some 3000
+/// spray in flight or landing where no soil tile is yet; the valley's noise costs some 700
 /// instructions a call. Answers bit for bit what Valley does: only a point that is exactly a
 /// column's centre (origin + i cell, as the terrain asks) is kept, any other is worked out.
 /// Filled as asked, from any thread (each entry is written whole, with the same value).
@@ -137,7 +137,7 @@ terrain::TerrainSettings land_settings(const SceneOptions& o) {
   s.material = terrain::Material::sand();
   s.base = std::make_shared<CachedValley>(s.cell, s.origin_x, s.origin_y);
   // Spinning wheels throw sand; each grain in flight asks the valley's height where no soil
-  // tile is yet (a noise evaluation, about 2 us a grain and substep): 500 grains at most
+  // tile is yet (a noise evaluation where no column is kept): 500 grains at most
   // keep the spray visible and the scene fast.
   s.spray.max_particles = 500;
   return s;
