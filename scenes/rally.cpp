@@ -79,7 +79,7 @@ class Valley final : public terrain::HeightSource {
 /// The valley's heights at the land's columns, each worked out once and then looked up. A
 /// column's base height is asked again and again: by each heightfield tile and soil tile made
 /// over it (soil tiles idle for a while are released and made afresh), and by each grain of
-/// spray in flight or landing where no soil tile is yet; the valley's noise costs some 3000
+/// spray in flight or landing where no soil tile is yet; the valley's noise costs some 700
 /// instructions a call. Answers bit for bit what Valley does: only a point that is exactly a
 /// column's centre (origin + i cell, as the terrain asks) is kept, any other is worked out.
 /// Filled as asked, from any thread (each entry is written whole, with the same value).
@@ -115,7 +115,9 @@ class CachedValley final : public terrain::HeightSource {
     if (kept_.empty()) return std::nullopt;
     const double u = (x - ox_) / cell_, v = (y - oy_) / cell_;
     if (!(std::abs(u) < 1e15 && std::abs(v) < 1e15)) return std::nullopt;
-    const std::int64_t i = std::llround(u), j = std::llround(v);
+    // The nearest integers by floor(q + 0.5), inline (llround is a library call): any
+    // rounding will do, as only a point whose column gives back exactly x and y is kept.
+    const auto i = static_cast<std::int64_t>(std::floor(u + 0.5)), j = static_cast<std::int64_t>(std::floor(v + 0.5));
     if (i < i0_ || i >= i0_ + nx_ || j < j0_ || j >= j0_ + ny_) return std::nullopt;
     if (ox_ + static_cast<double>(i) * cell_ != x || oy_ + static_cast<double>(j) * cell_ != y) return std::nullopt;
     return static_cast<std::size_t>((j - j0_) * nx_ + (i - i0_));
@@ -135,7 +137,7 @@ terrain::TerrainSettings land_settings(const SceneOptions& o) {
   s.material = terrain::Material::sand();
   s.base = std::make_shared<CachedValley>(s.cell, s.origin_x, s.origin_y);
   // Spinning wheels throw sand; each grain in flight asks the valley's height where no soil
-  // tile is yet (a noise evaluation, about 2 us a grain and substep): 500 grains at most
+  // tile is yet (a noise evaluation where no column is kept): 500 grains at most
   // keep the spray visible and the scene fast.
   s.spray.max_particles = 500;
   return s;

@@ -206,11 +206,10 @@ void Cling::emit(const CounterRandom& rnd, double whole, ClingCell& c, const Bod
     Particle& s = k.start;
     s.position.x = p[0] - u[0] * flight + half * rnd.symmetric(n, 1);
     s.position.y = p[1] - u[1] * flight + half * rnd.symmetric(n, 2);
-    s.position.z = p[2] - u[2] * flight + half * rnd.symmetric(n, 3);
-    s.velocity.x = u[0] + mr.jitter * speed * rnd.symmetric(n, 4);
-    s.velocity.y = u[1] + mr.jitter * speed * rnd.symmetric(n, 5);
-    s.velocity.z = u[2] + mr.jitter * speed * rnd.symmetric(n, 6);
-    s.volume = volume;
+    s.volume = volume;  // z and the velocity: drawn by launched() if it flies
+    k.random = rnd, k.index = n;
+    k.z_before = p[2] - u[2] * flight, k.half = half;
+    k.jitter = mr.jitter * speed, k.piece_velocity = u;
     k.flight = flight;
     k.speed = speed;
     k.chance = rnd.uniform(n, 7);

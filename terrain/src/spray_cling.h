@@ -68,13 +68,33 @@ struct ClingRules {
   std::int64_t step = 0;
 };
 
-/// A particle a piece sheds, before Sumner's speed test.
+/// A particle a piece sheds, before Sumner's speed test. Most candidates do not fly (they
+/// fail the test, or the spray holds its most particles) and are set down where they are:
+/// their height and velocity, four of their eight random draws, are drawn only by
+/// launched(), the same numbers as when drawn at once.
 struct Candidate {
-  Particle start;             ///< at its creation time
+  Particle start;             ///< at its creation time: x, y and volume (launched() gives the rest)
   double flight = 0.0;        ///< s of the step left after its creation
   double speed = 0.0;         ///< m/s, |v + w x r| of its piece (Sumner's |p0'|)
   double chance = 0.0;        ///< the uniform number in [0, 1) its speed test must beat
   std::uint8_t material = 0;  ///< its palette index (its piece's)
+  // What launched() draws from:
+  CounterRandom random;     ///< its piece's numbers
+  std::uint64_t index = 0;  ///< its number among its piece's candidates
+  double z_before = 0.0;    ///< m, its height before the spread: z - u_z flight
+  double half = 0.0;        ///< m, half a column: the spread of its start
+  double jitter = 0.0;      ///< m/s, the spread of its velocity: jitter * speed
+  Vec3 piece_velocity;      ///< m/s, u of its piece
+
+  /// The particle as it flies: start with its height and velocity drawn.
+  [[nodiscard]] Particle launched() const {
+    Particle s = start;
+    s.position.z = z_before + half * random.symmetric(index, 3);
+    s.velocity.x = piece_velocity[0] + jitter * random.symmetric(index, 4);
+    s.velocity.y = piece_velocity[1] + jitter * random.symmetric(index, 5);
+    s.velocity.z = piece_velocity[2] + jitter * random.symmetric(index, 6);
+    return s;
+  }
 };
 
 /// Soil that goes straight down onto the column below a point (set down, or a candidate

@@ -39,6 +39,15 @@ double SprayGround::height_looked_up(std::int64_t i, std::int64_t j) const {
   return t->height[static_cast<std::size_t>((j - last_j0_) * n_ + (i - last_i0_))];
 }
 
+Tile& SprayGround::changed_tile(const TileKey& key) {
+  // The same tile as the last: store_.tile() would find it and set its last use to this
+  // step's tick again (the tick does not move during a spray step, nor is a tile released).
+  if (changed_ != nullptr && changed_key_ == key) return *changed_;
+  changed_ = &store_.tile(key);
+  changed_key_ = key;
+  return *changed_;
+}
+
 double SprayGround::set(std::int64_t i, std::int64_t j, const TileKey& key, Tile& t, std::size_t k, double height) {
   const double before = t.height[k];
   if (height == before) return 0.0;
@@ -54,7 +63,7 @@ double SprayGround::set(std::int64_t i, std::int64_t j, const TileKey& key, Tile
 double SprayGround::take(std::int64_t i, std::int64_t j, double depth) {
   if (!(depth > 0.0)) return 0.0;
   const TileKey key = index_.key_of(i, j);
-  Tile& t = store_.tile(key);
+  Tile& t = changed_tile(key);
   const std::size_t k = index_.local(i, j);
   const double top = t.height[k], bed = t.base[k] - (depth_.uniform() ? soil_depth_ : depth_.at(t.material, k));
   if (!(top > bed)) return 0.0;
@@ -64,7 +73,7 @@ double SprayGround::take(std::int64_t i, std::int64_t j, double depth) {
 double SprayGround::lay(std::int64_t i, std::int64_t j, double volume) {
   if (!(volume > 0.0)) return 0.0;
   const TileKey key = index_.key_of(i, j);
-  Tile& t = store_.tile(key);
+  Tile& t = changed_tile(key);
   const std::size_t k = index_.local(i, j);
   return set(i, j, key, t, k, t.height[k] + volume / area_);
 }

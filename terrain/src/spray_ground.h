@@ -94,6 +94,9 @@ class SprayGround {
     c[2] = static_cast<std::int64_t>(qx1) + margin, c[3] = static_cast<std::int64_t>(qy1) + margin;
     return true;
   }
+  /// store_.tile(key), the tile made if there is none yet; the last one kept: landings and
+  /// soil set down come in runs on one tile.
+  Tile& changed_tile(const TileKey& key);
   /// height() through the tile store, keeping the tile found.
   double height_looked_up(std::int64_t i, std::int64_t j) const;
   /// nearest(d / cell_) by a multiplication where that gives the same integer: d * (1 /
@@ -141,6 +144,8 @@ class SprayGround {
   std::int64_t n_;
   mutable const Tile* last_ = nullptr;
   mutable std::int64_t last_i0_ = 0, last_j0_ = 0;  ///< last_'s first column
+  Tile* changed_ = nullptr;                         ///< the tile take() or lay() changed last, of key changed_key_
+  TileKey changed_key_;
   double cell_, inverse_cell_, area_, origin_x_, origin_y_, soil_depth_;
   BedrockDepth depth_;
   double x_min_, x_max_, y_min_, y_max_;

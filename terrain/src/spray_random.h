@@ -5,6 +5,8 @@
 // order bodies are given in. The mixing function is SplitMix64's finaliser (Steele, Lea &
 // Flood 2014), a bijection of 64-bit words whose outputs pass BigCrush.
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace shore::terrain {
@@ -16,10 +18,21 @@ namespace shore::terrain {
   return z ^ (z >> 31);
 }
 
+/// mix64(k) for the first kMixedCounters counters k = candidate * 16 + draw: a piece's
+/// candidates number from 0, so most draws find their counter's mix here (the same word).
+inline constexpr std::size_t kMixedCounters = 1024;
+inline constexpr std::array<std::uint64_t, kMixedCounters> kMixedCounter = [] {
+  std::array<std::uint64_t, kMixedCounters> t{};
+  for (std::size_t k = 0; k < kMixedCounters; ++k) t[k] = mix64(k);
+  return t;
+}();
+
 /// The random numbers of one (seed, step, body, piece) tuple; uniform(candidate, draw) is
 /// the draw-th number of the candidate-th particle.
 class CounterRandom {
  public:
+  /// The numbers of key 0 (a placeholder, to be assigned).
+  CounterRandom() noexcept = default;
   CounterRandom(std::uint64_t seed, std::uint64_t step, std::uint64_t body, std::uint64_t piece) noexcept
       : key_(mix64(body_key(seed, step, body) ^ piece)) {}
   /// The part of the key (seed, step, body) fix, to be mixed with each piece's.
@@ -34,7 +47,8 @@ class CounterRandom {
   }
   /// In [0, 1), 53 random bits.
   [[nodiscard]] double uniform(std::uint64_t candidate, std::uint64_t draw) const noexcept {
-    const std::uint64_t bits = mix64(key_ ^ mix64(candidate * 16u + draw));
+    const std::uint64_t counter = candidate * 16u + draw;
+    const std::uint64_t bits = mix64(key_ ^ (counter < kMixedCounters ? kMixedCounter[counter] : mix64(counter)));
     return static_cast<double>(bits >> 11) * 0x1.0p-53;
   }
   /// In [-1, 1).
@@ -44,7 +58,7 @@ class CounterRandom {
 
  private:
   explicit CounterRandom(std::uint64_t key) noexcept : key_(key) {}
-  std::uint64_t key_;
+  std::uint64_t key_ = 0;
 };
 
 }  // namespace shore::terrain

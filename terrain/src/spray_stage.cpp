@@ -206,7 +206,7 @@ void Spray::settle(SprayGround& ground, const TerrainSettings& s, std::span<cons
       drop(ground, {c.start.position.x, c.start.position.y, c.start.volume});
       continue;
     }
-    Particle p = c.start;
+    Particle p = c.launched();
     ++state.counts.created;
     ++report.particles_created;
     const FlightEnd end = fly(p, c.flight, ground, flight_rules(rules, c.material));

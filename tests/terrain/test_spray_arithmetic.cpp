@@ -10,14 +10,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <vector>
 
+#include "shore/terrain/height_source.h"
 #include "spray_cling.h"
 #include "spray_flight.h"
 #include "spray_ground.h"
 #include "spray_motion.h"
 #include "spray_tile_index.h"
+#include "spray_tops.h"
 #include "tile_store.h"
 
 using namespace shore::terrain;
@@ -189,6 +192,62 @@ TEST(SprayArithmetic, TileKeysAndLocalIndicesAreTheStoresOwn) {
     for (const std::int64_t far : {std::int64_t{1} << 40, -(std::int64_t{1} << 40) - 1}) {
       EXPECT_EQ(index.key_of(far, -far), store.key_of(far, -far)) << side;
       EXPECT_EQ(index.local(far, -far), store.local(far, -far)) << side;
+    }
+  }
+}
+
+TEST(SprayArithmetic, CounterNumbersAreTheHashChainWithOrWithoutTheTable) {
+  // A candidate's draw is mix64(key ^ mix64(candidate * 16 + draw)), the counter's mix read
+  // from a table for the first counters: the same numbers either side of the table's end.
+  std::mt19937_64 gen(5);
+  for (int trial = 0; trial < 20; ++trial) {
+    const std::uint64_t seed = gen(), step = gen() % 1000, body = gen(), piece = gen();
+    const CounterRandom rnd(seed, step, body, piece);
+    const std::uint64_t key = mix64(mix64(mix64(mix64(seed) ^ step) ^ body) ^ piece);
+    for (std::uint64_t candidate = 0; candidate < 80; ++candidate)
+      for (std::uint64_t draw = 0; draw < 8; ++draw) {
+        const std::uint64_t bits = mix64(key ^ mix64(candidate * 16u + draw));
+        ASSERT_EQ(rnd.uniform(candidate, draw), static_cast<double>(bits >> 11) * 0x1.0p-53)
+            << "candidate " << candidate << ", draw " << draw;
+      }
+  }
+}
+
+// The spray's landing bounds over blocks of columns, those of untiled blocks kept across
+// steps (UntiledTops), are what reading every column of the blocks gives, and never below
+// a column they cover: over untiled ground (a lattice-noise base), over tiles with raised
+// columns, across windows of three block sides sharing one keep, for tile sides that are
+// and are not multiples of the block side.
+TEST(SprayArithmetic, KeptBlockBoundsAreTheColumnsHighest) {
+  for (const int side : {64, 48, 20}) {
+    TerrainSettings s;
+    s.cell = 0.05;
+    s.tile_columns = side;
+    s.base = std::make_shared<LatticeNoise>(LatticeNoiseSettings{
+        .seed = 3, .spacing = 1.0, .amplitude = 0.3, .mean = 0.0, .octaves = 2, .persistence = 0.5});
+    TileStore store(s);
+    for (const TileKey key : {TileKey{0, 0}, TileKey{1, 0}, TileKey{-1, -1}}) {
+      Tile& t = store.tile(key);
+      for (std::size_t k = 0; k < t.height.size(); k += 37) t.height[k] += 0.4;  // raised columns
+    }
+    UntiledTops kept;
+    std::mt19937_64 gen(11);
+    for (const std::int64_t width : {40, 300, 1000, 2500}) {  // block sides 8, 8, 16, 64
+      const std::int64_t i0 = -width / 2 - 13, j0 = -width / 3 - 5;
+      SoilTops kept_too(store, &kept), by_columns(store, nullptr);
+      kept_too.cover(i0, j0, i0 + width, j0 + width);
+      by_columns.cover(i0, j0, i0 + width, j0 + width);
+      for (int q = 0; q < 12; ++q) {
+        const std::int64_t a = i0 + static_cast<std::int64_t>(gen() % static_cast<std::uint64_t>(width - 20));
+        const std::int64_t b = j0 + static_cast<std::int64_t>(gen() % static_cast<std::uint64_t>(width - 20));
+        const std::int64_t c = a + static_cast<std::int64_t>(gen() % 20), d = b + static_cast<std::int64_t>(gen() % 20);
+        const double bound = kept_too.bound(a, b, c, d);
+        ASSERT_EQ(bound, by_columns.bound(a, b, c, d)) << side << " " << width << " " << a << " " << b;
+        const shore::GridRect r{a, b, static_cast<int>(c - a + 1), static_cast<int>(d - b + 1)};
+        std::vector<double> h(static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny));
+        store.read(r, h, false);
+        ASSERT_GE(bound, *std::max_element(h.begin(), h.end())) << side << " " << width;
+      }
     }
   }
 }

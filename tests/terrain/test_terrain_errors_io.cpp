@@ -14,6 +14,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "png_writer.h"
@@ -365,4 +366,53 @@ TEST(HeightSources, LatticeNoiseInterpolatesItsLatticeReproducibly) {
   bad.octaves = 0;
   EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { LatticeNoise n(bad); }), "octaves"));
   EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { FlatHeight f(kNaN); }), "level"));
+}
+
+namespace {
+
+// The noise's definition written out from its public lattice values: Catmull-Rom along x
+// through the four lattice points of each of four rows, then along y, octave by octave.
+double noise_by_definition(const LatticeNoise& n, double x, double y) {
+  const auto spline = [](double p0, double p1, double p2, double p3, double t) {
+    return 0.5 * (2.0 * p1 + (p2 - p0) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t * t +
+                  (3.0 * (p1 - p2) + p3 - p0) * t * t * t);
+  };
+  const LatticeNoiseSettings& s = n.settings();
+  double sum = s.mean, amp = s.amplitude, spacing = s.spacing;
+  for (int k = 0; k < s.octaves; ++k) {
+    const double u = x / spacing, v = y / spacing;
+    const auto li = static_cast<std::int64_t>(std::floor(u)), lj = static_cast<std::int64_t>(std::floor(v));
+    const double tu = u - std::floor(u), tv = v - std::floor(v);
+    double row[4];
+    for (int b = 0; b < 4; ++b)
+      row[b] = spline(n.lattice_value(k, li - 1, lj - 1 + b), n.lattice_value(k, li, lj - 1 + b),
+                      n.lattice_value(k, li + 1, lj - 1 + b), n.lattice_value(k, li + 2, lj - 1 + b), tu);
+    sum += amp * spline(row[0], row[1], row[2], row[3], tv);
+    amp *= s.persistence;
+    spacing *= 0.5;
+  }
+  return sum;
+}
+
+}  // namespace
+
+TEST(HeightSources, LatticeNoiseIsItsDefinitionBitForBit) {
+  // height() keeps the lattice values of the last cell asked per octave and thread: points
+  // in the same cell, in neighbouring cells, far apart and from two noises taking turns
+  // (same octaves, other seeds) must all give the definition's bits.
+  LatticeNoiseSettings ns;
+  ns.seed = 7, ns.spacing = 5.0, ns.amplitude = 0.35, ns.octaves = 3, ns.persistence = 0.45;
+  const LatticeNoise a(ns);
+  ns.seed = 8, ns.spacing = 2.0;
+  const LatticeNoise b(ns);
+  for (int k = 0; k < 3000; ++k) {
+    const double x = -40.0 + 0.0137 * k * (k % 3 == 0 ? 1.0 : 2.9), y = 25.0 - 0.0191 * k * (k % 7 == 0 ? -3.0 : 1.0);
+    ASSERT_EQ(a.height(x, y), noise_by_definition(a, x, y)) << x << ", " << y;
+    ASSERT_EQ(a.height(x, y), noise_by_definition(a, x, y)) << "asked again at " << x << ", " << y;
+    if (k % 5 == 0) ASSERT_EQ(b.height(x, y), noise_by_definition(b, x, y)) << x << ", " << y;
+  }
+  std::thread other([&] {  // another thread keeps its own lattice cells
+    for (int k = 0; k < 200; ++k) EXPECT_EQ(b.height(0.3 * k, -0.7 * k), noise_by_definition(b, 0.3 * k, -0.7 * k));
+  });
+  other.join();
 }

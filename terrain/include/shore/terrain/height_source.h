@@ -1,6 +1,7 @@
 #pragma once
 // Where untouched ground lies: flat, lattice noise, or an imported heightmap.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -64,7 +65,13 @@ class LatticeNoise final : public HeightSource {
   [[nodiscard]] const LatticeNoiseSettings& settings() const noexcept { return settings_; }
 
  private:
+  /// The 16 lattice values around lattice cell (li, lj) of the octave (lattice_value's,
+  /// bit for bit), [4 * b + a] for point (li - 1 + a, lj - 1 + b); kept per thread until
+  /// another cell of that octave is asked.
+  [[nodiscard]] const double* patch(int octave, std::int64_t li, std::int64_t lj) const;
+
   LatticeNoiseSettings settings_;
+  std::array<std::uint64_t, 16> octave_hash_{};  ///< the hash chain after (seed, octave)
 };
 
 /// Where a heightmap lies and how its samples become heights.
