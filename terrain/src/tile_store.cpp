@@ -112,7 +112,20 @@ std::vector<TileKey> TileStore::painted_since(std::uint64_t g) const {
   return keys;
 }
 
+namespace {
+/// Whether `outer` holds every point of the non-empty `inner`.
+bool holds(const GridRect& outer, const GridRect& inner) {
+  return inner.i0 >= outer.i0 && inner.j0 >= outer.j0 && inner.i1() <= outer.i1() && inner.j1() <= outer.j1();
+}
+}  // namespace
+
 void TileStore::mark_changed(TileKey key, Tile& t, const GridRect& local) {
+  // A grain landing marks its one column, most often in a tile already marked there this
+  // generation: when both the pending rectangle and this generation's log entry already
+  // hold it, widening them would change nothing.
+  if (t.changed_at == generation_ && !local.empty() && !t.changed.empty() && holds(t.changed, local) &&
+      holds(log_[t.log_entry].local, local))
+    return;
   if (t.changed.empty()) dirty_keys_.push_back(key);
   t.changed = bounding(t.changed, local);
   log_change(key, t, local);
