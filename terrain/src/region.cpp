@@ -1,5 +1,7 @@
 #include "region.h"
 
+#include <algorithm>
+
 #include <cstring>
 
 #include "capacity_bytes.h"
@@ -69,6 +71,7 @@ void Region::scatter(TileStore& store) const {
 
 void Region::scatter_relayered(TileStore& store) const {
   bool any_layer = false;
+  std::vector<Tile*> touched;
   for (const Relayered& c : relayered) {
     const std::int64_t i = si0 + static_cast<std::int64_t>(c.k % static_cast<std::size_t>(w));
     const std::int64_t j = sj0 + static_cast<std::int64_t>(c.k / static_cast<std::size_t>(w));
@@ -85,9 +88,16 @@ void Region::scatter_relayered(TileStore& store) const {
       t.layer_lower[local] = c.layer.layered() ? c.layer.lower : std::uint8_t{0};
     }
     any_layer = any_layer || c.layer.layered();
-    if (c.index == 0) t.normalize_material();  // a tile's map is dropped once all 0, as painting does
-    if (!c.layer.layered()) t.normalize_layers();
     store.mark_painted(t);
+    if (touched.empty() || touched.back() != &t) touched.push_back(&t);
+  }
+  // A tile's map and layers are dropped once all 0 / unlayered, as painting does: once per
+  // tile, after its columns are written (each check reads the whole tile).
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  for (Tile* t : touched) {
+    t->normalize_material();
+    t->normalize_layers();
   }
   if (any_layer) store.mark_layered();
 }
