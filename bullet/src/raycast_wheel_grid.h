@@ -2,9 +2,12 @@
 // Internal: the grid arithmetic a raycast wheel's per-column loops repeat thousands of times
 // a substep (raycast_wheels.cpp), made cheap and kept bit for bit what it replaces.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include "shore/core/det_math.h"
 #include "shore/core/grid_rect.h"
 #include "shore/terrain/terrain.h"
 
@@ -44,6 +47,14 @@ inline long round_half_away(double x) {
 inline double floor_small(double x) {
   const auto t = static_cast<double>(static_cast<std::int64_t>(x));
   return t > x ? t - 1.0 : t;
+}
+
+/// rad, the rim angle (from the bottom, positive ahead) of a point s m ahead of a wheel's
+/// centre, |s| limited to 0.95 of the radius as the rim's strips take it.
+inline double rim_angle(double s, double radius) {
+  const double reach = 0.95 * radius;
+  s = std::clamp(s, -reach, reach);
+  return det::atan2(s, std::sqrt(radius * radius - s * s));
 }
 
 }  // namespace coupling_detail

@@ -207,10 +207,7 @@ RimSpan rim_strips(const terrain::Terrain& terrain, const terrain::Bearing& bear
     rim.clear();
     return {};
   }
-  auto angle = [&](double s) {
-    s = std::clamp(s, -reach, reach);
-    return det::atan2(s, std::sqrt(radius * radius - s * s));
-  };
+  auto angle = [&](double s) { return rim_angle(s, radius); };
   std::size_t kept = 0;  // compacted in place: strip b is read before any later write reaches it
   for (int b = back; b <= front; ++b) {
     RimStrip strip = rim[static_cast<std::size_t>(b + half)];
@@ -336,11 +333,7 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   read_bearing(terrain, wheel, p, speed);
   // One solve for both loads below: the second re-measures no offset the first measured.
   double offset = wheel.solve.offset(p.load);
-  if (!cut_ok(wheel)) {  // pressed deeper than the cut allows: the whole cylinder, as if never cut
-    rasterize_wheel(terrain, rasterizer, wheel, p.pose, true);
-    read_bearing(terrain, wheel, p, speed);
-    offset = wheel.solve.offset(p.load);
-  }
+  if (!cut_ok(wheel)) offset = press_whole(terrain, rasterizer, wheel, p, speed);
   const terrain::Bearing* bearing = &wheel.solve.bearing(offset);
   if (vehicle.soil != nullptr) {
     // Its traction; the soil it shears bears less, each strip by its own shear (loosen).
@@ -350,9 +343,7 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
     if (shear.radius > 0.0) {
       offset = loosen(terrain, m, shear, wheel, p);
       if (!cut_ok(wheel)) {  // the loosened soil let it sink deeper than the cut allows
-        rasterize_wheel(terrain, rasterizer, wheel, p.pose, true);
-        read_bearing(terrain, wheel, p, speed);
-        (void)wheel.solve.offset(p.load);  // the offsets the loosened solve brackets from
+        (void)press_whole(terrain, rasterizer, wheel, p, speed);  // the offsets the loosened solve brackets from
         offset = loosen(terrain, m, shear, wheel, p);
       }
       bearing = &wheel.loosened;
@@ -428,6 +419,13 @@ void RaycastWheels::read_bearing(const terrain::Terrain& terrain, Wheel& wheel, 
   else
     wheel.bearing_part = wheel.envelope;
   wheel.solve.reset(terrain, wheel.bearing_part);
+}
+
+double RaycastWheels::press_whole(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, Wheel& wheel,
+                                  const Pressed& p, double speed) {
+  rasterize_wheel(terrain, rasterizer, wheel, p.pose, true);
+  read_bearing(terrain, wheel, p, speed);
+  return wheel.solve.offset(p.load);
 }
 
 bool RaycastWheels::cut_ok(const Wheel& wheel) {

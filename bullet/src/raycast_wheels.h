@@ -151,6 +151,10 @@ class RaycastWheels {
                              const btTransform& pose, bool whole);
   /// The wheel's bearing part (its front arc when rolling) read into its solve.
   static void read_bearing(const terrain::Terrain& terrain, Wheel& wheel, const Pressed& p, double speed);
+  /// The whole cylinder rasterized and its bearing read again (a press deeper than the cut
+  /// allows): the offset that carries the plain load.
+  static double press_whole(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, Wheel& wheel,
+                            const Pressed& p, double speed);
   /// True if the wheel's solve measured no offset as deep as its envelope's cut (cut_ok):
   /// its answers are the whole envelope's.
   static bool cut_ok(const Wheel& wheel);

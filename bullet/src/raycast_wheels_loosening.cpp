@@ -20,10 +20,7 @@ void RimLoosening::angles(double radius, double cell) {
   const double reach = 0.95 * radius;
   half_ = static_cast<int>(std::ceil(reach / cell));
   theta_.resize(static_cast<std::size_t>(2 * half_ + 1));
-  for (int b = -half_; b <= half_; ++b) {
-    const double s = std::clamp(b * cell, -reach, reach);
-    theta_[static_cast<std::size_t>(b + half_)] = det::atan2(s, std::sqrt(radius * radius - s * s));
-  }
+  for (int b = -half_; b <= half_; ++b) theta_[static_cast<std::size_t>(b + half_)] = rim_angle(b * cell, radius);
 }
 
 void RimLoosening::build(double cell, const EnvelopeRaster& envelope, const ColumnOffsets& from_centre,

@@ -31,7 +31,8 @@ inline constexpr std::array<std::uint64_t, kMixedCounters> kMixedCounter = [] {
 /// the draw-th number of the candidate-th particle.
 class CounterRandom {
  public:
-  /// The numbers of key 0 (a placeholder, to be assigned).
+  /// Key 0, for a member (`Candidate::random`) that `Cling::emit` assigns a keyed
+  /// generator before any number is drawn.
   CounterRandom() noexcept = default;
   CounterRandom(std::uint64_t seed, std::uint64_t step, std::uint64_t body, std::uint64_t piece) noexcept
       : key_(mix64(body_key(seed, step, body) ^ piece)) {}

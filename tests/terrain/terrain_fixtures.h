@@ -101,6 +101,21 @@ inline EnvelopeRaster wheel(const Terrain& t, double x, double bottom, double D,
   return env;
 }
 
+/// A wheel (axis along y, centred on y = 0) of radius r and width w, centre at (x, z):
+/// its lowest point over each column it covers (the spray tests' wheel, set by its centre).
+inline EnvelopeRaster wheel_by_centre(const Terrain& t, double x, double z, double r, double w) {
+  EnvelopeRaster env;
+  const std::int64_t i0 = t.column_i(x - r) - 1, i1 = t.column_i(x + r) + 1;
+  const std::int64_t j0 = t.column_j(-w / 2), j1 = t.column_j(w / 2);
+  env.resize(i0, j0, static_cast<int>(i1 - i0 + 1), static_cast<int>(j1 - j0 + 1), false);
+  for (std::int64_t j = j0; j <= j1; ++j)
+    for (std::int64_t i = i0; i <= i1; ++i) {
+      const double dx = t.column_x(i) - x;
+      if (std::abs(dx) < r) env.lower[env.index(i, j)] = z - std::sqrt(r * r - dx * dx);
+    }
+  return env;
+}
+
 /// A wheel carrying W towed at 1 m/s for 2 m (1/240 s steps): each step its bottom goes to
 /// the depth below the untouched ground at which the soil carries W, and it presses there.
 /// Returns the depth at each step.

@@ -29,25 +29,11 @@ namespace {
 
 constexpr double kG = 9.81;
 
-/// A wheel (axis along y, centred on y = 0) of radius r and width w, centre at (x, z).
-shore::EnvelopeRaster wheel_envelope(const Terrain& t, double x, double z, double r, double w) {
-  shore::EnvelopeRaster env;
-  const std::int64_t i0 = t.column_i(x - r) - 1, i1 = t.column_i(x + r) + 1;
-  const std::int64_t j0 = t.column_j(-w / 2), j1 = t.column_j(w / 2);
-  env.resize(i0, j0, static_cast<int>(i1 - i0 + 1), static_cast<int>(j1 - j0 + 1), false);
-  for (std::int64_t j = j0; j <= j1; ++j)
-    for (std::int64_t i = i0; i <= i1; ++i) {
-      const double dx = t.column_x(i) - x;
-      if (std::abs(dx) < r) env.lower[env.index(i, j)] = z - std::sqrt(r * r - dx * dx);
-    }
-  return env;
-}
-
 /// The 50 %-slip wheel of the spray tests: radius 0.3 m, 0.15 m wide, 3 cm deep, its rim
 /// at 3 m/s, kinematic.
 Imprint wheel_at(const Terrain& t, double time, shore::EnvelopeRaster& env) {
   const double radius = 0.3, rim = 3.0, speed = 1.5, x = speed * time, z = radius - 0.03;
-  env = wheel_envelope(t, x, z, radius, 0.15);
+  env = wheel_by_centre(t, x, z, radius, 0.15);
   Imprint im{&env};
   const double omega = rim / radius, turn = omega * time;
   im.velocity.x = speed;

@@ -409,7 +409,9 @@ TEST(HeightSources, LatticeNoiseIsItsDefinitionBitForBit) {
     const double x = -40.0 + 0.0137 * k * (k % 3 == 0 ? 1.0 : 2.9), y = 25.0 - 0.0191 * k * (k % 7 == 0 ? -3.0 : 1.0);
     ASSERT_EQ(a.height(x, y), noise_by_definition(a, x, y)) << x << ", " << y;
     ASSERT_EQ(a.height(x, y), noise_by_definition(a, x, y)) << "asked again at " << x << ", " << y;
-    if (k % 5 == 0) ASSERT_EQ(b.height(x, y), noise_by_definition(b, x, y)) << x << ", " << y;
+    if (k % 5 == 0) {
+      ASSERT_EQ(b.height(x, y), noise_by_definition(b, x, y)) << x << ", " << y;
+    }
   }
   std::thread other([&] {  // another thread keeps its own lattice cells
     for (int k = 0; k < 200; ++k) EXPECT_EQ(b.height(0.3 * k, -0.7 * k), noise_by_definition(b, 0.3 * k, -0.7 * k));

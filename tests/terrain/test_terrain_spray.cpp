@@ -25,21 +25,6 @@ namespace {
 
 constexpr double kG = 9.81;
 
-/// A wheel (axis along y, centred on y = 0) of radius r and width w, centre at (x, z):
-/// its lowest point over each column it covers.
-shore::EnvelopeRaster wheel_envelope(const Terrain& t, double x, double z, double r, double w) {
-  shore::EnvelopeRaster env;
-  const std::int64_t i0 = t.column_i(x - r) - 1, i1 = t.column_i(x + r) + 1;
-  const std::int64_t j0 = t.column_j(-w / 2), j1 = t.column_j(w / 2);
-  env.resize(i0, j0, static_cast<int>(i1 - i0 + 1), static_cast<int>(j1 - j0 + 1), false);
-  for (std::int64_t j = j0; j <= j1; ++j)
-    for (std::int64_t i = i0; i <= i1; ++i) {
-      const double dx = t.column_x(i) - x;
-      if (std::abs(dx) < r) env.lower[env.index(i, j)] = z - std::sqrt(r * r - dx * dx);
-    }
-  return env;
-}
-
 /// A wheel driven at a fixed slip along +x, pressed `depth` into the soil, spinning at
 /// rim_speed (its bottom moving backward), kinematically: what a slipping tyre does.
 struct SpinningWheel {
@@ -51,7 +36,7 @@ struct SpinningWheel {
   /// Its envelope and imprint at time t (the imprint points at env).
   Imprint at(const Terrain& t, double time, shore::EnvelopeRaster& env) const {
     const double x = x0 + speed() * time, z = radius - depth;
-    env = wheel_envelope(t, x, z, radius, width);
+    env = wheel_by_centre(t, x, z, radius, width);
     Imprint im{&env};
     const double omega = rim_speed / radius, turn = omega * time;
     im.velocity.x = speed();
