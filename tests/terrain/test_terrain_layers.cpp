@@ -26,7 +26,6 @@ using namespace shore::terrain::testing;
 
 namespace {
 
-constexpr int kPlate = 30;  // 0.3 m x 0.3 m at 1 cm
 constexpr double kWidth = 0.3;
 
 /// Sand four times as stiff as Wong's dry sand: a packed crust.
