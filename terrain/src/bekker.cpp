@@ -43,15 +43,24 @@ double static_wheel_load(const Material& m, double z0, double D, double b) {
   }
   return 2.0 * b * sum * h / 3.0;
 }
+
+// Depth (m) at which `halves` halves of the contact carry W (the load grows with depth).
+double wheel_depth_carrying(const Material& m, double W, double D, double b, double halves) {
+  double lo = 0.0, hi = D / 2;
+  for (int it = 0; it < 200 && hi - lo > 1e-12; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (0.5 * halves * static_wheel_load(m, mid, D, b) < W ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
 }  // namespace
 
 double wheel_sinkage_static(const Material& m, double W, double D, double b) {
-  double lo = 0.0, hi = D / 2;  // the load grows monotonically with depth
-  for (int it = 0; it < 200 && hi - lo > 1e-12; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (static_wheel_load(m, mid, D, b) < W ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
+  return wheel_depth_carrying(m, W, D, b, 2.0);
+}
+
+double wheel_sinkage_rolling_integral(const Material& m, double W, double D, double b) {
+  return wheel_depth_carrying(m, W, D, b, 1.0);
 }
 
 double wheel_compaction_resistance(const Material& m, double z0, double b) {

@@ -21,6 +21,14 @@ double plate_sinkage_released(const Material& m, double b, double p);
 /// W in N, D diameter and b width in m.
 double wheel_sinkage_rolling(const Material& m, double W, double D, double b);
 
+/// Rolling rigid wheel, front half bearing, as Bekker sets it up but integrated without the
+/// closed form's two approximations: solves W = b \int_0^{x0} (k_c/b + k_phi) z(x)^n dx with
+/// z(x) = z0 - (R - sqrt(R^2 - x^2)). The closed form takes the rim as the parabola
+/// z0 - x^2/D and \int_0^1 (1 - t^2)^n dt as 1 - n/3 (exact at n 0 and 1 only), so it departs
+/// from this by up to +20 % on the clays at z0/D 0.14 and by -9 % on snow (n 1.6) at any
+/// depth (docs/terrain.md, "Validation matrix").
+double wheel_sinkage_rolling_integral(const Material& m, double W, double D, double b);
+
 /// Rigid wheel pressed statically, both halves bearing: solves
 /// W = 2 b \int_0^{x0} (k_c/b + k_phi) z(x)^n dx with z(x) = z0 - (R - sqrt(R^2 - x^2)).
 double wheel_sinkage_static(const Material& m, double W, double D, double b);
