@@ -77,13 +77,12 @@ TEST(ValidationMatrixSlopeBox, ASlidingBoxKeepsTheStrengthOfTheSoilThatCarriesIt
       << second.error_kind << ")";
 }
 
-// Where Bekker's closed form for the towed wheel misses its own front-arc integral by more
-// than the cell's tolerance (clayey soil 38 % on the small wheel at z0/D 0.14, where the rim
-// is no longer its parabola; snow's n 1.6, where (1 - t^2)^n is not 1 - n t^2 and the
-// resistance, as z0^(n+1), is 23 % to 28 % off), the cell is marked outside validity, and
-// the wheel meets the integral (Bekker's pressure over the circular front arc) within the
-// cell's tolerance: the misses were the closed form's, not the soil's.
-TEST(ValidationMatrixTowedWheel, MeetsBekkersFrontArcIntegralWhereTheClosedFormDoesNotHold) {
+// The towed wheel is judged against Bekker's pressure over the circular front arc solved
+// exactly, as the static wheel is over the whole arc, not against his closed form, which
+// takes the rim as a parabola and (1 - t^2)^n as 1 - n t^2: on clayey soil 38 % under the
+// small wheel (z0 / D 0.14) the closed form is 11 % shallow of its own integral, and on snow
+// (n 1.6) its resistance is 23 % to 28 % high. The wheel meets the integral in both cells.
+TEST(ValidationMatrixTowedWheel, MeetsBekkersFrontArcIntegral) {
   namespace bekker = shore::terrain::bekker;
   const auto soils = shore::scenes::matrix_soils();
   for (const auto& [soil, label] :
@@ -95,18 +94,13 @@ TEST(ValidationMatrixTowedWheel, MeetsBekkersFrontArcIntegralWhereTheClosedFormD
     const auto& m = soils[c.soil].material;
     const double z = bekker::wheel_sinkage_rolling_integral(m, c.load, c.size, 0.3);
     const double integral[2] = {z, bekker::wheel_compaction_resistance(m, z, 0.3)};
-    bool any_outside = false;
     for (int k = 0; k < 2; ++k) {
       const MatrixCell& cell = cells[std::size_t(k)];
-      any_outside = any_outside || !cell.outside_validity.empty();
-      EXPECT_LE(std::abs(cell.measured / integral[k] - 1.0), cell.tolerance)
-          << soil << ", " << label << ", " << cell.quantity << ": measured " << cell.measured << ", front-arc integral "
-          << integral[k] << ", closed form " << cell.reference;
-      // Marked exactly where the closed form is further from the integral than the tolerance.
-      EXPECT_EQ(!cell.outside_validity.empty(), std::abs(cell.reference / integral[k] - 1.0) > cell.tolerance)
-          << soil << ", " << label << ", " << cell.quantity;
+      EXPECT_EQ(cell.reference, integral[k]) << soil << ", " << label << ", " << cell.quantity;
+      EXPECT_TRUE(cell.outside_validity.empty()) << soil << ", " << label << ", " << cell.quantity;
+      EXPECT_TRUE(cell.within()) << soil << ", " << label << ", " << cell.quantity << ": measured " << cell.measured
+                                 << ", front-arc integral " << integral[k] << " (" << cell.note << ")";
     }
-    EXPECT_TRUE(any_outside) << soil << ", " << label;
   }
 }
 
