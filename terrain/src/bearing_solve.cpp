@@ -101,10 +101,12 @@ double BearingSolve::offset(double load, const std::function<double(const Bearin
     if (b.hi == 0.0) return 0.0;  // the soil carries it untouched
     return cold();
   }
-  // A short step past the deepest short offset first, four times longer each time while it
-  // still falls short, within what was measured or up to where every column stands at
-  // bedrock (which carries anything).
-  for (double step = kFirstStep; b.hi - b.lo > 2.0 * step;) {
+  // Only the untouched soil falls short: no scale to step by, the plain search's bracket.
+  if (b.lo == 0.0 && !(b.hi < kInf)) return cold();
+  // Past an offset where the plain soil carried its load: a short step first, four times
+  // longer each time while it still falls short, within what was measured or up to where
+  // every column stands at bedrock (which carries anything).
+  for (double step = kFirstStep; b.lo > 0.0 && b.hi - b.lo > 2.0 * step;) {
     const double o = std::min(b.lo + step, st.bedrock), go = g(o);
     if (go < 0.0) {
       if (o >= st.bedrock) return st.bedrock;  // unreachable (bedrock carries anything); kept as a guard
