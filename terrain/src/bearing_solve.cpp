@@ -5,10 +5,18 @@
 
 #include "bearing.h"
 #include "shore/core/error.h"
+#include "shore/core/illinois.h"
 #include "terrain_impl.h"
 #include "validation.h"
 
 namespace shore::terrain {
+
+namespace {
+
+constexpr double kOffsetTolerance = 1e-7;  // m: offset_for_load's, the width a bracket is narrowed to
+constexpr double kFirstStep = 1e-5;        // m: a warm bracket's first step past the deepest short offset
+
+}  // namespace
 
 struct BearingSolve::State {
   const Terrain::Impl* terrain = nullptr;
@@ -73,7 +81,41 @@ double BearingSolve::offset(double load, const std::function<double(const Bearin
   if (st.terrain == nullptr)
     throw InvalidSetting("terrain.BearingSolve.offset", "no envelope", "must follow reset(terrain, envelope)");
   if (st.columns.empty()) (void)st.measure(0.0);
-  return offset_for_load(st.columns, load, [&](double o) { return capacity_of(st.measure(o)); });
+  const auto cold = [&] {
+    return offset_for_load(st.columns, load, [&](double o) { return capacity_of(st.measure(o)); });
+  };
+  const auto g = [&](double o) { return capacity_of(st.measure(o)) - load; };
+  if (st.used == 0 || st.columns.empty()) return cold();
+  // The bracket from what earlier solves measured: capacity_of grows with the offset, so the
+  // deepest offset that falls short and the shallowest that carries bound the answer. A
+  // slipping wheel's loosened soil mostly needs the plain solve's answer, or a hair more:
+  // it is already bracketed to the tolerance, and nothing new is measured.
+  Bracket b{-1.0, kInf};
+  double g_lo = 0.0, g_hi = 0.0;
+  for (std::size_t k = 0; k < st.used; ++k) {
+    const double o = st.offsets[k], gk = capacity_of(st.measured[k]) - load;
+    if (gk < 0.0 && o > b.lo) b.lo = o, g_lo = gk;
+    if (!(gk < 0.0) && o < b.hi) b.hi = o, g_hi = gk;
+  }
+  if (b.lo < 0.0) {
+    if (b.hi == 0.0) return 0.0;  // the soil carries it untouched
+    return cold();
+  }
+  // Only the untouched soil falls short: no scale to step by, the plain search's bracket.
+  if (b.lo == 0.0 && !(b.hi < kInf)) return cold();
+  // Past an offset where the plain soil carried its load: a short step first, four times
+  // longer each time while it still falls short, within what was measured or up to where
+  // every column stands at bedrock (which carries anything).
+  for (double step = kFirstStep; b.lo > 0.0 && b.hi - b.lo > 2.0 * step;) {
+    const double o = std::min(b.lo + step, st.bedrock), go = g(o);
+    if (go < 0.0) {
+      if (o >= st.bedrock) return st.bedrock;  // unreachable (bedrock carries anything); kept as a guard
+      b.lo = o, g_lo = go, step *= 4.0;
+    } else {
+      b.hi = o, g_hi = go;
+    }
+  }
+  return illinois_narrow(g, b, g_lo, g_hi, kOffsetTolerance).hi;
 }
 
 const Bearing& BearingSolve::bearing(double offset) const {

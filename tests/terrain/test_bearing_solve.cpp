@@ -128,3 +128,32 @@ TEST(BearingSolve, ColumnsBearingHalfSinkAsUnderTwiceTheLoad) {
   EXPECT_GE(half(solve.bearing(o)), p * 0.09);
   EXPECT_EQ(o, t.bearing_offset(env, 2 * p * 0.09));
 }
+
+// After a plain solve, the caller's capacity brackets from the offsets that solve measured:
+// its answer carries the load and lies within the solve's tolerance (1e-7 m) above the
+// offset where the plain capacity carries load / share, whether that is a hair deeper than
+// the plain answer (share 0.999) or far deeper (share 0.5: Bekker's plate under twice the
+// pressure).
+TEST(BearingSolve, ACapacityAfterThePlainSolveBracketsFromItsOffsets) {
+  TerrainSettings s;
+  s.material = Material::sand();
+  const Terrain t(s);
+  const shore::EnvelopeRaster env = box_envelope(-15, -15, kPlate, kPlate, 0.0);
+  const double p = 20e3, load = p * 0.09;  // Pa, N
+  for (const double share : {0.999, 0.5}) {
+    BearingSolve solve;
+    solve.reset(t, env);
+    const double plain = solve.offset(load);
+    const auto part = [share](const Bearing& b) {
+      double sum = 0.0;
+      for (const ColumnForce& c : b.columns) sum += share * c.force;
+      return sum;
+    };
+    const double o = solve.offset(load, part);
+    EXPECT_GE(part(solve.bearing(o)), load) << share;
+    const double cold = t.bearing_offset(env, load / share);  // the root to 1e-7 from above
+    EXPECT_GT(o, plain) << share;
+    EXPECT_NEAR(o, cold, 1e-7) << share;
+    EXPECT_NEAR(o, bekker::plate_sinkage(s.material, 0.3, p / share), 2e-7) << share;
+  }
+}

@@ -2,9 +2,9 @@
 // The bearing of one envelope solved for several loads in turn (a raycast wheel's
 // suspension load, then the larger load its slipping, loosened soil feels). The columns the
 // envelope covers are read once, and every capacity the solves find is kept with its
-// per-column forces, so the second load re-measures none of the offsets the first one
-// measured (both bracket from the same offsets), and the answer's Bearing is the one the
-// solve measured last, not a fresh one. Results are bit-identical to
+// per-column forces, so a later load re-measures none of the offsets an earlier one
+// measured and brackets its answer from them, and the answer's Bearing is the one the
+// solve measured last, not a fresh one. The plain solve's results are bit-identical to
 // Terrain::bearing_offset(envelope, load) and Terrain::bearing(envelope, that offset).
 
 #include <functional>
@@ -34,7 +34,10 @@ class BearingSolve {
   /// The same search, the soil's capacity at each offset measured taken as
   /// `capacity_of(bearing(offset))` (N, growing with the offset as the plain capacity does):
   /// the caller's share of each column's force, as a slipping wheel's loosened soil. The
-  /// offsets the plain solve measured are not measured again.
+  /// offsets earlier solves measured are not measured again: the deepest that falls short
+  /// and the shallowest that carries are the first bracket (steps of 10 um, growing
+  /// fourfold, past the deepest where none carries), narrowed to 1e-7 m like the plain
+  /// solve's. Before any plain solve since the reset, the plain solve's search.
   [[nodiscard]] double offset(double load, const std::function<double(const Bearing&)>& capacity_of);
   /// What the soil bears with the envelope lowered by an offset offset() returned since the
   /// last reset: exactly Terrain::bearing(envelope, offset). Valid until the next call of
