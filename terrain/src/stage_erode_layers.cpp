@@ -39,6 +39,8 @@ void ErodeStage::start_layers(const Region& region, std::span<const Material> pa
   for (const Material& m : palette) rigid_.push_back(m.rigid ? 1 : 0);
   row_cross_.assign(static_cast<std::size_t>(region.h), 0);
   dirty_.reset(region.w, region.h);
+  cross_givers_.reset(region.w, region.h);
+  track_.reset(region.w, region.h);
   for (std::size_t k = 0; k < region.layer.size(); ++k) {
     const ColumnLayer& layer = region.layer[k];
     if (!layer.layered()) continue;
@@ -79,9 +81,22 @@ void ErodeStage::track_layers(Region& region) {
   for (const unsigned char c : row_cross_) cross = cross || c != 0;
   if (!cross) return;  // every pair moved soil between unlayered columns of one material
   const int w = region.w, h = region.h;
+  // Only a giver whose soil crosses a border or moves a layer (or that is layered itself),
+  // and the columns it gives to, can change a layering: any other column gave and took
+  // only its own material, unlayered, which leaves it as it was.
+  track_.clear();
+  for (int y = 0; y < h; ++y)
+    cross_givers_.for_each_in_row(y, [&](int x) {
+      track_.set(x, y);
+      for (unsigned mk = mask_[region.at(x, y)]; mk != 0; mk &= mk - 1) {
+        const int d = std::countr_zero(mk);
+        track_.set(x + kDx[d], y + kDy[d]);
+      }
+    });
+  cross_givers_.clear();
   retop_.clear();
   for (int y = 0; y < h; ++y)
-    near_.for_each_in_row(y, [&](int x) {
+    track_.for_each_in_row(y, [&](int x) {
       const std::size_t k = region.at(x, y);
       const std::uint8_t top = region.mat[k];
       // What it took: of its top material, and of another (one material: see takes).

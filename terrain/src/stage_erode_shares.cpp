@@ -11,8 +11,8 @@ namespace shore::terrain {
 // A pair is too steep when the drop exceeds its limit by more than eps; the giver moves
 // sigma times the average excess, split equally among those neighbours and never more than
 // it holds above bedrock (with a map: than its top layer), and only what the receivers'
-// caps let through. Sets q_, mask_, out_, givers_ and steep_givers_ (with a map spent_ and
-// row_cross_ too); returns whether anything flows.
+// caps let through. Sets q_, mask_, out_, givers_ and steep_givers_ (with a map spent_,
+// row_cross_ and cross_givers_ too); returns whether anything flows.
 bool ErodeStage::compute_shares(const Region& region) {
   return region.mat.empty() ? compute_shares_as<false>(region) : compute_shares_as<true>(region);
 }
@@ -89,7 +89,10 @@ bool ErodeStage::compute_shares_as(const Region& region) {
       out_[k] = total;
       if constexpr (kMap) {
         spent_[k] = spent;
-        cross = cross || mixed || kind_[k] != kUnlayered;
+        if (mixed || kind_[k] != kUnlayered) {
+          cross = true;
+          cross_givers_.set(x, y);
+        }
       }
       giver_row[x >> 6] |= ColumnBits::bit(x);
       flow = true;
