@@ -52,7 +52,7 @@ void Region::expose_layers() {
   for (std::size_t k = 0; k < layer.size(); ++k) mat[k] = layer[k].exposed(mat[k], sink[k]);
 }
 
-void Region::scatter(TileStore& store) const {
+void Region::scatter(TileStore& store) {
   store.for_each_run_creating({si0, sj0, w, h}, [&](Tile& t, const TileRun& run) {
     const std::size_t src = at(run.x, run.y);
     const std::size_t dst = run.local;
@@ -69,9 +69,10 @@ void Region::scatter(TileStore& store) const {
   if (!relayered.empty()) scatter_relayered(store);
 }
 
-void Region::scatter_relayered(TileStore& store) const {
+void Region::scatter_relayered(TileStore& store) {
   bool any_layer = false;
-  std::vector<Tile*> touched;
+  touched_.clear();
+  Tile* last = nullptr;
   for (const Relayered& c : relayered) {
     const std::int64_t i = si0 + static_cast<std::int64_t>(c.k % static_cast<std::size_t>(w));
     const std::int64_t j = sj0 + static_cast<std::int64_t>(c.k / static_cast<std::size_t>(w));
@@ -89,21 +90,31 @@ void Region::scatter_relayered(TileStore& store) const {
     }
     any_layer = any_layer || c.layer.layered();
     store.mark_painted(t);
-    if (touched.empty() || touched.back() != &t) touched.push_back(&t);
+    if (&t != last) touched_.push_back({&t});
+    last = &t;
+    // Only a 0 written can leave the map all 0, only an unlayered column the tile unlayered
+    // (a tile's arrays are kept normalised).
+    touched_.back().unpainted = touched_.back().unpainted || c.index == 0;
+    touched_.back().unlayered = touched_.back().unlayered || !c.layer.layered();
   }
   // A tile's map and layers are dropped once all 0 / unlayered, as painting does: once per
-  // tile, after its columns are written (each check reads the whole tile).
-  std::sort(touched.begin(), touched.end());
-  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  for (Tile* t : touched) {
-    t->normalize_material();
-    t->normalize_layers();
+  // tile, after its columns are written (each check reads the whole tile), and only where
+  // a write could have made it so.
+  std::sort(touched_.begin(), touched_.end(), [](const Touched& a, const Touched& b) { return a.tile < b.tile; });
+  for (std::size_t n = 0; n < touched_.size();) {
+    Touched merged = touched_[n];
+    for (++n; n < touched_.size() && touched_[n].tile == merged.tile; ++n) {
+      merged.unpainted = merged.unpainted || touched_[n].unpainted;
+      merged.unlayered = merged.unlayered || touched_[n].unlayered;
+    }
+    if (merged.unpainted) merged.tile->normalize_material();
+    if (merged.unlayered) merged.tile->normalize_layers();
   }
   if (any_layer) store.mark_layered();
 }
 
 std::size_t Region::bytes() const {
-  return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat, layer, upper, relayered);
+  return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat, layer, upper, relayered, touched_);
 }
 
 }  // namespace shore::terrain

@@ -61,7 +61,7 @@ struct Region {
   void expose_layers();
   /// Heights and sinkage back into the tiles, marking what changed; and the relayered
   /// columns' painted indices and layers (their tiles marked painted, the store layered).
-  void scatter(TileStore& store) const;
+  void scatter(TileStore& store);
 
   [[nodiscard]] std::size_t size() const noexcept { return static_cast<std::size_t>(w) * static_cast<std::size_t>(h); }
   [[nodiscard]] std::size_t at(int x, int y) const noexcept {
@@ -89,7 +89,14 @@ struct Region {
   [[nodiscard]] std::size_t bytes() const;
 
  private:
-  void scatter_relayered(TileStore& store) const;
+  void scatter_relayered(TileStore& store);
+  /// scatter_relayered's scratch: the tiles it wrote, and whether it wrote a 0 index or an
+  /// unlayered column there.
+  struct Touched {
+    Tile* tile = nullptr;
+    bool unpainted = false, unlayered = false;
+  };
+  std::vector<Touched> touched_;
 };
 
 }  // namespace shore::terrain
