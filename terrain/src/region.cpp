@@ -35,8 +35,18 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
     } else {
       for (int k = 0; k < run.count; ++k) bed[dst + k] = t.base[src + k] - depth.at(t.material, src + k);
     }
-    if (with_layers)
-      for (int k = 0; k < run.count; ++k) layer[dst + k] = t.layer(src + k);
+    if (with_layers) {
+      // Raw pointers: the byte stores would otherwise make the compiler reload every
+      // vector's data pointer per column.
+      ColumnLayer* to = layer.data() + dst;
+      if (!t.layered()) {
+        std::fill_n(to, run.count, ColumnLayer{});
+      } else {
+        const double* boundary = t.layer_boundary.data() + src;
+        const std::uint8_t* lower = t.layer_lower.data() + src;
+        for (int k = 0; k < run.count; ++k) to[k] = ColumnLayer{boundary[k], lower[k]};
+      }
+    }
     if (!with_materials) return;
     if (t.material.empty())
       std::memset(&mat[dst], 0, static_cast<std::size_t>(run.count));
@@ -49,7 +59,13 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
 
 void Region::expose_layers() {
   upper = mat;
-  for (std::size_t k = 0; k < layer.size(); ++k) mat[k] = layer[k].exposed(mat[k], sink[k]);
+  // Raw pointers: a byte store may alias anything, so indexing the vectors would reload
+  // their data pointers per column.
+  std::uint8_t* index = mat.data();
+  const ColumnLayer* column = layer.data();
+  const double* z = sink.data();
+  const std::size_t n = layer.size();
+  for (std::size_t k = 0; k < n; ++k) index[k] = column[k].exposed(index[k], z[k]);
 }
 
 void Region::scatter(TileStore& store) {

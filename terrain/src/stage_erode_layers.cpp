@@ -41,19 +41,29 @@ void ErodeStage::start_layers(const Region& region, std::span<const Material> pa
   dirty_.reset(region.w, region.h);
   cross_givers_.reset(region.w, region.h);
   track_.reset(region.w, region.h);
-  for (std::size_t k = 0; k < region.layer.size(); ++k) {
-    const ColumnLayer& layer = region.layer[k];
+  // Raw pointers: the byte stores (kind, lower) may alias anything, so indexing the
+  // vectors would reload their data pointers per column.
+  unsigned char* kind = kind_.data();
+  std::uint8_t* lower = lower_.data();
+  double* thick = thick_.data();
+  const ColumnLayer* layers = region.layer.data();
+  const double* sink = region.sink.data();
+  const double* ht = region.ht.data();
+  const double* pressed = region.ht_pressed.data();
+  const std::size_t n = region.layer.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const ColumnLayer& layer = layers[k];
     if (!layer.layered()) continue;
-    lower_[k] = layer.lower;
-    if (region.sink[k] > layer.boundary) {
-      kind_[k] = kBroken;
-      thick_[k] = layer.boundary - region.sink[k];
+    lower[k] = layer.lower;
+    if (sink[k] > layer.boundary) {
+      kind[k] = kBroken;
+      thick[k] = layer.boundary - sink[k];
     } else {
       // A step loosens what displacement laid on the column after erosion: that soil is the
       // top layer's already (its sinkage will drop by it).
-      const double laid = loosens ? std::max(0.0, region.ht[k] - region.ht_pressed[k]) : 0.0;
-      kind_[k] = kCrust;
-      thick_[k] = layer.boundary - (region.sink[k] - laid);
+      const double laid = loosens ? std::max(0.0, ht[k] - pressed[k]) : 0.0;
+      kind[k] = kCrust;
+      thick[k] = layer.boundary - (sink[k] - laid);
     }
   }
 }
