@@ -88,30 +88,39 @@ void Region::scatter(TileStore& store) {
 void Region::scatter_relayered(TileStore& store) {
   bool any_layer = false;
   touched_.clear();
-  Tile* last = nullptr;
+  Tile* t = nullptr;
+  TileKey key{};
   for (const Relayered& c : relayered) {
     const std::int64_t i = si0 + static_cast<std::int64_t>(c.k % static_cast<std::size_t>(w));
     const std::int64_t j = sj0 + static_cast<std::int64_t>(c.k / static_cast<std::size_t>(w));
-    Tile& t = store.tile(store.key_of(i, j));
-    const std::size_t local = store.local(i, j);
-    if (t.material.empty() && c.index != 0) t.material.assign(t.height.size(), 0);
-    if (!t.material.empty()) t.material[local] = c.index;
-    if (c.layer.layered() && !t.layered()) {
-      t.layer_boundary.assign(t.height.size(), kNoLayer);
-      t.layer_lower.assign(t.height.size(), 0);
+    // Row by row: most columns lie in the tile of the one before.
+    if (t == nullptr || !(store.key_of(i, j) == key)) {
+      key = store.key_of(i, j);
+      t = &store.tile(key);
+      touched_.push_back({t});
     }
-    if (t.layered()) {
-      t.layer_boundary[local] = c.layer.boundary;
-      t.layer_lower[local] = c.layer.layered() ? c.layer.lower : std::uint8_t{0};
+    const std::size_t local = store.local(i, j);
+    // Only a nonzero index turned 0 can leave the map all 0, only a layered column turned
+    // unlayered the tile unlayered (a tile's arrays are kept normalised, as painting keeps them).
+    bool unpainted = false, unlayered = false;
+    if (t->material.empty() && c.index != 0) t->material.assign(t->height.size(), 0);
+    if (!t->material.empty()) {
+      unpainted = c.index == 0 && t->material[local] != 0;
+      t->material[local] = c.index;
+    }
+    if (c.layer.layered() && !t->layered()) {
+      t->layer_boundary.assign(t->height.size(), kNoLayer);
+      t->layer_lower.assign(t->height.size(), 0);
+    }
+    if (t->layered()) {
+      unlayered = !c.layer.layered() && t->layer_boundary[local] != kNoLayer;
+      t->layer_boundary[local] = c.layer.boundary;
+      t->layer_lower[local] = c.layer.layered() ? c.layer.lower : std::uint8_t{0};
     }
     any_layer = any_layer || c.layer.layered();
-    store.mark_painted(t);
-    if (&t != last) touched_.push_back({&t});
-    last = &t;
-    // Only a 0 written can leave the map all 0, only an unlayered column the tile unlayered
-    // (a tile's arrays are kept normalised).
-    touched_.back().unpainted = touched_.back().unpainted || c.index == 0;
-    touched_.back().unlayered = touched_.back().unlayered || !c.layer.layered();
+    store.mark_painted(*t);
+    touched_.back().unpainted = touched_.back().unpainted || unpainted;
+    touched_.back().unlayered = touched_.back().unlayered || unlayered;
   }
   // A tile's map and layers are dropped once all 0 / unlayered, as painting does: once per
   // tile, after its columns are written (each check reads the whole tile), and only where
