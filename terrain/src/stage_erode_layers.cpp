@@ -105,6 +105,7 @@ void ErodeStage::track_layers(Region& region) {
     });
   cross_givers_.clear();
   retop_.clear();
+  const auto off = neighbour_offsets(w);
   for (int y = 0; y < h; ++y)
     track_.for_each_in_row(y, [&](int x) {
       const std::size_t k = region.at(x, y);
@@ -112,20 +113,27 @@ void ErodeStage::track_layers(Region& region) {
       // What it took: of its top material, and of another (one material: see takes).
       double same = 0.0, other = 0.0;
       std::uint8_t other_index = top;
-      if (cap_[k] > 0.0)
-        for (int d = 0; d < 8; ++d) {
-          const int nx = x + kDx[d], ny = y + kDy[d];
-          if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-          const std::size_t nk = region.at(nx, ny);
-          if (!(mask_[nk] & (1u << (d ^ 1)))) continue;
-          const double got = std::min(q_[nk], cap_[k]);
-          if (region.mat[nk] == top || rigid_[region.mat[nk]]) {  // a road's loose soil lands as the receiver's
-            same += got;
-          } else {
-            other += got;
-            other_index = region.mat[nk];
+      const auto take = [&](std::size_t nk, int d) {
+        if (!(mask_[nk] & (1u << (d ^ 1)))) return;
+        const double got = std::min(q_[nk], cap_[k]);
+        if (region.mat[nk] == top || rigid_[region.mat[nk]]) {  // a road's loose soil lands as the receiver's
+          same += got;
+        } else {
+          other += got;
+          other_index = region.mat[nk];
+        }
+      };
+      if (cap_[k] > 0.0) {
+        if (x > 0 && y > 0 && x < w - 1 && y < h - 1) {
+          for (int d = 0; d < 8; ++d) take(k + off[d], d);
+        } else {
+          for (int d = 0; d < 8; ++d) {
+            const int nx = x + kDx[d], ny = y + kDy[d];
+            if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+            take(region.at(nx, ny), d);
           }
         }
+      }
       const double gave = out_[k];
       if (gave == 0.0 && same == 0.0 && other == 0.0) return;
       switch (kind_[k]) {
