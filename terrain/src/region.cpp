@@ -20,10 +20,13 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
     mat.resize(size());
   else
     mat.clear();
-  if (with_layers)
-    layer.resize(size());
-  else
-    layer.clear();
+  if (with_layers) {
+    layer.boundary.resize(size());
+    layer.lower.resize(size());
+  } else {
+    layer.boundary.clear();
+    layer.lower.clear();
+  }
   store.for_each_run_creating({si0, sj0, w, h}, [&](Tile& t, const TileRun& run) {
     const std::size_t src = run.local;
     const std::size_t dst = at(run.x, run.y);
@@ -36,15 +39,12 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
       for (int k = 0; k < run.count; ++k) bed[dst + k] = t.base[src + k] - depth.at(t.material, src + k);
     }
     if (with_layers) {
-      // Raw pointers: the byte stores would otherwise make the compiler reload every
-      // vector's data pointer per column.
-      ColumnLayer* to = layer.data() + dst;
-      if (!t.layered()) {
-        std::fill_n(to, run.count, ColumnLayer{});
+      if (t.layered()) {
+        std::memcpy(&layer.boundary[dst], &t.layer_boundary[src], sizeof(double) * run.count);
+        std::memcpy(&layer.lower[dst], &t.layer_lower[src], static_cast<std::size_t>(run.count));
       } else {
-        const double* boundary = t.layer_boundary.data() + src;
-        const std::uint8_t* lower = t.layer_lower.data() + src;
-        for (int k = 0; k < run.count; ++k) to[k] = ColumnLayer{boundary[k], lower[k]};
+        std::fill_n(&layer.boundary[dst], run.count, kNoLayer);
+        std::memset(&layer.lower[dst], 0, static_cast<std::size_t>(run.count));
       }
     }
     if (!with_materials) return;
@@ -62,10 +62,11 @@ void Region::expose_layers() {
   // Raw pointers: a byte store may alias anything, so indexing the vectors would reload
   // their data pointers per column.
   std::uint8_t* index = mat.data();
-  const ColumnLayer* column = layer.data();
+  const double* boundary = layer.boundary.data();
+  const std::uint8_t* lower = layer.lower.data();
   const double* z = sink.data();
   const std::size_t n = layer.size();
-  for (std::size_t k = 0; k < n; ++k) index[k] = column[k].exposed(index[k], z[k]);
+  for (std::size_t k = 0; k < n; ++k) index[k] = ColumnLayer{boundary[k], lower[k]}.exposed(index[k], z[k]);
 }
 
 void Region::scatter(TileStore& store) {
@@ -139,7 +140,8 @@ void Region::scatter_relayered(TileStore& store) {
 }
 
 std::size_t Region::bytes() const {
-  return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat, layer, upper, relayered, touched_);
+  return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat, layer.boundary, layer.lower, upper, relayered,
+                        touched_);
 }
 
 }  // namespace shore::terrain

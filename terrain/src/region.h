@@ -35,9 +35,18 @@ struct Region {
   /// Palette index per column; empty when the palette has one entry (every column is 0,
   /// and the stages take their one material's fast path).
   std::vector<std::uint8_t> mat;
-  /// Layering per column (layers.h); empty while the terrain has no layer (then every
-  /// stage takes the path it took before layers).
-  std::vector<ColumnLayer> layer;
+  /// Layering per column (layers.h), as two arrays (each copied from a tile's in one go);
+  /// layer[k] reads column k's ColumnLayer.
+  struct Layers {
+    std::vector<double> boundary;     ///< kNoLayer where not layered
+    std::vector<std::uint8_t> lower;  ///< read only where layered
+    [[nodiscard]] ColumnLayer operator[](std::size_t k) const noexcept { return {boundary[k], lower[k]}; }
+    [[nodiscard]] bool empty() const noexcept { return boundary.empty(); }
+    [[nodiscard]] std::size_t size() const noexcept { return boundary.size(); }
+  };
+  /// Empty while the terrain has no layer (then every stage takes the path it took before
+  /// layers).
+  Layers layer;
   /// The painted (upper) index per column, kept by expose_layers before it overwrites mat;
   /// empty without layers.
   std::vector<std::uint8_t> upper;

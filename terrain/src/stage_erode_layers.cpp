@@ -46,24 +46,24 @@ void ErodeStage::start_layers(const Region& region, std::span<const Material> pa
   unsigned char* kind = kind_.data();
   std::uint8_t* lower = lower_.data();
   double* thick = thick_.data();
-  const ColumnLayer* layers = region.layer.data();
+  const double* boundary = region.layer.boundary.data();
+  const std::uint8_t* lower_of = region.layer.lower.data();
   const double* sink = region.sink.data();
   const double* ht = region.ht.data();
   const double* pressed = region.ht_pressed.data();
   const std::size_t n = region.layer.size();
   for (std::size_t k = 0; k < n; ++k) {
-    const ColumnLayer& layer = layers[k];
-    if (!layer.layered()) continue;
-    lower[k] = layer.lower;
-    if (sink[k] > layer.boundary) {
+    if (!(boundary[k] < kNoLayer)) continue;  // not layered
+    lower[k] = lower_of[k];
+    if (sink[k] > boundary[k]) {
       kind[k] = kBroken;
-      thick[k] = layer.boundary - sink[k];
+      thick[k] = boundary[k] - sink[k];
     } else {
       // A step loosens what displacement laid on the column after erosion: that soil is the
       // top layer's already (its sinkage will drop by it).
       const double laid = loosens ? std::max(0.0, ht[k] - pressed[k]) : 0.0;
       kind[k] = kCrust;
-      thick[k] = layer.boundary - (sink[k] - laid);
+      thick[k] = boundary[k] - (sink[k] - laid);
     }
   }
 }
