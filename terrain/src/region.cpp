@@ -8,6 +8,23 @@
 
 namespace shore::terrain {
 
+namespace {
+
+// Whether every index is 0, eight at a time (a tile's map is mostly read to its end).
+bool all_zero(const std::vector<std::uint8_t>& index) {
+  std::size_t k = 0;
+  for (; k + 8 <= index.size(); k += 8) {
+    std::uint64_t eight = 0;
+    std::memcpy(&eight, index.data() + k, sizeof eight);
+    if (eight != 0) return false;
+  }
+  for (; k < index.size(); ++k)
+    if (index[k] != 0) return false;
+  return true;
+}
+
+}  // namespace
+
 void Region::prepare(const GridRect& with_halo, Team* rows_team) {
   si0 = with_halo.i0, sj0 = with_halo.j0, w = with_halo.nx, h = with_halo.ny;
   team = rows_team;
@@ -133,7 +150,7 @@ void Region::scatter_relayered(TileStore& store) {
       merged.unpainted = merged.unpainted || touched_[n].unpainted;
       merged.unlayered = merged.unlayered || touched_[n].unlayered;
     }
-    if (merged.unpainted) merged.tile->normalize_material();
+    if (merged.unpainted && all_zero(merged.tile->material)) merged.tile->normalize_material();
     if (merged.unlayered) merged.tile->normalize_layers();
   }
   if (any_layer) store.mark_layered();
