@@ -2,11 +2,19 @@
 // before/after comparisons and for callgrind (one run, no benchmark repetitions).
 //   shore_terrain_case towed_wheel [cell_m] [threads] [steps] [sinkage_m] [star 0|1]
 //   shore_terrain_case footprint|wheel [threads] [steps]
+//   shore_terrain_case material_map one|map [steps]
+//     shore-bench's terrain.material_map_cost_ratio case, one of its two terrains: the
+//     step-alone wheel on one material or on the four-entry map of sand copies painted in
+//     half-metre stripes; callgrind it with
+//     --toggle-collect='shore::terrain::Terrain::step(std::span<shore::terrain::Imprint const,
+//     18446744073709551615ul>)'
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "shore/scenes/terrain_step_cases.h"
+#include "shore/terrain/terrain.h"
 
 namespace tb = shore::scenes;
 
@@ -20,10 +28,39 @@ void print(const tb::TerrainCaseResult& r, double cell) {
       r.erosion_passes, static_cast<unsigned long long>(r.state_hash), r.volume_error, r.bearing_sum);
 }
 
+// The bench's material_map_cost terrains (bench/harness/sweeps/terrain.cpp), stepped under
+// its wheel; prints the state hash.
+int material_map(bool painted, int steps) {
+  shore::terrain::TerrainSettings s;
+  s.cell = 0.01;
+  s.threads = 1;
+  shore::terrain::Terrain t(s);
+  if (painted) {
+    std::vector<shore::terrain::Material> palette(4, shore::terrain::Material::sand());
+    for (int k = 1; k < 4; ++k) palette[static_cast<std::size_t>(k)].name = "sand " + std::to_string(k);
+    t.set_palette(palette);
+    for (int k = 0; k < 8; ++k) {
+      t.paint_rect({k * 50, -20, 50, 20}, k % 4);
+      t.paint_rect({k * 50, 0, 50, 20}, (k + 1) % 4);
+    }
+  }
+  for (int k = 0; k < steps; ++k) {
+    const shore::EnvelopeRaster env = tb::wheel_envelope(t, k / 240.0, 0.4 - 0.03, 0.4, 0.2, 0.15);
+    const shore::terrain::Imprint im{&env};
+    (void)t.bearing_offset(env, 4000.0);
+    t.step({&im, 1});
+  }
+  std::printf("material map (%s) %d steps: hash %016llx\n", painted ? "four entries" : "one material", steps,
+              static_cast<unsigned long long>(t.state_hash()));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string which = argc > 1 ? argv[1] : "towed_wheel";
+  if (which == "material_map")
+    return material_map(argc > 2 && std::string(argv[2]) == "map", argc > 3 ? std::atoi(argv[3]) : 220);
   if (which == "towed_wheel") {
     tb::TowedWheelCase c;
     if (argc > 2) c.cell = std::atof(argv[2]);

@@ -8,6 +8,23 @@
 
 namespace shore::terrain {
 
+namespace {
+
+// Whether every index is 0, eight at a time (a tile's map is mostly read to its end).
+bool all_zero(const std::vector<std::uint8_t>& index) {
+  std::size_t k = 0;
+  for (; k + 8 <= index.size(); k += 8) {
+    std::uint64_t eight = 0;
+    std::memcpy(&eight, index.data() + k, sizeof eight);
+    if (eight != 0) return false;
+  }
+  for (; k < index.size(); ++k)
+    if (index[k] != 0) return false;
+  return true;
+}
+
+}  // namespace
+
 void Region::prepare(const GridRect& with_halo, Team* rows_team) {
   si0 = with_halo.i0, sj0 = with_halo.j0, w = with_halo.nx, h = with_halo.ny;
   team = rows_team;
@@ -20,10 +37,13 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
     mat.resize(size());
   else
     mat.clear();
-  if (with_layers)
-    layer.resize(size());
-  else
-    layer.clear();
+  if (with_layers) {
+    layer.boundary.resize(size());
+    layer.lower.resize(size());
+  } else {
+    layer.boundary.clear();
+    layer.lower.clear();
+  }
   store.for_each_run_creating({si0, sj0, w, h}, [&](Tile& t, const TileRun& run) {
     const std::size_t src = run.local;
     const std::size_t dst = at(run.x, run.y);
@@ -35,8 +55,15 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
     } else {
       for (int k = 0; k < run.count; ++k) bed[dst + k] = t.base[src + k] - depth.at(t.material, src + k);
     }
-    if (with_layers)
-      for (int k = 0; k < run.count; ++k) layer[dst + k] = t.layer(src + k);
+    if (with_layers) {
+      if (t.layered()) {
+        std::memcpy(&layer.boundary[dst], &t.layer_boundary[src], sizeof(double) * run.count);
+        std::memcpy(&layer.lower[dst], &t.layer_lower[src], static_cast<std::size_t>(run.count));
+      } else {
+        std::fill_n(&layer.boundary[dst], run.count, kNoLayer);
+        std::memset(&layer.lower[dst], 0, static_cast<std::size_t>(run.count));
+      }
+    }
     if (!with_materials) return;
     if (t.material.empty())
       std::memset(&mat[dst], 0, static_cast<std::size_t>(run.count));
@@ -49,10 +76,17 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
 
 void Region::expose_layers() {
   upper = mat;
-  for (std::size_t k = 0; k < layer.size(); ++k) mat[k] = layer[k].exposed(mat[k], sink[k]);
+  // Raw pointers: a byte store may alias anything, so indexing the vectors would reload
+  // their data pointers per column.
+  std::uint8_t* index = mat.data();
+  const double* boundary = layer.boundary.data();
+  const std::uint8_t* lower = layer.lower.data();
+  const double* z = sink.data();
+  const std::size_t n = layer.size();
+  for (std::size_t k = 0; k < n; ++k) index[k] = ColumnLayer{boundary[k], lower[k]}.exposed(index[k], z[k]);
 }
 
-void Region::scatter(TileStore& store) const {
+void Region::scatter(TileStore& store) {
   store.for_each_run_creating({si0, sj0, w, h}, [&](Tile& t, const TileRun& run) {
     const std::size_t src = at(run.x, run.y);
     const std::size_t dst = run.local;
@@ -69,41 +103,62 @@ void Region::scatter(TileStore& store) const {
   if (!relayered.empty()) scatter_relayered(store);
 }
 
-void Region::scatter_relayered(TileStore& store) const {
+void Region::scatter_relayered(TileStore& store) {
   bool any_layer = false;
-  std::vector<Tile*> touched;
+  touched_.clear();
+  Tile* t = nullptr;
+  TileKey key{};
   for (const Relayered& c : relayered) {
     const std::int64_t i = si0 + static_cast<std::int64_t>(c.k % static_cast<std::size_t>(w));
     const std::int64_t j = sj0 + static_cast<std::int64_t>(c.k / static_cast<std::size_t>(w));
-    Tile& t = store.tile(store.key_of(i, j));
-    const std::size_t local = store.local(i, j);
-    if (t.material.empty() && c.index != 0) t.material.assign(t.height.size(), 0);
-    if (!t.material.empty()) t.material[local] = c.index;
-    if (c.layer.layered() && !t.layered()) {
-      t.layer_boundary.assign(t.height.size(), kNoLayer);
-      t.layer_lower.assign(t.height.size(), 0);
+    // Row by row: most columns lie in the tile of the one before.
+    if (t == nullptr || !(store.key_of(i, j) == key)) {
+      key = store.key_of(i, j);
+      t = &store.tile(key);
+      touched_.push_back({t});
     }
-    if (t.layered()) {
-      t.layer_boundary[local] = c.layer.boundary;
-      t.layer_lower[local] = c.layer.layered() ? c.layer.lower : std::uint8_t{0};
+    const std::size_t local = store.local(i, j);
+    // Only a nonzero index turned 0 can leave the map all 0, only a layered column turned
+    // unlayered the tile unlayered (a tile's arrays are kept normalised, as painting keeps them).
+    bool unpainted = false, unlayered = false;
+    if (t->material.empty() && c.index != 0) t->material.assign(t->height.size(), 0);
+    if (!t->material.empty()) {
+      unpainted = c.index == 0 && t->material[local] != 0;
+      t->material[local] = c.index;
+    }
+    if (c.layer.layered() && !t->layered()) {
+      t->layer_boundary.assign(t->height.size(), kNoLayer);
+      t->layer_lower.assign(t->height.size(), 0);
+    }
+    if (t->layered()) {
+      unlayered = !c.layer.layered() && t->layer_boundary[local] != kNoLayer;
+      t->layer_boundary[local] = c.layer.boundary;
+      t->layer_lower[local] = c.layer.layered() ? c.layer.lower : std::uint8_t{0};
     }
     any_layer = any_layer || c.layer.layered();
-    store.mark_painted(t);
-    if (touched.empty() || touched.back() != &t) touched.push_back(&t);
+    store.mark_painted(*t);
+    touched_.back().unpainted = touched_.back().unpainted || unpainted;
+    touched_.back().unlayered = touched_.back().unlayered || unlayered;
   }
   // A tile's map and layers are dropped once all 0 / unlayered, as painting does: once per
-  // tile, after its columns are written (each check reads the whole tile).
-  std::sort(touched.begin(), touched.end());
-  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  for (Tile* t : touched) {
-    t->normalize_material();
-    t->normalize_layers();
+  // tile, after its columns are written (each check reads the whole tile), and only where
+  // a write could have made it so.
+  std::sort(touched_.begin(), touched_.end(), [](const Touched& a, const Touched& b) { return a.tile < b.tile; });
+  for (std::size_t n = 0; n < touched_.size();) {
+    Touched merged = touched_[n];
+    for (++n; n < touched_.size() && touched_[n].tile == merged.tile; ++n) {
+      merged.unpainted = merged.unpainted || touched_[n].unpainted;
+      merged.unlayered = merged.unlayered || touched_[n].unlayered;
+    }
+    if (merged.unpainted && all_zero(merged.tile->material)) merged.tile->normalize_material();
+    if (merged.unlayered) merged.tile->normalize_layers();
   }
   if (any_layer) store.mark_layered();
 }
 
 std::size_t Region::bytes() const {
-  return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat, layer, upper, relayered);
+  return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat, layer.boundary, layer.lower, upper, relayered,
+                        touched_);
 }
 
 }  // namespace shore::terrain

@@ -35,9 +35,18 @@ struct Region {
   /// Palette index per column; empty when the palette has one entry (every column is 0,
   /// and the stages take their one material's fast path).
   std::vector<std::uint8_t> mat;
-  /// Layering per column (layers.h); empty while the terrain has no layer (then every
-  /// stage takes the path it took before layers).
-  std::vector<ColumnLayer> layer;
+  /// Layering per column (layers.h), as two arrays (each copied from a tile's in one go);
+  /// layer[k] reads column k's ColumnLayer.
+  struct Layers {
+    std::vector<double> boundary;     ///< kNoLayer where not layered
+    std::vector<std::uint8_t> lower;  ///< read only where layered
+    [[nodiscard]] ColumnLayer operator[](std::size_t k) const noexcept { return {boundary[k], lower[k]}; }
+    [[nodiscard]] bool empty() const noexcept { return boundary.empty(); }
+    [[nodiscard]] std::size_t size() const noexcept { return boundary.size(); }
+  };
+  /// Empty while the terrain has no layer (then every stage takes the path it took before
+  /// layers).
+  Layers layer;
   /// The painted (upper) index per column, kept by expose_layers before it overwrites mat;
   /// empty without layers.
   std::vector<std::uint8_t> upper;
@@ -61,7 +70,7 @@ struct Region {
   void expose_layers();
   /// Heights and sinkage back into the tiles, marking what changed; and the relayered
   /// columns' painted indices and layers (their tiles marked painted, the store layered).
-  void scatter(TileStore& store) const;
+  void scatter(TileStore& store);
 
   [[nodiscard]] std::size_t size() const noexcept { return static_cast<std::size_t>(w) * static_cast<std::size_t>(h); }
   [[nodiscard]] std::size_t at(int x, int y) const noexcept {
@@ -89,7 +98,14 @@ struct Region {
   [[nodiscard]] std::size_t bytes() const;
 
  private:
-  void scatter_relayered(TileStore& store) const;
+  void scatter_relayered(TileStore& store);
+  /// scatter_relayered's scratch: the tiles it wrote, and whether it wrote a 0 index or an
+  /// unlayered column there.
+  struct Touched {
+    Tile* tile = nullptr;
+    bool unpainted = false, unlayered = false;
+  };
+  std::vector<Touched> touched_;
 };
 
 }  // namespace shore::terrain

@@ -139,7 +139,11 @@ class ErodeStage {
   std::vector<unsigned char> spent_;      ///< a crust giver gives its whole top layer this pass
   std::vector<unsigned char> rigid_;      ///< per palette entry: rigid (takes any soil as its own)
   std::vector<unsigned char> row_cross_;  ///< per row: a pair of another material or a layer moves soil
-  ColumnBits dirty_;                      ///< layering changed by this erosion
+  /// Givers whose soil crosses a border or moves a layer this pass (or that are layered):
+  /// only they and their receivers can change a layering (track_layers).
+  ColumnBits cross_givers_;
+  ColumnBits track_;  ///< track_layers' scratch: cross_givers_ and their receivers
+  ColumnBits dirty_;  ///< layering changed by this erosion
   struct Retop {
     std::size_t k;
     std::uint8_t top;

@@ -39,19 +39,31 @@ void ErodeStage::start_layers(const Region& region, std::span<const Material> pa
   for (const Material& m : palette) rigid_.push_back(m.rigid ? 1 : 0);
   row_cross_.assign(static_cast<std::size_t>(region.h), 0);
   dirty_.reset(region.w, region.h);
-  for (std::size_t k = 0; k < region.layer.size(); ++k) {
-    const ColumnLayer& layer = region.layer[k];
-    if (!layer.layered()) continue;
-    lower_[k] = layer.lower;
-    if (region.sink[k] > layer.boundary) {
-      kind_[k] = kBroken;
-      thick_[k] = layer.boundary - region.sink[k];
+  cross_givers_.reset(region.w, region.h);
+  track_.reset(region.w, region.h);
+  // Raw pointers: the byte stores (kind, lower) may alias anything, so indexing the
+  // vectors would reload their data pointers per column.
+  unsigned char* kind = kind_.data();
+  std::uint8_t* lower = lower_.data();
+  double* thick = thick_.data();
+  const double* boundary = region.layer.boundary.data();
+  const std::uint8_t* lower_of = region.layer.lower.data();
+  const double* sink = region.sink.data();
+  const double* ht = region.ht.data();
+  const double* pressed = region.ht_pressed.data();
+  const std::size_t n = region.layer.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!(boundary[k] < kNoLayer)) continue;  // not layered
+    lower[k] = lower_of[k];
+    if (sink[k] > boundary[k]) {
+      kind[k] = kBroken;
+      thick[k] = boundary[k] - sink[k];
     } else {
       // A step loosens what displacement laid on the column after erosion: that soil is the
       // top layer's already (its sinkage will drop by it).
-      const double laid = loosens ? std::max(0.0, region.ht[k] - region.ht_pressed[k]) : 0.0;
-      kind_[k] = kCrust;
-      thick_[k] = layer.boundary - (region.sink[k] - laid);
+      const double laid = loosens ? std::max(0.0, ht[k] - pressed[k]) : 0.0;
+      kind[k] = kCrust;
+      thick[k] = boundary[k] - (sink[k] - laid);
     }
   }
 }
@@ -79,28 +91,49 @@ void ErodeStage::track_layers(Region& region) {
   for (const unsigned char c : row_cross_) cross = cross || c != 0;
   if (!cross) return;  // every pair moved soil between unlayered columns of one material
   const int w = region.w, h = region.h;
-  retop_.clear();
+  // Only a giver whose soil crosses a border or moves a layer (or that is layered itself),
+  // and the columns it gives to, can change a layering: any other column gave and took
+  // only its own material, unlayered, which leaves it as it was.
+  track_.clear();
   for (int y = 0; y < h; ++y)
-    near_.for_each_in_row(y, [&](int x) {
+    cross_givers_.for_each_in_row(y, [&](int x) {
+      track_.set(x, y);
+      for (unsigned mk = mask_[region.at(x, y)]; mk != 0; mk &= mk - 1) {
+        const int d = std::countr_zero(mk);
+        track_.set(x + kDx[d], y + kDy[d]);
+      }
+    });
+  cross_givers_.clear();
+  retop_.clear();
+  const auto off = neighbour_offsets(w);
+  for (int y = 0; y < h; ++y)
+    track_.for_each_in_row(y, [&](int x) {
       const std::size_t k = region.at(x, y);
       const std::uint8_t top = region.mat[k];
       // What it took: of its top material, and of another (one material: see takes).
       double same = 0.0, other = 0.0;
       std::uint8_t other_index = top;
-      if (cap_[k] > 0.0)
-        for (int d = 0; d < 8; ++d) {
-          const int nx = x + kDx[d], ny = y + kDy[d];
-          if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-          const std::size_t nk = region.at(nx, ny);
-          if (!(mask_[nk] & (1u << (d ^ 1)))) continue;
-          const double got = std::min(q_[nk], cap_[k]);
-          if (region.mat[nk] == top || rigid_[region.mat[nk]]) {  // a road's loose soil lands as the receiver's
-            same += got;
-          } else {
-            other += got;
-            other_index = region.mat[nk];
+      const auto take = [&](std::size_t nk, int d) {
+        if (!(mask_[nk] & (1u << (d ^ 1)))) return;
+        const double got = std::min(q_[nk], cap_[k]);
+        if (region.mat[nk] == top || rigid_[region.mat[nk]]) {  // a road's loose soil lands as the receiver's
+          same += got;
+        } else {
+          other += got;
+          other_index = region.mat[nk];
+        }
+      };
+      if (cap_[k] > 0.0) {
+        if (x > 0 && y > 0 && x < w - 1 && y < h - 1) {
+          for (int d = 0; d < 8; ++d) take(k + off[d], d);
+        } else {
+          for (int d = 0; d < 8; ++d) {
+            const int nx = x + kDx[d], ny = y + kDy[d];
+            if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+            take(region.at(nx, ny), d);
           }
         }
+      }
       const double gave = out_[k];
       if (gave == 0.0 && same == 0.0 && other == 0.0) return;
       switch (kind_[k]) {

@@ -141,8 +141,9 @@ void ErodeStage::find_still_flowing(const Region& region, int passes, int max_pa
 std::size_t ErodeStage::bytes() const {
   return capacity_bytes(q_, out_, cap_, mask_, cover_, row_flow_, lims_, kind_, thick_, lower_, spent_, rigid_,
                         row_cross_, retop_) +
-         dirty_.bytes() + givable_.bytes() + overhang_.bytes() + cand_.bytes() + changed_.bytes() + givers_.bytes() +
-         near_.bytes() + recap_.bytes() + steep_givers_.bytes() + live_.bytes();
+         dirty_.bytes() + cross_givers_.bytes() + track_.bytes() + givable_.bytes() + overhang_.bytes() +
+         cand_.bytes() + changed_.bytes() + givers_.bytes() + near_.bytes() + recap_.bytes() + steep_givers_.bytes() +
+         live_.bytes();
 }
 
 }  // namespace shore::terrain

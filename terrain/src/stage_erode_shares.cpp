@@ -2,6 +2,7 @@
 // of its too-steep downhill neighbours.
 
 #include <algorithm>
+#include <bit>
 
 #include "neighbours.h"
 #include "stage_erode.h"
@@ -11,8 +12,8 @@ namespace shore::terrain {
 // A pair is too steep when the drop exceeds its limit by more than eps; the giver moves
 // sigma times the average excess, split equally among those neighbours and never more than
 // it holds above bedrock (with a map: than its top layer), and only what the receivers'
-// caps let through. Sets q_, mask_, out_, givers_ and steep_givers_ (with a map spent_ and
-// row_cross_ too); returns whether anything flows.
+// caps let through. Sets q_, mask_, out_, givers_ and steep_givers_ (with a map spent_,
+// row_cross_ and cross_givers_ too); returns whether anything flows.
 bool ErodeStage::compute_shares(const Region& region) {
   return region.mat.empty() ? compute_shares_as<false>(region) : compute_shares_as<true>(region);
 }
@@ -27,7 +28,7 @@ bool ErodeStage::compute_shares_as(const Region& region) {
     std::uint64_t* giver_row = givers_.row(y);
     std::uint64_t* steep_row = steep_givers_.row(y);
     bool flow = false, cross = false;
-    cand_.for_each_in_row(y, [&](int x) {
+    const auto give = [&](int x) __attribute__((always_inline)) {
       const std::size_t k = region.at(x, y);
       const ErosionLimits& lim = kMap ? lims_[region.mat[k]] : one;
       [[maybe_unused]] const std::uint8_t top = kMap ? region.mat[k] : 0;
@@ -89,12 +90,21 @@ bool ErodeStage::compute_shares_as(const Region& region) {
       out_[k] = total;
       if constexpr (kMap) {
         spent_[k] = spent;
-        cross = cross || mixed || kind_[k] != kUnlayered;
+        if (mixed || kind_[k] != kUnlayered) {
+          cross = true;
+          cross_givers_.set(x, y);
+        }
       }
       giver_row[x >> 6] |= ColumnBits::bit(x);
       flow = true;
       if (steep_here) steep_row[x >> 6] |= ColumnBits::bit(x);
-    });
+    };
+    // The candidates' bits walked here, not by ColumnBits::for_each_in_row, so the test above
+    // is inlined into this row's loop (through a call, each captured value would be read
+    // back from memory after every byte store).
+    const std::uint64_t* cand_row = cand_.row(y);
+    for (int i = 0; i < cand_.words; ++i)
+      for (std::uint64_t word = cand_row[i]; word != 0; word &= word - 1) give(i * 64 + std::countr_zero(word));
     row_flow_[static_cast<std::size_t>(y)] = flow;  // only this row's task writes it
     if constexpr (kMap) row_cross_[static_cast<std::size_t>(y)] = cross;
   });
