@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -40,6 +41,36 @@ double wheel_sinkage(const RaycastCar& car) {
   double sum = 0.0;
   for (int k = 0; k < 4; ++k) sum -= double(car.vehicle().getWheelInfo(k).m_raycastInfo.m_contactPointWS.z());
   return sum / 4;
+}
+
+/// N: what Bekker's pressure k z^n carries over a rolling wheel's front arc pressed to depth
+/// z0, integrated on the circle itself (Simpson's rule): the load his rolling sinkage
+/// describes before its small-sinkage approximation, x^2 = D (z0 - z) and the arc's
+/// integral taken as (3 - n) / 3 of the flat one.
+double front_arc_load(const shore::terrain::Material& m, double z0) {
+  constexpr double R = kDiameter / 2;
+  const double x1 = std::sqrt(std::max(0.0, R * R - (R - z0) * (R - z0)));
+  constexpr int kSteps = 2000;  // even; the integrand is smooth on [0, x1]
+  const double h = x1 / kSteps;
+  double sum = 0.0;
+  for (int k = 0; k <= kSteps; ++k) {
+    const double x = k * h, z = z0 - (R - std::sqrt(R * R - x * x));
+    sum += (k == 0 || k == kSteps ? 1.0 : (k % 2 ? 4.0 : 2.0)) * shore::terrain::bekker::pressure(m, kWidth, z);
+  }
+  return kWidth * sum * h / 3.0;
+}
+
+/// m: the depth at which Bekker's pressure over the front arc carries `load` (bisection).
+double front_arc_sinkage(const shore::terrain::Material& m, double load) {
+  double lo = 0.0, hi = kDiameter / 2;  // the load grows with the depth
+  for (int k = 0; k < 60; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    if (front_arc_load(m, mid) < load)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return 0.5 * (lo + hi);
 }
 
 class RaycastWheelSoil : public ::testing::TestWithParam<const char*> {};
@@ -82,14 +113,22 @@ TEST_P(RaycastWheelSoil, TowedSinkageIsBekkersAndTheSoilResists) {
   EXPECT_NEAR(run.rut, rolling, 0.10 * rolling) << GetParam()
                                                 << ": m, the front wheel's rut against Bekker's rolling "
                                                    "sinkage for the load it carried";
-  // The front wheels' resistance, the columns' push on the rim along the heading. Against
-  // Bekker's compaction resistance at its rolling sinkage for the load it carried it runs
-  // 12 to 17 % high (float and double, sand and mud): the 15 % bar is not met yet, so the
-  // figure is printed, and only its direction is checked (docs/terrain.md, raycast wheels).
-  const double reference = shore::terrain::bekker::wheel_compaction_resistance(m, rolling, kWidth);
-  std::printf("%s: front wheels' resistance %.0f N, Bekker's compaction resistance %.0f N\n", GetParam(),
-              -run.resistance, reference);
-  EXPECT_GT(-run.resistance, 0.0) << GetParam() << ": the soil must resist the rolling wheel";
+  // The front wheels' resistance, the columns' push on the rim along the heading, against
+  // Bekker's compaction resistance R_c = b k z0^(n+1) / (n+1), the horizontal projection of
+  // his pressure over the front arc, at the depth where that pressure carries the load the
+  // wheel carried. That depth is taken on the circle (front_arc_sinkage): the closed-form
+  // rolling sinkage above is his small-sinkage approximation of it, 5 % shallow on mud
+  // (n 0.7: R_c 9 % low), 0.4 % on sand (n 1.1). Measured: sand +13 %, mud +3 % in float
+  // (docs/terrain.md, "Raycast wheels": what the sand's excess is).
+  const double arc = front_arc_sinkage(m, run.load);
+  const double reference = shore::terrain::bekker::wheel_compaction_resistance(m, arc, kWidth);
+  std::printf(
+      "%s: front wheels' resistance %.0f N, Bekker's compaction resistance %.0f N at the front arc's depth "
+      "%.4f m (%.0f N at the closed form's)\n",
+      GetParam(), -run.resistance, reference, arc,
+      shore::terrain::bekker::wheel_compaction_resistance(m, rolling, kWidth));
+  EXPECT_NEAR(-run.resistance, reference, 0.15 * reference)
+      << GetParam() << ": N, the front wheels' compaction resistance against Bekker's";
 }
 
 INSTANTIATE_TEST_SUITE_P(Presets, RaycastWheelSoil, ::testing::Values("sand", "mud"));
