@@ -59,7 +59,7 @@ struct Tile {
   /// where the tile has no sponge: damping 2 sigma v and pull sigma^2 u per unit mass.
   const double* sponge = nullptr;
   /// The tile this thread steps next, brought into the caches a row per row of this one
-  /// (3-D), so that its first reads (the gather's copy, the kernel's velocities) do not
+  /// (both modes), so that its first reads (the gather's copy, the kernel's velocities) do not
   /// stall a pass of their own: rows of `stride` entries, null where there is none. Only
   /// a hint: no value depends on it.
   struct Next {

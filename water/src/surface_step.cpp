@@ -331,10 +331,12 @@ kernel::Tile::Next next_of(const TileData& t, int stride) {
   kernel::Tile::Next n;
   n.uz = t.uz.data();
   n.vz = t.vz.data();
-  n.ux = t.ux.data();
-  n.uy = t.uy.data();
-  n.vx = t.vx.data();
-  n.vy = t.vy.data();
+  if (!t.ux.empty()) {  // 3-D
+    n.ux = t.ux.data();
+    n.uy = t.uy.data();
+    n.vx = t.vx.data();
+    n.vy = t.vy.data();
+  }
   n.w = t.w;
   n.h = t.h;
   n.stride = stride;
@@ -540,7 +542,7 @@ bool step_tiles(const SurfaceSettings& settings, Surface::State& s, double dt) {
   const auto one = [&](std::size_t n, const TileData* next, Scratch& sc) {
     TileData& t = tile_at(n);
     kernel::Tile view = s.gather(t, sc);
-    if (next && s.full) view.next = next_of(*next, s.T);
+    if (next) view.next = next_of(*next, s.T);
     results[n] = s.full ? kernel::step_3d(s.variant, view, k, sc.workspace())
                         : kernel::step_vertical(s.variant, view, k, sc.workspace());
     s.refresh_edges(t, 1 - t.cur);
