@@ -6,6 +6,7 @@
 //   water_steps lake <tile> <substeps>
 //   water_steps asleep <tile> <substeps>
 //   water_steps resting <nodes per side> <steps>
+//   water_steps timed <3d|vertical> <nodes per side> <threads> <steps per round> <rounds>
 //
 // The paper's lattice at dt 0.3 with a drop in the middle (the benchmark's kernel case);
 // `sleep` turns sleeping tiles on (off by default, as in shore-bench's kernel cases); the
@@ -16,9 +17,13 @@
 // `asleep`: the same lake woken in 16 places (as shore-bench's asleep lake), stepped until
 // every tile sleeps again, then stepped `substeps` more times with nothing awake: the
 // difference of two such runs is what a fully asleep lake costs per substep.
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
+#include <vector>
 
 #include "shore/water/disturbance.h"
 #include "shore/water/surface.h"
@@ -100,7 +105,44 @@ int resting(int n, int steps) {
   return 0;
 }
 
+/// The benchmark's 3-D (or vertical-only) kernel case on n x n nodes with `threads`
+/// threads: prints the wall time per step of `steps` steps after two untimed ones (as
+/// shore-bench times it), best and median of `rounds` rounds, without the creation's page
+/// faults that dominate a whole run's time at 2048 x 2048.
+int timed(bool vertical, int n, int threads, int steps, int rounds) {
+  water::SurfaceSettings s;
+  s.nx = s.ny = n;
+  s.lattice = water::LatticeParameters::paper();
+  s.threads = threads;
+  s.mode = vertical ? water::SurfaceMode::vertical_only : water::SurfaceMode::full_3d;
+  s.sleep.enabled = false;
+  water::Surface surf(s);
+  surf.disturb(water::Disturbance::point_height(0.5 * (n - 1), 0.5 * (n - 1), 3.0, 1.0));
+  surf.step(0.3);
+  surf.step(0.3);
+  std::vector<double> ms, cpu;
+  int substeps = 0;
+  for (int r = 0; r < rounds; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
+    for (int k = 0; k < steps; ++k) substeps += surf.step(0.3).substeps;
+    cpu.push_back(1e3 * double(std::clock() - c0) / CLOCKS_PER_SEC / steps);
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / steps);
+  }
+  std::sort(ms.begin(), ms.end());
+  std::sort(cpu.begin(), cpu.end());
+  std::printf(
+      "%016llx ms per step: wall best %.3f median %.3f, cpu (all threads) best %.3f median %.3f (%.2f substeps a "
+      "step)\n",
+      static_cast<unsigned long long>(surf.state_hash()), ms.front(), ms[ms.size() / 2], cpu.front(),
+      cpu[cpu.size() / 2], double(substeps) / (steps * rounds));
+  return 0;
+}
+
 int main(int argc, char** argv) {
+  if (argc == 7 && std::strcmp(argv[1], "timed") == 0)
+    return timed(std::strcmp(argv[2], "vertical") == 0, std::atoi(argv[3]), std::atoi(argv[4]), std::atoi(argv[5]),
+                 std::atoi(argv[6]));
   if (argc == 4 && std::strcmp(argv[1], "resting") == 0) return resting(std::atoi(argv[2]), std::atoi(argv[3]));
   if (argc == 4 && std::strcmp(argv[1], "lake") == 0) return lake(std::atoi(argv[2]), std::atoi(argv[3]));
   if (argc == 4 && std::strcmp(argv[1], "asleep") == 0) return asleep(std::atoi(argv[2]), std::atoi(argv[3]));

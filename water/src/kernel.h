@@ -58,6 +58,16 @@ struct Tile {
   /// The open boundary's sigma per node (1/s, row-major with the storage's stride), or null
   /// where the tile has no sponge: damping 2 sigma v and pull sigma^2 u per unit mass.
   const double* sponge = nullptr;
+  /// The tile this thread steps next, brought into the caches a row per row of this one
+  /// (both modes), so that its first reads (the gather's copy, the kernel's velocities) do not
+  /// stall a pass of their own: rows of `stride` entries, null where there is none. Only
+  /// a hint: no value depends on it.
+  struct Next {
+    const double* uz = nullptr;
+    const double* vz = nullptr;
+    const float *ux = nullptr, *uy = nullptr, *vx = nullptr, *vy = nullptr;
+    int w = 0, h = 0, stride = 0;
+  } next;
 };
 
 /// Coefficients of one substep.

@@ -326,6 +326,23 @@ std::uint32_t relative_across(const Surface::State& s, const TileData& t, int si
                           mine.vz.data() + a, count);
 }
 
+/// The kernel's view of a tile's storage as the next one to step (kernel::Tile::next).
+kernel::Tile::Next next_of(const TileData& t, int stride) {
+  kernel::Tile::Next n;
+  n.uz = t.uz.data();
+  n.vz = t.vz.data();
+  if (!t.ux.empty()) {  // 3-D
+    n.ux = t.ux.data();
+    n.uy = t.uy.data();
+    n.vx = t.vx.data();
+    n.vy = t.vy.data();
+  }
+  n.w = t.w;
+  n.h = t.h;
+  n.stride = stride;
+  return n;
+}
+
 struct Totals {
   quantum::Wide v_before = 0, damped = 0, v_after = 0, rise = 0;
 };
@@ -519,20 +536,34 @@ bool step_tiles(const SurfaceSettings& settings, Surface::State& s, double dt) {
     TileData& t = *s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(slot)])];
     if (t.masks_stale) s.refresh_masks(t);
   }
-  const auto one = [&](int item, int slot_index) {
-    TileData& t =
-        *s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(stepped[static_cast<std::size_t>(item)])])];
-    Scratch& sc = s.scratch[static_cast<std::size_t>(slot_index)];
-    const kernel::Tile view = s.gather(t, sc);
-    results[static_cast<std::size_t>(item)] = s.full ? kernel::step_3d(s.variant, view, k, sc.workspace())
-                                                     : kernel::step_vertical(s.variant, view, k, sc.workspace());
+  const auto tile_at = [&](std::size_t n) -> TileData& {
+    return *s.tiles[static_cast<std::size_t>(s.slot[static_cast<std::size_t>(stepped[n])])];
+  };
+  const auto one = [&](std::size_t n, const TileData* next, Scratch& sc) {
+    TileData& t = tile_at(n);
+    kernel::Tile view = s.gather(t, sc);
+    if (next) view.next = next_of(*next, s.T);
+    results[n] = s.full ? kernel::step_3d(s.variant, view, k, sc.workspace())
+                        : kernel::step_vertical(s.variant, view, k, sc.workspace());
     s.refresh_edges(t, 1 - t.cur);
+  };
+  // Tiles in runs of consecutive ones per thread, each tile's kernel asking for the next
+  // one's storage (kernel::Tile::next): its first reads then overlap the arithmetic
+  // instead of stalling the next gather. Runs short enough (at least eight per thread)
+  // that a thread slowed by the machine's load leaves the rest to the others.
+  const std::size_t count = stepped.size();
+  const std::size_t run =
+      parallel ? std::clamp<std::size_t>(count / (8 * static_cast<std::size_t>(slots)), 1, 8) : count;
+  const auto steps_run = [&](int item, int slot_index) {
+    Scratch& sc = s.scratch[static_cast<std::size_t>(slot_index)];
+    const std::size_t first = static_cast<std::size_t>(item) * run, last = std::min(count, first + run);
+    for (std::size_t n = first; n < last; ++n) one(n, n + 1 < last ? &tile_at(n + 1) : nullptr, sc);
   };
   const auto t0 = std::chrono::steady_clock::now();
   if (parallel) {
-    s.team->run(static_cast<int>(stepped.size()), one);
-  } else {
-    for (std::size_t n = 0; n < stepped.size(); ++n) one(static_cast<int>(n), 0);
+    s.team->run(static_cast<int>((count + run - 1) / run), steps_run);
+  } else if (count > 0) {
+    steps_run(0, 0);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (s.threads > 1 && !forced && nodes >= settings.parallel_min_nodes && nodes > 0)
