@@ -26,6 +26,21 @@ constexpr double kMaxWidth = 10.0;  // m: wider is no wheel
 constexpr double kCutDepthLeast = 0.01;
 constexpr double kCutSlack = 1e-6;  // m, against rounding in the comparisons the cut relies on
 constexpr double kRolling = 0.05;   // m/s: a wheel slower than this is standing
+// The most a wheel may rise above its ray's hit in one substep (rise): twice its last rise,
+// at least kRiseLeast, never more than kRiseMost of its radius.
+constexpr double kRiseLeast = 0.01;  // m
+constexpr double kRiseMost = 0.5;
+constexpr double kRiseTolerance = 1e-3;  // N: the rise's load bracket closed this narrow
+constexpr int kRiseIterations = 60;
+
+/// N/m: what Bullet's suspension force gains per metre the ground under the wheel rises
+/// (btRaycastVehicle::updateSuspension: stiffness x compression / the contact's cosine,
+/// times the chassis' mass); 0 for a chassis of infinite mass.
+double suspension_spring(const btWheelInfo& info, const btRigidBody& chassis) {
+  const double inverse_mass = double(chassis.getInvMass());
+  if (!(inverse_mass > 0.0)) return 0.0;
+  return double(info.m_suspensionStiffness) * double(info.m_clippedInvContactDotSuspension) / inverse_mass;
+}
 
 }  // namespace
 
@@ -242,14 +257,14 @@ std::uint64_t wheel_key(const btCollisionObject& chassis, int k) {
 }  // namespace
 
 void RaycastWheels::add(btRaycastVehicle* vehicle, std::span<const double> widths, double cell,
-                        const EnvelopeOptions& options) {
+                        const EnvelopeOptions& options, bool rises) {
   const std::string where = "bullet.TerrainCoupling.add_vehicle";
   if (vehicle == nullptr) throw InvalidSetting(where + "(vehicle)", "null", "must be a btRaycastVehicle");
   for (const Vehicle& v : vehicles_)
     if (v.vehicle == vehicle) throw InvalidSetting(where + "(vehicle)", "added already", "must be added once");
   check_wheel_widths(*vehicle, widths, where);
   const int n = vehicle->getNumWheels();
-  Vehicle v{vehicle, dynamic_cast<SoilVehicle*>(vehicle), vehicle->getRigidBody(), {}};
+  Vehicle v{vehicle, dynamic_cast<SoilVehicle*>(vehicle), vehicle->getRigidBody(), {}, rises};
   v.wheels.reserve(widths.size());
   for (int k = 0; k < n; ++k) {
     const double b = widths[static_cast<std::size_t>(k)], r = double(vehicle->getWheelInfo(k).m_wheelsRadius);
@@ -334,6 +349,21 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   // One solve for both loads below: the second re-measures no offset the first measured.
   double offset = wheel.solve.offset(p.load);
   if (!cut_ok(wheel)) offset = press_whole(terrain, rasterizer, wheel, p, speed);
+  // Soil that carries more than the load where the ray hit lifts the wheel (rise): the
+  // suspension gains what the ground raised that far would give, at the wheel's contact.
+  const double suspension_force = p.load;
+  double risen = 0.0;
+  if (offset == 0.0 && vehicle.rises) {
+    const double carried = wheel.solve.bearing(0.0).capacity, spring = suspension_spring(info, *chassis);
+    const double most = std::min(double(info.m_maxSuspensionForce) - p.load, spring * kRiseMost * p.radius);
+    if (carried > p.load && std::isfinite(carried) && spring > 0.0 && most > 0.0) {
+      const double bound = std::min(std::max(kRiseLeast, 2.0 * wheel.rise), most / spring);
+      risen = rise(terrain, rasterizer, wheel, p, speed, spring, bound, offset);
+      const btVector3& normal = info.m_raycastInfo.m_contactNormalWS;
+      chassis->applyImpulse(normal * btScalar((p.load - suspension_force) * h), p.at);
+    }
+  }
+  wheel.rise = risen;
   const terrain::Bearing* bearing = &wheel.solve.bearing(offset);
   if (vehicle.soil != nullptr) {
     // Its traction; the soil it shears bears less, each strip by its own shear (loosen).
@@ -426,6 +456,44 @@ double RaycastWheels::press_whole(const terrain::Terrain& terrain, EnvelopeRaste
   rasterize_wheel(terrain, rasterizer, wheel, p.pose, true);
   read_bearing(terrain, wheel, p, speed);
   return wheel.solve.offset(p.load);
+}
+
+double RaycastWheels::rise(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, Wheel& wheel, Pressed& p,
+                           double speed, double spring, double bound, double& offset) {
+  const btVector3 up = p.pose.getBasis().getColumn(2), world_up = p.world_pose.getBasis().getColumn(2);
+  Pressed raised = p;
+  raised.pose.getOrigin() += up * btScalar(bound);
+  rasterize_wheel(terrain, rasterizer, wheel, raised.pose, true);  // whole: the cut is for the plain pose
+  read_bearing(terrain, wheel, raised, speed);
+  // The load L the raised envelope carries at its offset o(L) is F + k (D - o(L)) at the
+  // rise d = D - o: phi(L) = L - F - k (D - o(L)) grows with L, below 0 at L = F (the soil
+  // carries more than F at the hit, o(F) < D) and not below at F + k D. Illinois regula
+  // falsi on L, as the traction's spin.
+  const double force = p.load;
+  auto phi = [&](double load) { return load - force - spring * (bound - wheel.solve.offset(load)); };
+  double lo = force, hi = force + spring * bound;
+  double f_lo = phi(lo), f_hi = phi(hi);
+  int side = 0;
+  for (int n = 0; n < kRiseIterations && f_lo < 0.0 && hi - lo > kRiseTolerance; ++n) {
+    const double mid = std::clamp(hi - f_hi * (hi - lo) / (f_hi - f_lo), lo, hi);
+    const double f = phi(mid);
+    if (f < 0.0) {
+      lo = mid, f_lo = f;
+      if (side == -1) f_hi *= 0.5;
+      side = -1;
+    } else {
+      hi = mid, f_hi = f;
+      if (side == 1) f_lo *= 0.5;
+      side = 1;
+    }
+  }
+  const double load = f_lo < 0.0 ? hi : lo;  // the end whose offset carries it
+  offset = wheel.solve.offset(load);         // its bearing the last measured
+  const double d = std::clamp(bound - offset, 0.0, bound);
+  p.pose.getOrigin() += up * btScalar(d);
+  p.world_pose.getOrigin() += world_up * btScalar(d);
+  p.load = force + spring * d;
+  return d;
 }
 
 bool RaycastWheels::cut_ok(const Wheel& wheel) {

@@ -80,7 +80,10 @@ class RaycastWheels {
   /// Throws InvalidSetting (naming the field, value and what is allowed) for a null vehicle,
   /// one added already, a width count other than its wheel count, a width not in (0, 10] m
   /// or a wheel the rasterizer cannot take on cells of `cell` m.
-  void add(btRaycastVehicle* vehicle, std::span<const double> widths, double cell, const EnvelopeOptions& options);
+  /// `rises`: the vehicle casts its rays with a SoilRaycaster, and its wheels rise onto soil
+  /// that carries more than their load (rise).
+  void add(btRaycastVehicle* vehicle, std::span<const double> widths, double cell, const EnvelopeOptions& options,
+           bool rises = false);
   void remove(const btRaycastVehicle* vehicle);
   /// Where the terrain lies in the world: the wheels' rays and contact points are taken
   /// into its coordinates, their pushes back into the world's.
@@ -117,6 +120,7 @@ class RaycastWheels {
     /// envelope is cut or not (their bilinear weights depend on a column's place in it).
     GridRect window;
     double last_deepest = 0.0;    ///< m: the deepest offset its last press measured
+    double rise = 0.0;            ///< m: how far above its ray's hit it rested last substep (rise)
     std::vector<double> ground;   ///< scratch: the heights under the whole cylinder
     EnvelopeRaster bearing_part;  ///< what bears its load (the front arc when rolling)
     terrain::BearingSolve solve;  ///< scratch: bearing_part's columns and capacities
@@ -135,12 +139,13 @@ class RaycastWheels {
     SoilVehicle* soil = nullptr;  ///< the same vehicle if it takes the soil's traction
     const btCollisionObject* chassis = nullptr;
     std::vector<Wheel> wheels;
+    bool rises = false;  ///< built with a SoilRaycaster: its wheels rise (rise)
   };
   /// What press found under a wheel, for its traction.
   struct Pressed {
-    btVector3 at;                  ///< the contact point relative to the chassis' centre of mass
-    btTransform pose, world_pose;  ///< the wheel's, in ground and world coordinates
-    double radius = 0.0, load = 0.0;
+    btVector3 at;                     ///< the contact point relative to the chassis' centre of mass
+    btTransform pose, world_pose;     ///< the wheel's, in ground and world coordinates
+    double radius = 0.0, load = 0.0;  ///< m; N, the suspension force plus the rise's
   };
   /// The wheel's rut and resistance; its imprint if the terrain deforms, else null.
   const terrain::Imprint* press(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h, bool deforms,
@@ -155,6 +160,17 @@ class RaycastWheels {
   /// allows): the offset that carries the plain load.
   static double press_whole(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, Wheel& wheel,
                             const Pressed& p, double speed);
+  /// A wheel on soil that carries more than its load at the ray's hit (plain offset 0):
+  /// the rise d >= 0 above the hit at which the soil carries the suspension force the ground
+  /// raised by d would give, capacity(d) = F + k d (F Bullet's suspension force from the hit,
+  /// k its spring: stiffness x chassis mass / the contact's cosine, as updateSuspension).
+  /// Bullet's ray lands on the rut's floor whatever the soil carries, so without this a depth
+  /// pressed once is kept. The wheel's envelope is left rasterized at `p.pose` raised by a
+  /// bound D (m, > 0, the most it may rise) and the solve read there; returns d, its offset
+  /// D - d in `offset`; p.pose, p.world_pose and p.load are moved to the raised wheel.
+  /// `spring` is k (N/m, > 0).
+  static double rise(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, Wheel& wheel, Pressed& p,
+                     double speed, double spring, double bound, double& offset);
   /// True if the wheel's solve measured no offset as deep as its envelope's cut (cut_ok):
   /// its answers are the whole envelope's.
   static bool cut_ok(const Wheel& wheel);

@@ -7,6 +7,7 @@
 #include "coupling_directory.h"
 #include "coupling_util.h"
 #include "framed_body.h"
+#include "shore/bullet/soil_raycaster.h"
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/core/error.h"
 #include "terrain_coupling_parts.h"
@@ -165,11 +166,16 @@ void TerrainCoupling::remove_body(const btCollisionObject* body) {
   parts_->bodies.remove(body);
 }
 
-void TerrainCoupling::add_vehicle(btRaycastVehicle* vehicle, std::span<const double> wheel_widths) {
+void TerrainCoupling::add_vehicle(btRaycastVehicle* vehicle, std::span<const double> wheel_widths,
+                                  const SoilRaycaster* raycaster) {
   if (detached_)
     throw InvalidSetting("bullet.TerrainCoupling.add_vehicle(vehicle)", "after detach()",
                          "a detached coupling takes no vehicles: make a new one");
-  parts_->wheels.add(vehicle, wheel_widths, terrain_.settings().cell, coupling_detail::nominal_solid());
+  if (raycaster != nullptr && &raycaster->coupling() != this)
+    throw InvalidSetting("bullet.TerrainCoupling.add_vehicle(raycaster)", "another coupling's",
+                         "must be built with this coupling, or null");
+  parts_->wheels.add(vehicle, wheel_widths, terrain_.settings().cell, coupling_detail::nominal_solid(),
+                     raycaster != nullptr);
 }
 
 void TerrainCoupling::remove_vehicle(const btRaycastVehicle* vehicle) { parts_->wheels.remove(vehicle); }

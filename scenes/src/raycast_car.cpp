@@ -4,7 +4,8 @@
 
 namespace shore::scenes {
 
-RaycastCar::RaycastCar(World& world, const RaycastCarSettings& settings, const btVector3& at)
+RaycastCar::RaycastCar(World& world, const RaycastCarSettings& settings, const btVector3& at,
+                       bullet::TerrainCoupling* soil)
     : world_(world), settings_(settings) {
   const RaycastCarSettings& s = settings_;
   auto box =
@@ -23,7 +24,13 @@ RaycastCar::RaycastCar(World& world, const RaycastCarSettings& settings, const b
   tuning.m_suspensionDamping = btScalar(s.damping_relaxation);
   tuning.m_frictionSlip = btScalar(s.friction_slip);
   tuning.m_maxSuspensionTravelCm = btScalar(s.max_suspension_travel_cm);
-  raycaster_ = std::make_unique<btDefaultVehicleRaycaster>(&world.world());
+  if (soil != nullptr) {
+    auto raycaster = std::make_unique<bullet::SoilRaycaster>(*soil);
+    soil_raycaster_ = raycaster.get();
+    raycaster_ = std::move(raycaster);
+  } else {
+    raycaster_ = std::make_unique<btDefaultVehicleRaycaster>(&world.world());
+  }
   if (s.soil_traction)
     vehicle_ = std::make_unique<bullet::SoilVehicle>(tuning, chassis_, raycaster_.get());
   else

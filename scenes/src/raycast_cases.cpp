@@ -44,8 +44,9 @@ RaycastTowResult run_raycast_tow(const RaycastTowCase& c) {
   World world;
   terrain::Terrain soil(flat_soil(c.material, c.cell));
   bullet::TerrainCoupling coupling(world.world(), soil);
-  RaycastCar car(world, c.car, resting(c.car, -3.0) + btVector3(0, 0, btScalar(c.drop)));
-  coupling.add_vehicle(&car.vehicle(), widths(c.car));
+  RaycastCar car(world, c.car, resting(c.car, -3.0) + btVector3(0, 0, btScalar(c.drop)),
+                 c.soil_raycaster ? &coupling : nullptr);
+  coupling.add_vehicle(&car.vehicle(), widths(c.car), car.soil_raycaster());
   auto* soil_vehicle = dynamic_cast<bullet::SoilVehicle*>(&car.vehicle());
   const auto settle = static_cast<int>(std::lround(1.0 / c.substep));
   for (int k = 0; k < settle; ++k) world.step(c.substep);

@@ -68,6 +68,8 @@ class btMultiBodyLinkCollider;
 namespace shore::bullet {
 inline namespace SHORE_BULLET_ABI {
 
+class SoilRaycaster;
+
 /// Per-body choices.
 struct TerrainBodySettings {
   bool deform = true;  ///< the body presses the terrain (false: it only feels the ground)
@@ -220,7 +222,11 @@ class TerrainCoupling : public btActionInterface {
   /// Throws InvalidSetting for a null vehicle, one added already, a width count other
   /// than the wheel count or a width out of range. A vehicle whose chassis leaves the world
   /// is dropped at the next substep (stats().lost_bodies); remove_vehicle before deleting it.
-  void add_vehicle(btRaycastVehicle* vehicle, std::span<const double> wheel_widths);
+  /// `raycaster`: the SoilRaycaster the vehicle was built with, if it was (null: a stock
+  /// raycaster): its wheels then also rise onto soil that carries more than their load
+  /// (shore/bullet/soil_raycaster.h). Throws InvalidSetting for a raycaster of another coupling.
+  void add_vehicle(btRaycastVehicle* vehicle, std::span<const double> wheel_widths,
+                   const SoilRaycaster* raycaster = nullptr);
   void remove_vehicle(const btRaycastVehicle* vehicle);
   /// N, the terrain's push on an added vehicle's wheel along its heading in the last
   /// substep (its compaction resistance: negative against forward motion); 0 for a wheel

@@ -10,6 +10,7 @@
 #include <BulletDynamics/Vehicle/btRaycastVehicle.h>
 #include <btBulletDynamicsCommon.h>
 
+#include "shore/bullet/soil_raycaster.h"
 #include "shore/scenes/world.h"
 
 namespace shore::scenes {
@@ -41,7 +42,11 @@ class RaycastCar {
   /// Adds the chassis to world (its centre at `at`, heading along +x, up along z, all in the
   /// world's ground frame: World::ground()) and the vehicle as an action; both are taken
   /// out of the world again by the destructor.
-  RaycastCar(World& world, const RaycastCarSettings& settings, const btVector3& at);
+  /// With `soil` (a coupling of this world) the vehicle casts its rays with Shore's
+  /// SoilRaycaster on it (pass soil_raycaster() to its add_vehicle); null: Bullet's stock
+  /// btDefaultVehicleRaycaster.
+  RaycastCar(World& world, const RaycastCarSettings& settings, const btVector3& at,
+             bullet::TerrainCoupling* soil = nullptr);
   ~RaycastCar();
   RaycastCar(const RaycastCar&) = delete;
   RaycastCar& operator=(const RaycastCar&) = delete;
@@ -55,6 +60,8 @@ class RaycastCar {
   [[nodiscard]] const btRaycastVehicle& vehicle() const noexcept { return *vehicle_; }
   [[nodiscard]] btRigidBody* chassis() const noexcept { return chassis_; }
   [[nodiscard]] const RaycastCarSettings& settings() const noexcept { return settings_; }
+  /// The SoilRaycaster the vehicle was built with, or null (the stock raycaster).
+  [[nodiscard]] const bullet::SoilRaycaster* soil_raycaster() const noexcept { return soil_raycaster_; }
   /// Wheels whose ray found ground in the last step.
   [[nodiscard]] int wheels_on_ground() const;
 
@@ -62,7 +69,8 @@ class RaycastCar {
   World& world_;
   RaycastCarSettings settings_;
   btRigidBody* chassis_ = nullptr;
-  std::unique_ptr<btDefaultVehicleRaycaster> raycaster_;
+  std::unique_ptr<btVehicleRaycaster> raycaster_;
+  bullet::SoilRaycaster* soil_raycaster_ = nullptr;  ///< raycaster_ if it is one
   std::unique_ptr<btRaycastVehicle> vehicle_;
 };
 
