@@ -81,9 +81,10 @@ TEST_P(RaycastWheelSoil, StaticSinkageIsBekkers) {
   const RaycastCarSettings s = heavy_car();
   // Wheels touching the ground at rest length; the weight eased in over 2 s (Bekker's static
   // sinkage is for a load applied slowly: a dropped car sinks deeper, and stays so).
-  RaycastCar car(rig.world, s, btVector3(0, 0, btScalar(s.suspension_rest + s.wheel_radius - s.connection_height)));
+  RaycastCar car(rig.world, s, btVector3(0, 0, btScalar(s.suspension_rest + s.wheel_radius - s.connection_height)),
+                 &rig.coupling);
   const std::array<double, 4> widths{kWidth, kWidth, kWidth, kWidth};
-  rig.coupling.add_vehicle(&car.vehicle(), widths);
+  rig.coupling.add_vehicle(&car.vehicle(), widths, car.soil_raycaster());
   constexpr int ramp = 2 * 240;
   for (int k = 0; k < ramp + 240; ++k) {
     const double u = std::min(1.0, double(k) / ramp), carried = 1.0 - u * u * (3.0 - 2.0 * u);
@@ -144,7 +145,6 @@ TEST_P(RaycastWheelSoil, TowedOnFineCellsWithTheSoilRaycasterIsBekkers) {
   c.cell = 0.01;
   c.seconds = 2.5;
   c.average_from = 0.4;
-  c.soil_raycaster = true;
   const shore::scenes::RaycastTowResult run = shore::scenes::run_raycast_tow(c);
   const double arc = front_arc_sinkage(m, run.load);
   const double reference = shore::terrain::bekker::wheel_compaction_resistance(m, arc, kWidth);
