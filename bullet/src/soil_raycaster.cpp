@@ -32,7 +32,9 @@ void* SoilRaycaster::castRay(const btVector3& from, const btVector3& to, btVehic
   if (!coupling_.settings().region.contains(x, y)) return hit;  // another coupling's tile
   // The base's slope by central differences over +- span (at least a cell).
   const double s = std::max(settings_.span, terrain.settings().cell);
-  const auto base = [&](double bx, double by) { return terrain.base_height(terrain.column_i(bx), terrain.column_j(by)); };
+  const auto base = [&](double bx, double by) {
+    return terrain.base_height(terrain.column_i(bx), terrain.column_j(by));
+  };
   const double dx = (base(x + s, y) - base(x - s, y)) / (2.0 * s);
   const double dy = (base(x, y + s) - base(x, y - s)) / (2.0 * s);
   const btVector3 normal = btVector3(btScalar(-dx), btScalar(-dy), btScalar(1)).normalized();

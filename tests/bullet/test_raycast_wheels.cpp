@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "shore/bullet/soil_raycaster.h"
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/core/error.h"
 #include "shore/scenes/raycast_car.h"
@@ -148,15 +149,38 @@ TEST_P(RaycastWheelSoil, TowedOnFineCellsWithTheSoilRaycasterIsBekkers) {
   const shore::scenes::RaycastTowResult run = shore::scenes::run_raycast_tow(c);
   const double arc = front_arc_sinkage(m, run.load);
   const double reference = shore::terrain::bekker::wheel_compaction_resistance(m, arc, kWidth);
-  std::printf("%s, 1 cm: front load %.0f N, rut %.4f m (front arc %.4f m, %+.1f %%), push %.0f N (R_c %.0f N, %+.1f %%)\n",
-              GetParam(), run.load, run.rut, arc, 100 * (run.rut / arc - 1), -run.resistance, reference,
-              100 * (-run.resistance / reference - 1));
+  std::printf(
+      "%s, 1 cm: front load %.0f N, rut %.4f m (front arc %.4f m, %+.1f %%), push %.0f N (R_c %.0f N, %+.1f %%)\n",
+      GetParam(), run.load, run.rut, arc, 100 * (run.rut / arc - 1), -run.resistance, reference,
+      100 * (-run.resistance / reference - 1));
   EXPECT_NEAR(run.rut, arc, 0.10 * arc) << GetParam() << ": m, the front wheel's rut against the front arc's depth";
   EXPECT_NEAR(-run.resistance, reference, 0.15 * reference)
       << GetParam() << ": N, the front wheels' compaction resistance against Bekker's R_c";
 }
 
 INSTANTIATE_TEST_SUITE_P(Presets, RaycastWheelSoil, ::testing::Values("sand", "mud"));
+
+TEST(RaycastWheelErrors, BadRaycastersAreRefusedNamingTheField) {
+  Rig rig(shore::terrain::Material::sand()), other(shore::terrain::Material::sand());
+  shore::bullet::SoilRaycasterSettings bad;
+  bad.span = -0.1;
+  try {
+    shore::bullet::SoilRaycaster raycaster(rig.coupling, bad);
+    FAIL() << "a negative span was taken";
+  } catch (const shore::InvalidSetting& e) {
+    EXPECT_NE(std::string(e.what()).find("SoilRaycasterSettings.span"), std::string::npos) << e.what();
+  }
+  RaycastCar car(rig.world, heavy_car(), btVector3(0, 0, 1.2f), &rig.coupling);
+  const std::array<double, 4> good{kWidth, kWidth, kWidth, kWidth};
+  const shore::bullet::SoilRaycaster others(other.coupling);
+  try {
+    rig.coupling.add_vehicle(&car.vehicle(), good, &others);
+    FAIL() << "another coupling's raycaster was taken";
+  } catch (const shore::InvalidSetting& e) {
+    EXPECT_NE(std::string(e.what()).find("add_vehicle(raycaster)"), std::string::npos) << e.what();
+  }
+  rig.coupling.add_vehicle(&car.vehicle(), good, car.soil_raycaster());
+}
 
 TEST(RaycastWheelErrors, BadWidthsAndVehiclesAreRefusedNamingTheField) {
   Rig rig(shore::terrain::Material::sand());

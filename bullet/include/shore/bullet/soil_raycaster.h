@@ -26,8 +26,8 @@
 //
 // The raycaster must outlive the vehicles built with it; the coupling must outlive it.
 
-#include <BulletDynamics/Vehicle/btVehicleRaycaster.h>
 #include <BulletDynamics/Vehicle/btRaycastVehicle.h>
+#include <BulletDynamics/Vehicle/btVehicleRaycaster.h>
 
 #include "shore/bullet/config.h"
 

@@ -24,7 +24,8 @@ struct RaycastTowCase {
   double seconds = 3.0;             ///< s towed, after 1 s of settling
   double average_from = 1.0 / 3.0;  ///< share of the tow after which the means are taken
   double slip = -1.0;  ///< every wheel held at this slip's spin (needs car.soil_traction); < 0: free rolling
-  bool soil_raycaster = true;  ///< the car casts with Shore's SoilRaycaster (its wheels rise); false: Bullet's stock one
+  bool soil_raycaster =
+      true;  ///< the car casts with Shore's SoilRaycaster (its wheels rise); false: Bullet's stock one
 };
 
 /// Means over the front wheels after `average_from` of the tow.
