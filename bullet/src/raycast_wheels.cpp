@@ -26,8 +26,8 @@ constexpr double kMaxWidth = 10.0;  // m: wider is no wheel
 constexpr double kCutDepthLeast = 0.01;
 constexpr double kCutSlack = 1e-6;  // m, against rounding in the comparisons the cut relies on
 constexpr double kRolling = 0.05;   // m/s: a wheel slower than this is standing
-// The most a wheel may rise above its ray's hit in one substep (rise): twice its last rise,
-// at least kRiseLeast, never more than kRiseMost of its radius.
+// The most a wheel may rise above its ray's hit in one substep (rise): searched below
+// kRiseLeast, then twice as high while it reaches that, never more than kRiseMost of its radius.
 constexpr double kRiseLeast = 0.01;  // m
 constexpr double kRiseMost = 0.5;
 constexpr double kRiseTolerance = 1e-3;  // N: the rise's load bracket closed this narrow
@@ -357,13 +357,19 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
     const double carried = wheel.solve.bearing(0.0).capacity, spring = suspension_spring(info, *chassis);
     const double most = std::min(double(info.m_maxSuspensionForce) - p.load, spring * kRiseMost * p.radius);
     if (carried > p.load && std::isfinite(carried) && spring > 0.0 && most > 0.0) {
-      const double bound = std::min(std::max(kRiseLeast, 2.0 * wheel.rise), most / spring);
-      risen = rise(terrain, rasterizer, wheel, p, speed, spring, bound, offset);
+      // Searched below kRiseLeast first, the bound doubled while the wheel rises to it: no
+      // memory of the last substep's rise, so a restored checkpoint continues bit for bit.
+      const double highest = most / spring, plain_offset = offset;
+      const Pressed plain = p;
+      for (double bound = std::min(kRiseLeast, highest);; bound = std::min(2.0 * bound, highest)) {
+        p = plain, offset = plain_offset;
+        risen = rise(terrain, rasterizer, wheel, p, speed, spring, bound, offset);
+        if (risen < bound || bound >= highest) break;
+      }
       const btVector3& normal = info.m_raycastInfo.m_contactNormalWS;
       chassis->applyImpulse(normal * btScalar((p.load - suspension_force) * h), p.at);
     }
   }
-  wheel.rise = risen;
   const terrain::Bearing* bearing = &wheel.solve.bearing(offset);
   if (vehicle.soil != nullptr) {
     // Its traction; the soil it shears bears less, each strip by its own shear (loosen).

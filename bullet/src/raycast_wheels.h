@@ -120,7 +120,6 @@ class RaycastWheels {
     /// envelope is cut or not (their bilinear weights depend on a column's place in it).
     GridRect window;
     double last_deepest = 0.0;    ///< m: the deepest offset its last press measured
-    double rise = 0.0;            ///< m: how far above its ray's hit it rested last substep (rise)
     std::vector<double> ground;   ///< scratch: the heights under the whole cylinder
     EnvelopeRaster bearing_part;  ///< what bears its load (the front arc when rolling)
     terrain::BearingSolve solve;  ///< scratch: bearing_part's columns and capacities
