@@ -130,6 +130,35 @@ double LatticeNoise::height(double x, double y) const {
   return sum;
 }
 
+void LatticeNoise::heights_along_y(double x, std::span<const double> ys, std::span<double> out) const {
+  if (out.size() != ys.size())
+    throw InvalidSetting("terrain.LatticeNoise.heights_along_y.out.size()", detail::to_text(out.size()),
+                         "must equal ys.size() = " + detail::to_text(ys.size()));
+  std::fill(out.begin(), out.end(), settings_.mean);
+  double amp = settings_.amplitude;
+  double spacing = settings_.spacing;
+  for (int k = 0; k < settings_.octaves; ++k) {
+    const double u = x / spacing, fu = std::floor(u);
+    const auto li = static_cast<std::int64_t>(fu);
+    const double tu = u - fu;
+    double row[4] = {};
+    std::int64_t row_lj = 0;
+    bool have_rows = false;
+    for (std::size_t p = 0; p < ys.size(); ++p) {
+      const double v = ys[p] / spacing, fv = std::floor(v);
+      const auto lj = static_cast<std::int64_t>(fv);
+      if (!have_rows || lj != row_lj) {  // height()'s four splines along x, for this lattice cell
+        const double* w = patch(k, li, lj);
+        for (int b = 0; b < 4; ++b) row[b] = catmull_rom(w[4 * b], w[4 * b + 1], w[4 * b + 2], w[4 * b + 3], tu);
+        row_lj = lj, have_rows = true;
+      }
+      out[p] += amp * catmull_rom(row[0], row[1], row[2], row[3], v - fv);
+    }
+    amp *= settings_.persistence;
+    spacing *= 0.5;
+  }
+}
+
 // ---- heightmap -----------------------------------------------------------------------
 
 void HeightmapPlacement::validate() const {

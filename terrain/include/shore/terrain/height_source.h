@@ -60,6 +60,10 @@ class LatticeNoise final : public HeightSource {
  public:
   explicit LatticeNoise(LatticeNoiseSettings settings);  ///< validates
   [[nodiscard]] double height(double x, double y) const override;
+  /// out[k] = height(x, ys[k]), bit for bit (the same arithmetic in the same order), for
+  /// points sharing one x: each octave's four splines along x are worked out once per
+  /// lattice cell the ys cross instead of once a point. out.size() must equal ys.size().
+  void heights_along_y(double x, std::span<const double> ys, std::span<double> out) const;
   /// Value at lattice point (li, lj) of octave k, in [-1, 1] (before amplitude).
   [[nodiscard]] double lattice_value(int octave, std::int64_t li, std::int64_t lj) const;
   [[nodiscard]] const LatticeNoiseSettings& settings() const noexcept { return settings_; }
