@@ -126,6 +126,31 @@ class CachedValley final : public terrain::HeightSource {
     const double* block = block_of(*c);
     return block[(c->j % kBlock) * kBlock + c->i % kBlock];
   }
+  /// A row of this grid's columns copied from the blocks (worked out where not yet); any
+  /// other row point by point.
+  void row(double origin_x, double cell, std::int64_t i0, double y, std::span<double> out) const override {
+    const double v = (y - oy_) / cell_;
+    const auto j = static_cast<std::int64_t>(std::floor(v + 0.5));
+    if (blocks_.empty() || origin_x != ox_ || cell != cell_ || !(std::abs(v) < 1e15) || j < j0_ ||
+        j >= j0_ + ny_ || oy_ + static_cast<double>(j) * cell_ != y) {
+      HeightSource::row(origin_x, cell, i0, y, out);
+      return;
+    }
+    const auto count = static_cast<std::int64_t>(out.size());
+    for (std::int64_t c = 0; c < count;) {
+      const std::int64_t i = i0 + c - i0_;
+      if (i < 0 || i >= nx_) {  // beyond the kept columns
+        out[static_cast<std::size_t>(c)] = valley_.height(ox_ + static_cast<double>(i0 + c) * cell_, y);
+        ++c;
+        continue;
+      }
+      const Column at{i, j - j0_};
+      const double* from = block_of(at) + (at.j % kBlock) * kBlock + i % kBlock;
+      const std::int64_t run = std::min({count - c, kBlock - i % kBlock, nx_ - i});
+      std::copy_n(from, run, out.data() + c);
+      c += run;
+    }
+  }
 
  private:
   static constexpr double kMargin = 64.0;           // m around the land: spray flies off it

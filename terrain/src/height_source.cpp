@@ -17,6 +17,11 @@
 
 namespace shore::terrain {
 
+void HeightSource::row(double origin_x, double cell, std::int64_t i0, double y, std::span<double> out) const {
+  for (std::size_t c = 0; c < out.size(); ++c)
+    out[c] = height(origin_x + static_cast<double>(i0 + static_cast<std::int64_t>(c)) * cell, y);
+}
+
 // ---- flat ----------------------------------------------------------------------------
 
 FlatHeight::FlatHeight(double level) : level_(level) { Check{"terrain.FlatHeight"}.finite("level", level); }

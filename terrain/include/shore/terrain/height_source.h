@@ -17,6 +17,10 @@ class HeightSource {
  public:
   virtual ~HeightSource() = default;
   [[nodiscard]] virtual double height(double x, double y) const = 0;
+  /// Heights along a row of grid points: out[c] = height(origin_x + double(i0 + c) * cell, y),
+  /// bit for bit. This asks height() point by point; a source that keeps its heights (a
+  /// cache of a costly ground) answers a row at once.
+  virtual void row(double origin_x, double cell, std::int64_t i0, double y, std::span<double> out) const;
 };
 
 /// Level ground.
