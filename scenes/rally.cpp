@@ -15,7 +15,6 @@
 #include <memory>
 #include <optional>
 #include <span>
-#include <span>
 #include <string>
 #include <vector>
 
@@ -82,7 +81,11 @@ class Valley final : public terrain::HeightSource {
     const double off = (y - centre) / kHalfY;
     const double sides = 2.2 * off * off * (3.0 - 2.0 * std::abs(off));  // low hills each side
     const double floor_calm = 1.0 - 0.75 * bump(y - centre, 3.0);        // a smoother track along the floor
-    const double ford = kFordDepth * bump(std::hypot(x - kFordX, y - centre), kFordRadius);
+    // Beyond 1.5 radii of the ford's centre its bump is 0 whatever hypot's rounding, and
+    // subtracting that 0 changes no bit: hypot (a library call) only near the ford.
+    const double dx = x - kFordX, dy = y - centre;
+    const double ford =
+        dx * dx + dy * dy > 2.25 * kFordRadius * kFordRadius ? 0.0 : kFordDepth * bump(std::hypot(dx, dy), kFordRadius);
     return sides + floor_calm * noise - ford;
   }
 
@@ -131,8 +134,8 @@ class CachedValley final : public terrain::HeightSource {
   void row(double origin_x, double cell, std::int64_t i0, double y, std::span<double> out) const override {
     const double v = (y - oy_) / cell_;
     const auto j = static_cast<std::int64_t>(std::floor(v + 0.5));
-    if (blocks_.empty() || origin_x != ox_ || cell != cell_ || !(std::abs(v) < 1e15) || j < j0_ ||
-        j >= j0_ + ny_ || oy_ + static_cast<double>(j) * cell_ != y) {
+    if (blocks_.empty() || origin_x != ox_ || cell != cell_ || !(std::abs(v) < 1e15) || j < j0_ || j >= j0_ + ny_ ||
+        oy_ + static_cast<double>(j) * cell_ != y) {
       HeightSource::row(origin_x, cell, i0, y, out);
       return;
     }
@@ -153,8 +156,8 @@ class CachedValley final : public terrain::HeightSource {
   }
 
  private:
-  static constexpr double kMargin = 64.0;           // m around the land: spray flies off it
-  static constexpr std::int64_t kBlock = 64;        // columns a block side (32 kB)
+  static constexpr double kMargin = 64.0;              // m around the land: spray flies off it
+  static constexpr std::int64_t kBlock = 64;           // columns a block side (32 kB)
   static constexpr std::int64_t kMaxBlocks = 1 << 16;  // the table of blocks: 512 kB at most
 
   struct Column {
@@ -182,7 +185,8 @@ class CachedValley final : public terrain::HeightSource {
     auto* block = new double[static_cast<std::size_t>(kBlock * kBlock)];
     const std::int64_t bi = i0_ + c.i / kBlock * kBlock, bj = j0_ + c.j / kBlock * kBlock;
     std::array<double, kBlock> ys{}, hs{};
-    for (std::int64_t r = 0; r < kBlock; ++r) ys[static_cast<std::size_t>(r)] = oy_ + static_cast<double>(bj + r) * cell_;
+    for (std::int64_t r = 0; r < kBlock; ++r)
+      ys[static_cast<std::size_t>(r)] = oy_ + static_cast<double>(bj + r) * cell_;
     for (std::int64_t x = 0; x < kBlock; ++x) {
       valley_.heights_along_y(ox_ + static_cast<double>(bi + x) * cell_, ys, hs);
       for (std::int64_t r = 0; r < kBlock; ++r) block[r * kBlock + x] = hs[static_cast<std::size_t>(r)];

@@ -81,7 +81,17 @@ struct LatticePatch {
   double value[16] = {};  ///< [4 * b + a]: lattice point (li - 1 + a, lj - 1 + b)
 };
 
-thread_local std::array<LatticePatch, 16> t_patches;  // by octave
+/// Patches kept per octave, by lattice row (lj mod kRowsKept): a column of points crosses a
+/// few lattice rows, and the next column (mostly the same lattice column) crosses them again.
+constexpr std::size_t kRowsKept = 4;
+thread_local std::array<LatticePatch, 16 * kRowsKept> t_patches;  // [octave * kRowsKept + lj mod kRowsKept]
+
+/// floor(v), bit for bit (a -0 stays -0), without the library call where |v| < 2^52.
+double exact_floor(double v) {
+  if (!(std::abs(v) < 0x1.0p52)) return std::floor(v);
+  const auto t = static_cast<double>(static_cast<std::int64_t>(v));  // v truncated: exact here
+  return t > v ? t - 1.0 : (t < v ? t : v);
+}
 
 }  // namespace
 
@@ -101,7 +111,8 @@ double LatticeNoise::lattice_value(int octave, std::int64_t li, std::int64_t lj)
 }
 
 const double* LatticeNoise::patch(int octave, std::int64_t li, std::int64_t lj) const {
-  LatticePatch& p = t_patches[static_cast<std::size_t>(octave)];
+  LatticePatch& p =
+      t_patches[static_cast<std::size_t>(octave) * kRowsKept + (static_cast<std::uint64_t>(lj) & (kRowsKept - 1))];
   if (p.filled && p.seed == settings_.seed && p.li == li && p.lj == lj) return p.value;
   // lattice_value's chain of four mixes with its first two (seed, octave) done once, and
   // the third (li) shared by the patch's four rows: 20 mixes a patch instead of 64.
@@ -122,7 +133,7 @@ double LatticeNoise::height(double x, double y) const {
   double spacing = settings_.spacing;
   for (int k = 0; k < settings_.octaves; ++k) {
     const double u = x / spacing, v = y / spacing;
-    const double fu = std::floor(u), fv = std::floor(v);
+    const double fu = exact_floor(u), fv = exact_floor(v);
     const auto li = static_cast<std::int64_t>(fu), lj = static_cast<std::int64_t>(fv);
     const double tu = u - fu, tv = v - fv;
     const double* w = patch(k, li, lj);
@@ -143,14 +154,14 @@ void LatticeNoise::heights_along_y(double x, std::span<const double> ys, std::sp
   double amp = settings_.amplitude;
   double spacing = settings_.spacing;
   for (int k = 0; k < settings_.octaves; ++k) {
-    const double u = x / spacing, fu = std::floor(u);
+    const double u = x / spacing, fu = exact_floor(u);
     const auto li = static_cast<std::int64_t>(fu);
     const double tu = u - fu;
     double row[4] = {};
     std::int64_t row_lj = 0;
     bool have_rows = false;
     for (std::size_t p = 0; p < ys.size(); ++p) {
-      const double v = ys[p] / spacing, fv = std::floor(v);
+      const double v = ys[p] / spacing, fv = exact_floor(v);
       const auto lj = static_cast<std::int64_t>(fv);
       if (!have_rows || lj != row_lj) {  // height()'s four splines along x, for this lattice cell
         const double* w = patch(k, li, lj);

@@ -434,9 +434,11 @@ TEST(HeightSources, LatticeNoiseAlongYIsItsDefinitionBitForBit) {
     for (std::size_t k = 0; k < ys.size(); ++k)
       ys[k] = c % 2 == 0 ? -16.0 + 0.04 * static_cast<double>(k) : 9.0 * std::sin(0.7 * static_cast<double>(k) + c);
     a.heights_along_y(x, ys, out);
-    for (std::size_t k = 0; k < ys.size(); ++k) ASSERT_EQ(out[k], noise_by_definition(a, x, ys[k])) << x << ", " << ys[k];
+    for (std::size_t k = 0; k < ys.size(); ++k)
+      ASSERT_EQ(out[k], noise_by_definition(a, x, ys[k])) << x << ", " << ys[k];
     (void)b.height(x + 3.3, 1.7);  // another noise's cells in the per-thread keep
   }
   std::vector<double> short_out(3);
-  EXPECT_TRUE(mentions(message_of<shore::InvalidSetting>([&] { a.heights_along_y(0.0, ys, short_out); }), "out.size()"));
+  EXPECT_TRUE(
+      mentions(message_of<shore::InvalidSetting>([&] { a.heights_along_y(0.0, ys, short_out); }), "out.size()"));
 }

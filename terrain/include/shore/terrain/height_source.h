@@ -75,7 +75,7 @@ class LatticeNoise final : public HeightSource {
  private:
   /// The 16 lattice values around lattice cell (li, lj) of the octave (lattice_value's,
   /// bit for bit), [4 * b + a] for point (li - 1 + a, lj - 1 + b); kept per thread until
-  /// another cell of that octave is asked.
+  /// another cell of that octave and lattice row (modulo 4) is asked.
   [[nodiscard]] const double* patch(int octave, std::int64_t li, std::int64_t lj) const;
 
   LatticeNoiseSettings settings_;
