@@ -442,3 +442,18 @@ TEST(HeightSources, LatticeNoiseAlongYIsItsDefinitionBitForBit) {
   EXPECT_TRUE(
       mentions(message_of<shore::InvalidSetting>([&] { a.heights_along_y(0.0, ys, short_out); }), "out.size()"));
 }
+
+TEST(HeightSources, ARowIsItsPointsGridPositions) {
+  // HeightSource::row: the grid's points at origin + (i0 + c) cell, as a terrain places its
+  // columns, each the definition's bits.
+  LatticeNoiseSettings ns;
+  ns.seed = 7, ns.spacing = 5.0, ns.amplitude = 0.35, ns.octaves = 3, ns.persistence = 0.45;
+  const LatticeNoise a(ns);
+  std::vector<double> out(150);
+  const double origin_x = -0.02, cell = 0.04, y = -3.0 + 17.0 * 0.04;
+  a.row(origin_x, cell, -75, y, out);
+  for (std::size_t c = 0; c < out.size(); ++c) {
+    const double x = origin_x + static_cast<double>(-75 + static_cast<std::int64_t>(c)) * cell;
+    ASSERT_EQ(out[c], noise_by_definition(a, x, y)) << x;
+  }
+}
