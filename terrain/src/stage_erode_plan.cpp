@@ -53,7 +53,8 @@ int ErodeStage::run(Region& region, std::span<const unsigned char> flags, std::s
     for (const Material& m : palette) lims_.push_back(ErosionLimits::from(s, m));
     lim_ = lims_[0];  // palette[0]'s limits, computed once
     for (const ErosionLimits& l : lims_)
-      for (int kind = 0; kind < 2; ++kind) lim_.least_give_in[kind] = std::min(lim_.least_give_in[kind], l.least_give_in[kind]);
+      for (int kind = 0; kind < 2; ++kind)
+        lim_.least_give_in[kind] = std::min(lim_.least_give_in[kind], l.least_give_in[kind]);
   }
   assign_roles(region, flags);
   map_ = !region.mat.empty();
