@@ -29,7 +29,7 @@ void ErodeStage::compute_caps_as(const Region& region, std::span<const unsigned 
   std::copy(std::begin(lim_.give_in), std::end(lim_.give_in), give_in);
   // With a map, each palette entry's row of give_in side by side: a giver's limit is read at
   // its index times 8 doubles, not at the stride of a whole ErosionLimits.
-  [[maybe_unused]] double give_in_of[256][8];
+  [[maybe_unused]] double give_in_of[Terrain::kMaxMaterials][8];
   if constexpr (kMap)
     for (std::size_t m = 0; m < lims_.size(); ++m)
       std::copy(std::begin(lims_[m].give_in), std::end(lims_[m].give_in), give_in_of[m]);
