@@ -14,6 +14,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -64,55 +65,108 @@ class Valley final : public terrain::HeightSource {
       : noise_(terrain::LatticeNoiseSettings{
             .seed = 7, .spacing = 5.0, .amplitude = 0.35, .mean = 0.0, .octaves = 3, .persistence = 0.45}) {}
   [[nodiscard]] double height(double x, double y) const override {
+    return shape(x, y, floor_line(x), noise_.height(x, y));
+  }
+  /// out[k] = height(x, ys[k]), bit for bit: the noise along y (LatticeNoise::heights_along_y)
+  /// and the floor's line once.
+  void heights_along_y(double x, std::span<const double> ys, std::span<double> out) const {
+    noise_.heights_along_y(x, ys, out);
     const double centre = floor_line(x);
-    const double off = (y - centre) / kHalfY;
-    const double sides = 2.2 * off * off * (3.0 - 2.0 * std::abs(off));  // low hills each side
-    const double floor_calm = 1.0 - 0.75 * bump(y - centre, 3.0);        // a smoother track along the floor
-    const double ford = kFordDepth * bump(std::hypot(x - kFordX, y - centre), kFordRadius);
-    return sides + floor_calm * noise_.height(x, y) - ford;
+    for (std::size_t k = 0; k < ys.size(); ++k) out[k] = shape(x, ys[k], centre, out[k]);
   }
 
  private:
+  /// The valley at (x, y) from the floor's line there and the noise's height.
+  static double shape(double x, double y, double centre, double noise) {
+    const double off = (y - centre) / kHalfY;
+    const double sides = 2.2 * off * off * (3.0 - 2.0 * std::abs(off));  // low hills each side
+    const double floor_calm = 1.0 - 0.75 * bump(y - centre, 3.0);        // a smoother track along the floor
+    // Beyond 1.5 radii of the ford's centre its bump is 0 whatever hypot's rounding, and
+    // subtracting that 0 changes no bit: hypot (a library call) only near the ford.
+    const double dx = x - kFordX, dy = y - centre;
+    const double ford =
+        dx * dx + dy * dy > 2.25 * kFordRadius * kFordRadius ? 0.0 : kFordDepth * bump(std::hypot(dx, dy), kFordRadius);
+    return sides + floor_calm * noise - ford;
+  }
+
   terrain::LatticeNoise noise_;
 };
 
-/// The valley's heights at the land's columns, each worked out once and then looked up. A
-/// column's base height is asked again and again: by each heightfield tile and soil tile made
-/// over it (soil tiles idle for a while are released and made afresh), and by each grain of
-/// spray in flight or landing where no soil tile is yet; the valley's noise costs some 700
-/// instructions a call. Answers bit for bit what Valley does: only a point that is exactly a
-/// column's centre (origin + i cell, as the terrain asks) is kept, any other is worked out.
-/// Filled as asked, from any thread (each entry is written whole, with the same value).
+/// The valley's heights at the columns of the land and far around it, worked out once and
+/// then looked up. A column's base height is asked again and again: by each heightfield tile
+/// and soil tile made over it (soil tiles idle for a while are released and made afresh),
+/// and by each grain of spray in flight or landing where no soil tile is yet; the spray's
+/// flight bounds read the whole window its grains may reach, well beyond the land. Columns
+/// are worked out a block of kBlock x kBlock at a time, the first time one of them is asked,
+/// a column of the block at once (Valley::heights_along_y: the noise's splines along x shared
+/// by the column's points, about 5 times fewer); a block's memory is taken then, so only
+/// the blocks asked cost any. Answers bit for bit what Valley does: only a point that is
+/// exactly a column's centre (origin + i cell, as the terrain asks) is kept, any other is
+/// worked out. Filled as asked, from any thread: a block is published whole (two threads
+/// working out the same block get the same values; one copy is kept).
 class CachedValley final : public terrain::HeightSource {
  public:
-  /// Columns of `cell` m from (origin_x, origin_y) over the land and a margin; none kept if
-  /// that would take more than kMaxEntries.
+  /// Columns of `cell` m from (origin_x, origin_y) over the land and kMargin around it.
   CachedValley(double cell, double origin_x, double origin_y) : cell_(cell), ox_(origin_x), oy_(origin_y) {
-    constexpr double kMargin = 4.0;  // m beyond the land: spray flies off it
     i0_ = static_cast<std::int64_t>(std::floor((kX0 - kMargin - ox_) / cell_));
     j0_ = static_cast<std::int64_t>(std::floor((-kHalfY - kMargin - oy_) / cell_));
     nx_ = static_cast<std::int64_t>(std::ceil((kX1 + kMargin - ox_) / cell_)) - i0_ + 1;
     ny_ = static_cast<std::int64_t>(std::ceil((kHalfY + kMargin - oy_) / cell_)) - j0_ + 1;
-    if (nx_ * ny_ > kMaxEntries) return;
-    kept_ = std::vector<std::atomic<double>>(static_cast<std::size_t>(nx_ * ny_));
-    for (std::atomic<double>& h : kept_) h.store(kNotYet, std::memory_order_relaxed);
+    bx_ = (nx_ + kBlock - 1) / kBlock;
+    const std::int64_t blocks = bx_ * ((ny_ + kBlock - 1) / kBlock);
+    if (blocks > kMaxBlocks) return;  // so coarse a cell needs no keeping
+    blocks_ = std::vector<std::atomic<double*>>(static_cast<std::size_t>(blocks));
+    for (std::atomic<double*>& b : blocks_) b.store(nullptr, std::memory_order_relaxed);
+  }
+  CachedValley(const CachedValley&) = delete;
+  CachedValley& operator=(const CachedValley&) = delete;
+  ~CachedValley() override {
+    for (std::atomic<double*>& b : blocks_) delete[] b.load(std::memory_order_relaxed);
   }
   [[nodiscard]] double height(double x, double y) const override {
-    const std::optional<std::size_t> k = entry(x, y);
-    if (!k) return valley_.height(x, y);
-    std::atomic<double>& kept = kept_[*k];
-    double h = kept.load(std::memory_order_relaxed);
-    if (std::isnan(h)) kept.store(h = valley_.height(x, y), std::memory_order_relaxed);
-    return h;
+    const std::optional<Column> c = column(x, y);
+    if (!c) return valley_.height(x, y);
+    const double* block = block_of(*c);
+    return block[(c->j % kBlock) * kBlock + c->i % kBlock];
+  }
+  /// A row of this grid's columns copied from the blocks (worked out where not yet); any
+  /// other row point by point.
+  void row(double origin_x, double cell, std::int64_t i0, double y, std::span<double> out) const override {
+    const double v = (y - oy_) / cell_;
+    const auto j = static_cast<std::int64_t>(std::floor(v + 0.5));
+    if (blocks_.empty() || origin_x != ox_ || cell != cell_ || !(std::abs(v) < 1e15) || j < j0_ || j >= j0_ + ny_ ||
+        oy_ + static_cast<double>(j) * cell_ != y) {
+      HeightSource::row(origin_x, cell, i0, y, out);
+      return;
+    }
+    const auto count = static_cast<std::int64_t>(out.size());
+    for (std::int64_t c = 0; c < count;) {
+      const std::int64_t i = i0 + c - i0_;
+      if (i < 0 || i >= nx_) {  // beyond the kept columns
+        out[static_cast<std::size_t>(c)] = valley_.height(ox_ + static_cast<double>(i0 + c) * cell_, y);
+        ++c;
+        continue;
+      }
+      const Column at{i, j - j0_};
+      const double* from = block_of(at) + (at.j % kBlock) * kBlock + i % kBlock;
+      const std::int64_t run = std::min({count - c, kBlock - i % kBlock, nx_ - i});
+      std::copy_n(from, run, out.data() + c);
+      c += run;
+    }
   }
 
  private:
-  static constexpr std::int64_t kMaxEntries = std::int64_t{8} << 20;  // 64 MB
-  static constexpr double kNotYet = std::numeric_limits<double>::quiet_NaN();
+  static constexpr double kMargin = 64.0;              // m around the land: spray flies off it
+  static constexpr std::int64_t kBlock = 64;           // columns a block side (32 kB)
+  static constexpr std::int64_t kMaxBlocks = 1 << 16;  // the table of blocks: 512 kB at most
 
-  /// The entry of the column whose centre is exactly (x, y); none for any other point.
-  [[nodiscard]] std::optional<std::size_t> entry(double x, double y) const {
-    if (kept_.empty()) return std::nullopt;
+  struct Column {
+    std::int64_t i, j;  ///< relative to (i0_, j0_)
+  };
+
+  /// The kept column whose centre is exactly (x, y); none for any other point.
+  [[nodiscard]] std::optional<Column> column(double x, double y) const {
+    if (blocks_.empty()) return std::nullopt;
     const double u = (x - ox_) / cell_, v = (y - oy_) / cell_;
     if (!(std::abs(u) < 1e15 && std::abs(v) < 1e15)) return std::nullopt;
     // The nearest integers by floor(q + 0.5), inline (llround is a library call): any
@@ -120,13 +174,33 @@ class CachedValley final : public terrain::HeightSource {
     const auto i = static_cast<std::int64_t>(std::floor(u + 0.5)), j = static_cast<std::int64_t>(std::floor(v + 0.5));
     if (i < i0_ || i >= i0_ + nx_ || j < j0_ || j >= j0_ + ny_) return std::nullopt;
     if (ox_ + static_cast<double>(i) * cell_ != x || oy_ + static_cast<double>(j) * cell_ != y) return std::nullopt;
-    return static_cast<std::size_t>((j - j0_) * nx_ + (i - i0_));
+    return Column{i - i0_, j - j0_};
+  }
+
+  /// The block holding the column, worked out unless that is done: kBlock x kBlock heights,
+  /// row-major (columns past the kept area's edge are worked out too, never asked).
+  [[nodiscard]] const double* block_of(const Column& c) const {
+    std::atomic<double*>& slot = blocks_[static_cast<std::size_t>((c.j / kBlock) * bx_ + c.i / kBlock)];
+    if (const double* b = slot.load(std::memory_order_acquire)) return b;
+    auto* block = new double[static_cast<std::size_t>(kBlock * kBlock)];
+    const std::int64_t bi = i0_ + c.i / kBlock * kBlock, bj = j0_ + c.j / kBlock * kBlock;
+    std::array<double, kBlock> ys{}, hs{};
+    for (std::int64_t r = 0; r < kBlock; ++r)
+      ys[static_cast<std::size_t>(r)] = oy_ + static_cast<double>(bj + r) * cell_;
+    for (std::int64_t x = 0; x < kBlock; ++x) {
+      valley_.heights_along_y(ox_ + static_cast<double>(bi + x) * cell_, ys, hs);
+      for (std::int64_t r = 0; r < kBlock; ++r) block[r * kBlock + x] = hs[static_cast<std::size_t>(r)];
+    }
+    double* none = nullptr;
+    if (slot.compare_exchange_strong(none, block, std::memory_order_acq_rel, std::memory_order_acquire)) return block;
+    delete[] block;  // another thread published the same values first
+    return none;
   }
 
   Valley valley_;
   double cell_, ox_, oy_;
-  std::int64_t i0_ = 0, j0_ = 0, nx_ = 0, ny_ = 0;
-  mutable std::vector<std::atomic<double>> kept_;
+  std::int64_t i0_ = 0, j0_ = 0, nx_ = 0, ny_ = 0, bx_ = 0;
+  mutable std::vector<std::atomic<double*>> blocks_;  ///< per block, row-major (bx_ a row); null: not yet
 };
 
 double land_cell(const SceneOptions& o) { return o.smoke ? std::max(o.cell, 0.08) : o.cell; }

@@ -76,7 +76,7 @@ RollingWheel::RollingWheel(terrain::Terrain& soil, double x0, double y, double s
 void RollingWheel::step() {
   constexpr double kRadius = 0.3, kWidth = 0.25, kSinkage = 0.03;
   const EnvelopeRaster env = wheel_envelope(*soil_, x_, kRadius - kSinkage, kRadius, kWidth, kRadius, y_);
-  const terrain::Imprint im{&env, 0.0, true, speed_, 0.0, 0.0};
+  const terrain::Imprint im{&env, 0.0, true, {speed_, 0.0, 0.0}};
   soil_->step({&im, 1});
   x_ += speed_ * substep_;
 }

@@ -17,6 +17,11 @@
 
 namespace shore::terrain {
 
+void HeightSource::row(double origin_x, double cell, std::int64_t i0, double y, std::span<double> out) const {
+  for (std::size_t c = 0; c < out.size(); ++c)
+    out[c] = height(origin_x + static_cast<double>(i0 + static_cast<std::int64_t>(c)) * cell, y);
+}
+
 // ---- flat ----------------------------------------------------------------------------
 
 FlatHeight::FlatHeight(double level) : level_(level) { Check{"terrain.FlatHeight"}.finite("level", level); }
@@ -76,7 +81,17 @@ struct LatticePatch {
   double value[16] = {};  ///< [4 * b + a]: lattice point (li - 1 + a, lj - 1 + b)
 };
 
-thread_local std::array<LatticePatch, 16> t_patches;  // by octave
+/// Patches kept per octave, by lattice row (lj mod kRowsKept): a column of points crosses a
+/// few lattice rows, and the next column (mostly the same lattice column) crosses them again.
+constexpr std::size_t kRowsKept = 4;
+thread_local std::array<LatticePatch, 16 * kRowsKept> t_patches;  // [octave * kRowsKept + lj mod kRowsKept]
+
+/// floor(v), bit for bit (a -0 stays -0), without the library call where |v| < 2^52.
+double exact_floor(double v) {
+  if (!(std::abs(v) < 0x1.0p52)) return std::floor(v);
+  const auto t = static_cast<double>(static_cast<std::int64_t>(v));  // v truncated: exact here
+  return t > v ? t - 1.0 : (t < v ? t : v);
+}
 
 }  // namespace
 
@@ -96,7 +111,8 @@ double LatticeNoise::lattice_value(int octave, std::int64_t li, std::int64_t lj)
 }
 
 const double* LatticeNoise::patch(int octave, std::int64_t li, std::int64_t lj) const {
-  LatticePatch& p = t_patches[static_cast<std::size_t>(octave)];
+  LatticePatch& p =
+      t_patches[static_cast<std::size_t>(octave) * kRowsKept + (static_cast<std::uint64_t>(lj) & (kRowsKept - 1))];
   if (p.filled && p.seed == settings_.seed && p.li == li && p.lj == lj) return p.value;
   // lattice_value's chain of four mixes with its first two (seed, octave) done once, and
   // the third (li) shared by the patch's four rows: 20 mixes a patch instead of 64.
@@ -117,7 +133,7 @@ double LatticeNoise::height(double x, double y) const {
   double spacing = settings_.spacing;
   for (int k = 0; k < settings_.octaves; ++k) {
     const double u = x / spacing, v = y / spacing;
-    const double fu = std::floor(u), fv = std::floor(v);
+    const double fu = exact_floor(u), fv = exact_floor(v);
     const auto li = static_cast<std::int64_t>(fu), lj = static_cast<std::int64_t>(fv);
     const double tu = u - fu, tv = v - fv;
     const double* w = patch(k, li, lj);
@@ -128,6 +144,35 @@ double LatticeNoise::height(double x, double y) const {
     spacing *= 0.5;
   }
   return sum;
+}
+
+void LatticeNoise::heights_along_y(double x, std::span<const double> ys, std::span<double> out) const {
+  if (out.size() != ys.size())
+    throw InvalidSetting("terrain.LatticeNoise.heights_along_y.out.size()", detail::to_text(out.size()),
+                         "must equal ys.size() = " + detail::to_text(ys.size()));
+  std::fill(out.begin(), out.end(), settings_.mean);
+  double amp = settings_.amplitude;
+  double spacing = settings_.spacing;
+  for (int k = 0; k < settings_.octaves; ++k) {
+    const double u = x / spacing, fu = exact_floor(u);
+    const auto li = static_cast<std::int64_t>(fu);
+    const double tu = u - fu;
+    double row[4] = {};
+    std::int64_t row_lj = 0;
+    bool have_rows = false;
+    for (std::size_t p = 0; p < ys.size(); ++p) {
+      const double v = ys[p] / spacing, fv = exact_floor(v);
+      const auto lj = static_cast<std::int64_t>(fv);
+      if (!have_rows || lj != row_lj) {  // height()'s four splines along x, for this lattice cell
+        const double* w = patch(k, li, lj);
+        for (int b = 0; b < 4; ++b) row[b] = catmull_rom(w[4 * b], w[4 * b + 1], w[4 * b + 2], w[4 * b + 3], tu);
+        row_lj = lj, have_rows = true;
+      }
+      out[p] += amp * catmull_rom(row[0], row[1], row[2], row[3], v - fv);
+    }
+    amp *= settings_.persistence;
+    spacing *= 0.5;
+  }
 }
 
 // ---- heightmap -----------------------------------------------------------------------

@@ -72,6 +72,7 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
   });
   ht_orig = ht;
   relayered.clear();
+  layered_count_ = 0;
 }
 
 void Region::expose_layers() {
@@ -83,7 +84,16 @@ void Region::expose_layers() {
   const std::uint8_t* lower = layer.lower.data();
   const double* z = sink.data();
   const std::size_t n = layer.size();
-  for (std::size_t k = 0; k < n; ++k) index[k] = ColumnLayer{boundary[k], lower[k]}.exposed(index[k], z[k]);
+  if (layered_.size() < n) layered_.resize(n);
+  std::size_t* listed = layered_.data();
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const ColumnLayer l{boundary[k], lower[k]};
+    if (!l.layered()) continue;  // shows its painted index
+    listed[count++] = k;
+    index[k] = l.exposed(index[k], z[k]);
+  }
+  layered_count_ = count;
 }
 
 void Region::scatter(TileStore& store) {
@@ -158,7 +168,7 @@ void Region::scatter_relayered(TileStore& store) {
 
 std::size_t Region::bytes() const {
   return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat, layer.boundary, layer.lower, upper, relayered,
-                        touched_);
+                        layered_, touched_);
 }
 
 }  // namespace shore::terrain

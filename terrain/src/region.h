@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "bedrock_depth.h"
@@ -66,12 +67,17 @@ struct Region {
   void gather(TileStore& store, const BedrockDepth& depth, bool with_materials, bool with_layers);
   /// Replaces mat with each column's exposed index (its lower layer's where its sinkage is
   /// beyond its crust): what erosion reads; the painted index goes to upper. mat is not
-  /// scattered, so nothing else sees it.
+  /// scattered, so nothing else sees it. Lists the layered columns in layered_columns.
   void expose_layers();
   /// Heights and sinkage back into the tiles, marking what changed; and the relayered
   /// columns' painted indices and layers (their tiles marked painted, the store layered).
   void scatter(TileStore& store);
 
+  /// The columns layered as gathered, ascending: set by expose_layers (so erosion's layer
+  /// pass visits them, not every column), empty after gather.
+  [[nodiscard]] std::span<const std::size_t> layered_columns() const noexcept {
+    return {layered_.data(), layered_count_};
+  }
   [[nodiscard]] std::size_t size() const noexcept { return static_cast<std::size_t>(w) * static_cast<std::size_t>(h); }
   [[nodiscard]] std::size_t at(int x, int y) const noexcept {
     return static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
@@ -106,6 +112,9 @@ struct Region {
     bool unpainted = false, unlayered = false;
   };
   std::vector<Touched> touched_;
+  /// layered_columns' storage: never shrunk, so a step does not fill it anew.
+  std::vector<std::size_t> layered_;
+  std::size_t layered_count_ = 0;
 };
 
 }  // namespace shore::terrain

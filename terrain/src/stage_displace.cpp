@@ -54,8 +54,15 @@ double DisplaceStage::run(Region& region, std::span<const int> levels, std::span
     for (std::size_t k : order_) split(k, alpha[0]);
   else if (region.layer.empty())
     for (std::size_t k : order_) split(k, alpha[region.mat[k]]);
-  else
-    for (std::size_t k : order_) split(k, layered_alpha(region, k, displaced[k], alpha));
+  else {
+    // Through raw pointers (carry_'s stores may alias a vector's data pointer), and the
+    // two-piece split only where a column is layered: most contact columns are not.
+    const std::uint8_t* mat = region.mat.data();
+    const double* boundary = region.layer.boundary.data();
+    const double* a = alpha.data();
+    for (std::size_t k : order_)
+      split(k, boundary[k] < kNoLayer ? layered_alpha(region, k, displaced[k], alpha) : a[mat[k]]);
+  }
   for (std::size_t k : order_) {
     const double carry = carry_[k];
     if (carry == 0.0) continue;

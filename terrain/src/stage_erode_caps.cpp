@@ -27,6 +27,12 @@ void ErodeStage::compute_caps_as(const Region& region, std::span<const unsigned 
   const double eps = lim_.eps, least_axis = lim_.least_give_in[0], least_diagonal = lim_.least_give_in[1];
   double give_in[8];
   std::copy(std::begin(lim_.give_in), std::end(lim_.give_in), give_in);
+  // With a map, each palette entry's row of give_in side by side: a giver's limit is read at
+  // its index times 8 doubles, not at the stride of a whole ErosionLimits.
+  [[maybe_unused]] double give_in_of[Terrain::kMaxMaterials][8];
+  if constexpr (kMap)
+    for (std::size_t m = 0; m < lims_.size(); ++m)
+      std::copy(std::begin(lims_[m].give_in), std::end(lims_[m].give_in), give_in_of[m]);
   region.for_rows(0, region.h, [&](int y) {
     recap_.for_each_in_row(y, [&](int x) {
       const std::size_t k = region.at(x, y);
@@ -41,7 +47,7 @@ void ErodeStage::compute_caps_as(const Region& region, std::span<const unsigned 
           const std::size_t nk = k + off[d];
           if ((flags[nk] & (kInterior | kContact)) != kInterior) continue;
           // The giver's own limit (its material's, with a map).
-          const double limit = kMap ? lims_[region.mat[nk]].give_in[d] : give_in[d];
+          const double limit = kMap ? give_in_of[region.mat[nk]][d] : give_in[d];
           if (region.ht[nk] - hk > limit) ++count;
         }
       cap_[k] = count > 0 ? room / count : 0.0;

@@ -51,9 +51,9 @@ void ErodeStage::start_layers(const Region& region, std::span<const Material> pa
   const double* sink = region.sink.data();
   const double* ht = region.ht.data();
   const double* pressed = region.ht_pressed.data();
-  const std::size_t n = region.layer.size();
-  for (std::size_t k = 0; k < n; ++k) {
-    if (!(boundary[k] < kNoLayer)) continue;  // not layered
+  // The layered columns as Region::expose_layers listed them (it ran before erosion
+  // wherever the region has layers; without layers the list is empty).
+  for (const std::size_t k : region.layered_columns()) {
     lower[k] = lower_of[k];
     if (sink[k] > boundary[k]) {
       kind[k] = kBroken;

@@ -23,11 +23,13 @@ ErosionLimits ErosionLimits::from(const TerrainSettings& s, const Material& m) {
   // theta_out, and the excess over a threshold only decays geometrically, so without the
   // margin the last creeping pair would keep the passes going to the cap.
   const double stop_tolerance = 5e-2 * s.cell;
+  // Each angle's tangent once (not per direction): a step computes these per palette entry.
+  const double tan_out = det::tan(m.theta_out), tan_in = det::tan(m.theta_in), tan_stop = det::tan(m.theta_stop);
   for (int d = 0; d < 8; ++d) {
     const double dist = d < 4 ? s.cell : diag;
-    lim.thr[d][0] = dist * det::tan(m.theta_out);
-    lim.thr[d][1] = dist * det::tan(m.theta_in);
-    const double stop = dist * det::tan(m.theta_stop);
+    lim.thr[d][0] = dist * tan_out;
+    lim.thr[d][1] = dist * tan_in;
+    const double stop = dist * tan_stop;
     for (int c = 0; c < 2; ++c) lim.steep_limit[d][c] = std::max(lim.thr[d][c], stop) + stop_tolerance;
     for (int c = 0; c < 2; ++c) lim.give[d][c] = lim.thr[d][c] + lim.eps;
     lim.give_in[d] = lim.thr[d][1] + lim.eps;
@@ -44,14 +46,16 @@ ErosionLimits ErosionLimits::from(const TerrainSettings& s, const Material& m) {
 
 int ErodeStage::run(Region& region, std::span<const unsigned char> flags, std::span<const double> body,
                     const TerrainSettings& s, std::span<const Material> palette, bool to_rest, bool loosens) {
-  lim_ = ErosionLimits::from(s, palette[0]);
   lims_.clear();
-  if (!region.mat.empty())
-    for (const Material& m : palette) {
-      lims_.push_back(ErosionLimits::from(s, m));
+  if (region.mat.empty()) {
+    lim_ = ErosionLimits::from(s, palette[0]);
+  } else {
+    for (const Material& m : palette) lims_.push_back(ErosionLimits::from(s, m));
+    lim_ = lims_[0];  // palette[0]'s limits, computed once
+    for (const ErosionLimits& l : lims_)
       for (int kind = 0; kind < 2; ++kind)
-        lim_.least_give_in[kind] = std::min(lim_.least_give_in[kind], lims_.back().least_give_in[kind]);
-    }
+        lim_.least_give_in[kind] = std::min(lim_.least_give_in[kind], l.least_give_in[kind]);
+  }
   assign_roles(region, flags);
   map_ = !region.mat.empty();
   if (map_) start_layers(region, palette, loosens);

@@ -42,6 +42,14 @@ double TileStore::base_at(std::int64_t i, std::int64_t j) const {
   return base_->height(origin_x_ + static_cast<double>(i) * cell_, origin_y_ + static_cast<double>(j) * cell_);
 }
 
+void TileStore::base_row(std::int64_t i0, std::int64_t j, std::span<double> out) const {
+  if (!base_) {
+    std::fill(out.begin(), out.end(), base_height_);
+    return;
+  }
+  base_->row(origin_x_, cell_, i0, origin_y_ + static_cast<double>(j) * cell_, out);
+}
+
 const Tile* TileStore::find(TileKey key) const {
   const auto it = tiles_.find(key);
   return it == tiles_.end() ? nullptr : it->second.get();
@@ -58,14 +66,12 @@ Tile& TileStore::tile(TileKey key) {
     slot->last_used = clock_;
   } else {
     slot = std::make_unique<Tile>(n_);
-    // Untouched ground is the base source; sample it once, when the tile is created.
+    // Untouched ground is the base source; sample it once, when the tile is created, a row
+    // at a time (a cached base copies it).
+    const auto n = static_cast<std::size_t>(n_);
     for (int lj = 0; lj < n_; ++lj)
-      for (int li = 0; li < n_; ++li) {
-        const double b = base_at(key.tx * n_ + li, key.ty * n_ + lj);
-        const std::size_t k = static_cast<std::size_t>(lj) * n_ + li;
-        slot->base[k] = b;
-        slot->height[k] = b;
-      }
+      base_row(key.tx * n_, key.ty * n_ + lj, std::span(slot->base).subspan(static_cast<std::size_t>(lj) * n, n));
+    slot->height = slot->base;
     slot->last_used = clock_;
   }
   return *slot;
@@ -86,8 +92,7 @@ void TileStore::read(const GridRect& r, std::span<double> out, bool base) const 
       const std::vector<double>& field = base ? t->base : t->height;
       std::copy_n(field.data() + run.local, run.count, dst);
     } else {
-      const std::int64_t i = r.i0 + run.x, j = r.j0 + run.y;
-      for (int c = 0; c < run.count; ++c) dst[c] = base_at(i + c, j);
+      base_row(r.i0 + run.x, r.j0 + run.y, std::span(dst, static_cast<std::size_t>(run.count)));
     }
   });
 }

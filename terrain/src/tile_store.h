@@ -93,6 +93,8 @@ class TileStore {
   [[nodiscard]] int n() const noexcept { return n_; }
   /// Untouched ground at a column: the base source, or flat at base_height.
   [[nodiscard]] double base_at(std::int64_t i, std::int64_t j) const;
+  /// base_at(i0 + c, j) into out[c], in one call to the base source (HeightSource::row).
+  void base_row(std::int64_t i0, std::int64_t j, std::span<double> out) const;
   [[nodiscard]] TileKey key_of(std::int64_t i, std::int64_t j) const { return {floor_div(i, n_), floor_div(j, n_)}; }
   [[nodiscard]] std::size_t local(std::int64_t i, std::int64_t j) const {
     return static_cast<std::size_t>((j - floor_div(j, n_) * n_) * n_ + (i - floor_div(i, n_) * n_));

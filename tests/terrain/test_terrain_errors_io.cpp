@@ -418,3 +418,42 @@ TEST(HeightSources, LatticeNoiseIsItsDefinitionBitForBit) {
   });
   other.join();
 }
+
+TEST(HeightSources, LatticeNoiseAlongYIsItsDefinitionBitForBit) {
+  // Columns of points sharing x (a grid's column: 4 cm apart over several lattice cells of
+  // each octave, then points in no order, crossing cells back and forth), with another
+  // noise asked in between: every answer the definition's bits.
+  LatticeNoiseSettings ns;
+  ns.seed = 7, ns.spacing = 5.0, ns.amplitude = 0.35, ns.octaves = 3, ns.persistence = 0.45;
+  const LatticeNoise a(ns);
+  ns.seed = 8, ns.spacing = 2.0;
+  const LatticeNoise b(ns);
+  std::vector<double> ys(400), out(400);
+  for (int c = 0; c < 40; ++c) {
+    const double x = -12.0 + 0.04 * (37 * c);
+    for (std::size_t k = 0; k < ys.size(); ++k)
+      ys[k] = c % 2 == 0 ? -16.0 + 0.04 * static_cast<double>(k) : 9.0 * std::sin(0.7 * static_cast<double>(k) + c);
+    a.heights_along_y(x, ys, out);
+    for (std::size_t k = 0; k < ys.size(); ++k)
+      ASSERT_EQ(out[k], noise_by_definition(a, x, ys[k])) << x << ", " << ys[k];
+    (void)b.height(x + 3.3, 1.7);  // another noise's cells in the per-thread keep
+  }
+  std::vector<double> short_out(3);
+  EXPECT_TRUE(
+      mentions(message_of<shore::InvalidSetting>([&] { a.heights_along_y(0.0, ys, short_out); }), "out.size()"));
+}
+
+TEST(HeightSources, ARowIsItsPointsGridPositions) {
+  // HeightSource::row: the grid's points at origin + (i0 + c) cell, as a terrain places its
+  // columns, each the definition's bits.
+  LatticeNoiseSettings ns;
+  ns.seed = 7, ns.spacing = 5.0, ns.amplitude = 0.35, ns.octaves = 3, ns.persistence = 0.45;
+  const LatticeNoise a(ns);
+  std::vector<double> out(150);
+  const double origin_x = -0.02, cell = 0.04, y = -3.0 + 17.0 * 0.04;
+  a.row(origin_x, cell, -75, y, out);
+  for (std::size_t c = 0; c < out.size(); ++c) {
+    const double x = origin_x + static_cast<double>(-75 + static_cast<std::int64_t>(c)) * cell;
+    ASSERT_EQ(out[c], noise_by_definition(a, x, y)) << x;
+  }
+}

@@ -17,6 +17,10 @@ class HeightSource {
  public:
   virtual ~HeightSource() = default;
   [[nodiscard]] virtual double height(double x, double y) const = 0;
+  /// Heights along a row of grid points: out[c] = height(origin_x + double(i0 + c) * cell, y),
+  /// bit for bit. This asks height() point by point; a source that keeps its heights (a
+  /// cache of a costly ground) answers a row at once.
+  virtual void row(double origin_x, double cell, std::int64_t i0, double y, std::span<double> out) const;
 };
 
 /// Level ground.
@@ -60,6 +64,10 @@ class LatticeNoise final : public HeightSource {
  public:
   explicit LatticeNoise(LatticeNoiseSettings settings);  ///< validates
   [[nodiscard]] double height(double x, double y) const override;
+  /// out[k] = height(x, ys[k]), bit for bit (the same arithmetic in the same order), for
+  /// points sharing one x: each octave's four splines along x are worked out once per
+  /// lattice cell the ys cross instead of once a point. out.size() must equal ys.size().
+  void heights_along_y(double x, std::span<const double> ys, std::span<double> out) const;
   /// Value at lattice point (li, lj) of octave k, in [-1, 1] (before amplitude).
   [[nodiscard]] double lattice_value(int octave, std::int64_t li, std::int64_t lj) const;
   [[nodiscard]] const LatticeNoiseSettings& settings() const noexcept { return settings_; }
@@ -67,7 +75,7 @@ class LatticeNoise final : public HeightSource {
  private:
   /// The 16 lattice values around lattice cell (li, lj) of the octave (lattice_value's,
   /// bit for bit), [4 * b + a] for point (li - 1 + a, lj - 1 + b); kept per thread until
-  /// another cell of that octave is asked.
+  /// another cell of that octave and lattice row (modulo 4) is asked.
   [[nodiscard]] const double* patch(int octave, std::int64_t li, std::int64_t lj) const;
 
   LatticeNoiseSettings settings_;
