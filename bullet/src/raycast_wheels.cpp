@@ -11,6 +11,7 @@
 #include "raycast_wheel_grid.h"
 #include "shore/core/det_math.h"
 #include "shore/core/error.h"
+#include "shore/core/illinois.h"
 #include "soft_ground.h"
 
 namespace shore::bullet {
@@ -31,7 +32,6 @@ constexpr double kRolling = 0.05;   // m/s: a wheel slower than this is standing
 constexpr double kRiseLeast = 0.01;  // m
 constexpr double kRiseMost = 0.5;
 constexpr double kRiseTolerance = 1e-3;  // N: the rise's load bracket closed this narrow
-constexpr int kRiseIterations = 60;
 
 /// N/m: what Bullet's suspension force gains per metre the ground under the wheel rises
 /// (btRaycastVehicle::updateSuspension: stiffness x compression / the contact's cosine,
@@ -474,27 +474,14 @@ double RaycastWheels::rise(const terrain::Terrain& terrain, EnvelopeRasterizer& 
   // The load L the raised envelope carries at its offset o(L) is F + k (D - o(L)) at the
   // rise d = D - o: phi(L) = L - F - k (D - o(L)) grows with L, below 0 at L = F (the soil
   // carries more than F at the hit, o(F) < D) and not below at F + k D. Illinois regula
-  // falsi on L, as the traction's spin.
+  // falsi on L (shore/core/illinois.h), as the traction's spin.
   const double force = p.load;
   auto phi = [&](double load) { return load - force - spring * (bound - wheel.solve.offset(load)); };
-  double lo = force, hi = force + spring * bound;
-  double f_lo = phi(lo), f_hi = phi(hi);
-  int side = 0;
-  for (int n = 0; n < kRiseIterations && f_lo < 0.0 && hi - lo > kRiseTolerance; ++n) {
-    const double mid = std::clamp(hi - f_hi * (hi - lo) / (f_hi - f_lo), lo, hi);
-    const double f = phi(mid);
-    if (f < 0.0) {
-      lo = mid, f_lo = f;
-      if (side == -1) f_hi *= 0.5;
-      side = -1;
-    } else {
-      hi = mid, f_hi = f;
-      if (side == 1) f_lo *= 0.5;
-      side = 1;
-    }
-  }
-  const double load = f_lo < 0.0 ? hi : lo;  // the end whose offset carries it
-  offset = wheel.solve.offset(load);         // its bearing the last measured
+  Bracket b{force, force + spring * bound};
+  const double f_lo = phi(b.lo), f_hi = phi(b.hi);
+  if (f_lo < 0.0 && f_hi >= 0.0) b = illinois_narrow(phi, b, f_lo, f_hi, kRiseTolerance);
+  const double load = f_lo < 0.0 ? b.hi : b.lo;  // the end whose offset carries it
+  offset = wheel.solve.offset(load);             // its bearing the last measured
   const double d = std::clamp(bound - offset, 0.0, bound);
   p.pose.getOrigin() += up * btScalar(d);
   p.world_pose.getOrigin() += world_up * btScalar(d);

@@ -25,11 +25,12 @@ void* SoilRaycaster::castRay(const btVector3& from, const btVector3& to, btVehic
   const auto* object = static_cast<const btCollisionObject*>(hit);
   if (object == nullptr || !is_terrain_tile(object)) return hit;
   const terrain::Terrain& terrain = coupling_.terrain();
-  if (terrain.settings().material.rigid) return hit;  // rigid ground's triangles are its own
   const GroundFrame& frame = coupling_.settings().frame;
   const btVector3 at = frame.to_ground() * result.m_hitPointInWorld;
   const double x = double(at.x()), y = double(at.y());
   if (!coupling_.settings().region.contains(x, y)) return hit;  // another coupling's tile
+  // Rigid ground's triangles are its own (a rigid material, or a painted road or rock).
+  if (terrain.exposed_material(terrain.column_i(x), terrain.column_j(y)).rigid) return hit;
   // The base's slope by central differences over +- span (at least a cell).
   const double s = std::max(settings_.span, terrain.settings().cell);
   const auto base = [&](double bx, double by) {

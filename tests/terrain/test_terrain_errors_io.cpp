@@ -396,15 +396,21 @@ double noise_by_definition(const LatticeNoise& n, double x, double y) {
 
 }  // namespace
 
+namespace {
+/// The rally valley's noise settings (3 octaves, amplitude 0.35 m, persistence 0.45) with
+/// a seed and a lattice spacing (m) of the test's choosing.
+LatticeNoiseSettings rally_like_noise(std::uint64_t seed, double spacing) {
+  LatticeNoiseSettings ns;
+  ns.seed = seed, ns.spacing = spacing, ns.amplitude = 0.35, ns.octaves = 3, ns.persistence = 0.45;
+  return ns;
+}
+}  // namespace
+
 TEST(HeightSources, LatticeNoiseIsItsDefinitionBitForBit) {
   // height() keeps the lattice values of the last cell asked per octave and thread: points
   // in the same cell, in neighbouring cells, far apart and from two noises taking turns
   // (same octaves, other seeds) must all give the definition's bits.
-  LatticeNoiseSettings ns;
-  ns.seed = 7, ns.spacing = 5.0, ns.amplitude = 0.35, ns.octaves = 3, ns.persistence = 0.45;
-  const LatticeNoise a(ns);
-  ns.seed = 8, ns.spacing = 2.0;
-  const LatticeNoise b(ns);
+  const LatticeNoise a(rally_like_noise(7, 5.0)), b(rally_like_noise(8, 2.0));
   for (int k = 0; k < 3000; ++k) {
     const double x = -40.0 + 0.0137 * k * (k % 3 == 0 ? 1.0 : 2.9), y = 25.0 - 0.0191 * k * (k % 7 == 0 ? -3.0 : 1.0);
     ASSERT_EQ(a.height(x, y), noise_by_definition(a, x, y)) << x << ", " << y;
@@ -423,11 +429,7 @@ TEST(HeightSources, LatticeNoiseAlongYIsItsDefinitionBitForBit) {
   // Columns of points sharing x (a grid's column: 4 cm apart over several lattice cells of
   // each octave, then points in no order, crossing cells back and forth), with another
   // noise asked in between: every answer the definition's bits.
-  LatticeNoiseSettings ns;
-  ns.seed = 7, ns.spacing = 5.0, ns.amplitude = 0.35, ns.octaves = 3, ns.persistence = 0.45;
-  const LatticeNoise a(ns);
-  ns.seed = 8, ns.spacing = 2.0;
-  const LatticeNoise b(ns);
+  const LatticeNoise a(rally_like_noise(7, 5.0)), b(rally_like_noise(8, 2.0));
   std::vector<double> ys(400), out(400);
   for (int c = 0; c < 40; ++c) {
     const double x = -12.0 + 0.04 * (37 * c);
