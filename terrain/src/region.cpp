@@ -72,28 +72,6 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
   });
   ht_orig = ht;
   relayered.clear();
-  layered_count_ = 0;
-}
-
-void Region::expose_layers() {
-  upper = mat;
-  // Raw pointers: a byte store may alias anything, so indexing the vectors would reload
-  // their data pointers per column.
-  std::uint8_t* index = mat.data();
-  const double* boundary = layer.boundary.data();
-  const std::uint8_t* lower = layer.lower.data();
-  const double* z = sink.data();
-  const std::size_t n = layer.size();
-  if (layered_.size() < n) layered_.resize(n);
-  std::size_t* listed = layered_.data();
-  std::size_t count = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const ColumnLayer l{boundary[k], lower[k]};
-    if (!l.layered()) continue;  // shows its painted index
-    listed[count++] = k;
-    index[k] = l.exposed(index[k], z[k]);
-  }
-  layered_count_ = count;
 }
 
 void Region::scatter(TileStore& store) {
@@ -168,7 +146,7 @@ void Region::scatter_relayered(TileStore& store) {
 
 std::size_t Region::bytes() const {
   return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat, layer.boundary, layer.lower, upper, relayered,
-                        layered_, touched_);
+                        touched_);
 }
 
 }  // namespace shore::terrain

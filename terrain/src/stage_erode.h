@@ -111,7 +111,9 @@ class ErodeStage {
   void move_soil(Region& region);
   void clear_givers(const Region& region);
   // layers (with a map only: stage_erode_layers.cpp)
-  void start_layers(const Region& region, std::span<const Material> palette, bool loosens);
+  /// Exposes the region's layers (Region::expose_layers: mat becomes each column's exposed
+  /// index) and reads each layered column's kind, thickness and lower index.
+  void start_layers(Region& region, std::span<const Material> palette, bool loosens);
   /// Whether column j, of another top material than m, takes soil of material m this pass
   /// (stage_erode_layers.cpp).
   [[nodiscard]] bool takes(const Region& region, std::size_t j, std::uint8_t m) const;

@@ -29,7 +29,7 @@
 
 namespace shore::terrain {
 
-void ErodeStage::start_layers(const Region& region, std::span<const Material> palette, bool loosens) {
+void ErodeStage::start_layers(Region& region, std::span<const Material> palette, bool loosens) {
   const std::size_t size = region.size();
   kind_.assign(size, kUnlayered);
   thick_.resize(size);
@@ -46,26 +46,24 @@ void ErodeStage::start_layers(const Region& region, std::span<const Material> pa
   unsigned char* kind = kind_.data();
   std::uint8_t* lower = lower_.data();
   double* thick = thick_.data();
-  const double* boundary = region.layer.boundary.data();
-  const std::uint8_t* lower_of = region.layer.lower.data();
   const double* sink = region.sink.data();
   const double* ht = region.ht.data();
   const double* pressed = region.ht_pressed.data();
-  // The layered columns as Region::expose_layers listed them (it ran before erosion
-  // wherever the region has layers; without layers the list is empty).
-  for (const std::size_t k : region.layered_columns()) {
-    lower[k] = lower_of[k];
-    if (sink[k] > boundary[k]) {
+  // Erosion reads each column's exposed material from here on; the layered columns' kinds
+  // in the same pass (without layers there are none).
+  region.expose_layers([&](std::size_t k, const ColumnLayer& l) __attribute__((always_inline)) {
+    lower[k] = l.lower;
+    if (sink[k] > l.boundary) {
       kind[k] = kBroken;
-      thick[k] = boundary[k] - sink[k];
+      thick[k] = l.boundary - sink[k];
     } else {
       // A step loosens what displacement laid on the column after erosion: that soil is the
       // top layer's already (its sinkage will drop by it).
       const double laid = loosens ? std::max(0.0, ht[k] - pressed[k]) : 0.0;
       kind[k] = kCrust;
-      thick[k] = boundary[k] - (sink[k] - laid);
+      thick[k] = l.boundary - (sink[k] - laid);
     }
-  }
+  });
 }
 
 bool ErodeStage::takes(const Region& region, std::size_t j, std::uint8_t m) const {
