@@ -122,13 +122,19 @@ void Region::expose_layers(Fn&& on_layered) {
   const double* boundary = layer.boundary.data();
   const std::uint8_t* lower = layer.lower.data();
   const double* z = sink.data();
-  const std::size_t n = layer.size();
-  for (std::size_t k = 0; k < n; ++k) {
+  const auto visit = [&](std::size_t k) __attribute__((always_inline)) {
     const ColumnLayer l{boundary[k], lower[k]};
-    if (!l.layered()) continue;  // shows its painted index
+    if (!l.layered()) return;  // shows its painted index
     index[k] = l.exposed(index[k], z[k]);
     on_layered(k, l);
-  }
+  };
+  const std::size_t n = layer.size();
+  std::size_t k = 0;
+  // Four columns at a time past unlayered ones (kNoLayer is the largest boundary).
+  for (; k + 4 <= n; k += 4)
+    if (std::min(std::min(boundary[k], boundary[k + 1]), std::min(boundary[k + 2], boundary[k + 3])) < kNoLayer)
+      for (std::size_t j = k; j < k + 4; ++j) visit(j);
+  for (; k < n; ++k) visit(k);
 }
 
 }  // namespace shore::terrain

@@ -95,6 +95,7 @@ class ErodeStage {
 
  private:
   // planning
+  void set_limits(const Region& region, const TerrainSettings& s, std::span<const Material> palette);
   void assign_roles(const Region& region, std::span<const unsigned char> flags);
   void plan_pass(int pass, bool to_rest);
   void find_still_flowing(const Region& region, int passes, int max_passes);
@@ -125,6 +126,15 @@ class ErodeStage {
   /// column's cap must count givers of any material.
   ErosionLimits lim_;
   std::vector<ErosionLimits> lims_;  ///< per palette entry (used with a map only)
+  /// What lim_ and lims_ were computed from (set_limits): a material's erosion fields.
+  struct LimitInputs {
+    double theta_in = 0.0, theta_out = 0.0, theta_stop = 0.0, sigma = 0.0;
+    [[nodiscard]] static LimitInputs of(const Material& m) { return {m.theta_in, m.theta_out, m.theta_stop, m.sigma}; }
+    bool operator==(const LimitInputs&) const = default;
+  };
+  std::vector<LimitInputs> limits_of_;  ///< per entry (one without a map)
+  double limits_cell_ = 0.0;
+  bool limits_set_ = false, limits_map_ = false;
   // Per column.
   std::vector<double> q_;                ///< a giver's share per too-steep neighbour, m
   std::vector<double> out_;              ///< what a giver gives in all, m
