@@ -43,11 +43,13 @@
 // - shares (stage_erode_shares.cpp): what each giver gives each too-steep neighbour;
 // - flow (stage_erode_flow.cpp): every giver and receiver updates its height.
 
+#include <algorithm>
 #include <cstddef>
 #include <span>
 #include <vector>
 
 #include "column_bits.h"
+#include "neighbours.h"
 #include "region.h"
 #include "shore/terrain/terrain.h"
 
@@ -115,9 +117,9 @@ class ErodeStage {
   /// Exposes the region's layers (Region::expose_layers: mat becomes each column's exposed
   /// index) and reads each layered column's kind, thickness and lower index.
   void start_layers(Region& region, std::span<const Material> palette, bool loosens);
-  /// Whether column j, of another top material than m, takes soil of material m this pass
-  /// (stage_erode_layers.cpp).
-  [[nodiscard]] bool takes(const Region& region, std::size_t j, std::uint8_t m) const;
+  /// Whether column j (at x, y), of another top material than m, takes soil of material m
+  /// this pass (the rules: stage_erode_layers.cpp). Inline: the shares ask it per pair.
+  [[nodiscard]] bool takes(const Region& region, std::size_t j, int x, int y, std::uint8_t m) const;
   /// After move_soil: each changed column's top layer and material (what it gave was its
   /// top layer; what it took, its top material or a new top layer).
   void track_layers(Region& region);
@@ -174,5 +176,34 @@ class ErodeStage {
   ColumnBits live_;          ///< planning scratch: steep givers grown by one
   GridRect still_flowing_;
 };
+
+inline bool ErodeStage::takes(const Region& region, std::size_t j, int x, int y, std::uint8_t m) const {
+  if (kind_[j] == kCrust) return m == lower_[j];  // into its lower layer, under its top one
+  if (kind_[j] == kBroken) return false;          // its top is its lower layer: m is a third
+  const std::uint8_t own = region.mat[j];
+  if (rigid_[own]) return true;
+  // The smallest index among its neighbours of another material than its own (in any
+  // order: the least is the same).
+  unsigned smallest = 256;
+  const auto see = [&](std::uint8_t other) {
+    if (other != own) smallest = std::min<unsigned>(smallest, other);
+  };
+  if (x > 0 && y > 0 && x < region.w - 1 && y < region.h - 1) {
+    const std::uint8_t* p = region.mat.data() + j;
+    const std::ptrdiff_t w = region.w;
+    for (const std::ptrdiff_t r : {-w, std::ptrdiff_t{0}, w}) {
+      see(p[r - 1]);
+      see(p[r + 1]);
+      if (r != 0) see(p[r]);
+    }
+  } else {
+    for (int d = 0; d < 8; ++d) {
+      const int nx = x + kDx[d], ny = y + kDy[d];
+      if (nx < 0 || ny < 0 || nx >= region.w || ny >= region.h) continue;
+      see(region.mat[region.at(nx, ny)]);
+    }
+  }
+  return m == smallest;
+}
 
 }  // namespace shore::terrain

@@ -66,24 +66,6 @@ void ErodeStage::start_layers(Region& region, std::span<const Material> palette,
   });
 }
 
-bool ErodeStage::takes(const Region& region, std::size_t j, std::uint8_t m) const {
-  if (kind_[j] == kCrust) return m == lower_[j];  // into its lower layer, under its top one
-  if (kind_[j] == kBroken) return false;          // its top is its lower layer: m is a third
-  const std::uint8_t own = region.mat[j];
-  if (rigid_[own]) return true;
-  // The smallest index among its neighbours of another material than its own.
-  const int x = static_cast<int>(j % static_cast<std::size_t>(region.w));
-  const int y = static_cast<int>(j / static_cast<std::size_t>(region.w));
-  unsigned smallest = 256;
-  for (int d = 0; d < 8; ++d) {
-    const int nx = x + kDx[d], ny = y + kDy[d];
-    if (nx < 0 || ny < 0 || nx >= region.w || ny >= region.h) continue;
-    const std::uint8_t other = region.mat[region.at(nx, ny)];
-    if (other != own) smallest = std::min<unsigned>(smallest, other);
-  }
-  return m == smallest;
-}
-
 void ErodeStage::track_layers(Region& region) {
   bool cross = false;
   for (const unsigned char c : row_cross_) cross = cross || c != 0;

@@ -85,7 +85,7 @@ bool ErodeStage::compute_shares_as(const Region& region) {
           // The soil keeps its material: a neighbour that may not take it holds the pair.
           // (A rigid column's loose soil lands as the receiver's own, as before maps.)
           if (region.mat[nk] != top) {
-            if (!rigid_[top] && !takes(region, nk, top)) continue;
+            if (!rigid_[top] && !takes(region, nk, x + kDx[d], y + kDy[d], top)) continue;
             mixed = true;
           }
           mixed = mixed || kind_[nk] != kUnlayered;
