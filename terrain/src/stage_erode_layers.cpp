@@ -75,7 +75,9 @@ void ErodeStage::track_layers(Region& region) {
   // and the columns it gives to, can change a layering: any other column gave and took
   // only its own material, unlayered, which leaves it as it was.
   track_.clear();
-  for (int y = 0; y < h; ++y)
+  const auto crosses = [&](int y) { return y >= 0 && y < h && row_cross_[static_cast<std::size_t>(y)] != 0; };
+  for (int y = 0; y < h; ++y) {
+    if (!crosses(y)) continue;  // no cross giver in the row
     cross_givers_.for_each_in_row(y, [&](int x) {
       track_.set(x, y);
       for (unsigned mk = mask_[region.at(x, y)]; mk != 0; mk &= mk - 1) {
@@ -83,10 +85,12 @@ void ErodeStage::track_layers(Region& region) {
         track_.set(x + kDx[d], y + kDy[d]);
       }
     });
+  }
   cross_givers_.clear();
   retop_.clear();
   const auto off = neighbour_offsets(w);
-  for (int y = 0; y < h; ++y)
+  for (int y = 0; y < h; ++y) {
+    if (!crosses(y - 1) && !crosses(y) && !crosses(y + 1)) continue;  // nothing tracked in the row
     track_.for_each_in_row(y, [&](int x) {
       const std::size_t k = region.at(x, y);
       const std::uint8_t top = region.mat[k];
@@ -141,6 +145,7 @@ void ErodeStage::track_layers(Region& region) {
           }
       }
     });
+  }
   for (const Retop& r : retop_) region.mat[r.k] = r.top;
 }
 
