@@ -117,6 +117,9 @@ TEST(ValidationMatrixTowedWheel, MeetsBekkersFrontArcIntegralWithTheRimsShear) {
 TEST(ValidationMatrixTowedWheel, TheRimsShearIsBekkersWheelOnSoilWithoutStrength) {
   namespace bekker = shore::terrain::bekker;
   for (const shore::scenes::MatrixSoil& s : shore::scenes::matrix_soils()) {
+    // n from 0.13 to 1.6, and the soils whose towed wheels the shear lifts most.
+    if (s.name != "dry sand" && s.name != "sandy loam 22 %" && s.name != "heavy clay 25 %" && s.name != "snow")
+      continue;
     shore::scenes::WongReeceWheel w;
     w.radius = 0.25, w.width = 0.3, w.load = s.wheel_load[1], w.soil = s.material, w.front_only = true;
     const double integral = bekker::wheel_sinkage_rolling_integral(w.soil, w.load, 0.5, 0.3);
