@@ -72,10 +72,6 @@ WongReeceResult wong_reece(const WongReeceWheel& w, double slip) {
   return out;
 }
 
-}  // namespace shore::scenes
-
-namespace shore::scenes {
-
 TowedWongReeceResult wong_reece_towed(const WongReeceWheel& wheel) {
   // The torque grows with the slip; it vanishes at a small skid, where the shear ahead of
   // the bottom (backward) balances the shear behind it (forward).
