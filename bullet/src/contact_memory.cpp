@@ -76,8 +76,16 @@ void ContactMemory::limit_unloading(std::span<terrain::ContactElement> elements,
 }
 
 void ContactMemory::advance(std::span<terrain::ContactElement> elements, const EnvelopeRaster& envelope,
-                            const SolverBody& body, double h) {
+                            const SolverBody& body, std::span<const Block> blocks, int block_columns, double h) {
   const std::size_t size = envelope.lower.size();
+  // The share of its yield pressure a column being pressed carried: its block's (the solve
+  // shares a block's push among its elements in proportion to their capacity).
+  auto carried_share = [&](const terrain::ContactElement& e) {
+    const std::uint64_t key = block_key(e, block_columns);
+    const auto b = std::lower_bound(blocks.begin(), blocks.end(), key,
+                                    [](const Block& block, std::uint64_t k) { return block.key < k; });
+    return b != blocks.end() && b->key == key ? utilisation(*b, h) : 1.0;
+  };
   const bool had = shear_.size() == size;
   // The new values first, from the old ones (nothing is reset before all are read).
   new_shear_.clear(), new_unloading_.clear();
@@ -96,7 +104,15 @@ void ContactMemory::advance(std::span<terrain::ContactElement> elements, const E
     const double spring = elastic ? e.preload + e.stiffness * h * -dot(u, n) : 0.0;
     const bool yields = !elastic || spring >= e.pressure;
     new_shear_.push_back({k, j, length, yields ? length : std::min(length, had ? remould_[k] : 0.0)});
-    if (!elastic) continue;
+    if (!elastic) {
+      // Pressed below its yield pressure, it unloads from what it carried (a yielding one
+      // carried its yield pressure, which bounds its push anyway).
+      if (e.pressure < kRigid && envelope.index(e.i, e.j) == k) {
+        const double share = carried_share(e);
+        if (share < 1.0 - 1e-9) new_unloading_.emplace_back(k, e.pressure * share);
+      }
+      continue;
+    }
     e.preload = std::clamp(spring, 0.0, e.pressure);
     if (envelope.index(e.i, e.j) == k) new_unloading_.emplace_back(k, e.preload);  // its own column (a fringe's is not)
   }

@@ -16,7 +16,11 @@
 //   last substep (Pa). Wong's unloading starts from the pressure a column carried: soil
 //   that erosion lays under a body raises the column's top, and with it the elastic line,
 //   without loading it; remembering the pressure keeps that soil from pushing until the body
-//   presses it. Columns pressed, or out of contact, remember nothing (+infinity).
+//   presses it. A column pressed while its block held below capacity remembers the share
+//   of its yield pressure it carried: a fast impact overlaps the soil by a substep's travel
+//   before its contact is seen, and the imprint then sinks the columns that far, to a yield
+//   pressure (and an elastic push) the body never paid for. Columns whose block yielded, or
+//   out of contact, remember nothing (+infinity).
 
 #include <cstddef>
 #include <cstdint>
@@ -58,9 +62,12 @@ class ContactMemory {
   /// touched for the first time starts from 0 unless it yields), and an unloading column keeps
   /// its spring's push at the body's final approach speed over it, within [0, its yield
   /// pressure], which is also written into its element's preload (a contact that follows
-  /// the body starts from it).
+  /// the body starts from it). A column being pressed whose block (of `blocks`, solved,
+  /// gathered with `block_columns`) held below its capacity carried that share of its yield
+  /// pressure, and unloads from it; one whose block yielded carried its yield pressure
+  /// (nothing remembered).
   void advance(std::span<terrain::ContactElement> elements, const EnvelopeRaster& envelope, const SolverBody& body,
-               double h);
+               std::span<const Block> blocks, int block_columns, double h);
 
   /// Field by field: shear displacements, their lengths, unloading pressures, remould
   /// displacements.

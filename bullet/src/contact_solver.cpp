@@ -143,6 +143,13 @@ struct Tally {
   }
 };
 
+/// A block's key from its block coordinates and kind (rows of blocks, then columns, then
+/// kind: the solve's fixed order).
+std::uint64_t key_of(std::int64_t bx, std::int64_t by, int kind) {
+  return (static_cast<std::uint64_t>(by + kKeyOffset) << 36) | (static_cast<std::uint64_t>(bx + kKeyOffset) << 8) |
+         static_cast<std::uint64_t>(kind);
+}
+
 /// Two unit directions across the normal (a fixed choice, so results are reproducible).
 void friction_directions(Block& b) {
   const Vec3 n = b.normal;
@@ -243,12 +250,20 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, std::span<
       for (int kind = 0; kind < kKinds; ++kind) {
         Tally& t = tallies[slot(bx, by, kind)];
         if (!t.used) continue;
-        const std::uint64_t key = (static_cast<std::uint64_t>(by + kKeyOffset) << 36) |
-                                  (static_cast<std::uint64_t>(bx + kKeyOffset) << 8) | static_cast<std::uint64_t>(kind);
-        blocks.push_back(t.finish(key, kind != 0, laws[t.material].tan_phi));
+        blocks.push_back(t.finish(key_of(bx, by, kind), kind != 0, laws[t.material].tan_phi));
         friction_directions(blocks.back());
         t = Tally{};
       }
+}
+
+std::uint64_t block_key(const terrain::ContactElement& e, int block_columns) {
+  const FloorDivider block_of(std::max(1, block_columns));
+  return key_of(block_of(e.i), block_of(e.j), kind_of(e));
+}
+
+double utilisation(const Block& b, double h) {
+  if (!(b.capacity < kInf)) return 1.0;
+  return b.capacity * h > 0.0 ? std::clamp(b.normal_impulse / (b.capacity * h), 0.0, 1.0) : 0.0;
 }
 
 double follow_body(std::span<Block> blocks, const SolverBody& body, double h) {

@@ -107,6 +107,13 @@ void gather_blocks(std::span<const terrain::ContactElement> elements, std::span<
                    std::span<const std::uint8_t> material, std::span<const double> shear_displacement,
                    std::span<const double> remould_displacement, int block_columns, std::vector<Block>& blocks);
 
+/// The key (Block::key) of the block gather_blocks puts element `e` in.
+[[nodiscard]] std::uint64_t block_key(const terrain::ContactElement& e, int block_columns);
+
+/// The share of its capacity block `b` pushed with in its last solve of a substep h long,
+/// in [0, 1]; 1 where it has no finite capacity to share (bedrock).
+[[nodiscard]] double utilisation(const Block& b, double h);
+
 /// Warm start: the impulses the same blocks ended the last substep with (both sorted by key).
 void warm_start(std::span<const Block> previous, std::span<Block> blocks);
 

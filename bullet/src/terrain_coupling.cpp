@@ -235,7 +235,7 @@ void solve_blocks(CoupledBody& body, TerrainBody& b, Blocks blocks, const Terrai
   c.last.normal_force = to_bt(r.normal_impulse * (1.0 / h));
   c.last.contact_columns = c.patch.touching_columns;
   c.last.yielded = r.yielded;
-  if (!resting) c.memory.advance(c.patch.elements, b.envelope, rb, h);
+  if (!resting) c.memory.advance(c.patch.elements, b.envelope, rb, c.blocks, settings.contact.block_columns, h);
 }
 
 }  // namespace
