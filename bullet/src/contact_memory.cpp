@@ -106,8 +106,9 @@ void ContactMemory::advance(std::span<terrain::ContactElement> elements, const E
     new_shear_.push_back({k, j, length, yields ? length : std::min(length, had ? remould_[k] : 0.0)});
     if (!elastic) {
       // Pressed below its yield pressure, it unloads from what it carried (a yielding one
-      // carried its yield pressure, which bounds its push anyway).
-      if (e.pressure < kRigid && envelope.index(e.i, e.j) == k) {
+      // carried its yield pressure, which bounds its push anyway). A link's solve is not
+      // what its columns carry: the links solved after it load it through their joints.
+      if (!body.articulated && e.pressure < kRigid && envelope.index(e.i, e.j) == k) {
         const double share = carried_share(e);
         if (share < 1.0 - 1e-9) new_unloading_.emplace_back(k, e.pressure * share);
       }

@@ -65,7 +65,8 @@ class ContactMemory {
   /// the body starts from it). A column being pressed whose block (of `blocks`, solved,
   /// gathered with `block_columns`) held below its capacity carried that share of its yield
   /// pressure, and unloads from it; one whose block yielded carried its yield pressure
-  /// (nothing remembered).
+  /// (nothing remembered). Not for articulated bodies: a link's solve is not the load of
+  /// its columns, which the links solved after it add to through their joints.
   void advance(std::span<terrain::ContactElement> elements, const EnvelopeRaster& envelope, const SolverBody& body,
                std::span<const Block> blocks, int block_columns, double h);
 

@@ -263,7 +263,7 @@ std::uint64_t block_key(const terrain::ContactElement& e, int block_columns) {
 
 double utilisation(const Block& b, double h) {
   if (!(b.capacity < kInf)) return 1.0;
-  return b.capacity * h > 0.0 ? std::clamp(b.normal_impulse / (b.capacity * h), 0.0, 1.0) : 0.0;
+  return b.capacity * h > 0.0 ? std::clamp(b.normal_impulse / (b.capacity * h), 0.0, 1.0) : 1.0;
 }
 
 double follow_body(std::span<Block> blocks, const SolverBody& body, double h) {
