@@ -5,8 +5,10 @@
 // block_columns x block_columns columns (walls apart, by side). Each block is one contact
 // row along its capacity-weighted normal, bounded by what its columns can push in one
 // substep (capacity x h), plus two friction rows bounded by Janosi-Hanamoto's shear
-// strength of its columns at the block's normal impulse. Projected Gauss-Seidel over the
-// rows in a fixed order, warm-started from the last substep, finds impulses that stop the
+// strength of its columns at the block's normal impulse. The rigid bottom rows first push
+// together, each in proportion to its capacity, until their capacity-weighted approach
+// stops; projected Gauss-Seidel over the rows in a fixed order, warm-started from the last
+// substep, then shares that out and finds impulses that stop the
 // body's approach and slip where the soil can, and yield where it cannot: the soil never
 // pulls and never reverses an approach. The same rule with one block is the momentum rule
 // Shore used before (p = -m v_z against S h).
