@@ -269,9 +269,10 @@ class Rally final : public Scene {
     car_ = std::make_unique<RaycastCar>(
         world_, car,
         btVector3(btScalar(kStartX), btScalar(start_y),
-                  btScalar(ground + car.suspension_rest + car.wheel_radius - car.connection_height + 0.05)));
+                  btScalar(ground + car.suspension_rest + car.wheel_radius - car.connection_height + 0.05)),
+        &ground_);
     const std::array<double, 4> widths{kWheelWidth, kWheelWidth, kWheelWidth, kWheelWidth};
-    ground_.add_vehicle(&car_->vehicle(), widths);
+    ground_.add_vehicle(&car_->vehicle(), widths, car_->soil_raycaster());
     water_.add_body(car_->chassis());
     water_.add_vehicle(&car_->vehicle(), widths);  // the wheels float, drag and make waves too
     bodies_.push_back(car_->chassis());
