@@ -45,6 +45,25 @@ void expect_like_terrain(const Terrain& t, const shore::EnvelopeRaster& env, std
   }
 }
 
+/// Sand, the soil's work on one thread (the same bits whatever the machine).
+TerrainSettings one_thread_sand() {
+  TerrainSettings s;
+  s.material = Material::sand();
+  s.threads = 1;
+  return s;
+}
+
+/// Sand with a strip four times as stiff (k_phi) and a patch of mud painted across the
+/// plates' and balls' footprints.
+void paint_packed_and_mud(Terrain& t) {
+  Material packed = Material::sand();
+  packed.name = "packed";
+  packed.bekker_kphi *= 4.0;
+  t.set_palette({Material::sand(), packed, Material::mud()});
+  t.paint_rect({0, -20, 20, 40}, 1);
+  t.paint_rect({-20, 0, 20, 20}, 2);
+}
+
 }  // namespace
 
 TEST(BearingSolve, FreshPlateSinksAsBekkerForBothLoads) {
@@ -63,16 +82,8 @@ TEST(BearingSolve, FreshPlateSinksAsBekkerForBothLoads) {
 }
 
 TEST(BearingSolve, RuttedPaintedGroundMatchesTerrainBitForBit) {
-  TerrainSettings s;
-  s.material = Material::sand();
-  s.threads = 1;
-  Terrain t(s);
-  Material packed = Material::sand();
-  packed.name = "packed";
-  packed.bekker_kphi *= 4.0;
-  t.set_palette({Material::sand(), packed, Material::mud()});
-  t.paint_rect({0, -20, 20, 40}, 1);
-  t.paint_rect({-20, 0, 20, 20}, 2);
+  Terrain t(one_thread_sand());
+  paint_packed_and_mud(t);
   // A ball pressed in off centre leaves a rut with sinkage the plate then meets.
   const shore::EnvelopeRaster ball = sphere_envelope(t, 0.05, 0.03, 0.15, 0.12);
   const Imprint im{&ball};
@@ -143,18 +154,11 @@ TEST(BearingSolve, UnderASpringAPlateSinksWhereBekkersPressureMeetsTheSpring) {
 
 // A raised raycast wheel's equilibrium, once searched on the load (each load's offset a
 // plain solve, the load L where L = F + k (D - o(L)), to 1e-3 N) and now on the offset: a
-// ball raised D above where it had pressed into sand and rutted, painted ground, the same
+// ball raised D above where it had pressed into rutted sand, packed sand and mud, the same
 // offset to the plain solve's tolerance.
 TEST(BearingSolve, UnderASpringABallSinksWhereTheNestedSearchOnTheLoadDoes) {
-  TerrainSettings s;
-  s.material = Material::sand();
-  s.threads = 1;
-  Terrain t(s);
-  Material packed = Material::sand();
-  packed.name = "packed";
-  packed.bekker_kphi *= 4.0;
-  t.set_palette({Material::sand(), packed});
-  t.paint_rect({0, -20, 20, 40}, 1);
+  Terrain t(one_thread_sand());
+  paint_packed_and_mud(t);
   const shore::EnvelopeRaster rut = box_envelope(-10, -10, 12, 12, -0.004);
   const Imprint im{&rut};
   t.step({&im, 1});
