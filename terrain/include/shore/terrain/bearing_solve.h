@@ -50,9 +50,10 @@ class BearingSolve {
   /// since the reset are not measured again. With spring 0 exactly offset(load). Throws
   /// InvalidSetting on a negative or NaN load or spring, or before the first reset.
   [[nodiscard]] double offset_under_spring(double load, double spring);
-  /// What the soil bears with the envelope lowered by an offset offset() (or
-  /// offset_under_spring()) returned since the last reset: exactly Terrain::bearing(envelope, offset). Valid until the
-  /// next call of offset() or reset(). Throws InvalidSetting for an offset no solve measured.
+  /// What the soil bears with the envelope lowered by an offset offset() or
+  /// offset_under_spring() returned since the last reset: exactly Terrain::bearing(envelope,
+  /// offset). Valid until the next solve or reset(). Throws InvalidSetting for an offset no
+  /// solve measured.
   [[nodiscard]] const Bearing& bearing(double offset) const;
   /// The largest offset (m) measured since the last reset (0 before any solve).
   [[nodiscard]] double deepest() const noexcept;
