@@ -96,7 +96,7 @@ class Valley final : public terrain::HeightSource {
 /// then looked up. A column's base height is asked again and again: by each heightfield tile
 /// and soil tile made over it (soil tiles idle for a while are released and made afresh),
 /// and by each grain of spray in flight or landing where no soil tile is yet; the spray's
-/// flight bounds read the whole window its grains may reach, well beyond the land. Columns
+/// flight bounds read the whole window its grains may reach (the land). Columns
 /// are worked out a block of kBlock x kBlock at a time, the first time one of them is asked,
 /// a column of the block at once (Valley::heights_along_y: the noise's splines along x shared
 /// by the column's points, about 5 times fewer); a block's memory is taken then, so only
@@ -214,6 +214,12 @@ terrain::TerrainSettings land_settings(const SceneOptions& o) {
   // tile is yet (a noise evaluation where no column is kept): 500 grains at most
   // keep the spray visible and the scene fast.
   s.spray.max_particles = 500;
+  // The grains live over the land: one thrown off it is lost (VolumeTotals::lost). Past the
+  // land the valley's hills fall away as a cubic (60 m down 36 m from the floor), so a grain
+  // thrown over them fell for its whole flight (SpraySettings::max_flight, 10 s) and the
+  // flights' landing bounds read the base under a window of 100 m and more.
+  s.spray.x_min = kX0, s.spray.x_max = kX1;
+  s.spray.y_min = -kHalfY, s.spray.y_max = kHalfY;
   return s;
 }
 

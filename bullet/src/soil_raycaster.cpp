@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include <BulletCollision/CollisionDispatch/btCollisionObject.h>
 
@@ -30,14 +31,15 @@ void* SoilRaycaster::castRay(const btVector3& from, const btVector3& to, btVehic
   const double x = double(at.x()), y = double(at.y());
   if (!coupling_.settings().region.contains(x, y)) return hit;  // another coupling's tile
   // Rigid ground's triangles are its own (a rigid material, or a painted road or rock).
-  if (terrain.exposed_material(terrain.column_i(x), terrain.column_j(y)).rigid) return hit;
-  // The base's slope by central differences over +- span (at least a cell).
-  const double s = std::max(settings_.span, terrain.settings().cell);
-  const auto base = [&](double bx, double by) {
-    return terrain.base_height(terrain.column_i(bx), terrain.column_j(by));
-  };
-  const double dx = (base(x + s, y) - base(x - s, y)) / (2.0 * s);
-  const double dy = (base(x, y + s) - base(x, y - s)) / (2.0 * s);
+  const std::int64_t i = terrain.column_i(x), j = terrain.column_j(y);
+  if (terrain.exposed_material(i, j).rigid) return hit;
+  // The base's slope by central differences between the columns at +- span (at least a
+  // cell), over the distance of their centres (exact on a plane whatever the span).
+  const double cell = terrain.settings().cell, s = std::max(settings_.span, cell);
+  const std::int64_t i0 = terrain.column_i(x - s), i1 = terrain.column_i(x + s);
+  const std::int64_t j0 = terrain.column_j(y - s), j1 = terrain.column_j(y + s);
+  const double dx = (terrain.base_height(i1, j) - terrain.base_height(i0, j)) / (static_cast<double>(i1 - i0) * cell);
+  const double dy = (terrain.base_height(i, j1) - terrain.base_height(i, j0)) / (static_cast<double>(j1 - j0) * cell);
   const btVector3 normal = btVector3(btScalar(-dx), btScalar(-dy), btScalar(1)).normalized();
   result.m_hitNormalInWorld = frame.identity() ? normal : frame.direction_to_world(normal);
   return hit;

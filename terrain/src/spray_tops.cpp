@@ -32,20 +32,28 @@ double SoilTops::compute_ceiling(std::int64_t most_columns) const {
 
 namespace {
 
-/// The highest of `side` rows of `side` heights (side a multiple of 8) starting `stride`
-/// apart: eight running maxima side by side (two to a vector register where SSE2 is
-/// there), then the highest of those. The maximum is exact whatever the grouping (a NaN is
-/// skipped as before); only which of two equal zeros is kept may differ, and the bound is
-/// only ever compared.
-double highest(const double* first, std::size_t stride, int side) {
+/// The highest of `rows` rows of `width` heights starting `stride` apart. Where width is a
+/// multiple of 8: eight running maxima side by side (two to a vector register where SSE2
+/// is there), then the highest of those. The maximum is exact whatever the grouping (a NaN
+/// is skipped as before); only which of two equal zeros is kept may differ, and the bound
+/// is only ever compared.
+double highest(const double* first, std::size_t stride, int width, int rows) {
   constexpr int kLanes = 8;
+  double top = -std::numeric_limits<double>::infinity();
+  if (width % kLanes != 0) {  // a piece of a block over a tile whose side is not a multiple of 8
+    for (int y = 0; y < rows; ++y) {
+      const double* row = first + static_cast<std::size_t>(y) * stride;
+      for (int x = 0; x < width; ++x) top = row[x] > top ? row[x] : top;
+    }
+    return top;
+  }
   double lane[kLanes];
 #if defined(__SSE2__)
   const __m128d lowest = _mm_set1_pd(-std::numeric_limits<double>::infinity());
   __m128d m0 = lowest, m1 = lowest, m2 = lowest, m3 = lowest;  // named: kept in registers
-  for (int y = 0; y < side; ++y) {
+  for (int y = 0; y < rows; ++y) {
     const double* row = first + static_cast<std::size_t>(y) * stride;
-    for (int x = 0; x < side; x += kLanes) {  // _mm_max_pd(a, b): a > b ? a : b, as below
+    for (int x = 0; x < width; x += kLanes) {  // _mm_max_pd(a, b): a > b ? a : b, as below
       m0 = _mm_max_pd(_mm_loadu_pd(row + x), m0);
       m1 = _mm_max_pd(_mm_loadu_pd(row + x + 2), m1);
       m2 = _mm_max_pd(_mm_loadu_pd(row + x + 4), m2);
@@ -55,13 +63,12 @@ double highest(const double* first, std::size_t stride, int side) {
   _mm_storeu_pd(lane, m0), _mm_storeu_pd(lane + 2, m1), _mm_storeu_pd(lane + 4, m2), _mm_storeu_pd(lane + 6, m3);
 #else
   for (double& l : lane) l = -std::numeric_limits<double>::infinity();
-  for (int y = 0; y < side; ++y) {
+  for (int y = 0; y < rows; ++y) {
     const double* row = first + static_cast<std::size_t>(y) * stride;
-    for (int x = 0; x < side; x += kLanes)
+    for (int x = 0; x < width; x += kLanes)
       for (int l = 0; l < kLanes; ++l) lane[l] = row[x + l] > lane[l] ? row[x + l] : lane[l];
   }
 #endif
-  double top = -std::numeric_limits<double>::infinity();
   for (const double l : lane) top = l > top ? l : top;
   return top;
 }
@@ -73,23 +80,49 @@ double SoilTops::compute_block(std::int64_t bx, std::int64_t by) const {
   const int side = 1 << shift_;  // shift_ >= 3: a multiple of 8
   const GridRect r{(bx0_ + bx) << shift_, (by0_ + by) << shift_, side, side};
   const int n = store_.n();
+  if (side > n) return b = bound_by_tiles(r);
   if (n % side == 0) {  // the block lies in one tile: its rows straight from the tile
     const TileKey key = index_.key_of(r.i0, r.j0);
     if (const Tile* t = store_.find(key); t != nullptr)
-      return b = highest(t->height.data() + index_.local(r.i0, r.j0), static_cast<std::size_t>(n), side);
+      return b = highest(t->height.data() + index_.local(r.i0, r.j0), static_cast<std::size_t>(n), side, side);
   }
-  const bool base_only = untiled_ != nullptr && untiled(r.i0, r.j0, side);
-  if (base_only)
-    if (const double* kept = untiled_->find(r.i0, r.j0, side)) return b = *kept;
-  heights_.resize(static_cast<std::size_t>(side) * static_cast<std::size_t>(side));
+  if (untiled_ != nullptr && untiled(r)) return b = untiled_bound(r);
+  heights_.resize(r.size());
   store_.read(r, heights_, false);
-  b = highest(heights_.data(), static_cast<std::size_t>(side), side);
-  if (base_only) untiled_->keep(r.i0, r.j0, side, b);
-  return b;
+  return b = highest(heights_.data(), static_cast<std::size_t>(side), side, side);
 }
 
-bool SoilTops::untiled(std::int64_t i0, std::int64_t j0, int side) const {
-  const TileKey first = index_.key_of(i0, j0), last = index_.key_of(i0 + side - 1, j0 + side - 1);
+double SoilTops::bound_by_tiles(const GridRect& r) const {
+  const std::int64_t n = store_.n();
+  const TileKey first = index_.key_of(r.i0, r.j0), last = index_.key_of(r.i1() - 1, r.j1() - 1);
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::int64_t ty = first.ty; ty <= last.ty; ++ty) {
+    const std::int64_t j0 = std::max(r.j0, ty * n), j1 = std::min(r.j1(), (ty + 1) * n);
+    for (std::int64_t tx = first.tx; tx <= last.tx; ++tx) {
+      const std::int64_t i0 = std::max(r.i0, tx * n), i1 = std::min(r.i1(), (tx + 1) * n);
+      const GridRect piece{i0, j0, static_cast<int>(i1 - i0), static_cast<int>(j1 - j0)};
+      const Tile* t = store_.find(TileKey{tx, ty});
+      const double p = t != nullptr ? highest(t->height.data() + index_.local(i0, j0), static_cast<std::size_t>(n),
+                                              piece.nx, piece.ny)
+                                    : untiled_bound(piece);
+      top = p > top ? p : top;
+    }
+  }
+  return top;
+}
+
+double SoilTops::untiled_bound(const GridRect& r) const {
+  if (untiled_ != nullptr)
+    if (const double* kept = untiled_->find(r)) return *kept;
+  heights_.resize(r.size());
+  store_.read(r, heights_, false);
+  const double top = highest(heights_.data(), static_cast<std::size_t>(r.nx), r.nx, r.ny);
+  if (untiled_ != nullptr) untiled_->keep(r, top);
+  return top;
+}
+
+bool SoilTops::untiled(const GridRect& r) const {
+  const TileKey first = index_.key_of(r.i0, r.j0), last = index_.key_of(r.i1() - 1, r.j1() - 1);
   for (std::int64_t ty = first.ty; ty <= last.ty; ++ty)
     for (std::int64_t tx = first.tx; tx <= last.tx; ++tx)
       if (store_.find(TileKey{tx, ty}) != nullptr) return false;

@@ -15,24 +15,25 @@
 #include <unordered_map>
 #include <vector>
 
+#include "shore/core/grid_rect.h"
 #include "spray_tile_index.h"
 #include "tile_store.h"
 
 namespace shore::terrain {
 
-/// Bounds of blocks that no tile covers: their tops are the base ground's, which never
-/// changes, so the spray keeps them from step to step (a procedural base costs a noise
-/// evaluation per column: the rally scene spent half its time re-reading the same untiled
-/// blocks). Derived data, not state: never saved or hashed.
+/// Bounds of blocks (or of a block's piece over one tile) that no tile covers: their tops
+/// are the base ground's, which never changes, so the spray keeps them from step to step (a
+/// procedural base costs a noise evaluation per column: the rally scene spent half its time
+/// re-reading the same untiled blocks). Derived data, not state: never saved or hashed.
 class UntiledTops {
  public:
-  [[nodiscard]] const double* find(std::int64_t i0, std::int64_t j0, int side) const {
-    const auto it = tops_.find(Key{i0, j0, side});
+  [[nodiscard]] const double* find(const GridRect& r) const {
+    const auto it = tops_.find(Key{r.i0, r.j0, r.nx, r.ny});
     return it == tops_.end() ? nullptr : &it->second;
   }
-  void keep(std::int64_t i0, std::int64_t j0, int side, double top) {
+  void keep(const GridRect& r, double top) {
     if (tops_.size() >= kMostBlocks) tops_.clear();  // bounded: a long flight path starts over
-    tops_.emplace(Key{i0, j0, side}, top);
+    tops_.emplace(Key{r.i0, r.j0, r.nx, r.ny}, top);
   }
   [[nodiscard]] std::size_t bytes() const { return tops_.size() * (sizeof(Key) + sizeof(double) + 16); }
 
@@ -40,12 +41,14 @@ class UntiledTops {
   static constexpr std::size_t kMostBlocks = 1u << 18;
   struct Key {
     std::int64_t i0 = 0, j0 = 0;
-    int side = 0;
+    int nx = 0, ny = 0;
     friend bool operator==(const Key&, const Key&) = default;
   };
   struct KeyHash {
     std::size_t operator()(const Key& k) const noexcept {
-      return TileKeyHash{}(TileKey{k.i0, k.j0}) ^ (static_cast<std::size_t>(k.side) * 0x9e3779b97f4a7c15ull);
+      const auto size = (static_cast<std::size_t>(static_cast<std::uint32_t>(k.nx)) << 32) ^
+                        static_cast<std::size_t>(static_cast<std::uint32_t>(k.ny));
+      return TileKeyHash{}(TileKey{k.i0, k.j0}) ^ (size * 0x9e3779b97f4a7c15ull);
     }
   };
   std::unordered_map<Key, double, KeyHash> tops_;
@@ -88,6 +91,14 @@ class SoilTops {
     return std::isnan(b) ? compute_block(bx, by) : b;
   }
   [[nodiscard]] double compute_block(std::int64_t bx, std::int64_t by) const;
+  /// A block wider than a tile (a wide window: spray thrown far), tile by tile: a made
+  /// tile's rows straight from it, a piece no tile covers from the base, kept across steps.
+  /// Read whole through the store instead, each step the rally scene's far spray re-read
+  /// 10^7 columns of base (most of them untiled) in blocks that one made tile kept from
+  /// being kept.
+  [[nodiscard]] double bound_by_tiles(const GridRect& r) const;
+  /// The highest top over r (no tile covers it); kept in untiled_ across steps.
+  [[nodiscard]] double untiled_bound(const GridRect& r) const;
 
   const TileStore& store_;
   TileIndex index_;
@@ -98,8 +109,8 @@ class SoilTops {
   mutable std::vector<double> block_;    ///< nbx_ * nby_ bounds, row-major; NaN: not computed yet
   mutable std::vector<double> heights_;  ///< one block's heights (scratch)
   UntiledTops* untiled_ = nullptr;
-  /// No tile holds a column of the block: its heights are all the base's.
-  [[nodiscard]] bool untiled(std::int64_t i0, std::int64_t j0, int side) const;
+  /// No tile holds a column of r: its heights are all the base's.
+  [[nodiscard]] bool untiled(const GridRect& r) const;
 };
 
 }  // namespace shore::terrain

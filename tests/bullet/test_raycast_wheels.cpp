@@ -7,9 +7,11 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "shore/bullet/ground_frame.h"
 #include "shore/bullet/soil_raycaster.h"
 #include "shore/bullet/terrain_coupling.h"
 #include "shore/core/error.h"
@@ -17,6 +19,7 @@
 #include "shore/scenes/raycast_cases.h"
 #include "shore/scenes/world.h"
 #include "shore/terrain/bekker.h"
+#include "shore/terrain/height_source.h"
 #include "shore/terrain/terrain.h"
 #include "soil_rig.h"
 
@@ -161,6 +164,104 @@ TEST_P(RaycastWheelSoil, TowedOnFineCellsWithTheSoilRaycasterIsBekkers) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Presets, RaycastWheelSoil, ::testing::Values("sand", "mud"));
+
+/// A car (4 kN a wheel) casting with the SoilRaycaster on sand in a world whose ground lies
+/// in `frame`, the sand's base `base` (null: flat at 0) in columns of `cell` m, its centre over the ground's
+/// origin with its wheels touching at rest length. Owns the lot.
+struct SoilRaycasterCar {
+  SoilRaycasterCar(const shore::bullet::GroundFrame& frame, std::shared_ptr<const shore::terrain::HeightSource> base,
+                   double cell = 0.02)
+      : soil(sand(std::move(base), cell)), world(kGravity, frame), coupling(world.world(), soil, on(frame)) {
+    const RaycastCarSettings s = heavy_car();
+    const double ground = soil.settings().base ? soil.settings().base->height(0.0, 0.0) : 0.0;
+    car = std::make_unique<RaycastCar>(
+        world, s, btVector3(0, 0, btScalar(ground + s.suspension_rest + s.wheel_radius - s.connection_height)),
+        &coupling);
+    const std::array<double, 4> widths{kWidth, kWidth, kWidth, kWidth};
+    coupling.add_vehicle(&car->vehicle(), widths, car->soil_raycaster());
+  }
+  static shore::terrain::TerrainSettings sand(std::shared_ptr<const shore::terrain::HeightSource> base, double cell) {
+    shore::terrain::TerrainSettings s = Rig::settings(shore::terrain::Material::sand());
+    s.base = std::move(base);
+    s.cell = cell;
+    return s;
+  }
+  static shore::bullet::TerrainCouplingSettings on(const shore::bullet::GroundFrame& frame) {
+    shore::bullet::TerrainCouplingSettings s;
+    s.frame = frame;
+    return s;
+  }
+  /// Steps with the weight eased in over 2 s (Bekker's static sinkage is for a load applied
+  /// slowly), then `rest` substeps more.
+  void settle(int rest) {
+    const RaycastCarSettings& s = car->settings();
+    constexpr int ramp = 2 * 240;
+    for (int k = 0; k < ramp + rest; ++k) {
+      const double u = std::min(1.0, double(k) / ramp), carried = 1.0 - u * u * (3.0 - 2.0 * u);
+      const btVector3 up(0, 0, btScalar(carried * s.mass * kGravity));
+      car->chassis()->applyCentralForce(world.ground().direction_to_world(up));
+      world.step(kSubstep);
+    }
+  }
+  /// m: the wheels' lowest points below the untouched surface (flat at 0), mean of four.
+  [[nodiscard]] double sinkage() const {
+    double sum = 0.0;
+    for (int k = 0; k < 4; ++k)
+      sum -= double((world.ground().to_ground() * car->vehicle().getWheelInfo(k).m_raycastInfo.m_contactPointWS).z());
+    return sum / 4;
+  }
+
+  shore::terrain::Terrain soil;
+  World world;
+  shore::bullet::TerrainCoupling coupling;
+  std::unique_ptr<RaycastCar> car;
+};
+
+// On a hill (the sand's base a tilted plane) the SoilRaycaster reports the plane's normal
+// to every wheel, in a Z-up and in a Y-up world: the base's slope, not the rut's, turned
+// into the world's frame. The car settles onto the slope for half a second, braked. 3 cm
+// columns: the raycaster's span (0.4 m) is no whole number of them.
+TEST(SoilRaycaster, OnATiltedBaseTheNormalIsThePlanes) {
+  constexpr double kSlopeX = 0.15, kSlopeY = -0.1;  // rise over run
+  const btVector3 plane = btVector3(btScalar(-kSlopeX), btScalar(-kSlopeY), 1).normalized();
+  for (const shore::bullet::GroundFrame& frame :
+       {shore::bullet::GroundFrame::z_up(), shore::bullet::GroundFrame::y_up()}) {
+    SoilRaycasterCar rig(frame, std::make_shared<shore::terrain::PlaneHeight>(0.2, kSlopeX, kSlopeY), 0.03);
+    rig.car->drive(0.0, 100.0, 0.0);
+    for (int k = 0; k < 120; ++k) rig.world.step(kSubstep);
+    ASSERT_EQ(rig.car->wheels_on_ground(), 4) << (frame.identity() ? "Z-up" : "Y-up");
+    const btVector3 want = frame.direction_to_world(plane);
+    double worst = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      const btVector3 got = rig.car->vehicle().getWheelInfo(k).m_raycastInfo.m_contactNormalWS;
+      worst = std::max(worst, double((got - want).length()));
+      EXPECT_LT(double((got - want).length()), 0.01)
+          << (frame.identity() ? "Z-up" : "Y-up") << " wheel " << k << ": (" << got.x() << ", " << got.y() << ", "
+          << got.z() << ") against the plane's (" << want.x() << ", " << want.y() << ", " << want.z() << ")";
+    }
+    std::printf("%s: the wheels' normals at most %.5f from the plane's\n", frame.identity() ? "Z-up" : "Y-up", worst);
+  }
+}
+
+// A Y-up car casting with the SoilRaycaster rests on the sand at Bekker's static sinkage, as
+// the Z-up one does (their settling rounds differently with the frame: within 6 %, as the
+// stock raycaster's Y-up car in test_ground_frame.cpp).
+TEST(SoilRaycaster, AYUpCarSinksAsAZUpOneAndAsBekkerSays) {
+  auto sinkage = [](const shore::bullet::GroundFrame& frame) {
+    SoilRaycasterCar rig(frame, nullptr);
+    rig.settle(240);
+    EXPECT_EQ(rig.car->wheels_on_ground(), 4) << (frame.identity() ? "Z-up" : "Y-up");
+    return rig.sinkage();
+  };
+  const double y_up = sinkage(shore::bullet::GroundFrame::y_up());
+  const double z_up = sinkage(shore::bullet::GroundFrame::z_up());
+  const double bekker =
+      shore::terrain::bekker::wheel_sinkage_static(shore::terrain::Material::sand(), kLoad, kDiameter, kWidth);
+  std::printf("SoilRaycaster car, static sinkage: Y-up %.4f m, Z-up %.4f m, Bekker %.4f m\n", y_up, z_up, bekker);
+  EXPECT_NEAR(z_up, bekker, 0.10 * bekker) << "m, the Z-up car's sinkage against Bekker's static sinkage";
+  EXPECT_NEAR(y_up, bekker, 0.10 * bekker) << "m, the Y-up car's sinkage against Bekker's static sinkage";
+  EXPECT_NEAR(y_up, z_up, 0.06 * z_up) << "m, the Y-up car's sinkage against the Z-up one's";
+}
 
 TEST(RaycastWheelErrors, BadRaycastersAreRefusedNamingTheField) {
   Rig rig(shore::terrain::Material::sand()), other(shore::terrain::Material::sand());

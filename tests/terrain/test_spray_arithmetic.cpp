@@ -216,8 +216,8 @@ TEST(SprayArithmetic, CounterNumbersAreTheHashChainWithOrWithoutTheTable) {
 // The spray's landing bounds over blocks of columns, those of untiled blocks kept across
 // steps (UntiledTops), are what reading every column of the blocks gives, and never below
 // a column they cover: over untiled ground (a lattice-noise base), over tiles with raised
-// columns, across windows of three block sides sharing one keep, for tile sides that are
-// and are not multiples of the block side.
+// columns, across windows of four block sides sharing one keep, for tile sides that are
+// and are not multiples of the block side, and blocks wider than a tile (read tile by tile).
 TEST(SprayArithmetic, KeptBlockBoundsAreTheColumnsHighest) {
   for (const int side : {64, 48, 20}) {
     TerrainSettings s;
@@ -232,14 +232,16 @@ TEST(SprayArithmetic, KeptBlockBoundsAreTheColumnsHighest) {
     }
     UntiledTops kept;
     std::mt19937_64 gen(11);
-    for (const std::int64_t width : {40, 300, 1000, 2500}) {  // block sides 8, 8, 16, 64
+    for (const std::int64_t width : {40, 300, 1000, 2500, 6000}) {  // block sides 8, 8, 16, 64, 128
       const std::int64_t i0 = -width / 2 - 13, j0 = -width / 3 - 5;
       SoilTops kept_too(store, &kept), by_columns(store, nullptr);
       kept_too.cover(i0, j0, i0 + width, j0 + width);
       by_columns.cover(i0, j0, i0 + width, j0 + width);
-      for (int q = 0; q < 12; ++q) {
-        const std::int64_t a = i0 + static_cast<std::int64_t>(gen() % static_cast<std::uint64_t>(width - 20));
-        const std::int64_t b = j0 + static_cast<std::int64_t>(gen() % static_cast<std::uint64_t>(width - 20));
+      for (int q = 0; q < 12; ++q) {  // the first over the raised tiles
+        const std::int64_t a =
+            q == 0 ? -8 : i0 + static_cast<std::int64_t>(gen() % static_cast<std::uint64_t>(width - 20));
+        const std::int64_t b =
+            q == 0 ? -8 : j0 + static_cast<std::int64_t>(gen() % static_cast<std::uint64_t>(width - 20));
         const std::int64_t c = a + static_cast<std::int64_t>(gen() % 20), d = b + static_cast<std::int64_t>(gen() % 20);
         const double bound = kept_too.bound(a, b, c, d);
         ASSERT_EQ(bound, by_columns.bound(a, b, c, d)) << side << " " << width << " " << a << " " << b;
