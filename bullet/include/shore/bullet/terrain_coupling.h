@@ -139,7 +139,7 @@ struct TerrainCouplingSettings {
   /// (add_vehicle) for the soil it displaces and erodes (terrain::Imprint::margin; 0: the
   /// terrain's active_margin). A wheel's displaced soil lands within a column or two of its
   /// footprint and erosion moves it a column a pass: 2 gives the ruts, sinkage and pull of a
-  /// large margin (docs/terrain.md, "Raycast wheels") at a smaller soil step.
+  /// large margin at a smaller soil step (docs/terrain.md, "A raycast wheel's soil region").
   int raycast_wheel_margin = 2;
   /// Broadphase filter bit of soft-soil tiles. Shore owns the normal contact of added
   /// bodies with soft soil, so this bit is cleared from their collision mask (and restored
