@@ -21,6 +21,21 @@ class CoupledRigidBody final : public CoupledBody {
   }
   [[nodiscard]] double inverse_mass() const override { return body_->getInvMass(); }
   [[nodiscard]] btMatrix3x3 inverse_inertia() const override { return body_->getInvInertiaTensorWorld(); }
+  /// A body Bullet holds to some axes (its linear and angular factors, which scale every
+  /// impulse applied to it) answers an impulse with its mobility scaled by them, as Bullet
+  /// moves it: the soil's solve then never counts on a motion Bullet will not make (a rig's
+  /// wheel held to its plane sliding sideways or tilting). Free bodies keep the plain path.
+  [[nodiscard]] bool mobility(double a[6][6]) const override {
+    const btVector3 lf = body_->getLinearFactor(), af = body_->getAngularFactor();
+    if (lf == btVector3(1, 1, 1) && af == btVector3(1, 1, 1)) return false;
+    const btMatrix3x3 inv = body_->getInvInertiaTensorWorld();
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c < 6; ++c) a[r][c] = 0.0;
+    for (int k = 0; k < 3; ++k) a[k][k] = double(lf[k]) * body_->getInvMass();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) a[3 + r][3 + c] = double(af[r]) * double(inv[r][c]) * double(af[c]);
+    return true;
+  }
   void apply_impulse(const btVector3& impulse, const btVector3& angular_impulse) override {
     body_->applyCentralImpulse(impulse);
     body_->applyTorqueImpulse(angular_impulse);

@@ -205,6 +205,14 @@ void solve_blocks(CoupledBody& body, TerrainBody& b, Blocks blocks, const Terrai
   contact_detail::TerrainContact& c = b.contact;
   if (c.blocks.empty()) return;
   contact_detail::SolverBody rb = solver_body(body);
+  // The blocks' points are the body's surface where the contact was built (the envelope's
+  // pose: before Bullet moved the body on by a substep, more while the contact follows it),
+  // so their arms are taken from the centre of mass there too. Taken from where it is now,
+  // every push would act a substep's travel behind the body and turn it: a driven wheel's
+  // load a few mm behind its axle resists its drive. Any kind maps the same way (a link's
+  // centre is its frame's origin, a rigid body's its pose's), as the pose and the centre
+  // move together.
+  rb.com = to_vec3(b.envelope_pose * (body.pose().inverse() * to_bt(rb.com)));
   contact_detail::SolverBody start = rb;
   if (c.end) start.v = to_vec3(c.end->linear), start.w = to_vec3(c.end->angular);
   if (blocks == Blocks::followed) {

@@ -106,19 +106,24 @@ ExtremeResult run_extreme(const ExtremeCase& c) {
     if (++substep % 10 == 0 && !std::isfinite(soil.volume().total())) soil_finite = false;
   };
   // Either case, watched; its sinkage, reference and run statistics.
-  auto run = [&](auto soil_case, auto runner, auto sinkage_of) {
+  auto run = [&](auto soil_case, auto runner, auto sinkage_of, auto deepest_of) {
     soil_case.run.after_substep = watch;
     const auto result = runner(soil_case);
     r.sinkage = sinkage_of(result);
+    r.deepest = deepest_of(result);
     r.reference = std::min(result.reference, soil_case.run.terrain.material.soil_depth);
     r.soil_depth = soil_case.run.terrain.material.soil_depth;
     r.rescues = result.stats.rescues;
     r.wall_seconds = result.stats.wall_seconds;
   };
-  if (c.plate)
-    run(c.plate_case, run_plate, [](const PlateResult& p) { return p.sinkage; });
-  else
-    run(c.sphere_case, run_sphere_drop, [](const SphereDropResult& s) { return s.depth; });
+  if (c.plate) {
+    auto sinkage = [](const PlateResult& p) { return p.sinkage; };
+    run(c.plate_case, run_plate, sinkage, sinkage);
+  } else {
+    run(
+        c.sphere_case, run_sphere_drop, [](const SphereDropResult& s) { return s.depth; },
+        [](const SphereDropResult& s) { return s.max_depth; });
+  }
   r.finite = std::isfinite(r.sinkage) && soil_finite;
   return r;
 }

@@ -75,7 +75,6 @@ StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, std::span<c
   for (const Material& m : palette) alpha_.push_back(m.alpha);
   const double compacted_height = displace_.run(region_, contour_.levels(), imprint_.displaced(), alpha_);
   StepReport report;
-  if (!region_.layer.empty()) region_.expose_layers();  // erosion gives by the exposed layer's limits
   report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, palette, false, true);
   loosen_deposits(region_);
   erode_.settle_layers(region_);  // the boundaries of the layers erosion changed, from the loosened sinkage
@@ -95,7 +94,6 @@ StepReport Pipeline::relax(TileStore& store, const TerrainSettings& s, std::span
   const Clock::time_point t0 = Clock::now();
   gather(store, s, palette, region);
   imprint_.no_bodies(region_);
-  if (!region_.layer.empty()) region_.expose_layers();
   StepReport report;
   report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, palette, true);
   erode_.settle_layers(region_);

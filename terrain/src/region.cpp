@@ -72,28 +72,6 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
   });
   ht_orig = ht;
   relayered.clear();
-  layered_count_ = 0;
-}
-
-void Region::expose_layers() {
-  upper = mat;
-  // Raw pointers: a byte store may alias anything, so indexing the vectors would reload
-  // their data pointers per column.
-  std::uint8_t* index = mat.data();
-  const double* boundary = layer.boundary.data();
-  const std::uint8_t* lower = layer.lower.data();
-  const double* z = sink.data();
-  const std::size_t n = layer.size();
-  if (layered_.size() < n) layered_.resize(n);
-  std::size_t* listed = layered_.data();
-  std::size_t count = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const ColumnLayer l{boundary[k], lower[k]};
-    if (!l.layered()) continue;  // shows its painted index
-    listed[count++] = k;
-    index[k] = l.exposed(index[k], z[k]);
-  }
-  layered_count_ = count;
 }
 
 void Region::scatter(TileStore& store) {
@@ -117,17 +95,19 @@ void Region::scatter_relayered(TileStore& store) {
   bool any_layer = false;
   touched_.clear();
   Tile* t = nullptr;
-  TileKey key{};
+  const std::int64_t n = store.n();
+  std::int64_t ti0 = 0, tj0 = 0;  // t's first column
   for (const Relayered& c : relayered) {
     const std::int64_t i = si0 + static_cast<std::int64_t>(c.k % static_cast<std::size_t>(w));
     const std::int64_t j = sj0 + static_cast<std::int64_t>(c.k / static_cast<std::size_t>(w));
-    // Row by row: most columns lie in the tile of the one before.
-    if (t == nullptr || !(store.key_of(i, j) == key)) {
-      key = store.key_of(i, j);
+    // Row by row: most columns lie in the tile of the one before (tested by its bounds).
+    if (t == nullptr || i < ti0 || i >= ti0 + n || j < tj0 || j >= tj0 + n) {
+      const TileKey key = store.key_of(i, j);
       t = &store.tile(key);
+      ti0 = key.tx * n, tj0 = key.ty * n;
       touched_.push_back({t});
     }
-    const std::size_t local = store.local(i, j);
+    const auto local = static_cast<std::size_t>((j - tj0) * n + (i - ti0));
     // Only a nonzero index turned 0 can leave the map all 0, only a layered column turned
     // unlayered the tile unlayered (a tile's arrays are kept normalised, as painting keeps them).
     bool unpainted = false, unlayered = false;
@@ -168,7 +148,7 @@ void Region::scatter_relayered(TileStore& store) {
 
 std::size_t Region::bytes() const {
   return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat, layer.boundary, layer.lower, upper, relayered,
-                        layered_, touched_);
+                        touched_);
 }
 
 }  // namespace shore::terrain

@@ -65,19 +65,17 @@ struct Region {
   /// Creates the tiles it touches; fills mat only with_materials, layer only with_layers
   /// (which needs with_materials).
   void gather(TileStore& store, const BedrockDepth& depth, bool with_materials, bool with_layers);
-  /// Replaces mat with each column's exposed index (its lower layer's where its sinkage is
-  /// beyond its crust): what erosion reads; the painted index goes to upper. mat is not
-  /// scattered, so nothing else sees it. Lists the layered columns in layered_columns.
-  void expose_layers();
+  /// With layers: replaces mat with each column's exposed index (its lower layer's where its
+  /// sinkage is beyond its crust), what erosion reads, the painted index going to upper, and
+  /// calls on_layered(k, layer) for each layered column k, ascending. mat is not scattered,
+  /// so nothing else sees it. Erosion calls it as it starts (ErodeStage::run), so its layer
+  /// bookkeeping always reads mat exposed. Without layers: nothing.
+  template <class Fn>
+  void expose_layers(Fn&& on_layered);
   /// Heights and sinkage back into the tiles, marking what changed; and the relayered
   /// columns' painted indices and layers (their tiles marked painted, the store layered).
   void scatter(TileStore& store);
 
-  /// The columns layered as gathered, ascending: set by expose_layers (so erosion's layer
-  /// pass visits them, not every column), empty after gather.
-  [[nodiscard]] std::span<const std::size_t> layered_columns() const noexcept {
-    return {layered_.data(), layered_count_};
-  }
   [[nodiscard]] std::size_t size() const noexcept { return static_cast<std::size_t>(w) * static_cast<std::size_t>(h); }
   [[nodiscard]] std::size_t at(int x, int y) const noexcept {
     return static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
@@ -112,9 +110,31 @@ struct Region {
     bool unpainted = false, unlayered = false;
   };
   std::vector<Touched> touched_;
-  /// layered_columns' storage: never shrunk, so a step does not fill it anew.
-  std::vector<std::size_t> layered_;
-  std::size_t layered_count_ = 0;
 };
+
+template <class Fn>
+void Region::expose_layers(Fn&& on_layered) {
+  if (layer.empty()) return;
+  upper = mat;
+  // Raw pointers: a byte store may alias anything, so indexing the vectors would reload
+  // their data pointers per column.
+  std::uint8_t* index = mat.data();
+  const double* boundary = layer.boundary.data();
+  const std::uint8_t* lower = layer.lower.data();
+  const double* z = sink.data();
+  const auto visit = [&](std::size_t k) __attribute__((always_inline)) {
+    const ColumnLayer l{boundary[k], lower[k]};
+    if (!l.layered()) return;  // shows its painted index
+    index[k] = l.exposed(index[k], z[k]);
+    on_layered(k, l);
+  };
+  const std::size_t n = layer.size();
+  std::size_t k = 0;
+  // Four columns at a time past unlayered ones (kNoLayer is the largest boundary).
+  for (; k + 4 <= n; k += 4)
+    if (std::min(std::min(boundary[k], boundary[k + 1]), std::min(boundary[k + 2], boundary[k + 3])) < kNoLayer)
+      for (std::size_t j = k; j < k + 4; ++j) visit(j);
+  for (; k < n; ++k) visit(k);
+}
 
 }  // namespace shore::terrain

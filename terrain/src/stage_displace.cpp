@@ -19,19 +19,21 @@ void DisplaceStage::sort_by_level(std::span<const int> levels, int top_level) {
     if (levels[k] > 0) order_[static_cast<std::size_t>(count_[static_cast<std::size_t>(top_level - levels[k])]++)] = k;
 }
 
+namespace {
+
 // A layered column pressed across its crust's boundary in this step: the part of its
 // pressing that lay within the crust (sinkage before it: the sinkage after less the
-// displaced height) takes the crust's alpha, the rest the lower layer's.
-double DisplaceStage::layered_alpha(const Region& region, std::size_t k, double displaced,
-                                    std::span<const double> alpha) {
-  const ColumnLayer& layer = region.layer[k];
-  const double upper = alpha[region.mat[k]];
-  if (!layer.layered() || !(displaced > 0.0)) return upper;
-  const double before = region.sink[k] - displaced;
+// displaced height) takes the crust's alpha (upper), the rest the lower layer's. Inline:
+// under a wheel on a broken-through rut most contact columns are layered.
+inline double layered_alpha(const ColumnLayer& layer, double upper, double lower, double sink, double displaced) {
+  if (!(displaced > 0.0)) return upper;
+  const double before = sink - displaced;
   const double in_crust = std::clamp(layer.boundary - before, 0.0, displaced);
   if (in_crust == displaced) return upper;
-  return (upper * in_crust + alpha[layer.lower] * (displaced - in_crust)) / displaced;
+  return (upper * in_crust + lower * (displaced - in_crust)) / displaced;
 }
+
+}  // namespace
 
 double DisplaceStage::run(Region& region, std::span<const int> levels, std::span<const double> displaced,
                           std::span<const double> alpha) {
@@ -59,9 +61,13 @@ double DisplaceStage::run(Region& region, std::span<const int> levels, std::span
     // two-piece split only where a column is layered: most contact columns are not.
     const std::uint8_t* mat = region.mat.data();
     const double* boundary = region.layer.boundary.data();
+    const std::uint8_t* lower = region.layer.lower.data();
+    const double* sink = region.sink.data();
     const double* a = alpha.data();
-    for (std::size_t k : order_)
-      split(k, boundary[k] < kNoLayer ? layered_alpha(region, k, displaced[k], alpha) : a[mat[k]]);
+    for (std::size_t k : order_) {
+      const ColumnLayer layer{boundary[k], lower[k]};
+      split(k, layer.layered() ? layered_alpha(layer, a[mat[k]], a[layer.lower], sink[k], displaced[k]) : a[mat[k]]);
+    }
   }
   for (std::size_t k : order_) {
     const double carry = carry_[k];

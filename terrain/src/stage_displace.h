@@ -26,8 +26,6 @@ class DisplaceStage {
   [[nodiscard]] std::size_t bytes() const;
 
  private:
-  [[nodiscard]] static double layered_alpha(const Region& region, std::size_t k, double displaced,
-                                            std::span<const double> alpha);
   void sort_by_level(std::span<const int> levels, int top_level);
 
   std::vector<int> count_;          ///< counting sort: columns per level

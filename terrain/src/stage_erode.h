@@ -43,11 +43,13 @@
 // - shares (stage_erode_shares.cpp): what each giver gives each too-steep neighbour;
 // - flow (stage_erode_flow.cpp): every giver and receiver updates its height.
 
+#include <algorithm>
 #include <cstddef>
 #include <span>
 #include <vector>
 
 #include "column_bits.h"
+#include "neighbours.h"
 #include "region.h"
 #include "shore/terrain/terrain.h"
 
@@ -95,6 +97,7 @@ class ErodeStage {
 
  private:
   // planning
+  void set_limits(const Region& region, const TerrainSettings& s, std::span<const Material> palette);
   void assign_roles(const Region& region, std::span<const unsigned char> flags);
   void plan_pass(int pass, bool to_rest);
   void find_still_flowing(const Region& region, int passes, int max_passes);
@@ -111,10 +114,12 @@ class ErodeStage {
   void move_soil(Region& region);
   void clear_givers(const Region& region);
   // layers (with a map only: stage_erode_layers.cpp)
-  void start_layers(const Region& region, std::span<const Material> palette, bool loosens);
-  /// Whether column j, of another top material than m, takes soil of material m this pass
-  /// (stage_erode_layers.cpp).
-  [[nodiscard]] bool takes(const Region& region, std::size_t j, std::uint8_t m) const;
+  /// Exposes the region's layers (Region::expose_layers: mat becomes each column's exposed
+  /// index) and reads each layered column's kind, thickness and lower index.
+  void start_layers(Region& region, std::span<const Material> palette, bool loosens);
+  /// Whether column j (at x, y), of another top material than m, takes soil of material m
+  /// this pass (the rules: stage_erode_layers.cpp). Inline: the shares ask it per pair.
+  [[nodiscard]] bool takes(const Region& region, std::size_t j, int x, int y, std::uint8_t m) const;
   /// After move_soil: each changed column's top layer and material (what it gave was its
   /// top layer; what it took, its top material or a new top layer).
   void track_layers(Region& region);
@@ -123,6 +128,15 @@ class ErodeStage {
   /// column's cap must count givers of any material.
   ErosionLimits lim_;
   std::vector<ErosionLimits> lims_;  ///< per palette entry (used with a map only)
+  /// What lim_ and lims_ were computed from (set_limits): a material's erosion fields.
+  struct LimitInputs {
+    double theta_in = 0.0, theta_out = 0.0, theta_stop = 0.0, sigma = 0.0;
+    [[nodiscard]] static LimitInputs of(const Material& m) { return {m.theta_in, m.theta_out, m.theta_stop, m.sigma}; }
+    bool operator==(const LimitInputs&) const = default;
+  };
+  std::vector<LimitInputs> limits_of_;  ///< per entry (one without a map)
+  double limits_cell_ = 0.0;
+  bool limits_set_ = false, limits_map_ = false;
   // Per column.
   std::vector<double> q_;                ///< a giver's share per too-steep neighbour, m
   std::vector<double> out_;              ///< what a giver gives in all, m
@@ -162,5 +176,34 @@ class ErodeStage {
   ColumnBits live_;          ///< planning scratch: steep givers grown by one
   GridRect still_flowing_;
 };
+
+inline bool ErodeStage::takes(const Region& region, std::size_t j, int x, int y, std::uint8_t m) const {
+  if (kind_[j] == kCrust) return m == lower_[j];  // into its lower layer, under its top one
+  if (kind_[j] == kBroken) return false;          // its top is its lower layer: m is a third
+  const std::uint8_t own = region.mat[j];
+  if (rigid_[own]) return true;
+  // The smallest index among its neighbours of another material than its own (in any
+  // order: the least is the same).
+  unsigned smallest = 256;
+  const auto see = [&](std::uint8_t other) {
+    if (other != own) smallest = std::min<unsigned>(smallest, other);
+  };
+  if (x > 0 && y > 0 && x < region.w - 1 && y < region.h - 1) {
+    const std::uint8_t* p = region.mat.data() + j;
+    const std::ptrdiff_t w = region.w;
+    for (const std::ptrdiff_t r : {-w, std::ptrdiff_t{0}, w}) {
+      see(p[r - 1]);
+      see(p[r + 1]);
+      if (r != 0) see(p[r]);
+    }
+  } else {
+    for (int d = 0; d < 8; ++d) {
+      const int nx = x + kDx[d], ny = y + kDy[d];
+      if (nx < 0 || ny < 0 || nx >= region.w || ny >= region.h) continue;
+      see(region.mat[region.at(nx, ny)]);
+    }
+  }
+  return m == smallest;
+}
 
 }  // namespace shore::terrain

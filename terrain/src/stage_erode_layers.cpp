@@ -29,7 +29,7 @@
 
 namespace shore::terrain {
 
-void ErodeStage::start_layers(const Region& region, std::span<const Material> palette, bool loosens) {
+void ErodeStage::start_layers(Region& region, std::span<const Material> palette, bool loosens) {
   const std::size_t size = region.size();
   kind_.assign(size, kUnlayered);
   thick_.resize(size);
@@ -46,44 +46,24 @@ void ErodeStage::start_layers(const Region& region, std::span<const Material> pa
   unsigned char* kind = kind_.data();
   std::uint8_t* lower = lower_.data();
   double* thick = thick_.data();
-  const double* boundary = region.layer.boundary.data();
-  const std::uint8_t* lower_of = region.layer.lower.data();
   const double* sink = region.sink.data();
   const double* ht = region.ht.data();
   const double* pressed = region.ht_pressed.data();
-  // The layered columns as Region::expose_layers listed them (it ran before erosion
-  // wherever the region has layers; without layers the list is empty).
-  for (const std::size_t k : region.layered_columns()) {
-    lower[k] = lower_of[k];
-    if (sink[k] > boundary[k]) {
+  // Erosion reads each column's exposed material from here on; the layered columns' kinds
+  // in the same pass (without layers there are none).
+  region.expose_layers([&](std::size_t k, const ColumnLayer& l) __attribute__((always_inline)) {
+    lower[k] = l.lower;
+    if (sink[k] > l.boundary) {
       kind[k] = kBroken;
-      thick[k] = boundary[k] - sink[k];
+      thick[k] = l.boundary - sink[k];
     } else {
       // A step loosens what displacement laid on the column after erosion: that soil is the
       // top layer's already (its sinkage will drop by it).
       const double laid = loosens ? std::max(0.0, ht[k] - pressed[k]) : 0.0;
       kind[k] = kCrust;
-      thick[k] = boundary[k] - (sink[k] - laid);
+      thick[k] = l.boundary - (sink[k] - laid);
     }
-  }
-}
-
-bool ErodeStage::takes(const Region& region, std::size_t j, std::uint8_t m) const {
-  if (kind_[j] == kCrust) return m == lower_[j];  // into its lower layer, under its top one
-  if (kind_[j] == kBroken) return false;          // its top is its lower layer: m is a third
-  const std::uint8_t own = region.mat[j];
-  if (rigid_[own]) return true;
-  // The smallest index among its neighbours of another material than its own.
-  const int x = static_cast<int>(j % static_cast<std::size_t>(region.w));
-  const int y = static_cast<int>(j / static_cast<std::size_t>(region.w));
-  unsigned smallest = 256;
-  for (int d = 0; d < 8; ++d) {
-    const int nx = x + kDx[d], ny = y + kDy[d];
-    if (nx < 0 || ny < 0 || nx >= region.w || ny >= region.h) continue;
-    const std::uint8_t other = region.mat[region.at(nx, ny)];
-    if (other != own) smallest = std::min<unsigned>(smallest, other);
-  }
-  return m == smallest;
+  });
 }
 
 void ErodeStage::track_layers(Region& region) {
@@ -95,7 +75,9 @@ void ErodeStage::track_layers(Region& region) {
   // and the columns it gives to, can change a layering: any other column gave and took
   // only its own material, unlayered, which leaves it as it was.
   track_.clear();
-  for (int y = 0; y < h; ++y)
+  const auto crosses = [&](int y) { return y >= 0 && y < h && row_cross_[static_cast<std::size_t>(y)] != 0; };
+  for (int y = 0; y < h; ++y) {
+    if (!crosses(y)) continue;  // no cross giver in the row
     cross_givers_.for_each_in_row(y, [&](int x) {
       track_.set(x, y);
       for (unsigned mk = mask_[region.at(x, y)]; mk != 0; mk &= mk - 1) {
@@ -103,10 +85,12 @@ void ErodeStage::track_layers(Region& region) {
         track_.set(x + kDx[d], y + kDy[d]);
       }
     });
+  }
   cross_givers_.clear();
   retop_.clear();
   const auto off = neighbour_offsets(w);
-  for (int y = 0; y < h; ++y)
+  for (int y = 0; y < h; ++y) {
+    if (!crosses(y - 1) && !crosses(y) && !crosses(y + 1)) continue;  // nothing tracked in the row
     track_.for_each_in_row(y, [&](int x) {
       const std::size_t k = region.at(x, y);
       const std::uint8_t top = region.mat[k];
@@ -161,6 +145,7 @@ void ErodeStage::track_layers(Region& region) {
           }
       }
     });
+  }
   for (const Retop& r : retop_) region.mat[r.k] = r.top;
 }
 

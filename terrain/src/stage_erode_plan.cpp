@@ -46,16 +46,7 @@ ErosionLimits ErosionLimits::from(const TerrainSettings& s, const Material& m) {
 
 int ErodeStage::run(Region& region, std::span<const unsigned char> flags, std::span<const double> body,
                     const TerrainSettings& s, std::span<const Material> palette, bool to_rest, bool loosens) {
-  lims_.clear();
-  if (region.mat.empty()) {
-    lim_ = ErosionLimits::from(s, palette[0]);
-  } else {
-    for (const Material& m : palette) lims_.push_back(ErosionLimits::from(s, m));
-    lim_ = lims_[0];  // palette[0]'s limits, computed once
-    for (const ErosionLimits& l : lims_)
-      for (int kind = 0; kind < 2; ++kind)
-        lim_.least_give_in[kind] = std::min(lim_.least_give_in[kind], l.least_give_in[kind]);
-  }
+  set_limits(region, s, palette);
   assign_roles(region, flags);
   map_ = !region.mat.empty();
   if (map_) start_layers(region, palette, loosens);
@@ -77,6 +68,30 @@ int ErodeStage::run(Region& region, std::span<const unsigned char> flags, std::s
   }
   find_still_flowing(region, passes, s.max_erosion_passes);
   return passes;
+}
+
+// The limits, recomputed only when what they are made of changed (the cell, whether there
+// is a map, each entry's angles and sigma): a step would otherwise take three tangents per
+// palette entry.
+void ErodeStage::set_limits(const Region& region, const TerrainSettings& s, std::span<const Material> palette) {
+  const bool map = !region.mat.empty();
+  const std::size_t entries = map ? palette.size() : 1;
+  bool same = limits_set_ && limits_cell_ == s.cell && limits_map_ == map && limits_of_.size() == entries;
+  for (std::size_t m = 0; same && m < entries; ++m) same = limits_of_[m] == LimitInputs::of(palette[m]);
+  if (same) return;
+  limits_set_ = true, limits_cell_ = s.cell, limits_map_ = map;
+  limits_of_.clear();
+  for (std::size_t m = 0; m < entries; ++m) limits_of_.push_back(LimitInputs::of(palette[m]));
+  lims_.clear();
+  if (!map) {
+    lim_ = ErosionLimits::from(s, palette[0]);
+  } else {
+    for (const Material& m : palette) lims_.push_back(ErosionLimits::from(s, m));
+    lim_ = lims_[0];  // palette[0]'s limits, computed once
+    for (const ErosionLimits& l : lims_)
+      for (int kind = 0; kind < 2; ++kind)
+        lim_.least_give_in[kind] = std::min(lim_.least_give_in[kind], l.least_give_in[kind]);
+  }
 }
 
 // Fixed for the whole erosion: who may give, and the caps of columns not under a body.
@@ -143,8 +158,8 @@ void ErodeStage::find_still_flowing(const Region& region, int passes, int max_pa
 }
 
 std::size_t ErodeStage::bytes() const {
-  return capacity_bytes(q_, out_, cap_, mask_, cover_, row_flow_, lims_, kind_, thick_, lower_, spent_, rigid_,
-                        row_cross_, retop_) +
+  return capacity_bytes(q_, out_, cap_, mask_, cover_, row_flow_, lims_, limits_of_, kind_, thick_, lower_, spent_,
+                        rigid_, row_cross_, retop_) +
          dirty_.bytes() + cross_givers_.bytes() + track_.bytes() + givable_.bytes() + overhang_.bytes() +
          cand_.bytes() + changed_.bytes() + givers_.bytes() + near_.bytes() + recap_.bytes() + steep_givers_.bytes() +
          live_.bytes();

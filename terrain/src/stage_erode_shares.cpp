@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstdint>
+#include <cstring>
 
 #include "neighbours.h"
 #include "stage_erode.h"
@@ -18,7 +20,38 @@ bool ErodeStage::compute_shares(const Region& region) {
   return region.mat.empty() ? compute_shares_as<false>(region) : compute_shares_as<true>(region);
 }
 
+namespace {
+
+// Four bytes from p (any alignment).
+std::uint32_t four_bytes(const std::uint8_t* p) {
+  std::uint32_t v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// Whether interior column k of a region w wide and its 8 neighbours are all of material top
+// and none is layered (kind all kUnlayered, 0): then no pair of k's is held or crosses a
+// border, and k gives as on one material. Four bytes a row, so it may also look at one
+// column beyond the 3 x 3 block on each row (and answer "no" for it: the caller then takes
+// the general path, which gives the same result).
+bool uniform_around(const std::uint8_t* mat, const unsigned char* kind, std::size_t k, std::size_t w,
+                    std::uint8_t top) {
+  const std::uint32_t all_top = 0x01010101u * top;
+  // Rows y-1 and y from column x-1, row y+1 from x-2: within the region for every
+  // interior column (the last row's load ends at x+1).
+  const std::size_t a = k - w - 1, b = k - 1, c = k + w - 2;
+  const std::uint32_t mats =
+      (four_bytes(mat + a) ^ all_top) | (four_bytes(mat + b) ^ all_top) | (four_bytes(mat + c) ^ all_top);
+  const std::uint32_t kinds = four_bytes(kind + a) | four_bytes(kind + b) | four_bytes(kind + c);
+  return (mats | kinds) == 0;
+}
+
+}  // namespace
+
 // kMap: each giver reads its own material's limits (lims_); else every column has lim_'s.
+// With a map, a giver whose 3 x 3 block is of its own material and unlayered (most of
+// them) takes the one-material body with its material's limits: nothing there reads a
+// neighbour's material or layering.
 template <bool kMap>
 bool ErodeStage::compute_shares_as(const Region& region) {
   const int w = region.w, h = region.h;
@@ -28,14 +61,15 @@ bool ErodeStage::compute_shares_as(const Region& region) {
     std::uint64_t* giver_row = givers_.row(y);
     std::uint64_t* steep_row = steep_givers_.row(y);
     bool flow = false, cross = false;
-    const auto give = [&](int x) __attribute__((always_inline)) {
-      const std::size_t k = region.at(x, y);
-      const ErosionLimits& lim = kMap ? lims_[region.mat[k]] : one;
-      [[maybe_unused]] const std::uint8_t top = kMap ? region.mat[k] : 0;
-      const double h0 = region.ht[k];
-      const NeighbourExtremes lowest =
-          neighbour_extremes(&region.ht[k], w, [](double a, double b) { return std::min(a, b); });
-      if (!(h0 - lowest.axis > lim.least_give[0]) && !(h0 - lowest.diagonal > lim.least_give[1])) return;
+    // Raw pointers: the byte stores below may alias anything, so indexing the vectors would
+    // reload their data pointers after each.
+    const double* ht = region.ht.data();
+    const double* caps = cap_.data();
+    const unsigned char* cover = cover_.data();
+    // kMixed: the general map body (a pair may cross a border or touch a layer).
+    const auto give = [&]<bool kMixed>(int x, std::size_t k, const ErosionLimits& lim) __attribute__((always_inline)) {
+      [[maybe_unused]] const std::uint8_t top = kMixed ? region.mat[k] : 0;
+      const double h0 = ht[k];
       double excess_sum = 0.0;
       int count = 0;
       unsigned mk = 0, steep_mk = 0;
@@ -43,15 +77,15 @@ bool ErodeStage::compute_shares_as(const Region& region) {
 #pragma GCC unroll 8
       for (int d = 0; d < 8; ++d) {
         const std::size_t nk = k + off[d];  // interior: neighbours exist
-        if (cap_[nk] == 0.0) continue;
-        const double diff = h0 - region.ht[nk];
-        const int c = cover_[nk];
+        if (caps[nk] == 0.0) continue;
+        const double diff = h0 - ht[nk];
+        const int c = cover[nk];
         if (!(diff > lim.give[d][c])) continue;
-        if constexpr (kMap) {
+        if constexpr (kMixed) {
           // The soil keeps its material: a neighbour that may not take it holds the pair.
           // (A rigid column's loose soil lands as the receiver's own, as before maps.)
           if (region.mat[nk] != top) {
-            if (!rigid_[top] && !takes(region, nk, top)) continue;
+            if (!rigid_[top] && !takes(region, nk, x + kDx[d], y + kDy[d], top)) continue;
             mixed = true;
           }
           mixed = mixed || kind_[nk] != kUnlayered;
@@ -65,7 +99,7 @@ bool ErodeStage::compute_shares_as(const Region& region) {
       double share = lim.sigma * (excess_sum / count) / count;
       share = std::min(share, std::max(0.0, h0 - region.bed[k]) / count);
       bool spent = false;  // the top layer bounds the share: all of it goes
-      if constexpr (kMap) {
+      if constexpr (kMixed) {
         if (kind_[k] == kCrust && !(share < std::max(0.0, thick_[k]) / count)) {
           share = std::max(0.0, thick_[k]) / count;
           spent = true;
@@ -77,9 +111,9 @@ bool ErodeStage::compute_shares_as(const Region& region) {
 #pragma GCC unroll 8
       for (int d = 0; d < 8; ++d) {
         if (!(mk & (1u << d))) continue;
-        const double cap = cap_[k + off[d]];
+        const double cap = caps[k + off[d]];
         total += std::min(share, cap);
-        if constexpr (kMap) spent = spent && cap >= share;
+        if constexpr (kMixed) spent = spent && cap >= share;
         // A pair whose flow the body caps (the column under it is full) stays steep: the
         // body holds that slope, erosion cannot relax it.
         steep_here = steep_here || ((steep_mk & (1u << d)) && cap >= share);
@@ -88,8 +122,8 @@ bool ErodeStage::compute_shares_as(const Region& region) {
       q_[k] = share;
       mask_[k] = static_cast<unsigned char>(mk);
       out_[k] = total;
-      if constexpr (kMap) {
-        spent_[k] = spent;
+      if constexpr (kMap) spent_[k] = spent;
+      if constexpr (kMixed) {
         if (mixed || kind_[k] != kUnlayered) {
           cross = true;
           cross_givers_.set(x, y);
@@ -99,12 +133,26 @@ bool ErodeStage::compute_shares_as(const Region& region) {
       flow = true;
       if (steep_here) steep_row[x >> 6] |= ColumnBits::bit(x);
     };
+    const auto candidate = [&](int x) __attribute__((always_inline)) {
+      const std::size_t k = region.at(x, y);
+      const ErosionLimits& lim = kMap ? lims_[region.mat[k]] : one;
+      const double h0 = ht[k];
+      const NeighbourExtremes lowest = neighbour_extremes(&ht[k], w, [](double a, double b) { return std::min(a, b); });
+      if (!(h0 - lowest.axis > lim.least_give[0]) && !(h0 - lowest.diagonal > lim.least_give[1])) return;
+      if constexpr (kMap) {
+        if (!uniform_around(region.mat.data(), kind_.data(), k, static_cast<std::size_t>(w), region.mat[k])) {
+          give.template operator()<true>(x, k, lim);
+          return;
+        }
+      }
+      give.template operator()<false>(x, k, lim);
+    };
     // The candidates' bits walked here, not by ColumnBits::for_each_in_row, so the test above
     // is inlined into this row's loop (through a call, each captured value would be read
     // back from memory after every byte store).
     const std::uint64_t* cand_row = cand_.row(y);
     for (int i = 0; i < cand_.words; ++i)
-      for (std::uint64_t word = cand_row[i]; word != 0; word &= word - 1) give(i * 64 + std::countr_zero(word));
+      for (std::uint64_t word = cand_row[i]; word != 0; word &= word - 1) candidate(i * 64 + std::countr_zero(word));
     row_flow_[static_cast<std::size_t>(y)] = flow;  // only this row's task writes it
     if constexpr (kMap) row_cross_[static_cast<std::size_t>(y)] = cross;
   });

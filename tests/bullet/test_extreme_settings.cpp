@@ -23,7 +23,10 @@ TEST_P(ExtremeSettings, FiniteAndNothingFallsThrough) {
   const scenes::ExtremeResult r = scenes::run_extreme(c);
   EXPECT_TRUE(r.finite) << c.what;
   EXPECT_TRUE(r.above_bedrock()) << c.what << ": sinkage " << r.sinkage << " m, soil " << r.soil_depth << " m";
-  EXPECT_GT(r.sinkage, 0.0) << c.what << ": the body pressed the soil";
+  // Pressing is how deep it went: a ball dropped on the stiffest soil presses it a few mm
+  // at the impact, which sets it rolling (it spins up to 10 rad/s), so where it ends, within
+  // a mm of the surface, says nothing of it.
+  EXPECT_GT(r.deepest, 0.0) << c.what << ": the body pressed the soil";
 }
 
 namespace {
@@ -42,7 +45,11 @@ TEST(ExtremeSettingsUnloading, BodiesStayInTheSoil) {
     c.plate_case.run.terrain.material.unload_modulus = 5e8;
     const scenes::ExtremeResult r = scenes::run_extreme(c);
     EXPECT_TRUE(r.finite) << c.name;
-    EXPECT_GT(r.sinkage, 0.0) << c.name << ": left the ground";
+    // Thrown out it ended metres up; resting or rolling on the soil (the stiffest soil's
+    // ball rolls off the pit its impact pressed) its bottom ends within a column's width of
+    // the surface.
+    EXPECT_GT(r.sinkage, -c.sphere_case.run.terrain.cell) << c.name << ": left the ground, " << r.sinkage << " m";
+    EXPECT_GT(r.deepest, 0.0) << c.name << ": pressed the soil";
     EXPECT_TRUE(r.above_bedrock()) << c.name;
   }
 }

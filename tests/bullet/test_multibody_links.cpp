@@ -424,6 +424,26 @@ TEST(MultiBodyLinks, ADrivenWheelOnARevoluteJointPullsAsWongAndReecePredict) {
   }
 }
 
+// The link's contact, like a rigid body's, is built at the pose the link had before
+// Bullet moved it on: on soil without strength its pushes all pass through the axle and
+// turning it takes no torque: the load's line within a millimetre of the axle, as the
+// rigid wheel's (SoilContact.ASoilWithoutStrengthTakesNoTorqueToTurnAWheel). Its arms taken
+// from where Bullet had moved it since gave -17 N m.
+TEST(MultiBodyLinks, ALinkWheelOnSoilWithoutStrengthTakesNoTorqueToTurn) {
+  shore::scenes::DrivenWheelCase c;
+  c.run.terrain.material = shore::terrain::Material::mud();  // its Bekker parameters, no strength
+  c.run.terrain.material.cohesion = 0.0;
+  c.run.terrain.material.friction_angle = 0.0;
+  c.load = 3000.0;  // the validation matrix's driven wheel on mud
+  c.slip = 0.1;
+  const shore::scenes::DrivenWheelResult link = run_multibody_driven_wheel(c);
+  const double bar = c.load * 1e-3;  // N m: the load's line within a millimetre of the axle
+  std::printf("[ multibody frictionless ] mud, slip 0.1: torque %.2f N m (bar %.1f), sinkage %.4f m\n", link.torque,
+              bar, link.sinkage);
+  EXPECT_LT(std::abs(link.torque), bar) << "torque " << link.torque << " N m, sinkage " << link.sinkage << " m";
+  EXPECT_GT(link.sinkage, 0.0);
+}
+
 namespace {
 /// Still water 0.5 m deep on nodes x nodes of 5 cm, centred on the origin, level at 0.
 shore::water::SurfaceSettings still_water(int nodes, double damping_time) {

@@ -197,6 +197,31 @@ TEST(SoilContact, ADrivenWheelPullsAndSinksAsWongAndReecePredict) {
   }
 }
 
+// On soil without strength (c 0, phi 0) every push on a cylinder lies along its rim's
+// normal, through the axle: turning it takes no torque, however deep it digs. The contact
+// places each push on the rim along the rim's normal (a block's pushes, summed, still pass
+// through the axle), so the columns' size adds no lever: the load's line must pass within
+// a millimetre of the axle (a tenth of a column, what the soil does not resolve), |torque|
+// < W x 1 mm (3 N m here, 0.003 W r). Two errors gave it a lever: the pushes' arms taken
+// from where Bullet had moved the body since the contact was built (a substep's travel and
+// more behind the axle, -43 N m), and the solve counting on the rig's wheel sliding
+// sideways and tilting, which Bullet's factors forbid (-18 N m; docs/terrain.md,
+// "Validation matrix").
+TEST(SoilContact, ASoilWithoutStrengthTakesNoTorqueToTurnAWheel) {
+  DrivenWheelCase c;
+  c.run.terrain.material = terrain::Material::mud();  // its Bekker parameters, no strength
+  c.run.terrain.material.cohesion = 0.0;
+  c.run.terrain.material.friction_angle = 0.0;
+  c.load = 3000.0;  // the validation matrix's driven wheel on mud
+  c.slip = 0.1;
+  const DrivenWheelResult r = run_driven_wheel(c);
+  const double bar = c.load * 1e-3;  // N m: the load's line within a millimetre of the axle
+  std::printf("[ frictionless drive ] mud, slip 0.1: torque %.2f N m (bar %.1f), sinkage %.4f m\n", r.torque, bar,
+              r.sinkage);
+  EXPECT_LT(std::abs(r.torque), bar) << "torque " << r.torque << " N m, sinkage " << r.sinkage << " m";
+  EXPECT_GT(r.sinkage, 0.0);
+}
+
 TEST(SoilContact, ATowedWheelSinksAndResistsAsBekkerWhateverAlpha) {
   for (const double alpha : {0.0, 0.3}) {
     WheelCase c;

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "shore/scenes/validation_matrix.h"
+#include "shore/scenes/wong_reece.h"
 #include "shore/terrain/bekker.h"
 
 namespace {
@@ -81,8 +82,10 @@ TEST(ValidationMatrixSlopeBox, ASlidingBoxKeepsTheStrengthOfTheSoilThatCarriesIt
 // exactly, as the static wheel is over the whole arc, not against his closed form, which
 // takes the rim as a parabola and (1 - t^2)^n as 1 - n t^2: on clayey soil 38 % under the
 // small wheel (z0 / D 0.14) the closed form is 11 % shallow of its own integral, and on snow
-// (n 1.6) its resistance is 23 % to 28 % high. The wheel meets the integral in both cells.
-TEST(ValidationMatrixTowedWheel, MeetsBekkersFrontArcIntegral) {
+// (n 1.6) its resistance is 23 % to 28 % high. Its sinkage carries the rim's shear as well
+// (Wong and Reece's towed wheel over that arc, at the skid where its torque vanishes); its
+// resistance is Bekker's at the integral's sinkage. The wheel meets both in both cells.
+TEST(ValidationMatrixTowedWheel, MeetsBekkersFrontArcIntegralWithTheRimsShear) {
   namespace bekker = shore::terrain::bekker;
   const auto soils = shore::scenes::matrix_soils();
   for (const auto& [soil, label] :
@@ -93,14 +96,40 @@ TEST(ValidationMatrixTowedWheel, MeetsBekkersFrontArcIntegral) {
     ASSERT_EQ(cells.size(), 2u);
     const auto& m = soils[c.soil].material;
     const double z = bekker::wheel_sinkage_rolling_integral(m, c.load, c.size, 0.3);
-    const double integral[2] = {z, bekker::wheel_compaction_resistance(m, z, 0.3)};
+    shore::scenes::WongReeceWheel towed;
+    towed.radius = c.size / 2, towed.width = 0.3, towed.load = c.load, towed.soil = m, towed.front_only = true;
+    const double reference[2] = {shore::scenes::wong_reece_towed(towed).wheel.sinkage,
+                                 bekker::wheel_compaction_resistance(m, z, 0.3)};
     for (int k = 0; k < 2; ++k) {
       const MatrixCell& cell = cells[std::size_t(k)];
-      EXPECT_EQ(cell.reference, integral[k]) << soil << ", " << label << ", " << cell.quantity;
+      EXPECT_EQ(cell.reference, reference[k]) << soil << ", " << label << ", " << cell.quantity;
       EXPECT_TRUE(cell.outside_validity.empty()) << soil << ", " << label << ", " << cell.quantity;
       EXPECT_TRUE(cell.within()) << soil << ", " << label << ", " << cell.quantity << ": measured " << cell.measured
-                                 << ", front-arc integral " << integral[k] << " (" << cell.note << ")";
+                                 << ", reference " << reference[k] << " (" << cell.note << ")";
     }
+  }
+}
+
+// The towed reference's shear is Bekker's wheel and nothing else on soil without strength:
+// its sinkage there is his front-arc integral's (the same pressure over the same arc; the
+// quadratures differ by far less than 0.5 %). With strength the free wheel's torque
+// vanishes at a skid, and the shear, lifting it, makes it shallower than the integral.
+TEST(ValidationMatrixTowedWheel, TheRimsShearIsBekkersWheelOnSoilWithoutStrength) {
+  namespace bekker = shore::terrain::bekker;
+  for (const shore::scenes::MatrixSoil& s : shore::scenes::matrix_soils()) {
+    // n from 0.13 to 1.6, and the soils whose towed wheels the shear lifts most.
+    if (s.name != "dry sand" && s.name != "sandy loam 22 %" && s.name != "heavy clay 25 %" && s.name != "snow")
+      continue;
+    shore::scenes::WongReeceWheel w;
+    w.radius = 0.25, w.width = 0.3, w.load = s.wheel_load[1], w.soil = s.material, w.front_only = true;
+    const double integral = bekker::wheel_sinkage_rolling_integral(w.soil, w.load, 0.5, 0.3);
+    const shore::scenes::TowedWongReeceResult strong = shore::scenes::wong_reece_towed(w);
+    EXPECT_LT(std::abs(strong.wheel.torque), 1e-3 * w.load * w.radius) << s.name;
+    EXPECT_LT(strong.slip, 0.0) << s.name << ": a towed wheel skids";
+    EXPECT_LT(strong.wheel.sinkage, integral) << s.name << ": the shear lifts it";
+    w.soil.cohesion = 0.0, w.soil.friction_angle = 0.0;
+    const double free = shore::scenes::wong_reece_towed(w).wheel.sinkage;
+    EXPECT_LT(std::abs(free / integral - 1.0), 0.005) << s.name << ": " << free << " vs " << integral;
   }
 }
 

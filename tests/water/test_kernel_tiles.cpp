@@ -157,5 +157,43 @@ TEST(VerticalTileKernels, ReportTheUnfusedKernelsSumsAndActivityToTheBit) {
   EXPECT_GT(compared, 1000);
 }
 
+// The pair pass groups a node's impulse as its 3 x 3 box of K less (live neighbours + 1)
+// times its own K, the unfused kernel as eight neighbours less the count times its own:
+// equal only while every partial sum is exact. At a stable substep kappa is below
+// omega / 6 and the height quantum below 2 / omega velocity quanta, so a height at its
+// bound (2^50 height quanta) makes a K of at most 2^50 / 3 velocity quanta; the largest
+// such K with neighbours of both signs must still give the reference's bits.
+TEST(VerticalTileKernels, SumTheImpulsesExactlyAtTheStatesExtremes) {
+  std::vector<Variant> fused{Variant::generic};
+  if (avx2_available()) fused.push_back(Variant::avx2);
+  if (avx512_available()) fused.push_back(Variant::avx512);
+  Coefficients k = coefficients();
+  k.kappa = (1.0 / 3.0) * (k.u_inv / k.v_inv);  // K = kappa u reaches 2^50 / 3 quanta at u = u_keep
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> sign(0, 1);
+  std::uniform_int_distribution<int> slack(0, 1000);
+  const double qu = 1.0 / k.u_inv;
+  for (const int h : {16, 15})
+    for (const int w : {16, 13}) {
+      TileCase c;
+      c.w = w;
+      c.h = h;
+      for (int s = 0; s < kSides; ++s) c.sides[s] = Side::live;
+      TileInputs in = inputs(c, -1, rng, k);
+      const int bs = kStride + 2;
+      for (int r = -1; r <= h; ++r)
+        for (int i = -1; i <= w; ++i) {
+          const double u = (sign(rng) ? 1.0 : -1.0) * (k.u_keep - slack(rng) * qu);
+          in.block[static_cast<std::size_t>((r + 1) * bs + i + 1)] = u;
+          if (r >= 0 && r < h && i >= 0 && i < w) in.uz[static_cast<std::size_t>(r * kStride + i)] = u;
+        }
+      const Stepped reference = step(Variant::unfused, c, in, k);
+      for (const Variant v : fused)
+        expect_same(
+            step(v, c, in, k), reference,
+            "variant " + std::to_string(static_cast<int>(v)) + ", " + std::to_string(w) + " x " + std::to_string(h));
+    }
+}
+
 }  // namespace
 }  // namespace shore::water::kernel

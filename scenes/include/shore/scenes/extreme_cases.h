@@ -23,7 +23,10 @@ struct ExtremeCase {
 };
 
 struct ExtremeResult {
-  double sinkage = 0.0;      ///< m, the body's bottom below the original surface at the end
+  double sinkage = 0.0;  ///< m, the body's bottom below the original surface at the end
+  /// m, the deepest the body's bottom went below it (a plate: its sinkage at the end): what
+  /// it pressed, wherever it ended (a ball the impact sets rolling leaves its pit).
+  double deepest = 0.0;
   double reference = 0.0;    ///< m, the case's reference, limited to the soil's depth (bedrock bears anything)
   double soil_depth = 0.0;   ///< m, of the material
   bool finite = false;       ///< the sinkage and the soil's volume totals are finite

@@ -32,7 +32,17 @@ struct WongReeceResult {
   double entry_angle = 0.0;   ///< rad, theta_1
 };
 
-/// The wheel at slip i in [0, 1).
+/// The wheel at slip i in (-1, 1): driven at i > 0, skidding (braked) at i < 0.
 WongReeceResult wong_reece(const WongReeceWheel& wheel, double slip);
+
+/// A towed wheel: free on its axle, so the soil's torque on it vanishes. Its slip is a
+/// small skid (i < 0), where the rim's shear ahead of the bottom, backward, balances the
+/// shear behind it; the shear still carries part of the load (tau sin(theta)), so on soil
+/// with strength it sinks less than Bekker's pressure alone would sink it.
+struct TowedWongReeceResult {
+  double slip = 0.0;      ///< the skid at which the torque vanishes (<= 0)
+  WongReeceResult wheel;  ///< the wheel there (its torque ~0)
+};
+[[nodiscard]] TowedWongReeceResult wong_reece_towed(const WongReeceWheel& wheel);
 
 }  // namespace shore::scenes
