@@ -1,7 +1,8 @@
 // rally: a four-wheel-drive raycast car (Bullet's VehicleDemo set-up: RaycastCar, built as
 // Shore's SoilVehicle so its wheels grip as the soil does) driven by a script up a valley of
 // rolling sand, through a mud patch and into a ford, where it stalls in the muddy bed with
-// its wheels spinning. Its wheels sink and leave ruts (TerrainCoupling::add_vehicle),
+// its wheels spinning. Its wheels sink and leave ruts (TerrainCoupling::add_vehicle; its rays
+// cast with Shore's SoilRaycaster, so they rise onto soil that carries more than their load),
 // its chassis and wheels float and drag in the ford (WaterCoupling::add_body, add_vehicle)
 // and make a wake. The camera follows the car; the viewer drives it with the arrow keys.
 // One terrain with a material map: sand, with mud painted where the valley floor is wet; the
@@ -269,9 +270,10 @@ class Rally final : public Scene {
     car_ = std::make_unique<RaycastCar>(
         world_, car,
         btVector3(btScalar(kStartX), btScalar(start_y),
-                  btScalar(ground + car.suspension_rest + car.wheel_radius - car.connection_height + 0.05)));
+                  btScalar(ground + car.suspension_rest + car.wheel_radius - car.connection_height + 0.05)),
+        &ground_);  // Shore's SoilRaycaster: the hill's normal under a wheel, and wheels that rise out of a rut
     const std::array<double, 4> widths{kWheelWidth, kWheelWidth, kWheelWidth, kWheelWidth};
-    ground_.add_vehicle(&car_->vehicle(), widths);
+    ground_.add_vehicle(&car_->vehicle(), widths, car_->soil_raycaster());
     water_.add_body(car_->chassis());
     water_.add_vehicle(&car_->vehicle(), widths);  // the wheels float, drag and make waves too
     bodies_.push_back(car_->chassis());

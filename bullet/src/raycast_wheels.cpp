@@ -11,7 +11,6 @@
 #include "raycast_wheel_grid.h"
 #include "shore/core/det_math.h"
 #include "shore/core/error.h"
-#include "shore/core/illinois.h"
 #include "soft_ground.h"
 
 namespace shore::bullet {
@@ -31,7 +30,6 @@ constexpr double kRolling = 0.05;   // m/s: a wheel slower than this is standing
 // kRiseLeast, then twice as high while it reaches that, never more than kRiseMost of its radius.
 constexpr double kRiseLeast = 0.01;  // m
 constexpr double kRiseMost = 0.5;
-constexpr double kRiseTolerance = 1e-3;  // N: the rise's load bracket closed this narrow
 
 /// N/m: what Bullet's suspension force gains per metre the ground under the wheel rises
 /// (btRaycastVehicle::updateSuspension: stiffness x compression / the contact's cosine,
@@ -472,17 +470,14 @@ double RaycastWheels::rise(const terrain::Terrain& terrain, EnvelopeRasterizer& 
   raised.pose.getOrigin() += up * btScalar(bound);
   rasterize_wheel(terrain, rasterizer, wheel, raised.pose, true);  // whole: the cut is for the plain pose
   read_bearing(terrain, wheel, raised, speed);
-  // The load L the raised envelope carries at its offset o(L) is F + k (D - o(L)) at the
-  // rise d = D - o: phi(L) = L - F - k (D - o(L)) grows with L, below 0 at L = F (the soil
-  // carries more than F at the hit, o(F) < D) and not below at F + k D. Illinois regula
-  // falsi on L (shore/core/illinois.h), as the traction's spin.
+  // The raised envelope sunk by o is the wheel risen d = D - o, its suspension giving
+  // F + k (D - o): the soil's capacity meets that at one offset (it grows with o, the load
+  // falls), found in one search on the offset (BearingSolve::offset_under_spring).
   const double force = p.load;
-  auto phi = [&](double load) { return load - force - spring * (bound - wheel.solve.offset(load)); };
-  Bracket b{force, force + spring * bound};
-  const double f_lo = phi(b.lo), f_hi = phi(b.hi);
-  if (f_lo < 0.0 && f_hi >= 0.0) b = illinois_narrow(phi, b, f_lo, f_hi, kRiseTolerance);
-  const double load = f_lo < 0.0 ? b.hi : b.lo;  // the end whose offset carries it
-  offset = wheel.solve.offset(load);             // its bearing the last measured
+  offset = wheel.solve.offset_under_spring(force + spring * bound, spring);
+  // Sunk past the bound: the soil at the hit does not carry F after all, the wheel stays
+  // there, pressed by F alone.
+  if (offset > bound) offset = wheel.solve.offset(force);
   const double d = std::clamp(bound - offset, 0.0, bound);
   p.pose.getOrigin() += up * btScalar(d);
   p.world_pose.getOrigin() += world_up * btScalar(d);

@@ -36,6 +36,14 @@ struct BearingSolve::State {
       if (offsets[k] == offset) return &measured[k];
     return nullptr;
   }
+  /// The state for a solve named `where`: throws before the first reset. The first
+  /// offset is measured here when the envelope covers no column (offset_for_load measures
+  /// nothing then: 0 is the answer, and bearing(0) must answer).
+  State& ready(const char* where) {
+    if (terrain == nullptr) throw InvalidSetting(where, "no envelope", "must follow reset(terrain, envelope)");
+    if (columns.empty()) (void)measure(0.0);
+    return *this;
+  }
   const Bearing& measure(double offset) {
     if (const Bearing* known = find(offset)) return *known;
     if (used == measured.size()) measured.emplace_back(), offsets.push_back(0.0);
@@ -68,19 +76,23 @@ void BearingSolve::reset(const Terrain& terrain, const EnvelopeRaster& envelope)
 
 double BearingSolve::offset(double load) {
   Check{"terrain.BearingSolve.offset"}.non_negative("load", load);
-  State& st = *state_;
-  if (st.terrain == nullptr)
-    throw InvalidSetting("terrain.BearingSolve.offset", "no envelope", "must follow reset(terrain, envelope)");
-  if (st.columns.empty()) (void)st.measure(0.0);  // offset_for_load measures nothing: 0 is the answer
+  State& st = state_->ready("terrain.BearingSolve.offset");
   return offset_for_load(st.columns, load, [&](double o) { return st.measure(o).capacity; });
+}
+
+double BearingSolve::offset_under_spring(double load, double spring) {
+  const Check check{"terrain.BearingSolve.offset_under_spring"};
+  check.non_negative("load", load);
+  check.non_negative("spring", spring);
+  State& st = state_->ready("terrain.BearingSolve.offset_under_spring");
+  // capacity(o) >= load - spring o, the spring's share moved to the soil's side: the sum
+  // grows with o as the capacity does, so the plain search finds its one root.
+  return offset_for_load(st.columns, load, [&](double o) { return st.measure(o).capacity + spring * o; });
 }
 
 double BearingSolve::offset(double load, const std::function<double(const Bearing&)>& capacity_of) {
   Check{"terrain.BearingSolve.offset"}.non_negative("load", load);
-  State& st = *state_;
-  if (st.terrain == nullptr)
-    throw InvalidSetting("terrain.BearingSolve.offset", "no envelope", "must follow reset(terrain, envelope)");
-  if (st.columns.empty()) (void)st.measure(0.0);
+  State& st = state_->ready("terrain.BearingSolve.offset");
   const auto cold = [&] {
     return offset_for_load(st.columns, load, [&](double o) { return capacity_of(st.measure(o)); });
   };

@@ -134,11 +134,11 @@ void Region::scatter_relayered(TileStore& store) {
   // tile, after its columns are written (each check reads the whole tile), and only where
   // a write could have made it so.
   std::sort(touched_.begin(), touched_.end(), [](const Touched& a, const Touched& b) { return a.tile < b.tile; });
-  for (std::size_t n = 0; n < touched_.size();) {
-    Touched merged = touched_[n];
-    for (++n; n < touched_.size() && touched_[n].tile == merged.tile; ++n) {
-      merged.unpainted = merged.unpainted || touched_[n].unpainted;
-      merged.unlayered = merged.unlayered || touched_[n].unlayered;
+  for (std::size_t k = 0; k < touched_.size();) {
+    Touched merged = touched_[k];
+    for (++k; k < touched_.size() && touched_[k].tile == merged.tile; ++k) {
+      merged.unpainted = merged.unpainted || touched_[k].unpainted;
+      merged.unlayered = merged.unlayered || touched_[k].unlayered;
     }
     if (merged.unpainted && all_zero(merged.tile->material)) merged.tile->normalize_material();
     if (merged.unlayered) merged.tile->normalize_layers();

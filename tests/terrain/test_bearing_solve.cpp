@@ -1,11 +1,14 @@
 // BearingSolve: one envelope solved for two loads in turn gives exactly what
 // Terrain::bearing_offset and Terrain::bearing give for each, on a fresh plate (Bekker's
-// sinkage) and on painted, already rutted ground; bad use is refused by name.
+// sinkage) and on painted, already rutted ground; bad use is refused by name. Under a
+// spring that relaxes as it sinks, a plate sinks where Bekker's pressure meets the spring's
+// load, and a ball where the nested search on the load (a raised raycast wheel's) answers.
 #include <gtest/gtest.h>
 
 #include <cstring>
 
 #include "shore/core/error.h"
+#include "shore/core/illinois.h"
 #include "shore/terrain/bearing_solve.h"
 #include "shore/terrain/bekker.h"
 #include "shore/terrain/terrain.h"
@@ -42,6 +45,25 @@ void expect_like_terrain(const Terrain& t, const shore::EnvelopeRaster& env, std
   }
 }
 
+/// Sand, the soil's work on one thread (the same bits whatever the machine).
+TerrainSettings one_thread_sand() {
+  TerrainSettings s;
+  s.material = Material::sand();
+  s.threads = 1;
+  return s;
+}
+
+/// Sand with a strip four times as stiff (k_phi) and a patch of mud painted across the
+/// plates' and balls' footprints.
+void paint_packed_and_mud(Terrain& t) {
+  Material packed = Material::sand();
+  packed.name = "packed";
+  packed.bekker_kphi *= 4.0;
+  t.set_palette({Material::sand(), packed, Material::mud()});
+  t.paint_rect({0, -20, 20, 40}, 1);
+  t.paint_rect({-20, 0, 20, 20}, 2);
+}
+
 }  // namespace
 
 TEST(BearingSolve, FreshPlateSinksAsBekkerForBothLoads) {
@@ -60,16 +82,8 @@ TEST(BearingSolve, FreshPlateSinksAsBekkerForBothLoads) {
 }
 
 TEST(BearingSolve, RuttedPaintedGroundMatchesTerrainBitForBit) {
-  TerrainSettings s;
-  s.material = Material::sand();
-  s.threads = 1;
-  Terrain t(s);
-  Material packed = Material::sand();
-  packed.name = "packed";
-  packed.bekker_kphi *= 4.0;
-  t.set_palette({Material::sand(), packed, Material::mud()});
-  t.paint_rect({0, -20, 20, 40}, 1);
-  t.paint_rect({-20, 0, 20, 20}, 2);
+  Terrain t(one_thread_sand());
+  paint_packed_and_mud(t);
   // A ball pressed in off centre leaves a rut with sinkage the plate then meets.
   const shore::EnvelopeRaster ball = sphere_envelope(t, 0.05, 0.03, 0.15, 0.12);
   const Imprint im{&ball};
@@ -105,6 +119,71 @@ TEST(BearingSolve, BadUseIsRefusedByName) {
   }
   const double o = solve.offset(50.0);
   EXPECT_THROW((void)solve.bearing(o + 1e-3), shore::InvalidSetting);  // never measured
+  try {
+    (void)solve.offset_under_spring(50.0, -1.0);
+    FAIL() << "a negative spring was taken";
+  } catch (const shore::InvalidSetting& e) {
+    EXPECT_NE(std::string(e.what()).find("spring"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW((void)BearingSolve{}.offset_under_spring(1.0, 1.0), shore::InvalidSetting);  // before any reset
+}
+
+// A plate on a spring that gives `load` untouched and k N less per metre it sinks: Bekker's
+// plate pressure (k_c/b + k_phi) z^n times its area meets load - k z at the offset found,
+// z = plate_sinkage((load - k z) / A) to the solve's tolerance. With k = 0 it is the plain
+// solve's answer, bit for bit.
+TEST(BearingSolve, UnderASpringAPlateSinksWhereBekkersPressureMeetsTheSpring) {
+  TerrainSettings s;
+  s.material = Material::sand();
+  const Terrain t(s);
+  const shore::EnvelopeRaster env = box_envelope(-15, -15, kPlate, kPlate, 0.0);
+  const double area = 0.09, load = 50e3 * area;  // m^2, N
+  for (const double k : {1e5, 1e6}) {            // N/m: the spring takes 10 to 60 % of the load off
+    BearingSolve solve;
+    solve.reset(t, env);
+    const double z = solve.offset_under_spring(load, k);
+    const double pressure = (load - k * z) / area;
+    EXPECT_LT(pressure, 0.9 * 50e3) << k;  // the spring's relief is not lost in the tolerance
+    EXPECT_NEAR(z, bekker::plate_sinkage(s.material, 0.3, pressure), 3e-7) << k;
+    EXPECT_GE(solve.bearing(z).capacity, load - k * z) << k;  // the end that carries
+  }
+  BearingSolve solve;
+  solve.reset(t, env);
+  EXPECT_EQ(solve.offset_under_spring(load, 0.0), t.bearing_offset(env, load));
+}
+
+// A raised raycast wheel's equilibrium, once searched on the load (each load's offset a
+// plain solve, the load L where L = F + k (D - o(L)), to 1e-3 N) and now on the offset: a
+// ball raised D above where it had pressed into rutted sand, packed sand and mud, the same
+// offset to the plain solve's tolerance.
+TEST(BearingSolve, UnderASpringABallSinksWhereTheNestedSearchOnTheLoadDoes) {
+  Terrain t(one_thread_sand());
+  paint_packed_and_mud(t);
+  const shore::EnvelopeRaster rut = box_envelope(-10, -10, 12, 12, -0.004);
+  const Imprint im{&rut};
+  t.step({&im, 1});
+  const double r = 0.15, bound = 0.01;  // m: the ball pressed 2 cm in, raised 1 cm
+  const shore::EnvelopeRaster raised = sphere_envelope(t, 0.02, 0.01, r - 0.02 + bound, r);
+  const double at_hit = t.bearing(raised, bound).capacity;
+  ASSERT_GT(at_hit, 100.0);
+  for (const double k : {2e4, 2e5}) {  // N/m: a car's suspension and a stiff one
+    const double force = 0.5 * at_hit;
+    BearingSolve nested;
+    nested.reset(t, raised);
+    const auto phi = [&](double load) { return load - force - k * (bound - nested.offset(load)); };
+    const double f_lo = phi(force), f_hi = phi(force + k * bound);
+    ASSERT_LT(f_lo, 0.0);
+    ASSERT_GE(f_hi, 0.0);
+    const shore::Bracket b = shore::illinois_narrow(phi, {force, force + k * bound}, f_lo, f_hi, 1e-3);
+    const double expected = nested.offset(b.hi);
+    BearingSolve solve;
+    solve.reset(t, raised);
+    const double o = solve.offset_under_spring(force + k * bound, k);
+    EXPECT_GT(o, 0.0) << k;
+    EXPECT_LT(o, bound) << k;  // it rises
+    EXPECT_NEAR(o, expected, 2e-7) << k;
+    EXPECT_GE(solve.bearing(o).capacity, force + k * (bound - o)) << k;
+  }
 }
 
 // The caller's capacity (a share of each column's force, as a slipping wheel's loosened

@@ -39,9 +39,21 @@ class BearingSolve {
   /// fourfold, past the deepest where none carries), narrowed to 1e-7 m like the plain
   /// solve's. Before any plain solve since the reset, the plain solve's search.
   [[nodiscard]] double offset(double load, const std::function<double(const Bearing&)>& capacity_of);
-  /// What the soil bears with the envelope lowered by an offset offset() returned since the
-  /// last reset: exactly Terrain::bearing(envelope, offset). Valid until the next call of
-  /// offset() or reset(). Throws InvalidSetting for an offset no solve measured.
+  /// The offset (m, >= 0) at which the soil carries a load that eases as the envelope
+  /// sinks: `load - spring * offset` (N; load >= 0 N, spring >= 0 N/m), an envelope held
+  /// on a spring that relaxes as it sinks (a raycast wheel raised above its ray's hit: its
+  /// suspension gives the less the deeper it sinks back). capacity(o) + spring o grows with
+  /// o, so it reaches `load` at one offset: the plain solve's search on that sum (bracket
+  /// from 1 mm, doubled up to bedrock_offset(), narrowed to 1e-7 m), the end that carries
+  /// returned: capacity >= load - spring * offset there. One search, where searching the
+  /// load with offset() nested would solve once for every load it tries. Offsets measured
+  /// since the reset are not measured again. With spring 0 exactly offset(load). Throws
+  /// InvalidSetting on a negative or NaN load or spring, or before the first reset.
+  [[nodiscard]] double offset_under_spring(double load, double spring);
+  /// What the soil bears with the envelope lowered by an offset offset() or
+  /// offset_under_spring() returned since the last reset: exactly Terrain::bearing(envelope,
+  /// offset). Valid until the next solve or reset(). Throws InvalidSetting for an offset no
+  /// solve measured.
   [[nodiscard]] const Bearing& bearing(double offset) const;
   /// The largest offset (m) measured since the last reset (0 before any solve).
   [[nodiscard]] double deepest() const noexcept;
