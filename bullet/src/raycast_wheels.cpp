@@ -391,6 +391,7 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
   if (vehicle.soil != nullptr) vehicle.soil->soil(k).last.resistance = push;
   if (!deforms) return nullptr;
   wheel.imprint = terrain::Imprint{&wheel.envelope, offset};
+  wheel.imprint.margin = margin_;
   const btVector3 velocity = chassis->getVelocityInLocalPoint(p.at);  // after the push
   wheel.imprint.velocity = to_vec3(framed_ ? to_ground_.getBasis() * velocity : velocity);
   wheel.imprint.centre = to_vec3(p.pose.getOrigin());

@@ -91,6 +91,9 @@ class RaycastWheels {
     framed_ = !frame.identity();
     to_ground_ = frame.to_ground();
   }
+  /// Columns around each wheel's imprint for the soil step (terrain::Imprint::margin; 0:
+  /// the terrain's active_margin).
+  void set_margin(int margin) { margin_ = margin; }
   /// Vehicles whose chassis the world no longer holds are dropped (by address, never read).
   /// Returns how many.
   int forget_lost(const btCollisionWorld& world);
@@ -188,6 +191,7 @@ class RaycastWheels {
   std::vector<Vehicle> vehicles_;
   std::shared_ptr<SoftGround> ground_;
   bool framed_ = false;
+  int margin_ = 0;
   btTransform to_ground_ = btTransform::getIdentity();
 };
 

@@ -43,6 +43,7 @@ void TerrainCouplingSettings::validate() const {
   c.positive("rest_speed", rest_speed);
   c.positive("rest_spin", rest_spin);
   c.in_closed("step_interval", step_interval, 0.0, 0.125);
+  c.in_closed("raycast_wheel_margin", raycast_wheel_margin, 0, 256);
   frame.validate("bullet.TerrainCouplingSettings.frame");
 }
 
@@ -72,6 +73,7 @@ TerrainCoupling::TerrainCoupling(btDiscreteDynamicsWorld& world, terrain::Terrai
   parts_->tiles.set_region(settings_.region);
   parts_->tiles.set_frame(settings_.frame);
   parts_->wheels.set_frame(settings_.frame);
+  parts_->wheels.set_margin(settings_.raycast_wheel_margin);
   parts_->tiles.set_collision_group(parts_->rigid ? int(btBroadphaseProxy::StaticFilter)
                                                   : settings_.terrain_filter_bit);
   world_.addAction(this);

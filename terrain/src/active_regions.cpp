@@ -41,34 +41,41 @@ GridRect ActiveRegions::reach_box(const TileStore& store, const TerrainSettings&
 }
 
 // Sorted, so the processing order never depends on the order of the imprints.
-std::vector<GridRect> ActiveRegions::plan(std::span<const GridRect> reached, std::span<const GridRect> carried,
-                                          int margin) {
-  std::vector<GridRect> boxes;
-  auto add = [&](const GridRect& r) {
-    if (!r.empty()) boxes.push_back(r.grown(margin));
-  };
-  for (const GridRect& r : reached) add(r);
-  for (const GridRect& r : carried) add(r);
+std::vector<ActiveRegion> ActiveRegions::plan(std::span<const MarginBox> reached, std::span<const GridRect> carried,
+                                              int margin) {
+  std::vector<ActiveRegion> boxes;  // a carried box's margin 0 until a reach box joins it
+  for (const MarginBox& r : reached)
+    if (!r.box.empty()) boxes.push_back({r.box.grown(r.margin), r.margin});
+  for (const GridRect& r : carried)
+    if (!r.empty()) boxes.push_back({r.grown(margin), 0});
   for (bool merged = true; merged;) {
     merged = false;
     for (std::size_t a = 0; a < boxes.size() && !merged; ++a)
       for (std::size_t b = a + 1; b < boxes.size() && !merged; ++b)
-        if (touches(boxes[a], boxes[b])) {
-          boxes[a] = bounding(boxes[a], boxes[b]);
+        if (touches(boxes[a].box, boxes[b].box)) {
+          boxes[a] = {bounding(boxes[a].box, boxes[b].box), std::max(boxes[a].margin, boxes[b].margin)};
           boxes.erase(boxes.begin() + static_cast<std::ptrdiff_t>(b));
           merged = true;
         }
   }
-  std::sort(boxes.begin(), boxes.end(),
-            [](const GridRect& a, const GridRect& b) { return std::tie(a.j0, a.i0) < std::tie(b.j0, b.i0); });
-  for (const GridRect& b : boxes) {
-    const std::int64_t w = b.nx, h = b.ny;
+  std::sort(boxes.begin(), boxes.end(), [](const ActiveRegion& a, const ActiveRegion& b) {
+    return std::tie(a.box.j0, a.box.i0) < std::tie(b.box.j0, b.box.i0);
+  });
+  for (ActiveRegion& a : boxes) {
+    if (a.margin == 0) a.margin = margin;
+    const std::int64_t w = a.box.nx, h = a.box.ny;
     // Each side on its own first: the product of two huge sides would overflow.
     if (w + 2 > kMaxRegionColumns || h + 2 > kMaxRegionColumns || (w + 2) * (h + 2) > kMaxRegionColumns)
       throw InvalidSetting("terrain.Imprint.envelope", detail::to_text(w) + " x " + detail::to_text(h) + " columns",
                            "active region must hold at most " + detail::to_text(kMaxRegionColumns) + " columns");
   }
   return boxes;
+}
+
+GridRect ActiveRegions::carry(const GridRect& box, int own, int margin) {
+  if (own >= margin || box.empty()) return box.grown(own - margin);
+  const int a = std::min(margin - own, (box.nx - 1) / 2), b = std::min(margin - own, (box.ny - 1) / 2);
+  return {box.i0 + a, box.j0 + b, box.nx - 2 * a, box.ny - 2 * b};
 }
 
 std::size_t ActiveRegions::bytes() const { return capacity_bytes(heights_); }

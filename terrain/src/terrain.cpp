@@ -126,15 +126,17 @@ StepReport Terrain::step(std::span<const Imprint> imprints, double dt) {
   if (im.s.material.rigid) return {};
   im.tiles.advance_generation();
   im.tiles.tick();
-  std::vector<GridRect> reached;
+  std::vector<MarginBox> reached;
   for (const Imprint& imprint : imprints)
     if (!imprint.hold)
-      if (const GridRect r = im.planner.reach_box(im.tiles, im.s, imprint); r.nx > 0) reached.push_back(r);
+      if (const GridRect r = im.planner.reach_box(im.tiles, im.s, imprint); r.nx > 0)
+        reached.push_back({r, imprint.margin > 0 ? imprint.margin : im.s.active_margin});
   const std::vector<GridRect> carried = std::exchange(im.unsettled, {});
   StepReport total;
-  for (const GridRect& r : ActiveRegions::plan(reached, carried, im.s.active_margin)) {
-    const StepReport part = im.pipeline.run(im.tiles, im.s, im.palette, r, imprints);
-    if (im.pipeline.still_flowing().nx > 0) im.unsettled.push_back(im.pipeline.still_flowing());
+  for (const ActiveRegion& r : ActiveRegions::plan(reached, carried, im.s.active_margin)) {
+    const StepReport part = im.pipeline.run(im.tiles, im.s, im.palette, r.box, imprints);
+    if (im.pipeline.still_flowing().nx > 0)
+      im.unsettled.push_back(ActiveRegions::carry(im.pipeline.still_flowing(), r.margin, im.s.active_margin));
     im.compacted += part.compacted_volume;
     total.active_columns += part.active_columns;
     total.contact_columns += part.contact_columns;
@@ -144,7 +146,7 @@ StepReport Terrain::step(std::span<const Imprint> imprints, double dt) {
   }
   // What the bodies reached this step is eroded once more next step: where a body has
   // lifted or moved away, slopes it held at theta_in relax toward theta_out.
-  im.unsettled.insert(im.unsettled.end(), reached.begin(), reached.end());
+  for (const MarginBox& r : reached) im.unsettled.push_back(ActiveRegions::carry(r.box, r.margin, im.s.active_margin));
   // Spray after the soil has been pressed: bodies pick up from, and particles land on, the
   // surface this step leaves.
   if (dt > 0.0 && im.s.spray.enabled) {

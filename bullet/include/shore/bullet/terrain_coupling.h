@@ -135,6 +135,12 @@ struct TerrainCouplingSettings {
   /// terrain's push on each body is still solved every substep, from the body's pose over
   /// the terrain as it stands. 0: every substep. The default deforms at 120 Hz.
   double step_interval = 1.0 / 120;
+  /// Columns, in [0, 256]: the soil step works this far around a raycast wheel's rut
+  /// (add_vehicle) for the soil it displaces and erodes (terrain::Imprint::margin; 0: the
+  /// terrain's active_margin). A wheel's displaced soil lands within a column or two of its
+  /// footprint and erosion moves it a column a pass: 2 gives the ruts, sinkage and pull of a
+  /// large margin at a smaller soil step (docs/terrain.md, "A raycast wheel's soil region").
+  int raycast_wheel_margin = 2;
   /// Broadphase filter bit of soft-soil tiles. Shore owns the normal contact of added
   /// bodies with soft soil, so this bit is cleared from their collision mask (and restored
   /// by remove_body); other bodies collide with the tiles through Bullet as with rigid

@@ -95,6 +95,12 @@ struct Imprint {
   /// region of its own; it only matters where other bodies or unsettled slopes work. It
   /// sprays nothing: soil clinging to it is set back down.
   bool hold = false;
+  /// Columns added around this imprint's reach box, and around what its step carries to
+  /// the next (its reach, slopes still flowing), for displacement and erosion, in [0, 256];
+  /// 0: the terrain's active_margin. A smaller margin than the terrain's suits a body whose
+  /// displaced soil stays near its footprint (a raycast wheel's: docs/terrain.md); a region
+  /// where imprints of several margins meet takes the largest.
+  int margin = 0;
 
   // ---- for spray (shore/terrain/spray.h): a point p of the body moves at v + w x (p - c) ----
   Vec3 angular_velocity{};  ///< rad/s, finite
