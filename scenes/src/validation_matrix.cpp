@@ -7,6 +7,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "shore/scenes/sliding_block.h"
 #include "shore/scenes/soil_cases.h"
 #include "shore/scenes/wong_reece.h"
 #include "shore/terrain/bekker.h"
@@ -164,24 +165,33 @@ std::vector<MatrixCell> slope_cells(const MatrixCase& c, const MatrixSoil& s) {
   b.seconds = 1.5;
   const SlopeBoxResult r = run_slope_box(b);
   // Coulomb with cohesion, plus the compaction resistance of the box's front edge sinking
-  // into fresh soil (Bekker's, for a sledge of width b at sinkage z: b k z^(n+1) / (n+1)):
-  // m a = m g sin(theta) - (c A + m g cos(theta) tan(phi)) - R_c, or none if that is
-  // negative (the box holds).
+  // into fresh soil (Bekker's, for a sledge of width b at sinkage z: b k z^(n+1) / (n+1)),
+  // on the soil's Janosi-Hanamoto curve: the base carries c A + m g cos(theta) tan(phi) only
+  // where the box has sheared the soil by a few K, none of it at rest and 1 - (K / L)
+  // (1 - exp(-L / K)) of it once it has slid its length (Wong's track at full slip,
+  // sliding_block.h): m a = m g sin(theta) - R_c - (c A + m g cos(theta) tan(phi)) share(s).
+  // With K 0 it is Coulomb's block.
   const terrain::Material& m = s.material;
   const double drive = kGravity * std::sin(c.slope), area = c.size * c.size;
   const double z = terrain::bekker::plate_sinkage(m, c.size, c.load * kGravity * std::cos(c.slope) / area);
   const double compaction = terrain::bekker::wheel_compaction_resistance(m, z, c.size);
-  const double want = std::max(0.0, drive - kGravity * std::cos(c.slope) * std::tan(m.friction_angle) -
-                                        (m.cohesion * area + compaction) / c.load);
+  SlidingBlock block;
+  block.drive = drive - compaction / c.load;
+  block.strength = kGravity * std::cos(c.slope) * std::tan(m.friction_angle) + m.cohesion * area / c.load;
+  block.length = c.size;
+  block.shear_modulus = m.shear_modulus;
+  block.seconds = b.seconds;
+  const SlidingBlockMotion want = slide(block);
   const double whole = 2.0 * r.distance / (b.seconds * b.seconds);
-  // A box that should slide is measured relative to Coulomb; one that should hold (or
+  // A box that should slide is measured relative to the reference; one that should hold (or
   // barely slide, below a tenth of the frictionless g sin(theta)), against g sin(theta).
-  const bool holds = want < 0.1 * drive;
-  const double scale = holds ? drive : want;
-  const char* kind = holds ? "of g sin(theta)" : "relative";
-  std::vector<MatrixCell> out = {
-      cell(c, s, "acceleration, whole slide", whole, want, (whole - want) / scale, 0.10, kind),
-      cell(c, s, "acceleration, second half", r.acceleration, want, (r.acceleration - want) / scale, 0.10, kind)};
+  auto judged = [&](const char* quantity, double measured, double reference) {
+    const bool holds = reference < 0.1 * drive;
+    return cell(c, s, quantity, measured, reference, (measured - reference) / (holds ? drive : reference), 0.10,
+                holds ? "of g sin(theta)" : "relative");
+  };
+  std::vector<MatrixCell> out = {judged("acceleration, whole slide", whole, want.whole),
+                                 judged("acceleration, second half", r.acceleration, want.second_half)};
   for (MatrixCell& each : out)
     each.note = "tilt up to " + num(std::round(r.max_tilt / kDeg)) + " deg, slid " +
                 num(std::round(r.distance * 100) / 100) + " m, " + num(std::round(b.mass)) + " kg";
