@@ -1,8 +1,9 @@
 // A sample of the validation matrix (scenes/validation_matrix.h; the whole of it is
 // shore-bench --only matrix): one case per family on two of Wong's soils (dry sand and
-// LETE sand; the slope box on dry sand and snow, where it holds as Coulomb says: the boxes
-// that should slide trip, docs/terrain.md, "Validation matrix"), each cell within its
-// tolerance of its outside reference (Bekker, Wong-Reece, Coulomb, the energy balance).
+// LETE sand; the slope box on dry sand and snow, where it meets Wong's sliding block on
+// Janosi-Hanamoto soil: on the other soils the sliding boxes' second halves are 12 % to 34 %
+// fast, docs/terrain.md, "Validation matrix"), each cell within its tolerance of its outside
+// reference (Bekker, Wong-Reece, Wong's sliding block, the energy balance).
 #include <gtest/gtest.h>
 
 #include <cmath>
