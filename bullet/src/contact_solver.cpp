@@ -169,6 +169,11 @@ Vec3 SolverBody::apply_inv_inertia(Vec3 a) const {
 double SolverBody::mobility_scale() const { return std::max({mobility[0][0], mobility[1][1], mobility[2][2]}); }
 
 void SolverBody::respond(Vec3 impulse, Vec3 angular, Vec3& dv, Vec3& dw) const {
+  if (!articulated) {
+    dv = impulse * inv_mass;
+    dw = apply_inv_inertia(angular);
+    return;
+  }
   const double in[6] = {impulse.x, impulse.y, impulse.z, angular.x, angular.y, angular.z};
   double out[6] = {};
   for (int r = 0; r < 6; ++r)
@@ -178,15 +183,10 @@ void SolverBody::respond(Vec3 impulse, Vec3 angular, Vec3& dv, Vec3& dw) const {
 }
 
 void SolverBody::apply_impulse(Vec3 impulse, Vec3 at) {
-  if (articulated) {
-    Vec3 dv, dw;
-    respond(impulse, cross(at - com, impulse), dv, dw);
-    v = v + dv;
-    w = w + dw;
-    return;
-  }
-  v = v + impulse * inv_mass;
-  w = w + apply_inv_inertia(cross(at - com, impulse));
+  Vec3 dv, dw;
+  respond(impulse, cross(at - com, impulse), dv, dw);
+  v = v + dv;
+  w = w + dw;
 }
 
 void gather_blocks(std::span<const terrain::ContactElement> elements, std::span<const terrain::Material> palette,
@@ -427,12 +427,7 @@ void common_push(SolverBody& body, std::span<Block> blocks, std::span<const Bloc
   if (!(total > 0.0) || !(approach < 0.0)) return;
   // The change of each row's speed per unit of the common push (capacity-weighted).
   Vec3 dv, dw;
-  if (body.articulated) {
-    body.respond(impulse, angular, dv, dw);
-  } else {
-    dv = impulse * body.inv_mass;
-    dw = body.apply_inv_inertia(angular);
-  }
+  body.respond(impulse, angular, dv, dw);
   double response = 0.0, most = kInf;
   for (std::size_t k = 0; k < blocks.size(); ++k) {
     const Block& b = blocks[k];

@@ -46,7 +46,8 @@ struct SolverBody {
   double mobility[6][6] = {};
 
   [[nodiscard]] Vec3 apply_inv_inertia(Vec3 a) const;
-  /// The change of (v, w) per unit impulse and angular impulse (articulated bodies).
+  /// The change of (v, w) an impulse at the centre and an angular impulse make: through the
+  /// mobility for an articulated body, through inv_mass and inv_inertia for a free one.
   void respond(Vec3 impulse, Vec3 angular, Vec3& dv, Vec3& dw) const;
   /// 1 / kg: the largest linear mobility (articulated bodies), what "locked" is measured against.
   [[nodiscard]] double mobility_scale() const;

@@ -41,9 +41,9 @@ GridRect ActiveRegions::reach_box(const TileStore& store, const TerrainSettings&
 }
 
 // Sorted, so the processing order never depends on the order of the imprints.
-std::vector<ActiveRegion> ActiveRegions::plan(std::span<const MarginBox> reached, std::span<const GridRect> carried,
-                                              int margin) {
-  std::vector<ActiveRegion> boxes;  // a carried box's margin 0 until a reach box joins it
+std::vector<MarginBox> ActiveRegions::plan(std::span<const MarginBox> reached, std::span<const GridRect> carried,
+                                           int margin) {
+  std::vector<MarginBox> boxes;  // a carried box's margin 0 until a reach box joins it
   for (const MarginBox& r : reached)
     if (!r.box.empty()) boxes.push_back({r.box.grown(r.margin), r.margin});
   for (const GridRect& r : carried)
@@ -58,10 +58,10 @@ std::vector<ActiveRegion> ActiveRegions::plan(std::span<const MarginBox> reached
           merged = true;
         }
   }
-  std::sort(boxes.begin(), boxes.end(), [](const ActiveRegion& a, const ActiveRegion& b) {
+  std::sort(boxes.begin(), boxes.end(), [](const MarginBox& a, const MarginBox& b) {
     return std::tie(a.box.j0, a.box.i0) < std::tie(b.box.j0, b.box.i0);
   });
-  for (ActiveRegion& a : boxes) {
+  for (MarginBox& a : boxes) {
     if (a.margin == 0) a.margin = margin;
     const std::int64_t w = a.box.nx, h = a.box.ny;
     // Each side on its own first: the product of two huge sides would overflow.

@@ -13,15 +13,10 @@
 
 namespace shore::terrain {
 
-/// A reach box and the columns added around it.
+/// A box and its margin in columns: a reach box and the columns added around it, or a
+/// planned region (without halo) and the margin its slopes still flowing are carried with
+/// (the largest of its reach boxes', the terrain's if it holds none).
 struct MarginBox {
-  GridRect box;
-  int margin = 0;
-};
-
-/// A region (without halo) and the margin its slopes still flowing are carried with: the
-/// largest of its reach boxes', the terrain's if it holds none.
-struct ActiveRegion {
   GridRect box;
   int margin = 0;
 };
@@ -34,8 +29,8 @@ class ActiveRegions {
   /// The step's regions from the reach boxes (each grown by its margin) and the carried
   /// boxes (grown by the terrain's `margin`), in a fixed order. Throws InvalidSetting if one
   /// would exceed kMaxRegionColumns.
-  [[nodiscard]] static std::vector<ActiveRegion> plan(std::span<const MarginBox> reached,
-                                                      std::span<const GridRect> carried, int margin);
+  [[nodiscard]] static std::vector<MarginBox> plan(std::span<const MarginBox> reached,
+                                                   std::span<const GridRect> carried, int margin);
   /// What is kept to be carried into the next step for `box`, to be grown by `margin` (the
   /// terrain's) then: the box shrunk by margin - `own` on each side, so that it is grown by
   /// `own` in all (no narrower than one column: then by more). The carried boxes stay plain

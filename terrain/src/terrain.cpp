@@ -133,7 +133,7 @@ StepReport Terrain::step(std::span<const Imprint> imprints, double dt) {
         reached.push_back({r, imprint.margin > 0 ? imprint.margin : im.s.active_margin});
   const std::vector<GridRect> carried = std::exchange(im.unsettled, {});
   StepReport total;
-  for (const ActiveRegion& r : ActiveRegions::plan(reached, carried, im.s.active_margin)) {
+  for (const MarginBox& r : ActiveRegions::plan(reached, carried, im.s.active_margin)) {
     const StepReport part = im.pipeline.run(im.tiles, im.s, im.palette, r.box, imprints);
     if (im.pipeline.still_flowing().nx > 0)
       im.unsettled.push_back(ActiveRegions::carry(im.pipeline.still_flowing(), r.margin, im.s.active_margin));
