@@ -124,8 +124,9 @@ class ErodeStage {
   /// top layer; what it took, its top material or a new top layer).
   void track_layers(Region& region);
 
-  /// The limits of palette[0], except least_give_in: the least over the palette, as a
-  /// column's cap must count givers of any material.
+  /// The limits of palette[0], except least_give_in and least_give: the least over the
+  /// palette, as a column's cap must count givers of any material and the shares' first
+  /// filter passes a giver of any material.
   ErosionLimits lim_;
   std::vector<ErosionLimits> lims_;  ///< per palette entry (used with a map only)
   /// What lim_ and lims_ were computed from (set_limits): a material's erosion fields.

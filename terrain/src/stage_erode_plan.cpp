@@ -89,8 +89,10 @@ void ErodeStage::set_limits(const Region& region, const TerrainSettings& s, std:
     for (const Material& m : palette) lims_.push_back(ErosionLimits::from(s, m));
     lim_ = lims_[0];  // palette[0]'s limits, computed once
     for (const ErosionLimits& l : lims_)
-      for (int kind = 0; kind < 2; ++kind)
+      for (int kind = 0; kind < 2; ++kind) {
         lim_.least_give_in[kind] = std::min(lim_.least_give_in[kind], l.least_give_in[kind]);
+        lim_.least_give[kind] = std::min(lim_.least_give[kind], l.least_give[kind]);
+      }
   }
 }
 

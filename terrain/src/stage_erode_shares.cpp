@@ -133,26 +133,39 @@ bool ErodeStage::compute_shares_as(const Region& region) {
       flow = true;
       if (steep_here) steep_row[x >> 6] |= ColumnBits::bit(x);
     };
-    const auto candidate = [&](int x) __attribute__((always_inline)) {
+    // Whether the giver at x may have a too-steep pair at all by lim's least limits (a filter
+    // only: a column that fails it has none, one that passes may have none either).
+    const auto may_give = [&](int x, const ErosionLimits& lim) __attribute__((always_inline)) {
       const std::size_t k = region.at(x, y);
-      const ErosionLimits& lim = kMap ? lims_[region.mat[k]] : one;
       const double h0 = ht[k];
       const NeighbourExtremes lowest = neighbour_extremes(&ht[k], w, [](double a, double b) { return std::min(a, b); });
-      if (!(h0 - lowest.axis > lim.least_give[0]) && !(h0 - lowest.diagonal > lim.least_give[1])) return;
-      if constexpr (kMap) {
-        if (!uniform_around(region.mat.data(), kind_.data(), k, static_cast<std::size_t>(w), region.mat[k])) {
-          give.template operator()<true>(x, k, lim);
-          return;
+      return h0 - lowest.axis > lim.least_give[0] || h0 - lowest.diagonal > lim.least_give[1];
+    };
+    // The candidates' bits walked here, not by ColumnBits::for_each_in_row, so the tests are
+    // inlined into this row's loop (through a call, each captured value would be read back
+    // from memory after every byte store). Two walks of each word: first the filter, a loop
+    // of loads only whose values stay in registers, then the givers that pass it (with a map,
+    // by lim_'s least limits over the palette: one that passes but has no pair too steep by
+    // its own material's limits gives nothing in give, as if it had been dismissed).
+    const std::uint64_t* cand_row = cand_.row(y);
+    for (int i = 0; i < cand_.words; ++i) {
+      std::uint64_t pass = 0;
+      for (std::uint64_t word = cand_row[i]; word != 0; word &= word - 1)
+        if (may_give(i * 64 + std::countr_zero(word), one)) pass |= word & -word;
+      for (; pass != 0; pass &= pass - 1) {
+        const int x = i * 64 + std::countr_zero(pass);
+        const std::size_t k = region.at(x, y);
+        if constexpr (kMap) {
+          const ErosionLimits& lim = lims_[region.mat[k]];
+          if (uniform_around(region.mat.data(), kind_.data(), k, static_cast<std::size_t>(w), region.mat[k]))
+            give.template operator()<false>(x, k, lim);
+          else
+            give.template operator()<true>(x, k, lim);
+        } else {
+          give.template operator()<false>(x, k, one);
         }
       }
-      give.template operator()<false>(x, k, lim);
-    };
-    // The candidates' bits walked here, not by ColumnBits::for_each_in_row, so the test above
-    // is inlined into this row's loop (through a call, each captured value would be read
-    // back from memory after every byte store).
-    const std::uint64_t* cand_row = cand_.row(y);
-    for (int i = 0; i < cand_.words; ++i)
-      for (std::uint64_t word = cand_row[i]; word != 0; word &= word - 1) candidate(i * 64 + std::countr_zero(word));
+    }
     row_flow_[static_cast<std::size_t>(y)] = flow;  // only this row's task writes it
     if constexpr (kMap) row_cross_[static_cast<std::size_t>(y)] = cross;
   });
