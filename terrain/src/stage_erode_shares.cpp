@@ -148,6 +148,10 @@ bool ErodeStage::compute_shares_as(const Region& region) {
     // by lim_'s least limits over the palette: one that passes but has no pair too steep by
     // its own material's limits gives nothing in give, as if it had been dismissed).
     const std::uint64_t* cand_row = cand_.row(y);
+    // With a map: what the givers that pass the filter read first (raw, as ht above).
+    [[maybe_unused]] const std::uint8_t* mat = region.mat.data();
+    [[maybe_unused]] const unsigned char* kind = kind_.data();
+    [[maybe_unused]] const ErosionLimits* lims = lims_.data();
     for (int i = 0; i < cand_.words; ++i) {
       std::uint64_t pass = 0;
       for (std::uint64_t word = cand_row[i]; word != 0; word &= word - 1)
@@ -156,8 +160,9 @@ bool ErodeStage::compute_shares_as(const Region& region) {
         const int x = i * 64 + std::countr_zero(pass);
         const std::size_t k = region.at(x, y);
         if constexpr (kMap) {
-          const ErosionLimits& lim = lims_[region.mat[k]];
-          if (uniform_around(region.mat.data(), kind_.data(), k, static_cast<std::size_t>(w), region.mat[k]))
+          const std::uint8_t top = mat[k];
+          const ErosionLimits& lim = lims[top];
+          if (uniform_around(mat, kind, k, static_cast<std::size_t>(w), top))
             give.template operator()<false>(x, k, lim);
           else
             give.template operator()<true>(x, k, lim);
