@@ -16,10 +16,6 @@
 #include <limits>
 #include <string>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include "shore/core/det_math.h"
 #include "shore/core/error.h"
 
@@ -471,76 +467,6 @@ void world_planes(const Polyhedron& p, const Frame& f, WorldPlanes& out) {
     const Vec3 n = f.to_world(p.normals[k]) - f.t;
     out.n[k] = n;
     out.d[k] = p.offsets[k] + dot(n, f.t);
-  }
-}
-
-namespace {
-
-/// The narrowing of one face along a row: rest(k) = base + k step for k in [0, n) (k
-/// converted to double, exact below 2^53); `Narrow` keeps the chord end of a face facing
-/// up (min), facing down (max) or standing upright (lo set to +inf where rest < 0).
-/// Where SSE2 is there, two points side by side and two pairs a turn: the same operations
-/// in the same order per point (_mm_min_pd(z, h) is z < h ? z : h, _mm_max_pd(z, l) is
-/// z > l ? z : l, as the scalar lines), so the same bits with a third of the instructions.
-enum class Narrow { upper, lower, upright };
-
-template <Narrow kNarrow>
-void narrow_one(double rest, double inv, double* __restrict lo, double* __restrict hi, int k) {
-  if constexpr (kNarrow == Narrow::upright) {
-    if (rest < 0.0) lo[k] = std::numeric_limits<double>::infinity();
-  } else if constexpr (kNarrow == Narrow::upper) {
-    const double z = rest * inv;
-    hi[k] = z < hi[k] ? z : hi[k];
-  } else {
-    const double z = rest * inv;
-    lo[k] = z > lo[k] ? z : lo[k];
-  }
-}
-
-#if defined(__SSE2__)
-template <Narrow kNarrow>
-__m128d narrow_two(__m128d rest, __m128d inv, __m128d v) {
-  if constexpr (kNarrow == Narrow::upright) {
-    const __m128d below = _mm_cmplt_pd(rest, _mm_setzero_pd());
-    return _mm_or_pd(_mm_and_pd(below, _mm_set1_pd(std::numeric_limits<double>::infinity())), _mm_andnot_pd(below, v));
-  } else if constexpr (kNarrow == Narrow::upper) {
-    return _mm_min_pd(_mm_mul_pd(rest, inv), v);
-  } else {
-    return _mm_max_pd(_mm_mul_pd(rest, inv), v);
-  }
-}
-#endif
-
-template <Narrow kNarrow>
-void narrow_row(double base, double step, double inv, int n, double* __restrict lo, double* __restrict hi) {
-  int k = 0;
-#if defined(__SSE2__)
-  double* out = kNarrow == Narrow::upper ? hi : lo;
-  const __m128d b = _mm_set1_pd(base), s = _mm_set1_pd(step), r = _mm_set1_pd(inv), four = _mm_set1_pd(4.0);
-  __m128d k0 = _mm_set_pd(1.0, 0.0), k1 = _mm_set_pd(3.0, 2.0);
-  for (; k + 4 <= n; k += 4) {
-    const __m128d rest0 = _mm_add_pd(b, _mm_mul_pd(k0, s)), rest1 = _mm_add_pd(b, _mm_mul_pd(k1, s));
-    _mm_storeu_pd(out + k, narrow_two<kNarrow>(rest0, r, _mm_loadu_pd(out + k)));
-    _mm_storeu_pd(out + k + 2, narrow_two<kNarrow>(rest1, r, _mm_loadu_pd(out + k + 2)));
-    k0 = _mm_add_pd(k0, four), k1 = _mm_add_pd(k1, four);
-  }
-#endif
-  for (; k < n; ++k) narrow_one<kNarrow>(base + k * step, inv, lo, hi, k);
-}
-
-}  // namespace
-
-void chord_row(const WorldPlanes& p, double x0, double dx, int n, double y, double* __restrict lo,
-               double* __restrict hi) {
-  for (std::size_t f = 0; f < p.n.size(); ++f) {
-    const Vec3 nf = p.n[f];
-    const double base = p.d[f] - nf.y * y - nf.x * x0, step = -nf.x * dx;  // rest(k) = base + k step: n_z z <= rest
-    if (std::abs(nf.z) < 1e-12)
-      narrow_row<Narrow::upright>(base, step, 0.0, n, lo, hi);
-    else if (nf.z > 0.0)
-      narrow_row<Narrow::upper>(base, step, 1.0 / nf.z, n, lo, hi);
-    else
-      narrow_row<Narrow::lower>(base, step, 1.0 / nf.z, n, lo, hi);
   }
 }
 

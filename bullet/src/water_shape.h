@@ -127,10 +127,12 @@ double projected_area(const Submerged& s, const WaterPlane& w, Vec3 u);
 struct WorldPlanes {
   std::vector<Vec3> n;
   std::vector<double> d;
+  mutable std::vector<double> row_terms;  ///< chord_row's scratch: each face's terms along a row
 };
 void world_planes(const Polyhedron& p, const Frame& f, WorldPlanes& out);
 /// The chords of a row of n points (x0 + k dx, y): lo[k] / hi[k] narrowed by every face
-/// (start them at -inf / +inf); a point outside gets lo >= hi.
+/// (start them at -inf / +inf); a point outside gets lo >= hi. Several points to a vector
+/// register where the CPU has them, the same bits as one by one (water_chords.cpp).
 void chord_row(const WorldPlanes& p, double x0, double dx, int n, double y, double* lo, double* hi);
 
 }  // namespace water_detail
