@@ -7,6 +7,7 @@
 // times 1 / n_z, then the min or max with the chord's end so far; IEEE arithmetic rounds
 // each lane as it would alone and min_pd / max_pd pick as the scalar comparisons do
 // (_mm_min_pd(z, h) is z < h ? z : h), so every path gives the same bits.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -94,8 +95,12 @@ __attribute__((target("avx"))) inline __m256d rest(const double* at, __m256d k) 
 /// the point leaves lo = +inf whenever it comes (no later max moves +inf), so the same bits.
 /// The last one to three points by a masked load and store (lanes past the row neither read
 /// nor written).
+/// kWiden: a and b are an envelope's lower and upper ends, widened by the chord where the
+/// point is inside (lo < hi: a = min(a, lo), b = max(b, hi), as widen_by_chords says), the
+/// chord itself started at -inf / +inf in registers; else a and b are lo and hi, narrowed.
+template <bool kWiden>
 __attribute__((target("avx"))) void chord_row_avx(const WorldPlanes& p, double x0, double dx, int n, double y,
-                                                  double* __restrict lo, double* __restrict hi) {
+                                                  double* __restrict a, double* __restrict b) {
   const std::size_t faces = p.n.size();
   std::vector<double>& t = p.row_terms;  // base, step, 1 / n_z of each face, by kind
   t.resize(9 * faces);
@@ -114,20 +119,26 @@ __attribute__((target("avx"))) void chord_row_avx(const WorldPlanes& p, double x
   for (int i = 0; i < n; i += 4) {
     const bool whole = i + 4 <= n;
     const __m256i inside = _mm256_castpd_si256(_mm256_cmp_pd(k, count, _CMP_LT_OQ));
-    __m256d h = whole ? _mm256_loadu_pd(hi + i) : _mm256_maskload_pd(hi + i, inside);
-    __m256d l = whole ? _mm256_loadu_pd(lo + i) : _mm256_maskload_pd(lo + i, inside);
+    const __m256d a0 = whole ? _mm256_loadu_pd(a + i) : _mm256_maskload_pd(a + i, inside);
+    const __m256d b0 = whole ? _mm256_loadu_pd(b + i) : _mm256_maskload_pd(b + i, inside);
+    __m256d l = kWiden ? _mm256_set1_pd(-std::numeric_limits<double>::infinity()) : a0, h = kWiden ? infinity : b0;
     for (const double* c = caps; c != cap; c += 3)
       h = _mm256_min_pd(_mm256_mul_pd(rest(c, k), _mm256_broadcast_sd(c + 2)), h);
     for (const double* c = floors; c != floor; c += 3)
       l = _mm256_max_pd(_mm256_mul_pd(rest(c, k), _mm256_broadcast_sd(c + 2)), l);
     for (const double* c = upright; c != wall; c += 3)
       l = _mm256_blendv_pd(l, infinity, _mm256_cmp_pd(rest(c, k), _mm256_setzero_pd(), _CMP_LT_OQ));
+    if constexpr (kWiden) {
+      const __m256d covered = _mm256_cmp_pd(l, h, _CMP_LT_OQ);
+      l = _mm256_blendv_pd(a0, _mm256_min_pd(l, a0), covered);
+      h = _mm256_blendv_pd(b0, _mm256_max_pd(h, b0), covered);
+    }
     if (whole) {
-      _mm256_storeu_pd(hi + i, h);
-      _mm256_storeu_pd(lo + i, l);
+      _mm256_storeu_pd(a + i, l);
+      _mm256_storeu_pd(b + i, h);
     } else {
-      _mm256_maskstore_pd(hi + i, inside, h);
-      _mm256_maskstore_pd(lo + i, inside, l);
+      _mm256_maskstore_pd(a + i, inside, l);
+      _mm256_maskstore_pd(b + i, inside, h);
     }
     k = _mm256_add_pd(k, four);
   }
@@ -154,7 +165,7 @@ void narrow_row(double base, double step, double inv, int n, double* __restrict 
 void chord_row(const WorldPlanes& p, double x0, double dx, int n, double y, double* __restrict lo,
                double* __restrict hi) {
 #if defined(SHORE_CHORDS_AVX)
-  if (avx_available()) return chord_row_avx(p, x0, dx, n, y, lo, hi);
+  if (avx_available()) return chord_row_avx<false>(p, x0, dx, n, y, lo, hi);
 #endif
   for (std::size_t f = 0; f < p.n.size(); ++f) {
     const Vec3 nf = p.n[f];
@@ -166,6 +177,23 @@ void chord_row(const WorldPlanes& p, double x0, double dx, int n, double y, doub
     else
       narrow_row<Narrow::lower>(base, step, 1.0 / nf.z, n, lo, hi);
   }
+}
+
+void widen_by_chords(const WorldPlanes& p, double x0, double dx, int n, double y, double* __restrict lower,
+                     double* __restrict upper) {
+#if defined(SHORE_CHORDS_AVX)
+  if (avx_available()) return chord_row_avx<true>(p, x0, dx, n, y, lower, upper);
+#endif
+  std::vector<double>& t = p.row_terms;  // the chords, then merged
+  t.assign(2 * std::size_t(n), std::numeric_limits<double>::infinity());
+  double *lo = t.data(), *hi = lo + n;
+  for (int k = 0; k < n; ++k) lo[k] = -std::numeric_limits<double>::infinity();
+  chord_row(p, x0, dx, n, y, lo, hi);
+  for (int k = 0; k < n; ++k)
+    if (lo[k] < hi[k]) {
+      lower[k] = std::min(lower[k], lo[k]);
+      upper[k] = std::max(upper[k], hi[k]);
+    }
 }
 
 }  // namespace water_detail

@@ -5,6 +5,7 @@
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/CollisionShapes/btCylinderShape.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -99,22 +100,28 @@ void chord_row_one_by_one(const WorldPlanes& p, double x0, double dx, int n, dou
   }
 }
 
+/// Random faces of every kind (looking up, down, upright with n_z exactly 0 and below
+/// 1e-12) in a random order, around the origin.
+WorldPlanes random_planes(std::mt19937_64& rng, int faces) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  WorldPlanes planes;
+  for (int f = 0; f < faces; ++f) {
+    Vec3 n{u(rng), u(rng), u(rng)};
+    if (f % 7 == 3) n.z = 0.0;
+    if (f % 11 == 5) n.z = 1e-13;
+    planes.n.push_back(n);
+    planes.d.push_back(0.05 + 0.15 * (u(rng) + 1.0));  // the origin inside, points 0.2 m off it often not
+  }
+  return planes;
+}
+
 TEST(WaterShape, ChordRowsGiveTheBitsOfOnePointAtATime) {
-  // Faces of every kind (looking up, down, upright with n_z exactly 0 and below 1e-12), in
-  // a random order, over rows of every length up to a few vector blocks, from ends that
-  // start at +-inf or at random heights (so min and max pick both ways).
+  // Random faces over rows of every length up to a few vector blocks, from ends that start
+  // at +-inf or at random heights (so min and max pick both ways).
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int trial = 0; trial < 200; ++trial) {
-    WorldPlanes planes;
-    const int faces = 1 + trial % 40;
-    for (int f = 0; f < faces; ++f) {
-      Vec3 n{u(rng), u(rng), u(rng)};
-      if (f % 7 == 3) n.z = 0.0;
-      if (f % 11 == 5) n.z = 1e-13;
-      planes.n.push_back(n);
-      planes.d.push_back(0.3 * u(rng));
-    }
+    const WorldPlanes planes = random_planes(rng, 1 + trial % 40);
     const int n = trial % 23;
     const double x0 = u(rng), dx = 0.01 + 0.05 * (u(rng) + 1.0), y = 0.5 * u(rng);
     std::vector<double> lo(std::size_t(n) + 1), hi(std::size_t(n) + 1);
@@ -129,6 +136,42 @@ TEST(WaterShape, ChordRowsGiveTheBitsOfOnePointAtATime) {
     EXPECT_EQ(std::memcmp(lo.data(), want_lo.data(), lo.size() * sizeof(double)), 0) << "trial " << trial;
     EXPECT_EQ(std::memcmp(hi.data(), want_hi.data(), hi.size() * sizeof(double)), 0) << "trial " << trial;
   }
+}
+
+TEST(WaterShape, WideningByChordsGivesTheBitsOfChordsThenTheirMerge) {
+  // A row's envelope so far (nothing yet, or random ends) widened where the faces' chord
+  // is not empty: some points of each row are inside (small offsets: the planes pass near
+  // the points), some outside.
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int inside = 0, points = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const WorldPlanes planes = random_planes(rng, 4 + trial % 40);
+    const int n = trial % 23;
+    const double x0 = 0.1 * u(rng), dx = 0.01, y = 0.1 * u(rng);
+    points += n;
+    std::vector<double> lower(std::size_t(n) + 1), upper(std::size_t(n) + 1);
+    for (std::size_t k = 0; k < lower.size(); ++k) {
+      lower[k] = trial % 2 ? std::numeric_limits<double>::infinity() : u(rng);
+      upper[k] = trial % 2 ? -std::numeric_limits<double>::infinity() : u(rng);
+    }
+    std::vector<double> lo(std::size_t(n), -std::numeric_limits<double>::infinity());
+    std::vector<double> hi(std::size_t(n), std::numeric_limits<double>::infinity());
+    chord_row_one_by_one(planes, x0, dx, n, y, lo.data(), hi.data());
+    std::vector<double> want_lower = lower, want_upper = upper;
+    for (std::size_t k = 0; k < lo.size(); ++k)
+      if (lo[k] < hi[k]) {
+        ++inside;
+        want_lower[k] = std::min(want_lower[k], lo[k]);
+        want_upper[k] = std::max(want_upper[k], hi[k]);
+      }
+    widen_by_chords(planes, x0, dx, n, y, lower.data(), upper.data());
+    EXPECT_EQ(std::memcmp(lower.data(), want_lower.data(), lower.size() * sizeof(double)), 0) << "trial " << trial;
+    EXPECT_EQ(std::memcmp(upper.data(), want_upper.data(), upper.size() * sizeof(double)), 0) << "trial " << trial;
+  }
+  // Both kinds of point were met.
+  EXPECT_GT(inside, points / 10);
+  EXPECT_LT(inside, points - points / 10);
 }
 
 }  // namespace
