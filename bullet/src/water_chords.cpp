@@ -83,18 +83,17 @@ void narrow_sse2(double base, double step, double inv, int n, double* __restrict
 #endif
 
 #if defined(SHORE_CHORDS_AVX)
-/// base + k step of the face whose terms start at `at`, for four points k.
-__attribute__((target("avx"))) inline __m256d rest(const double* at, __m256d k) {
-  return _mm256_add_pd(_mm256_broadcast_sd(at), _mm256_mul_pd(k, _mm256_broadcast_sd(at + 1)));
+/// base + k step for four points k.
+__attribute__((target("avx"))) inline __m256d rest(__m256d base, __m256d step, __m256d k) {
+  return _mm256_add_pd(base, _mm256_mul_pd(k, step));
 }
 
-/// The row by blocks of four points, each block seeing every face with its chord ends held
-/// in registers. The faces go by what they do (each kind in face order): the caps (min into
-/// hi), then the floors (max into lo), then the upright ones; a point's hi sees the caps in
-/// the scalar loop's order, and so does its lo the floors, and an upright face that empties
-/// the point leaves lo = +inf whenever it comes (no later max moves +inf), so the same bits.
-/// The last one to three points by a masked load and store (lanes past the row neither read
-/// nor written).
+/// The row by blocks of eight points, each block seeing every face with its chord ends held
+/// in registers (a face's terms broadcast once for the eight). The faces go by what they do
+/// (each kind in face order): the caps (min into hi), then the floors (max into lo), then
+/// the upright ones; a point's hi sees the caps in the scalar loop's order, and so does its
+/// lo the floors, and an upright face that empties the point leaves lo = +inf whenever it
+/// comes (no later max moves +inf), so the same bits. Points past the row are masked off.
 /// kWiden: a and b are an envelope's lower and upper ends, widened by the chord where the
 /// point is inside (lo < hi: a = min(a, lo), b = max(b, hi), as widen_by_chords says), the
 /// chord itself started at -inf / +inf in registers; else a and b are lo and hi, narrowed.
@@ -113,34 +112,48 @@ __attribute__((target("avx"))) void chord_row_avx(const WorldPlanes& p, double x
     to[0] = base, to[1] = step, to[2] = std::abs(nf.z) < 1e-12 ? 0.0 : 1.0 / nf.z;
     to += 3;
   }
-  const __m256d infinity = _mm256_set1_pd(std::numeric_limits<double>::infinity()), four = _mm256_set1_pd(4.0),
-                count = _mm256_set1_pd(double(n));
-  __m256d k = _mm256_set_pd(3.0, 2.0, 1.0, 0.0);
-  for (int i = 0; i < n; i += 4) {
-    const bool whole = i + 4 <= n;
-    const __m256i inside = _mm256_castpd_si256(_mm256_cmp_pd(k, count, _CMP_LT_OQ));
-    const __m256d a0 = whole ? _mm256_loadu_pd(a + i) : _mm256_maskload_pd(a + i, inside);
-    const __m256d b0 = whole ? _mm256_loadu_pd(b + i) : _mm256_maskload_pd(b + i, inside);
-    __m256d l = kWiden ? _mm256_set1_pd(-std::numeric_limits<double>::infinity()) : a0, h = kWiden ? infinity : b0;
-    for (const double* c = caps; c != cap; c += 3)
-      h = _mm256_min_pd(_mm256_mul_pd(rest(c, k), _mm256_broadcast_sd(c + 2)), h);
-    for (const double* c = floors; c != floor; c += 3)
-      l = _mm256_max_pd(_mm256_mul_pd(rest(c, k), _mm256_broadcast_sd(c + 2)), l);
-    for (const double* c = upright; c != wall; c += 3)
-      l = _mm256_blendv_pd(l, infinity, _mm256_cmp_pd(rest(c, k), _mm256_setzero_pd(), _CMP_LT_OQ));
+  const __m256d infinity = _mm256_set1_pd(std::numeric_limits<double>::infinity()),
+                minus_infinity = _mm256_set1_pd(-std::numeric_limits<double>::infinity()), eight = _mm256_set1_pd(8.0),
+                count = _mm256_set1_pd(double(n)), zero = _mm256_setzero_pd();
+  __m256d k0 = _mm256_set_pd(3.0, 2.0, 1.0, 0.0), k1 = _mm256_set_pd(7.0, 6.0, 5.0, 4.0);
+  for (int i = 0; i < n; i += 8) {
+    const bool second = i + 4 < n;  // the second four has a point in the row
+    const __m256i in0 = _mm256_castpd_si256(_mm256_cmp_pd(k0, count, _CMP_LT_OQ));
+    const __m256i in1 = _mm256_castpd_si256(_mm256_cmp_pd(k1, count, _CMP_LT_OQ));
+    const __m256d a0 = _mm256_maskload_pd(a + i, in0), b0 = _mm256_maskload_pd(b + i, in0);
+    const __m256d a1 = second ? _mm256_maskload_pd(a + i + 4, in1) : zero;
+    const __m256d b1 = second ? _mm256_maskload_pd(b + i + 4, in1) : zero;
+    __m256d l0 = kWiden ? minus_infinity : a0, h0 = kWiden ? infinity : b0;
+    __m256d l1 = kWiden ? minus_infinity : a1, h1 = kWiden ? infinity : b1;
+    for (const double* c = caps; c != cap; c += 3) {
+      const __m256d base = _mm256_broadcast_sd(c), step = _mm256_broadcast_sd(c + 1), inv = _mm256_broadcast_sd(c + 2);
+      h0 = _mm256_min_pd(_mm256_mul_pd(rest(base, step, k0), inv), h0);
+      h1 = _mm256_min_pd(_mm256_mul_pd(rest(base, step, k1), inv), h1);
+    }
+    for (const double* c = floors; c != floor; c += 3) {
+      const __m256d base = _mm256_broadcast_sd(c), step = _mm256_broadcast_sd(c + 1), inv = _mm256_broadcast_sd(c + 2);
+      l0 = _mm256_max_pd(_mm256_mul_pd(rest(base, step, k0), inv), l0);
+      l1 = _mm256_max_pd(_mm256_mul_pd(rest(base, step, k1), inv), l1);
+    }
+    for (const double* c = upright; c != wall; c += 3) {
+      const __m256d base = _mm256_broadcast_sd(c), step = _mm256_broadcast_sd(c + 1);
+      l0 = _mm256_blendv_pd(l0, infinity, _mm256_cmp_pd(rest(base, step, k0), zero, _CMP_LT_OQ));
+      l1 = _mm256_blendv_pd(l1, infinity, _mm256_cmp_pd(rest(base, step, k1), zero, _CMP_LT_OQ));
+    }
     if constexpr (kWiden) {
-      const __m256d covered = _mm256_cmp_pd(l, h, _CMP_LT_OQ);
-      l = _mm256_blendv_pd(a0, _mm256_min_pd(l, a0), covered);
-      h = _mm256_blendv_pd(b0, _mm256_max_pd(h, b0), covered);
+      const __m256d covered0 = _mm256_cmp_pd(l0, h0, _CMP_LT_OQ), covered1 = _mm256_cmp_pd(l1, h1, _CMP_LT_OQ);
+      l0 = _mm256_blendv_pd(a0, _mm256_min_pd(l0, a0), covered0);
+      h0 = _mm256_blendv_pd(b0, _mm256_max_pd(h0, b0), covered0);
+      l1 = _mm256_blendv_pd(a1, _mm256_min_pd(l1, a1), covered1);
+      h1 = _mm256_blendv_pd(b1, _mm256_max_pd(h1, b1), covered1);
     }
-    if (whole) {
-      _mm256_storeu_pd(a + i, l);
-      _mm256_storeu_pd(b + i, h);
-    } else {
-      _mm256_maskstore_pd(a + i, inside, l);
-      _mm256_maskstore_pd(b + i, inside, h);
+    _mm256_maskstore_pd(a + i, in0, l0);
+    _mm256_maskstore_pd(b + i, in0, h0);
+    if (second) {
+      _mm256_maskstore_pd(a + i + 4, in1, l1);
+      _mm256_maskstore_pd(b + i + 4, in1, h1);
     }
-    k = _mm256_add_pd(k, four);
+    k0 = _mm256_add_pd(k0, eight), k1 = _mm256_add_pd(k1, eight);
   }
 }
 
