@@ -1,12 +1,13 @@
 // The vertical chords of a convex polyhedron along a row of points (chord_row,
 // water_shape.h). A floating body's displacement asks them for every sub-sample row under
 // it every substep (a wheel: 34 faces over rows of some 15 points), the largest part of the
-// water coupling's cost, so the points go several to a vector register: four with AVX where
-// the CPU has it, else two with SSE2, else one by one. Each point gets the operations the
-// scalar loop gives it, in its order: rest = base + k step (k exact as a double), z = rest
-// times 1 / n_z, then the min or max with the chord's end so far; IEEE arithmetic rounds
-// each lane as it would alone and min_pd / max_pd pick as the scalar comparisons do
-// (_mm_min_pd(z, h) is z < h ? z : h), so every path gives the same bits.
+// water coupling's cost, so the points go several to a vector register: four with AVX
+// where the CPU has it (two registers a turn), else two with SSE2, else one by one. Each
+// point gets the operations the scalar loop gives it, in its order: rest = base + k step
+// (k exact as a double), z = rest times 1 / n_z, then the min or max with the chord's end
+// so far; IEEE arithmetic rounds each lane as it would alone and min_pd / max_pd pick as
+// the scalar comparisons do (_mm_min_pd(z, h) is z < h ? z : h), so every path gives the
+// same bits.
 #include <algorithm>
 #include <cmath>
 #include <limits>
