@@ -16,7 +16,8 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
-#if (defined(__x86_64__) || defined(__i386__)) && (defined(__GNUC__) || defined(__clang__))
+#if (defined(__x86_64__) || defined(__i386__)) && (defined(__GNUC__) || defined(__clang__)) && \
+    !defined(SHORE_CHORDS_NO_AVX)  // (a test builds the other paths)
 #define SHORE_CHORDS_AVX 1
 #include <immintrin.h>
 #endif
