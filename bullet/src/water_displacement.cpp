@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <utility>
 
 #include "water_coupling_parts.h"
@@ -70,19 +69,17 @@ void envelope_row(const water_detail::WaterShape& shape, const std::vector<Frame
   for (std::size_t p = 0; p < shape.parts.size(); ++p) {
     const Part& part = shape.parts[p];
     if (part.kind == Part::Kind::sampled) continue;  // merged from their raster
-    std::fill(lo.begin(), lo.end(), -std::numeric_limits<double>::infinity());
-    std::fill(hi.begin(), hi.end(), std::numeric_limits<double>::infinity());
     if (part.kind == Part::Kind::polyhedron) {
-      water_detail::chord_row(planes[p], x0, dx, n, y, lo.data(), hi.data());
-    } else {
-      const Vec3 c = frames[p].t;
-      const double ry = part.radius * part.radius - (y - c.y) * (y - c.y);
-      for (int k = 0; k < n; ++k) {
-        const double r2 = ry - (x0 + k * dx - c.x) * (x0 + k * dx - c.x);
-        const double half = r2 > 0.0 ? std::sqrt(r2) : 0.0;
-        lo[std::size_t(k)] = r2 > 0.0 ? c.z - half : 0.0;
-        hi[std::size_t(k)] = r2 > 0.0 ? c.z + half : 0.0;
-      }
+      water_detail::widen_by_chords(planes[p], x0, dx, n, y, lower, upper);
+      continue;
+    }
+    const Vec3 c = frames[p].t;  // a ball: its chord at every point (lo = hi = 0 outside)
+    const double ry = part.radius * part.radius - (y - c.y) * (y - c.y);
+    for (int k = 0; k < n; ++k) {
+      const double r2 = ry - (x0 + k * dx - c.x) * (x0 + k * dx - c.x);
+      const double half = r2 > 0.0 ? std::sqrt(r2) : 0.0;
+      lo[std::size_t(k)] = r2 > 0.0 ? c.z - half : 0.0;
+      hi[std::size_t(k)] = r2 > 0.0 ? c.z + half : 0.0;
     }
     for (int k = 0; k < n; ++k)
       if (lo[std::size_t(k)] < hi[std::size_t(k)]) {

@@ -470,31 +470,6 @@ void world_planes(const Polyhedron& p, const Frame& f, WorldPlanes& out) {
   }
 }
 
-void chord_row(const WorldPlanes& p, double x0, double dx, int n, double y, double* __restrict lo,
-               double* __restrict hi) {
-  for (std::size_t f = 0; f < p.n.size(); ++f) {
-    const Vec3 nf = p.n[f];
-    const double base = p.d[f] - nf.y * y - nf.x * x0, step = -nf.x * dx;  // rest(k) = base + k step: n_z z <= rest
-    if (std::abs(nf.z) < 1e-12) {
-      for (int k = 0; k < n; ++k)
-        if (base + k * step < 0.0) lo[k] = std::numeric_limits<double>::infinity();
-      continue;
-    }
-    const double inv = 1.0 / nf.z;
-    if (nf.z > 0.0) {
-      for (int k = 0; k < n; ++k) {
-        const double z = (base + k * step) * inv;
-        hi[k] = z < hi[k] ? z : hi[k];
-      }
-    } else {
-      for (int k = 0; k < n; ++k) {
-        const double z = (base + k * step) * inv;
-        lo[k] = z > lo[k] ? z : lo[k];
-      }
-    }
-  }
-}
-
 }  // namespace water_detail
 }  // namespace SHORE_BULLET_ABI
 }  // namespace shore::bullet

@@ -127,11 +127,18 @@ double projected_area(const Submerged& s, const WaterPlane& w, Vec3 u);
 struct WorldPlanes {
   std::vector<Vec3> n;
   std::vector<double> d;
+  mutable std::vector<double> row_terms;  ///< scratch of chord_row and widen_by_chords
 };
 void world_planes(const Polyhedron& p, const Frame& f, WorldPlanes& out);
 /// The chords of a row of n points (x0 + k dx, y): lo[k] / hi[k] narrowed by every face
-/// (start them at -inf / +inf); a point outside gets lo >= hi.
+/// (start them at -inf / +inf); a point outside gets lo >= hi. Several points to a vector
+/// register where the CPU has them, the same bits as one by one (water_chords.cpp).
 void chord_row(const WorldPlanes& p, double x0, double dx, int n, double y, double* lo, double* hi);
+/// An envelope row widened by the polyhedron's chords: where a point is inside (its chord
+/// from -inf / +inf narrowed by chord_row has lo < hi), lower = min(lower, lo) and upper =
+/// max(upper, hi); points outside are left alone. The same bits as chord_row and that
+/// merge, with no row of chords in memory where AVX is there.
+void widen_by_chords(const WorldPlanes& p, double x0, double dx, int n, double y, double* lower, double* upper);
 
 }  // namespace water_detail
 }  // namespace SHORE_BULLET_ABI
