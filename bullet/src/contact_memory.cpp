@@ -100,22 +100,28 @@ void ContactMemory::advance(std::span<terrain::ContactElement> elements, const E
     const bool elastic = e.stiffness < kRigid;
     // The spring at the end of the substep: what the column carries on, and where a patch
     // kept for the next substep (follow_drift) starts from. It yields where that reaches
-    // the yield pressure; a column pressed plastically yields.
+    // the yield pressure. A column on its loading branch flows only while the body presses
+    // further into it with its block at its whole capacity: one whose block held below it
+    // carried that share of its yield pressure, and a body sliding along the column's top
+    // (not approaching it) does not compress it further, so neither remoulds its strength
+    // (a box sliding level keeps the soil under it intact; a wheel's front arc, which the
+    // rim approaches, yields). A link's solve is not what its columns carry (the links
+    // solved after it load it through their joints): its pressed columns yield.
     const double spring = elastic ? e.preload + e.stiffness * h * -dot(u, n) : 0.0;
-    const bool yields = !elastic || spring >= e.pressure;
+    const bool own = envelope.index(e.i, e.j) == k;  // a fringe element's column is its covered neighbour's
+    const double share = !elastic && !body.articulated && e.pressure < kRigid ? carried_share(e) : 1.0;
+    const bool held = share < 1.0 - 1e-9;
+    const bool presses = body.articulated || !(e.pressure < kRigid) || -dot(u, n) > 0.0;
+    const bool yields = elastic ? spring >= e.pressure : !held && presses;
     new_shear_.push_back({k, j, length, yields ? length : std::min(length, had ? remould_[k] : 0.0)});
     if (!elastic) {
       // Pressed below its yield pressure, it unloads from what it carried (a yielding one
-      // carried its yield pressure, which bounds its push anyway). A link's solve is not
-      // what its columns carry: the links solved after it load it through their joints.
-      if (!body.articulated && e.pressure < kRigid && envelope.index(e.i, e.j) == k) {
-        const double share = carried_share(e);
-        if (share < 1.0 - 1e-9) new_unloading_.emplace_back(k, e.pressure * share);
-      }
+      // carried its yield pressure, which bounds its push anyway).
+      if (held && own) new_unloading_.emplace_back(k, e.pressure * share);
       continue;
     }
     e.preload = std::clamp(spring, 0.0, e.pressure);
-    if (envelope.index(e.i, e.j) == k) new_unloading_.emplace_back(k, e.preload);  // its own column (a fringe's is not)
+    if (own) new_unloading_.emplace_back(k, e.preload);
   }
   // Back to fresh: only the entries touched last substep, when the arrays fit; else all.
   if (had) {

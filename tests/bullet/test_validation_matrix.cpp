@@ -1,9 +1,10 @@
 // A sample of the validation matrix (scenes/validation_matrix.h; the whole of it is
 // shore-bench --only matrix): one case per family on two of Wong's soils (dry sand and
 // LETE sand; the slope box on dry sand and snow, where it meets Wong's sliding block on
-// Janosi-Hanamoto soil: on the other soils the sliding boxes' second halves are 12 % to 34 %
-// fast, docs/terrain.md, "Validation matrix"), each cell within its tolerance of its outside
-// reference (Bekker, Wong-Reece, Wong's sliding block, the energy balance).
+// Janosi-Hanamoto soil: on some other soils the sliding boxes still miss it, mud's second
+// half by up to 54 %, docs/terrain.md, "Validation matrix"), each cell within its
+// tolerance of its outside reference (Bekker, Wong-Reece, Wong's sliding block, the energy
+// balance).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -77,6 +78,26 @@ TEST(ValidationMatrixSlopeBox, ASlidingBoxKeepsTheStrengthOfTheSoilThatCarriesIt
   EXPECT_LE(std::abs(second.error), second.tolerance)
       << "measured " << second.measured << " m/s^2, Coulomb " << second.reference << ", error " << second.error << " ("
       << second.error_kind << ")";
+}
+
+// A box sliding level does not press the columns under it any further, and the solve
+// holds its blocks below their capacity: those columns do not flow and keep their strength
+// (the remould displacement grows only where the body presses further into a column whose
+// block pushes with its whole capacity, or an elastic column reaches its yield pressure).
+// Counting every column on its loading branch as yielding took up to remould_shear_ratio
+// (22 %) of the strength from the soil under the box: on clayey soil 38 % at phi + 7
+// degrees its second half slid 34 % faster than Wong's sliding block (13 % with only the
+// held blocks' columns kept; now 8 %; docs/terrain.md, "Validation matrix").
+TEST(ValidationMatrixSlopeBox, ColumnsTheBoxDoesNotPressFurtherKeepTheirStrength) {
+  const MatrixCase c = find_case("clayey soil 38 %", "slope box", "phi + 7");
+  if (c.family.empty()) return;
+  const auto cells = shore::scenes::run_matrix_case(c);
+  ASSERT_EQ(cells.size(), 2u);
+  const MatrixCell& second = cells[1];
+  ASSERT_EQ(second.quantity, "acceleration, second half");
+  ASSERT_EQ(second.error_kind, "relative");
+  EXPECT_LE(std::abs(second.error), second.tolerance)
+      << "measured " << second.measured << " m/s^2, reference " << second.reference;
 }
 
 // The towed wheel is judged against Bekker's pressure over the circular front arc solved
