@@ -33,6 +33,16 @@ terrain::Material wong_soil(const std::string& name, double n, double kc, double
   return m;
 }
 
+/// `m` without an unloading branch, as the clay preset (mud) has. Sand's A_u on a soil whose
+/// Bekker pressure at a few cm is fifty times sand's puts every relieved column at the
+/// floor p / z (A_u z^2 < p), where it springs back its whole sinkage: heavy clay's driven
+/// wheel then rode on a rear arc as long as its front one (docs/terrain.md, "Validation
+/// matrix"). Clay's compaction is plastic; Wong's table gives no A_u for it.
+terrain::Material rigid_plastic(terrain::Material m) {
+  m.unload_modulus = 0.0;
+  return m;
+}
+
 /// A number as %g prints it: "0.2", "20", "1.5".
 std::string num(double v) {
   char buf[32];
@@ -252,7 +262,7 @@ std::vector<MatrixSoil> matrix_soils() {
        false},
       {"clayey soil 55 % (mud)", Material::mud(), {80e3, 150e3}, {3000, 8000}, 3000, 0.0, true},
       {"heavy clay 25 %",
-       wong_soil("heavy clay 25 %", 0.13, 12.70, 1555.95, 68.95, 34, 0.01),
+       rigid_plastic(wong_soil("heavy clay 25 %", 0.13, 12.70, 1555.95, 68.95, 34, 0.01)),
        {900e3, 1100e3},
        {40e3, 60e3},
        30e3,
