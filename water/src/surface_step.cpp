@@ -5,6 +5,9 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "shore/core/error.h"
 #include "shore/water/stability.h"
@@ -28,24 +31,55 @@ template <class V>
 void copy_edge(const std::vector<V>* edge, std::size_t first, int count, V* to, std::ptrdiff_t step) {
   // The test out of the loop, and rows as plain copies: this ran once per entry, per ghost
   // and component, for every tile and substep.
-  if (!edge) {
+  // Columns (step > 1) unrolled: at -O2 their loops paid an increment, a compare and a
+  // branch per entry.
+  if (!edge && step == 1) {
+    std::fill_n(to, count, V{});
+  } else if (!edge) {
+#pragma GCC unroll 4
     for (int k = 0; k < count; ++k) to[k * step] = V{};
   } else if (step == 1) {
     std::copy_n(edge->data() + first, count, to);
   } else {
     const V* from = edge->data() + first;
+#pragma GCC unroll 4
     for (int k = 0; k < count; ++k) to[k * step] = from[k];
   }
 }
 
-// The largest steps between a side's ghosts (a[q * as]) and the tile's nodes their springs
-// reach (b[q * bs]), a loop per component with its test out of it (this ran per ghost, with
-// a test of the mode per entry, on every side of every tile each substep). Max of
-// non-negative values is exact in any order; a NaN entry is skipped as before.
-double largest_step(const double* a, std::ptrdiff_t as, const double* b, std::size_t bs, int count) {
+// The largest steps between a side's ghosts (a[q], the neighbour's edge snapshot as stored,
+// contiguous for every side; null: zeros, a tile not created) and the tile's nodes their
+// springs reach (b[q], its own snapshot). Max of non-negative values is exact in any order
+// and a NaN entry is skipped (max keeps its first operand), so the lanes below, each
+// skipping NaN the same way and merged at the end, give the sequential loop's value: this
+// ran over every side of every awake tile each substep, a scalar max and a test per entry.
+template <bool kGhosts>
+double largest_step_of(const double* a, const double* b, int count) {
   double m = 0.0;
-  for (int q = 0; q < count; ++q) m = std::max(m, std::abs(a[q * as] - b[static_cast<std::size_t>(q) * bs]));
+  int q = 0;
+#if defined(__SSE2__)
+  const __m128d sign = _mm_set1_pd(-0.0);
+  __m128d m0 = _mm_setzero_pd(), m1 = _mm_setzero_pd();
+  for (; q + 4 <= count; q += 4) {
+    __m128d d0 = _mm_loadu_pd(b + q), d1 = _mm_loadu_pd(b + q + 2);
+    if constexpr (kGhosts) {
+      d0 = _mm_sub_pd(_mm_loadu_pd(a + q), d0);
+      d1 = _mm_sub_pd(_mm_loadu_pd(a + q + 2), d1);
+    }
+    // max_pd(d, m) is d > m ? d : m: m where d is NaN, as std::max(m, d).
+    m0 = _mm_max_pd(_mm_andnot_pd(sign, d0), m0);
+    m1 = _mm_max_pd(_mm_andnot_pd(sign, d1), m1);
+  }
+  alignas(16) double lanes[4];
+  _mm_store_pd(lanes, m0);
+  _mm_store_pd(lanes + 2, m1);
+  for (const double l : lanes) m = std::max(m, l);
+#endif
+  for (; q < count; ++q) m = std::max(m, std::abs((kGhosts ? a[q] : 0.0) - b[q]));
   return m;
+}
+double largest_step(const double* a, const double* b, int count) {
+  return a ? largest_step_of<true>(a, b, count) : largest_step_of<false>(a, b, count);
 }
 /// The same for the in-plane components: max over entries of max(|dx|, |dy|).
 float largest_step_xy(const float* ax, const float* ay, std::ptrdiff_t as, const float* bx, const float* by,
@@ -179,7 +213,7 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
     k.boundary_activity[g.side] = 0.0;
     if (k.sides[g.side] == kernel::Side::absent) continue;
     // The steps across this side: a tile at rest next to water at another level is not at rest.
-    double step = largest_step(bz + g.at, g.step, mine.z.data() + g.own, 1, g.count);
+    double step = largest_step(e ? e->z.data() + first : nullptr, mine.z.data() + g.own, g.count);
     if (full)
       step = std::max(step, static_cast<double>(largest_step_xy(bx + g.at, by + g.at, g.step, mine.x.data() + g.own,
                                                                 mine.y.data() + g.own, 1, g.count)));
