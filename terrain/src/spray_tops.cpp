@@ -129,12 +129,4 @@ bool SoilTops::untiled(const GridRect& r) const {
   return true;
 }
 
-void SoilTops::raised(std::int64_t i, std::int64_t j, double height) {
-  if (!std::isnan(ceiling_)) ceiling_ = std::max(ceiling_, height);
-  const std::int64_t x = (i >> shift_) - bx0_, y = (j >> shift_) - by0_;
-  if (x < 0 || y < 0 || x >= nbx_ || y >= nby_) return;
-  double& b = block_[static_cast<std::size_t>(y * nbx_ + x)];
-  if (!std::isnan(b)) b = std::max(b, height);
-}
-
 }  // namespace shore::terrain
