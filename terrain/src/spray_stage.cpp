@@ -197,11 +197,18 @@ void Spray::settle(SprayGround& ground, const TerrainSettings& s, std::span<cons
   for (const Drop& d : drops_) drop(ground, d);
   drops_.clear();
   const bool map = !flight_by_index_.empty();
+  // A piece's candidates come one after another: its material and speed ratio once for them.
+  std::size_t last = shed_.pieces.size();
+  const SprayMaterial* m = nullptr;
+  double ratio = 0.0;
   for (const Candidate& c : shed_.candidates) {
     const ShedPiece& piece = shed_.pieces[c.piece];
-    const SprayMaterial& m = map ? palette[piece.material].spray : s.material.spray;
-    const double ratio = piece.speed / m.speed_scale;
-    const bool flies = ratio >= 1.0 || det::pow(ratio, m.exponent) > c.chance;
+    if (c.piece != last) {
+      last = c.piece;
+      m = map ? &palette[piece.material].spray : &s.material.spray;
+      ratio = piece.speed / m->speed_scale;
+    }
+    const bool flies = ratio >= 1.0 || det::pow(ratio, m->exponent) > c.chance;
     if (!flies || state.particles.size() >= static_cast<std::size_t>(s.spray.max_particles)) {
       ++(flies ? state.counts.limited : state.counts.clumps);
       drop(ground, {c.x, c.y, c.volume});
