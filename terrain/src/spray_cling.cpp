@@ -176,8 +176,7 @@ void Cling::set_down(ClingCell& c, const Vec3& p, std::vector<Drop>& drops) {
   c.volume = c.owed = c.pending = 0.0;
 }
 
-void Cling::shed(std::uint64_t body_key, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
-                 std::vector<Candidate>& candidates) {
+void Cling::shed(std::uint64_t body_key, ClingCell& c, const BodyMotion& m, const ClingRules& rules, Shed& out) {
   if (!(c.volume > 0.0)) return;
   const MaterialRules& mr = rules.of(c.material);
   const CounterRandom rnd = CounterRandom::of_piece(body_key, c.key);
@@ -190,30 +189,25 @@ void Cling::shed(std::uint64_t body_key, ClingCell& c, const BodyMotion& m, cons
   // Most steps a piece sheds nothing (neither a whole particle nor its last half): it then
   // needs no more than this.
   if (!(0.0 < whole) && !(c.volume < 0.5 * vp)) return;
-  emit(rnd, whole, c, m, rules, mr, candidates);
+  emit(rnd, whole, c, m, rules, mr, out);
 }
 
 void Cling::emit(const CounterRandom& rnd, double whole, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
-                 const MaterialRules& mr, std::vector<Candidate>& candidates) {
+                 const MaterialRules& mr, Shed& out) {
   // Where the piece is and how fast it moves, once for all its candidates.
   const Vec3 p = m.to_world(c.local), u = m.velocity_at(p);
   const double speed = length(u);
   const double half = 0.5 * rules.cell;
+  const std::size_t piece = out.pieces.size();
+  out.pieces.push_back({rnd, p, u, speed, half, mr.jitter * speed, c.material});
   std::uint64_t n = 0;
-  auto one = [&](double volume) {
+  // Inline (an attribute GCC and Clang read): a call per candidate cost as much as its body.
+  auto one = [&](double volume) __attribute__((always_inline)) {
     const double flight = rules.dt * (1.0 - rnd.uniform(n, 0));  // created at a random time in the step
-    Candidate& k = candidates.emplace_back();
-    Particle& s = k.start;
-    s.position.x = p[0] - u[0] * flight + half * rnd.symmetric(n, 1);
-    s.position.y = p[1] - u[1] * flight + half * rnd.symmetric(n, 2);
-    s.volume = volume;  // z and the velocity: drawn by launched() if it flies
-    k.random = rnd, k.index = n;
-    k.z_before = p[2] - u[2] * flight, k.half = half;
-    k.jitter = mr.jitter * speed, k.piece_velocity = u;
-    k.flight = flight;
-    k.speed = speed;
-    k.chance = rnd.uniform(n, 7);
-    k.material = c.material;
+    const double x = p[0] - u[0] * flight + half * rnd.symmetric(n, 1);
+    const double y = p[1] - u[1] * flight + half * rnd.symmetric(n, 2);
+    // z and the velocity: drawn by launched() if it flies
+    out.candidates.push_back({x, y, volume, flight, rnd.uniform(n, 7), n, piece});
     c.volume -= volume;
     ++n;
   };
@@ -236,8 +230,8 @@ bool Cling::can_start(const Imprint& im, const SprayGround& ground, const ClingR
   return v + (spin > 0.0 ? spin * std::sqrt(reach_squared(im, ground)) : 0.0) >= rules.least_min_speed;
 }
 
-double Cling::step(ClingingBody& body, const Imprint& im, SprayGround& ground, const ClingRules& rules,
-                   std::vector<Candidate>& candidates, std::vector<Drop>& drops) {
+double Cling::step(ClingingBody& body, const Imprint& im, SprayGround& ground, const ClingRules& rules, Shed& out,
+                   std::vector<Drop>& drops) {
   if (body.cells.empty() && !can_start(im, ground, rules)) return 0.0;
   const BodyMotion m(im);
   touch(body, im, m, ground, rules, drops);
@@ -262,7 +256,7 @@ double Cling::step(ClingingBody& body, const Imprint& im, SprayGround& ground, c
       picked += taken;
       c.pending = 0.0;
     }
-    shed(body_key, c, m, rules, candidates);
+    shed(body_key, c, m, rules, out);
   }
   std::erase_if(body.cells, [](const ClingCell& c) { return !(c.volume > 0.0) && !(c.pending > 0.0); });
   body.centre = m.c;

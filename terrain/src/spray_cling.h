@@ -27,6 +27,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -68,33 +69,49 @@ struct ClingRules {
   std::int64_t step = 0;
 };
 
+/// What a piece that sheds this step gives each of its candidates, kept once for them all.
+struct ShedPiece {
+  CounterRandom random;       ///< its numbers
+  Vec3 position;              ///< m, where it is at the step's end
+  Vec3 velocity;              ///< m/s, u = v + w x r
+  double speed = 0.0;         ///< m/s, |u| (Sumner's |p0'|)
+  double half = 0.0;          ///< m, half a column: the spread of its candidates' starts
+  double jitter = 0.0;        ///< m/s, the spread of their velocities: jitter * speed
+  std::uint8_t material = 0;  ///< its palette index
+};
+
 /// A particle a piece sheds, before Sumner's speed test. Most candidates do not fly (they
 /// fail the test, or the spray holds its most particles) and are set down where they are:
 /// their height and velocity, four of their eight random draws, are drawn only by
-/// launched(), the same numbers as when drawn at once.
+/// launched(), the same numbers as when drawn at once. What its piece gives it is in the
+/// piece's ShedPiece, so that each candidate written and read is small.
 struct Candidate {
-  Particle start;             ///< at its creation time: x, y and volume (launched() gives the rest)
-  double flight = 0.0;        ///< s of the step left after its creation
-  double speed = 0.0;         ///< m/s, |v + w x r| of its piece (Sumner's |p0'|)
-  double chance = 0.0;        ///< the uniform number in [0, 1) its speed test must beat
-  std::uint8_t material = 0;  ///< its palette index (its piece's)
-  // What launched() draws from:
-  CounterRandom random;     ///< its piece's numbers
+  double x = 0.0, y = 0.0;  ///< m, where it starts (at its creation time)
+  double volume = 0.0;      ///< m^3
+  double flight = 0.0;      ///< s of the step left after its creation
+  double chance = 0.0;      ///< the uniform number in [0, 1) its speed test must beat
   std::uint64_t index = 0;  ///< its number among its piece's candidates
-  double z_before = 0.0;    ///< m, its height before the spread: z - u_z flight
-  double half = 0.0;        ///< m, half a column: the spread of its start
-  double jitter = 0.0;      ///< m/s, the spread of its velocity: jitter * speed
-  Vec3 piece_velocity;      ///< m/s, u of its piece
+  std::size_t piece = 0;    ///< its piece, in Shed::pieces
 
-  /// The particle as it flies: start with its height and velocity drawn.
-  [[nodiscard]] Particle launched() const {
-    Particle s = start;
-    s.position.z = z_before + half * random.symmetric(index, 3);
-    s.velocity.x = piece_velocity[0] + jitter * random.symmetric(index, 4);
-    s.velocity.y = piece_velocity[1] + jitter * random.symmetric(index, 5);
-    s.velocity.z = piece_velocity[2] + jitter * random.symmetric(index, 6);
+  /// The particle as it flies (`from`: its piece): its height and velocity drawn.
+  [[nodiscard]] Particle launched(const ShedPiece& from) const {
+    Particle s;
+    s.position.x = x, s.position.y = y;
+    s.volume = volume;
+    const double z_before = from.position[2] - from.velocity[2] * flight;  // its height before the spread
+    s.position.z = z_before + from.half * from.random.symmetric(index, 3);
+    s.velocity.x = from.velocity[0] + from.jitter * from.random.symmetric(index, 4);
+    s.velocity.y = from.velocity[1] + from.jitter * from.random.symmetric(index, 5);
+    s.velocity.z = from.velocity[2] + from.jitter * from.random.symmetric(index, 6);
     return s;
   }
+};
+
+/// The candidates of a body's step, in order, and the pieces they come from.
+struct Shed {
+  std::vector<ShedPiece> pieces;
+  std::vector<Candidate> candidates;
+  void clear() { pieces.clear(), candidates.clear(); }
 };
 
 /// Soil that goes straight down onto the column below a point (set down, or a candidate
@@ -127,8 +144,8 @@ class Cling {
   /// One body's step: touch, set down, leave and shed (candidates and drops appended in a
   /// fixed order). Returns the m^3 picked up (carried away from the ground). A body with no clinging soil that cannot
   /// move at min_speed anywhere under its envelope costs one pass over the envelope.
-  double step(ClingingBody& body, const Imprint& im, SprayGround& ground, const ClingRules& rules,
-              std::vector<Candidate>& candidates, std::vector<Drop>& drops);
+  double step(ClingingBody& body, const Imprint& im, SprayGround& ground, const ClingRules& rules, Shed& out,
+              std::vector<Drop>& drops);
   /// Whether some point of the body's envelope moves at min_speed or more (|v| + |w| times
   /// its reach from the centre): if not, a body holding no soil has nothing to do.
   static bool can_start(const Imprint& im, const SprayGround& ground, const ClingRules& rules);
@@ -144,12 +161,11 @@ class Cling {
   /// The piece's soil straight down below p, at once; the piece then holds nothing.
   void set_down(ClingCell& c, const Vec3& p, std::vector<Drop>& drops);
   /// `body_key`: CounterRandom::body_key of the body's (seed, step, body).
-  void shed(std::uint64_t body_key, ClingCell& cell, const BodyMotion& m, const ClingRules& rules,
-            std::vector<Candidate>& candidates);
+  void shed(std::uint64_t body_key, ClingCell& cell, const BodyMotion& m, const ClingRules& rules, Shed& out);
   /// The candidates of a piece that sheds this step: `whole` particles, and the rest if less
   /// than half a particle is left.
   static void emit(const CounterRandom& rnd, double whole, ClingCell& c, const BodyMotion& m, const ClingRules& rules,
-                   const MaterialRules& mr, std::vector<Candidate>& candidates);
+                   const MaterialRules& mr, Shed& out);
   /// The piece of this key, among the body's pieces or those first touched this step.
   ClingCell* piece(ClingingBody& body, std::uint64_t key);
   /// Puts the pieces first touched this step into the body's list, which stays sorted by key.

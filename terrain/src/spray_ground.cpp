@@ -39,43 +39,32 @@ double SprayGround::height_looked_up(std::int64_t i, std::int64_t j) const {
   return t->height[static_cast<std::size_t>((j - last_j0_) * n_ + (i - last_i0_))];
 }
 
-Tile& SprayGround::changed_tile(const TileKey& key) {
-  // The same tile as the last: store_.tile() would find it and set its last use to this
-  // step's tick again (the tick does not move during a spray step, nor is a tile released).
-  if (changed_ != nullptr && changed_key_ == key) return *changed_;
-  changed_ = &store_.tile(key);
-  changed_key_ = key;
-  return *changed_;
+SprayGround::ChangedTile& SprayGround::changed_tile_looked_up(const TileKey& key, ChangedTile& c) {
+  // A tile kept in another slot before: store_.tile() finds it and sets its last use to
+  // this step's tick again (the tick does not move during a spray step, nor is a tile
+  // released); its box starts empty again, which only costs a call.
+  c = ChangedTile{key, &store_.tile(key)};
+  return c;
 }
 
-double SprayGround::set(std::int64_t i, std::int64_t j, const TileKey& key, Tile& t, std::size_t k, double height) {
-  const double before = t.height[k];
-  if (height == before) return 0.0;
-  t.height[k] = height;
-  const double moved = height - before;
-  t.sinkage[k] -= std::abs(moved);
-  const int li = static_cast<int>(i - key.tx * n_), lj = static_cast<int>(j - key.ty * n_);
-  if (moved > 0.0) tops_.raised(i, j, height);
-  store_.mark_changed(key, t, {li, lj, 1, 1});
-  return moved * area_;
+void SprayGround::mark_new(ChangedTile& c, int li, int lj) {
+  store_.mark_changed(c.key, *c.tile, {li, lj, 1, 1});
+  if (c.i1 < c.i0) {
+    c.i0 = c.i1 = li, c.j0 = c.j1 = lj;
+    return;
+  }
+  c.i0 = std::min(c.i0, li), c.i1 = std::max(c.i1, li);
+  c.j0 = std::min(c.j0, lj), c.j1 = std::max(c.j1, lj);
 }
 
 double SprayGround::take(std::int64_t i, std::int64_t j, double depth) {
   if (!(depth > 0.0)) return 0.0;
-  const TileKey key = index_.key_of(i, j);
-  Tile& t = changed_tile(key);
+  ChangedTile& c = changed_tile(index_.key_of(i, j));
+  const Tile& t = *c.tile;
   const std::size_t k = index_.local(i, j);
   const double top = t.height[k], bed = t.base[k] - (depth_.uniform() ? soil_depth_ : depth_.at(t.material, k));
   if (!(top > bed)) return 0.0;
-  return -set(i, j, key, t, k, std::max(top - depth, bed));
-}
-
-double SprayGround::lay(std::int64_t i, std::int64_t j, double volume) {
-  if (!(volume > 0.0)) return 0.0;
-  const TileKey key = index_.key_of(i, j);
-  Tile& t = changed_tile(key);
-  const std::size_t k = index_.local(i, j);
-  return set(i, j, key, t, k, t.height[k] + volume / area_);
+  return -set(i, j, c, k, std::max(top - depth, bed));
 }
 
 }  // namespace shore::terrain

@@ -73,13 +73,45 @@ class SprayGround {
   /// (what the column's height actually lost, times cell^2).
   double take(std::int64_t i, std::int64_t j, double depth);
   /// Lays `volume` m^3 onto the column; returns the m^3 its height actually gained.
-  double lay(std::int64_t i, std::int64_t j, double volume);
+  /// Inline: every grain set down or landed comes here (millions a run in the rally scene).
+  double lay(std::int64_t i, std::int64_t j, double volume) {
+    if (!(volume > 0.0)) return 0.0;
+    ChangedTile& c = changed_tile(index_.key_of(i, j));
+    const std::size_t k = index_.local(i, j);
+    return set(i, j, c, k, c.tile->height[k] + volume / area_);
+  }
 
  private:
-  /// Sets the column's height (in its tile t of this key, at local index k), lowers its
-  /// sinkage by the height moved and marks it changed; returns the m^3 the height moved by
-  /// (signed).
-  double set(std::int64_t i, std::int64_t j, const TileKey& key, Tile& t, std::size_t k, double height);
+  /// A tile take() or lay() changed during this step, with the box (tile-local columns) of
+  /// those marked changed in it so far: the store's pending rectangle and this generation's
+  /// log entry of the tile both hold that box (each mark_changed leaves both holding its
+  /// column, they only widen, and neither the generation nor a tile's marks are taken
+  /// during a spray step), so a column inside it needs no call: mark_changed would return
+  /// at once.
+  struct ChangedTile {
+    TileKey key;
+    Tile* tile = nullptr;
+    int i0 = 0, j0 = 0, i1 = -1, j1 = -1;  ///< the box marked, inclusive; empty: i1 < i0
+  };
+  /// Sets the column's height (in its changed tile c, at local index k), lowers its sinkage
+  /// by the height moved and marks it changed; returns the m^3 the height moved by (signed).
+  double set(std::int64_t i, std::int64_t j, ChangedTile& c, std::size_t k, double height) {
+    Tile& t = *c.tile;
+    const double before = t.height[k];
+    if (height == before) return 0.0;
+    t.height[k] = height;
+    const double moved = height - before;
+    t.sinkage[k] -= std::abs(moved);
+    if (moved > 0.0) tops_.raised(i, j, height);
+    mark(c, static_cast<int>(i - c.key.tx * n_), static_cast<int>(j - c.key.ty * n_));
+    return moved * area_;
+  }
+  /// store_.mark_changed for one column, unless the tile's box already holds it.
+  void mark(ChangedTile& c, int li, int lj) {
+    if (li >= c.i0 && li <= c.i1 && lj >= c.j0 && lj <= c.j1) return;
+    mark_new(c, li, lj);
+  }
+  void mark_new(ChangedTile& c, int li, int lj);
   /// The columns whose quotients (x - origin) / cell truncate to those of the box's
   /// corners, widened by `margin`: {i0, j0, i1, j1}. False if the box is too far out.
   /// By a multiplication (within a few ulps of the division column_i makes): truncated, each
@@ -94,9 +126,15 @@ class SprayGround {
     c[2] = static_cast<std::int64_t>(qx1) + margin, c[3] = static_cast<std::int64_t>(qy1) + margin;
     return true;
   }
-  /// store_.tile(key), the tile made if there is none yet; the last one kept: landings and
-  /// soil set down come in runs on one tile.
-  Tile& changed_tile(const TileKey& key);
+  /// store_.tile(key), the tile made if there is none yet; kept in changed_ by the low
+  /// bits of its key: landings and soil set down come in runs on a few tiles (each wheel's).
+  ChangedTile& changed_tile(const TileKey& key) {
+    ChangedTile& c = changed_[seen_slot(key)];
+    if (c.tile != nullptr && c.key == key) return c;
+    return changed_tile_looked_up(key, c);
+  }
+  /// Fills slot c with the tile of this key (box empty).
+  ChangedTile& changed_tile_looked_up(const TileKey& key, ChangedTile& c);
   /// height() through the tile store, keeping the tile found.
   double height_looked_up(std::int64_t i, std::int64_t j) const;
   /// nearest(d / cell_) by a multiplication where that gives the same integer: d * (1 /
@@ -144,8 +182,9 @@ class SprayGround {
   std::int64_t n_;
   mutable const Tile* last_ = nullptr;
   mutable std::int64_t last_i0_ = 0, last_j0_ = 0;  ///< last_'s first column
-  Tile* changed_ = nullptr;                         ///< the tile take() or lay() changed last, of key changed_key_
-  TileKey changed_key_;
+  /// Tiles take() or lay() changed this step (tiles are never released during a spray step,
+  /// and stay where they are when others are made).
+  std::array<ChangedTile, 16> changed_{};
   double cell_, inverse_cell_, area_, origin_x_, origin_y_, soil_depth_;
   BedrockDepth depth_;
   double x_min_, x_max_, y_min_, y_max_;

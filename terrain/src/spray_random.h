@@ -48,17 +48,20 @@ class CounterRandom {
   }
   /// In [0, 1), 53 random bits.
   [[nodiscard]] double uniform(std::uint64_t candidate, std::uint64_t draw) const noexcept {
-    const std::uint64_t counter = candidate * 16u + draw;
-    const std::uint64_t bits = mix64(key_ ^ (counter < kMixedCounters ? kMixedCounter[counter] : mix64(counter)));
-    return static_cast<double>(bits >> 11) * 0x1.0p-53;
+    return static_cast<double>(bits(candidate, draw) >> 11) * 0x1.0p-53;
   }
-  /// In [-1, 1).
+  /// In [-1, 1): 2 uniform - 1, with 2 (b 2^-53) as b 2^-52 (both exact: b < 2^53).
   [[nodiscard]] double symmetric(std::uint64_t candidate, std::uint64_t draw) const noexcept {
-    return 2.0 * uniform(candidate, draw) - 1.0;
+    return static_cast<double>(bits(candidate, draw) >> 11) * 0x1.0p-52 - 1.0;
   }
 
  private:
   explicit CounterRandom(std::uint64_t key) noexcept : key_(key) {}
+  /// The 64 random bits of (candidate, draw).
+  [[nodiscard]] std::uint64_t bits(std::uint64_t candidate, std::uint64_t draw) const noexcept {
+    const std::uint64_t counter = candidate * 16u + draw;
+    return mix64(key_ ^ (counter < kMixedCounters ? kMixedCounter[counter] : mix64(counter)));
+  }
   std::uint64_t key_ = 0;
 };
 

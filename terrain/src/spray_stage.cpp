@@ -180,7 +180,7 @@ void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, std::span<c
     ClingingBody body;
     body.key = im.key;
     if (b < old.size() && old[b].key == im.key) body = std::move(old[b++]);
-    const double picked = cling_.step(body, im, ground, r, candidates_, drops_);
+    const double picked = cling_.step(body, im, ground, r, shed_, drops_);
     report.picked_volume += picked;
     state.counts.picked_volume += picked;
     settle(ground, s, palette, rules, report);
@@ -197,34 +197,42 @@ void Spray::settle(SprayGround& ground, const TerrainSettings& s, std::span<cons
   for (const Drop& d : drops_) drop(ground, d);
   drops_.clear();
   const bool map = !flight_by_index_.empty();
-  for (const Candidate& c : candidates_) {
-    const SprayMaterial& m = map ? palette[c.material].spray : s.material.spray;
-    const double ratio = c.speed / m.speed_scale;
-    const bool flies = ratio >= 1.0 || det::pow(ratio, m.exponent) > c.chance;
+  // A piece's candidates come one after another: its material and speed ratio once for them.
+  std::size_t last = shed_.pieces.size();
+  const SprayMaterial* m = nullptr;
+  double ratio = 0.0;
+  for (const Candidate& c : shed_.candidates) {
+    const ShedPiece& piece = shed_.pieces[c.piece];
+    if (c.piece != last) {
+      last = c.piece;
+      m = map ? &palette[piece.material].spray : &s.material.spray;
+      ratio = piece.speed / m->speed_scale;
+    }
+    const bool flies = ratio >= 1.0 || det::pow(ratio, m->exponent) > c.chance;
     if (!flies || state.particles.size() >= static_cast<std::size_t>(s.spray.max_particles)) {
       ++(flies ? state.counts.limited : state.counts.clumps);
-      drop(ground, {c.start.position.x, c.start.position.y, c.start.volume});
+      drop(ground, {c.x, c.y, c.volume});
       continue;
     }
-    Particle p = c.launched();
+    Particle p = c.launched(piece);
     ++state.counts.created;
     ++report.particles_created;
-    const FlightEnd end = fly(p, c.flight, ground, flight_rules(rules, c.material));
+    const FlightEnd end = fly(p, c.flight, ground, flight_rules(rules, piece.material));
     if (end.fate == FlightEnd::Fate::flying) {
       state.particles.push_back(p);
-      if (map) state.particle_materials.push_back(c.material);
+      if (map) state.particle_materials.push_back(piece.material);
     } else {
       land(ground, p, end, report);
     }
   }
-  candidates_.clear();
+  shed_.clear();
 }
 
 std::size_t Spray::bytes() const {
   std::size_t clocks = capacity_bytes(clocks_, flight_by_index_);
   for (const SampleClock& c : clocks_) clocks += c.bytes();
   return state.bytes() + cling_.bytes() + clock_.bytes() + clocks +
-         capacity_bytes(candidates_, drops_, order_, next_bodies_);
+         capacity_bytes(shed_.pieces, shed_.candidates, drops_, order_, next_bodies_);
 }
 
 }  // namespace shore::terrain

@@ -7,6 +7,10 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define SHORE_SPRAY_TOPS_AVX 1
+#endif
 
 namespace shore::terrain {
 
@@ -32,13 +36,40 @@ double SoilTops::compute_ceiling(std::int64_t most_columns) const {
 
 namespace {
 
+#if defined(SHORE_SPRAY_TOPS_AVX)
+/// highest() of a width that is a multiple of 8 with four lanes to a register (AVX): the
+/// same eight running maxima, each over the same heights in the same order, reduced in the
+/// same order, so the same value, in about half the instructions of the SSE2 loop (a
+/// block's bound reads its 64 to 4096 heights each step).
+__attribute__((target("avx"))) double highest_avx(const double* first, std::size_t stride, int width, int rows) {
+  const __m256d lowest = _mm256_set1_pd(-std::numeric_limits<double>::infinity());
+  __m256d m0 = lowest, m1 = lowest;
+  for (int y = 0; y < rows; ++y) {
+    const double* row = first + static_cast<std::size_t>(y) * stride;
+    for (int x = 0; x < width; x += 8) {  // _mm256_max_pd(a, b): a > b ? a : b, as _mm_max_pd
+      m0 = _mm256_max_pd(_mm256_loadu_pd(row + x), m0);
+      m1 = _mm256_max_pd(_mm256_loadu_pd(row + x + 4), m1);
+    }
+  }
+  double lane[8];
+  _mm256_storeu_pd(lane, m0), _mm256_storeu_pd(lane + 4, m1);
+  double top = -std::numeric_limits<double>::infinity();
+  for (const double l : lane) top = l > top ? l : top;
+  return top;
+}
+#endif
+
 /// The highest of `rows` rows of `width` heights starting `stride` apart. Where width is a
 /// multiple of 8: eight running maxima side by side (two to a vector register where SSE2
-/// is there), then the highest of those. The maximum is exact whatever the grouping (a NaN
+/// is there, four where the CPU has AVX), then the highest of those. The maximum is exact whatever the grouping (a NaN
 /// is skipped as before); only which of two equal zeros is kept may differ, and the bound
 /// is only ever compared.
 double highest(const double* first, std::size_t stride, int width, int rows) {
   constexpr int kLanes = 8;
+#if defined(SHORE_SPRAY_TOPS_AVX)
+  static const bool avx = __builtin_cpu_supports("avx");
+  if (avx && width % kLanes == 0) return highest_avx(first, stride, width, rows);
+#endif
   double top = -std::numeric_limits<double>::infinity();
   if (width % kLanes != 0) {  // a piece of a block over a tile whose side is not a multiple of 8
     for (int y = 0; y < rows; ++y) {
@@ -127,14 +158,6 @@ bool SoilTops::untiled(const GridRect& r) const {
     for (std::int64_t tx = first.tx; tx <= last.tx; ++tx)
       if (store_.find(TileKey{tx, ty}) != nullptr) return false;
   return true;
-}
-
-void SoilTops::raised(std::int64_t i, std::int64_t j, double height) {
-  if (!std::isnan(ceiling_)) ceiling_ = std::max(ceiling_, height);
-  const std::int64_t x = (i >> shift_) - bx0_, y = (j >> shift_) - by0_;
-  if (x < 0 || y < 0 || x >= nbx_ || y >= nby_) return;
-  double& b = block_[static_cast<std::size_t>(y * nbx_ + x)];
-  if (!std::isnan(b)) b = std::max(b, height);
 }
 
 }  // namespace shore::terrain

@@ -80,8 +80,14 @@ class SoilTops {
   [[nodiscard]] double ceiling(std::int64_t most_columns) const {
     return std::isnan(ceiling_) ? compute_ceiling(most_columns) : ceiling_;
   }
-  /// The column (i, j) now has this height.
-  void raised(std::int64_t i, std::int64_t j, double height);
+  /// The column (i, j) now has this height. Inline: once per grain laid.
+  void raised(std::int64_t i, std::int64_t j, double height) {
+    if (!std::isnan(ceiling_)) ceiling_ = std::max(ceiling_, height);
+    const std::int64_t x = (i >> shift_) - bx0_, y = (j >> shift_) - by0_;
+    if (x < 0 || y < 0 || x >= nbx_ || y >= nby_) return;
+    double& b = block_[static_cast<std::size_t>(y * nbx_ + x)];
+    if (!std::isnan(b)) b = std::max(b, height);
+  }
 
  private:
   [[nodiscard]] double compute_ceiling(std::int64_t most_columns) const;

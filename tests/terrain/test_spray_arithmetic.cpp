@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "shore/terrain/height_source.h"
@@ -251,5 +252,37 @@ TEST(SprayArithmetic, KeptBlockBoundsAreTheColumnsHighest) {
         ASSERT_GE(bound, *std::max_element(h.begin(), h.end())) << side << " " << width;
       }
     }
+  }
+}
+
+// Laying a grain calls TileStore::mark_changed only for a column outside the box its tile
+// has marked this step: every column laid must still be reported changed, to take_changed
+// and to changed_since, whatever the order (tiles sharing a slot take turns, columns land
+// inside and outside the box).
+TEST(SprayArithmetic, EveryColumnLaidIsReportedChanged) {
+  TerrainSettings s;
+  TileStore store(s);
+  const std::int64_t n = store.n();
+  const std::uint64_t before = store.generation();
+  store.advance_generation();
+  std::vector<std::pair<std::int64_t, std::int64_t>> laid;
+  {
+    SprayGround ground(store, s);
+    std::mt19937_64 gen(5);
+    // Tiles 0..5 across: tiles 0 and 4, 1 and 5 share a slot; a few rows of tiles down.
+    std::uniform_int_distribution<std::int64_t> i_of(-n, 5 * n + n - 1), j_of(-n, 2 * n - 1);
+    for (int k = 0; k < 3000; ++k) {
+      const std::int64_t i = i_of(gen), j = j_of(gen);
+      ASSERT_GT(ground.lay(i, j, 1e-6), 0.0);
+      laid.emplace_back(i, j);
+    }
+  }
+  const auto reported = [&](const std::vector<shore::GridRect>& rects, std::int64_t i, std::int64_t j) {
+    return std::any_of(rects.begin(), rects.end(), [&](const shore::GridRect& r) { return r.contains(i, j); });
+  };
+  const std::vector<shore::GridRect> since = store.changed_since(before), taken = store.take_changed();
+  for (const auto& [i, j] : laid) {
+    ASSERT_TRUE(reported(since, i, j)) << "column " << i << ", " << j << " (changed_since)";
+    ASSERT_TRUE(reported(taken, i, j)) << "column " << i << ", " << j << " (take_changed)";
   }
 }
