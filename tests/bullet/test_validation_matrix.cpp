@@ -82,13 +82,11 @@ TEST(ValidationMatrixSlopeBox, ASlidingBoxKeepsTheStrengthOfTheSoilThatCarriesIt
 
 // The rule that a box sliding level keeps its columns' strength (a column remoulds only
 // where the body presses further into it with its block at its whole capacity) is checked
-// on ContactMemory itself (test_contact_memory.cpp), not on a matrix cell: the cell it moved
-// most, clayey soil 38 % at phi + 7 degrees (second half +34 % -> +8 % in float), is not a
-// converged measurement. Its second-half fit moves with the solve's sweeps and the
-// precision, with no trend in the sweeps (6 to 200: 0.473 to 0.504 m/s^2 in float, 0.514 to
-// 0.540 in double, against Wong's 0.453; the whole slide 0.85 to 0.89 in both): which
-// columns under the box yield turns on the sign of approach speeds of about 1e-3 m/s, the
-// body's jitter (docs/terrain.md, "Validation matrix").
+// on ContactMemory itself (test_contact_memory.cpp), not on a matrix cell. The cell it was
+// checked on, clayey soil 38 % at phi + 7 degrees, cannot tell it: the second half's fitted
+// acceleration moves by about +-6 % with the solve's sweeps and the precision, with the
+// rule or without it, and even with no remoulding at all, while the rule moves its mean
+// over the sweeps by 1 % to 3 % (docs/terrain.md, "Validation matrix", for the numbers).
 
 // The towed wheel is judged against Bekker's pressure over the circular front arc solved
 // exactly, as the static wheel is over the whole arc, not against his closed form, which
