@@ -80,25 +80,13 @@ TEST(ValidationMatrixSlopeBox, ASlidingBoxKeepsTheStrengthOfTheSoilThatCarriesIt
       << second.error_kind << ")";
 }
 
-// A box sliding level does not press the columns under it any further, and the solve
-// holds its blocks below their capacity: those columns do not flow and keep their strength
-// (the remould displacement grows only where the body presses further into a column whose
-// block pushes with its whole capacity, or an elastic column reaches its yield pressure).
-// Counting every column on its loading branch as yielding took up to remould_shear_ratio
-// (22 %) of the strength from the soil under the box: on clayey soil 38 % at phi + 7
-// degrees its second half slid 34 % faster than Wong's sliding block (13 % with only the
-// held blocks' columns kept; now 8 %; docs/terrain.md, "Validation matrix").
-TEST(ValidationMatrixSlopeBox, ColumnsTheBoxDoesNotPressFurtherKeepTheirStrength) {
-  const MatrixCase c = find_case("clayey soil 38 %", "slope box", "phi + 7");
-  if (c.family.empty()) return;
-  const auto cells = shore::scenes::run_matrix_case(c);
-  ASSERT_EQ(cells.size(), 2u);
-  const MatrixCell& second = cells[1];
-  ASSERT_EQ(second.quantity, "acceleration, second half");
-  ASSERT_EQ(second.error_kind, "relative");
-  EXPECT_LE(std::abs(second.error), second.tolerance)
-      << "measured " << second.measured << " m/s^2, reference " << second.reference;
-}
+// The rule that a box sliding level keeps its columns' strength (a column remoulds only
+// where the body presses further into it with its block at its whole capacity) is checked
+// on ContactMemory itself (test_contact_memory.cpp), not on a matrix cell. The cell it was
+// checked on, clayey soil 38 % at phi + 7 degrees, cannot tell it: the second half's fitted
+// acceleration moves by about +-6 % with the solve's sweeps and the precision, with the
+// rule or without it, and even with no remoulding at all, while the rule moves its mean
+// over the sweeps by 1 % to 3 % (docs/terrain.md, "Validation matrix", for the numbers).
 
 // The towed wheel is judged against Bekker's pressure over the circular front arc solved
 // exactly, as the static wheel is over the whole arc, not against his closed form, which
