@@ -336,16 +336,22 @@ void vehicle(const SweepContext& ctx, SweepResult& out) {
 }
 
 void rally(const SweepContext& ctx, SweepResult& out) {
-  ctx.progress("rally, a stock raycast car, 1/60 s");
+  ctx.progress("rally, a stock raycast car, 1/60 s, 3 runs");
   const scenes::SceneType& scene = *scenes::find_scene("rally");
   scenes::Overrides o;  // the scene's defaults: 4 cm land, 1/60 s, 14 s
   o.threads = 1;
   o.write_files = false;
-  const nlohmann::json m = scenes::run_scene(scene, scenes::resolve(scene, o), scenes::ProgressMode::quiet).metrics;
-  const double realtime = m["realtime_factor"].get<double>();
-  Table& t = out.table("coupling_rally", {"sim_s", "wall_s", "realtime_factor", "distance_m", "deepest_rut_m"});
-  t.add({m["sim_seconds"].get<double>(), m["wall_seconds"].get<double>(), realtime, m["distance_m"].get<double>(),
-         m["deepest_rut_m"].get<double>()});
+  // The least wall time of three runs: a shared machine only ever slows a run down, so the
+  // fastest is the one least disturbed (single runs of this scene differ by 10 % here).
+  Table& t = out.table("coupling_rally", {"run", "sim_s", "wall_s", "realtime_factor", "distance_m", "deepest_rut_m"});
+  double realtime = 0.0;
+  for (int run = 0; run < 3; ++run) {
+    const nlohmann::json m = scenes::run_scene(scene, scenes::resolve(scene, o), scenes::ProgressMode::quiet).metrics;
+    const double run_realtime = m["realtime_factor"].get<double>();
+    realtime = std::max(realtime, run_realtime);
+    t.add({double(run), m["sim_seconds"].get<double>(), m["wall_seconds"].get<double>(), run_realtime,
+           m["distance_m"].get<double>(), m["deepest_rut_m"].get<double>()});
+  }
   out.figure("scenes.rally_realtime_factor", realtime, "x real time (a raycast car, 60 steps/s, 1 thread)");
   out.target({.key = "scenes.rally_realtime_factor",
               .what = "rally: a stock raycast car over sand, mud and a ford at 1/60 s steps",
@@ -356,7 +362,7 @@ void rally(const SweepContext& ctx, SweepResult& out) {
   out.note(
       "Rally (the rally scene): a stock btRaycastVehicle (800 kg) driven 14 s up a valley of 4 cm sand with painted "
       "mud and a ford (its chassis in the water coupling), 60 steps per second, one thread; real-time factor = "
-      "simulated / wall seconds of the whole step.");
+      "simulated / wall seconds of the whole step, the fastest of 3 runs.");
 }
 
 /// The rover scene at its defaults: a six-wheeled btMultiBody over a sand dune and through a
