@@ -16,8 +16,8 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
-#if (defined(__x86_64__) || defined(__i386__)) && (defined(__GNUC__) || defined(__clang__)) && \
-    !defined(SHORE_CHORDS_NO_AVX)  // (a test builds the other paths)
+#include "shore/core/cpu_features.h"
+#if defined(SHORE_X86_DISPATCH) && !defined(SHORE_CHORDS_NO_AVX)  // (a test builds the other paths)
 #define SHORE_CHORDS_AVX 1
 #include <immintrin.h>
 #endif
@@ -159,10 +159,6 @@ __attribute__((target("avx"))) void chord_row_avx(const WorldPlanes& p, double x
   }
 }
 
-bool avx_available() {
-  static const bool has = __builtin_cpu_supports("avx");
-  return has;
-}
 #endif
 
 /// One face along the row, two points at a time where SSE2 is there.
@@ -180,7 +176,7 @@ void narrow_row(double base, double step, double inv, int n, double* __restrict 
 void chord_row(const WorldPlanes& p, double x0, double dx, int n, double y, double* __restrict lo,
                double* __restrict hi) {
 #if defined(SHORE_CHORDS_AVX)
-  if (avx_available()) return chord_row_avx<false>(p, x0, dx, n, y, lo, hi);
+  if (cpu_has_avx()) return chord_row_avx<false>(p, x0, dx, n, y, lo, hi);
 #endif
   for (std::size_t f = 0; f < p.n.size(); ++f) {
     const Vec3 nf = p.n[f];
@@ -197,7 +193,7 @@ void chord_row(const WorldPlanes& p, double x0, double dx, int n, double y, doub
 void widen_by_chords(const WorldPlanes& p, double x0, double dx, int n, double y, double* __restrict lower,
                      double* __restrict upper) {
 #if defined(SHORE_CHORDS_AVX)
-  if (avx_available()) return chord_row_avx<true>(p, x0, dx, n, y, lower, upper);
+  if (cpu_has_avx()) return chord_row_avx<true>(p, x0, dx, n, y, lower, upper);
 #endif
   std::vector<double>& t = p.row_terms;  // the chords, then merged
   t.assign(2 * std::size_t(n), std::numeric_limits<double>::infinity());

@@ -7,7 +7,8 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include "shore/core/cpu_features.h"
+#if defined(SHORE_X86_DISPATCH)
 #include <immintrin.h>
 #define SHORE_SPRAY_TOPS_AVX 1
 #endif
@@ -61,14 +62,13 @@ __attribute__((target("avx"))) double highest_avx(const double* first, std::size
 
 /// The highest of `rows` rows of `width` heights starting `stride` apart. Where width is a
 /// multiple of 8: eight running maxima side by side (two to a vector register where SSE2
-/// is there, four where the CPU has AVX), then the highest of those. The maximum is exact whatever the grouping (a NaN
-/// is skipped as before); only which of two equal zeros is kept may differ, and the bound
-/// is only ever compared.
+/// is there, four where the CPU has AVX), then the highest of those. The maximum is exact
+/// whatever the grouping (a NaN is skipped as before); only which of two equal zeros is
+/// kept may differ, and the bound is only ever compared.
 double highest(const double* first, std::size_t stride, int width, int rows) {
   constexpr int kLanes = 8;
 #if defined(SHORE_SPRAY_TOPS_AVX)
-  static const bool avx = __builtin_cpu_supports("avx");
-  if (avx && width % kLanes == 0) return highest_avx(first, stride, width, rows);
+  if (cpu_has_avx() && width % kLanes == 0) return highest_avx(first, stride, width, rows);
 #endif
   double top = -std::numeric_limits<double>::infinity();
   if (width % kLanes != 0) {  // a piece of a block over a tile whose side is not a multiple of 8

@@ -1,5 +1,7 @@
 #include "kernel.h"
 
+#include "shore/core/cpu_features.h"
+
 namespace shore::water::kernel {
 
 std::size_t workspace_bytes(int tile) {
@@ -14,20 +16,16 @@ std::size_t workspace_bytes(int tile) {
 }
 
 bool avx2_available() {
-#if !defined(SHORE_WATER_NO_AVX2) && (defined(__x86_64__) || defined(__i386__))
-  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return has;
+#if !defined(SHORE_WATER_NO_AVX2)
+  return cpu_has_avx2_fma();
 #else
   return false;
 #endif
 }
 
 bool avx512_available() {
-#if !defined(SHORE_WATER_NO_AVX2) && (defined(__x86_64__) || defined(__i386__))
-  // __builtin_cpu_supports reports AVX-512 only where the OS saves the zmm state too.
-  static const bool has = avx2_available() && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-                          __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
-  return has;
+#if !defined(SHORE_WATER_NO_AVX2)
+  return cpu_has_avx512();
 #else
   return false;
 #endif
