@@ -2,12 +2,14 @@
 // before/after comparisons and for callgrind (one run, no benchmark repetitions).
 //   shore_terrain_case towed_wheel [cell_m] [threads] [steps] [sinkage_m] [star 0|1]
 //   shore_terrain_case footprint|wheel [threads] [steps]
-//   shore_terrain_case material_map one|map [steps]
+//   shore_terrain_case material_map one|map [steps] [timed]
 //     shore-bench's terrain.material_map_cost_ratio case, one of its two terrains: the
 //     step-alone wheel on one material or on the four-entry map of sand copies painted in
-//     half-metre stripes; callgrind it with
+//     half-metre stripes (timed: also the wall time of Terrain::step alone per step, after
+//     20 steps' warm-up, as the bench times it); callgrind it with
 //     --toggle-collect='shore::terrain::Terrain::step(std::span<shore::terrain::Imprint const,
 //     18446744073709551615ul>)'
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -30,7 +32,7 @@ void print(const tb::TerrainCaseResult& r, double cell) {
 
 // The bench's material_map_cost terrains (bench/harness/sweeps/terrain.cpp), stepped under
 // its wheel; prints the state hash.
-int material_map(bool painted, int steps) {
+int material_map(bool painted, int steps, bool timed) {
   shore::terrain::TerrainSettings s;
   s.cell = 0.01;
   s.threads = 1;
@@ -44,14 +46,19 @@ int material_map(bool painted, int steps) {
       t.paint_rect({k * 50, 0, 50, 20}, (k + 1) % 4);
     }
   }
+  double seconds = 0.0;
+  constexpr int kWarmup = 20;
   for (int k = 0; k < steps; ++k) {
     const shore::EnvelopeRaster env = tb::wheel_envelope(t, k / 240.0, 0.4 - 0.03, 0.4, 0.2, 0.15);
     const shore::terrain::Imprint im{&env};
     (void)t.bearing_offset(env, 4000.0);
+    const auto t0 = std::chrono::steady_clock::now();
     t.step({&im, 1});
+    if (k >= kWarmup) seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   std::printf("material map (%s) %d steps: hash %016llx\n", painted ? "four entries" : "one material", steps,
               static_cast<unsigned long long>(t.state_hash()));
+  if (timed && steps > kWarmup) std::printf("step %.5f ms\n", 1e3 * seconds / (steps - kWarmup));
   return 0;
 }
 
@@ -60,7 +67,8 @@ int material_map(bool painted, int steps) {
 int main(int argc, char** argv) {
   const std::string which = argc > 1 ? argv[1] : "towed_wheel";
   if (which == "material_map")
-    return material_map(argc > 2 && std::string(argv[2]) == "map", argc > 3 ? std::atoi(argv[3]) : 220);
+    return material_map(argc > 2 && std::string(argv[2]) == "map", argc > 3 ? std::atoi(argv[3]) : 220,
+                        argc > 4 && std::string(argv[4]) == "timed");
   if (which == "towed_wheel") {
     tb::TowedWheelCase c;
     if (argc > 2) c.cell = std::atof(argv[2]);
