@@ -13,8 +13,13 @@
 // material everywhere the column's own material decides (alpha, slope limits, shear,
 // remoulding, unloading; Terrain::exposed_index).
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace shore::terrain {
 
@@ -33,6 +38,30 @@ struct ColumnLayer {
     return z > boundary ? lower : upper;
   }
 };
+
+/// Which of count <= 64 boundaries are layered (< kNoLayer): bit j for boundary[j]. No branch
+/// per column, so a caller can visit a row's layered columns by their bits where a test per
+/// column (or per few) would be mispredicted along a rut that mixes layered and unlayered.
+[[nodiscard]] inline std::uint64_t layered_bits(const double* boundary, std::size_t count) {
+  std::uint64_t bits = 0;
+  std::size_t j = 0;
+#if defined(__SSE2__)
+  // Two columns per compare, and a whole word's shifts constants: the scalar loop's compare,
+  // set and variable shift per column cost about as much as the mispredictions saved.
+  const __m128d none = _mm_set1_pd(kNoLayer);
+  const auto two = [&](std::size_t at) __attribute__((always_inline)) {
+    return static_cast<std::uint64_t>(_mm_movemask_pd(_mm_cmplt_pd(_mm_loadu_pd(boundary + at), none))) << at;
+  };
+  if (count == 64) {
+#pragma GCC unroll 32
+    for (int p = 0; p < 64; p += 2) bits |= two(static_cast<std::size_t>(p));
+    return bits;
+  }
+  for (; j + 2 <= count; j += 2) bits |= two(j);
+#endif
+  for (; j < count; ++j) bits |= static_cast<std::uint64_t>(boundary[j] < kNoLayer) << j;
+  return bits;
+}
 
 /// The two-piece law at sinkage z: piece(m, z) is material m's one-piece pressure (0 for
 /// z <= 0), Pa.

@@ -3,6 +3,7 @@
 // dense arrays for the stages and scattered back afterwards.
 
 #include <algorithm>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -122,19 +123,19 @@ void Region::expose_layers(Fn&& on_layered) {
   const double* boundary = layer.boundary.data();
   const std::uint8_t* lower = layer.lower.data();
   const double* z = sink.data();
-  const auto visit = [&](std::size_t k) __attribute__((always_inline)) {
-    const ColumnLayer l{boundary[k], lower[k]};
-    if (!l.layered()) return;  // shows its painted index
-    index[k] = l.exposed(index[k], z[k]);
-    on_layered(k, l);
-  };
   const std::size_t n = layer.size();
-  std::size_t k = 0;
-  // Four columns at a time past unlayered ones (kNoLayer is the largest boundary).
-  for (; k + 4 <= n; k += 4)
-    if (std::min(std::min(boundary[k], boundary[k + 1]), std::min(boundary[k + 2], boundary[k + 3])) < kNoLayer)
-      for (std::size_t j = k; j < k + 4; ++j) visit(j);
-  for (; k < n; ++k) visit(k);
+  // 64 columns at a time: first which are layered, as bits (no branch per column), then
+  // each layered one. (A branch on "any of these layered" per few columns was mispredicted
+  // about every other time along a layered rut, where layered and unlayered columns mix.)
+  for (std::size_t k0 = 0; k0 < n; k0 += 64) {
+    const std::uint64_t layered = layered_bits(boundary + k0, std::min<std::size_t>(64, n - k0));
+    for (std::uint64_t bits = layered; bits != 0; bits &= bits - 1) {
+      const std::size_t k = k0 + static_cast<std::size_t>(std::countr_zero(bits));
+      const ColumnLayer l{boundary[k], lower[k]};
+      index[k] = l.exposed(index[k], z[k]);
+      on_layered(k, l);
+    }
+  }
 }
 
 }  // namespace shore::terrain

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bearing.h"
+#include "layers.h"
 #include "region.h"
 #include "stage_contour.h"
 #include "stage_displace.h"
@@ -206,6 +207,22 @@ TEST(Bearing, OffsetForALoadInvertsBekkersLaw) {
   const double offset = offset_for_load(plate, {}, {}, s, {&s.material, 1}, powers, load);
   EXPECT_NEAR(offset, expected, 2e-7);  // the bracket is narrowed to 1e-7
   EXPECT_GE(capacity(plate, {}, {}, s, {&s.material, 1}, powers, offset, false).capacity, load);  // its upper end
+}
+
+TEST(Layers, LayeredBitsMarkEachLayeredBoundaryOfUpToAWord) {
+  // Layered and unlayered boundaries mixed irregularly (a few-column pattern shifted by the
+  // word's length), every count from 0 to 64, at every alignment of the first column.
+  std::vector<double> boundary(80);
+  for (std::size_t k = 0; k < boundary.size(); ++k)
+    boundary[k] = (k * 7 + k / 5) % 3 == 0 ? kNoLayer : 0.01 * static_cast<double>(k);
+  boundary[9] = -0.02;  // a crust whose sinkage passed it is still layered
+  for (std::size_t first = 0; first < 2; ++first)
+    for (std::size_t count = 0; count <= 64; ++count) {
+      std::uint64_t expected = 0;
+      for (std::size_t j = 0; j < count; ++j)
+        if (ColumnLayer{boundary[first + j], 0}.layered()) expected |= std::uint64_t{1} << j;
+      EXPECT_EQ(layered_bits(boundary.data() + first, count), expected) << first << ", " << count;
+    }
 }
 
 TEST(TileStore, RunsCoverARectangleOnceWithoutCrossingATileEdge) {
