@@ -48,7 +48,8 @@ struct Tile {
   const std::uint32_t* free_nodes = nullptr;
   double* bz = nullptr;       ///< block: old heights with the ghost ring (scratch: the
                               ///< vertical-only kernel overwrites it; for the fused
-                              ///< vertical-only kernel only the ring is gathered)
+                              ///< vertical-only kernel only the ring's live sides are
+                              ///< gathered: it writes the others' K itself)
   const float* bx = nullptr;  ///< block, 3-D only
   const float* by = nullptr;
   Side sides[kSides] = {};

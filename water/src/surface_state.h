@@ -125,7 +125,9 @@ struct Surface::State {
 
   // ---- blocks ----
   /// Gathers the tile's positions with the ghost ring into the scratch block and fills the
-  /// kernel's view of the tile (sides from the neighbours' state).
+  /// kernel's view of the tile (sides from the neighbours' state, the steps across them).
+  /// The fused vertical-only kernels read only the live sides' ghosts (kernel::Tile::bz):
+  /// for them the other sides are measured, not copied.
   kernel::Tile gather(TileData& t, Scratch& sc) const;
   [[nodiscard]] kernel::Side side_of(const TileData& t, int side) const;
 };

@@ -53,8 +53,11 @@ void copy_edge(const std::vector<V>* edge, std::size_t first, int count, V* to, 
 // and a NaN entry is skipped (max keeps its first operand), so the lanes below, each
 // skipping NaN the same way and merged at the end, give the sequential loop's value: this
 // ran over every side of every awake tile each substep, a scalar max and a test per entry.
-template <bool kGhosts>
-double largest_step_of(const double* a, const double* b, int count) {
+// With kCopy the ghosts are also written to the block (to[q * step]) from the same loads: a
+// side the kernel reads is copied and measured in one pass instead of two.
+template <bool kGhosts, bool kCopy>
+double largest_step_of(const double* a, const double* b, int count, double* to, std::ptrdiff_t step) {
+  static_assert(kGhosts || !kCopy, "only a neighbour's edge is copied");
   double m = 0.0;
   int q = 0;
 #if defined(__SSE2__)
@@ -63,8 +66,21 @@ double largest_step_of(const double* a, const double* b, int count) {
   for (; q + 4 <= count; q += 4) {
     __m128d d0 = _mm_loadu_pd(b + q), d1 = _mm_loadu_pd(b + q + 2);
     if constexpr (kGhosts) {
-      d0 = _mm_sub_pd(_mm_loadu_pd(a + q), d0);
-      d1 = _mm_sub_pd(_mm_loadu_pd(a + q + 2), d1);
+      const __m128d g0 = _mm_loadu_pd(a + q), g1 = _mm_loadu_pd(a + q + 2);
+      if constexpr (kCopy) {
+        double* at = to + q * step;
+        if (step == 1) {
+          _mm_storeu_pd(at, g0);
+          _mm_storeu_pd(at + 2, g1);
+        } else {
+          _mm_storel_pd(at, g0);
+          _mm_storeh_pd(at + step, g0);
+          _mm_storel_pd(at + 2 * step, g1);
+          _mm_storeh_pd(at + 3 * step, g1);
+        }
+      }
+      d0 = _mm_sub_pd(g0, d0);
+      d1 = _mm_sub_pd(g1, d1);
     }
     // max_pd(d, m) is d > m ? d : m: m where d is NaN, as std::max(m, d).
     m0 = _mm_max_pd(_mm_andnot_pd(sign, d0), m0);
@@ -75,11 +91,15 @@ double largest_step_of(const double* a, const double* b, int count) {
   _mm_store_pd(lanes + 2, m1);
   for (const double l : lanes) m = std::max(m, l);
 #endif
-  for (; q < count; ++q) m = std::max(m, std::abs((kGhosts ? a[q] : 0.0) - b[q]));
+  for (; q < count; ++q) {
+    if constexpr (kCopy) to[q * step] = a[q];
+    m = std::max(m, std::abs((kGhosts ? a[q] : 0.0) - b[q]));
+  }
   return m;
 }
 double largest_step(const double* a, const double* b, int count) {
-  return a ? largest_step_of<true>(a, b, count) : largest_step_of<false>(a, b, count);
+  return a ? largest_step_of<true, false>(a, b, count, nullptr, 0)
+           : largest_step_of<false, false>(a, b, count, nullptr, 0);
 }
 /// The same for the in-plane components: max over entries of max(|dx|, |dy|).
 float largest_step_xy(const float* ax, const float* ay, std::ptrdiff_t as, const float* bx, const float* by,
@@ -201,19 +221,36 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
   // storage (every change of the storage rewrites edges[cur]), in four short rows rather
   // than two columns of the storage with each entry on a cache line of its own.
   const TileData::Edges& mine = t.edges[static_cast<std::size_t>(t.cur)];
+  // Which ghosts the kernel reads: all of them in 3-D mode (a frozen side's in-plane
+  // springs act) and in the unfused reference; in the fused vertical-only kernel only a
+  // live side's (it writes the K of the others as 0 itself): a side whose neighbour sleeps
+  // or was never created costs its measure only, not a copy.
+  const bool whole_ring = full || variant == kernel::Variant::unfused;
   for (const Ghost& g : ghosts) {
-    const TileData* n = k.sides[g.side] == kernel::Side::absent ? nullptr : around[g.side];
+    const kernel::Side side = k.sides[g.side];
+    const TileData* n = side == kernel::Side::absent ? nullptr : around[g.side];
     const TileData::Edges* e = n ? &n->edges[static_cast<std::size_t>(n->cur)] : nullptr;
     const std::size_t first = static_cast<std::size_t>(g.facing * T + g.first);
-    copy_edge(e ? &e->z : nullptr, first, g.count, bz + g.at, g.step);
+    const bool copy = whole_ring || side == kernel::Side::live;
     if (full) {
       copy_edge(e ? &e->x : nullptr, first, g.count, bx + g.at, g.step);
       copy_edge(e ? &e->y : nullptr, first, g.count, by + g.at, g.step);
     }
     k.boundary_activity[g.side] = 0.0;
-    if (k.sides[g.side] == kernel::Side::absent) continue;
-    // The steps across this side: a tile at rest next to water at another level is not at rest.
-    double step = largest_step(e ? e->z.data() + first : nullptr, mine.z.data() + g.own, g.count);
+    if (side == kernel::Side::absent) {
+      if (copy) copy_edge<double>(nullptr, first, g.count, bz + g.at, g.step);
+      continue;
+    }
+    // The steps across this side: a tile at rest next to water at another level is not at
+    // rest (with the copy of the ghosts where the kernel reads them, from the same loads).
+    const double* own = mine.z.data() + g.own;
+    double step = 0.0;
+    if (copy && e) {
+      step = largest_step_of<true, true>(e->z.data() + first, own, g.count, bz + g.at, g.step);
+    } else {
+      if (copy) copy_edge<double>(nullptr, first, g.count, bz + g.at, g.step);
+      step = largest_step(e ? e->z.data() + first : nullptr, own, g.count);
+    }
     if (full)
       step = std::max(step, static_cast<double>(largest_step_xy(bx + g.at, by + g.at, g.step, mine.x.data() + g.own,
                                                                 mine.y.data() + g.own, 1, g.count)));
