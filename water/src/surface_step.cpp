@@ -61,7 +61,8 @@ struct Scaling {
   double kappa = 1.0, magic = 1.0;
 };
 template <bool kGhosts, bool kCopy, bool kScale = false>
-double largest_step_of(const double* a, const double* b, int count, double* to, std::ptrdiff_t step, Scaling sc = {}) {
+double largest_step_of(const double* a, const double* b, int count, double* to, std::ptrdiff_t step,
+                       [[maybe_unused]] Scaling sc = {}) {
   static_assert(kGhosts || !kCopy, "only a neighbour's edge is copied");
   static_assert(kCopy || !kScale, "only a copy is scaled");
   double m = 0.0;
@@ -109,7 +110,7 @@ double largest_step_of(const double* a, const double* b, int count, double* to, 
     m = std::max(m, std::abs((kGhosts ? a[q] : 0.0) - b[q]));
   }
 #else
-  static_assert(!kScale, "scaled ghosts need SSE2 (kRingScaled)");
+  static_assert(!kScale, "scaled ghosts need SSE2 (Tile::ring_scaled)");
   for (; q < count; ++q) {
     if constexpr (kCopy) to[q * step] = a[q];
     m = std::max(m, std::abs((kGhosts ? a[q] : 0.0) - b[q]));
