@@ -46,9 +46,13 @@ struct Tile {
   bool masks_given = false;
   const std::uint64_t* moving = nullptr;
   const std::uint32_t* free_nodes = nullptr;
-  double* bz = nullptr;       ///< block: old heights with the ghost ring (scratch: the
-                              ///< vertical-only kernel overwrites it; for the fused
-                              ///< vertical-only kernel only the ring is gathered)
+  double* bz = nullptr;  ///< block: old heights with the ghost ring (scratch: the
+                         ///< vertical-only kernel overwrites it; for the fused
+                         ///< vertical-only kernel only the ring's live sides are
+                         ///< gathered: it writes the others' K itself)
+  /// Vertical-only, fused kernels: the live sides' ghosts in bz are K already
+  /// (quantum::round_to(kappa w, v_magic) with this substep's coefficients), not heights.
+  bool ring_scaled = false;
   const float* bx = nullptr;  ///< block, 3-D only
   const float* by = nullptr;
   Side sides[kSides] = {};

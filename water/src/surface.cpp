@@ -73,6 +73,8 @@ TileData& Surface::State::obtain(const SurfaceSettings& s, int tx, int ty) {
   // Only the grid's outermost nodes have a default other than free: a tile that holds none
   // keeps the fill (a growing wake creates tiles every few substeps, nearly all inside).
   const bool on_grid_edge = tx == 0 || ty == 0 || tx * T + t->w == s.nx || ty * T + t->h == s.ny;
+  // Nor does it need its masks remade (refresh_masks: none where no node is constrained).
+  t->masks_stale = on_grid_edge;
   if (on_grid_edge)
     for (int j = 0; j < t->h; ++j)
       for (int i = 0; i < t->w; ++i)

@@ -125,8 +125,11 @@ struct Surface::State {
 
   // ---- blocks ----
   /// Gathers the tile's positions with the ghost ring into the scratch block and fills the
-  /// kernel's view of the tile (sides from the neighbours' state).
-  kernel::Tile gather(TileData& t, Scratch& sc) const;
+  /// kernel's view of the tile (sides from the neighbours' state, the steps across them).
+  /// The fused vertical-only kernels read only the live sides' ghosts (kernel::Tile::bz):
+  /// for them the other sides are measured, not copied, and with the substep's
+  /// coefficients (`scale`) the live ones are copied as K (kernel::Tile::ring_scaled).
+  kernel::Tile gather(TileData& t, Scratch& sc, const kernel::Coefficients* scale = nullptr) const;
   [[nodiscard]] kernel::Side side_of(const TileData& t, int side) const;
 };
 

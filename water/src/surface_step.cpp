@@ -53,33 +53,74 @@ void copy_edge(const std::vector<V>* edge, std::size_t first, int count, V* to, 
 // and a NaN entry is skipped (max keeps its first operand), so the lanes below, each
 // skipping NaN the same way and merged at the end, give the sequential loop's value: this
 // ran over every side of every awake tile each substep, a scalar max and a test per entry.
-template <bool kGhosts>
-double largest_step_of(const double* a, const double* b, int count) {
+// With kCopy the ghosts are also written to the block (to[q * step]) from the same loads: a
+// side the kernel reads is copied and measured in one pass instead of two; with kScale
+// (vertical-only, fused kernels) as their K = round(kappa w) (quantum::round_to, the same
+// three operations, so the same bits as the kernel's scaling of the ring: Tile::ring_scaled).
+struct Scaling {
+  double kappa = 1.0, magic = 1.0;
+};
+template <bool kGhosts, bool kCopy, bool kScale = false>
+double largest_step_of(const double* a, const double* b, int count, double* to, std::ptrdiff_t step,
+                       [[maybe_unused]] Scaling sc = {}) {
+  static_assert(kGhosts || !kCopy, "only a neighbour's edge is copied");
+  static_assert(kCopy || !kScale, "only a copy is scaled");
   double m = 0.0;
   int q = 0;
 #if defined(__SSE2__)
   const __m128d sign = _mm_set1_pd(-0.0);
+  const __m128d kappa = _mm_set1_pd(sc.kappa), magic = _mm_set1_pd(sc.magic);
+  // Explicit operations (no contraction into a fused multiply-add), as quantum::round_to.
+  const auto scaled = [&](__m128d g) {
+    return kScale ? _mm_sub_pd(_mm_add_pd(_mm_mul_pd(g, kappa), magic), magic) : g;
+  };
   __m128d m0 = _mm_setzero_pd(), m1 = _mm_setzero_pd();
   for (; q + 4 <= count; q += 4) {
     __m128d d0 = _mm_loadu_pd(b + q), d1 = _mm_loadu_pd(b + q + 2);
     if constexpr (kGhosts) {
-      d0 = _mm_sub_pd(_mm_loadu_pd(a + q), d0);
-      d1 = _mm_sub_pd(_mm_loadu_pd(a + q + 2), d1);
+      const __m128d g0 = _mm_loadu_pd(a + q), g1 = _mm_loadu_pd(a + q + 2);
+      if constexpr (kCopy) {
+        const __m128d k0 = scaled(g0), k1 = scaled(g1);
+        double* at = to + q * step;
+        if (step == 1) {
+          _mm_storeu_pd(at, k0);
+          _mm_storeu_pd(at + 2, k1);
+        } else {
+          _mm_storel_pd(at, k0);
+          _mm_storeh_pd(at + step, k0);
+          _mm_storel_pd(at + 2 * step, k1);
+          _mm_storeh_pd(at + 3 * step, k1);
+        }
+      }
+      d0 = _mm_sub_pd(g0, d0);
+      d1 = _mm_sub_pd(g1, d1);
     }
     // max_pd(d, m) is d > m ? d : m: m where d is NaN, as std::max(m, d).
     m0 = _mm_max_pd(_mm_andnot_pd(sign, d0), m0);
     m1 = _mm_max_pd(_mm_andnot_pd(sign, d1), m1);
   }
-  alignas(16) double lanes[4];
-  _mm_store_pd(lanes, m0);
-  _mm_store_pd(lanes + 2, m1);
-  for (const double l : lanes) m = std::max(m, l);
+  if (count >= 4) {  // (a corner's single entry has no lanes to merge)
+    alignas(16) double lanes[4];
+    _mm_store_pd(lanes, m0);
+    _mm_store_pd(lanes + 2, m1);
+    for (const double l : lanes) m = std::max(m, l);
+  }
+  for (; q < count; ++q) {
+    if constexpr (kCopy) _mm_store_sd(to + q * step, scaled(_mm_load_sd(a + q)));
+    m = std::max(m, std::abs((kGhosts ? a[q] : 0.0) - b[q]));
+  }
+#else
+  static_assert(!kScale, "scaled ghosts need SSE2 (Tile::ring_scaled)");
+  for (; q < count; ++q) {
+    if constexpr (kCopy) to[q * step] = a[q];
+    m = std::max(m, std::abs((kGhosts ? a[q] : 0.0) - b[q]));
+  }
 #endif
-  for (; q < count; ++q) m = std::max(m, std::abs((kGhosts ? a[q] : 0.0) - b[q]));
   return m;
 }
 double largest_step(const double* a, const double* b, int count) {
-  return a ? largest_step_of<true>(a, b, count) : largest_step_of<false>(a, b, count);
+  return a ? largest_step_of<true, false>(a, b, count, nullptr, 0)
+           : largest_step_of<false, false>(a, b, count, nullptr, 0);
 }
 /// The same for the in-plane components: max over entries of max(|dx|, |dy|).
 float largest_step_xy(const float* ax, const float* ay, std::ptrdiff_t as, const float* bx, const float* by,
@@ -116,7 +157,7 @@ void Surface::State::refresh_masks(TileData& t) {
   t.masks_stale = false;
 }
 
-kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
+kernel::Tile Surface::State::gather(TileData& t, Scratch& sc, const kernel::Coefficients* scale) const {
   const int bs = T + 2;
   const std::size_t cells = static_cast<std::size_t>(bs) * static_cast<std::size_t>(bs);
   if (sc.bz.size() < cells) {
@@ -201,19 +242,44 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc) const {
   // storage (every change of the storage rewrites edges[cur]), in four short rows rather
   // than two columns of the storage with each entry on a cache line of its own.
   const TileData::Edges& mine = t.edges[static_cast<std::size_t>(t.cur)];
+  // Which ghosts the kernel reads: all of them in 3-D mode (a frozen side's in-plane
+  // springs act) and in the unfused reference; in the fused vertical-only kernel only a
+  // live side's (it writes the K of the others as 0 itself): a side whose neighbour sleeps
+  // or was never created costs its measure only, not a copy.
+  const bool whole_ring = full || variant == kernel::Variant::unfused;
+  // Those ghosts as K already where the caller gives the substep's coefficients (the
+  // kernel's scaling of them, a strided pass over the ring's columns, then goes).
+#if defined(__SSE2__)
+  k.ring_scaled = scale && !whole_ring;
+#endif
+  const Scaling scaling{scale ? scale->kappa : 1.0, scale ? scale->v_magic : 1.0};
   for (const Ghost& g : ghosts) {
-    const TileData* n = k.sides[g.side] == kernel::Side::absent ? nullptr : around[g.side];
+    const kernel::Side side = k.sides[g.side];
+    const TileData* n = side == kernel::Side::absent ? nullptr : around[g.side];
     const TileData::Edges* e = n ? &n->edges[static_cast<std::size_t>(n->cur)] : nullptr;
     const std::size_t first = static_cast<std::size_t>(g.facing * T + g.first);
-    copy_edge(e ? &e->z : nullptr, first, g.count, bz + g.at, g.step);
+    const bool copy = whole_ring || side == kernel::Side::live;
     if (full) {
       copy_edge(e ? &e->x : nullptr, first, g.count, bx + g.at, g.step);
       copy_edge(e ? &e->y : nullptr, first, g.count, by + g.at, g.step);
     }
     k.boundary_activity[g.side] = 0.0;
-    if (k.sides[g.side] == kernel::Side::absent) continue;
-    // The steps across this side: a tile at rest next to water at another level is not at rest.
-    double step = largest_step(e ? e->z.data() + first : nullptr, mine.z.data() + g.own, g.count);
+    if (side == kernel::Side::absent) {
+      if (copy) copy_edge<double>(nullptr, first, g.count, bz + g.at, g.step);
+      continue;
+    }
+    // The steps across this side: a tile at rest next to water at another level is not at
+    // rest (with the copy of the ghosts where the kernel reads them, from the same loads).
+    const double* own = mine.z.data() + g.own;
+    double step = 0.0;
+    if (copy && e && k.ring_scaled) {
+      step = largest_step_of<true, true, true>(e->z.data() + first, own, g.count, bz + g.at, g.step, scaling);
+    } else if (copy && e) {
+      step = largest_step_of<true, true>(e->z.data() + first, own, g.count, bz + g.at, g.step);
+    } else {
+      if (copy) copy_edge<double>(nullptr, first, g.count, bz + g.at, g.step);
+      step = largest_step(e ? e->z.data() + first : nullptr, own, g.count);
+    }
     if (full)
       step = std::max(step, static_cast<double>(largest_step_xy(bx + g.at, by + g.at, g.step, mine.x.data() + g.own,
                                                                 mine.y.data() + g.own, 1, g.count)));
@@ -534,7 +600,11 @@ void update_sleep(const SurfaceSettings& settings, Surface::State& s, const std:
       if (r.side_activity[side] > kWakeLevel && s.inside(tx, ty)) excited.push_back(ty * s.tiles_x + tx);
     }
   }
-  for (std::int32_t e : excited) s.set_awake(s.obtain(settings, e % s.tiles_x, e / s.tiles_x));
+  for (std::int32_t e : excited) {
+    // Most are awake already (their calm count restarts): found, not obtained (a call more).
+    TileData* n = s.find(e % s.tiles_x, e / s.tiles_x);
+    s.set_awake(n ? *n : s.obtain(settings, e % s.tiles_x, e / s.tiles_x));
+  }
   if (!settings.sleep.enabled) return;
   std::vector<std::pair<TileData*, quantum::Wide>> slept;
   for (std::int32_t slot : stepped) {
@@ -575,7 +645,7 @@ bool step_tiles(const SurfaceSettings& settings, Surface::State& s, double dt) {
   };
   const auto one = [&](std::size_t n, const TileData* next, Scratch& sc) {
     TileData& t = tile_at(n);
-    kernel::Tile view = s.gather(t, sc);
+    kernel::Tile view = s.gather(t, sc, &k);
     if (next) view.next = next_of(*next, s.T);
     results[n] = s.full ? kernel::step_3d(s.variant, view, k, sc.workspace())
                         : kernel::step_vertical(s.variant, view, k, sc.workspace());
