@@ -51,17 +51,62 @@ RimForce rim_force(std::span<const RimStrip> rim, const TractionInput& in, const
   return out;
 }
 
+// A warm search's first step from the last substep's spin, as a share of the spin's
+// range, and how much longer each further step is while the root is not bracketed: a
+// substep's change of spin is mostly well within the first.
+constexpr double kWarmStep = 0x1p-10;
+constexpr double kWarmGrowth = 8.0;
+
+/// The bracket around the root of g (growing with the spin) from `guess` in (0, top):
+/// steps away from it in the direction of the root, each kWarmGrowth times the last, until
+/// g changes sign or the step reaches 0 or `top` (where the cold search's ends answer:
+/// locked or spinning). `end` is set when the answer is such an end.
+Bracket warm_bracket(const auto& g, double guess, double top, double& g_lo, double& g_hi, bool& end, double& at) {
+  end = false;
+  const double g_guess = g(guess);
+  Bracket b{guess, guess};
+  double step = kWarmStep * top;
+  if (g_guess < 0.0) {  // the root lies above
+    b.lo = guess, g_lo = g_guess;
+    for (;; step *= kWarmGrowth) {
+      const double o = std::min(b.lo + step, top), go = g(o);
+      if (!(go < 0.0)) return b.hi = o, g_hi = go, b;
+      if (o >= top) return end = true, at = top, b;  // spins: more than the soil takes
+      b.lo = o, g_lo = go;
+    }
+  }
+  b.hi = guess, g_hi = g_guess;
+  for (;; step *= kWarmGrowth) {
+    const double o = std::max(b.hi - step, 0.0), go = g(o);
+    if (go < 0.0) return b.lo = o, g_lo = go, b;
+    if (o <= 0.0) return end = true, at = 0.0, b;  // locked: the brake holds it
+    b.hi = o, g_hi = go;
+  }
+}
+
 /// The spin at which the rim's shear balances the drive less the brake (rolling frame).
 double balancing_spin(std::span<const RimStrip> rim, const TractionInput& in, const RollingFrame& f) {
   const double target = f.dir * in.drive - std::max(in.brake, 0.0);
   const auto g = [&](double omega) { return rim_force(rim, in, f, omega).along - target; };
-  const double g_lo = g(0.0);
-  if (g_lo >= 0.0) return 0.0;  // locked: the brake holds it
-  const double top = (5.0 * std::max(f.speed, 0.0) + 2.0) / in.radius, g_hi = g(top);
-  if (g_hi <= 0.0) return top;  // spins: more than the soil takes
+  const double top = (5.0 * std::max(f.speed, 0.0) + 2.0) / in.radius;
+  const double guess = f.dir * in.last_spin;
+  Bracket b;
+  double g_lo = 0.0, g_hi = 0.0;
+  if (guess > 0.0 && guess < top) {  // NaN (no last spin) fails both
+    bool end = false;
+    double at = 0.0;
+    b = warm_bracket(g, guess, top, g_lo, g_hi, end, at);
+    if (end) return at;
+  } else {
+    g_lo = g(0.0);
+    if (g_lo >= 0.0) return 0.0;  // locked: the brake holds it
+    g_hi = g(top);
+    if (g_hi <= 0.0) return top;  // spins: more than the soil takes
+    b = {0.0, top};
+  }
   // Some ten evaluations where bisection took forty to the same width; the middle of the
   // last bracket.
-  const Bracket b = illinois_narrow(g, {0.0, top}, g_lo, g_hi, kSpinTolerance * top);
+  b = illinois_narrow(g, b, g_lo, g_hi, kSpinTolerance * top);
   return 0.5 * (b.lo + b.hi);
 }
 

@@ -318,9 +318,16 @@ void RaycastWheels::serve(const terrain::Terrain& terrain, EnvelopeRasterizer& r
                           std::vector<terrain::Imprint>& imprints) {
   for (Vehicle& v : vehicles_)
     for (int k = 0; k < static_cast<int>(v.wheels.size()); ++k) {
-      v.wheels[static_cast<std::size_t>(k)].push = 0.0;
-      v.wheels[static_cast<std::size_t>(k)].wall_push = 0.0;
-      if (v.soil != nullptr) v.soil->soil(k).last = WheelTraction{};
+      Wheel& wheel = v.wheels[static_cast<std::size_t>(k)];
+      wheel.push = 0.0;
+      wheel.wall_push = 0.0;
+      if (v.soil != nullptr) {
+        // Where its spin search starts (grip): read from the vehicle's own record, which a
+        // checkpoint keeps, so a restored run searches from the same spin.
+        const WheelTraction& last = v.soil->soil(k).last;
+        wheel.last_spin = last.on_soil ? last.spin : std::numeric_limits<double>::quiet_NaN();
+        v.soil->soil(k).last = WheelTraction{};
+      }
       const btWheelInfo& info = v.vehicle->getWheelInfo(k);
       if (!info.m_raycastInfo.m_isInContact || !ground_->holds(info.m_raycastInfo.m_contactPointWS)) continue;
       if (const terrain::Imprint* im = press(terrain, rasterizer, h, deforms, v, k)) imprints.push_back(*im);
@@ -552,6 +559,7 @@ RimShear RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bea
   const double held = vehicle.soil->soil(k).held_spin;
   in.hold = !std::isnan(held);
   in.held_spin = in.hold ? held : 0.0;
+  in.last_spin = wheel.last_spin;
   const Traction t = soil_traction(wheel.rim, in);
   // Against the motion, no more than stops the chassis at the contact.
   const btVector3 contact = chassis->getCenterOfMassPosition() + p.at;
