@@ -84,6 +84,40 @@ Bracket warm_bracket(const auto& g, double guess, double top, double& g_lo, doub
   }
 }
 
+/// Narrows `b` (g(b.lo) = g_lo < 0 <= g_hi = g(b.hi)) to at most `width` as illinois_narrow
+/// does (the secant's root; an end kept twice in a row has its value halved), but where
+/// the secant's root lies within 1 % of the bracket from an end, the point taken is twice as
+/// far from that end (at least half the width): near the root, regula falsi lands ever
+/// closer to the end that moves, and illinois_narrow's point 1 % in from it narrows the
+/// bracket by a hundredth a step; twice the secant's distance lands past the root when the
+/// secant has found it, and the bracket closes to that distance at once (Brent's rule). The
+/// rim's shear is smooth down to some 1e-6 N: there the steps bisect, as illinois_narrow's.
+Bracket narrow_spin(const auto& g, Bracket b, double g_lo, double g_hi, double width) {
+  int side = 0;
+  for (int it = 0; it < 200 && b.hi - b.lo > width; ++it) {
+    const double w = b.hi - b.lo;
+    double mid = b.lo - g_lo * w / (g_hi - g_lo);
+    if (g_hi == 0.0)
+      mid = b.hi;  // the root is the upper end: half a width below it closes the bracket
+    else if (!(mid > b.lo && mid < b.hi))
+      mid = 0.5 * (b.lo + b.hi);
+    const double near = 0.01 * w;
+    if (mid - b.lo < near) mid = b.lo + std::max(2.0 * (mid - b.lo), 0.5 * width);
+    if (b.hi - mid < near) mid = b.hi - std::max(2.0 * (b.hi - mid), 0.5 * width);
+    const double g_mid = g(mid);
+    if (g_mid < 0.0) {
+      b.lo = mid, g_lo = g_mid;
+      if (side == -1) g_hi *= 0.5;
+      side = -1;
+    } else {
+      b.hi = mid, g_hi = g_mid;
+      if (side == 1) g_lo *= 0.5;
+      side = 1;
+    }
+  }
+  return b;
+}
+
 /// The spin at which the rim's shear balances the drive less the brake (rolling frame).
 double balancing_spin(std::span<const RimStrip> rim, const TractionInput& in, const RollingFrame& f) {
   const double target = f.dir * in.drive - std::max(in.brake, 0.0);
@@ -104,9 +138,9 @@ double balancing_spin(std::span<const RimStrip> rim, const TractionInput& in, co
     if (g_hi <= 0.0) return top;  // spins: more than the soil takes
     b = {0.0, top};
   }
-  // Some ten evaluations where bisection took forty to the same width; the middle of the
+  // Some seven evaluations where bisection took forty to the same width; the middle of the
   // last bracket.
-  b = illinois_narrow(g, b, g_lo, g_hi, kSpinTolerance * top);
+  b = narrow_spin(g, b, g_lo, g_hi, kSpinTolerance * top);
   return 0.5 * (b.lo + b.hi);
 }
 
