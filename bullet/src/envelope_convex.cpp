@@ -217,25 +217,72 @@ void draw_ball(Canvas& cv, Vec3 c, double r) {
   }
 }
 
+namespace {
+
+/// A cylinder whose axis is (within kParallel) upright: each column within the radius of
+/// the axis holds the line's stretch inside the axial slab, a0 + s u.z in [-h, h].
+void draw_upright_cylinder(Canvas& cv, Vec3 c, Vec3 u, double h, double r, std::int64_t ilo, std::int64_t ihi,
+                           std::int64_t jlo, std::int64_t jhi) {
+  const double r2 = r * r, inv_uz = 1.0 / u.z, h_first = u.z > 0 ? -h : h;
+  for (std::int64_t j = jlo; j <= jhi; ++j) {
+    const double wy = cv.y(j) - c.y;
+    for (std::int64_t i = ilo; i <= ihi; ++i) {
+      const double wx = cv.x(i) - c.x, a0 = wx * u.x + wy * u.y;
+      if (wx * wx + wy * wy - a0 * a0 - r2 > 0) continue;
+      cv.put(i, j, c.z + (h_first - a0) * inv_uz, c.z + (-h_first - a0) * inv_uz);
+    }
+  }
+}
+
+/// The rows of a cylinder whose axis is not upright (a = u.x^2 + u.y^2 > kParallel): the
+/// line (x, y, c.z + s), w = (x - c.x, y - c.y), has the axial coordinate a0 + s u.z with
+/// a0 = w . u, and its squared distance from the axis is a s^2 - 2 a0 u.z s + |w|^2 - a0^2
+/// (u a unit vector, so 1 - u.z^2 = a). It is inside the radius between that quadratic's
+/// roots, s = (a0 u.z -+ sqrt(D)) / a with D = a0^2 - a (|w|^2 - r^2), and inside the
+/// length where the axial coordinate lies in [-h, h]: per column a few products, one
+/// square root and no division. `kLevel`: u.z is 0, and a column is inside the length
+/// whole or not at all.
+template <bool kLevel>
+void cylinder_rows(Canvas& cv, Vec3 c, Vec3 u, double h, double r, double a, std::int64_t ilo, std::int64_t ihi,
+                   std::int64_t jlo, std::int64_t jhi) {
+  const double inv_a = 1.0 / a, r2 = r * r, cell = cv.cell();
+  // The axial slab as a range of s: (-+h - a0) / u.z, ordered by u.z's sign.
+  const double inv_uz = kLevel ? 0.0 : 1.0 / u.z, h_first = u.z > 0 ? -h : h;
+  const double wx0 = cv.x(ilo) - c.x;
+  for (std::int64_t j = jlo; j <= jhi; ++j) {
+    const double wy = cv.y(j) - c.y, off_row = wy * wy - r2, ay = wy * u.y;
+    for (std::int64_t i = ilo; i <= ihi; ++i) {
+      const double wx = wx0 + static_cast<double>(i - ilo) * cell;
+      const double a0 = wx * u.x + ay;
+      const double disc = a0 * a0 - a * (wx * wx + off_row);
+      if (!(disc >= 0)) continue;
+      const double root = std::sqrt(disc), b = a0 * u.z;
+      double lo = (b - root) * inv_a, hi = (b + root) * inv_a;
+      if constexpr (kLevel) {
+        if (!(std::abs(a0) <= h)) continue;
+      } else {
+        lo = std::max(lo, (h_first - a0) * inv_uz);
+        hi = std::min(hi, (-h_first - a0) * inv_uz);
+        if (!(lo <= hi)) continue;
+      }
+      cv.put(i, j, c.z + lo, c.z + hi);
+    }
+  }
+}
+
+}  // namespace
+
 void draw_cylinder(Canvas& cv, Vec3 c, Vec3 u, double h, double r) {
   const Vec3 ext = cylinder_extent(u, h, r);
   std::int64_t ilo = 0, ihi = 0, jlo = 0, jhi = 0;
   if (!cv.span_i(c.x - ext.x, c.x + ext.x, ilo, ihi) || !cv.span_j(c.y - ext.y, c.y + ext.y, jlo, jhi)) return;
-  // Line (x, y, c.z + s): w0 = (x - c.x, y - c.y, 0), axial a0 + s u.z, radial part
-  // perp0 + s dperp with dperp = e_z - u.z u, |dperp|^2 = u.x^2 + u.y^2 and perp0 . dperp = -a0 u.z.
   const double a = u.x * u.x + u.y * u.y;
-  const double r2 = r * r;
-  for (std::int64_t j = jlo; j <= jhi; ++j) {
-    const double wy = cv.y(j) - c.y;
-    for (std::int64_t i = ilo; i <= ihi; ++i) {
-      const Vec3 w0{cv.x(i) - c.x, wy, 0};
-      const double a0 = dot(w0, u);
-      const Vec3 perp0 = w0 - u * a0;
-      double lo = 0;
-      double hi = 0;
-      if (cylinder_interval(a, -a0 * u.z, dot(perp0, perp0) - r2, a0, u.z, h, lo, hi)) cv.put(i, j, c.z + lo, c.z + hi);
-    }
-  }
+  if (a <= kParallel)
+    draw_upright_cylinder(cv, c, u, h, r, ilo, ihi, jlo, jhi);
+  else if (u.z == 0)
+    cylinder_rows<true>(cv, c, u, h, r, a, ilo, ihi, jlo, jhi);
+  else
+    cylinder_rows<false>(cv, c, u, h, r, a, ilo, ihi, jlo, jhi);
 }
 
 void draw_box(Canvas& cv, const Frame& f, Vec3 half) {

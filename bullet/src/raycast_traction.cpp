@@ -51,17 +51,96 @@ RimForce rim_force(std::span<const RimStrip> rim, const TractionInput& in, const
   return out;
 }
 
+// A warm search's first step from the last substep's spin, as a share of the spin's
+// range, and how much longer each further step is while the root is not bracketed: a
+// substep's change of spin is mostly well within the first.
+constexpr double kWarmStep = 0x1p-10;
+constexpr double kWarmGrowth = 8.0;
+
+/// The bracket around the root of g (growing with the spin) from `guess` in (0, top):
+/// steps away from it in the direction of the root, each kWarmGrowth times the last, until
+/// g changes sign or the step reaches 0 or `top` (where the cold search's ends answer:
+/// locked or spinning). `end` is set when the answer is such an end.
+Bracket warm_bracket(const auto& g, double guess, double top, double& g_lo, double& g_hi, bool& end, double& at) {
+  end = false;
+  const double g_guess = g(guess);
+  Bracket b{guess, guess};
+  double step = kWarmStep * top;
+  if (g_guess < 0.0) {  // the root lies above
+    b.lo = guess, g_lo = g_guess;
+    for (;; step *= kWarmGrowth) {
+      const double o = std::min(b.lo + step, top), go = g(o);
+      if (!(go < 0.0)) return b.hi = o, g_hi = go, b;
+      if (o >= top) return end = true, at = top, b;  // spins: more than the soil takes
+      b.lo = o, g_lo = go;
+    }
+  }
+  b.hi = guess, g_hi = g_guess;
+  for (;; step *= kWarmGrowth) {
+    const double o = std::max(b.hi - step, 0.0), go = g(o);
+    if (go < 0.0) return b.lo = o, g_lo = go, b;
+    if (o <= 0.0) return end = true, at = 0.0, b;  // locked: the brake holds it
+    b.hi = o, g_hi = go;
+  }
+}
+
+/// Narrows `b` (g(b.lo) = g_lo < 0 <= g_hi = g(b.hi)) to at most `width` as illinois_narrow
+/// does (the secant's root; an end kept twice in a row has its value halved), but where
+/// the secant's root lies within 1 % of the bracket from an end, the point taken is twice as
+/// far from that end (at least half the width): near the root, regula falsi lands ever
+/// closer to the end that moves, and illinois_narrow's point 1 % in from it narrows the
+/// bracket by a hundredth a step; twice the secant's distance lands past the root when the
+/// secant has found it, and the bracket closes to that distance at once (Brent's rule). The
+/// rim's shear is smooth down to some 1e-6 N: there the steps bisect, as illinois_narrow's.
+Bracket narrow_spin(const auto& g, Bracket b, double g_lo, double g_hi, double width) {
+  int side = 0;
+  for (int it = 0; it < 200 && b.hi - b.lo > width; ++it) {
+    const double w = b.hi - b.lo;
+    double mid = b.lo - g_lo * w / (g_hi - g_lo);
+    if (g_hi == 0.0)
+      mid = b.hi;  // the root is the upper end: half a width below it closes the bracket
+    else if (!(mid > b.lo && mid < b.hi))
+      mid = 0.5 * (b.lo + b.hi);
+    const double near = 0.01 * w;
+    if (mid - b.lo < near) mid = b.lo + std::max(2.0 * (mid - b.lo), 0.5 * width);
+    if (b.hi - mid < near) mid = b.hi - std::max(2.0 * (b.hi - mid), 0.5 * width);
+    const double g_mid = g(mid);
+    if (g_mid < 0.0) {
+      b.lo = mid, g_lo = g_mid;
+      if (side == -1) g_hi *= 0.5;
+      side = -1;
+    } else {
+      b.hi = mid, g_hi = g_mid;
+      if (side == 1) g_lo *= 0.5;
+      side = 1;
+    }
+  }
+  return b;
+}
+
 /// The spin at which the rim's shear balances the drive less the brake (rolling frame).
 double balancing_spin(std::span<const RimStrip> rim, const TractionInput& in, const RollingFrame& f) {
   const double target = f.dir * in.drive - std::max(in.brake, 0.0);
   const auto g = [&](double omega) { return rim_force(rim, in, f, omega).along - target; };
-  const double g_lo = g(0.0);
-  if (g_lo >= 0.0) return 0.0;  // locked: the brake holds it
-  const double top = (5.0 * std::max(f.speed, 0.0) + 2.0) / in.radius, g_hi = g(top);
-  if (g_hi <= 0.0) return top;  // spins: more than the soil takes
-  // Some ten evaluations where bisection took forty to the same width; the middle of the
+  const double top = (5.0 * std::max(f.speed, 0.0) + 2.0) / in.radius;
+  const double guess = f.dir * in.last_spin;
+  Bracket b;
+  double g_lo = 0.0, g_hi = 0.0;
+  if (guess > 0.0 && guess < top) {  // NaN (no last spin) fails both
+    bool end = false;
+    double at = 0.0;
+    b = warm_bracket(g, guess, top, g_lo, g_hi, end, at);
+    if (end) return at;
+  } else {
+    g_lo = g(0.0);
+    if (g_lo >= 0.0) return 0.0;  // locked: the brake holds it
+    g_hi = g(top);
+    if (g_hi <= 0.0) return top;  // spins: more than the soil takes
+    b = {0.0, top};
+  }
+  // Some seven evaluations where bisection took forty to the same width; the middle of the
   // last bracket.
-  const Bracket b = illinois_narrow(g, {0.0, top}, g_lo, g_hi, kSpinTolerance * top);
+  b = narrow_spin(g, b, g_lo, g_hi, kSpinTolerance * top);
   return 0.5 * (b.lo + b.hi);
 }
 

@@ -15,8 +15,11 @@
 // balances what drives or brakes the wheel (its engine force at the rim, less the brake),
 // the wheel's own inertia neglected (a raycast wheel has none in Bullet). A wheel asked for
 // more than the soil can take spins at the largest spin considered; a braked wheel the soil
-// cannot turn stays locked.
+// cannot turn stays locked. The search starts from the spin the wheel had in the last
+// substep when it had one (a wheel's spin changes little from one substep to the next):
+// the same root, narrowed to the same width, in about a third of the rim's evaluations.
 
+#include <limits>
 #include <span>
 
 #include "shore/bullet/config.h"
@@ -46,6 +49,9 @@ struct TractionInput {
   double brake = 0.0;                ///< N at the rim, >= 0: the most the brake resists the spin with
   double held_spin = 0.0;            ///< rad/s, used when `hold` (a speed-controlled wheel)
   bool hold = false;
+  /// rad/s, positive rolling forward: the wheel's spin in the last substep, where the search
+  /// for the balancing spin starts; NaN: none (the search brackets the whole range).
+  double last_spin = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Wong and Reece's shear displacement along the rim at the spin found, to read |j| at any

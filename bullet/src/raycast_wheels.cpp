@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -170,7 +171,9 @@ double wall_push(const terrain::Terrain& terrain, const terrain::Bearing& bearin
 /// `envelope`'s columns at and ahead of the wheel's lowest point along `heading` into
 /// `front`, the others left uncovered: a rolling wheel bears on its front arc (Bekker's
 /// rolling wheel); the soil behind it unloads as the rim rises away. Only `lower` is kept
-/// (the bearing reads nothing else).
+/// (the bearing reads nothing else), over the kept columns' bounding box: those that read
+/// it (the bearing's columns, the loosening's weights) skip no rear half, and the kept
+/// columns come in the same order as over the whole window (row by row), so the same sums.
 void keep_front(const ColumnOffsets& from_centre, const btVector3& heading, const EnvelopeRaster& envelope,
                 EnvelopeRaster& front) {
   static_cast<GridRect&>(front) = envelope;
@@ -178,15 +181,30 @@ void keep_front(const ColumnOffsets& from_centre, const btVector3& heading, cons
   front.upper.clear();
   const double hx = double(heading.x()), hy = double(heading.y());
   const auto nx = static_cast<std::size_t>(envelope.nx);
+  std::size_t a0 = nx, a1 = 0;  // the kept columns' bounding box, [a0, a1) x [b0, b1)
+  int b0 = envelope.ny, b1 = 0;
   for (int b = 0; b < envelope.ny; ++b) {
     const double along_y = from_centre.dy(envelope.j0 + b) * hy;
     const double* in = envelope.lower.data() + static_cast<std::size_t>(b) * nx;
     double* out = front.lower.data() + static_cast<std::size_t>(b) * nx;
-    for (std::size_t a = 0; a < nx; ++a)
+    std::size_t first = nx, last = 0;
+    for (std::size_t a = 0; a < nx; ++a) {
       out[a] = from_centre.dx(envelope.i0 + static_cast<std::int64_t>(a)) * hx + along_y < 0.0
                    ? EnvelopeRaster::kNoLower
                    : in[a];
+      if (out[a] != EnvelopeRaster::kNoLower) first = std::min(first, a), last = a + 1;
+    }
+    if (first < last) a0 = std::min(a0, first), a1 = std::max(a1, last), b0 = std::min(b0, b), b1 = b + 1;
   }
+  if (b0 >= b1) return;  // nothing ahead: the whole window, uncovered
+  // Cropped in place, row by row: each row moves to an index no later than its own.
+  const std::size_t width = a1 - a0;
+  for (int b = b0; b < b1; ++b)
+    std::memmove(front.lower.data() + static_cast<std::size_t>(b - b0) * width,
+                 front.lower.data() + static_cast<std::size_t>(b) * nx + a0, width * sizeof(double));
+  static_cast<GridRect&>(front) =
+      GridRect{envelope.i0 + static_cast<std::int64_t>(a0), envelope.j0 + b0, static_cast<int>(width), b1 - b0};
+  front.lower.resize(front.size());
 }
 
 struct RimSpan {
@@ -318,9 +336,16 @@ void RaycastWheels::serve(const terrain::Terrain& terrain, EnvelopeRasterizer& r
                           std::vector<terrain::Imprint>& imprints) {
   for (Vehicle& v : vehicles_)
     for (int k = 0; k < static_cast<int>(v.wheels.size()); ++k) {
-      v.wheels[static_cast<std::size_t>(k)].push = 0.0;
-      v.wheels[static_cast<std::size_t>(k)].wall_push = 0.0;
-      if (v.soil != nullptr) v.soil->soil(k).last = WheelTraction{};
+      Wheel& wheel = v.wheels[static_cast<std::size_t>(k)];
+      wheel.push = 0.0;
+      wheel.wall_push = 0.0;
+      if (v.soil != nullptr) {
+        // Where its spin search starts (grip): read from the vehicle's own record, which a
+        // checkpoint keeps, so a restored run searches from the same spin.
+        const WheelTraction& last = v.soil->soil(k).last;
+        wheel.last_spin = last.on_soil ? last.spin : std::numeric_limits<double>::quiet_NaN();
+        v.soil->soil(k).last = WheelTraction{};
+      }
       const btWheelInfo& info = v.vehicle->getWheelInfo(k);
       if (!info.m_raycastInfo.m_isInContact || !ground_->holds(info.m_raycastInfo.m_contactPointWS)) continue;
       if (const terrain::Imprint* im = press(terrain, rasterizer, h, deforms, v, k)) imprints.push_back(*im);
@@ -552,6 +577,7 @@ RimShear RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bea
   const double held = vehicle.soil->soil(k).held_spin;
   in.hold = !std::isnan(held);
   in.held_spin = in.hold ? held : 0.0;
+  in.last_spin = wheel.last_spin;
   const Traction t = soil_traction(wheel.rim, in);
   // Against the motion, no more than stops the chassis at the contact.
   const btVector3 contact = chassis->getCenterOfMassPosition() + p.at;

@@ -15,6 +15,7 @@
 //   wheels on this ground. A stock btRaycastVehicle keeps Bullet's (m_frictionSlip).
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -134,6 +135,9 @@ class RaycastWheels {
     std::vector<RimStrip> rim;  ///< scratch: the rim's strips in contact
     RimLoosening loosening;     ///< scratch: a slipping wheel's loosened columns
     terrain::Bearing loosened;  ///< the bearing it pressed with, loosened
+    /// rad/s: a SoilVehicle's wheel's spin in the last substep (NaN: none, off the soil),
+    /// where grip's spin search starts; read from the vehicle's record each substep.
+    double last_spin = std::numeric_limits<double>::quiet_NaN();
   };
   [[nodiscard]] const Wheel* find(const btRaycastVehicle* vehicle, int k) const;
   struct Vehicle {

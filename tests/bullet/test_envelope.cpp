@@ -301,6 +301,46 @@ TEST(Envelope, CylinderSharpAndRoundedRims) {
     }
 }
 
+// A wheel's pose: its axle level (u.z exactly 0, a column inside the length whole or not
+// at all), yawed; and an upright axis (u.x = u.y = 0) and one a hair off it, where the
+// line through a column is parallel to the axis. Each against the solid's distance.
+TEST(Envelope, CylinderLevelAndUprightAxes) {
+  auto posed = [](const btQuaternion& q, const btVector3& at) {
+    Pose p;
+    p.bt.setIdentity();
+    p.bt.setRotation(q);
+    p.bt.setOrigin(at);
+    p.o = vec(at);
+    for (int k = 0; k < 3; ++k) p.axis[k] = vec(p.bt.getBasis().getColumn(k));
+    return p;
+  };
+  const btVector3 at(btScalar(0.31), btScalar(-0.17), btScalar(0.9));
+  const double r = 0.4, h = 0.15;
+  btCylinderShapeX wheel{btVector3(btScalar(h), btScalar(r), btScalar(r))};
+  wheel.setMargin(btScalar(0));
+  for (const double yaw : {0.0, 0.3, 1.2}) {
+    const Pose pose = posed(btQuaternion(btVector3(0, 0, 1), btScalar(yaw)), at);
+    ASSERT_EQ(pose.bt.getBasis().getColumn(0).z(), btScalar(0));  // the level path
+    auto sharp = [&](Vec p) {
+      double rho = 0, a = 0;
+      meridian(pose, 0, p, rho, a);
+      return std::max(rho - r, std::abs(a) - h);
+    };
+    expect_good(compare(wheel, pose.bt, grid_of(0.01), true, true, convex_ref(sharp, pose, 2)), "level wheel");
+  }
+  btCylinderShapeZ post{btVector3(btScalar(0.2), btScalar(0.2), btScalar(0.3))};
+  post.setMargin(btScalar(0));
+  for (const double tilt : {0.0, 1e-13}) {
+    const Pose pose = posed(btQuaternion(btVector3(1, 0, 0), btScalar(tilt)), at);
+    auto sharp = [&](Vec p) {
+      double rho = 0, a = 0;
+      meridian(pose, 2, p, rho, a);
+      return std::max(rho - 0.2, std::abs(a) - 0.3);
+    };
+    expect_good(compare(post, pose.bt, grid_of(0.013), true, true, convex_ref(sharp, pose, 2)), "upright post");
+  }
+}
+
 TEST(Envelope, ConeSharpAndSweptByMargin) {
   std::mt19937 rng(15);
   for (int up = 0; up < 3; ++up)
