@@ -15,6 +15,15 @@ namespace {
 /// Elements whose stiffness lies below this unload elastically (ContactElement::stiffness).
 constexpr double kRigid = std::numeric_limits<double>::infinity();
 
+/// A body presses further into a column when it approaches it faster than this share of its
+/// slip over it (tan 2.9 deg). A box gliding on soil at its yield pressure rocks and pitches
+/// by a few hundredths of its slip as it goes (its underside slides along itself, the
+/// rocking dips the front and back edges in and out); counting every such dip as flow
+/// remoulded the whole shear displacement of the columns under it, where a wheel's front
+/// arc meets its columns at tens of degrees (docs/terrain.md, "Validation matrix", "the
+/// gliding box's rocking").
+constexpr double kPressingDip = 0.05;
+
 /// Values kept per envelope column, moved from the old window to the new one (`fresh` where
 /// new). The same window keeps them as they are; otherwise each row's overlap is copied at once.
 template <class T>
@@ -103,7 +112,8 @@ void ContactMemory::advance(std::span<terrain::ContactElement> elements, const E
     // the yield pressure. A column on its loading branch flows only while the body presses
     // further into it with its block at its whole capacity: one whose block held below it
     // carried that share of its yield pressure, and a body sliding along the column's top
-    // (not approaching it) does not compress it further, so neither remoulds its strength
+    // (not approaching it, or by less than kPressingDip of its slip) does not compress it
+    // further, so neither remoulds its strength
     // (a box sliding level keeps the soil under it intact; a wheel's front arc, which the
     // rim approaches, yields). A link's solve is not what its columns carry (the links
     // solved after it load it through their joints): its pressed columns yield.
@@ -111,7 +121,8 @@ void ContactMemory::advance(std::span<terrain::ContactElement> elements, const E
     const bool own = envelope.index(e.i, e.j) == k;  // a fringe element's column is its covered neighbour's
     const double share = !elastic && !body.articulated && e.pressure < kRigid ? carried_share(e) : 1.0;
     const bool held = share < 1.0 - 1e-9;
-    const bool presses = body.articulated || !(e.pressure < kRigid) || -dot(u, n) > 0.0;
+    const bool presses =
+        body.articulated || !(e.pressure < kRigid) || -dot(u, n) > kPressingDip * std::sqrt(dot(slip, slip));
     const bool yields = elastic ? spring >= e.pressure : !held && presses;
     new_shear_.push_back({k, j, length, yields ? length : std::min(length, had ? remould_[k] : 0.0)});
     if (!elastic) {

@@ -9,7 +9,8 @@
 //   yielded (the body pressed further into it while its block pushed with its whole
 //   capacity, or its elastic push reached its yield pressure). A column pressed while its
 //   block held below its capacity carried part of its yield pressure, and one the body
-//   slides along without approaching it is not compressed further: neither flows.
+//   slides along without approaching it (or approaching it by less than a twentieth of its
+//   slip: a gliding box's rocking) is not compressed further: neither flows.
 //   The strength loss (Material::remould_shear_ratio) follows it: soil remoulds where it
 //   flows, and soil that carries a sliding body elastically shears as a bevameter's shear
 //   ring measures it, whose plateau c and phi already are (docs/terrain.md, "Validation

@@ -372,8 +372,9 @@ SlopeBoxResult run_slope_box(const SlopeBoxCase& c) {
   const btVector3 downhill(btScalar(std::cos(c.slope)), 0, btScalar(-std::sin(c.slope)));
   const btQuaternion tilt(btVector3(0, 1, 0), btScalar(c.slope));
   const btScalar half = btScalar(c.size / 2), half_height = btScalar((c.height > 0 ? c.height : c.size) / 2);
+  const btVector3 moved = btVector3(0, btScalar(c.offset_across), 0) + downhill * btScalar(c.offset_down);
   btRigidBody* box = rig.world.add_body(std::make_unique<btBoxShape>(btVector3(half, half, half_height)), c.mass,
-                                        normal * (half_height + btScalar(1e-3)), tilt);
+                                        normal * (half_height + btScalar(1e-3)) + moved, tilt);
   box->setActivationState(DISABLE_DEACTIVATION);
   box->setFriction(1.0f);
   rig.ground.add_body(box);

@@ -68,6 +68,18 @@ TEST(ContactMemoryRemould, ColumnsABodySlidesAlongAtTheirCapacityKeepTheirStreng
   }
 }
 
+// A box gliding on soil at its yield pressure rocks: its edges dip in and out by a few
+// hundredths of its slip. That is not pressing the columns further, and they keep their
+// strength; the same body pressing in at a tenth of its slip (a shallow wheel arc) flows.
+TEST(ContactMemoryRemould, ColumnsABodyGlidesOverWithAShallowDipKeepTheirStrength) {
+  Pressed p;
+  for (int k = 0; k < 24; ++k) p.substep({0.5, 0.0, -0.01}, 1.0);
+  for (std::size_t k = 0; k < p.memory.remould_length().size(); ++k) {
+    EXPECT_GT(p.memory.shear_length()[k], 0.0);
+    EXPECT_EQ(p.memory.remould_length()[k], 0.0) << "column " << k << " dips by a fiftieth of the slip";
+  }
+}
+
 TEST(ContactMemoryRemould, ColumnsABodyPressesFurtherAtTheirCapacityRemould) {
   Pressed p;
   for (int k = 0; k < 24; ++k) p.substep({0.5, 0.0, -0.05}, 1.0);

@@ -2,7 +2,7 @@
 // shore-bench --only matrix): one case per family on two of Wong's soils (dry sand and
 // LETE sand; the slope box on dry sand and snow, where it meets Wong's sliding block on
 // Janosi-Hanamoto soil: on some other soils the sliding boxes still miss it, mud's second
-// half by up to 54 %, docs/terrain.md, "Validation matrix"), each cell within its
+// half by 17 %, docs/terrain.md, "Validation matrix"), each cell within its
 // tolerance of its outside reference (Bekker, Wong-Reece, Wong's sliding block, the energy
 // balance).
 #include <gtest/gtest.h>

@@ -148,6 +148,11 @@ struct SlopeBoxCase {
   double mass = 40.0;    ///< kg
   double seconds = 1.5;  ///< s simulated
   bool rigid = false;
+  /// m, the box's start moved across the slope (+y) and down it, in the slope's plane. At 0
+  /// its long sides lie on a row of column centres (1 cm columns, a 0.3 m box), where
+  /// rounding decides whether an edge row is covered.
+  double offset_across = 0.0;
+  double offset_down = 0.0;
 };
 struct SlopeBoxResult {
   double acceleration = 0.0;  ///< m/s^2 along the slope (downhill positive), fitted over the second half

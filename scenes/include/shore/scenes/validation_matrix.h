@@ -41,6 +41,12 @@ struct MatrixCase {
   double slip = 0.0;   ///< driven wheel
   double slope = 0.0;  ///< rad, slope box
   std::string label;   ///< "0.2 m, 20 kPa", "slip 0.2", "phi + 7 deg" ...
+  /// Slope box: the cell is the mean over this many starts spread over a column cell
+  /// (across and down the slope), an estimate of the continuum slide; 0: one start with the
+  /// box's sides on a row of column centres (the matrix before; docs/terrain.md,
+  /// "Validation matrix").
+  int box_starts = 4;
+  double box_shift = 0.0;  ///< m, slope box: every start moved across the slope by this too
 };
 
 /// Every run of the matrix (quick: a subset of each family on every soil).
