@@ -104,16 +104,7 @@ Bracket narrow_spin(const auto& g, Bracket b, double g_lo, double g_hi, double w
     const double near = 0.01 * w;
     if (mid - b.lo < near) mid = b.lo + std::max(2.0 * (mid - b.lo), 0.5 * width);
     if (b.hi - mid < near) mid = b.hi - std::max(2.0 * (b.hi - mid), 0.5 * width);
-    const double g_mid = g(mid);
-    if (g_mid < 0.0) {
-      b.lo = mid, g_lo = g_mid;
-      if (side == -1) g_hi *= 0.5;
-      side = -1;
-    } else {
-      b.hi = mid, g_hi = g_mid;
-      if (side == 1) g_lo *= 0.5;
-      side = 1;
-    }
+    illinois_keep(b, g_lo, g_hi, side, mid, g(mid));
   }
   return b;
 }
