@@ -174,11 +174,13 @@ double wall_push(const terrain::Terrain& terrain, const terrain::Bearing& bearin
 /// (the bearing reads nothing else), over the kept columns' bounding box: those that read
 /// it (the bearing's columns, the loosening's weights) skip no rear half, and the kept
 /// columns come in the same order as over the whole window (row by row), so the same sums.
+/// The window is marked in `marked` (scratch that only grows: a vector grown back to the
+/// window's size after each crop would zero the part it regrows before it is overwritten).
 void keep_front(const ColumnOffsets& from_centre, const btVector3& heading, const EnvelopeRaster& envelope,
-                EnvelopeRaster& front) {
+                EnvelopeRaster& front, std::vector<double>& marked) {
   static_cast<GridRect&>(front) = envelope;
-  front.lower.resize(envelope.lower.size());
   front.upper.clear();
+  if (marked.size() < envelope.lower.size()) marked.resize(envelope.lower.size());
   const double hx = double(heading.x()), hy = double(heading.y());
   const auto nx = static_cast<std::size_t>(envelope.nx);
   std::size_t a0 = nx, a1 = 0;  // the kept columns' bounding box, [a0, a1) x [b0, b1)
@@ -186,7 +188,7 @@ void keep_front(const ColumnOffsets& from_centre, const btVector3& heading, cons
   for (int b = 0; b < envelope.ny; ++b) {
     const double along_y = from_centre.dy(envelope.j0 + b) * hy;
     const double* in = envelope.lower.data() + static_cast<std::size_t>(b) * nx;
-    double* out = front.lower.data() + static_cast<std::size_t>(b) * nx;
+    double* out = marked.data() + static_cast<std::size_t>(b) * nx;
     std::size_t first = nx, last = 0;
     for (std::size_t a = 0; a < nx; ++a) {
       out[a] = from_centre.dx(envelope.i0 + static_cast<std::int64_t>(a)) * hx + along_y < 0.0
@@ -196,15 +198,17 @@ void keep_front(const ColumnOffsets& from_centre, const btVector3& heading, cons
     }
     if (first < last) a0 = std::min(a0, first), a1 = std::max(a1, last), b0 = std::min(b0, b), b1 = b + 1;
   }
-  if (b0 >= b1) return;  // nothing ahead: the whole window, uncovered
-  // Cropped in place, row by row: each row moves to an index no later than its own.
+  if (b0 >= b1) {  // nothing ahead: the whole window, uncovered
+    front.lower.assign(marked.begin(), marked.begin() + static_cast<std::ptrdiff_t>(envelope.lower.size()));
+    return;
+  }
   const std::size_t width = a1 - a0;
-  for (int b = b0; b < b1; ++b)
-    std::memmove(front.lower.data() + static_cast<std::size_t>(b - b0) * width,
-                 front.lower.data() + static_cast<std::size_t>(b) * nx + a0, width * sizeof(double));
   static_cast<GridRect&>(front) =
       GridRect{envelope.i0 + static_cast<std::int64_t>(a0), envelope.j0 + b0, static_cast<int>(width), b1 - b0};
   front.lower.resize(front.size());
+  for (int b = b0; b < b1; ++b)
+    std::copy_n(marked.data() + static_cast<std::size_t>(b) * nx + a0, width,
+                front.lower.data() + static_cast<std::size_t>(b - b0) * width);
 }
 
 struct RimSpan {
@@ -475,7 +479,8 @@ void RaycastWheels::read_bearing(const terrain::Terrain& terrain, Wheel& wheel, 
   wheel.from_centre.read(terrain, wheel.envelope, double(p.pose.getOrigin().x()), double(p.pose.getOrigin().y()));
   // Rolling (faster than kRolling along its heading): the front arc bears; at rest, both.
   if (std::abs(speed) > kRolling)
-    keep_front(wheel.from_centre, speed > 0 ? forward : -forward, wheel.envelope, wheel.bearing_part);
+    keep_front(wheel.from_centre, speed > 0 ? forward : -forward, wheel.envelope, wheel.bearing_part,
+               wheel.front_marked);
   else
     wheel.bearing_part = wheel.envelope;
   wheel.solve.reset(terrain, wheel.bearing_part);

@@ -123,11 +123,12 @@ class RaycastWheels {
     /// The whole cylinder's window: the rut walls read the ground over it, whether the
     /// envelope is cut or not (their bilinear weights depend on a column's place in it).
     GridRect window;
-    double last_deepest = 0.0;    ///< m: the deepest offset its last press measured
-    std::vector<double> ground;   ///< scratch: the heights under the whole cylinder
-    EnvelopeRaster bearing_part;  ///< what bears its load (the front arc when rolling)
-    terrain::BearingSolve solve;  ///< scratch: bearing_part's columns and capacities
-    ColumnOffsets from_centre;    ///< scratch: the envelope's columns from the wheel's centre
+    double last_deepest = 0.0;         ///< m: the deepest offset its last press measured
+    std::vector<double> ground;        ///< scratch: the heights under the whole cylinder
+    EnvelopeRaster bearing_part;       ///< what bears its load (the front arc when rolling)
+    std::vector<double> front_marked;  ///< scratch: the window with the front arc marked (keep_front)
+    terrain::BearingSolve solve;       ///< scratch: bearing_part's columns and capacities
+    ColumnOffsets from_centre;         ///< scratch: the envelope's columns from the wheel's centre
     terrain::Imprint imprint;
     double push = 0.0;       ///< N along the heading, last substep
     double wall_push = 0.0;  ///< N along the axle's horizontal direction, last substep (wall_push)

@@ -206,18 +206,21 @@ std::int64_t TerrainTiles::copy_rect(Tile& tile, const GridRect& columns) {
   if (rect.empty()) return 0;
   const std::int64_t a0 = rect.i0 - tile.i0, b0 = rect.j0 - tile.j0;
   const auto width = static_cast<std::size_t>(rect.nx);
-  scratch_.resize(width * static_cast<std::size_t>(rect.ny));
-  terrain_.heights(rect, scratch_);
+  // The scratch only grows: resized to each rectangle, it would zero what it regrew before
+  // the heights overwrite it.
+  const std::size_t n = width * static_cast<std::size_t>(rect.ny);
+  if (scratch_.size() < n) scratch_.resize(n);
+  const std::span<double> heights(scratch_.data(), n);
+  terrain_.heights(rect, heights);
   for (int b = 0; b < rect.ny; ++b) {
     // Raised ground may not jump over a body: it rises at most max_rise_per_substep.
     const HeightfieldTile::RowWrite w =
-        tile.field->set_row(int(a0), int(b0) + b, std::span<const double>(scratch_).subspan(b * width, width),
-                            settings_.max_rise_per_substep);
+        tile.field->set_row(int(a0), int(b0) + b, heights.subspan(b * width, width), settings_.max_rise_per_substep);
     clamped_ += w.clamped;
     if (w.first_held >= 0)
       tile.lag = bounding(tile.lag, GridRect::spanning(a0 + w.first_held, b0 + b, a0 + w.last_held, b0 + b));
   }
-  return static_cast<std::int64_t>(scratch_.size());
+  return static_cast<std::int64_t>(n);
 }
 
 std::int64_t TerrainTiles::push(std::span<const GridRect> changed) {

@@ -86,7 +86,6 @@ void capacity_into(std::span<const BearingColumn> columns, std::span<const std::
                    std::span<const ColumnLayer> layers, const TerrainSettings& s, std::span<const Material> palette,
                    std::span<const det::FixedPower> powers, double offset, bool with_columns, Bearing& out) {
   out.capacity = 0.0, out.patch_width = 0.0, out.contact_columns = 0;
-  out.columns.clear();
   const double tol = s.contact_tolerance;
   std::int64_t i0 = std::numeric_limits<std::int64_t>::max(), j0 = i0;
   std::int64_t i1 = std::numeric_limits<std::int64_t>::min(), j1 = i1;
@@ -95,12 +94,15 @@ void capacity_into(std::span<const BearingColumn> columns, std::span<const std::
     ++out.contact_columns;
     i0 = std::min(i0, c.i), i1 = std::max(i1, c.i), j0 = std::min(j0, c.j), j1 = std::max(j1, c.j);
   }
+  if (out.contact_columns == 0 || !with_columns) out.columns.clear();
   if (out.contact_columns == 0) return;
   const double b = static_cast<double>(std::min(i1 - i0 + 1, j1 - j0 + 1)) * s.cell;
   out.patch_width = b;
   const bool rigid = s.material.rigid;
   const double cell_area = s.cell * s.cell;
   // Written by index into a sized buffer: push_back's bookkeeping cost as much as the rest.
+  // Resized, not cleared first: every entry is written below, and a cleared vector would
+  // construct each one again (as much again as writing it).
   if (with_columns) out.columns.resize(static_cast<std::size_t>(out.contact_columns));
   ColumnForce* const written = out.columns.data();
   std::size_t n = 0;

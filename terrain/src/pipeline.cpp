@@ -68,8 +68,7 @@ StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, std::span<c
   const Clock::time_point t0 = Clock::now();
   gather(store, s, palette, region);
   imprint_.rasterize(region_, imprints);
-  const ImprintStage::Collision collision = imprint_.collide(region_, s);
-  region_.ht_pressed = region_.ht;
+  const ImprintStage::Collision collision = imprint_.collide(region_, s);  // sets region_.ht_pressed
   contour_.run(region_, imprint_.flags());
   alpha_.clear();
   for (const Material& m : palette) alpha_.push_back(m.alpha);

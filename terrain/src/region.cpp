@@ -70,23 +70,25 @@ void Region::gather(TileStore& store, const BedrockDepth& depth, bool with_mater
     else
       std::memcpy(&mat[dst], &t.material[src], static_cast<std::size_t>(run.count));
   });
-  ht_orig = ht;
   relayered.clear();
 }
 
 void Region::scatter(TileStore& store) {
+  // The tiles still hold the heights gathered (only scatter writes them during a step), so
+  // what changed is read against them, and only the changed span of a run is written back.
   store.for_each_run_creating({si0, sj0, w, h}, [&](Tile& t, const TileRun& run) {
     const std::size_t src = at(run.x, run.y);
     const std::size_t dst = run.local;
     int first = -1, last = -1;
     for (int k = 0; k < run.count; ++k)
-      if (ht[src + k] != ht_orig[src + k]) {
+      if (ht[src + k] != t.height[dst + k]) {
         if (first < 0) first = k;
         last = k;
       }
-    std::memcpy(&t.height[dst], &ht[src], sizeof(double) * run.count);
     std::memcpy(&t.sinkage[dst], &sink[src], sizeof(double) * run.count);
-    if (first >= 0) store.mark_changed(run.key, t, GridRect::spanning(run.li + first, run.lj, run.li + last, run.lj));
+    if (first < 0) return;
+    std::copy(&ht[src + first], &ht[src + last] + 1, &t.height[dst + first]);
+    store.mark_changed(run.key, t, GridRect::spanning(run.li + first, run.lj, run.li + last, run.lj));
   });
   if (!relayered.empty()) scatter_relayered(store);
 }
@@ -147,8 +149,7 @@ void Region::scatter_relayered(TileStore& store) {
 }
 
 std::size_t Region::bytes() const {
-  return capacity_bytes(ht, ht_orig, ht_pressed, sink, bed, mat, layer.boundary, layer.lower, upper, relayered,
-                        touched_);
+  return capacity_bytes(ht, ht_pressed, sink, bed, mat, layer.boundary, layer.lower, upper, relayered, touched_);
 }
 
 }  // namespace shore::terrain

@@ -30,8 +30,8 @@ struct Region {
   int w = 0, h = 0;                ///< columns, halo included
   Team* team = nullptr;            ///< rows are shared among its threads; nullptr: one thread
   std::vector<double> ht;          ///< collision surface, m: the stages move soil here
-  std::vector<double> ht_orig;     ///< heights as gathered (scatter reports what changed)
-  std::vector<double> ht_pressed;  ///< heights right after collision (what came after is deposit)
+  std::vector<double> ht_pressed;  ///< heights right after collision (ImprintStage::collide sets them;
+                                   ///< what came after is deposit)
   std::vector<double> sink;        ///< plastic sinkage, m
   std::vector<double> bed;         ///< bedrock, m
   /// Palette index per column; empty when the palette has one entry (every column is 0,
@@ -73,7 +73,8 @@ struct Region {
   /// bookkeeping always reads mat exposed. Without layers: nothing.
   template <class Fn>
   void expose_layers(Fn&& on_layered);
-  /// Heights and sinkage back into the tiles, marking what changed; and the relayered
+  /// Heights and sinkage back into the tiles, marking what changed (read against the
+  /// tiles' heights, which nothing else writes between gather and scatter); and the relayered
   /// columns' painted indices and layers (their tiles marked painted, the store layered).
   void scatter(TileStore& store);
 

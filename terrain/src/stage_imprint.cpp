@@ -11,21 +11,24 @@ namespace shore::terrain {
 // to their lowest point within +-1 column); hold_ the lowest envelope of holding imprints.
 void ImprintStage::rasterize(const Region& region, std::span<const Imprint> imprints) {
   const std::size_t size = region.size();
+  stars_ = std::any_of(imprints.begin(), imprints.end(), [](const Imprint& im) { return im.star && !im.hold; });
   // Written in full before they are read (disp_ for every interior column, the only ones
   // read), so they are only sized: clearing them each step costs more than the rest of a
-  // small step's bookkeeping.
-  for (auto* v : {&true_, &coll_, &star_low_, &disp_}) v->resize(size);
+  // small step's bookkeeping. Without star imprints star_, star_low_ and true_ are not
+  // used at all (coll_ is the plain envelope, and the true one).
+  disp_.resize(size);
+  if (stars_) {
+    for (auto* v : {&true_, &coll_, &star_low_}) v->resize(size);
+    star_.assign(size, kInf);
+  }
   plain_.assign(size, kInf);
-  star_.assign(size, kInf);
   hold_.assign(size, kInf);
   flags_.assign(size, 0);  // the halo's flags stay 0: it is neither interior nor covered
-  bool any_star = false;
   for (const Imprint& im : imprints) {
     const EnvelopeRaster& env = *im.envelope;
     const std::int64_t x0 = std::max(env.i0, region.si0), x1 = std::min(env.i0 + env.nx, region.si0 + region.w);
     const std::int64_t y0 = std::max(env.j0, region.sj0), y1 = std::min(env.j0 + env.ny, region.sj0 + region.h);
     std::vector<double>& dst = im.hold ? hold_ : im.star ? star_ : plain_;
-    any_star = any_star || (im.star && !im.hold);
     for (std::int64_t j = y0; j < y1; ++j)
       for (std::int64_t i = x0; i < x1; ++i) {
         const double lower = env.lower[env.index(i, j)];
@@ -34,11 +37,14 @@ void ImprintStage::rasterize(const Region& region, std::span<const Imprint> impr
         e = std::min(e, lower - im.offset);
       }
   }
+  if (!stars_) {
+    // The plain envelope is the collision surface: taken over, not copied (plain_ is
+    // filled afresh next step).
+    std::swap(coll_, plain_);
+    return;
+  }
   for (std::size_t k = 0; k < size; ++k) true_[k] = std::min(plain_[k], star_[k]);
-  if (any_star)
-    lower_star_neighbourhoods(region);
-  else
-    coll_ = true_;
+  lower_star_neighbourhoods(region);
 }
 
 // Lowest star envelope over each 3 x 3 neighbourhood (clipped to the region): the minimum
@@ -70,24 +76,37 @@ void ImprintStage::lower_star_neighbourhoods(const Region& region) {
 // previous top, so a star imprint does not stiffen the soil. A holding envelope touching a
 // column makes it a contact column without pressing it. A column counts as under a body
 // only within active_reach of the envelope above it. Afterwards coll_ is the lowest body
-// surface of either kind (erosion fills covered columns up to it at most).
+// surface of either kind (erosion fills covered columns up to it at most), and
+// region.ht_pressed the heights as collision leaves them (recorded here, as each column is
+// visited, rather than copied after).
 ImprintStage::Collision ImprintStage::collide(Region& region, const TerrainSettings& s) {
   const double tol = s.contact_tolerance;
   const double reach = s.active_reach;
   row_volume_.assign(static_cast<std::size_t>(region.h), 0.0);
   row_contacts_.assign(static_cast<std::size_t>(region.h), 0);
+  region.ht_pressed.resize(region.size());
+  const auto keep = [&](std::size_t k, std::size_t n) {  // columns collision leaves as they are
+    std::copy_n(region.ht.begin() + static_cast<std::ptrdiff_t>(k), n,
+                region.ht_pressed.begin() + static_cast<std::ptrdiff_t>(k));
+  };
+  const auto row = static_cast<std::size_t>(region.w);
+  keep(region.at(0, 0), row);  // the halo's rows
+  if (region.h > 1) keep(region.at(0, region.h - 1), row);
   region.for_rows(1, region.h - 1, [&](int y) {
     double vol = 0.0;
     int contacts = 0;
+    keep(region.at(0, y), 1);  // the halo's columns
+    keep(region.at(region.w - 1, y), 1);
     for (int x = 1; x < region.w - 1; ++x) {
       const std::size_t k = region.at(x, y);
       disp_[k] = 0.0;
       flags_[k] = kInterior;
       const double e = coll_[k], held = hold_[k];
       const double body = std::min(e, held);
+      const double top = region.ht[k];
+      region.ht_pressed[k] = top;
       if (body == kInf) continue;
       coll_[k] = body;
-      const double top = region.ht[k];
       const bool touching = body <= top + tol;
       if (touching || body - top <= reach) flags_[k] |= kCovered;
       if (!touching) continue;
@@ -98,9 +117,11 @@ ImprintStage::Collision ImprintStage::collide(Region& region, const TerrainSetti
       if (target < top) {
         disp_[k] = top - target;
         region.ht[k] = target;
+        region.ht_pressed[k] = target;
         vol += top - target;
       }
-      if (true_[k] < top) region.sink[k] += top - std::max(true_[k], region.bed[k]);
+      const double pressing = stars_ ? true_[k] : e;  // without stars the true envelope is e
+      if (pressing < top) region.sink[k] += top - std::max(pressing, region.bed[k]);
     }
     row_volume_[static_cast<std::size_t>(y)] = vol;
     row_contacts_[static_cast<std::size_t>(y)] = contacts;

@@ -29,7 +29,8 @@ class ImprintStage {
   /// The lowest (offset) envelope of each kind of imprint over the region.
   void rasterize(const Region& region, std::span<const Imprint> imprints);
   /// Pushes the columns down to the collision surface and grows their sinkage; sets the
-  /// flags, the displaced heights and the body surface.
+  /// flags, the displaced heights, the body surface and region.ht_pressed (every column's
+  /// height after collision, halo included).
   Collision collide(Region& region, const TerrainSettings& s);
   /// The outcome of a step without bodies (relax): nothing covered, nothing displaced.
   void no_bodies(const Region& region);
@@ -47,11 +48,12 @@ class ImprintStage {
   std::vector<double> plain_;     ///< plain pressing imprints
   std::vector<double> star_;      ///< star pressing imprints
   std::vector<double> star_low_;  ///< star envelope, lowest within +-1 column along x
-  std::vector<double> true_;      ///< lowest pressing envelope: the soil state follows it
+  std::vector<double> true_;      ///< lowest pressing envelope (only with stars_; else coll_'s)
   std::vector<double> coll_;      ///< collision surface; after collide, the body surface
   std::vector<double> hold_;      ///< holding imprints (press nothing)
   std::vector<double> disp_;
   std::vector<unsigned char> flags_;
+  bool stars_ = false;  ///< the last rasterize had star pressing imprints
   std::vector<double> row_volume_;
   std::vector<int> row_contacts_;
 };

@@ -27,7 +27,6 @@ Region flat_region(int w, int h) {
   Region r;
   r.prepare({0, 0, w, h}, nullptr);  // one thread
   r.ht.assign(r.size(), 0.0);
-  r.ht_orig = r.ht;
   r.sink.assign(r.size(), 0.0);
   r.bed.assign(r.size(), -1.0);
   return r;
