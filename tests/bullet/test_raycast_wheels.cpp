@@ -17,6 +17,7 @@
 #include "shore/core/error.h"
 #include "shore/scenes/raycast_car.h"
 #include "shore/scenes/raycast_cases.h"
+#include "shore/scenes/soil_cases.h"
 #include "shore/scenes/world.h"
 #include "shore/terrain/bekker.h"
 #include "shore/terrain/height_source.h"
@@ -136,6 +137,35 @@ TEST_P(RaycastWheelSoil, TowedSinkageIsBekkersAndTheSoilResists) {
       shore::terrain::bekker::wheel_compaction_resistance(m, rolling, kWidth));
   EXPECT_NEAR(-run.resistance, reference, 0.15 * reference)
       << GetParam() << ": N, the front wheels' compaction resistance against Bekker's";
+}
+
+// The rut a raycast car leaves against the rut a rigid-body wheel (a btCylinderShape pressed
+// by the soil's columns) of the same diameter, width and load leaves on the same soil and
+// cells: two models of one wheel, the raycast one a rim strip under a ray, within 20 %.
+TEST_P(RaycastWheelSoil, TheRutIsARigidBodyWheelsOfTheSameLoad) {
+  const shore::terrain::Material m = shore::terrain::Material::preset(GetParam());
+  shore::scenes::RaycastTowCase c;
+  c.material = m;
+  c.car = heavy_car();
+  c.drop = 0.25;
+  c.seconds = 6.0;
+  const shore::scenes::RaycastTowResult car = shore::scenes::run_raycast_tow(c);
+
+  shore::scenes::WheelCase w;  // towed 2 m at 1 m/s, as the car is
+  w.run.terrain.material = m;
+  w.run.terrain.cell = c.cell;
+  w.run.substep = c.substep;
+  w.diameter = kDiameter;
+  w.width = kWidth;
+  w.load = car.load;  // what the car's front wheel carried
+  w.towed = true;
+  w.speed = c.speed;
+  const shore::scenes::WheelResult wheel = shore::scenes::run_wheel(w);
+  std::printf("%s: raycast car's rut %.4f m at %.0f N, rigid-body wheel's rut %.4f m (sinkage %.4f m)\n", GetParam(),
+              car.rut, car.load, wheel.rut_depth, wheel.sinkage);
+  ASSERT_GT(wheel.rut_depth, 0.0);
+  EXPECT_NEAR(car.rut, wheel.rut_depth, 0.20 * wheel.rut_depth)
+      << GetParam() << ": m, the raycast car's rut against the rigid-body wheel's of the same load";
 }
 
 // On 1 cm cells Bullet's stock raycaster gives the towed wheel a rut 63 % (sand) deeper than
