@@ -6,10 +6,10 @@
 namespace shore::terrain {
 
 SprayGround::SprayGround(TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
-                         UntiledTops* untiled)
+                         UntiledTops* untiled, TiledTops* tiled)
     : store_(store),
       index_(store),
-      tops_(store, untiled),
+      tops_(store, untiled, tiled),
       n_(store.n()),
       cell_(s.cell),
       inverse_cell_(1.0 / s.cell),

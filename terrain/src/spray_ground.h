@@ -25,9 +25,10 @@ class SprayGround {
  public:
   /// palette: the terrain's (a rigid entry's columns give no soil below their base,
   /// bedrock_depth.h); empty: every column soil_depth deep.
-  /// untiled: the spray's bounds of untiled blocks, kept across its steps (null: none).
+  /// untiled, tiled: the spray's bounds of untiled blocks and of blocks in one tile, kept
+  /// across its steps (null: none; SoilTops).
   SprayGround(TileStore& store, const TerrainSettings& s, std::span<const Material> palette = {},
-              UntiledTops* untiled = nullptr);
+              UntiledTops* untiled = nullptr, TiledTops* tiled = nullptr);
 
   /// The nearest column, as nearest((x - origin) / cell) rounds it (the same integer).
   [[nodiscard]] std::int64_t column_i(double x) const { return column_of(x - origin_x_); }

@@ -17,7 +17,7 @@ namespace shore::terrain {
 
 void Spray::step(TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
                  std::span<const Imprint> imprints, double dt, StepReport& report) {
-  SprayGround ground(store, s, palette, &untiled_tops_);
+  SprayGround ground(store, s, palette, &untiled_tops_, &tiled_tops_);
   const FlightRules rules{s.spray.gravity, s.material.spray.drag, s.spray.max_flight};
   set_materials(s, palette);
   fly_all(ground, rules, dt, report);

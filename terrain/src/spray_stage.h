@@ -63,6 +63,7 @@ class Spray {
   std::vector<FlightRules> flight_by_index_;
   std::vector<SampleClock> clocks_;
   UntiledTops untiled_tops_;  ///< bounds of blocks no tile covers (derived, kept across steps)
+  TiledTops tiled_tops_;      ///< bounds of blocks in one tile, while it does not change (derived)
   Shed shed_;                 ///< one body's candidates, between its cling step and settle
   std::vector<Drop> drops_;
   std::vector<std::size_t> order_;

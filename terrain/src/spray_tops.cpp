@@ -114,8 +114,7 @@ double SoilTops::compute_block(std::int64_t bx, std::int64_t by) const {
   if (side > n) return b = bound_by_tiles(r);
   if (n % side == 0) {  // the block lies in one tile: its rows straight from the tile
     const TileKey key = index_.key_of(r.i0, r.j0);
-    if (const Tile* t = store_.find(key); t != nullptr)
-      return b = highest(t->height.data() + index_.local(r.i0, r.j0), static_cast<std::size_t>(n), side, side);
+    if (const Tile* t = store_.find(key); t != nullptr) return b = tile_bound(*t, r);
   }
   if (untiled_ != nullptr && untiled(r)) return b = untiled_bound(r);
   heights_.resize(r.size());
@@ -133,12 +132,21 @@ double SoilTops::bound_by_tiles(const GridRect& r) const {
       const std::int64_t i0 = std::max(r.i0, tx * n), i1 = std::min(r.i1(), (tx + 1) * n);
       const GridRect piece{i0, j0, static_cast<int>(i1 - i0), static_cast<int>(j1 - j0)};
       const Tile* t = store_.find(TileKey{tx, ty});
-      const double p = t != nullptr ? highest(t->height.data() + index_.local(i0, j0), static_cast<std::size_t>(n),
-                                              piece.nx, piece.ny)
-                                    : untiled_bound(piece);
+      const double p = t != nullptr ? tile_bound(*t, piece) : untiled_bound(piece);
       top = p > top ? p : top;
     }
   }
+  return top;
+}
+
+double SoilTops::tile_bound(const Tile& t, const GridRect& r) const {
+  // Small blocks are read again: their 64 heights cost about what a lookup does.
+  const bool keeps = tiled_ != nullptr && r.size() >= kKeptColumns;
+  if (keeps)
+    if (const double* kept = tiled_->find(r, t.changed_at)) return *kept;
+  const double top =
+      highest(t.height.data() + index_.local(r.i0, r.j0), static_cast<std::size_t>(store_.n()), r.nx, r.ny);
+  if (keeps) tiled_->keep(r, top, store_.generation());
   return top;
 }
 

@@ -21,6 +21,21 @@
 
 namespace shore::terrain {
 
+/// A block's (or a block's piece's) place: its first column and its size.
+struct BlockKey {
+  std::int64_t i0 = 0, j0 = 0;
+  int nx = 0, ny = 0;
+  explicit BlockKey(const GridRect& r) : i0(r.i0), j0(r.j0), nx(r.nx), ny(r.ny) {}
+  friend bool operator==(const BlockKey&, const BlockKey&) = default;
+};
+struct BlockKeyHash {
+  std::size_t operator()(const BlockKey& k) const noexcept {
+    const auto size = (static_cast<std::size_t>(static_cast<std::uint32_t>(k.nx)) << 32) ^
+                      static_cast<std::size_t>(static_cast<std::uint32_t>(k.ny));
+    return TileKeyHash{}(TileKey{k.i0, k.j0}) ^ (size * 0x9e3779b97f4a7c15ull);
+  }
+};
+
 /// Bounds of blocks (or of a block's piece over one tile) that no tile covers: their tops
 /// are the base ground's, which never changes, so the spray keeps them from step to step (a
 /// procedural base costs a noise evaluation per column: the rally scene spent half its time
@@ -28,37 +43,58 @@ namespace shore::terrain {
 class UntiledTops {
  public:
   [[nodiscard]] const double* find(const GridRect& r) const {
-    const auto it = tops_.find(Key{r.i0, r.j0, r.nx, r.ny});
+    const auto it = tops_.find(BlockKey(r));
     return it == tops_.end() ? nullptr : &it->second;
   }
   void keep(const GridRect& r, double top) {
     if (tops_.size() >= kMostBlocks) tops_.clear();  // bounded: a long flight path starts over
-    tops_.emplace(Key{r.i0, r.j0, r.nx, r.ny}, top);
+    tops_.emplace(BlockKey(r), top);
   }
-  [[nodiscard]] std::size_t bytes() const { return tops_.size() * (sizeof(Key) + sizeof(double) + 16); }
+  [[nodiscard]] std::size_t bytes() const { return tops_.size() * (sizeof(BlockKey) + sizeof(double) + 16); }
 
  private:
   static constexpr std::size_t kMostBlocks = 1u << 18;
-  struct Key {
-    std::int64_t i0 = 0, j0 = 0;
-    int nx = 0, ny = 0;
-    friend bool operator==(const Key&, const Key&) = default;
+  std::unordered_map<BlockKey, double, BlockKeyHash> tops_;
+};
+
+/// Highest tops of blocks (or of a block's piece) that lie in one made tile, kept from step
+/// to step with the store's generation when each was read: a tile's change generation
+/// (Tile::changed_at, set by every TileStore::mark_changed) below that generation means no
+/// height of the tile changed since, so the top kept is the one the heights would give now,
+/// to the bit. A tile changed in the generation it was read in, or after, is read again.
+/// A released tile held only its base and never changed (changed_at 0), as the one made
+/// again in its place. Derived data, not state: never saved or hashed; a loaded terrain
+/// starts with none (its spray is new).
+class TiledTops {
+ public:
+  /// The top kept for r, if the tile that holds r has not changed since (changed_at: the
+  /// tile's Tile::changed_at); else null.
+  [[nodiscard]] const double* find(const GridRect& r, std::uint64_t changed_at) const {
+    const auto it = tops_.find(BlockKey(r));
+    return it == tops_.end() || !(changed_at < it->second.read_at) ? nullptr : &it->second.top;
+  }
+  /// r's top, read in generation read_at.
+  void keep(const GridRect& r, double top, std::uint64_t read_at) {
+    if (tops_.size() >= kMostBlocks) tops_.clear();  // bounded: a long flight path starts over
+    tops_.insert_or_assign(BlockKey(r), Kept{top, read_at});
+  }
+  [[nodiscard]] std::size_t bytes() const { return tops_.size() * (sizeof(BlockKey) + sizeof(Kept) + 16); }
+
+ private:
+  static constexpr std::size_t kMostBlocks = 1u << 18;
+  struct Kept {
+    double top = 0.0;
+    std::uint64_t read_at = 0;
   };
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const noexcept {
-      const auto size = (static_cast<std::size_t>(static_cast<std::uint32_t>(k.nx)) << 32) ^
-                        static_cast<std::size_t>(static_cast<std::uint32_t>(k.ny));
-      return TileKeyHash{}(TileKey{k.i0, k.j0}) ^ (size * 0x9e3779b97f4a7c15ull);
-    }
-  };
-  std::unordered_map<Key, double, KeyHash> tops_;
+  std::unordered_map<BlockKey, Kept, BlockKeyHash> tops_;
 };
 
 class SoilTops {
  public:
-  /// untiled: where bounds of untiled blocks are kept across steps (null: none kept).
-  explicit SoilTops(const TileStore& store, UntiledTops* untiled = nullptr)
-      : store_(store), index_(store), untiled_(untiled) {}
+  /// untiled, tiled: where bounds of untiled blocks, and of blocks in one tile, are kept
+  /// across steps (null: none kept).
+  explicit SoilTops(const TileStore& store, UntiledTops* untiled = nullptr, TiledTops* tiled = nullptr)
+      : store_(store), index_(store), untiled_(untiled), tiled_(tiled) {}
   /// The window: columns [i0, i1] x [j0, j1]. Blocks have a side of 8 columns or more, so
   /// that at most 64 x 64 of them cover it (a few kB, allocated here).
   void cover(std::int64_t i0, std::int64_t j0, std::int64_t i1, std::int64_t j1);
@@ -105,7 +141,11 @@ class SoilTops {
   [[nodiscard]] double bound_by_tiles(const GridRect& r) const;
   /// The highest top over r (no tile covers it); kept in untiled_ across steps.
   [[nodiscard]] double untiled_bound(const GridRect& r) const;
+  /// The highest top over r, which lies in tile t; kept in tiled_ while t does not change.
+  [[nodiscard]] double tile_bound(const Tile& t, const GridRect& r) const;
 
+  /// Blocks in a tile of fewer columns are not kept (tile_bound).
+  static constexpr std::size_t kKeptColumns = 256;
   const TileStore& store_;
   TileIndex index_;
   int shift_ = 3;                        ///< a block is 2^shift_ columns on a side
@@ -115,6 +155,7 @@ class SoilTops {
   mutable std::vector<double> block_;    ///< nbx_ * nby_ bounds, row-major; NaN: not computed yet
   mutable std::vector<double> heights_;  ///< one block's heights (scratch)
   UntiledTops* untiled_ = nullptr;
+  TiledTops* tiled_ = nullptr;
   /// No tile holds a column of r: its heights are all the base's.
   [[nodiscard]] bool untiled(const GridRect& r) const;
 };

@@ -286,3 +286,71 @@ TEST(SprayArithmetic, EveryColumnLaidIsReportedChanged) {
     ASSERT_TRUE(reported(taken, i, j)) << "column " << i << ", " << j << " (take_changed)";
   }
 }
+
+// Bounds of blocks in one tile are kept from step to step (TiledTops) while the tile does
+// not change: after columns are raised or lowered between steps (as the pipeline does,
+// marked changed) or during one (grains laid and soil taken by the spray, before the
+// blocks are asked, or after, in the generation they were read in), each bound is still what reading every column
+// gives, for blocks in a tile and blocks wider than a tile, with steps that change nothing in between.
+TEST(SprayArithmetic, KeptTileBoundsFollowEveryChange) {
+  TerrainSettings s;
+  s.cell = 0.05;
+  s.tile_columns = 64;
+  s.base = std::make_shared<LatticeNoise>(
+      LatticeNoiseSettings{.seed = 7, .spacing = 1.0, .amplitude = 0.3, .mean = 0.0, .octaves = 2, .persistence = 0.5});
+  TileStore store(s);
+  const std::int64_t n = store.n();
+  for (std::int64_t tx = -2; tx <= 2; ++tx)
+    for (std::int64_t ty = -2; ty <= 2; ++ty) store.tile(TileKey{tx, ty});
+  UntiledTops untiled;
+  TiledTops tiled;
+  std::mt19937_64 gen(23);
+  std::uniform_int_distribution<std::int64_t> column(-2 * n, 3 * n - 1);
+  for (int step = 0; step < 24; ++step) {
+    store.advance_generation();
+    const int changes = step % 3 == 2 ? 0 : 40;  // every third step changes nothing
+    for (int c = 0; c < changes; ++c) {          // between steps: marked writes, up and down
+      const std::int64_t i = column(gen), j = column(gen);
+      const TileKey key = store.key_of(i, j);
+      Tile& t = store.tile(key);
+      const std::size_t k = store.local(i, j);
+      t.height[k] += c % 2 == 0 ? 0.5 : -0.5;
+      store.mark_changed(key, t, {static_cast<int>(k % n), static_cast<int>(k / n), 1, 1});
+    }
+    {  // during the step, before the blocks are asked
+      SprayGround ground(store, s, {}, &untiled, &tiled);
+      for (int c = 0; c < changes; ++c) {
+        const std::int64_t i = column(gen), j = column(gen);
+        if (c % 2 == 0)
+          ground.lay(i, j, 0.4 * s.cell * s.cell);
+        else
+          ground.take(i, j, 0.3);
+      }
+    }
+    for (const std::int64_t width : {1000, 2500, 6000}) {  // block sides 16, 64, 128
+      const std::int64_t i0 = -width / 2 - 13, j0 = -width / 3 - 5;
+      SoilTops kept(store, &untiled, &tiled), by_columns(store);
+      kept.cover(i0, j0, i0 + width, j0 + width);
+      by_columns.cover(i0, j0, i0 + width, j0 + width);
+      for (std::int64_t i = -2 * n; i < 3 * n; i += 16)
+        for (std::int64_t j = -2 * n; j < 3 * n; j += 16) {
+          const double bound = kept.bound(i, j, i + 15, j + 15);
+          ASSERT_EQ(bound, by_columns.bound(i, j, i + 15, j + 15))
+              << "step " << step << ", width " << width << ", block at " << i << ", " << j;
+          const shore::GridRect r{i, j, 16, 16};
+          std::vector<double> h(r.size());
+          store.read(r, h, false);
+          ASSERT_GE(bound, *std::max_element(h.begin(), h.end())) << step << " " << width;
+        }
+    }
+    // Later in the same generation, after the blocks were asked: landings and pick-ups.
+    SprayGround ground(store, s, {}, &untiled, &tiled);
+    for (int c = 0; c < changes; ++c) {
+      const std::int64_t i = column(gen), j = column(gen);
+      if (c % 2 == 0)
+        ground.lay(i, j, 0.4 * s.cell * s.cell);
+      else
+        ground.take(i, j, 0.3);
+    }
+  }
+}
