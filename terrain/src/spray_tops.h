@@ -5,7 +5,9 @@
 // (spray_flight.h). The blocks tile a window of columns (where the particles in flight can
 // be this step, set by cover); each block's bound is its highest top when first asked (the
 // bounds live for one spray step, whose SprayGround owns them), raised whenever a column in
-// it is raised (SprayGround::set); a column lowered leaves the bound an upper bound.
+// it is raised (SprayGround::set); a column lowered leaves the bound an upper bound. What a
+// first ask reads may be kept from earlier steps where the columns cannot have changed
+// (UntiledTops, TiledTops): the same value as reading them again.
 
 #include <algorithm>
 #include <cmath>
