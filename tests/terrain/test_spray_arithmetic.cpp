@@ -306,6 +306,17 @@ TEST(SprayArithmetic, KeptTileBoundsFollowEveryChange) {
   TiledTops tiled;
   std::mt19937_64 gen(23);
   std::uniform_int_distribution<std::int64_t> column(-2 * n, 3 * n - 1);
+  // Grains laid and soil taken by the spray at random columns, half each.
+  const auto spray_changes = [&](int changes) {
+    SprayGround ground(store, s, {}, &untiled, &tiled);
+    for (int c = 0; c < changes; ++c) {
+      const std::int64_t i = column(gen), j = column(gen);
+      if (c % 2 == 0)
+        ground.lay(i, j, 0.4 * s.cell * s.cell);
+      else
+        ground.take(i, j, 0.3);
+    }
+  };
   for (int step = 0; step < 24; ++step) {
     store.advance_generation();
     const int changes = step % 3 == 2 ? 0 : 40;  // every third step changes nothing
@@ -317,16 +328,7 @@ TEST(SprayArithmetic, KeptTileBoundsFollowEveryChange) {
       t.height[k] += c % 2 == 0 ? 0.5 : -0.5;
       store.mark_changed(key, t, {static_cast<int>(k % n), static_cast<int>(k / n), 1, 1});
     }
-    {  // during the step, before the blocks are asked
-      SprayGround ground(store, s, {}, &untiled, &tiled);
-      for (int c = 0; c < changes; ++c) {
-        const std::int64_t i = column(gen), j = column(gen);
-        if (c % 2 == 0)
-          ground.lay(i, j, 0.4 * s.cell * s.cell);
-        else
-          ground.take(i, j, 0.3);
-      }
-    }
+    spray_changes(changes);                                // during the step, before the blocks are asked
     for (const std::int64_t width : {1000, 2500, 6000}) {  // block sides 16, 64, 128
       const std::int64_t i0 = -width / 2 - 13, j0 = -width / 3 - 5;
       SoilTops kept(store, &untiled, &tiled), by_columns(store);
@@ -343,14 +345,6 @@ TEST(SprayArithmetic, KeptTileBoundsFollowEveryChange) {
           ASSERT_GE(bound, *std::max_element(h.begin(), h.end())) << step << " " << width;
         }
     }
-    // Later in the same generation, after the blocks were asked: landings and pick-ups.
-    SprayGround ground(store, s, {}, &untiled, &tiled);
-    for (int c = 0; c < changes; ++c) {
-      const std::int64_t i = column(gen), j = column(gen);
-      if (c % 2 == 0)
-        ground.lay(i, j, 0.4 * s.cell * s.cell);
-      else
-        ground.take(i, j, 0.3);
-    }
+    spray_changes(changes);  // later in the same generation, after the blocks were asked
   }
 }
