@@ -93,20 +93,18 @@ Bracket warm_bracket(const auto& g, double guess, double top, double& g_lo, doub
 /// secant has found it, and the bracket closes to that distance at once (Brent's rule). The
 /// rim's shear is smooth down to some 1e-6 N: there the steps bisect, as illinois_narrow's.
 Bracket narrow_spin(const auto& g, Bracket b, double g_lo, double g_hi, double width) {
-  int side = 0;
-  for (int it = 0; it < 200 && b.hi - b.lo > width; ++it) {
-    const double w = b.hi - b.lo;
-    double mid = b.lo - g_lo * w / (g_hi - g_lo);
-    if (g_hi == 0.0)
-      mid = b.hi;  // the root is the upper end: half a width below it closes the bracket
-    else if (!(mid > b.lo && mid < b.hi))
-      mid = 0.5 * (b.lo + b.hi);
+  return illinois_narrow_by(g, b, g_lo, g_hi, width, [width](const Bracket& at, double lo, double hi) {
+    const double w = at.hi - at.lo;
+    double mid = at.lo - lo * w / (hi - lo);
+    if (hi == 0.0)
+      mid = at.hi;  // the root is the upper end: half a width below it closes the bracket
+    else if (!(mid > at.lo && mid < at.hi))
+      mid = 0.5 * (at.lo + at.hi);
     const double near = 0.01 * w;
-    if (mid - b.lo < near) mid = b.lo + std::max(2.0 * (mid - b.lo), 0.5 * width);
-    if (b.hi - mid < near) mid = b.hi - std::max(2.0 * (b.hi - mid), 0.5 * width);
-    illinois_keep(b, g_lo, g_hi, side, mid, g(mid));
-  }
-  return b;
+    if (mid - at.lo < near) mid = at.lo + std::max(2.0 * (mid - at.lo), 0.5 * width);
+    if (at.hi - mid < near) mid = at.hi - std::max(2.0 * (at.hi - mid), 0.5 * width);
+    return mid;
+  });
 }
 
 /// The spin at which the rim's shear balances the drive less the brake (rolling frame).

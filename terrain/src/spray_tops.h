@@ -38,26 +38,31 @@ struct BlockKeyHash {
   }
 };
 
+/// Values kept per block (or per block's piece), from step to step: a map bounded to
+/// kMostBlocks entries (past that it starts over: a long flight path).
+template <class V>
+class KeptBlocks {
+ public:
+  [[nodiscard]] const V* find(const GridRect& r) const {
+    const auto it = kept_.find(BlockKey(r));
+    return it == kept_.end() ? nullptr : &it->second;
+  }
+  void keep(const GridRect& r, const V& v) {
+    if (kept_.size() >= kMostBlocks) kept_.clear();
+    kept_.insert_or_assign(BlockKey(r), v);
+  }
+  [[nodiscard]] std::size_t bytes() const { return kept_.size() * (sizeof(BlockKey) + sizeof(V) + 16); }
+
+ private:
+  static constexpr std::size_t kMostBlocks = 1u << 18;
+  std::unordered_map<BlockKey, V, BlockKeyHash> kept_;
+};
+
 /// Bounds of blocks (or of a block's piece over one tile) that no tile covers: their tops
 /// are the base ground's, which never changes, so the spray keeps them from step to step (a
 /// procedural base costs a noise evaluation per column: the rally scene spent half its time
 /// re-reading the same untiled blocks). Derived data, not state: never saved or hashed.
-class UntiledTops {
- public:
-  [[nodiscard]] const double* find(const GridRect& r) const {
-    const auto it = tops_.find(BlockKey(r));
-    return it == tops_.end() ? nullptr : &it->second;
-  }
-  void keep(const GridRect& r, double top) {
-    if (tops_.size() >= kMostBlocks) tops_.clear();  // bounded: a long flight path starts over
-    tops_.emplace(BlockKey(r), top);
-  }
-  [[nodiscard]] std::size_t bytes() const { return tops_.size() * (sizeof(BlockKey) + sizeof(double) + 16); }
-
- private:
-  static constexpr std::size_t kMostBlocks = 1u << 18;
-  std::unordered_map<BlockKey, double, BlockKeyHash> tops_;
-};
+class UntiledTops : public KeptBlocks<double> {};
 
 /// Highest tops of blocks (or of a block's piece) that lie in one made tile, kept from step
 /// to step with the store's generation when each was read: a tile's change generation
@@ -72,23 +77,19 @@ class TiledTops {
   /// The top kept for r, if the tile that holds r has not changed since (changed_at: the
   /// tile's Tile::changed_at); else null.
   [[nodiscard]] const double* find(const GridRect& r, std::uint64_t changed_at) const {
-    const auto it = tops_.find(BlockKey(r));
-    return it == tops_.end() || !(changed_at < it->second.read_at) ? nullptr : &it->second.top;
+    const Kept* k = kept_.find(r);
+    return k == nullptr || !(changed_at < k->read_at) ? nullptr : &k->top;
   }
   /// r's top, read in generation read_at.
-  void keep(const GridRect& r, double top, std::uint64_t read_at) {
-    if (tops_.size() >= kMostBlocks) tops_.clear();  // bounded: a long flight path starts over
-    tops_.insert_or_assign(BlockKey(r), Kept{top, read_at});
-  }
-  [[nodiscard]] std::size_t bytes() const { return tops_.size() * (sizeof(BlockKey) + sizeof(Kept) + 16); }
+  void keep(const GridRect& r, double top, std::uint64_t read_at) { kept_.keep(r, Kept{top, read_at}); }
+  [[nodiscard]] std::size_t bytes() const { return kept_.bytes(); }
 
  private:
-  static constexpr std::size_t kMostBlocks = 1u << 18;
   struct Kept {
     double top = 0.0;
     std::uint64_t read_at = 0;
   };
-  std::unordered_map<BlockKey, Kept, BlockKeyHash> tops_;
+  KeptBlocks<Kept> kept_;
 };
 
 class SoilTops {

@@ -10,38 +10,34 @@
 
 namespace shore {
 
-/// AVX (256-bit doubles). __builtin_cpu_supports reports it only where the OS saves the
-/// ymm state too.
-[[nodiscard]] inline bool cpu_has_avx() {
+/// The vector extensions Shore's kernels choose between, asked of the CPU once.
+struct CpuFeatures {
+  /// AVX (256-bit doubles). __builtin_cpu_supports reports it only where the OS saves the
+  /// ymm state too.
+  bool avx = false;
+  bool avx2_fma = false;  ///< AVX2 with FMA
+  /// AVX-512 F, VL, DQ and BW, with AVX2 and FMA (reported only where the OS saves the zmm
+  /// state too).
+  bool avx512 = false;
+};
+
+/// What this CPU offers (all false where Shore cannot dispatch: SHORE_X86_DISPATCH unset).
+[[nodiscard]] inline const CpuFeatures& cpu_features() {
+  static const CpuFeatures f = [] {
+    CpuFeatures c;
 #if defined(SHORE_X86_DISPATCH)
-  static const bool has = __builtin_cpu_supports("avx");
-  return has;
-#else
-  return false;
+    c.avx = __builtin_cpu_supports("avx");
+    c.avx2_fma = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    c.avx512 = c.avx2_fma && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+               __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
 #endif
+    return c;
+  }();
+  return f;
 }
 
-/// AVX2 with FMA.
-[[nodiscard]] inline bool cpu_has_avx2_fma() {
-#if defined(SHORE_X86_DISPATCH)
-  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return has;
-#else
-  return false;
-#endif
-}
-
-/// AVX-512 F, VL, DQ and BW, with AVX2 and FMA (reported only where the OS saves the zmm
-/// state too).
-[[nodiscard]] inline bool cpu_has_avx512() {
-#if defined(SHORE_X86_DISPATCH)
-  static const bool has = cpu_has_avx2_fma() && __builtin_cpu_supports("avx512f") &&
-                          __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq") &&
-                          __builtin_cpu_supports("avx512bw");
-  return has;
-#else
-  return false;
-#endif
-}
+[[nodiscard]] inline bool cpu_has_avx() { return cpu_features().avx; }
+[[nodiscard]] inline bool cpu_has_avx2_fma() { return cpu_features().avx2_fma; }
+[[nodiscard]] inline bool cpu_has_avx512() { return cpu_features().avx512; }
 
 }  // namespace shore
