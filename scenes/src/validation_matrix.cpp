@@ -227,6 +227,13 @@ std::vector<MatrixCell> slope_cells(const MatrixCase& c, const MatrixSoil& s) {
   return out;
 }
 
+/// The sphere is judged against the energy balance with the soil's shear on its surface
+/// (sphere_drop_reference_depth_with_shear): the model's contact shears the soil along the
+/// sphere's tilted surface as it does along a wheel's rim, by the slide against soil at rest
+/// that Wong and Reece's rim takes, and past the equator the surface is steep, so its shear
+/// (tau tan(beta) per plan area) is of the order of the pressure itself on a soil of large
+/// phi. Bekker's plate law has no such surface; the note keeps the plain balance and the
+/// share of the model's work on the soil that its shear did.
 std::vector<MatrixCell> sphere_cells(const MatrixCase& c, const MatrixSoil& s) {
   SphereDropCase d;
   d.run = one_thread(s.material);
@@ -234,12 +241,19 @@ std::vector<MatrixCell> sphere_cells(const MatrixCase& c, const MatrixSoil& s) {
   d.mass = c.load;
   d.height = 1.0;
   const SphereDropResult r = run_sphere_drop(d);
-  MatrixCell out =
-      cell(c, s, "deepest point", r.max_depth, r.reference, rel(r.max_depth, r.reference), 0.10, "relative");
+  const double reference = sphere_drop_reference_depth_with_shear(s.material, d.diameter, d.mass, d.height);
+  MatrixCell out = cell(c, s, "deepest point", r.max_depth, reference, rel(r.max_depth, reference), 0.10, "relative");
+  char buf[200];
+  std::snprintf(buf, sizeof buf,
+                "energy balance without the surface's shear %.5g (measured %+.1f %% of it); shear %.0f %% of the "
+                "work on the soil",
+                r.reference, 100.0 * rel(r.max_depth, r.reference),
+                100.0 * r.stats.shear_work / std::max(r.stats.soil_work, 1e-12));
+  out.note = buf;
   // The energy balance takes the crater as the sphere pressed into columns of its width;
   // once the sphere's top is below the surface the crater's walls close over it, which
   // neither the balance nor Bekker's plate law describes.
-  if (r.reference > c.size) out.outside_validity = "buried (reference depth beyond its diameter)";
+  if (reference > c.size) out.outside_validity = "buried (reference depth beyond its diameter)";
   return {out};
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "shore/scenes/soil_cases.h"
 #include "shore/scenes/validation_matrix.h"
 #include "shore/scenes/wong_reece.h"
 #include "shore/terrain/bekker.h"
@@ -141,6 +142,36 @@ TEST(ValidationMatrixTowedWheel, TheRimsShearIsBekkersWheelOnSoilWithoutStrength
     const double free = shore::scenes::wong_reece_towed(w).wheel.sinkage;
     EXPECT_LT(std::abs(free / integral - 1.0), 0.005) << s.name << ": " << free << " vs " << integral;
   }
+}
+
+// The sphere's reference is the energy balance with the soil's shear on the sphere's
+// surface: on soil without strength it is the plain balance on Bekker's pressure, and with
+// strength the shear makes every soil's crater shallower, most where phi is large.
+TEST(ValidationMatrixSphere, TheSurfacesShearIsThePlainBalanceOnSoilWithoutStrength) {
+  for (const shore::scenes::MatrixSoil& s : shore::scenes::matrix_soils()) {
+    shore::terrain::Material m = s.material;
+    const double plain = shore::scenes::sphere_drop_reference_depth(m, 0.2, 10.0, 1.0);
+    const double strong = shore::scenes::sphere_drop_reference_depth_with_shear(m, 0.2, 10.0, 1.0);
+    EXPECT_LT(strong, plain) << s.name << ": the surface's shear resists the fall";
+    m.cohesion = 0.0, m.friction_angle = 0.0;
+    EXPECT_EQ(shore::scenes::sphere_drop_reference_depth_with_shear(m, 0.2, 10.0, 1.0),
+              shore::scenes::sphere_drop_reference_depth(m, 0.2, 10.0, 1.0))
+        << s.name;
+  }
+}
+
+// Sandy loam 22 % (phi 38 degrees, n 0.2): past the equator its shear on the steep surface
+// does a third of the work on the soil, and the sphere stops a quarter shallower than the
+// plain balance; against the balance with that shear it is within its tolerance.
+TEST(ValidationMatrixSphere, MeetsTheBalanceWithTheSurfacesShearWherePhiIsLarge) {
+  const MatrixCase c = find_case("sandy loam 22 %", "sphere drop", "D 0.2 m");
+  if (c.family.empty()) return;
+  const auto cells = shore::scenes::run_matrix_case(c);
+  ASSERT_EQ(cells.size(), 1u);
+  const MatrixCell& m = cells[0];
+  EXPECT_TRUE(m.outside_validity.empty()) << m.outside_validity;
+  EXPECT_LE(std::abs(m.error), m.tolerance)
+      << "measured " << m.measured << ", reference " << m.reference << " (" << m.note << ")";
 }
 
 }  // namespace

@@ -252,4 +252,15 @@ SphereDropResult run_sphere_drop(const SphereDropCase& c);
 double sphere_drop_reference_depth(const terrain::Material& m, double diameter, double mass, double height,
                                    double gravity = 9.81);
 
+/// The same balance with the soil's shear on the sphere's surface as well: each column's
+/// Janosi-Hanamoto stress (c + sigma tan phi)(1 - exp(-j / K)), sigma its Bekker pressure,
+/// j the slide of the surface over it against soil at rest (the cap depth times sin beta,
+/// beta the surface's tilt), resisting the fall by tau tan(beta) per unit plan area: the
+/// shear the wheels' references (Wong and Reece) carry on their rims, which Bekker's plate
+/// law, and so the plain balance, leaves out. On soil without strength it is the plain
+/// balance. The validation matrix judges its sphere against it (docs/terrain.md,
+/// "Validation matrix").
+double sphere_drop_reference_depth_with_shear(const terrain::Material& m, double diameter, double mass, double height,
+                                              double gravity = 9.81);
+
 }  // namespace shore::scenes
