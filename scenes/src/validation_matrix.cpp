@@ -274,7 +274,7 @@ std::vector<MatrixCell> sphere_cells(const MatrixCase& c, const MatrixSoil& s) {
   MatrixCell out = cell(c, s, "deepest point", r.max_depth, reference, rel(r.max_depth, reference), 0.10, "relative");
   char buf[200];
   std::snprintf(buf, sizeof buf,
-                "energy balance without the surface's shear %.5g (measured %+.1f %% of it); shear %.0f %% of the "
+                "energy balance without the surface's shear %.5g (measured %+.1f %% of it); shear %.1f %% of the "
                 "work on the soil",
                 r.reference, 100.0 * rel(r.max_depth, r.reference),
                 100.0 * r.stats.shear_work / std::max(r.stats.soil_work, 1e-12));

@@ -112,7 +112,8 @@ void run(const SweepContext& ctx, SweepResult& out) {
       "Bekker's compaction resistance of its sinkage: whole slide 2 d / T^2 over 1.5 s and the second half's fit, "
       "each the mean over 4 starts spread over a column cell, 10 %, of g sin theta where it should hold); a 10 kg "
       "sphere D 0.2 m dropped 1 m (deepest "
-      "point against the energy balance, 10 %). Loads per soil keep Bekker's sinkage at a few cm. 1 cm cells, "
+      "point against the energy balance on Bekker's pressure with the soil's shear on the sphere's surface, 10 %). "
+      "Loads per soil keep Bekker's sinkage at a few cm. 1 cm cells, "
       "1/240 s, one thread per case; --quick runs the whole matrix too (about a minute). Cells outside a "
       "reference's own assumptions are marked (docs/terrain.md, 'Validation matrix') and not counted in "
       "matrix_worst.");
