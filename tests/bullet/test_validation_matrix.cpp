@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <utility>
 
@@ -146,7 +147,7 @@ TEST(ValidationMatrixTowedWheel, TheRimsShearIsBekkersWheelOnSoilWithoutStrength
 
 // The sphere's reference is the energy balance with the soil's shear on the sphere's
 // surface: on soil without strength it is the plain balance on Bekker's pressure, and with
-// strength the shear makes every soil's crater shallower, most where phi is large.
+// strength the shear makes every soil's crater shallower.
 TEST(ValidationMatrixSphere, TheSurfacesShearIsThePlainBalanceOnSoilWithoutStrength) {
   for (const shore::scenes::MatrixSoil& s : shore::scenes::matrix_soils()) {
     shore::terrain::Material m = s.material;
@@ -158,6 +159,34 @@ TEST(ValidationMatrixSphere, TheSurfacesShearIsThePlainBalanceOnSoilWithoutStren
               shore::scenes::sphere_drop_reference_depth(m, 0.2, 10.0, 1.0))
         << s.name;
   }
+}
+
+// The surface's shear against its closed form: soil that bears next to nothing by
+// pressure and shears by cohesion alone, fully mobilised at once (K tiny). Its work at
+// depth z < R is c times the sphere's tilted surface swept, integral of tan(beta) z_c over
+// the crater: with r = R sin(psi), 2 pi c R^2 [(z - R)(psi / 2 - sin(2 psi) / 4)
+// + R sin^3(psi) / 3] at the crater's edge psi_a. The depth where it equals m g (H + z),
+// by bisection here, is the reference's.
+TEST(ValidationMatrixSphere, TheSurfacesShearMeetsItsClosedFormOnCohesiveSoil) {
+  shore::terrain::Material m = shore::terrain::Material::sand();
+  m.bekker_n = 1.0, m.bekker_kc = 0.0, m.bekker_kphi = 1e-3;  // 1e-3 Pa/m: no bearing to speak of
+  m.cohesion = 250e3, m.friction_angle = 0.0, m.shear_modulus = 1e-7;
+  const double R = 0.1, mass = 10.0, height = 1.0, g = 9.81;
+  const auto shear_work = [&](double z) {
+    const double psi = std::asin(std::sqrt(2 * R * z - z * z) / R);
+    return 2 * std::numbers::pi * m.cohesion * R * R *
+           ((z - R) * (psi / 2 - std::sin(2 * psi) / 4) + R * std::pow(std::sin(psi), 3) / 3);
+  };
+  double lo = 0.0, hi = R;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (shear_work(mid) < mass * g * (height + mid) ? lo : hi) = mid;
+  }
+  const double closed = 0.5 * (lo + hi);
+  ASSERT_GT(closed, 0.02);
+  ASSERT_LT(closed, 0.09) << "the case is meant to stop above the equator";
+  const double depth = shore::scenes::sphere_drop_reference_depth_with_shear(m, 2 * R, mass, height, g);
+  EXPECT_NEAR(depth / closed, 1.0, 1e-3) << "reference " << depth << ", closed form " << closed;
 }
 
 // Sandy loam 22 % (phi 38 degrees, n 0.2): past the equator its shear on the steep surface
