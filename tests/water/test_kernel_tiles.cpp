@@ -158,11 +158,11 @@ TEST(VerticalTileKernels, ReportTheUnfusedKernelsSumsAndActivityToTheBit) {
   EXPECT_GT(compared, 1000);
 }
 
-// The default tile (64 nodes a row, rows back to back) runs its pairs in one call with
-// every row at a fixed displacement (pair_run in kernel_impl.inc), its last rows as other
-// tiles do: the same bits as the unfused reference with every kind of pass (fixed nodes,
-// sponge, activity measured or not), and row counts where the run covers all, most or
-// none of the pairs. A spike every 53 nodes, and at the corners of the tile and its ring.
+// The default tile (64 nodes a row, rows back to back) with no fixed node and no sponge runs
+// its pairs in one call (pair_run in kernel_impl.inc), its last rows and other tiles a call
+// per pair: the same bits as the unfused reference either way, with the activity measured
+// or not, and row counts where the run covers most of the pairs or only the first. A spike
+// every 53 nodes, and at the corners of the tile and its ring.
 TEST(VerticalTileKernels, RunTheDefaultTilesPairsToTheUnfusedKernelsBits) {
   std::vector<Variant> fused{Variant::generic};
   if (avx2_available()) fused.push_back(Variant::avx2);
