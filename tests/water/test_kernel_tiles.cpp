@@ -24,6 +24,7 @@ constexpr int kStride = 16;
 
 struct TileCase {
   int w = kStride, h = kStride;
+  int stride = kStride;      // of the storage (the block's is stride + 2)
   bool fixed_nodes = false;  // a few fixed nodes (the masked passes)
   bool sponge = false;
   Side sides[kSides] = {};
@@ -59,11 +60,11 @@ Coefficients coefficients() {
 TileInputs inputs(const TileCase& c, int spike, std::mt19937& rng, const Coefficients& k) {
   const double qu = 1.0 / k.u_inv, qv = 1.0 / k.v_inv;
   std::uniform_int_distribution<int> small(-300, 300);
-  const int bs = kStride + 2;
+  const int stride = c.stride, bs = stride + 2;
   TileInputs in;
-  in.uz.assign(kStride * kStride, 0.0);
-  in.vz.assign(kStride * kStride, 0.0);
-  in.flags.assign(kStride * kStride, 0);
+  in.uz.assign(stride * stride, 0.0);
+  in.vz.assign(stride * stride, 0.0);
+  in.flags.assign(stride * stride, 0);
   in.block.assign(static_cast<std::size_t>(bs) * bs, 0.0);
   for (int r = -1; r <= c.h; ++r)
     for (int i = -1; i <= c.w; ++i) {
@@ -71,16 +72,16 @@ TileInputs inputs(const TileCase& c, int spike, std::mt19937& rng, const Coeffic
       const double u = (at_spike ? 40000 : small(rng)) * qu;
       in.block[static_cast<std::size_t>((r + 1) * bs + i + 1)] = u;  // the unfused kernel reads the interior here
       if (r >= 0 && r < c.h && i >= 0 && i < c.w) {
-        in.uz[static_cast<std::size_t>(r * kStride + i)] = u;
-        in.vz[static_cast<std::size_t>(r * kStride + i)] = small(rng) * qv;
+        in.uz[static_cast<std::size_t>(r * stride + i)] = u;
+        in.vz[static_cast<std::size_t>(r * stride + i)] = small(rng) * qv;
       }
     }
   if (c.fixed_nodes)
-    for (const int n : {0, kStride + 3, 5 * kStride + 5, (c.h - 1) * kStride + c.w - 1})
-      if (n % kStride < c.w && n / kStride < c.h) in.flags[static_cast<std::size_t>(n)] = 2;
+    for (const int n : {0, stride + 3, 5 * stride + 5, (c.h - 1) * stride + c.w - 1})
+      if (n % stride < c.w && n / stride < c.h) in.flags[static_cast<std::size_t>(n)] = 2;
   if (c.sponge) {
-    in.sigma.assign(kStride * kStride, 0.0);
-    for (int n = 0; n < kStride * kStride; ++n) in.sigma[static_cast<std::size_t>(n)] = 0.25 * (n % 7);
+    in.sigma.assign(stride * stride, 0.0);
+    for (int n = 0; n < stride * stride; ++n) in.sigma[static_cast<std::size_t>(n)] = 0.25 * (n % 7);
   }
   return in;
 }
@@ -91,13 +92,13 @@ struct Stepped {
 };
 
 Stepped step(Variant v, const TileCase& c, TileInputs in, const Coefficients& k) {
-  std::vector<unsigned char> scratch(workspace_bytes(kStride) + 64);
+  std::vector<unsigned char> scratch(workspace_bytes(c.stride) + 64);
   void* ws = reinterpret_cast<void*>((reinterpret_cast<std::uintptr_t>(scratch.data()) + 63) & ~std::uintptr_t{63});
   Tile t;
   t.w = c.w;
   t.h = c.h;
-  t.stride = kStride;
-  t.block_stride = kStride + 2;
+  t.stride = c.stride;
+  t.block_stride = c.stride + 2;
   t.uz = in.uz.data();
   t.vz = in.vz.data();
   t.flags = in.flags.data();
@@ -154,6 +155,50 @@ TEST(VerticalTileKernels, ReportTheUnfusedKernelsSumsAndActivityToTheBit) {
             if (::testing::Test::HasFailure()) return;  // one case's messages are enough
           }
         }
+  EXPECT_GT(compared, 1000);
+}
+
+// The default tile (64 nodes a row, rows back to back) with no fixed node and no sponge runs
+// its pairs in one call (pair_run in kernel_impl.inc), its last rows and other tiles a call
+// per pair: the same bits as the unfused reference either way, with the activity measured
+// or not, and row counts where the run covers most of the pairs or only the first. A spike
+// every 53 nodes, and at the corners of the tile and its ring.
+TEST(VerticalTileKernels, RunTheDefaultTilesPairsToTheUnfusedKernelsBits) {
+  std::vector<Variant> fused{Variant::generic};
+  if (avx2_available()) fused.push_back(Variant::avx2);
+  if (avx512_available()) fused.push_back(Variant::avx512);
+  std::mt19937 rng(13);
+  int compared = 0;
+  for (const bool activity : {true, false})
+    for (const int h : {64, 63, 6, 5, 4})
+      for (const int w : {64, 63})
+        for (const bool fixed_nodes : {false, true})
+          for (const bool sponge : {false, true}) {
+            Coefficients k = coefficients();
+            k.activity = activity;
+            TileCase c;
+            c.stride = 64;
+            c.w = w;
+            c.h = h;
+            c.fixed_nodes = fixed_nodes;
+            c.sponge = sponge;
+            for (int s = 0; s < kSides; ++s) c.sides[s] = static_cast<Side>((s + h + fixed_nodes) % 3);
+            const int nodes = (w + 2) * (h + 2);
+            std::vector<int> spikes{0, w + 1, nodes - w - 2, nodes - 1, w + 3, nodes - w - 4};
+            for (int spike = 17; spike < nodes; spike += 53) spikes.push_back(spike);
+            for (const int spike : spikes) {
+              const TileInputs in = inputs(c, spike, rng, k);
+              const Stepped reference = step(Variant::unfused, c, in, k);
+              for (const Variant v : fused) {
+                expect_same(step(v, c, in, k), reference,
+                            "variant " + std::to_string(static_cast<int>(v)) + ", " + std::to_string(w) + " x " +
+                                std::to_string(h) + (fixed_nodes ? ", fixed nodes" : "") + (sponge ? ", sponge" : "") +
+                                (activity ? "" : ", no activity") + ", spike " + std::to_string(spike));
+                ++compared;
+              }
+              if (::testing::Test::HasFailure()) return;  // one case's messages are enough
+            }
+          }
   EXPECT_GT(compared, 1000);
 }
 
