@@ -93,6 +93,21 @@ double compaction_push(const terrain::Bearing& bearing, const ColumnOffsets& fro
   return std::clamp(push, -load, load);
 }
 
+}  // namespace
+
+GridRect ring_of(const GridRect& window) { return {window.i0 - 1, window.j0 - 1, window.nx + 2, window.ny + 2}; }
+
+const std::vector<double>& WallScratch::ring_heights(const terrain::Terrain& terrain, const GridRect& ring) {
+  if (!(read.i0 == ring.i0 && read.j0 == ring.j0 && read.nx == ring.nx && read.ny == ring.ny)) {
+    heights.resize(ring.size());
+    terrain.heights(ring, heights);
+    read = ring;
+  }
+  return heights;
+}
+
+namespace {
+
 /// For each offset a in [0, n) of a row of columns, where the point a + shift falls: the
 /// cell to its left (clamped so that the cell and the next one are in the row) and its
 /// fraction from there.
@@ -125,10 +140,8 @@ double wall_push(const terrain::Terrain& terrain, const terrain::Bearing& bearin
                  const ColumnOffsets& from_centre, const btVector3& across, const btVector3& ray_normal, double load,
                  double radius, WallScratch& scratch) {
   if (!(bearing.capacity > 0.0) || !std::isfinite(bearing.capacity) || !(ray_normal.z() > 0)) return 0.0;
-  const GridRect ring{rect.i0 - 1, rect.j0 - 1, rect.nx + 2, rect.ny + 2};  // each column's neighbours too
-  std::vector<double>& heights = scratch.heights;
-  heights.resize(ring.size());
-  terrain.heights(ring, heights);
+  const GridRect ring = ring_of(rect);  // each column's neighbours too
+  const std::vector<double>& heights = scratch.ring_heights(terrain, ring);
   const double ax = double(across.x()), ay = double(across.y()), cell = terrain.settings().cell;
   // The surface's height one cell along `sign` across from a column's centre, bilinear between
   // the four columns around it: the slope across the wheel itself, not along the grid's axes
@@ -447,6 +460,7 @@ int RaycastWheels::rasterize_wheel(const terrain::Terrain& terrain, EnvelopeRast
                                    const btTransform& pose, bool whole) {
   wheel.cut_depth = 0.0;
   wheel.window = rasterizer.window_of(*wheel.shape, pose);
+  wheel.wall.forget();  // the terrain may have changed since the last press
   const terrain::TerrainSettings& s = terrain.settings();
   if (whole || !std::isfinite(s.active_reach)) return rasterizer.rasterize(*wheel.shape, pose, wheel.envelope);
   // A column whose lowest point, lowered by the solve's deepest offset, stays above every
@@ -455,11 +469,16 @@ int RaycastWheels::rasterize_wheel(const terrain::Terrain& terrain, EnvelopeRast
   // region, is under the body for no stage and holds no clinging soil. Only columns reaching
   // that and a depth more are rasterized (twice the deepest offset the wheel's last solve
   // measured, at least kCutDepthLeast); a solve that goes deeper is redone whole.
+  // Read with the ring around it, which the rut walls' push reads too (wall_push): once a
+  // press, the terrain being unchanged until the soil step.
   const GridRect& all = wheel.window;
-  wheel.ground.resize(all.size());
-  terrain.heights(all, wheel.ground);
+  const std::vector<double>& ring = wheel.wall.ring_heights(terrain, ring_of(all));
   double highest = -std::numeric_limits<double>::infinity();
-  for (double z : wheel.ground) highest = std::max(highest, z);
+  const auto ring_nx = static_cast<std::size_t>(all.nx) + 2;
+  for (std::size_t b = 1; b <= static_cast<std::size_t>(all.ny); ++b) {
+    const double* row = ring.data() + b * ring_nx + 1;
+    for (std::size_t a = 0; a < static_cast<std::size_t>(all.nx); ++a) highest = std::max(highest, row[a]);
+  }
   const double depth = std::max(kCutDepthLeast, 2.0 * wheel.last_deepest);
   const double z_top = highest + std::max(s.active_reach, s.contact_tolerance) + depth;
   const btVector3 axle = pose.getBasis().getColumn(0);  // btCylinderShapeX: along local x
