@@ -31,6 +31,9 @@ constexpr double kRolling = 0.05;   // m/s: a wheel slower than this is standing
 // kRiseLeast, then twice as high while it reaches that, never more than kRiseMost of its radius.
 constexpr double kRiseLeast = 0.01;  // m
 constexpr double kRiseMost = 0.5;
+// The rim's clinging soil is stepped every this many soil steps (Imprint::cling_every)
+// while each point of the rim stays on the soil that long (rim_stays).
+constexpr int kClingEvery = 2;
 
 /// N/m: what Bullet's suspension force gains per metre the ground under the wheel rises
 /// (btRaycastVehicle::updateSuspension: stiffness x compression / the contact's cosine,
@@ -270,6 +273,14 @@ RimSpan rim_strips(const terrain::Terrain& terrain, const terrain::Bearing& bear
   return {angle((front + 0.5) * cell), angle((back - 0.5) * cell)};
 }
 
+/// Whether each point of a rim spinning at `spin` (rad/s) stays on the soil for `seconds` or
+/// more: it is in contact over `contact_angle` (rad) of its turn. The soil clinging to the
+/// rim is then stepped that seldom without missing a piece: a piece loads when a clinging
+/// step finds it touching the soil, and loads no more for being found again (Cling::touch).
+bool rim_stays(double contact_angle, double spin, double seconds) {
+  return contact_angle > 0.0 && std::abs(spin) * seconds <= contact_angle;
+}
+
 /// An impulse (N s) that opposes the contact's velocity along its direction, limited to what
 /// stops the chassis there (`denominator`: Bullet's impulse denominator at the contact, as
 /// Bullet's own side friction takes it); one that does not oppose it is left as it is.
@@ -452,6 +463,7 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
     wheel.imprint.orientation = {q.w(), q.x(), q.y(), q.z()};
     wheel.imprint.spray = chassis->getBroadphaseHandle() != nullptr;
     if (wheel.imprint.spray) wheel.imprint.key = wheel_key(*chassis, k);
+    wheel.imprint.cling_every = rim_stays(wheel.contact_angle, spin, kClingEvery * soil_step_) ? kClingEvery : 1;
   }
   return &wheel.imprint;
 }
@@ -579,9 +591,11 @@ RimShear RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bea
   Wheel& wheel = vehicle.wheels[static_cast<std::size_t>(k)];
   const double r = p.radius;
   const btVector3 forward = p.pose.getBasis().getColumn(1);
+  wheel.contact_angle = 0.0;
   const RimSpan span =
       rim_strips(terrain, bearing, wheel.from_centre, forward, r, p.load / bearing.capacity, wheel.rim);
   if (wheel.rim.empty()) return {};
+  wheel.contact_angle = span.entry - span.exit;
   btWheelInfo& info = vehicle.vehicle->getWheelInfo(k);
   btRigidBody* chassis = vehicle.vehicle->getRigidBody();
   const btVector3 world_forward = p.world_pose.getBasis().getColumn(1),

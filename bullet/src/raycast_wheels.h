@@ -103,6 +103,8 @@ class RaycastWheels {
   /// Columns around each wheel's imprint for the soil step (terrain::Imprint::margin; 0:
   /// the terrain's active_margin).
   void set_margin(int margin) { margin_ = margin; }
+  /// s: the time the terrain's next step covers (the wheels' clinging soil, rim_stays).
+  void set_soil_step(double seconds) { soil_step_ = seconds; }
   /// Vehicles whose chassis the world no longer holds are dropped (by address, never read).
   /// Returns how many.
   int forget_lost(const btCollisionWorld& world);
@@ -141,6 +143,8 @@ class RaycastWheels {
     double wall_push = 0.0;  ///< N along the axle's horizontal direction, last substep (wall_push)
     WallScratch wall;
     std::vector<RimStrip> rim;  ///< scratch: the rim's strips in contact
+    /// rad: the rim's arc in contact in the last grip (0: none), for its clinging soil
+    double contact_angle = 0.0;
     RimLoosening loosening;     ///< scratch: a slipping wheel's loosened columns
     terrain::Bearing loosened;  ///< the bearing it pressed with, loosened
     /// rad/s: a SoilVehicle's wheel's spin in the last substep (NaN: none, off the soil),
@@ -204,6 +208,7 @@ class RaycastWheels {
   std::shared_ptr<SoftGround> ground_;
   bool framed_ = false;
   int margin_ = 0;
+  double soil_step_ = 0.0;
   btTransform to_ground_ = btTransform::getIdentity();
 };
 
