@@ -23,8 +23,13 @@ void ContourStage::run(const Region& region, std::span<const unsigned char> flag
 }
 
 // Columns out of contact that soil can reach from the open (8-connected): every column not
-// under a body, then by flood fill the columns under a body but out of contact (interior,
-// so their neighbours exist) next to one already reached.
+// under a body, then the columns under a body but out of contact (pockets; interior, so
+// their neighbours exist) next to one already reached. One raster scan opens each pocket
+// next to an open column at once, so the pockets after it in the scan see it open; one
+// opened beside a pocket before it in the scan that is still closed starts a flood fill
+// from there, which reaches what the scan has passed. The open set is the same as a flood
+// fill from every pocket next to the open (it is the pockets connected to the open), with
+// a flood of the few pockets the scan cannot reach, not of every pocket.
 void ContourStage::find_open(const Region& region, std::span<const unsigned char> flags) {
   std::vector<unsigned char>& open = open_;
   std::vector<std::size_t>& stack = fill_stack_;
@@ -33,16 +38,21 @@ void ContourStage::find_open(const Region& region, std::span<const unsigned char
   for (std::size_t k = 0; k < size; ++k) open[k] = (flags[k] & (kCovered | kContact)) ? 0 : 1;
   const auto off = neighbour_offsets(region.w);
   auto pocket = [&](std::size_t k) { return !open[k] && (flags[k] & (kCovered | kContact)) == kCovered; };
+  // The directions of the neighbours before a column in the scan: (-1, 0), (0, -1), (-1, -1), (1, -1).
+  constexpr int kBefore[4] = {1, 3, 5, 6};
   stack.clear();
   for (std::size_t k = 0; k < size; ++k) {
     if (!pocket(k)) continue;
-    for (int d = 0; d < 8; ++d)
-      if (open[k + off[d]]) {
+    bool reached = false;
+    for (int d = 0; d < 8 && !reached; ++d) reached = open[k + off[d]] != 0;
+    if (!reached) continue;
+    open[k] = 1;
+    for (const int d : kBefore)
+      if (pocket(k + off[d])) {
         stack.push_back(k);
         break;
       }
   }
-  for (std::size_t k : stack) open[k] = 1;
   while (!stack.empty()) {
     const std::size_t k = stack.back();
     stack.pop_back();

@@ -78,6 +78,70 @@ TEST(ContourStage, AGapInThePatchCountsAsContactButAnOpenEdgeDoesNot) {
   EXPECT_EQ(contour.levels()[r.at(4, 4)], 2);  // as if in contact, two columns from (2, 4)
 }
 
+// Pockets (under a body, out of contact) in every pattern: a column is open if it is not
+// under a body or is a pocket connected to such a column through pockets (8-connected, in
+// any direction, whichever way a scan meets them), and every other column's level is its
+// chessboard distance to the open, as a breadth-first search from the open finds them.
+TEST(ContourStage, PocketsOpenWhereverThePocketsLeadToTheOpen) {
+  const Region r = flat_region(40, 30);
+  const int w = r.w, h = r.h;
+  std::uint64_t state = 12345;
+  auto draw = [&state] {  // SplitMix64: the same patterns on every machine
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  };
+  int reached_late = 0;  // pockets whose only way out lies after them in a raster scan
+  for (const double share : {0.3, 0.5, 0.6, 0.7}) {
+    for (int pattern = 0; pattern < 25; ++pattern) {
+      auto flags = flags_with(r, 3, 3, w - 4, h - 4, kCovered | kContact);
+      for (int y = 3; y <= h - 4; ++y)
+        for (int x = 3; x <= w - 4; ++x)
+          if (draw() < share) flags[r.at(x, y)] = kInterior | kCovered;
+      ContourStage contour;
+      contour.run(r, flags);
+      // The reference: open by flood fill, then levels by breadth-first search from the open.
+      std::vector<int> level(r.size(), -1);
+      std::vector<std::pair<int, int>> queue;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          if (!(flags[r.at(x, y)] & (kCovered | kContact))) level[r.at(x, y)] = 0, queue.emplace_back(x, y);
+      auto spread = [&](bool pockets_only) {
+        std::vector<std::pair<int, int>> next;
+        for (std::size_t q = 0; q < queue.size(); ++q) {
+          const auto [x, y] = queue[q];
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int nx = x + dx, ny = y + dy;
+              if (nx < 0 || ny < 0 || nx >= w || ny >= h || level[r.at(nx, ny)] >= 0) continue;
+              const unsigned char f = flags[r.at(nx, ny)];
+              if (pockets_only) {
+                if ((f & (kCovered | kContact)) != kCovered) continue;
+                level[r.at(nx, ny)] = 0, queue.emplace_back(nx, ny);
+                if (ny > y || (ny == y && nx > x)) ++reached_late;
+              } else {
+                level[r.at(nx, ny)] = level[r.at(x, y)] + 1, next.emplace_back(nx, ny);
+              }
+            }
+          if (!pockets_only && q + 1 == queue.size()) queue.swap(next), next.clear(), q = std::size_t(-1);
+        }
+      };
+      spread(true);
+      queue.clear();
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          if (level[r.at(x, y)] == 0) queue.emplace_back(x, y);
+      spread(false);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          ASSERT_EQ(contour.levels()[r.at(x, y)], level[r.at(x, y)])
+              << "column " << x << ", " << y << ", share " << share << ", pattern " << pattern;
+    }
+  }
+  EXPECT_GT(reached_late, 0) << "no pocket needed the fill backwards: this tests less than it says";
+}
+
 TEST(DisplaceStage, OneColumnSpreadsItsShareEvenlyOnItsRing) {
   Region r = flat_region(5, 5);
   const ContourStage contour = contour_of_patch(r, 2, 2, 2, 2);
