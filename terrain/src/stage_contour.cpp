@@ -18,8 +18,21 @@ void ContourStage::run(const Region& region, std::span<const unsigned char> flag
   find_open(region, flags);
   const int big = region.w + region.h;
   contour_.resize(open_.size());
-  for (std::size_t k = 0; k < contour_.size(); ++k) contour_[k] = open_[k] ? 0 : big;
-  sweep(region);
+  // The rows and columns holding a closed column bound what the sweeps change: an open
+  // column stays 0 and is only read.
+  const auto w = static_cast<std::size_t>(region.w);
+  int x0 = region.w, x1 = -1, y0 = region.h, y1 = -1;
+  for (int y = 0; y < region.h; ++y) {
+    const unsigned char* open = open_.data() + static_cast<std::size_t>(y) * w;
+    int* level = contour_.data() + static_cast<std::size_t>(y) * w;
+    int first = region.w, last = -1;
+    for (int x = 0; x < region.w; ++x) {
+      level[x] = open[x] ? 0 : big;
+      if (!open[x]) first = std::min(first, x), last = x;
+    }
+    if (last >= 0) x0 = std::min(x0, first), x1 = std::max(x1, last), y0 = std::min(y0, y), y1 = y;
+  }
+  sweep(region, {x0, y0, x1 - x0 + 1, y1 - y0 + 1});
 }
 
 // Columns out of contact that soil can reach from the open (8-connected): every column not
@@ -66,18 +79,22 @@ void ContourStage::find_open(const Region& region, std::span<const unsigned char
 }
 
 // Two raster sweeps give the exact chessboard distance. Only contact columns and pockets
-// relax, and they are interior: their neighbours exist.
-void ContourStage::sweep(const Region& region) {
+// relax, and they are interior: their neighbours exist. Outside `closed` every column is
+// open (0, skipped), so the sweeps visit it alone, in the same order.
+void ContourStage::sweep(const Region& region, const GridRect& closed) {
+  if (closed.empty()) return;
   int* c = contour_.data();
   const std::ptrdiff_t w = region.w;
-  for (int y = 1; y < region.h - 1; ++y)
-    for (int x = 1; x < region.w - 1; ++x) {
+  const int xa = std::max(1, static_cast<int>(closed.i0)), xb = std::min(region.w - 1, static_cast<int>(closed.i1()));
+  const int ya = std::max(1, static_cast<int>(closed.j0)), yb = std::min(region.h - 1, static_cast<int>(closed.j1()));
+  for (int y = ya; y < yb; ++y)
+    for (int x = xa; x < xb; ++x) {
       int* p = c + y * w + x;
       if (!*p) continue;
       *p = std::min({*p, p[-1] + 1, p[-w - 1] + 1, p[-w] + 1, p[-w + 1] + 1});
     }
-  for (int y = region.h - 2; y >= 1; --y)
-    for (int x = region.w - 2; x >= 1; --x) {
+  for (int y = yb - 1; y >= ya; --y)
+    for (int x = xb - 1; x >= xa; --x) {
       int* p = c + y * w + x;
       if (!*p) continue;
       *p = std::min({*p, p[1] + 1, p[w + 1] + 1, p[w] + 1, p[w - 1] + 1});

@@ -21,7 +21,9 @@ class ContourStage {
 
  private:
   void find_open(const Region& region, std::span<const unsigned char> flags);
-  void sweep(const Region& region);
+  /// The chessboard distances relaxed over `closed` (region-relative: the columns that are
+  /// not open lie within it).
+  void sweep(const Region& region, const GridRect& closed);
 
   std::vector<int> contour_;
   std::vector<unsigned char> open_;      ///< out of contact and reachable from the open
