@@ -32,7 +32,8 @@ void ContourStage::run(const Region& region, std::span<const unsigned char> flag
     }
     if (last >= 0) x0 = std::min(x0, first), x1 = std::max(x1, last), y0 = std::min(y0, y), y1 = y;
   }
-  sweep(region, {x0, y0, x1 - x0 + 1, y1 - y0 + 1});
+  closed_ = x1 < 0 ? GridRect{} : GridRect{x0, y0, x1 - x0 + 1, y1 - y0 + 1};
+  sweep(region, closed_);
 }
 
 // Columns out of contact that soil can reach from the open (8-connected): every column not

@@ -148,7 +148,7 @@ TEST(DisplaceStage, OneColumnSpreadsItsShareEvenlyOnItsRing) {
   std::vector<double> displaced(r.size(), 0.0);
   displaced[r.at(2, 2)] = 1.0;
   DisplaceStage displace;
-  const double compacted = displace.run(r, contour.levels(), displaced, std::vector<double>{0.5});
+  const double compacted = displace.run(r, contour.levels(), contour.closed(), displaced, std::vector<double>{0.5});
   EXPECT_EQ(compacted, 0.5);
   for (int y = 0; y < r.h; ++y)
     for (int x = 0; x < r.w; ++x) {
@@ -169,7 +169,7 @@ TEST(DisplaceStage, ConservesVolumeAndLandsOnTheFirstRingOnly) {
     }
   const double alpha = 0.3;
   DisplaceStage displace;
-  const double compacted = displace.run(r, contour.levels(), displaced, std::vector<double>{alpha});
+  const double compacted = displace.run(r, contour.levels(), contour.closed(), displaced, std::vector<double>{alpha});
   double landed = 0.0;
   for (int y = 0; y < r.h; ++y)
     for (int x = 0; x < r.w; ++x) {
