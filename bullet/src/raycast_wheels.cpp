@@ -383,6 +383,7 @@ void RaycastWheels::serve(const terrain::Terrain& terrain, EnvelopeRasterizer& r
 const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h,
                                              bool deforms, Vehicle& vehicle, int k) {
   Wheel& wheel = vehicle.wheels[static_cast<std::size_t>(k)];
+  wheel.contact_angle = 0.0;  // this substep's grip's, if it grips: nothing kept across substeps
   const btWheelInfo& info = vehicle.vehicle->getWheelInfo(k);
   Pressed p;
   p.load = info.m_wheelsSuspensionForce;
@@ -591,7 +592,6 @@ RimShear RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bea
   Wheel& wheel = vehicle.wheels[static_cast<std::size_t>(k)];
   const double r = p.radius;
   const btVector3 forward = p.pose.getBasis().getColumn(1);
-  wheel.contact_angle = 0.0;
   const RimSpan span =
       rim_strips(terrain, bearing, wheel.from_centre, forward, r, p.load / bearing.capacity, wheel.rim);
   if (wheel.rim.empty()) return {};

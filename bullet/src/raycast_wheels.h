@@ -143,7 +143,7 @@ class RaycastWheels {
     double wall_push = 0.0;  ///< N along the axle's horizontal direction, last substep (wall_push)
     WallScratch wall;
     std::vector<RimStrip> rim;  ///< scratch: the rim's strips in contact
-    /// rad: the rim's arc in contact in the last grip (0: none), for its clinging soil
+    /// rad: the rim's arc in contact in this substep's grip (0: none), for its clinging soil
     double contact_angle = 0.0;
     RimLoosening loosening;     ///< scratch: a slipping wheel's loosened columns
     terrain::Bearing loosened;  ///< the bearing it pressed with, loosened
