@@ -31,6 +31,9 @@ constexpr double kRolling = 0.05;   // m/s: a wheel slower than this is standing
 // kRiseLeast, then twice as high while it reaches that, never more than kRiseMost of its radius.
 constexpr double kRiseLeast = 0.01;  // m
 constexpr double kRiseMost = 0.5;
+// The rim's clinging soil is stepped every this many soil steps (Imprint::cling_every)
+// while each point of the rim stays on the soil that long (rim_stays).
+constexpr int kClingEvery = 2;
 
 /// N/m: what Bullet's suspension force gains per metre the ground under the wheel rises
 /// (btRaycastVehicle::updateSuspension: stiffness x compression / the contact's cosine,
@@ -93,6 +96,21 @@ double compaction_push(const terrain::Bearing& bearing, const ColumnOffsets& fro
   return std::clamp(push, -load, load);
 }
 
+}  // namespace
+
+GridRect ring_of(const GridRect& window) { return {window.i0 - 1, window.j0 - 1, window.nx + 2, window.ny + 2}; }
+
+const std::vector<double>& WallScratch::ring_heights(const terrain::Terrain& terrain, const GridRect& ring) {
+  if (!(read.i0 == ring.i0 && read.j0 == ring.j0 && read.nx == ring.nx && read.ny == ring.ny)) {
+    heights.resize(ring.size());
+    terrain.heights(ring, heights);
+    read = ring;
+  }
+  return heights;
+}
+
+namespace {
+
 /// For each offset a in [0, n) of a row of columns, where the point a + shift falls: the
 /// cell to its left (clamped so that the cell and the next one are in the row) and its
 /// fraction from there.
@@ -125,10 +143,8 @@ double wall_push(const terrain::Terrain& terrain, const terrain::Bearing& bearin
                  const ColumnOffsets& from_centre, const btVector3& across, const btVector3& ray_normal, double load,
                  double radius, WallScratch& scratch) {
   if (!(bearing.capacity > 0.0) || !std::isfinite(bearing.capacity) || !(ray_normal.z() > 0)) return 0.0;
-  const GridRect ring{rect.i0 - 1, rect.j0 - 1, rect.nx + 2, rect.ny + 2};  // each column's neighbours too
-  std::vector<double>& heights = scratch.heights;
-  heights.resize(ring.size());
-  terrain.heights(ring, heights);
+  const GridRect ring = ring_of(rect);  // each column's neighbours too
+  const std::vector<double>& heights = scratch.ring_heights(terrain, ring);
   const double ax = double(across.x()), ay = double(across.y()), cell = terrain.settings().cell;
   // The surface's height one cell along `sign` across from a column's centre, bilinear between
   // the four columns around it: the slope across the wheel itself, not along the grid's axes
@@ -257,6 +273,14 @@ RimSpan rim_strips(const terrain::Terrain& terrain, const terrain::Bearing& bear
   return {angle((front + 0.5) * cell), angle((back - 0.5) * cell)};
 }
 
+/// Whether each point of a rim spinning at `spin` (rad/s) stays on the soil for `seconds` or
+/// more: it is in contact over `contact_angle` (rad) of its turn. The soil clinging to the
+/// rim is then stepped that seldom without missing a piece: a piece loads when a clinging
+/// step finds it touching the soil, and loads no more for being found again (Cling::touch).
+bool rim_stays(double contact_angle, double spin, double seconds) {
+  return contact_angle > 0.0 && std::abs(spin) * seconds <= contact_angle;
+}
+
 /// An impulse (N s) that opposes the contact's velocity along its direction, limited to what
 /// stops the chassis there (`denominator`: Bullet's impulse denominator at the contact, as
 /// Bullet's own side friction takes it); one that does not oppose it is left as it is.
@@ -359,6 +383,7 @@ void RaycastWheels::serve(const terrain::Terrain& terrain, EnvelopeRasterizer& r
 const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h,
                                              bool deforms, Vehicle& vehicle, int k) {
   Wheel& wheel = vehicle.wheels[static_cast<std::size_t>(k)];
+  wheel.contact_angle = 0.0;  // this substep's grip's, if it grips: nothing kept across substeps
   const btWheelInfo& info = vehicle.vehicle->getWheelInfo(k);
   Pressed p;
   p.load = info.m_wheelsSuspensionForce;
@@ -439,6 +464,7 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
     wheel.imprint.orientation = {q.w(), q.x(), q.y(), q.z()};
     wheel.imprint.spray = chassis->getBroadphaseHandle() != nullptr;
     if (wheel.imprint.spray) wheel.imprint.key = wheel_key(*chassis, k);
+    wheel.imprint.cling_every = rim_stays(wheel.contact_angle, spin, kClingEvery * soil_step_) ? kClingEvery : 1;
   }
   return &wheel.imprint;
 }
@@ -447,6 +473,7 @@ int RaycastWheels::rasterize_wheel(const terrain::Terrain& terrain, EnvelopeRast
                                    const btTransform& pose, bool whole) {
   wheel.cut_depth = 0.0;
   wheel.window = rasterizer.window_of(*wheel.shape, pose);
+  wheel.wall.forget();  // the terrain may have changed since the last press
   const terrain::TerrainSettings& s = terrain.settings();
   if (whole || !std::isfinite(s.active_reach)) return rasterizer.rasterize(*wheel.shape, pose, wheel.envelope);
   // A column whose lowest point, lowered by the solve's deepest offset, stays above every
@@ -455,11 +482,16 @@ int RaycastWheels::rasterize_wheel(const terrain::Terrain& terrain, EnvelopeRast
   // region, is under the body for no stage and holds no clinging soil. Only columns reaching
   // that and a depth more are rasterized (twice the deepest offset the wheel's last solve
   // measured, at least kCutDepthLeast); a solve that goes deeper is redone whole.
+  // Read with the ring around it, which the rut walls' push reads too (wall_push): once a
+  // press, the terrain being unchanged until the soil step.
   const GridRect& all = wheel.window;
-  wheel.ground.resize(all.size());
-  terrain.heights(all, wheel.ground);
+  const std::vector<double>& ring = wheel.wall.ring_heights(terrain, ring_of(all));
   double highest = -std::numeric_limits<double>::infinity();
-  for (double z : wheel.ground) highest = std::max(highest, z);
+  const auto ring_nx = static_cast<std::size_t>(all.nx) + 2;
+  for (std::size_t b = 1; b <= static_cast<std::size_t>(all.ny); ++b) {
+    const double* row = ring.data() + b * ring_nx + 1;
+    for (std::size_t a = 0; a < static_cast<std::size_t>(all.nx); ++a) highest = std::max(highest, row[a]);
+  }
   const double depth = std::max(kCutDepthLeast, 2.0 * wheel.last_deepest);
   const double z_top = highest + std::max(s.active_reach, s.contact_tolerance) + depth;
   const btVector3 axle = pose.getBasis().getColumn(0);  // btCylinderShapeX: along local x
@@ -563,6 +595,7 @@ RimShear RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bea
   const RimSpan span =
       rim_strips(terrain, bearing, wheel.from_centre, forward, r, p.load / bearing.capacity, wheel.rim);
   if (wheel.rim.empty()) return {};
+  wheel.contact_angle = span.entry - span.exit;
   btWheelInfo& info = vehicle.vehicle->getWheelInfo(k);
   btRigidBody* chassis = vehicle.vehicle->getRigidBody();
   const btVector3 world_forward = p.world_pose.getBasis().getColumn(1),

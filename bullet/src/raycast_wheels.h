@@ -60,9 +60,17 @@ struct AxisStep {
   double t = 0.0;        ///< its fraction from that column to the next
 };
 
+/// The window grown by one column on every side: each column's neighbours too.
+GridRect ring_of(const GridRect& window);
+
 /// Scratch of the rut walls' push (raycast_wheels.cpp, wall_push).
 struct WallScratch {
-  std::vector<double> heights;  ///< the surface under the envelope and one column around it
+  /// The surface over `ring`, read from `terrain` unless the last read was of this ring
+  /// since forget(): the caller forgets whenever the terrain may have changed.
+  const std::vector<double>& ring_heights(const terrain::Terrain& terrain, const GridRect& ring);
+  void forget() { read = GridRect{}; }
+  std::vector<double> heights;  ///< the surface over `read`
+  GridRect read;                ///< the ring `heights` holds (empty: none)
   /// Per column offset along x (u) and y (v): one cell ahead and behind along the axle.
   std::vector<AxisStep> u_ahead, u_behind, v_ahead, v_behind;
   std::vector<double> force, slope;  ///< per strip along the heading: column forces, slopes across
@@ -95,6 +103,8 @@ class RaycastWheels {
   /// Columns around each wheel's imprint for the soil step (terrain::Imprint::margin; 0:
   /// the terrain's active_margin).
   void set_margin(int margin) { margin_ = margin; }
+  /// s: the time the terrain's next step covers (the wheels' clinging soil, rim_stays).
+  void set_soil_step(double seconds) { soil_step_ = seconds; }
   /// Vehicles whose chassis the world no longer holds are dropped (by address, never read).
   /// Returns how many.
   int forget_lost(const btCollisionWorld& world);
@@ -124,7 +134,6 @@ class RaycastWheels {
     /// envelope is cut or not (their bilinear weights depend on a column's place in it).
     GridRect window;
     double last_deepest = 0.0;         ///< m: the deepest offset its last press measured
-    std::vector<double> ground;        ///< scratch: the heights under the whole cylinder
     EnvelopeRaster bearing_part;       ///< what bears its load (the front arc when rolling)
     std::vector<double> front_marked;  ///< scratch: the window with the front arc marked (keep_front)
     terrain::BearingSolve solve;       ///< scratch: bearing_part's columns and capacities
@@ -134,6 +143,8 @@ class RaycastWheels {
     double wall_push = 0.0;  ///< N along the axle's horizontal direction, last substep (wall_push)
     WallScratch wall;
     std::vector<RimStrip> rim;  ///< scratch: the rim's strips in contact
+    /// rad: the rim's arc in contact in this substep's grip (0: none), for its clinging soil
+    double contact_angle = 0.0;
     RimLoosening loosening;     ///< scratch: a slipping wheel's loosened columns
     terrain::Bearing loosened;  ///< the bearing it pressed with, loosened
     /// rad/s: a SoilVehicle's wheel's spin in the last substep (NaN: none, off the soil),
@@ -197,6 +208,7 @@ class RaycastWheels {
   std::shared_ptr<SoftGround> ground_;
   bool framed_ = false;
   int margin_ = 0;
+  double soil_step_ = 0.0;
   btTransform to_ground_ = btTransform::getIdentity();
 };
 

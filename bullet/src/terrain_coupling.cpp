@@ -38,6 +38,7 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   p.imprints.clear();
   const bool deforms = p.clock.advance(h, settings_.step_interval);
   for (Parts::Entry& e : p.bodies) p.serve(e, h, deforms);
+  p.wheels.set_soil_step(p.clock.seconds());
   if (!p.rigid) p.wheels.serve(p.terrain, p.rasterizer, h, deforms, p.imprints);
   // 4. The terrain deforms with the imprints (once per step_interval).
   stats_.active_columns = stats_.erosion_passes = 0;

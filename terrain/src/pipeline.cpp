@@ -72,7 +72,8 @@ StepReport Pipeline::run(TileStore& store, const TerrainSettings& s, std::span<c
   contour_.run(region_, imprint_.flags());
   alpha_.clear();
   for (const Material& m : palette) alpha_.push_back(m.alpha);
-  const double compacted_height = displace_.run(region_, contour_.levels(), imprint_.displaced(), alpha_);
+  const double compacted_height =
+      displace_.run(region_, contour_.levels(), contour_.closed(), imprint_.displaced(), alpha_);
   StepReport report;
   report.erosion_passes = erode_.run(region_, imprint_.flags(), imprint_.body(), s, palette, false, true);
   loosen_deposits(region_);

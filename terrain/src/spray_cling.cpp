@@ -106,6 +106,7 @@ void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, co
                   const ClingRules& rules, std::vector<Drop>& drops) {
   const EnvelopeRaster& env = *im.envelope;
   fresh_.clear();
+  std::fill(std::begin(fresh_bits_), std::end(fresh_bits_), std::uint64_t{0});
   index_.build(body.cells);
   const ClingKeys keys(ground.cell());
   heights_.resize(env.lower.size());
@@ -131,8 +132,7 @@ void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, co
       const double capacity = mr.capacity;
       if (found == nullptr) {
         if (capacity <= 0.0) continue;
-        found = &fresh_.emplace_back();
-        found->key = key;
+        found = &add_fresh(key);
         found->material = index;
       } else if (found->material != index && capacity > 0.0) {  // a column of no adhesion leaves its soil
         set_down(*found, p, drops);                             // one material per piece: it lays its old soil here
@@ -150,9 +150,17 @@ void Cling::touch(ClingingBody& body, const Imprint& im, const BodyMotion& m, co
 
 ClingCell* Cling::piece(ClingingBody& body, std::uint64_t key) {
   if (ClingCell* c = index_.find(body.cells, key); c != nullptr) return c;
+  if (!(fresh_bits_[fresh_word(key)] & fresh_bit(key))) return nullptr;
   for (ClingCell& c : fresh_)  // a few per step (a contact patch's worth on the first)
     if (c.key == key) return &c;
   return nullptr;
+}
+
+ClingCell& Cling::add_fresh(std::uint64_t key) {
+  fresh_bits_[fresh_word(key)] |= fresh_bit(key);
+  ClingCell& c = fresh_.emplace_back();
+  c.key = key;
+  return c;
 }
 
 void Cling::merge_fresh(ClingingBody& body) {

@@ -170,12 +170,24 @@ class Cling {
   ClingCell* piece(ClingingBody& body, std::uint64_t key);
   /// Puts the pieces first touched this step into the body's list, which stays sorted by key.
   void merge_fresh(ClingingBody& body);
+  /// A piece first touched this step, noted in fresh_ and in fresh_bits_.
+  ClingCell& add_fresh(std::uint64_t key);
+  /// fresh_bits_'s bit for a key: the low bits of its three axes' parts, mixed.
+  static std::uint64_t fresh_bit(std::uint64_t key) {
+    const std::uint64_t h = (key ^ (key >> 21) ^ (key >> 42)) & 255;
+    return std::uint64_t{1} << (h & 63);
+  }
+  static std::size_t fresh_word(std::uint64_t key) { return ((key ^ (key >> 21) ^ (key >> 42)) & 255) >> 6; }
   std::vector<double> heights_;  ///< soil tops under the envelope
   PieceIndex index_;             ///< of the body's pieces, during touch
   /// Pieces first touched in this step's touch, merged into the body's sorted list at its
   /// end: one pass over the list instead of an insertion (and a shift of the list) each.
   /// The list comes out the same as with the insertions: sorted by key, keys unique.
   std::vector<ClingCell> fresh_;
+  /// A bit set for each key in fresh_ (fresh_bit, fresh_word): a key whose bit is clear is
+  /// not there, and most keys asked are not (a column's piece is in the body's list, or
+  /// nowhere), so they skip the scan of fresh_.
+  std::uint64_t fresh_bits_[4] = {0, 0, 0, 0};
 };
 
 /// The cube of the body frame a point lies in, packed in 64 bits (21 per axis).

@@ -138,12 +138,9 @@ MaterialRules material_rules(const SprayMaterial& m, double cell, double dt) {
   r.jitter = m.jitter;
   return r;
 }
-}  // namespace
 
-// Bodies by key (the imprints' order never matters), merged with the bodies soil clung to
-// last step: a body missing from this step sets its soil down.
-void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, std::span<const Material> palette,
-                      const FlightRules& rules, std::span<const Imprint> imprints, double dt, StepReport& report) {
+/// What the settings make of the cling rule for a step of dt seconds, the step'th.
+ClingRules cling_rules(const TerrainSettings& s, std::span<const Material> palette, double dt, std::int64_t step) {
   ClingRules r;
   r.dt = dt;
   r.cell = s.cell;
@@ -158,8 +155,19 @@ void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, std::span<c
       r.least_min_speed = std::min(r.least_min_speed, entry.spray.min_speed);
     }
   r.seed = s.spray.seed;
-  r.step = state.step;
+  r.step = step;
+  return r;
+}
+}  // namespace
 
+// Bodies by key (the imprints' order never matters), merged with the bodies soil clung to
+// last step: a body missing from this step sets its soil down. A body stepped every n-th
+// step (Imprint::cling_every) is kept as it is on the others, and stepped over n dt.
+void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, std::span<const Material> palette,
+                      const FlightRules& rules, std::span<const Imprint> imprints, double dt, StepReport& report) {
+  const ClingRules r = cling_rules(s, palette, dt, state.step);
+  ClingRules slow;  // the rules over cling_every steps, for bodies stepped every slow_every-th step
+  int slow_every = 1;
   auto sprays = [&](const Imprint& im) { return im.spray && !im.hold; };
   if (state.bodies.empty() && std::none_of(imprints.begin(), imprints.end(), [&](const Imprint& im) {
         return sprays(im) && Cling::can_start(im, ground, r);
@@ -180,7 +188,13 @@ void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, std::span<c
     ClingingBody body;
     body.key = im.key;
     if (b < old.size() && old[b].key == im.key) body = std::move(old[b++]);
-    const double picked = cling_.step(body, im, ground, r, shed_, drops_);
+    if (state.step % im.cling_every != 0) {  // not its step: kept as it is
+      if (!body.cells.empty()) next_bodies_.push_back(std::move(body));
+      continue;
+    }
+    if (im.cling_every != slow_every) slow = cling_rules(s, palette, dt * im.cling_every, state.step);
+    slow_every = im.cling_every;
+    const double picked = cling_.step(body, im, ground, im.cling_every > 1 ? slow : r, shed_, drops_);
     report.picked_volume += picked;
     state.counts.picked_volume += picked;
     settle(ground, s, palette, rules, report);

@@ -18,13 +18,32 @@ void ContourStage::run(const Region& region, std::span<const unsigned char> flag
   find_open(region, flags);
   const int big = region.w + region.h;
   contour_.resize(open_.size());
-  for (std::size_t k = 0; k < contour_.size(); ++k) contour_[k] = open_[k] ? 0 : big;
-  sweep(region);
+  // The rows and columns holding a closed column bound what the sweeps change: an open
+  // column stays 0 and is only read.
+  const auto w = static_cast<std::size_t>(region.w);
+  int x0 = region.w, x1 = -1, y0 = region.h, y1 = -1;
+  for (int y = 0; y < region.h; ++y) {
+    const unsigned char* open = open_.data() + static_cast<std::size_t>(y) * w;
+    int* level = contour_.data() + static_cast<std::size_t>(y) * w;
+    int first = region.w, last = -1;
+    for (int x = 0; x < region.w; ++x) {
+      level[x] = open[x] ? 0 : big;
+      if (!open[x]) first = std::min(first, x), last = x;
+    }
+    if (last >= 0) x0 = std::min(x0, first), x1 = std::max(x1, last), y0 = std::min(y0, y), y1 = y;
+  }
+  closed_ = x1 < 0 ? GridRect{} : GridRect{x0, y0, x1 - x0 + 1, y1 - y0 + 1};
+  sweep(region, closed_);
 }
 
 // Columns out of contact that soil can reach from the open (8-connected): every column not
-// under a body, then by flood fill the columns under a body but out of contact (interior,
-// so their neighbours exist) next to one already reached.
+// under a body, then the columns under a body but out of contact (pockets; interior, so
+// their neighbours exist) next to one already reached. One raster scan opens each pocket
+// next to an open column at once, so the pockets after it in the scan see it open; one
+// opened beside a pocket before it in the scan that is still closed starts a flood fill
+// from there, which reaches what the scan has passed. The open set is the same as a flood
+// fill from every pocket next to the open (it is the pockets connected to the open), with
+// a flood of the few pockets the scan cannot reach, not of every pocket.
 void ContourStage::find_open(const Region& region, std::span<const unsigned char> flags) {
   std::vector<unsigned char>& open = open_;
   std::vector<std::size_t>& stack = fill_stack_;
@@ -33,16 +52,21 @@ void ContourStage::find_open(const Region& region, std::span<const unsigned char
   for (std::size_t k = 0; k < size; ++k) open[k] = (flags[k] & (kCovered | kContact)) ? 0 : 1;
   const auto off = neighbour_offsets(region.w);
   auto pocket = [&](std::size_t k) { return !open[k] && (flags[k] & (kCovered | kContact)) == kCovered; };
+  // The directions of the neighbours before a column in the scan: (-1, 0), (0, -1), (-1, -1), (1, -1).
+  constexpr int kBefore[4] = {1, 3, 5, 6};
   stack.clear();
   for (std::size_t k = 0; k < size; ++k) {
     if (!pocket(k)) continue;
-    for (int d = 0; d < 8; ++d)
-      if (open[k + off[d]]) {
+    bool reached = false;
+    for (int d = 0; d < 8 && !reached; ++d) reached = open[k + off[d]] != 0;
+    if (!reached) continue;
+    open[k] = 1;
+    for (const int d : kBefore)
+      if (pocket(k + off[d])) {
         stack.push_back(k);
         break;
       }
   }
-  for (std::size_t k : stack) open[k] = 1;
   while (!stack.empty()) {
     const std::size_t k = stack.back();
     stack.pop_back();
@@ -56,18 +80,22 @@ void ContourStage::find_open(const Region& region, std::span<const unsigned char
 }
 
 // Two raster sweeps give the exact chessboard distance. Only contact columns and pockets
-// relax, and they are interior: their neighbours exist.
-void ContourStage::sweep(const Region& region) {
+// relax, and they are interior: their neighbours exist. Outside `closed` every column is
+// open (0, skipped), so the sweeps visit it alone, in the same order.
+void ContourStage::sweep(const Region& region, const GridRect& closed) {
+  if (closed.empty()) return;
   int* c = contour_.data();
   const std::ptrdiff_t w = region.w;
-  for (int y = 1; y < region.h - 1; ++y)
-    for (int x = 1; x < region.w - 1; ++x) {
+  const int xa = std::max(1, static_cast<int>(closed.i0)), xb = std::min(region.w - 1, static_cast<int>(closed.i1()));
+  const int ya = std::max(1, static_cast<int>(closed.j0)), yb = std::min(region.h - 1, static_cast<int>(closed.j1()));
+  for (int y = ya; y < yb; ++y)
+    for (int x = xa; x < xb; ++x) {
       int* p = c + y * w + x;
       if (!*p) continue;
       *p = std::min({*p, p[-1] + 1, p[-w - 1] + 1, p[-w] + 1, p[-w + 1] + 1});
     }
-  for (int y = region.h - 2; y >= 1; --y)
-    for (int x = region.w - 2; x >= 1; --x) {
+  for (int y = yb - 1; y >= ya; --y)
+    for (int x = xb - 1; x >= xa; --x) {
       int* p = c + y * w + x;
       if (!*p) continue;
       *p = std::min({*p, p[1] + 1, p[w + 1] + 1, p[w] + 1, p[w - 1] + 1});

@@ -7,16 +7,31 @@
 
 namespace shore::terrain {
 
+namespace {
+
+/// Calls f(k) for each index k of `closed`'s columns in rows of `width`, in index order.
+template <class F>
+void for_each_in(const GridRect& closed, int width, F f) {
+  for (int y = 0; y < closed.ny; ++y) {
+    const std::size_t row = static_cast<std::size_t>(closed.j0 + y) * static_cast<std::size_t>(width);
+    for (int x = 0; x < closed.nx; ++x) f(row + static_cast<std::size_t>(closed.i0 + x));
+  }
+}
+
+}  // namespace
+
 // Counting sort of the contact columns (level > 0) by level, highest first; within a level
-// in index order.
-void DisplaceStage::sort_by_level(std::span<const int> levels, int top_level) {
+// in index order (rows of `closed` in order, each in order: index order).
+void DisplaceStage::sort_by_level(std::span<const int> levels, int width, const GridRect& closed, int top_level) {
   count_.assign(static_cast<std::size_t>(top_level) + 2, 0);
-  for (int c : levels)
-    if (c > 0) ++count_[static_cast<std::size_t>(top_level - c) + 1];
+  for_each_in(closed, width, [&](std::size_t k) {
+    if (levels[k] > 0) ++count_[static_cast<std::size_t>(top_level - levels[k]) + 1];
+  });
   for (std::size_t l = 1; l < count_.size(); ++l) count_[l] += count_[l - 1];
   order_.resize(static_cast<std::size_t>(count_.back()));
-  for (std::size_t k = 0; k < levels.size(); ++k)
+  for_each_in(closed, width, [&](std::size_t k) {
     if (levels[k] > 0) order_[static_cast<std::size_t>(count_[static_cast<std::size_t>(top_level - levels[k])]++)] = k;
+  });
 }
 
 namespace {
@@ -35,12 +50,12 @@ inline double layered_alpha(const ColumnLayer& layer, double upper, double lower
 
 }  // namespace
 
-double DisplaceStage::run(Region& region, std::span<const int> levels, std::span<const double> displaced,
-                          std::span<const double> alpha) {
+double DisplaceStage::run(Region& region, std::span<const int> levels, const GridRect& closed,
+                          std::span<const double> displaced, std::span<const double> alpha) {
   int top_level = 0;
-  for (int c : levels) top_level = std::max(top_level, c);
+  for_each_in(closed, region.w, [&](std::size_t k) { top_level = std::max(top_level, levels[k]); });
   if (top_level == 0) return 0.0;
-  sort_by_level(levels, top_level);
+  sort_by_level(levels, region.w, closed, top_level);
   carry_.resize(levels.size());  // only the contact columns' entries are used, each set below
 
   const auto off = neighbour_offsets(region.w);

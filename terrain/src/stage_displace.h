@@ -20,13 +20,14 @@ class DisplaceStage {
   /// columns). alpha: per palette entry; a contact column pushes its own material's share
   /// to the rim (region.mat; empty: entry 0 everywhere); a layered column the crust's share
   /// for what it was pressed within its crust and the lower layer's beyond. Serial in a fixed order: cheap, it
-  /// visits contact columns only.
-  double run(Region& region, std::span<const int> levels, std::span<const double> displaced,
+  /// visits contact columns only. `closed` (region-relative; ContourStage::closed) holds
+  /// every column whose level is above 0: only it is scanned for them.
+  double run(Region& region, std::span<const int> levels, const GridRect& closed, std::span<const double> displaced,
              std::span<const double> alpha);
   [[nodiscard]] std::size_t bytes() const;
 
  private:
-  void sort_by_level(std::span<const int> levels, int top_level);
+  void sort_by_level(std::span<const int> levels, int width, const GridRect& closed, int top_level);
 
   std::vector<int> count_;          ///< counting sort: columns per level
   std::vector<std::size_t> order_;  ///< contact columns, highest level first

@@ -77,6 +77,7 @@ bool imprint_ok(const Imprint& im) {
   const EnvelopeRaster& env = *im.envelope;
   if (env.lower.size() != static_cast<std::size_t>(env.nx) * static_cast<std::size_t>(env.ny)) return false;
   bool bad = !(im.offset >= 0.0 && std::isfinite(im.offset)) || !unit(im) || im.margin < 0 || im.margin > 256;
+  bad |= im.cling_every < 1 || im.cling_every > 16;
   bad |= !finite(im.velocity) || !finite(im.angular_velocity) || !finite(im.centre);
   for (const double v : env.lower) bad |= !(v > -std::numeric_limits<double>::infinity());
   return !bad;
@@ -88,6 +89,8 @@ void check_one(const Imprint& im, const std::string& name) {
   c.non_negative("offset", im.offset);
   if (im.margin < 0 || im.margin > 256)
     throw InvalidSetting(c.name("margin"), detail::to_text(im.margin), "must be in [0, 256] (0: the terrain's)");
+  if (im.cling_every < 1 || im.cling_every > 16)
+    throw InvalidSetting(c.name("cling_every"), detail::to_text(im.cling_every), "must be in [1, 16]");
   c.finite("velocity.x", im.velocity.x), c.finite("velocity.y", im.velocity.y), c.finite("velocity.z", im.velocity.z);
   c.finite("angular_velocity.x", im.angular_velocity.x), c.finite("angular_velocity.y", im.angular_velocity.y);
   c.finite("angular_velocity.z", im.angular_velocity.z);

@@ -113,6 +113,11 @@ struct Imprint {
   /// the imprints. Unique among a step's spraying imprints (spray on, not holding).
   std::uint64_t key = 0;
   bool spray = true;  ///< this body throws soil (and the terrain's spray is enabled)
+  /// The soil clinging to this body is stepped on every cling_every-th step of the terrain
+  /// (those whose spray step count is a multiple of it), over cling_every steps' time, in
+  /// [1, 16]. For a body whose surface stays in contact many steps (a rolling wheel's rim),
+  /// whose pick-up and shedding then lose nothing the skipped steps would have seen.
+  int cling_every = 1;
 };
 
 /// Force one contact column can carry at its sinkage.
