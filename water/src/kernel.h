@@ -148,6 +148,15 @@ TileResult step_vertical(Variant v, const Tile& t, const Coefficients& k, void* 
 /// The guard's measures of a tile's springs at the block's positions (no update).
 Extremes measure_3d(Variant v, const Tile& t, const Coefficients& k, void* workspace);
 
+/// One side of a tile's ghost ring, as gather takes it where the ghosts are copied as K
+/// (Tile::ring_scaled): to[q * step] = round(kappa ghosts[q]) to the quantum of `magic`
+/// (quantum::round_to, as the kernel's own scaling: the same bits) for q < count, and the
+/// largest |ghosts[q] - own[q]| (own: the tile's nodes facing them), the step across the
+/// side. Heights are finite. Here (variant v; unfused takes the generic one) so that the
+/// loop runs as wide as the kernel's.
+double scaled_ghosts(Variant v, const double* ghosts, const double* own, int count, double* to, std::ptrdiff_t step,
+                     double kappa, double magic);
+
 /// Whether this build has the AVX2 variant and this CPU can run it (AVX2 and FMA).
 bool avx2_available();
 /// Whether this build has the AVX-512 variant and this CPU (and OS) can run it (AVX-512 F,
@@ -158,16 +167,22 @@ namespace avx2 {
 TileResult step_3d(const Tile& t, const Coefficients& k, void* workspace);
 TileResult step_vertical(const Tile& t, const Coefficients& k, void* workspace);
 Extremes measure_3d(const Tile& t, const Coefficients& k, void* workspace);
+double scaled_ghosts(const double* ghosts, const double* own, int count, double* to, std::ptrdiff_t step, double kappa,
+                     double magic);
 }  // namespace avx2
 namespace avx512 {
 TileResult step_3d(const Tile& t, const Coefficients& k, void* workspace);
 TileResult step_vertical(const Tile& t, const Coefficients& k, void* workspace);
 Extremes measure_3d(const Tile& t, const Coefficients& k, void* workspace);
+double scaled_ghosts(const double* ghosts, const double* own, int count, double* to, std::ptrdiff_t step, double kappa,
+                     double magic);
 }  // namespace avx512
 namespace generic {
 TileResult step_3d(const Tile& t, const Coefficients& k, void* workspace);
 TileResult step_vertical(const Tile& t, const Coefficients& k, void* workspace);
 Extremes measure_3d(const Tile& t, const Coefficients& k, void* workspace);
+double scaled_ghosts(const double* ghosts, const double* own, int count, double* to, std::ptrdiff_t step, double kappa,
+                     double magic);
 }  // namespace generic
 namespace unfused {
 TileResult step_3d(const Tile& t, const Coefficients& k, void* workspace);

@@ -52,11 +52,17 @@ namespace avx2 {
 TileResult step_3d(const Tile& t, const Coefficients& k, void* w) { return generic::step_3d(t, k, w); }
 TileResult step_vertical(const Tile& t, const Coefficients& k, void* w) { return generic::step_vertical(t, k, w); }
 Extremes measure_3d(const Tile& t, const Coefficients& k, void* w) { return generic::measure_3d(t, k, w); }
+double scaled_ghosts(const double* g, const double* o, int n, double* to, std::ptrdiff_t step, double kappa, double m) {
+  return generic::scaled_ghosts(g, o, n, to, step, kappa, m);
+}
 }  // namespace avx2
 namespace avx512 {
 TileResult step_3d(const Tile& t, const Coefficients& k, void* w) { return generic::step_3d(t, k, w); }
 TileResult step_vertical(const Tile& t, const Coefficients& k, void* w) { return generic::step_vertical(t, k, w); }
 Extremes measure_3d(const Tile& t, const Coefficients& k, void* w) { return generic::measure_3d(t, k, w); }
+double scaled_ghosts(const double* g, const double* o, int n, double* to, std::ptrdiff_t step, double kappa, double m) {
+  return generic::scaled_ghosts(g, o, n, to, step, kappa, m);
+}
 }  // namespace avx512
 #endif
 
@@ -69,6 +75,11 @@ TileResult step_vertical(Variant v, const Tile& t, const Coefficients& k, void* 
 }
 Extremes measure_3d(Variant v, const Tile& t, const Coefficients& k, void* w) {
   return pick(v, &avx512::measure_3d, &avx2::measure_3d, &generic::measure_3d, &unfused::measure_3d)(t, k, w);
+}
+double scaled_ghosts(Variant v, const double* ghosts, const double* own, int count, double* to, std::ptrdiff_t step,
+                     double kappa, double magic) {
+  return pick(v, &avx512::scaled_ghosts, &avx2::scaled_ghosts, &generic::scaled_ghosts, &generic::scaled_ghosts)(
+      ghosts, own, count, to, step, kappa, magic);
 }
 
 }  // namespace shore::water::kernel

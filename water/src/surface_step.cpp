@@ -272,7 +272,10 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc, const kernel::Coef
     // rest (with the copy of the ghosts where the kernel reads them, from the same loads).
     const double* own = mine.z.data() + g.own;
     double step = 0.0;
-    if (copy && e && k.ring_scaled) {
+    if (copy && e && k.ring_scaled && g.count >= 4) {  // a side: in the kernel's width (a corner here)
+      step = kernel::scaled_ghosts(variant, e->z.data() + first, own, g.count, bz + g.at, g.step, scaling.kappa,
+                                   scaling.magic);
+    } else if (copy && e && k.ring_scaled) {
       step = largest_step_of<true, true, true>(e->z.data() + first, own, g.count, bz + g.at, g.step, scaling);
     } else if (copy && e) {
       step = largest_step_of<true, true>(e->z.data() + first, own, g.count, bz + g.at, g.step);
