@@ -124,10 +124,28 @@ void expect_same(const Stepped& a, const Stepped& b, const std::string& what) {
   EXPECT_EQ(a.vz, b.vz) << what;
 }
 
-TEST(VerticalTileKernels, ReportTheUnfusedKernelsSumsAndActivityToTheBit) {
+/// The fused variants this CPU runs, each compared with the unfused reference.
+std::vector<Variant> fused_variants() {
   std::vector<Variant> fused{Variant::generic};
   if (avx2_available()) fused.push_back(Variant::avx2);
   if (avx512_available()) fused.push_back(Variant::avx512);
+  return fused;
+}
+
+/// Steps one tile case by the unfused reference and by each fused variant and expects the
+/// same bits; returns how many variants were compared. `note` ends the failure's label.
+int compare_with_unfused(const std::vector<Variant>& fused, const TileCase& c, const TileInputs& in,
+                         const Coefficients& k, const std::string& note) {
+  const Stepped reference = step(Variant::unfused, c, in, k);
+  for (const Variant v : fused)
+    expect_same(step(v, c, in, k), reference,
+                "variant " + std::to_string(static_cast<int>(v)) + ", " + std::to_string(c.w) + " x " +
+                    std::to_string(c.h) + (c.fixed_nodes ? ", fixed nodes" : "") + (c.sponge ? ", sponge" : "") + note);
+  return static_cast<int>(fused.size());
+}
+
+TEST(VerticalTileKernels, ReportTheUnfusedKernelsSumsAndActivityToTheBit) {
+  const std::vector<Variant> fused = fused_variants();
   const Coefficients k = coefficients();
   std::mt19937 rng(7);
   int compared = 0;
@@ -143,15 +161,7 @@ TEST(VerticalTileKernels, ReportTheUnfusedKernelsSumsAndActivityToTheBit) {
           for (int s = 0; s < kSides; ++s) c.sides[s] = static_cast<Side>((s + w + h) % 3);
           const int nodes = (w + 2) * (h + 2);
           for (int spike = 0; spike < nodes; ++spike) {
-            const TileInputs in = inputs(c, spike, rng, k);
-            const Stepped reference = step(Variant::unfused, c, in, k);
-            for (const Variant v : fused) {
-              expect_same(step(v, c, in, k), reference,
-                          "variant " + std::to_string(static_cast<int>(v)) + ", " + std::to_string(w) + " x " +
-                              std::to_string(h) + (fixed_nodes ? ", fixed nodes" : "") + (sponge ? ", sponge" : "") +
-                              ", spike " + std::to_string(spike));
-              ++compared;
-            }
+            compared += compare_with_unfused(fused, c, inputs(c, spike, rng, k), k, ", spike " + std::to_string(spike));
             if (::testing::Test::HasFailure()) return;  // one case's messages are enough
           }
         }
@@ -165,9 +175,7 @@ TEST(VerticalTileKernels, ReportTheUnfusedKernelsSumsAndActivityToTheBit) {
 // none (6 rows: the first pair and the last two only). A spike
 // every 53 nodes, and at the corners of the tile and its ring.
 TEST(VerticalTileKernels, RunTheDefaultTilesPairsToTheUnfusedKernelsBits) {
-  std::vector<Variant> fused{Variant::generic};
-  if (avx2_available()) fused.push_back(Variant::avx2);
-  if (avx512_available()) fused.push_back(Variant::avx512);
+  const std::vector<Variant> fused = fused_variants();
   std::mt19937 rng(13);
   int compared = 0;
   for (const bool activity : {true, false})
@@ -188,15 +196,9 @@ TEST(VerticalTileKernels, RunTheDefaultTilesPairsToTheUnfusedKernelsBits) {
             std::vector<int> spikes{0, w + 1, nodes - w - 2, nodes - 1, w + 3, nodes - w - 4};
             for (int spike = 17; spike < nodes; spike += 53) spikes.push_back(spike);
             for (const int spike : spikes) {
-              const TileInputs in = inputs(c, spike, rng, k);
-              const Stepped reference = step(Variant::unfused, c, in, k);
-              for (const Variant v : fused) {
-                expect_same(step(v, c, in, k), reference,
-                            "variant " + std::to_string(static_cast<int>(v)) + ", " + std::to_string(w) + " x " +
-                                std::to_string(h) + (fixed_nodes ? ", fixed nodes" : "") + (sponge ? ", sponge" : "") +
-                                (activity ? "" : ", no activity") + ", spike " + std::to_string(spike));
-                ++compared;
-              }
+              compared += compare_with_unfused(
+                  fused, c, inputs(c, spike, rng, k), k,
+                  std::string(activity ? "" : ", no activity") + ", spike " + std::to_string(spike));
               if (::testing::Test::HasFailure()) return;  // one case's messages are enough
             }
           }
@@ -210,9 +212,7 @@ TEST(VerticalTileKernels, RunTheDefaultTilesPairsToTheUnfusedKernelsBits) {
 // bound (2^50 height quanta) makes a K of at most 2^50 / 3 velocity quanta; the largest
 // such K with neighbours of both signs must still give the reference's bits.
 TEST(VerticalTileKernels, SumTheImpulsesExactlyAtTheStatesExtremes) {
-  std::vector<Variant> fused{Variant::generic};
-  if (avx2_available()) fused.push_back(Variant::avx2);
-  if (avx512_available()) fused.push_back(Variant::avx512);
+  const std::vector<Variant> fused = fused_variants();
   Coefficients k = coefficients();
   k.kappa = (1.0 / 3.0) * (k.u_inv / k.v_inv);  // K = kappa u reaches 2^50 / 3 quanta at u = u_keep
   std::mt19937 rng(11);
@@ -233,11 +233,7 @@ TEST(VerticalTileKernels, SumTheImpulsesExactlyAtTheStatesExtremes) {
           in.block[static_cast<std::size_t>((r + 1) * bs + i + 1)] = u;
           if (r >= 0 && r < h && i >= 0 && i < w) in.uz[static_cast<std::size_t>(r * kStride + i)] = u;
         }
-      const Stepped reference = step(Variant::unfused, c, in, k);
-      for (const Variant v : fused)
-        expect_same(
-            step(v, c, in, k), reference,
-            "variant " + std::to_string(static_cast<int>(v)) + ", " + std::to_string(w) + " x " + std::to_string(h));
+      compare_with_unfused(fused, c, in, k, "");
     }
 }
 
