@@ -10,17 +10,23 @@ namespace shore::terrain {
 
 namespace {
 
-// Whether every index is 0, eight at a time (a tile's map is mostly read to its end).
-bool all_zero(const std::vector<std::uint8_t>& index) {
-  std::size_t k = 0;
-  for (; k + 8 <= index.size(); k += 8) {
+// Whether every index of [from, to) is 0, eight at a time.
+bool all_zero(const std::uint8_t* from, const std::uint8_t* to) {
+  for (; from + 8 <= to; from += 8) {
     std::uint64_t eight = 0;
-    std::memcpy(&eight, index.data() + k, sizeof eight);
+    std::memcpy(&eight, from, sizeof eight);
     if (eight != 0) return false;
   }
-  for (; k < index.size(); ++k)
-    if (index[k] != 0) return false;
+  for (; from < to; ++from)
+    if (*from != 0) return false;
   return true;
+}
+
+// Whether every index is 0, looking from column `near` on first, then wrapping round: a
+// painted patch's columns cluster, so those near one just turned 0 usually answer at once.
+bool all_zero(const std::vector<std::uint8_t>& index, std::size_t near) {
+  const std::uint8_t* mid = index.data() + std::min(near, index.size());
+  return all_zero(mid, index.data() + index.size()) && all_zero(index.data(), mid);
 }
 
 }  // namespace
@@ -96,26 +102,37 @@ void Region::scatter(TileStore& store) {
 void Region::scatter_relayered(TileStore& store) {
   bool any_layer = false;
   touched_.clear();
-  Tile* t = nullptr;
+  Touched* at = nullptr;  // the tile of the column before
   const std::int64_t n = store.n();
-  std::int64_t ti0 = 0, tj0 = 0;  // t's first column
   for (const Relayered& c : relayered) {
     const std::int64_t i = si0 + static_cast<std::int64_t>(c.k % static_cast<std::size_t>(w));
     const std::int64_t j = sj0 + static_cast<std::int64_t>(c.k / static_cast<std::size_t>(w));
-    // Row by row: most columns lie in the tile of the one before (tested by its bounds).
-    if (t == nullptr || i < ti0 || i >= ti0 + n || j < tj0 || j >= tj0 + n) {
+    // Row by row: most columns lie in the tile of the one before (tested by its bounds),
+    // the rest in one this scatter has already looked up (a region spans a few tiles), so
+    // the store's table is asked once per tile.
+    if (at == nullptr || i < at->i0 || i >= at->i0 + n || j < at->j0 || j >= at->j0 + n) {
       const TileKey key = store.key_of(i, j);
-      t = &store.tile(key);
-      ti0 = key.tx * n, tj0 = key.ty * n;
-      touched_.push_back({t});
+      const std::int64_t i0 = key.tx * n, j0 = key.ty * n;
+      const auto seen =
+          std::find_if(touched_.begin(), touched_.end(), [&](const Touched& u) { return u.i0 == i0 && u.j0 == j0; });
+      if (seen != touched_.end()) {
+        at = &*seen;
+      } else {
+        Tile& t = store.tile(key);
+        store.mark_painted(t);
+        at = &touched_.emplace_back(Touched{&t, i0, j0});
+      }
     }
-    const auto local = static_cast<std::size_t>((j - tj0) * n + (i - ti0));
+    Tile* t = at->tile;
+    const auto local = static_cast<std::size_t>((j - at->j0) * n + (i - at->i0));
     // Only a nonzero index turned 0 can leave the map all 0, only a layered column turned
     // unlayered the tile unlayered (a tile's arrays are kept normalised, as painting keeps them).
-    bool unpainted = false, unlayered = false;
     if (t->material.empty() && c.index != 0) t->material.assign(t->height.size(), 0);
     if (!t->material.empty()) {
-      unpainted = c.index == 0 && t->material[local] != 0;
+      if (c.index == 0 && t->material[local] != 0 && !at->unpainted) {
+        at->unpainted = true;
+        at->unpainted_at = local;
+      }
       t->material[local] = c.index;
     }
     if (c.layer.layered() && !t->layered()) {
@@ -123,27 +140,21 @@ void Region::scatter_relayered(TileStore& store) {
       t->layer_lower.assign(t->height.size(), 0);
     }
     if (t->layered()) {
-      unlayered = !c.layer.layered() && t->layer_boundary[local] != kNoLayer;
+      if (!c.layer.layered() && t->layer_boundary[local] != kNoLayer && !at->unlayered) {
+        at->unlayered = true;
+        at->unlayered_at = local;
+      }
       t->layer_boundary[local] = c.layer.boundary;
       t->layer_lower[local] = c.layer.layered() ? c.layer.lower : std::uint8_t{0};
     }
     any_layer = any_layer || c.layer.layered();
-    store.mark_painted(*t);
-    touched_.back().unpainted = touched_.back().unpainted || unpainted;
-    touched_.back().unlayered = touched_.back().unlayered || unlayered;
   }
   // A tile's map and layers are dropped once all 0 / unlayered, as painting does: once per
   // tile, after its columns are written (each check reads the whole tile), and only where
   // a write could have made it so.
-  std::sort(touched_.begin(), touched_.end(), [](const Touched& a, const Touched& b) { return a.tile < b.tile; });
-  for (std::size_t k = 0; k < touched_.size();) {
-    Touched merged = touched_[k];
-    for (++k; k < touched_.size() && touched_[k].tile == merged.tile; ++k) {
-      merged.unpainted = merged.unpainted || touched_[k].unpainted;
-      merged.unlayered = merged.unlayered || touched_[k].unlayered;
-    }
-    if (merged.unpainted && all_zero(merged.tile->material)) merged.tile->normalize_material();
-    if (merged.unlayered) merged.tile->normalize_layers();
+  for (const Touched& u : touched_) {
+    if (u.unpainted && all_zero(u.tile->material, u.unpainted_at)) u.tile->normalize_material();
+    if (u.unlayered) u.tile->normalize_layers(u.unlayered_at);
   }
   if (any_layer) store.mark_layered();
 }

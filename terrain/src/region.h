@@ -105,11 +105,14 @@ struct Region {
 
  private:
   void scatter_relayered(TileStore& store);
-  /// scatter_relayered's scratch: the tiles it wrote, and whether it wrote a 0 index or an
-  /// unlayered column there.
+  /// scatter_relayered's scratch: the tiles it wrote (each once, with its first column),
+  /// whether it wrote a 0 index or an unlayered column there, and the first such column
+  /// of each (local; where the check for an all 0 map or an unlayered tile starts).
   struct Touched {
     Tile* tile = nullptr;
+    std::int64_t i0 = 0, j0 = 0;
     bool unpainted = false, unlayered = false;
+    std::size_t unpainted_at = 0, unlayered_at = 0;
   };
   std::vector<Touched> touched_;
 };

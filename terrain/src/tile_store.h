@@ -67,8 +67,10 @@ struct Tile {
   [[nodiscard]] bool holds_only_base() const;
   /// Drops the material array if every entry is 0 (the map's default).
   void normalize_material();
-  /// Drops the layer arrays if no column is layered.
-  void normalize_layers();
+  /// Drops the layer arrays if no column is layered. Looks from column `near` on first,
+  /// then wraps round: layered columns cluster (a rut, a painted patch), so the columns
+  /// near one just unlayered usually answer at once.
+  void normalize_layers(std::size_t near = 0);
   [[nodiscard]] bool layered() const noexcept { return !layer_boundary.empty(); }
   /// Column k's layering (not layered where the tile has no layers).
   [[nodiscard]] ColumnLayer layer(std::size_t k) const noexcept {
