@@ -67,16 +67,19 @@ void ErodeStage::start_layers(Region& region, std::span<const Material> palette,
 }
 
 void ErodeStage::track_layers(Region& region) {
-  bool cross = false;
-  for (const unsigned char c : row_cross_) cross = cross || c != 0;
-  if (!cross) return;  // every pair moved soil between unlayered columns of one material
   const int w = region.w, h = region.h;
+  // The first and last rows with a cross giver: only they and the rows between (and one
+  // either side, for the receivers) are walked.
+  int first = 0, last = h - 1;
+  while (first < h && row_cross_[static_cast<std::size_t>(first)] == 0) ++first;
+  if (first == h) return;  // every pair moved soil between unlayered columns of one material
+  while (row_cross_[static_cast<std::size_t>(last)] == 0) --last;
   // Only a giver whose soil crosses a border or moves a layer (or that is layered itself),
   // and the columns it gives to, can change a layering: any other column gave and took
   // only its own material, unlayered, which leaves it as it was.
   track_.clear();
   const auto crosses = [&](int y) { return y >= 0 && y < h && row_cross_[static_cast<std::size_t>(y)] != 0; };
-  for (int y = 0; y < h; ++y) {
+  for (int y = first; y <= last; ++y) {
     if (!crosses(y)) continue;  // no cross giver in the row
     cross_givers_.for_each_in_row(y, [&](int x) {
       track_.set(x, y);
@@ -89,7 +92,7 @@ void ErodeStage::track_layers(Region& region) {
   cross_givers_.clear();
   retop_.clear();
   const auto off = neighbour_offsets(w);
-  for (int y = 0; y < h; ++y) {
+  for (int y = std::max(0, first - 1); y <= std::min(h - 1, last + 1); ++y) {
     if (!crosses(y - 1) && !crosses(y) && !crosses(y + 1)) continue;  // nothing tracked in the row
     track_.for_each_in_row(y, [&](int x) {
       const std::size_t k = region.at(x, y);
