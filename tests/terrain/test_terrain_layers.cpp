@@ -13,6 +13,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "shore/core/error.h"
@@ -306,6 +307,67 @@ TEST(Layers, DeltasCarryTheLayersToAReplica) {
   // The replica bears as the server does (the two-piece law on its broken crust).
   const shore::EnvelopeRaster env = box_envelope(-10, -10, 20, 20, server.height(0, 0));
   EXPECT_EQ(replica.bearing_offset(env, 2000.0), server.bearing_offset(env, 2000.0));
+}
+
+TEST(Layers, AStepStampsRepaintedOnlyTheTilesWhoseMapOrLayersChanged) {
+  // The bench's map (four copies of sand in half-metre stripes, the two rows' border under
+  // the wheel's middle) under its towed wheel: soil slumping across the border lays crusts
+  // and erosion tracks the rut's layers every step. A tile a step names as repainted
+  // (painted_since, what deltas, renderers and the heightfield's friction follow) holds a
+  // column whose index or layers changed in that step, and no other tile changed.
+  TerrainSettings s = one_thread(Material::sand());
+  s.cell = 0.01;
+  s.tile_columns = 8;  // small tiles: some hold only columns whose layering came back
+  Terrain t(s);
+  std::vector<Material> palette(4, Material::sand());
+  for (int k = 1; k < 4; ++k) palette[static_cast<std::size_t>(k)].name = "sand " + std::to_string(k);
+  t.set_palette(palette);
+  for (int k = 0; k < 8; ++k) {
+    t.paint_rect({k * 50, -20, 50, 20}, k % 4);
+    t.paint_rect({k * 50, 0, 50, 20}, (k + 1) % 4);
+  }
+  // Every column's index, lower index and boundary over the tiles the wheel reaches.
+  const shore::GridRect area{-64, -64, 256, 128};
+  const auto column = [&](std::int64_t i, std::int64_t j) {
+    return std::tuple{t.material_index(i, j), t.lower_index(i, j), t.layer_boundary(i, j)};
+  };
+  using Column = decltype(column(0, 0));
+  std::vector<Column> seen;
+  for (std::int64_t j = area.j0; j < area.j0 + area.ny; ++j)
+    for (std::int64_t i = area.i0; i < area.i0 + area.nx; ++i) seen.push_back(column(i, j));
+  const auto at = [&](std::int64_t i, std::int64_t j) -> Column& {
+    return seen[static_cast<std::size_t>((j - area.j0) * area.nx + (i - area.i0))];
+  };
+  int stamped = 0, layered_steps = 0;
+  for (int k = 0; k < 150; ++k) {  // the axle from 0 to 0.62 m: across a stripe's border
+    const double x = k / 240.0;
+    const double d = t.bearing_offset(wheel(t, x, 0.0, 0.8, 0.2), 4000.0);
+    const shore::EnvelopeRaster env = wheel(t, x, -d, 0.8, 0.2);
+    const Imprint im{&env};
+    const std::uint64_t before = t.generation();
+    t.step({&im, 1});
+    for (const shore::GridRect& tile : t.painted_since(before)) {
+      ASSERT_GE(tile.i0, area.i0);
+      ASSERT_LE(tile.i0 + tile.nx, area.i0 + area.nx);
+      ASSERT_GE(tile.j0, area.j0);
+      ASSERT_LE(tile.j0 + tile.ny, area.j0 + area.ny);
+      int changed = 0;
+      for (std::int64_t j = tile.j0; j < tile.j0 + tile.ny; ++j)
+        for (std::int64_t i = tile.i0; i < tile.i0 + tile.nx; ++i) {
+          const Column now = column(i, j);
+          if (now != at(i, j)) ++changed;
+          at(i, j) = now;
+        }
+      EXPECT_GT(changed, 0) << "step " << k << ", tile at " << tile.i0 << ", " << tile.j0;
+      ++stamped;
+    }
+    layered_steps += t.lower_index(t.column_i(x), 0) >= 0 ? 1 : 0;
+  }
+  EXPECT_GT(stamped, 0);
+  EXPECT_GT(layered_steps, 0);
+  // What no step named as repainted is as it was.
+  for (std::int64_t j = area.j0; j < area.j0 + area.ny; ++j)
+    for (std::int64_t i = area.i0; i < area.i0 + area.nx; ++i) ASSERT_EQ(column(i, j), at(i, j)) << i << ", " << j;
 }
 
 TEST(Layers, ATowedWheelCrossingOntoACrustRidesOnItOrBreaksThrough) {
