@@ -172,12 +172,10 @@ class Cling {
   void merge_fresh(ClingingBody& body);
   /// A piece first touched this step, noted in fresh_ and in fresh_bits_.
   ClingCell& add_fresh(std::uint64_t key);
-  /// fresh_bits_'s bit for a key: the low bits of its three axes' parts, mixed.
-  static std::uint64_t fresh_bit(std::uint64_t key) {
-    const std::uint64_t h = (key ^ (key >> 21) ^ (key >> 42)) & 255;
-    return std::uint64_t{1} << (h & 63);
-  }
-  static std::size_t fresh_word(std::uint64_t key) { return ((key ^ (key >> 21) ^ (key >> 42)) & 255) >> 6; }
+  /// fresh_bits_'s place for a key, 0 to 255: the low bits of its three axes' parts, mixed.
+  static std::size_t fresh_slot(std::uint64_t key) { return (key ^ (key >> 21) ^ (key >> 42)) & 255; }
+  static std::size_t fresh_word(std::uint64_t key) { return fresh_slot(key) >> 6; }
+  static std::uint64_t fresh_bit(std::uint64_t key) { return std::uint64_t{1} << (fresh_slot(key) & 63); }
   std::vector<double> heights_;  ///< soil tops under the envelope
   PieceIndex index_;             ///< of the body's pieces, during touch
   /// Pieces first touched in this step's touch, merged into the body's sorted list at its

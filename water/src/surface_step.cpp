@@ -54,42 +54,30 @@ void copy_edge(const std::vector<V>* edge, std::size_t first, int count, V* to, 
 // skipping NaN the same way and merged at the end, give the sequential loop's value: this
 // ran over every side of every awake tile each substep, a scalar max and a test per entry.
 // With kCopy the ghosts are also written to the block (to[q * step]) from the same loads: a
-// side the kernel reads is copied and measured in one pass instead of two; with kScale
-// (vertical-only, fused kernels) as their K = round(kappa w) (quantum::round_to, the same
-// three operations, so the same bits as the kernel's scaling of the ring: Tile::ring_scaled).
-struct Scaling {
-  double kappa = 1.0, magic = 1.0;
-};
-template <bool kGhosts, bool kCopy, bool kScale = false>
-double largest_step_of(const double* a, const double* b, int count, double* to, std::ptrdiff_t step,
-                       [[maybe_unused]] Scaling sc = {}) {
+// side the kernel reads is copied and measured in one pass instead of two. (Copied as K for
+// the fused vertical-only kernels: kernel::scaled_ghosts.)
+template <bool kGhosts, bool kCopy>
+double largest_step_of(const double* a, const double* b, int count, double* to, std::ptrdiff_t step) {
   static_assert(kGhosts || !kCopy, "only a neighbour's edge is copied");
-  static_assert(kCopy || !kScale, "only a copy is scaled");
   double m = 0.0;
   int q = 0;
 #if defined(__SSE2__)
   const __m128d sign = _mm_set1_pd(-0.0);
-  const __m128d kappa = _mm_set1_pd(sc.kappa), magic = _mm_set1_pd(sc.magic);
-  // Explicit operations (no contraction into a fused multiply-add), as quantum::round_to.
-  const auto scaled = [&](__m128d g) {
-    return kScale ? _mm_sub_pd(_mm_add_pd(_mm_mul_pd(g, kappa), magic), magic) : g;
-  };
   __m128d m0 = _mm_setzero_pd(), m1 = _mm_setzero_pd();
   for (; q + 4 <= count; q += 4) {
     __m128d d0 = _mm_loadu_pd(b + q), d1 = _mm_loadu_pd(b + q + 2);
     if constexpr (kGhosts) {
       const __m128d g0 = _mm_loadu_pd(a + q), g1 = _mm_loadu_pd(a + q + 2);
       if constexpr (kCopy) {
-        const __m128d k0 = scaled(g0), k1 = scaled(g1);
         double* at = to + q * step;
         if (step == 1) {
-          _mm_storeu_pd(at, k0);
-          _mm_storeu_pd(at + 2, k1);
+          _mm_storeu_pd(at, g0);
+          _mm_storeu_pd(at + 2, g1);
         } else {
-          _mm_storel_pd(at, k0);
-          _mm_storeh_pd(at + step, k0);
-          _mm_storel_pd(at + 2 * step, k1);
-          _mm_storeh_pd(at + 3 * step, k1);
+          _mm_storel_pd(at, g0);
+          _mm_storeh_pd(at + step, g0);
+          _mm_storel_pd(at + 2 * step, g1);
+          _mm_storeh_pd(at + 3 * step, g1);
         }
       }
       d0 = _mm_sub_pd(g0, d0);
@@ -106,11 +94,10 @@ double largest_step_of(const double* a, const double* b, int count, double* to, 
     for (const double l : lanes) m = std::max(m, l);
   }
   for (; q < count; ++q) {
-    if constexpr (kCopy) _mm_store_sd(to + q * step, scaled(_mm_load_sd(a + q)));
+    if constexpr (kCopy) to[q * step] = a[q];
     m = std::max(m, std::abs((kGhosts ? a[q] : 0.0) - b[q]));
   }
 #else
-  static_assert(!kScale, "scaled ghosts need SSE2 (Tile::ring_scaled)");
   for (; q < count; ++q) {
     if constexpr (kCopy) to[q * step] = a[q];
     m = std::max(m, std::abs((kGhosts ? a[q] : 0.0) - b[q]));
@@ -249,10 +236,8 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc, const kernel::Coef
   const bool whole_ring = full || variant == kernel::Variant::unfused;
   // Those ghosts as K already where the caller gives the substep's coefficients (the
   // kernel's scaling of them, a strided pass over the ring's columns, then goes).
-#if defined(__SSE2__)
   k.ring_scaled = scale && !whole_ring;
-#endif
-  const Scaling scaling{scale ? scale->kappa : 1.0, scale ? scale->v_magic : 1.0};
+  const double kappa = scale ? scale->kappa : 1.0, v_magic = scale ? scale->v_magic : 1.0;
   for (const Ghost& g : ghosts) {
     const kernel::Side side = k.sides[g.side];
     const TileData* n = side == kernel::Side::absent ? nullptr : around[g.side];
@@ -272,11 +257,8 @@ kernel::Tile Surface::State::gather(TileData& t, Scratch& sc, const kernel::Coef
     // rest (with the copy of the ghosts where the kernel reads them, from the same loads).
     const double* own = mine.z.data() + g.own;
     double step = 0.0;
-    if (copy && e && k.ring_scaled && g.count >= 4) {  // a side: in the kernel's width (a corner here)
-      step = kernel::scaled_ghosts(variant, e->z.data() + first, own, g.count, bz + g.at, g.step, scaling.kappa,
-                                   scaling.magic);
-    } else if (copy && e && k.ring_scaled) {
-      step = largest_step_of<true, true, true>(e->z.data() + first, own, g.count, bz + g.at, g.step, scaling);
+    if (copy && e && k.ring_scaled) {  // as K, in the kernel's width
+      step = kernel::scaled_ghosts(variant, e->z.data() + first, own, g.count, bz + g.at, g.step, kappa, v_magic);
     } else if (copy && e) {
       step = largest_step_of<true, true>(e->z.data() + first, own, g.count, bz + g.at, g.step);
     } else {
