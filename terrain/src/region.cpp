@@ -8,29 +8,6 @@
 
 namespace shore::terrain {
 
-namespace {
-
-// Whether every index of [from, to) is 0, eight at a time.
-bool all_zero(const std::uint8_t* from, const std::uint8_t* to) {
-  for (; from + 8 <= to; from += 8) {
-    std::uint64_t eight = 0;
-    std::memcpy(&eight, from, sizeof eight);
-    if (eight != 0) return false;
-  }
-  for (; from < to; ++from)
-    if (*from != 0) return false;
-  return true;
-}
-
-// Whether every index is 0, looking from column `near` on first, then wrapping round: a
-// painted patch's columns cluster, so those near one just turned 0 usually answer at once.
-bool all_zero(const std::vector<std::uint8_t>& index, std::size_t near) {
-  const std::uint8_t* mid = index.data() + std::min(near, index.size());
-  return all_zero(mid, index.data() + index.size()) && all_zero(index.data(), mid);
-}
-
-}  // namespace
-
 void Region::prepare(const GridRect& with_halo, Team* rows_team) {
   si0 = with_halo.i0, sj0 = with_halo.j0, w = with_halo.nx, h = with_halo.ny;
   team = rows_team;
@@ -153,7 +130,7 @@ void Region::scatter_relayered(TileStore& store) {
   // tile, after its columns are written (each check reads the whole tile), and only where
   // a write could have made it so.
   for (const Touched& u : touched_) {
-    if (u.unpainted && all_zero(u.tile->material, u.unpainted_at)) u.tile->normalize_material();
+    if (u.unpainted) u.tile->normalize_material(u.unpainted_at);
     if (u.unlayered) u.tile->normalize_layers(u.unlayered_at);
   }
   if (any_layer) store.mark_layered();

@@ -2,6 +2,9 @@
 
 #include "capacity_bytes.h"
 
+#include <algorithm>
+#include <cstring>
+
 namespace shore::terrain {
 
 Tile::Tile(int n) : height(static_cast<std::size_t>(n) * n), sinkage(height.size(), 0.0), base(height.size()) {}
@@ -13,8 +16,25 @@ bool Tile::holds_only_base() const {
   return same;
 }
 
-void Tile::normalize_material() {
-  if (std::all_of(material.begin(), material.end(), [](std::uint8_t m) { return m == 0; }))
+namespace {
+
+// Whether every index of [from, to) is 0, eight at a time.
+bool all_zero(const std::uint8_t* from, const std::uint8_t* to) {
+  for (; from + 8 <= to; from += 8) {
+    std::uint64_t eight = 0;
+    std::memcpy(&eight, from, sizeof eight);
+    if (eight != 0) return false;
+  }
+  for (; from < to; ++from)
+    if (*from != 0) return false;
+  return true;
+}
+
+}  // namespace
+
+void Tile::normalize_material(std::size_t near) {
+  const std::uint8_t* mid = material.data() + std::min(near, material.size());
+  if (all_zero(mid, material.data() + material.size()) && all_zero(material.data(), mid))
     std::vector<std::uint8_t>().swap(material);  // frees it
 }
 

@@ -65,11 +65,12 @@ struct Tile {
   /// True if every height equals its base, no column has sinkage and none is painted: the
   /// tile equals no tile.
   [[nodiscard]] bool holds_only_base() const;
-  /// Drops the material array if every entry is 0 (the map's default).
-  void normalize_material();
-  /// Drops the layer arrays if no column is layered. Looks from column `near` on first,
-  /// then wraps round: layered columns cluster (a rut, a painted patch), so the columns
-  /// near one just unlayered usually answer at once.
+  /// Drops the material array if every entry is 0 (the map's default). Looks from column
+  /// `near` on first, then wraps round: painted columns cluster (a painted patch), so the
+  /// columns near one just turned 0 usually answer at once.
+  void normalize_material(std::size_t near = 0);
+  /// Drops the layer arrays if no column is layered; `near` as for normalize_material
+  /// (layered columns cluster too: a rut, a crust).
   void normalize_layers(std::size_t near = 0);
   [[nodiscard]] bool layered() const noexcept { return !layer_boundary.empty(); }
   /// Column k's layering (not layered where the tile has no layers).
