@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -293,6 +294,7 @@ namespace {
 struct ShedCadence {
   static constexpr double kDt = 1.0 / 240;
   static constexpr int kPress = 3;
+  static constexpr std::uint64_t kKey = 0xc1a9'0b0d'1e55'0005;  // distinct in the state file's bytes
   Terrain t;
   VolumeWatch watch;
   explicit ShedCadence(const TerrainSettings& s) : t(s) {}
@@ -309,7 +311,7 @@ struct ShedCadence {
     Imprint im{&env};
     im.velocity.x = 1.0;
     im.centre.x = t.column_x(11), im.centre.y = t.column_y(11), im.centre.z = lifted ? 0.1 : 0.05;
-    im.key = 5;
+    im.key = kKey;
     im.cling_every = cadence;
     watch.after(t, t.step({&im, 1}, kDt));
     return k % cadence == 0;
@@ -528,6 +530,43 @@ TEST(Spray, SavedBetweenTheTwoStepsOfACadenceItContinuesIdentically) {
     for (Terrain* t : {&a, &b}) step(*t, k);
   EXPECT_EQ(b.state_hash(), a.state_hash());
   EXPECT_EQ(b.volume().clinging, a.volume().clinging);
+}
+
+// A body's last clinging step lies 1 to 2^20 steps before the spray's (cadences of 1 to
+// 16 never skip more in a row): a file saying otherwise is refused, naming it.
+TEST(Spray, ABodysLastClingingStepOutOfRangeIsRefused) {
+  ShedCadence plate(ShedCadence::settings());
+  for (int k = 0; k < 5 || plate.t.save_bytes()[8] != 9; ++k) {
+    ASSERT_LT(k, 10) << "the plate never rested between two clinging steps";
+    plate.step(k, 2);
+  }
+  const std::vector<unsigned char> good = plate.t.save_bytes();
+  // The body's record: u64 key, f64 centre[3], f64 q[4], then i64 stepped.
+  unsigned char key[8];
+  std::memcpy(key, &ShedCadence::kKey, sizeof key);
+  const auto found = std::search(good.begin(), good.end(), std::begin(key), std::end(key));
+  ASSERT_NE(found, good.end());
+  const auto at = static_cast<std::size_t>(found - good.begin()) + 8 + 3 * 8 + 4 * 8;
+  std::int64_t stepped = 0;
+  std::memcpy(&stepped, good.data() + at, sizeof stepped);
+  const std::int64_t step = stepped + 2;  // cadence 2, between its two steps
+  const auto with_stepped = [&](std::int64_t value) {
+    std::vector<unsigned char> bytes = good;
+    std::memcpy(bytes.data() + at, &value, sizeof value);
+    reseal(bytes);
+    try {
+      (void)Terrain::load_bytes(bytes, "stepped");
+    } catch (const shore::FileError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(with_stepped(stepped), "") << "the file as written";
+  EXPECT_EQ(with_stepped(step - (std::int64_t{1} << 20)), "") << "the most steps a body may wait";
+  for (const std::int64_t bad : {step, step + 7, step - (std::int64_t{1} << 20) - 1,
+                                 std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::max()})
+    EXPECT_TRUE(mentions(with_stepped(bad), "a spray body last stepped on step " + std::to_string(bad)))
+        << with_stepped(bad);
 }
 
 TEST(Spray, BadParametersAndInputsAreRefusedByName) {
