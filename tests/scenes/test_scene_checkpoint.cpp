@@ -131,7 +131,7 @@ int between_clinging_steps(const std::string& name, int from) {
 // restored wheel still covers the time since its last one, and the run continues
 // bit-identically.
 TEST(SceneCheckpointCadence, RallySavedWhileAWheelWaitsBetweenClingingStepsContinuesBitIdentically) {
-  // Its wheels switch cadence as the car sets off (substeps 4 to 52 of its smoke run); from
+  // Its wheels switch cadence as the car sets off (one waits after substeps 4 to 52); from
   // substep 20 on they hold soil off the ground, whose shedding depends on the time since
   // their last clinging step (measured: a restore that lost it continues differently).
   const int at = between_clinging_steps("rally", 20);
