@@ -54,8 +54,9 @@ struct ClingingBody {
   /// share too little, once (those versions stepped it over cadence x dt on its step).
   std::int64_t stepped = -1;
   /// Whether `stepped` says more than step - 1, the step just done (which a body at cadence 1
-  /// always has): only then is it written and hashed, so states without a body between
-  /// two clinging steps keep their bytes and hashes.
+  /// always has): only then is it hashed, and only a state holding such a body is saved in
+  /// the layout that carries every body's `stepped`, so states without one keep their bytes
+  /// and hashes.
   [[nodiscard]] bool between_steps(std::int64_t step) const { return stepped != step - 1; }
 };
 
