@@ -5,6 +5,7 @@
 // first_snapshot() (server generation 0 to after the first press), then the input.
 
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "shore/core/envelope.h"
@@ -54,6 +55,26 @@ class DeltaServer {
   void layer() {
     soil_.paint_layer_rect({0, 0, 6, 3}, 1, 0.01);
     soil_.paint_layer_disc(0.2, 0.2, 0.08, 0, 0.005);
+  }
+  /// A 3 x 3 column plate slid 1 mm deep along x at 1 m/s, then lifted, its clinging soil
+  /// stepped every second step (Imprint::cling_every 2): left after a step that skipped it
+  /// (at most 9 steps),
+  /// for the seeds of exact deltas that carry the bodies' last clinging steps (version 6).
+  void slide() {
+    // 4 steps on the soil, then lifted, until a step skipped its soil (the soil's step count
+    // is not public: the format an exact delta chooses tells).
+    for (int k = 0; k < 7 || terrain::SoilDelta::encode(soil_, 0, {.quantum = 0.0})[8] != 6; ++k) {
+      if (k > 9) throw std::runtime_error("the delta server's plate never rested between two clinging steps");
+      shore::EnvelopeRaster env;
+      env.resize(k, 5, 3, 3, false);
+      for (double& v : env.lower) v = k < 4 ? -0.001 : 0.05;
+      terrain::Imprint im{&env};
+      im.velocity.x = 1.0;
+      im.centre.x = soil_.column_x(k + 1), im.centre.y = soil_.column_y(6), im.centre.z = k < 4 ? 0.05 : 0.1;
+      im.key = 6;
+      im.cling_every = 2;
+      soil_.step({&im, 1}, 1.0 / 240);
+    }
   }
   [[nodiscard]] const terrain::Terrain& soil() const { return soil_; }
   [[nodiscard]] std::uint64_t first_generation() const { return first_generation_; }

@@ -218,7 +218,7 @@ std::vector<unsigned char> zstd_container(const char (&magic)[9], std::uint32_t 
 std::vector<unsigned char> wrap_delta_payload(std::span<const std::uint8_t> fields, std::uint32_t version) {
   constexpr std::size_t kFields = 8 + 8 + 8;  // quantum, from, to
   if (fields.size() < kFields) return {};
-  // The container's layout (shore/terrain/soil_delta.h): version 2, 3 or 5 (the ones the
+  // The container's layout (shore/terrain/soil_delta.h): version 2, 3, 5 or 6 (the ones the
   // encoder writes, so mutations reach its spray, map and layer blocks too), the three fields.
   return zstd_container("SHORESDL", version, fields.first(kFields), fields.subspan(kFields));
 }
@@ -244,7 +244,8 @@ void require_finite_changes(const terrain::Terrain& t, std::uint64_t since) {
 
 bool soil_delta(std::span<const std::uint8_t> data) {
   if (data.empty()) return false;
-  const std::vector<unsigned char> delta = (data[0] & 2) ? wrap_delta_payload(data.subspan(1), (data[0] & 8)   ? 5
+  const std::vector<unsigned char> delta = (data[0] & 2) ? wrap_delta_payload(data.subspan(1), (data[0] & 16)  ? 6
+                                                                                               : (data[0] & 8) ? 5
                                                                                                : (data[0] & 4) ? 3
                                                                                                                : 2)
                                                          : with_checksum_mode(data);

@@ -36,8 +36,9 @@ bool coupled_checkpoint(std::span<const std::uint8_t> data);
 /// (delta_server.h) at generation first_generation(). Byte 0 chooses the mode: bit 1 set,
 /// the rest is f64 quantum, u64 from, u64 to and then the delta's payload before
 /// compression, which is compressed and wrapped in a valid container (so mutations reach
-/// the decoder behind zstd and the checksum) of version 5 (a map block with layers, spray
-/// with palette indices) if bit 3 is set, else of version 3 (a map block) if bit 2 is set,
+/// the decoder behind zstd and the checksum) of version 6 (as 5, and each spray body's last
+/// clinging step) if bit 4 is set, else of version 5 (a map block with layers, spray with
+/// palette indices) if bit 3 is set, else of version 3 (a map block) if bit 2 is set,
 /// else version 2; else bit 0 as for terrain_state (odd: the
 /// checksum is appended). A refused delta must leave the replica unchanged; an accepted one
 /// must leave it finite, and it is stepped, saved and loaded again (round trip).

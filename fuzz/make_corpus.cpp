@@ -120,6 +120,28 @@ shore::terrain::Terrain layered_state() {
   return t;
 }
 
+/// Format 9: one material, soil clinging to a plate whose clinging soil is stepped every
+/// second step (Imprint::cling_every 2), left after a step that skipped it.
+shore::terrain::Terrain cadence_state() {
+  shore::terrain::Terrain t = pressed_state();
+  // 4 steps on the soil, then lifted 5 cm, until a step skipped its soil (the terrain's step
+  // count is not public: the format the save chose tells).
+  for (int k = 0; k < 7 || t.save_bytes()[8] != 9; ++k) {
+    if (k > 9) throw std::runtime_error("the cadence seed's plate never rested between two clinging steps");
+    shore::EnvelopeRaster env;
+    env.resize(k - 2, 1, 3, 3, false);
+    for (double& v : env.lower) v = k < 4 ? -0.001 : 0.05;
+    shore::terrain::Imprint im{&env};
+    im.velocity.x = 1.0;
+    im.centre.x = t.column_x(k - 1), im.centre.y = t.column_y(2), im.centre.z = k < 4 ? 0.05 : 0.1;
+    im.key = 3;
+    im.cling_every = 2;
+    t.step({&im, 1}, 1.0 / 240);
+  }
+  if (!(t.volume().clinging > 0.0)) throw std::runtime_error("no soil clings to the cadence seed's plate");
+  return t;
+}
+
 /// A version 5 file as version 3 wrote it: no precision field (bytes 16-19), no
 /// idle_tile_steps (the 4 bytes after active_reach), no spray settings and no
 /// unload_modulus (after the material's shear fields) and no spray state (after the eroding
@@ -179,6 +201,10 @@ void terrain_seeds(const fs::path& dir) {
   if (v8.size() < 12 || v8[8] != 8) throw std::runtime_error("the layered seed soil was not written as version 8");
   write(dir / "seed_v8_layered_spray", entry_input(true, v8));
   write(dir / "seed_v8_layered_spray_whole", entry_input(false, v8));
+  const Bytes v9 = cadence_state().save_bytes();
+  if (v9.size() < 12 || v9[8] != 9) throw std::runtime_error("the cadence seed soil was not written as version 9");
+  write(dir / "seed_v9_cadence", entry_input(true, v9));
+  write(dir / "seed_v9_cadence_whole", entry_input(false, v9));
 }
 
 /// material_map's inputs: palette texts (mode 0), index PNGs (1: CRCs fixed; 2: as is) and
@@ -265,6 +291,15 @@ void soil_delta_seeds(const fs::path& dir) {
   if (layered.size() < 12 || layered[8] != 5) throw std::runtime_error("the layered seed delta was not version 5");
   write(dir / "seed_layered_exact", entry_input(true, layered));
   write(dir / "seed_layered_payload", payload_input(layered, 10));
+  // Version 6: soil clings to a plate between two clinging steps of its cadence.
+  shore::fuzz::DeltaServer sliding;
+  sliding.press_again();
+  sliding.slide();
+  const Bytes cadence = shore::terrain::SoilDelta::encode(sliding.soil(), since, {.quantum = 0.0});
+  if (cadence.size() < 12 || cadence[8] != 6 || !(sliding.soil().volume().clinging > 0.0))
+    throw std::runtime_error("the cadence seed delta was not version 6 with soil clinging");
+  write(dir / "seed_cadence_exact", entry_input(true, cadence));
+  write(dir / "seed_cadence_payload", payload_input(cadence, 18));
 }
 
 /// A small recording's layout (shore/bullet/recording_file.h): one soil, one water, two

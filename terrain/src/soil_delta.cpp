@@ -12,12 +12,15 @@
 //   tile has no layer);
 //   (version 2 on) u8 spray flag; if 1 (exact deltas), the spray state as the terrain's
 //   state file writes it (spray_io.h), to the end; from version 5 on with each particle's
-//   and clinging cell's palette index, as the state file's version 8 writes it.
+//   and clinging cell's palette index, as the state file's version 8 writes it; from
+//   version 6 on also with each body's last clinging step, as the state file's version 9.
 // A delta with no map block to send (no palette set, no tile repainted after its start:
 // every terrain that never paints) and no spray of another material than entry 0 is
 // written as version 2, byte for byte as before maps; one with a map block from a terrain
 // that never had a layer and whose spray is all entry 0's as version 3, as before layers;
-// any other as version 5 (its map block empty when there is nothing to send).
+// an exact one whose spray holds a body between two clinging steps of its cadence
+// (Imprint::cling_every) as version 6; any other as version 5 (the map block of 5 and 6
+// empty when there is nothing to send).
 // A value is an integer: quantised, round((height - base) / quantum) and
 // round(sinkage / quantum); exact, the double's bit pattern. A sequence codes each value's
 // difference from the one before (the first from 0), wrapping, zig-zag mapped and written
@@ -44,7 +47,9 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'S', 'D', 'L'};
-constexpr std::uint32_t kVersion = 5;  // 1: no spray flag, 2: no map, 3: no layers, 4: no spray indices
+// 1: no spray flag, 2: no map, 3: no layers, 4: no spray indices, 5: no spray bodies' steps
+constexpr std::uint32_t kVersion = 6;
+constexpr std::uint32_t kSprayStepsVersion = 6;
 constexpr std::uint32_t kSprayMaterialsVersion = 5;
 constexpr std::uint32_t kNoLayerVersion = 3;
 constexpr std::uint32_t kNoMapVersion = 2;
@@ -243,21 +248,26 @@ std::vector<unsigned char> SoilDelta::encode(const Terrain& server, std::uint64_
     st.columns += heights.size();
   }
   const bool exact = settings.quantum == 0.0;
-  const bool spray_materials = exact && im.spray.state.has_materials();
+  const bool spray_steps = exact && im.spray.state.has_bodies_between_steps();
+  const bool spray_materials = spray_steps || (exact && im.spray.state.has_materials());  // 6 has 5's fields
   const bool layers = im.tiles.layered() || spray_materials;  // version 5 carries the layer flags as 4 did
   bool map = write_map(raw, im, since, layers, st);
-  if (!map && spray_materials) {  // the spray's indices need version 5: an empty map block
+  if (!map && spray_materials) {  // the spray's indices (5) or bodies' steps (6) need an empty map block
     raw.put(std::uint8_t{0}), raw.put(std::uint32_t{0});
     map = true;
   }
-  const std::uint32_t version = !map ? kNoMapVersion : layers ? kVersion : kNoLayerVersion;
+  const std::uint32_t version = !map          ? kNoMapVersion
+                                : !layers     ? kNoLayerVersion
+                                : spray_steps ? kSprayStepsVersion
+                                              : kSprayMaterialsVersion;
   // Exact deltas carry the spray too: with it the replica's whole soil state, and so its
   // state_hash, is the server's. Quantised ones do not (bodies on a replica read heights
   // and sinkages only; the spray would cost more than the columns).
   raw.put(static_cast<std::uint8_t>(exact ? 1 : 0));
   if (exact) {
     Writer spray;
-    write_spray_state(spray, im.spray.state, version >= kSprayMaterialsVersion);
+    write_spray_state(spray, im.spray.state,
+                      {.materials = version >= kSprayMaterialsVersion, .steps = version >= kSprayStepsVersion});
     raw.bytes.insert(raw.bytes.end(), spray.bytes.begin(), spray.bytes.end());
   }
   ByteWriter w;
@@ -370,7 +380,7 @@ DecodedRect read_rect(RawReader& r, const TileStore& tiles, double quantum) {
 }
 
 /// The spray block of a version 2 delta, from where `r` stands to the end.
-void read_spray(RawReader& r, std::span<const unsigned char> raw, Decoded& d, bool materials) {
+void read_spray(RawReader& r, std::span<const unsigned char> raw, Decoded& d, SprayLayout layout) {
   const auto flag = r.get<std::uint8_t>("spray flag");
   if (flag > 1) refuse("corrupt (spray flag " + std::to_string(flag) + ")");
   d.has_spray = flag == 1;
@@ -380,7 +390,7 @@ void read_spray(RawReader& r, std::span<const unsigned char> raw, Decoded& d, bo
     return;
   }
   Reader spray(rest, rest.size(), "in a soil delta");
-  read_spray_state(spray, d.spray, materials);
+  read_spray_state(spray, d.spray, layout);
   if (spray.remaining() != 0) refuse("corrupt (bytes after the spray state)");
 }
 
@@ -471,7 +481,7 @@ Decoded decode(std::span<const unsigned char> raw, const TileStore& tiles, const
   for (std::uint32_t k = 0; k < count; ++k) d.rects.push_back(read_rect(r, tiles, quantum));
   if (h.version >= 3) read_map(r, raw, tiles, h.version, d);
   if (h.version >= 2) {
-    read_spray(r, raw, d, h.version >= kSprayMaterialsVersion);
+    read_spray(r, raw, d, {.materials = h.version >= kSprayMaterialsVersion, .steps = h.version >= kSprayStepsVersion});
     return d;
   }
   if (!r.done()) refuse("corrupt (bytes after the last rectangle)");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 
 namespace shore::terrain {
@@ -10,6 +11,7 @@ namespace shore::terrain {
 namespace {
 constexpr std::size_t kParticleBytes = 8 * sizeof(double);
 constexpr std::size_t kCellBytes = 4 * sizeof(std::uint64_t) + 6 * sizeof(double);
+constexpr std::int64_t kMaxElapsedSteps = std::int64_t{1} << 20;
 
 void need_finite(Reader& r, double v, const char* what) {
   if (!std::isfinite(v)) r.fail(std::string(what) + " holds a non-finite value");
@@ -43,7 +45,8 @@ void read_spray_settings(Reader& r, TerrainSettings& s) {
     *v = r.get<double>("spray settings");
 }
 
-void write_spray_state(Writer& w, const SprayState& st, bool materials) {
+void write_spray_state(Writer& w, const SprayState& st, SprayLayout layout) {
+  const bool materials = layout.materials;
   w.put(st.step);
   w.put(st.lost);
   const SprayCounts& c = st.counts;
@@ -62,6 +65,7 @@ void write_spray_state(Writer& w, const SprayState& st, bool materials) {
     w.put(b.key);
     for (double v : {b.centre.x, b.centre.y, b.centre.z}) w.put(v);
     for (double v : {b.orientation.w, b.orientation.x, b.orientation.y, b.orientation.z}) w.put(v);
+    if (layout.steps) w.put(b.stepped);
     w.put(static_cast<std::uint64_t>(b.cells.size()));
     for (const ClingCell& cell : b.cells) {
       w.put(cell.key);
@@ -73,7 +77,26 @@ void write_spray_state(Writer& w, const SprayState& st, bool materials) {
 }
 
 namespace {
-void read_bodies(Reader& r, SprayState& st, bool materials) {
+/// A body's last clinging step: before the state's step (its next step covers at least
+/// one), read or (an older layout) the step just done.
+std::int64_t read_stepped(Reader& r, const SprayState& st, bool steps) {
+  if (!steps) {
+    if (st.step == std::numeric_limits<std::int64_t>::min())
+      r.fail("spray bodies at step " + std::to_string(st.step) + " (corrupt)");
+    return st.step - 1;
+  }
+  const auto stepped = r.get<std::int64_t>("spray bodies");
+  // The steps its next clinging step covers: at least 1, and far fewer than 2^20 (cadences
+  // of 1 to 16 skip at most 720,719 steps in a row: 720,720 is a multiple of each).
+  std::int64_t elapsed = 0;
+  if (__builtin_sub_overflow(st.step, stepped, &elapsed) || elapsed < 1 || elapsed > kMaxElapsedSteps)
+    r.fail("a spray body last stepped on step " + std::to_string(stepped) +
+           ", not 1 to 2^20 steps before the spray's step " + std::to_string(st.step) + " (corrupt)");
+  return stepped;
+}
+
+void read_bodies(Reader& r, SprayState& st, SprayLayout layout) {
+  const bool materials = layout.materials;
   const auto bodies = r.get<std::uint64_t>("spray bodies");
   if (bodies > r.remaining() / 64) r.fail("spray body count " + std::to_string(bodies) + " (corrupt)");
   for (std::uint64_t k = 0; k < bodies; ++k) {
@@ -83,6 +106,7 @@ void read_bodies(Reader& r, SprayState& st, bool materials) {
     for (double* v : {&b.centre.x, &b.centre.y, &b.centre.z, &b.orientation.w, &b.orientation.x, &b.orientation.y,
                       &b.orientation.z})
       need_finite(r, *v = r.get<double>("spray bodies"), "a spray body");
+    b.stepped = read_stepped(r, st, layout.steps);
     const auto cells = r.get<std::uint64_t>("spray bodies");
     if (cells > r.remaining() / (kCellBytes + (materials ? 1 : 0)))
       r.fail("clinging cell count " + std::to_string(cells) + " (corrupt)");
@@ -101,7 +125,8 @@ void read_bodies(Reader& r, SprayState& st, bool materials) {
 }
 }  // namespace
 
-void read_spray_state(Reader& r, SprayState& st, bool materials) {
+void read_spray_state(Reader& r, SprayState& st, SprayLayout layout) {
+  const bool materials = layout.materials;
   st.step = r.get<std::int64_t>("spray state");
   need_finite(r, st.lost = r.get<double>("spray state"), "the lost spray volume");
   SprayCounts& c = st.counts;
@@ -124,7 +149,7 @@ void read_spray_state(Reader& r, SprayState& st, bool materials) {
   // that never had a map keeps it.
   if (std::all_of(st.particle_materials.begin(), st.particle_materials.end(), [](std::uint8_t m) { return m == 0; }))
     std::vector<std::uint8_t>().swap(st.particle_materials);
-  read_bodies(r, st, materials);
+  read_bodies(r, st, layout);
 }
 
 void check_spray_materials(const Reader& r, const SprayState& st, std::size_t palette_size) {

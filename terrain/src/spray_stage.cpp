@@ -162,12 +162,13 @@ ClingRules cling_rules(const TerrainSettings& s, std::span<const Material> palet
 
 // Bodies by key (the imprints' order never matters), merged with the bodies soil clung to
 // last step: a body missing from this step sets its soil down. A body stepped every n-th
-// step (Imprint::cling_every) is kept as it is on the others, and stepped over n dt.
+// step (Imprint::cling_every) is kept as it is on the others, and stepped over the time
+// since its last clinging step (ClingingBody::stepped), whatever its cadence was meanwhile:
+// exponential shedding then sheds over any sequence of cadences what it sheds step by step.
 void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, std::span<const Material> palette,
                       const FlightRules& rules, std::span<const Imprint> imprints, double dt, StepReport& report) {
   const ClingRules r = cling_rules(s, palette, dt, state.step);
-  ClingRules slow;  // the rules over cling_every steps, for bodies stepped every slow_every-th step
-  int slow_every = 1;
+  rules_over_.clear();
   auto sprays = [&](const Imprint& im) { return im.spray && !im.hold; };
   if (state.bodies.empty() && std::none_of(imprints.begin(), imprints.end(), [&](const Imprint& im) {
         return sprays(im) && Cling::can_start(im, ground, r);
@@ -192,9 +193,11 @@ void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, std::span<c
       if (!body.cells.empty()) next_bodies_.push_back(std::move(body));
       continue;
     }
-    if (im.cling_every != slow_every) slow = cling_rules(s, palette, dt * im.cling_every, state.step);
-    slow_every = im.cling_every;
-    const double picked = cling_.step(body, im, ground, im.cling_every > 1 ? slow : r, shed_, drops_);
+    // A body new to the step holds nothing to shed: the step's own rules.
+    const std::int64_t elapsed = body.cells.empty() ? 1 : state.step - body.stepped;
+    const double picked =
+        cling_.step(body, im, ground, elapsed == 1 ? r : rules_over(s, palette, dt, elapsed), shed_, drops_);
+    body.stepped = state.step;
     report.picked_volume += picked;
     state.counts.picked_volume += picked;
     settle(ground, s, palette, rules, report);
@@ -203,6 +206,14 @@ void Spray::cling_all(SprayGround& ground, const TerrainSettings& s, std::span<c
   for (; b < old.size(); ++b) set_gone_down(ground, old[b]);
   old.swap(next_bodies_);
   state.counts.set_down += cling_.set_down_count - set_down_before;
+}
+
+const ClingRules& Spray::rules_over(const TerrainSettings& s, std::span<const Material> palette, double dt,
+                                    std::int64_t elapsed) {
+  for (const auto& [steps, made] : rules_over_)
+    if (steps == elapsed) return made;
+  return rules_over_.emplace_back(elapsed, cling_rules(s, palette, dt * static_cast<double>(elapsed), state.step))
+      .second;
 }
 
 // Sumner's test: a candidate flies where (speed / s)^gamma exceeds its uniform number.
@@ -245,7 +256,9 @@ void Spray::settle(SprayGround& ground, const TerrainSettings& s, std::span<cons
 std::size_t Spray::bytes() const {
   std::size_t clocks = capacity_bytes(clocks_, flight_by_index_);
   for (const SampleClock& c : clocks_) clocks += c.bytes();
-  return state.bytes() + cling_.bytes() + clock_.bytes() + clocks +
+  std::size_t rules = capacity_bytes(rules_over_);
+  for (const auto& [steps, made] : rules_over_) rules += capacity_bytes(made.by_index);
+  return state.bytes() + cling_.bytes() + clock_.bytes() + clocks + rules +
          capacity_bytes(shed_.pieces, shed_.candidates, drops_, order_, next_bodies_);
 }
 

@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "shore/terrain/terrain.h"
@@ -42,6 +43,10 @@ class Spray {
   void cling_all(SprayGround& ground, const TerrainSettings& s, std::span<const Material> palette,
                  const FlightRules& rules, std::span<const Imprint> imprints, double dt, StepReport& report);
   void set_gone_down(SprayGround& ground, const ClingingBody& body);
+  /// This step's rules over `elapsed` (> 1) steps of dt, made once a step for each count
+  /// asked (a body's first clinging step after skipped ones).
+  const ClingRules& rules_over(const TerrainSettings& s, std::span<const Material> palette, double dt,
+                               std::int64_t elapsed);
   /// Candidates and drops of one body, in order.
   void settle(SprayGround& ground, const TerrainSettings& s, std::span<const Material> palette,
               const FlightRules& rules, StepReport& report);
@@ -68,6 +73,8 @@ class Spray {
   std::vector<Drop> drops_;
   std::vector<std::size_t> order_;
   std::vector<ClingingBody> next_bodies_;
+  /// This step's rules by elapsed step count (rules_over): a few counts at most.
+  std::vector<std::pair<std::int64_t, ClingRules>> rules_over_;
 };
 
 }  // namespace shore::terrain

@@ -34,6 +34,10 @@ int SprayState::largest_material() const {
   return most;
 }
 
+bool SprayState::has_bodies_between_steps() const {
+  return std::any_of(bodies.begin(), bodies.end(), [&](const ClingingBody& b) { return b.between_steps(step); });
+}
+
 void SprayState::hash_into(StateHash& h) const {
   h.add(step);
   h.add(lost);
@@ -51,6 +55,7 @@ void SprayState::hash_into(StateHash& h) const {
     h.add(b.key);
     for (double v : {b.centre.x, b.centre.y, b.centre.z}) h.add(v);
     for (double v : {b.orientation.w, b.orientation.x, b.orientation.y, b.orientation.z}) h.add(v);
+    if (b.between_steps(step)) h.add(b.stepped);  // else step - 1, hashed already
     h.add(static_cast<std::uint64_t>(b.cells.size()));
     for (const ClingCell& c : b.cells) {
       h.add(c.key);

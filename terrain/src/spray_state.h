@@ -40,12 +40,24 @@ struct ClingCell {
   std::uint8_t material = 0;
 };
 
-/// The soil clinging to one body, and where the body was last seen.
+/// The soil clinging to one body, and where and when the body was last seen.
 struct ClingingBody {
   std::uint64_t key = 0;         ///< Imprint::key
   std::vector<ClingCell> cells;  ///< sorted by key
   Vec3 centre;                   ///< m, its centre at the last step
   Quat orientation;              ///< then
+  /// The spray step its soil was last stepped on: its next step covers (step - stepped)
+  /// steps' time, whatever cadence (Imprint::cling_every) it had in between. Always below
+  /// SprayState::step. A body loaded from a file that did not keep it (terrain state before
+  /// version 9, soil delta before version 6) takes step - 1, as a body at cadence 1 always
+  /// has; one such a file caught between the two steps of cadence 2 then sheds one step's
+  /// share too little, once (those versions stepped it over cadence x dt on its step).
+  std::int64_t stepped = -1;
+  /// Whether `stepped` says more than step - 1, the step just done (which a body at cadence 1
+  /// always has): only then is it hashed, and only a state holding such a body is saved in
+  /// the layout that carries every body's `stepped`, so states without one keep their bytes
+  /// and hashes.
+  [[nodiscard]] bool between_steps(std::int64_t step) const { return stepped != step - 1; }
 };
 
 struct SprayState {
@@ -67,6 +79,9 @@ struct SprayState {
   [[nodiscard]] int largest_material() const;
   /// Whether some particle or piece holds a palette index other than 0.
   [[nodiscard]] bool has_materials() const { return largest_material() > 0; }
+  /// Whether some body's soil was last stepped before the step just done (a body between
+  /// the two clinging steps of a cadence above 1): the state needs each body's `stepped`.
+  [[nodiscard]] bool has_bodies_between_steps() const;
   void hash_into(StateHash& h) const;
   [[nodiscard]] std::size_t bytes() const;
 };

@@ -43,6 +43,11 @@
 //   (version 8 on, which every terrain with a map is written as) the spray state above
 //             carries each particle's palette index (u8 after its age) and each clinging
 //             cell's (u8 after its touched); earlier files load every one as entry 0
+//   (version 9 on, which a terrain is written as while some body's clinging soil waits
+//             between two steps of its cadence, Imprint::cling_every, its map block empty
+//             if it has none; else as 8 or 5) each spray body carries i64 stepped, the spray
+//             step its soil was last stepped on (after its q[4]), 1 to 2^20 steps before the
+//             spray's step; earlier files load each body as stepped on the step before
 //   u64 tile count
 //   per tile (in key order): i64 tx, ty; f64[n*n] height, sinkage, base
 //   u64 FNV-1a of every byte before it
@@ -72,7 +77,9 @@ namespace shore::terrain {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'O', 'R', 'E', 'T', 'R', 'N'};
-constexpr std::uint32_t kVersion = 8;
+constexpr std::uint32_t kVersion = 9;
+/// The first version whose spray state carries each body's last clinging step.
+constexpr std::uint32_t kSprayStepsVersion = 9;
 /// The first version whose spray state carries palette indices.
 constexpr std::uint32_t kSprayMaterialsVersion = 8;
 /// The first version with a layers block.
@@ -415,8 +422,10 @@ std::vector<unsigned char> Terrain::save_bytes() const {
   Writer w;
   for (char c : kMagic) w.put(c);
   const std::vector<TileKey> keys = im.tiles.sorted_keys();
-  const bool map = has_layers(im.tiles, keys) || has_map(im.palette, im.tiles, keys);
-  w.put(map ? kVersion : kOneMaterialVersion);
+  // A body between two clinging steps needs version 9, and with it the blocks of 6 to 8.
+  const bool steps = im.spray.state.has_bodies_between_steps();
+  const bool map = steps || has_layers(im.tiles, keys) || has_map(im.palette, im.tiles, keys);
+  w.put(steps ? kSprayStepsVersion : map ? kSprayMaterialsVersion : kOneMaterialVersion);
   w.put(kByteOrderMark);
   w.put(kRealBytes);
   write_settings(w, im.s);
@@ -424,7 +433,7 @@ std::vector<unsigned char> Terrain::save_bytes() const {
   w.put(static_cast<std::uint64_t>(im.unsettled.size()));
   for (const GridRect& r : im.unsettled)
     w.put(r.i0), w.put(r.j0), w.put(static_cast<std::int32_t>(r.nx)), w.put(static_cast<std::int32_t>(r.ny));
-  write_spray_state(w, im.spray.state, map);
+  write_spray_state(w, im.spray.state, {.materials = map, .steps = steps});
   if (map) write_map(w, im.palette, im.tiles, keys);
   if (map) write_layers(w, im.tiles, keys);
   w.put(static_cast<std::uint64_t>(keys.size()));
@@ -455,7 +464,9 @@ Terrain Terrain::load_bytes(std::span<const unsigned char> bytes, const std::str
   im.edited = hr.get<double>("volume bookkeeping");
   if (!std::isfinite(im.compacted) || !std::isfinite(im.edited)) hr.fail("volume bookkeeping is not finite");
   if (version >= 2) im.unsettled = read_unsettled(hr);
-  if (version >= 4) read_spray_state(hr, im.spray.state, version >= kSprayMaterialsVersion);
+  if (version >= 4)
+    read_spray_state(hr, im.spray.state,
+                     {.materials = version >= kSprayMaterialsVersion, .steps = version >= kSprayStepsVersion});
   SavedMap map;
   if (version >= 6) map = read_map(hr, im.s.tile_columns);
   SavedLayers layers;

@@ -112,6 +112,35 @@ TEST(SceneCheckpointSoilClock, RestoredOnEitherSideOfASoilStepContinuesBitIdenti
   }
 }
 
+/// The first substep from `from` on (at most 240 more) after which one of the scene's soils
+/// holds a spray body between two clinging steps of its cadence (its state file is then
+/// format 9, the one that keeps each body's last clinging step), or -1.
+int between_clinging_steps(const std::string& name, int from) {
+  const std::unique_ptr<Scene> scene = find_scene(name)->create(smoke_options(name));
+  for (int k = 0; k < from + 240; ++k) {
+    scene->step();
+    if (k + 1 < from) continue;
+    for (const SoilContents& soil : scene->contents().soils)
+      if (soil.soil->save_bytes()[8] == 9) return k + 1;
+  }
+  return -1;
+}
+
+// The rally's wheels step their clinging soil every second soil step while their rims stay
+// on the soil (Imprint::cling_every): saved while one waits between two such steps, the
+// restored wheel still covers the time since its last one, and the run continues
+// bit-identically.
+TEST(SceneCheckpointCadence, RallySavedWhileAWheelWaitsBetweenClingingStepsContinuesBitIdentically) {
+  // Its wheels switch cadence as the car sets off (one waits after substeps 4 to 52); from
+  // substep 20 on they hold soil off the ground, whose shedding depends on the time since
+  // their last clinging step (measured: a restore that lost it continues differently).
+  const int at = between_clinging_steps("rally", 20);
+  ASSERT_GE(at, 0) << "no wheel of the rally waits between two clinging steps: this tests nothing";
+  const Continuation c = continue_from("rally", 0.0, false, at);
+  EXPECT_EQ(shore::to_hex(c.uninterrupted), shore::to_hex(c.restored)) << "saved after substep " << at;
+  EXPECT_NE(c.uninterrupted, unrestored_hash("rally", 0.0, at)) << "the continuation does not depend on the restore";
+}
+
 // impact: bodies dropped into soil, spray in flight at the save point; pond: a floating body
 // in waves; beach: a ball rolling down sand into water, a box afloat; footprints: kinematic
 // feet on three soils; tracks: a bicycle in a rut; rover: a btMultiBody on sand and water

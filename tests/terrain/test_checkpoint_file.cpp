@@ -57,6 +57,38 @@ TEST(Checkpoint, SoilRunContinuesIdenticallyFromTheFile) {
   std::filesystem::remove(file);
 }
 
+// A sliding plate whose clinging soil is stepped every second step, saved after a step
+// that skipped it: the restored body's next clinging step still covers two steps' time.
+TEST(Checkpoint, ABodyBetweenTwoClingingStepsContinuesIdenticallyFromTheFile) {
+  const auto slide = [](Terrain& t, int k) {
+    const bool lifted = k >= 6;
+    const EnvelopeRaster env = testing::box_envelope(10 + k, 10, 3, 3, lifted ? 0.05 : -0.001);
+    Imprint im;
+    im.envelope = &env;
+    im.velocity.x = 1.0;
+    im.centre.x = t.column_x(11 + k), im.centre.y = t.column_y(11), im.centre.z = lifted ? 0.1 : 0.05;
+    im.key = 4;
+    im.cling_every = 2;
+    t.step(std::span<const Imprint>(&im, 1), 1.0 / 240);
+  };
+  Terrain uninterrupted(sand());
+  int k = 0;
+  for (; k < 11; ++k) slide(uninterrupted, k);  // 10 clung, 11 will not
+  slide(uninterrupted, k++);
+  ASSERT_GT(uninterrupted.volume().clinging, 0.0) << "nothing clings to the plate: this tests nothing";
+  CheckpointWriter w(4);
+  w.add("TERRAIN", uninterrupted.save_bytes());
+  const auto file = temp_file("shore_checkpoint_cadence.ckp");
+  w.save(file);
+  const CheckpointReader r = CheckpointReader::open(file, 4);
+  Terrain restored = Terrain::load_bytes(r.section("TERRAIN"), r.describe("TERRAIN"));
+  EXPECT_EQ(restored.state_hash(), uninterrupted.state_hash());
+  for (; k < 40; ++k) slide(uninterrupted, k), slide(restored, k);
+  EXPECT_EQ(restored.state_hash(), uninterrupted.state_hash());
+  EXPECT_EQ(restored.volume().clinging, uninterrupted.volume().clinging);
+  std::filesystem::remove(file);
+}
+
 TEST(Checkpoint, BadFilesAreRefusedNamingTheProblem) {
   Terrain t(sand());
   for (int k = 0; k < 10; ++k) step(t, k);

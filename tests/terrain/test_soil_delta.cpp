@@ -201,5 +201,44 @@ TEST(SoilDelta, TerrainBytesContinueIdentically) {
   EXPECT_EQ(a.state_hash(), b.state_hash());
 }
 
+// A plate that slides 1 mm into the soil along x at 1 m/s, its clinging soil stepped
+// every second step, then is lifted and sheds it.
+void slide(Terrain& t, int step) {
+  const bool lifted = step >= 6;
+  const EnvelopeRaster env = testing::box_envelope(20 + step, 10, 3, 3, lifted ? 0.05 : -0.001);
+  Imprint imprint;
+  imprint.envelope = &env;
+  imprint.velocity.x = 1.0;
+  imprint.centre.x = t.column_x(21 + step), imprint.centre.y = t.column_y(11), imprint.centre.z = lifted ? 0.1 : 0.05;
+  imprint.key = 2;
+  imprint.cling_every = 2;
+  t.step(std::span<const Imprint>(&imprint, 1), 1.0 / 240);
+}
+
+// An exact delta sent between the two clinging steps of the plate's cadence carries when
+// its soil was last stepped (version 6): the replica then continues as the server does.
+TEST(SoilDelta, AnExactReplicaBetweenTwoClingingStepsContinuesIdentically) {
+  Terrain server(sand()), replica(sand());
+  const std::uint64_t start = server.generation();
+  DeltaSettings exact;
+  exact.quantum = 0.0;
+  int step = 0;
+  for (; step < 9; ++step) slide(server, step);  // the last (8) clung; then 9, odd, keeps it as it is
+  const auto at_its_step = SoilDelta::encode(server, start, exact);
+  slide(server, step++);
+  ASSERT_GT(server.volume().clinging, 0.0) << "nothing clings to the plate: this tests nothing";
+  const auto delta = SoilDelta::encode(server, start, exact);
+  std::uint32_t version = 0, before = 0;
+  std::memcpy(&version, delta.data() + 8, sizeof version);
+  std::memcpy(&before, at_its_step.data() + 8, sizeof before);
+  EXPECT_EQ(before, 2u) << "every body stepped on the last step: the bytes of before";
+  EXPECT_EQ(version, 6u);
+  (void)SoilDelta::apply(replica, delta, replica.generation());
+  EXPECT_EQ(replica.state_hash(), server.state_hash());
+  for (; step < 30; ++step) slide(server, step), slide(replica, step);
+  EXPECT_EQ(replica.state_hash(), server.state_hash());
+  EXPECT_EQ(replica.volume().clinging, server.volume().clinging);
+}
+
 }  // namespace
 }  // namespace shore::terrain

@@ -253,7 +253,7 @@ TEST(Files, OtherVersionByteOrderAndPrecisionAreRefusedSayingSo) {
   // Header: magic (8), u32 version at 8, u32 byte-order mark at 12, u32 bytes per real at 16.
   const std::string newer = load_error(with_header(good, 8, 99));
   EXPECT_TRUE(mentions(newer, "other.state")) << newer;
-  EXPECT_TRUE(mentions(newer, "unsupported format version 99 (this build reads versions 1 to 8)")) << newer;
+  EXPECT_TRUE(mentions(newer, "unsupported format version 99 (this build reads versions 1 to 9)")) << newer;
   EXPECT_TRUE(mentions(load_error(with_header(good, 8, 0)), "unsupported format version 0")) << newer;
   // A big-endian writer: every header number swapped, the mark first of all.
   std::vector<unsigned char> swapped = with_header(good, 8, __builtin_bswap32(4u));

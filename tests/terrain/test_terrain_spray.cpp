@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -284,6 +285,68 @@ TEST(Spray, ARimThatStaysOnTheSoilClingsAsMuchSteppedEverySecondStep) {
               static_cast<long long>(second.created), static_cast<long long>(each.created));
 }
 
+namespace {
+
+/// A 3 x 3 column plate that presses 1 mm into the soil for 3 steps while moving along x at
+/// 1 m/s (it loads its pieces), then is lifted 5 cm and keeps moving: its soil sheds with
+/// the half-life in particles far smaller than a piece's load. `cadence(step)` is its
+/// Imprint::cling_every at each step after the lift.
+struct ShedCadence {
+  static constexpr double kDt = 1.0 / 240;
+  static constexpr int kPress = 3;
+  static constexpr std::uint64_t kKey = 0xc1a9'0b0d'1e55'0005;  // distinct in the state file's bytes
+  Terrain t;
+  VolumeWatch watch;
+  explicit ShedCadence(const TerrainSettings& s) : t(s) {}
+
+  static TerrainSettings settings() {
+    TerrainSettings s = sand();
+    s.material.spray.particle_size = 0.0005;  // 1/1500 of a piece's load: the rounding stays small
+    return s;
+  }
+  /// Steps it once (the k-th, from 0) at this cadence; returns whether its soil was stepped.
+  bool step(int k, int cadence) {
+    const bool lifted = k >= kPress;
+    const shore::EnvelopeRaster env = box_envelope(10, 10, 3, 3, lifted ? 0.05 : -0.001);
+    Imprint im{&env};
+    im.velocity.x = 1.0;
+    im.centre.x = t.column_x(11), im.centre.y = t.column_y(11), im.centre.z = lifted ? 0.1 : 0.05;
+    im.key = kKey;
+    im.cling_every = cadence;
+    watch.after(t, t.step({&im, 1}, kDt));
+    return k % cadence == 0;
+  }
+};
+
+}  // namespace
+
+// Shedding is exponential: over any time, whatever the steps it is cut into, a piece sheds
+// the same share. A body whose cadence switches (1, 1, 2, 2, 1, 2, 3, ...) must so hold,
+// after each of its clinging steps, what a body stepped every step holds then, up to the
+// particles' rounding (each piece owes less than a particle either way).
+TEST(Spray, ABodySwitchingCadenceShedsWhatItShedsEveryStep) {
+  const int cadences[] = {1, 1, 2, 2, 1, 2, 2, 2, 1, 3, 3, 1, 2, 1, 3, 3, 3, 2, 2, 1};
+  ShedCadence each(ShedCadence::settings()), switching(ShedCadence::settings());
+  const double vp = ShedCadence::settings().material.spray.particle_volume();
+  int compared = 0;
+  for (int k = 0; k < 60; ++k) {
+    const int cadence = k < ShedCadence::kPress ? 1 : cadences[(k - ShedCadence::kPress) % std::size(cadences)];
+    each.step(k, 1);
+    if (!switching.step(k, cadence) || k <= ShedCadence::kPress) continue;
+    const double held = each.t.volume().clinging;
+    ASSERT_GT(held, 0.0) << "the plate holds nothing at step " << k << ": this tests nothing";
+    const auto pieces = static_cast<double>(each.t.spray_counts().clinging_cells);
+    EXPECT_NEAR(switching.t.volume().clinging, held, 2.0 * pieces * vp)
+        << "at step " << k << ", cadence " << cadence << " (" << held / vp << " particles held)";
+    ++compared;
+  }
+  EXPECT_GT(compared, 30);
+  EXPECT_LT(each.t.volume().clinging, 0.5 * each.t.spray_counts().picked_volume) << "too little shed to test";
+  EXPECT_LT(each.watch.worst, 1e-12) << "worst |ground + compacted + airborne + lost - edited| / moved";
+  EXPECT_LT(switching.watch.worst, 1e-12) << "worst |ground + compacted + airborne + lost - edited| / moved";
+  EXPECT_EQ(switching.t.spray_counts().picked_volume, each.t.spray_counts().picked_volume);
+}
+
 TEST(Spray, AirborneVolumeGrowsWithTheWheelsSpeed) {
   double last = 0.0;
   for (const double rim : {1.0, 2.0, 4.0, 8.0}) {
@@ -438,6 +501,72 @@ TEST(Spray, SavedMidFlightItLoadsBitExactAndContinuesIdentically) {
     }
   EXPECT_EQ(b.state_hash(), a.state_hash());
   std::filesystem::remove(file);
+}
+
+// Saved after a step its cadence skipped (cadence 2, on an odd step), the wheel's body must
+// remember when its soil was last stepped: the next step covers two steps' time.
+TEST(Spray, SavedBetweenTheTwoStepsOfACadenceItContinuesIdentically) {
+  Terrain a(sand());
+  SpinningWheel w;
+  shore::EnvelopeRaster env;
+  const auto step = [&](Terrain& t, int k) {
+    Imprint im = w.at(t, k / 240.0, env);
+    im.cling_every = k < 100 || (k / 3) % 2 == 0 ? 2 : 1;  // 2, then switching on either parity
+    t.step({&im, 1}, 1.0 / 240);
+  };
+  int k = 0;
+  for (; k < 99; ++k) step(a, k);  // 99 steps: the last one (98) clung
+  const std::vector<unsigned char> at_its_step = a.save_bytes();
+  step(a, k++);  // step 99, odd: kept as it is
+  ASSERT_GT(a.volume().clinging, 0.0) << "nothing clings: this tests nothing";
+  const std::vector<unsigned char> bytes = a.save_bytes();
+  ASSERT_GT(bytes.size(), 8u);
+  EXPECT_EQ(at_its_step[8], 5) << "a terrain of one material, every body stepped on the last step: as before";
+  EXPECT_EQ(bytes[8], 9) << "a body between two clinging steps needs the format that keeps its last one";
+  Terrain b = Terrain::load_bytes(bytes, "between");
+  EXPECT_EQ(b.state_hash(), a.state_hash());
+  EXPECT_EQ(b.save_bytes(), bytes);
+  for (; k < 160; ++k)
+    for (Terrain* t : {&a, &b}) step(*t, k);
+  EXPECT_EQ(b.state_hash(), a.state_hash());
+  EXPECT_EQ(b.volume().clinging, a.volume().clinging);
+}
+
+// A body's last clinging step lies 1 to 2^20 steps before the spray's (cadences of 1 to
+// 16 never skip more in a row): a file saying otherwise is refused, naming it.
+TEST(Spray, ABodysLastClingingStepOutOfRangeIsRefused) {
+  ShedCadence plate(ShedCadence::settings());
+  for (int k = 0; k < 5 || plate.t.save_bytes()[8] != 9; ++k) {
+    ASSERT_LT(k, 10) << "the plate never rested between two clinging steps";
+    plate.step(k, 2);
+  }
+  const std::vector<unsigned char> good = plate.t.save_bytes();
+  // The body's record: u64 key, f64 centre[3], f64 q[4], then i64 stepped.
+  unsigned char key[8];
+  std::memcpy(key, &ShedCadence::kKey, sizeof key);
+  const auto found = std::search(good.begin(), good.end(), std::begin(key), std::end(key));
+  ASSERT_NE(found, good.end());
+  const auto at = static_cast<std::size_t>(found - good.begin()) + 8 + 3 * 8 + 4 * 8;
+  std::int64_t stepped = 0;
+  std::memcpy(&stepped, good.data() + at, sizeof stepped);
+  const std::int64_t step = stepped + 2;  // cadence 2, between its two steps
+  const auto with_stepped = [&](std::int64_t value) {
+    std::vector<unsigned char> bytes = good;
+    std::memcpy(bytes.data() + at, &value, sizeof value);
+    reseal(bytes);
+    try {
+      (void)Terrain::load_bytes(bytes, "stepped");
+    } catch (const shore::FileError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(with_stepped(stepped), "") << "the file as written";
+  EXPECT_EQ(with_stepped(step - (std::int64_t{1} << 20)), "") << "the most steps a body may wait";
+  for (const std::int64_t bad : {step, step + 7, step - (std::int64_t{1} << 20) - 1,
+                                 std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::max()})
+    EXPECT_TRUE(mentions(with_stepped(bad), "a spray body last stepped on step " + std::to_string(bad)))
+        << with_stepped(bad);
 }
 
 TEST(Spray, BadParametersAndInputsAreRefusedByName) {

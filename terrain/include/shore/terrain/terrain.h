@@ -114,9 +114,13 @@ struct Imprint {
   std::uint64_t key = 0;
   bool spray = true;  ///< this body throws soil (and the terrain's spray is enabled)
   /// The soil clinging to this body is stepped on every cling_every-th step of the terrain
-  /// (those whose spray step count is a multiple of it), over cling_every steps' time, in
-  /// [1, 16]. For a body whose surface stays in contact many steps (a rolling wheel's rim),
-  /// whose pick-up and shedding then lose nothing the skipped steps would have seen.
+  /// (those whose spray step count is a multiple of it), in [1, 16], over the time since its
+  /// last clinging step (cling_every steps' time while it does not change; after a switch,
+  /// what actually passed, so the body sheds what it would stepped every step). For a body
+  /// whose surface stays in contact many steps (a rolling wheel's rim), whose pick-up and
+  /// shedding then lose nothing the skipped steps would have seen. May change from step to
+  /// step. (A body loaded from a state saved before terrain format 9 or soil delta 6 counts
+  /// from the step before its load.)
   int cling_every = 1;
 };
 
