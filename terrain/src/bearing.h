@@ -51,10 +51,22 @@ void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std:
                                std::span<const ColumnLayer> layers, const TerrainSettings& s,
                                std::span<const Material> palette, std::span<const det::FixedPower> powers,
                                double offset, bool with_columns);
-/// capacity() into out, whose buffers it reuses (out.columns is cleared first).
+/// The columns an envelope lowered by one offset touches, as indices into the columns
+/// capacity_into() was given, ascending. The buffer only grows (a vector shrunk to each
+/// count would zero what it regrows); its first `count` entries are the list.
+struct TouchingColumns {
+  std::vector<std::uint32_t> index;
+  std::size_t count = 0;
+};
+/// capacity() into out, whose buffers it reuses (out.columns is cleared first); the
+/// touching columns into touching. With among (the touching columns at an offset no
+/// smaller than this one), only those are visited: a column the envelope lowered by more
+/// does not touch, lowered by less does not either (c.lower - offset falls as the offset
+/// grows, rounding and all), so the same columns in the same order, the same bits.
 void capacity_into(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
                    std::span<const ColumnLayer> layers, const TerrainSettings& s, std::span<const Material> palette,
-                   std::span<const det::FixedPower> powers, double offset, bool with_columns, Bearing& out);
+                   std::span<const det::FixedPower> powers, double offset, bool with_columns, Bearing& out,
+                   TouchingColumns& touching, const TouchingColumns* among = nullptr);
 /// The offset at which the capacity equals load (Terrain::bearing_offset).
 [[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
                                      std::span<const ColumnLayer> layers, const TerrainSettings& s,

@@ -1,6 +1,9 @@
 #include "shore/terrain/bearing_solve.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include "bearing.h"
@@ -30,6 +33,10 @@ struct BearingSolve::State {
   std::vector<Bearing> measured;
   std::size_t used = 0;
   double bedrock = 0.0;  ///< offset_for_load's bracket limit for these columns
+  /// The columns touching at the deepest offset measured since the reset (`reach_offset`,
+  /// NaN before the first): a shallower one touches only among them (capacity_into).
+  TouchingColumns reach, touching;
+  double reach_offset = std::numeric_limits<double>::quiet_NaN();
 
   const Bearing* find(double offset) const {
     for (std::size_t k = 0; k < used; ++k)
@@ -48,7 +55,10 @@ struct BearingSolve::State {
     if (const Bearing* known = find(offset)) return *known;
     if (used == measured.size()) measured.emplace_back(), offsets.push_back(0.0);
     offsets[used] = offset;
-    capacity_into(columns, mats, layers, terrain->s, terrain->palette, powers, offset, true, measured[used]);
+    const bool within = offset <= reach_offset;  // false before the first (NaN)
+    capacity_into(columns, mats, layers, terrain->s, terrain->palette, powers, offset, true, measured[used], touching,
+                  within ? &reach : nullptr);
+    if (!within && !std::isnan(offset)) std::swap(reach, touching), reach_offset = offset;
     return measured[used++];
   }
 };
@@ -64,6 +74,7 @@ void BearingSolve::reset(const Terrain& terrain, const EnvelopeRaster& envelope)
   st.terrain = terrain.impl_.get();
   if (!powers_fit(st.powers, st.terrain->palette)) st.powers = bearing_powers(st.terrain->palette);
   st.used = 0;
+  st.reach_offset = std::numeric_limits<double>::quiet_NaN();
   st.mats.clear();
   const bool layered = st.terrain->tiles.layered();
   bearing_columns_into(st.terrain->tiles, st.terrain->s, st.terrain->palette, envelope, false, 0.0,
