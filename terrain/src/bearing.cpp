@@ -28,8 +28,9 @@ std::vector<BearingColumn> bearing_columns(const TileStore& store, const Terrain
 
 void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
                           const EnvelopeRaster& env, bool only_touching, double offset, std::vector<std::uint8_t>* mats,
-                          std::vector<ColumnLayer>* layers, std::vector<BearingColumn>& columns) {
+                          std::vector<ColumnLayer>* layers, std::vector<BearingColumn>& columns, double* bedrock) {
   if (layers) layers->clear();
+  double deepest = 0.0;  // bedrock_offset(columns), in the same order
   const BedrockDepth depth(palette, s.material.soil_depth);
   const double tol = s.contact_tolerance;
   columns.clear();
@@ -49,10 +50,18 @@ void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std:
       }
       if (only_touching && !(e - offset <= c.top + tol)) continue;
       columns.push_back(c);
+      deepest = std::max(deepest, c.lower - c.bed);
       if (mats) mats->push_back(t && !t->material.empty() ? t->material[run.local + static_cast<std::size_t>(r)] : 0);
       if (layers) layers->push_back(t ? t->layer(run.local + static_cast<std::size_t>(r)) : ColumnLayer{});
     }
   });
+  if (bedrock) *bedrock = deepest;
+}
+
+double bedrock_offset(std::span<const BearingColumn> columns) {
+  double deepest = 0.0;
+  for (const BearingColumn& c : columns) deepest = std::max(deepest, c.lower - c.bed);
+  return deepest;
 }
 
 std::vector<det::FixedPower> bearing_powers(std::span<const Material> palette) {
@@ -187,13 +196,18 @@ double offset_for_load(std::span<const BearingColumn> columns, std::span<const s
 
 double offset_for_load(std::span<const BearingColumn> columns, double load,
                        const std::function<double(double)>& capacity_at) {
+  if (columns.empty()) return 0.0;  // nothing to read (the other overload's first answer)
+  return offset_for_load(columns, load, capacity_at, bedrock_offset(columns));
+}
+
+double offset_for_load(std::span<const BearingColumn> columns, double load,
+                       const std::function<double(double)>& capacity_at, double bedrock) {
   if (columns.empty()) return 0.0;  // the body covers no column: nothing to sink into
   auto f = [&](double o) { return capacity_at(o) - load; };
   double f_lo = f(0.0);
   if (f_lo >= 0.0) return 0.0;
   // Every covered column at bedrock bears anything: that offset closes the bracket.
-  double limit = 0.0;
-  for (const auto& c : columns) limit = std::max(limit, c.lower - c.bed);
+  const double limit = bedrock;
   double lo = 0.0, hi = std::min(1e-3, limit), f_hi = f(hi);
   while (f_hi < 0.0 && hi < limit) {
     lo = hi, f_lo = f_hi;

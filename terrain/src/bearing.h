@@ -35,10 +35,15 @@ struct BearingColumn {
                                                          bool only_touching, double offset,
                                                          std::vector<std::uint8_t>* mats,
                                                          std::vector<ColumnLayer>* layers = nullptr);
-/// bearing_columns() into columns (cleared first), whose buffer it reuses.
+/// bearing_columns() into columns (cleared first), whose buffer it reuses. With bedrock,
+/// bedrock_offset(columns) into *bedrock, worked out as the columns are read.
 void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
                           const EnvelopeRaster& env, bool only_touching, double offset, std::vector<std::uint8_t>* mats,
-                          std::vector<ColumnLayer>* layers, std::vector<BearingColumn>& columns);
+                          std::vector<ColumnLayer>* layers, std::vector<BearingColumn>& columns,
+                          double* bedrock = nullptr);
+/// The offset at which every column's envelope reaches its bedrock, which carries anything:
+/// the largest lower - bed, 0 at least (offset_for_load's bracket limit).
+[[nodiscard]] double bedrock_offset(std::span<const BearingColumn> columns);
 /// z^n for each palette entry's Bekker exponent n, in palette order: the bearing's power law.
 [[nodiscard]] std::vector<det::FixedPower> bearing_powers(std::span<const Material> palette);
 /// Whether powers were made by bearing_powers(palette) for a palette with these exponents.
@@ -76,5 +81,8 @@ void capacity_into(std::span<const BearingColumn> columns, std::span<const std::
 /// returns was measured by capacity_at, except 0 when columns is empty.
 [[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, double load,
                                      const std::function<double(double)>& capacity_at);
+/// The same with the columns' bedrock_offset() given (bedrock): none of them is read again.
+[[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, double load,
+                                     const std::function<double(double)>& capacity_at, double bedrock);
 
 }  // namespace shore::terrain

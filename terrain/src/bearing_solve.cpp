@@ -79,16 +79,15 @@ void BearingSolve::reset(const Terrain& terrain, const EnvelopeRaster& envelope)
   const bool layered = st.terrain->tiles.layered();
   bearing_columns_into(st.terrain->tiles, st.terrain->s, st.terrain->palette, envelope, false, 0.0,
                        st.terrain->palette.size() > 1 || layered ? &st.mats : nullptr, layered ? &st.layers : nullptr,
-                       st.columns);
+                       st.columns, &st.bedrock);
   if (!layered) st.layers.clear();
-  st.bedrock = 0.0;  // as offset_for_load's limit
-  for (const BearingColumn& c : st.columns) st.bedrock = std::max(st.bedrock, c.lower - c.bed);
 }
 
 double BearingSolve::offset(double load) {
   Check{"terrain.BearingSolve.offset"}.non_negative("load", load);
   State& st = state_->ready("terrain.BearingSolve.offset");
-  return offset_for_load(st.columns, load, [&](double o) { return st.measure(o).capacity; });
+  return offset_for_load(
+      st.columns, load, [&](double o) { return st.measure(o).capacity; }, st.bedrock);
 }
 
 double BearingSolve::offset_under_spring(double load, double spring) {
@@ -98,14 +97,16 @@ double BearingSolve::offset_under_spring(double load, double spring) {
   State& st = state_->ready("terrain.BearingSolve.offset_under_spring");
   // capacity(o) >= load - spring o, the spring's share moved to the soil's side: the sum
   // grows with o as the capacity does, so the plain search finds its one root.
-  return offset_for_load(st.columns, load, [&](double o) { return st.measure(o).capacity + spring * o; });
+  return offset_for_load(
+      st.columns, load, [&](double o) { return st.measure(o).capacity + spring * o; }, st.bedrock);
 }
 
 double BearingSolve::offset(double load, const std::function<double(const Bearing&)>& capacity_of) {
   Check{"terrain.BearingSolve.offset"}.non_negative("load", load);
   State& st = state_->ready("terrain.BearingSolve.offset");
   const auto cold = [&] {
-    return offset_for_load(st.columns, load, [&](double o) { return capacity_of(st.measure(o)); });
+    return offset_for_load(
+        st.columns, load, [&](double o) { return capacity_of(st.measure(o)); }, st.bedrock);
   };
   const auto g = [&](double o) { return capacity_of(st.measure(o)) - load; };
   if (st.used == 0 || st.columns.empty()) return cold();
