@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "capacity_bytes.h"
+#include "flag_lanes.h"
 #include "shore/core/det_math.h"
 #include "stage_erode.h"
 #include "stage_imprint.h"
@@ -99,35 +100,11 @@ void ErodeStage::set_limits(const Region& region, const TerrainSettings& s, std:
   }
 }
 
-namespace {
-
-constexpr std::uint64_t kLowBits = 0x0101010101010101u;  // bit 0 of each byte
-
-/// Eight flag bytes from p as one word, byte j of it column j (little-endian lanes).
-std::uint64_t eight_flags(const unsigned char* p) {
-  std::uint64_t v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-
-/// Eight bytes of 0 or 1 packed into bits 0..7, byte j to bit j (the multiplication adds
-/// each byte's bit into the top byte at its own place, no two of them into one).
-std::uint64_t pack_bytes(std::uint64_t ones) { return (ones * 0x0102040810204080u) >> 56; }
-
-/// Per byte of flags, 1 where (f & (bit | kContact)) == bit (bit one of kCovered,
-/// kInterior), else 0: the bit set and kContact clear.
-std::uint64_t set_not_contact(std::uint64_t flags, int bit_shift) {
-  return (flags >> bit_shift) & ~(flags >> 2) & kLowBits;  // kContact is bit 2
-}
-
-}  // namespace
-
 // Fixed for the whole erosion: who may give, and the caps of columns not under a body.
 // Through raw pointers (through the vectors, each byte store may alias their data), and
-// the roles' bits eight columns at a time: on a little-endian machine the flag bytes are
-// read as one word, each role's byte test done in all eight lanes and packed into bits.
+// the roles' bits eight columns at a time (flag_lanes.h).
 void ErodeStage::assign_roles(const Region& region, std::span<const unsigned char> flags) {
-  static_assert(kInterior == 1 && kCovered == 2 && kContact == 4, "the lanes' shifts below");
+  namespace lanes = flag_lanes;
   const int w = region.w, h = region.h;
   const std::size_t size = region.size();
   // q_ is written for every giver before a receiver reads it; the rest is set below.
@@ -146,7 +123,6 @@ void ErodeStage::assign_roles(const Region& region, std::span<const unsigned cha
     cover[k] = (f[k] & kCovered) ? 1 : 0;
     cap[k] = (f[k] & kContact) ? 0.0 : kInf;  // under a body: set each pass
   }
-  constexpr bool kLanes = std::endian::native == std::endian::little;
   for (int y = 0; y < h; ++y) {
     std::uint64_t* give_row = givable_.row(y);
     std::uint64_t* over_row = overhang_.row(y);
@@ -155,12 +131,12 @@ void ErodeStage::assign_roles(const Region& region, std::span<const unsigned cha
       std::uint64_t give = 0, over = 0;
       const int x0 = i * 64, x1 = std::min(w, x0 + 64);
       int x = x0;
-      if constexpr (kLanes)
+      if constexpr (lanes::kFlagLanes)
         for (; x + 8 <= x1; x += 8) {
-          const std::uint64_t lanes = eight_flags(row + x);
+          const std::uint64_t eight = lanes::eight(row + x);
           // covered columns are interior (see ImprintStage::collide)
-          over |= pack_bytes(set_not_contact(lanes, 1)) << (x - x0);
-          give |= pack_bytes(set_not_contact(lanes, 0)) << (x - x0);
+          over |= lanes::pack(lanes::covered_only(eight)) << (x - x0);
+          give |= lanes::pack(lanes::interior_only(eight)) << (x - x0);
         }
       for (; x < x1; ++x) {
         over |= static_cast<std::uint64_t>((row[x] & (kCovered | kContact)) == kCovered) << (x - x0);
