@@ -29,7 +29,17 @@ void ContourStage::run(const Region& region, std::span<const unsigned char> flag
     const unsigned char* open = open_.data() + static_cast<std::size_t>(y) * w;
     int* level = contour_.data() + static_cast<std::size_t>(y) * w;
     int first = region.w, last = -1;
-    for (int x = 0; x < region.w; ++x) {
+    int x = 0;
+    if constexpr (flag_lanes::kFlagLanes)  // eight open columns at once: levels 0, no bound moved
+      for (; x + 8 <= region.w; x += 8)
+        if (flag_lanes::eight(open + x) == flag_lanes::kLowBits)
+          std::fill(level + x, level + x + 8, 0);
+        else
+          for (int a = x; a < x + 8; ++a) {
+            level[a] = open[a] ? 0 : big;
+            if (!open[a]) first = std::min(first, a), last = a;
+          }
+    for (; x < region.w; ++x) {
       level[x] = open[x] ? 0 : big;
       if (!open[x]) first = std::min(first, x), last = x;
     }

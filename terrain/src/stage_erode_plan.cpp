@@ -2,7 +2,6 @@
 // stop and what carries over to the next step.
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -117,10 +116,16 @@ void ErodeStage::assign_roles(const Region& region, std::span<const unsigned cha
   unsigned char* cover = cover_.data();
   double* out = out_.data();
   double* cap = cap_.data();
-  for (std::size_t k = 0; k < size; ++k) {
-    mask[k] = 0;
+  std::size_t k = 0;
+  if constexpr (lanes::kFlagLanes)  // the bytes eight at a time
+    for (; k + 8 <= size; k += 8) {
+      const std::uint64_t none = 0, covered = (lanes::eight(f + k) >> 1) & lanes::kLowBits;
+      std::memcpy(mask + k, &none, sizeof none);
+      std::memcpy(cover + k, &covered, sizeof covered);
+    }
+  for (; k < size; ++k) mask[k] = 0, cover[k] = (f[k] & kCovered) ? 1 : 0;
+  for (k = 0; k < size; ++k) {
     out[k] = 0.0;
-    cover[k] = (f[k] & kCovered) ? 1 : 0;
     cap[k] = (f[k] & kContact) ? 0.0 : kInf;  // under a body: set each pass
   }
   for (int y = 0; y < h; ++y) {
