@@ -91,27 +91,27 @@ namespace {
 
 /// The columns the envelope lowered by offset touches into touching (indices, ascending),
 /// visiting those among lists (every column when null); their bounding box into box
-/// (i0, j0, i1, j1, inclusive). Returns how many.
+/// (i0, j0, i1, j1, inclusive). Returns how many. The columns come row by row (window
+/// order), so the first and last touching ones hold the least and the greatest j.
 std::size_t find_touching(std::span<const BearingColumn> columns, double offset, double tol, TouchingColumns& touching,
                           const TouchingColumns* among, std::int64_t box[4]) {
   const std::size_t visits = among ? among->count : columns.size();
   if (touching.index.size() < visits) touching.index.resize(visits);
   std::uint32_t* const list = touching.index.data();
-  std::int64_t i0 = std::numeric_limits<std::int64_t>::max(), j0 = i0;
-  std::int64_t i1 = std::numeric_limits<std::int64_t>::min(), j1 = i1;
+  std::int64_t i0 = std::numeric_limits<std::int64_t>::max(), i1 = std::numeric_limits<std::int64_t>::min();
   std::size_t n = 0;
   const auto visit = [&](std::uint32_t k) {
     const BearingColumn& c = columns[k];
     if (!(c.lower - offset <= c.top + tol)) return;
     list[n++] = k;
-    i0 = std::min(i0, c.i), i1 = std::max(i1, c.i), j0 = std::min(j0, c.j), j1 = std::max(j1, c.j);
+    i0 = std::min(i0, c.i), i1 = std::max(i1, c.i);
   };
   if (among)
     for (std::size_t t = 0; t < visits; ++t) visit(among->index[t]);
   else
     for (std::size_t k = 0; k < visits; ++k) visit(static_cast<std::uint32_t>(k));
   touching.count = n;
-  box[0] = i0, box[1] = j0, box[2] = i1, box[3] = j1;
+  if (n > 0) box[0] = i0, box[1] = columns[list[0]].j, box[2] = i1, box[3] = columns[list[n - 1]].j;
   return n;
 }
 

@@ -49,6 +49,7 @@ void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std:
 /// Whether powers were made by bearing_powers(palette) for a palette with these exponents.
 [[nodiscard]] bool powers_fit(std::span<const det::FixedPower> powers, std::span<const Material> palette);
 /// Bekker capacity of the columns the envelope, lowered by offset, touches (Terrain::bearing).
+/// The columns in window order, row by row (as bearing_columns() gives them).
 /// Each column bears by its own material's law: palette[mats[k]] (mats empty: palette[0]),
 /// its z^n by powers[mats[k]] (bearing_powers(palette)); a layered column (layers[k], when
 /// layers is not empty) by its two-piece law (layers.h).
