@@ -327,8 +327,7 @@ GridRect EnvelopeRasterizer::window_of(const btCollisionShape& shape, const btTr
 int EnvelopeRasterizer::rasterize(const btCollisionShape& shape, const btTransform& pose, EnvelopeRaster& out) {
   const GridRect w = window_of(shape, pose);
   out.resize(w.i0, w.j0, w.nx, w.ny, options_.upper);
-  draw_fresh(shape, pose, out);
-  return count_covered(out);
+  return draw_fresh(shape, pose, out);
 }
 
 int EnvelopeRasterizer::rasterize(const btCollisionShape& shape, const btTransform& pose, const GridRect& window,
@@ -338,14 +337,14 @@ int EnvelopeRasterizer::rasterize(const btCollisionShape& shape, const btTransfo
   Vec3 mn, mx;
   checked_aabb(shape, pose, mn, mx);
   out.resize(window.i0, window.j0, window.nx, window.ny, options_.upper);
-  draw_fresh(shape, pose, out);
-  return count_covered(out);
+  return draw_fresh(shape, pose, out);
 }
 
-void EnvelopeRasterizer::draw_fresh(const btCollisionShape& shape, const btTransform& pose, EnvelopeRaster& out) {
+int EnvelopeRasterizer::draw_fresh(const btCollisionShape& shape, const btTransform& pose, EnvelopeRaster& out) {
   try {
     Canvas cv(out, grid_, options_);
     ShapeDrawer(cv, *cache_).draw(shape, pose, 0);
+    return cv.newly_covered();  // the raster was all uncovered: its covered columns
   } catch (...) {
     out.resize(out.i0, out.j0, 0, 0, false);  // never leave a half-drawn raster behind
     throw;

@@ -75,9 +75,15 @@ class Canvas {
   /// Merges the interval [lo, hi] of world heights into column (i, j) (inside the raster).
   void put(std::int64_t i, std::int64_t j, double lo, double hi) noexcept {
     const std::size_t k = out_.index(i, j);
-    if (lo < out_.lower[k]) out_.lower[k] = lo;
+    if (lo < out_.lower[k]) {
+      newly_covered_ += out_.lower[k] == EnvelopeRaster::kNoLower ? 1 : 0;
+      out_.lower[k] = lo;
+    }
     if (upper_ && hi > out_.upper[k]) out_.upper[k] = hi;
   }
+  /// How many columns put() covered that were uncovered before (put is the only writer of
+  /// the raster): on a fresh raster, every column it covers.
+  [[nodiscard]] int newly_covered() const noexcept { return newly_covered_; }
 
   /// Raster window in world coordinates (x range, y range).
   [[nodiscard]] double x_min() const noexcept { return x(out_.i0); }
@@ -106,6 +112,7 @@ class Canvas {
   const EnvelopeGrid& grid_;
   const EnvelopeOptions& options_;
   bool upper_;
+  int newly_covered_ = 0;
 };
 
 // ---- analytic primitives (envelope_convex.cpp) -------------------------------------------

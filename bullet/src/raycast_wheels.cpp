@@ -184,47 +184,70 @@ double wall_push(const terrain::Terrain& terrain, const terrain::Bearing& bearin
   return std::clamp(push, -load, load);
 }
 
+/// The kept columns of a row of n (KeptRun). behind(a) is monotone along the row (a
+/// column's distance ahead, dx(a) hx + dy hy, grows with a for hx > 0 and falls for hx < 0:
+/// every rounding in it is monotone), so they are one run at one end of the row, found by
+/// bisection with the same test.
+template <class Behind>
+KeptRun kept_run(std::size_t n, double hx, const Behind& behind) {
+  if (n == 0) return {};
+  if (!(hx > 0.0) && !(hx < 0.0)) return behind(0) ? KeptRun{0, 0} : KeptRun{0, n};  // level across the row
+  // The first column whose test differs from column 0's (n if none).
+  const bool at_first = behind(0);
+  std::size_t lo = 0, hi = n;  // behind(lo) == at_first; the answer in (lo, hi]
+  while (hi - lo > 1) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    (behind(mid) == at_first ? lo : hi) = mid;
+  }
+  return at_first ? KeptRun{hi, n} : KeptRun{0, hi};
+}
+
 /// `envelope`'s columns at and ahead of the wheel's lowest point along `heading` into
 /// `front`, the others left uncovered: a rolling wheel bears on its front arc (Bekker's
 /// rolling wheel); the soil behind it unloads as the rim rises away. Only `lower` is kept
 /// (the bearing reads nothing else), over the kept columns' bounding box: those that read
 /// it (the bearing's columns, the loosening's weights) skip no rear half, and the kept
 /// columns come in the same order as over the whole window (row by row), so the same sums.
-/// The window is marked in `marked` (scratch that only grows: a vector grown back to the
-/// window's size after each crop would zero the part it regrows before it is overwritten).
+/// Each row's kept run is found first (`runs`, scratch), then the box is written once.
 void keep_front(const ColumnOffsets& from_centre, const btVector3& heading, const EnvelopeRaster& envelope,
-                EnvelopeRaster& front, std::vector<double>& marked) {
+                EnvelopeRaster& front, std::vector<KeptRun>& runs) {
   static_cast<GridRect&>(front) = envelope;
   front.upper.clear();
-  if (marked.size() < envelope.lower.size()) marked.resize(envelope.lower.size());
   const double hx = double(heading.x()), hy = double(heading.y());
   const auto nx = static_cast<std::size_t>(envelope.nx);
-  std::size_t a0 = nx, a1 = 0;  // the kept columns' bounding box, [a0, a1) x [b0, b1)
+  runs.resize(static_cast<std::size_t>(envelope.ny));
+  std::size_t a0 = nx, a1 = 0;  // the kept covered columns' bounding box, [a0, a1) x [b0, b1)
   int b0 = envelope.ny, b1 = 0;
   for (int b = 0; b < envelope.ny; ++b) {
     const double along_y = from_centre.dy(envelope.j0 + b) * hy;
     const double* in = envelope.lower.data() + static_cast<std::size_t>(b) * nx;
-    double* out = marked.data() + static_cast<std::size_t>(b) * nx;
-    std::size_t first = nx, last = 0;
-    for (std::size_t a = 0; a < nx; ++a) {
-      out[a] = from_centre.dx(envelope.i0 + static_cast<std::int64_t>(a)) * hx + along_y < 0.0
-                   ? EnvelopeRaster::kNoLower
-                   : in[a];
-      if (out[a] != EnvelopeRaster::kNoLower) first = std::min(first, a), last = a + 1;
-    }
-    if (first < last) a0 = std::min(a0, first), a1 = std::max(a1, last), b0 = std::min(b0, b), b1 = b + 1;
+    KeptRun run = kept_run(nx, hx, [&](std::size_t a) {
+      return from_centre.dx(envelope.i0 + static_cast<std::int64_t>(a)) * hx + along_y < 0.0;
+    });
+    while (run.first < run.last && in[run.first] == EnvelopeRaster::kNoLower) ++run.first;  // covered only
+    while (run.first < run.last && in[run.last - 1] == EnvelopeRaster::kNoLower) --run.last;
+    runs[static_cast<std::size_t>(b)] = run;
+    if (run.first < run.last)
+      a0 = std::min(a0, run.first), a1 = std::max(a1, run.last), b0 = std::min(b0, b), b1 = b + 1;
   }
   if (b0 >= b1) {  // nothing ahead: the whole window, uncovered
-    front.lower.assign(marked.begin(), marked.begin() + static_cast<std::ptrdiff_t>(envelope.lower.size()));
+    front.lower.assign(envelope.lower.size(), EnvelopeRaster::kNoLower);
     return;
   }
   const std::size_t width = a1 - a0;
   static_cast<GridRect&>(front) =
       GridRect{envelope.i0 + static_cast<std::int64_t>(a0), envelope.j0 + b0, static_cast<int>(width), b1 - b0};
   front.lower.resize(front.size());
-  for (int b = b0; b < b1; ++b)
-    std::copy_n(marked.data() + static_cast<std::size_t>(b) * nx + a0, width,
-                front.lower.data() + static_cast<std::size_t>(b - b0) * width);
+  for (int b = b0; b < b1; ++b) {
+    const KeptRun run = runs[static_cast<std::size_t>(b)];
+    double* out = front.lower.data() + static_cast<std::size_t>(b - b0) * width;
+    // An empty run writes the whole row uncovered.
+    const std::size_t from = run.first < run.last ? run.first : a1, to = run.first < run.last ? run.last : a1;
+    std::fill(out, out + (from - a0), EnvelopeRaster::kNoLower);
+    std::copy(envelope.lower.data() + static_cast<std::size_t>(b) * nx + from,
+              envelope.lower.data() + static_cast<std::size_t>(b) * nx + to, out + (from - a0));
+    std::fill(out + (to - a0), out + width, EnvelopeRaster::kNoLower);
+  }
 }
 
 struct RimSpan {
@@ -511,8 +534,7 @@ void RaycastWheels::read_bearing(const terrain::Terrain& terrain, Wheel& wheel, 
   wheel.from_centre.read(terrain, wheel.envelope, double(p.pose.getOrigin().x()), double(p.pose.getOrigin().y()));
   // Rolling (faster than kRolling along its heading): the front arc bears; at rest, both.
   if (std::abs(speed) > kRolling)
-    keep_front(wheel.from_centre, speed > 0 ? forward : -forward, wheel.envelope, wheel.bearing_part,
-               wheel.front_marked);
+    keep_front(wheel.from_centre, speed > 0 ? forward : -forward, wheel.envelope, wheel.bearing_part, wheel.front_runs);
   else
     wheel.bearing_part = wheel.envelope;
   wheel.solve.reset(terrain, wheel.bearing_part);

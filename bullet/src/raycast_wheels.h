@@ -63,6 +63,12 @@ struct AxisStep {
 /// The window grown by one column on every side: each column's neighbours too.
 GridRect ring_of(const GridRect& window);
 
+/// The columns of one window row a rolling wheel's front arc keeps, [first, last)
+/// (raycast_wheels.cpp, keep_front).
+struct KeptRun {
+  std::size_t first = 0, last = 0;
+};
+
 /// Scratch of the rut walls' push (raycast_wheels.cpp, wall_push).
 struct WallScratch {
   /// The surface over `ring`, read from `terrain` unless the last read was of this ring
@@ -133,11 +139,11 @@ class RaycastWheels {
     /// The whole cylinder's window: the rut walls read the ground over it, whether the
     /// envelope is cut or not (their bilinear weights depend on a column's place in it).
     GridRect window;
-    double last_deepest = 0.0;         ///< m: the deepest offset its last press measured
-    EnvelopeRaster bearing_part;       ///< what bears its load (the front arc when rolling)
-    std::vector<double> front_marked;  ///< scratch: the window with the front arc marked (keep_front)
-    terrain::BearingSolve solve;       ///< scratch: bearing_part's columns and capacities
-    ColumnOffsets from_centre;         ///< scratch: the envelope's columns from the wheel's centre
+    double last_deepest = 0.0;        ///< m: the deepest offset its last press measured
+    EnvelopeRaster bearing_part;      ///< what bears its load (the front arc when rolling)
+    std::vector<KeptRun> front_runs;  ///< scratch: each window row's kept run (keep_front)
+    terrain::BearingSolve solve;      ///< scratch: bearing_part's columns and capacities
+    ColumnOffsets from_centre;        ///< scratch: the envelope's columns from the wheel's centre
     terrain::Imprint imprint;
     double push = 0.0;       ///< N along the heading, last substep
     double wall_push = 0.0;  ///< N along the axle's horizontal direction, last substep (wall_push)

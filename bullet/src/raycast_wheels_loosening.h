@@ -45,6 +45,7 @@ class RimLoosening {
   std::vector<double> strip_;    ///< per strip along the heading: its weight
   std::vector<double> theta_;    ///< per strip: its centre's rim angle, rad
   std::vector<double> along_x_;  ///< scratch: per column along x, its offset's part along the heading
+  std::vector<double> along_y_;  ///< scratch: the same per row along y
   double radius_ = 0.0, cell_ = 0.0;
   int half_ = 0;  ///< strips -half_..half_
 };

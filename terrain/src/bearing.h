@@ -35,15 +35,21 @@ struct BearingColumn {
                                                          bool only_touching, double offset,
                                                          std::vector<std::uint8_t>* mats,
                                                          std::vector<ColumnLayer>* layers = nullptr);
-/// bearing_columns() into columns (cleared first), whose buffer it reuses.
+/// bearing_columns() into columns (cleared first), whose buffer it reuses. With bedrock,
+/// bedrock_offset(columns) into *bedrock, worked out as the columns are read.
 void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
                           const EnvelopeRaster& env, bool only_touching, double offset, std::vector<std::uint8_t>* mats,
-                          std::vector<ColumnLayer>* layers, std::vector<BearingColumn>& columns);
+                          std::vector<ColumnLayer>* layers, std::vector<BearingColumn>& columns,
+                          double* bedrock = nullptr);
+/// The offset at which every column's envelope reaches its bedrock, which carries anything:
+/// the largest lower - bed, 0 at least (offset_for_load's bracket limit).
+[[nodiscard]] double bedrock_offset(std::span<const BearingColumn> columns);
 /// z^n for each palette entry's Bekker exponent n, in palette order: the bearing's power law.
 [[nodiscard]] std::vector<det::FixedPower> bearing_powers(std::span<const Material> palette);
 /// Whether powers were made by bearing_powers(palette) for a palette with these exponents.
 [[nodiscard]] bool powers_fit(std::span<const det::FixedPower> powers, std::span<const Material> palette);
 /// Bekker capacity of the columns the envelope, lowered by offset, touches (Terrain::bearing).
+/// The columns in window order, row by row (as bearing_columns() gives them).
 /// Each column bears by its own material's law: palette[mats[k]] (mats empty: palette[0]),
 /// its z^n by powers[mats[k]] (bearing_powers(palette)); a layered column (layers[k], when
 /// layers is not empty) by its two-piece law (layers.h).
@@ -51,10 +57,22 @@ void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std:
                                std::span<const ColumnLayer> layers, const TerrainSettings& s,
                                std::span<const Material> palette, std::span<const det::FixedPower> powers,
                                double offset, bool with_columns);
-/// capacity() into out, whose buffers it reuses (out.columns is cleared first).
+/// The columns an envelope lowered by one offset touches, as indices into the columns
+/// capacity_into() was given, ascending. The buffer only grows (a vector shrunk to each
+/// count would zero what it regrows); its first `count` entries are the list.
+struct TouchingColumns {
+  std::vector<std::uint32_t> index;
+  std::size_t count = 0;
+};
+/// capacity() into out, whose buffers it reuses (out.columns is cleared first); the
+/// touching columns into touching. With among (the touching columns at an offset no
+/// smaller than this one), only those are visited: a column the envelope lowered by more
+/// does not touch, lowered by less does not either (c.lower - offset falls as the offset
+/// grows, rounding and all), so the same columns in the same order, the same bits.
 void capacity_into(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
                    std::span<const ColumnLayer> layers, const TerrainSettings& s, std::span<const Material> palette,
-                   std::span<const det::FixedPower> powers, double offset, bool with_columns, Bearing& out);
+                   std::span<const det::FixedPower> powers, double offset, bool with_columns, Bearing& out,
+                   TouchingColumns& touching, const TouchingColumns* among = nullptr);
 /// The offset at which the capacity equals load (Terrain::bearing_offset).
 [[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, std::span<const std::uint8_t> mats,
                                      std::span<const ColumnLayer> layers, const TerrainSettings& s,
@@ -64,5 +82,8 @@ void capacity_into(std::span<const BearingColumn> columns, std::span<const std::
 /// returns was measured by capacity_at, except 0 when columns is empty.
 [[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, double load,
                                      const std::function<double(double)>& capacity_at);
+/// The same with the columns' bedrock_offset() given (bedrock): none of them is read again.
+[[nodiscard]] double offset_for_load(std::span<const BearingColumn> columns, double load,
+                                     const std::function<double(double)>& capacity_at, double bedrock);
 
 }  // namespace shore::terrain

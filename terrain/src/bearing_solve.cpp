@@ -1,6 +1,9 @@
 #include "shore/terrain/bearing_solve.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include "bearing.h"
@@ -30,6 +33,10 @@ struct BearingSolve::State {
   std::vector<Bearing> measured;
   std::size_t used = 0;
   double bedrock = 0.0;  ///< offset_for_load's bracket limit for these columns
+  /// The columns touching at the deepest offset measured since the reset (`reach_offset`,
+  /// NaN before the first): a shallower one touches only among them (capacity_into).
+  TouchingColumns reach, touching;
+  double reach_offset = std::numeric_limits<double>::quiet_NaN();
 
   const Bearing* find(double offset) const {
     for (std::size_t k = 0; k < used; ++k)
@@ -48,7 +55,10 @@ struct BearingSolve::State {
     if (const Bearing* known = find(offset)) return *known;
     if (used == measured.size()) measured.emplace_back(), offsets.push_back(0.0);
     offsets[used] = offset;
-    capacity_into(columns, mats, layers, terrain->s, terrain->palette, powers, offset, true, measured[used]);
+    const bool within = offset <= reach_offset;  // false before the first (NaN)
+    capacity_into(columns, mats, layers, terrain->s, terrain->palette, powers, offset, true, measured[used], touching,
+                  within ? &reach : nullptr);
+    if (!within && !std::isnan(offset)) std::swap(reach, touching), reach_offset = offset;
     return measured[used++];
   }
 };
@@ -64,20 +74,20 @@ void BearingSolve::reset(const Terrain& terrain, const EnvelopeRaster& envelope)
   st.terrain = terrain.impl_.get();
   if (!powers_fit(st.powers, st.terrain->palette)) st.powers = bearing_powers(st.terrain->palette);
   st.used = 0;
+  st.reach_offset = std::numeric_limits<double>::quiet_NaN();
   st.mats.clear();
   const bool layered = st.terrain->tiles.layered();
   bearing_columns_into(st.terrain->tiles, st.terrain->s, st.terrain->palette, envelope, false, 0.0,
                        st.terrain->palette.size() > 1 || layered ? &st.mats : nullptr, layered ? &st.layers : nullptr,
-                       st.columns);
+                       st.columns, &st.bedrock);
   if (!layered) st.layers.clear();
-  st.bedrock = 0.0;  // as offset_for_load's limit
-  for (const BearingColumn& c : st.columns) st.bedrock = std::max(st.bedrock, c.lower - c.bed);
 }
 
 double BearingSolve::offset(double load) {
   Check{"terrain.BearingSolve.offset"}.non_negative("load", load);
   State& st = state_->ready("terrain.BearingSolve.offset");
-  return offset_for_load(st.columns, load, [&](double o) { return st.measure(o).capacity; });
+  return offset_for_load(
+      st.columns, load, [&](double o) { return st.measure(o).capacity; }, st.bedrock);
 }
 
 double BearingSolve::offset_under_spring(double load, double spring) {
@@ -87,14 +97,16 @@ double BearingSolve::offset_under_spring(double load, double spring) {
   State& st = state_->ready("terrain.BearingSolve.offset_under_spring");
   // capacity(o) >= load - spring o, the spring's share moved to the soil's side: the sum
   // grows with o as the capacity does, so the plain search finds its one root.
-  return offset_for_load(st.columns, load, [&](double o) { return st.measure(o).capacity + spring * o; });
+  return offset_for_load(
+      st.columns, load, [&](double o) { return st.measure(o).capacity + spring * o; }, st.bedrock);
 }
 
 double BearingSolve::offset(double load, const std::function<double(const Bearing&)>& capacity_of) {
   Check{"terrain.BearingSolve.offset"}.non_negative("load", load);
   State& st = state_->ready("terrain.BearingSolve.offset");
   const auto cold = [&] {
-    return offset_for_load(st.columns, load, [&](double o) { return capacity_of(st.measure(o)); });
+    return offset_for_load(
+        st.columns, load, [&](double o) { return capacity_of(st.measure(o)); }, st.bedrock);
   };
   const auto g = [&](double o) { return capacity_of(st.measure(o)) - load; };
   if (st.used == 0 || st.columns.empty()) return cold();

@@ -3,9 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <numbers>
 
 #include "capacity_bytes.h"
+#include "flag_lanes.h"
 #include "shore/core/det_math.h"
 #include "stage_erode.h"
 #include "stage_imprint.h"
@@ -97,7 +100,10 @@ void ErodeStage::set_limits(const Region& region, const TerrainSettings& s, std:
 }
 
 // Fixed for the whole erosion: who may give, and the caps of columns not under a body.
+// Through raw pointers (through the vectors, each byte store may alias their data), and
+// the roles' bits eight columns at a time (flag_lanes.h).
 void ErodeStage::assign_roles(const Region& region, std::span<const unsigned char> flags) {
+  namespace lanes = flag_lanes;
   const int w = region.w, h = region.h;
   const std::size_t size = region.size();
   // q_ is written for every giver before a receiver reads it; the rest is set below.
@@ -105,19 +111,43 @@ void ErodeStage::assign_roles(const Region& region, std::span<const unsigned cha
   mask_.resize(size);
   cover_.resize(size);
   givable_.reset(w, h), overhang_.reset(w, h);
+  const unsigned char* f = flags.data();
+  unsigned char* mask = mask_.data();
+  unsigned char* cover = cover_.data();
+  double* out = out_.data();
+  double* cap = cap_.data();
+  std::size_t k = 0;
+  if constexpr (lanes::kFlagLanes)  // the bytes eight at a time
+    for (; k + 8 <= size; k += 8) {
+      const std::uint64_t none = 0, covered = (lanes::eight(f + k) >> 1) & lanes::kLowBits;
+      std::memcpy(mask + k, &none, sizeof none);
+      std::memcpy(cover + k, &covered, sizeof covered);
+    }
+  for (; k < size; ++k) mask[k] = 0, cover[k] = (f[k] & kCovered) ? 1 : 0;
+  for (k = 0; k < size; ++k) {
+    out[k] = 0.0;
+    cap[k] = (f[k] & kContact) ? 0.0 : kInf;  // under a body: set each pass
+  }
   for (int y = 0; y < h; ++y) {
     std::uint64_t* give_row = givable_.row(y);
     std::uint64_t* over_row = overhang_.row(y);
-    for (int x = 0; x < w; ++x) {
-      const std::size_t k = region.at(x, y);
-      const unsigned char f = flags[k];
-      mask_[k] = 0;
-      out_[k] = 0.0;
-      cover_[k] = (f & kCovered) ? 1 : 0;
-      cap_[k] = (f & kContact) ? 0.0 : kInf;  // under a body: set each pass
-      // covered columns are interior (see ImprintStage::collide)
-      if ((f & (kCovered | kContact)) == kCovered) over_row[x >> 6] |= ColumnBits::bit(x);
-      if ((f & (kInterior | kContact)) == kInterior) give_row[x >> 6] |= ColumnBits::bit(x);
+    const unsigned char* row = f + region.at(0, y);
+    for (int i = 0; i < givable_.words; ++i) {
+      std::uint64_t give = 0, over = 0;
+      const int x0 = i * 64, x1 = std::min(w, x0 + 64);
+      int x = x0;
+      if constexpr (lanes::kFlagLanes)
+        for (; x + 8 <= x1; x += 8) {
+          const std::uint64_t eight = lanes::eight(row + x);
+          // covered columns are interior (see ImprintStage::collide)
+          over |= lanes::pack(lanes::covered_only(eight)) << (x - x0);
+          give |= lanes::pack(lanes::interior_only(eight)) << (x - x0);
+        }
+      for (; x < x1; ++x) {
+        over |= static_cast<std::uint64_t>((row[x] & (kCovered | kContact)) == kCovered) << (x - x0);
+        give |= static_cast<std::uint64_t>((row[x] & (kInterior | kContact)) == kInterior) << (x - x0);
+      }
+      over_row[i] = over, give_row[i] = give;
     }
   }
   steep_givers_.reset(w, h);

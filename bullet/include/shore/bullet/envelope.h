@@ -106,7 +106,8 @@ class EnvelopeRasterizer {
   struct Cache;  ///< opaque: hull triangulations
 
  private:
-  void draw_fresh(const btCollisionShape& shape, const btTransform& pose, EnvelopeRaster& out);
+  /// Draws the shape into out, all uncovered before; returns how many columns it covers.
+  int draw_fresh(const btCollisionShape& shape, const btTransform& pose, EnvelopeRaster& out);
 
   EnvelopeGrid grid_;
   EnvelopeOptions options_;
