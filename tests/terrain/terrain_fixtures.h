@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <numbers>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,21 @@ inline EnvelopeRaster box_envelope(std::int64_t i0, std::int64_t j0, int nx, int
   for (std::int64_t j = j0; j < j0 + ny; ++j)
     for (std::int64_t i = i0; i < i0 + nx; ++i) env.lower[env.index(i, j)] = bottom;
   return env;
+}
+
+/// A 3 x 3 column plate sliding 1 mm deep along x at 1 m/s from column (i0, j0), one column
+/// a step, its clinging soil stepped every second step; from step 6 on it is lifted and
+/// sheds what clings to it.
+inline void slide_clinging_plate(Terrain& t, int step, std::int64_t i0, std::int64_t j0, std::uint64_t key) {
+  const bool lifted = step >= 6;
+  const EnvelopeRaster env = box_envelope(i0 + step, j0, 3, 3, lifted ? 0.05 : -0.001);
+  Imprint im;
+  im.envelope = &env;
+  im.velocity.x = 1.0;
+  im.centre.x = t.column_x(i0 + 1 + step), im.centre.y = t.column_y(j0 + 1), im.centre.z = lifted ? 0.1 : 0.05;
+  im.key = key;
+  im.cling_every = 2;
+  t.step(std::span<const Imprint>(&im, 1), 1.0 / 240);
 }
 
 /// Volume (m^3) above and below the base over a rectangle of columns.

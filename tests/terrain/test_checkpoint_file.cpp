@@ -60,17 +60,7 @@ TEST(Checkpoint, SoilRunContinuesIdenticallyFromTheFile) {
 // A sliding plate whose clinging soil is stepped every second step, saved after a step
 // that skipped it: the restored body's next clinging step still covers two steps' time.
 TEST(Checkpoint, ABodyBetweenTwoClingingStepsContinuesIdenticallyFromTheFile) {
-  const auto slide = [](Terrain& t, int k) {
-    const bool lifted = k >= 6;
-    const EnvelopeRaster env = testing::box_envelope(10 + k, 10, 3, 3, lifted ? 0.05 : -0.001);
-    Imprint im;
-    im.envelope = &env;
-    im.velocity.x = 1.0;
-    im.centre.x = t.column_x(11 + k), im.centre.y = t.column_y(11), im.centre.z = lifted ? 0.1 : 0.05;
-    im.key = 4;
-    im.cling_every = 2;
-    t.step(std::span<const Imprint>(&im, 1), 1.0 / 240);
-  };
+  const auto slide = [](Terrain& t, int k) { testing::slide_clinging_plate(t, k, 10, 10, 4); };
   Terrain uninterrupted(sand());
   int k = 0;
   for (; k < 11; ++k) slide(uninterrupted, k);  // 10 clung, 11 will not

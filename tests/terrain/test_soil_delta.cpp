@@ -201,19 +201,8 @@ TEST(SoilDelta, TerrainBytesContinueIdentically) {
   EXPECT_EQ(a.state_hash(), b.state_hash());
 }
 
-// A plate that slides 1 mm into the soil along x at 1 m/s, its clinging soil stepped
-// every second step, then is lifted and sheds it.
-void slide(Terrain& t, int step) {
-  const bool lifted = step >= 6;
-  const EnvelopeRaster env = testing::box_envelope(20 + step, 10, 3, 3, lifted ? 0.05 : -0.001);
-  Imprint imprint;
-  imprint.envelope = &env;
-  imprint.velocity.x = 1.0;
-  imprint.centre.x = t.column_x(21 + step), imprint.centre.y = t.column_y(11), imprint.centre.z = lifted ? 0.1 : 0.05;
-  imprint.key = 2;
-  imprint.cling_every = 2;
-  t.step(std::span<const Imprint>(&imprint, 1), 1.0 / 240);
-}
+// The plate of testing::slide_clinging_plate, from column (20, 10).
+void slide(Terrain& t, int step) { testing::slide_clinging_plate(t, step, 20, 10, 2); }
 
 // An exact delta sent between the two clinging steps of the plate's cadence carries when
 // its soil was last stepped (version 6): the replica then continues as the server does.
