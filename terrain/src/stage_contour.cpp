@@ -30,15 +30,18 @@ void ContourStage::run(const Region& region, std::span<const unsigned char> flag
     int* level = contour_.data() + static_cast<std::size_t>(y) * w;
     int first = region.w, last = -1;
     int x = 0;
-    if constexpr (flag_lanes::kFlagLanes)  // eight open columns at once: levels 0, no bound moved
-      for (; x + 8 <= region.w; x += 8)
-        if (flag_lanes::eight(open + x) == flag_lanes::kLowBits)
+    if constexpr (flag_lanes::kFlagLanes) {  // eight open columns at once: levels 0, no bound moved
+      for (; x + 8 <= region.w; x += 8) {
+        if (flag_lanes::eight(open + x) == flag_lanes::kLowBits) {
           std::fill(level + x, level + x + 8, 0);
-        else
-          for (int a = x; a < x + 8; ++a) {
-            level[a] = open[a] ? 0 : big;
-            if (!open[a]) first = std::min(first, a), last = a;
-          }
+          continue;
+        }
+        for (int a = x; a < x + 8; ++a) {
+          level[a] = open[a] ? 0 : big;
+          if (!open[a]) first = std::min(first, a), last = a;
+        }
+      }
+    }
     for (; x < region.w; ++x) {
       level[x] = open[x] ? 0 : big;
       if (!open[x]) first = std::min(first, x), last = x;
@@ -67,13 +70,13 @@ void ContourStage::find_open(const Region& region, std::span<const unsigned char
   const std::size_t size = flags.size();
   open.resize(size);
   const unsigned char* f = flags.data();
-  std::size_t k = 0;
+  std::size_t first_left = 0;  // the columns before it stored eight at a time
   if constexpr (lanes::kFlagLanes)
-    for (; k + 8 <= size; k += 8) {
-      const std::uint64_t eight = lanes::uncovered(lanes::eight(f + k));
-      std::memcpy(open.data() + k, &eight, sizeof eight);
+    for (; first_left + 8 <= size; first_left += 8) {
+      const std::uint64_t eight = lanes::uncovered(lanes::eight(f + first_left));
+      std::memcpy(open.data() + first_left, &eight, sizeof eight);
     }
-  for (; k < size; ++k) open[k] = (f[k] & (kCovered | kContact)) ? 0 : 1;
+  for (std::size_t k = first_left; k < size; ++k) open[k] = (f[k] & (kCovered | kContact)) ? 0 : 1;
   const auto off = neighbour_offsets(region.w);
   auto pocket = [&](std::size_t k) { return !open[k] && (flags[k] & (kCovered | kContact)) == kCovered; };
   // The directions of the neighbours before a column in the scan: (-1, 0), (0, -1), (-1, -1), (1, -1).
