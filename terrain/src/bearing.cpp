@@ -28,9 +28,8 @@ std::vector<BearingColumn> bearing_columns(const TileStore& store, const Terrain
 
 void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
                           const EnvelopeRaster& env, bool only_touching, double offset, std::vector<std::uint8_t>* mats,
-                          std::vector<ColumnLayer>* layers, std::vector<BearingColumn>& columns, double* bedrock) {
+                          std::vector<ColumnLayer>* layers, std::vector<BearingColumn>& columns) {
   if (layers) layers->clear();
-  double deepest = 0.0;  // bedrock_offset(columns), in the same order
   const BedrockDepth depth(palette, s.material.soil_depth);
   const double tol = s.contact_tolerance;
   columns.clear();
@@ -50,12 +49,10 @@ void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std:
       }
       if (only_touching && !(e - offset <= c.top + tol)) continue;
       columns.push_back(c);
-      deepest = std::max(deepest, c.lower - c.bed);
       if (mats) mats->push_back(t && !t->material.empty() ? t->material[run.local + static_cast<std::size_t>(r)] : 0);
       if (layers) layers->push_back(t ? t->layer(run.local + static_cast<std::size_t>(r)) : ColumnLayer{});
     }
   });
-  if (bedrock) *bedrock = deepest;
 }
 
 double bedrock_offset(std::span<const BearingColumn> columns) {

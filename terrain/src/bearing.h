@@ -35,12 +35,10 @@ struct BearingColumn {
                                                          bool only_touching, double offset,
                                                          std::vector<std::uint8_t>* mats,
                                                          std::vector<ColumnLayer>* layers = nullptr);
-/// bearing_columns() into columns (cleared first), whose buffer it reuses. With bedrock,
-/// bedrock_offset(columns) into *bedrock, worked out as the columns are read.
+/// bearing_columns() into columns (cleared first), whose buffer it reuses.
 void bearing_columns_into(const TileStore& store, const TerrainSettings& s, std::span<const Material> palette,
                           const EnvelopeRaster& env, bool only_touching, double offset, std::vector<std::uint8_t>* mats,
-                          std::vector<ColumnLayer>* layers, std::vector<BearingColumn>& columns,
-                          double* bedrock = nullptr);
+                          std::vector<ColumnLayer>* layers, std::vector<BearingColumn>& columns);
 /// The offset at which every column's envelope reaches its bedrock, which carries anything:
 /// the largest lower - bed, 0 at least (offset_for_load's bracket limit).
 [[nodiscard]] double bedrock_offset(std::span<const BearingColumn> columns);

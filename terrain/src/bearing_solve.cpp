@@ -79,8 +79,9 @@ void BearingSolve::reset(const Terrain& terrain, const EnvelopeRaster& envelope)
   const bool layered = st.terrain->tiles.layered();
   bearing_columns_into(st.terrain->tiles, st.terrain->s, st.terrain->palette, envelope, false, 0.0,
                        st.terrain->palette.size() > 1 || layered ? &st.mats : nullptr, layered ? &st.layers : nullptr,
-                       st.columns, &st.bedrock);
+                       st.columns);
   if (!layered) st.layers.clear();
+  st.bedrock = terrain::bedrock_offset(st.columns);  // once per reset, not once per solve
 }
 
 double BearingSolve::offset(double load) {

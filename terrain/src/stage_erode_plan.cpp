@@ -116,14 +116,14 @@ void ErodeStage::assign_roles(const Region& region, std::span<const unsigned cha
   unsigned char* cover = cover_.data();
   double* out = out_.data();
   double* cap = cap_.data();
+  std::memset(mask, 0, size);
   std::size_t k = 0;
-  if constexpr (lanes::kFlagLanes)  // the bytes eight at a time
+  if constexpr (lanes::kFlagLanes)  // the cover bytes eight at a time
     for (; k + 8 <= size; k += 8) {
-      const std::uint64_t none = 0, covered = (lanes::eight(f + k) >> 1) & lanes::kLowBits;
-      std::memcpy(mask + k, &none, sizeof none);
+      const std::uint64_t covered = (lanes::eight(f + k) >> 1) & lanes::kLowBits;
       std::memcpy(cover + k, &covered, sizeof covered);
     }
-  for (; k < size; ++k) mask[k] = 0, cover[k] = (f[k] & kCovered) ? 1 : 0;
+  for (; k < size; ++k) cover[k] = (f[k] & kCovered) ? 1 : 0;
   for (k = 0; k < size; ++k) {
     out[k] = 0.0;
     cap[k] = (f[k] & kContact) ? 0.0 : kInf;  // under a body: set each pass
