@@ -17,18 +17,28 @@ inline namespace SHORE_BULLET_ABI {
 
 namespace {
 
-/// Bullet's heightfield, told the range its heights have reached. Bullet finds the
-/// triangles under a box (a body's AABB in the narrow phase, a sweep's) by visiting every
-/// cell under it and keeping those whose height range meets the box's: a car body a metre
-/// above 1 cm ground visits some 50,000 cells per substep to keep none. A box wholly above
-/// the highest height the tile has held, or below the lowest, meets no triangle, so it is
-/// answered at once: the same triangles (none), the same contacts, bit for bit.
+/// Bullet's heightfield, told the range its heights have reached and, optionally, to give
+/// convex queries coarser triangles.
+///
+/// The range: Bullet finds the triangles under a box (a body's AABB in the narrow phase, a
+/// sweep's) by visiting every cell under it and keeping those whose height range meets the
+/// box's: a car body a metre above 1 cm ground visits some 50,000 cells per substep to keep
+/// none. A box wholly above the highest height the tile has held, or below the lowest, meets
+/// no triangle, so it is answered at once: the same triangles (none), the same contacts, bit
+/// for bit.
+///
+/// The stride: a character's capsule on 1 cm to 2 cm ground meets thousands of triangles in
+/// each of its sweeps and contacts, and Bullet runs GJK on every one (most of a walking
+/// character's substep). With a stride k the triangles are those of the heightfield sampled
+/// every k-th vertex. Rays do not come here (btCollisionWorld casts them through
+/// performRaycast), so they keep every vertex.
 class BoundedHeightfield final : public btHeightfieldTerrainShape {
  public:
-  BoundedHeightfield(int n, const float* heights, btScalar min_height, btScalar max_height, float initial)
+  BoundedHeightfield(int n, const float* heights, btScalar min_height, btScalar max_height, float initial, int stride)
       : btHeightfieldTerrainShape(n, n, heights, min_height, max_height, 2, false),
         lowest_(initial),
-        highest_(initial) {}
+        highest_(initial),
+        stride_(stride) {}
   void widen(float lo, float hi) {
     lowest_ = std::min(lowest_, lo);
     highest_ = std::max(highest_, hi);
@@ -39,11 +49,51 @@ class BoundedHeightfield final : public btHeightfieldTerrainShape {
     const btScalar top = (btScalar(highest_) - m_localOrigin[m_upAxis]) * m_localScaling[m_upAxis];
     const btScalar bottom = (btScalar(lowest_) - m_localOrigin[m_upAxis]) * m_localScaling[m_upAxis];
     if (aabbMin[m_upAxis] > top || aabbMax[m_upAxis] < bottom) return;
-    btHeightfieldTerrainShape::processAllTriangles(callback, aabbMin, aabbMax);
+    if (stride_ == 1)
+      btHeightfieldTerrainShape::processAllTriangles(callback, aabbMin, aabbMax);
+    else
+      coarse_triangles(callback, aabbMin, aabbMax);
   }
 
  private:
+  /// The cells of the stride's coarse grid under the box, as Bullet splits a cell (its
+  /// default diagonal, the winding flipped as the tile sets it), each triangle passed on
+  /// only if its height range meets the box's.
+  void coarse_triangles(btTriangleCallback* callback, const btVector3& aabbMin, const btVector3& aabbMax) const {
+    const btVector3 inverse(btScalar(1) / m_localScaling[0], btScalar(1) / m_localScaling[1],
+                            btScalar(1) / m_localScaling[2]);
+    int lo[3], hi[3];
+    quantizeWithClamp(lo, aabbMin * inverse + m_localOrigin, 0);
+    quantizeWithClamp(hi, aabbMax * inverse + m_localOrigin, 1);
+    // Bullet widens by a vertex either way (a box between grid points); then out to the
+    // coarse grid's lines.
+    const int last = m_heightStickWidth - 1, k = stride_;
+    const auto down = [&](int v) { return std::clamp(v - 1, 0, last) / k * k; };
+    const auto up = [&](int v) { return std::min(last, (std::clamp(v + 1, 0, last) + k - 1) / k * k); };
+    const int x0 = down(lo[0]), x1 = up(hi[0]), y0 = down(lo[1]), y1 = up(hi[1]);
+    const btScalar box_lo = aabbMin[m_upAxis], box_hi = aabbMax[m_upAxis];
+    const int a = m_flipTriangleWinding ? 2 : 0, c = 2 - a;  // the winding's first and last slots
+    for (int y = y0; y < y1; y += k)
+      for (int x = x0; x < x1; x += k) {
+        btVector3 v[3];
+        getVertex(x, y, v[a]);
+        getVertex(x, y + k, v[1]);
+        getVertex(x + k, y, v[c]);
+        pass_if_meets(callback, v, box_lo, box_hi, 2 * x, y);
+        v[a] = v[c];
+        getVertex(x + k, y + k, v[c]);
+        pass_if_meets(callback, v, box_lo, box_hi, 2 * x + 1, y);
+      }
+  }
+  static void pass_if_meets(btTriangleCallback* callback, btVector3* v, btScalar box_lo, btScalar box_hi, int part,
+                            int index) {
+    const btScalar z_lo = std::min({v[0].z(), v[1].z(), v[2].z()});
+    const btScalar z_hi = std::max({v[0].z(), v[1].z(), v[2].z()});
+    if (z_hi >= box_lo && z_lo <= box_hi) callback->processTriangle(v, part, index);
+  }
+
   float lowest_, highest_;  ///< m, every height the tile has held lies in [lowest_, highest_]
+  int stride_;              ///< vertices per triangle edge for processAllTriangles
 };
 
 }  // namespace
@@ -61,6 +111,10 @@ void HeightfieldTileSettings::validate() const {
                          "must be > min_height (" + detail::to_text(min_height) + ")");
   c.in_closed("initial_height", initial_height, min_height, max_height);
   c.non_negative("friction", friction);
+  c.at_least("contact_stride", contact_stride, 1);
+  if ((columns - 1) % contact_stride != 0)
+    throw InvalidSetting(c.name("contact_stride"), std::to_string(contact_stride),
+                         "must divide columns - 1 (" + std::to_string(columns - 1) + ")");
 }
 
 HeightfieldTile::HeightfieldTile(const HeightfieldTileSettings& settings) : settings_(settings) {
@@ -70,7 +124,7 @@ HeightfieldTile::HeightfieldTile(const HeightfieldTileSettings& settings) : sett
                   static_cast<float>(settings_.initial_height));
   shape_ = std::make_unique<BoundedHeightfield>(n, heights_.data(), static_cast<btScalar>(settings_.min_height),
                                                 static_cast<btScalar>(settings_.max_height),
-                                                static_cast<float>(settings_.initial_height));
+                                                static_cast<float>(settings_.initial_height), settings_.contact_stride);
   shape_->setFlipTriangleWinding(true);
   shape_->setLocalScaling(btVector3(btScalar(settings_.cell), btScalar(settings_.cell), btScalar(1)));
   object_ = std::make_unique<btRigidBody>(btScalar(0), nullptr, shape_.get());

@@ -17,12 +17,16 @@ void TerrainTilesSettings::validate() const {
   const Check c{"bullet.TerrainTilesSettings"};
   c.positive("headroom", headroom);
   c.positive("max_rise_per_substep", max_rise_per_substep);
+  c.at_least("contact_stride", contact_stride, 1);
 }
 
 TerrainTiles::TerrainTiles(btCollisionWorld& world, const terrain::Terrain& terrain,
                            const TerrainTilesSettings& settings)
     : world_(world), terrain_(terrain), settings_(settings), friction_(terrain.settings().material.friction) {
   settings_.validate();
+  if (const int T = terrain.settings().tile_columns; T % settings_.contact_stride != 0)
+    throw InvalidSetting("bullet.TerrainTilesSettings.contact_stride", std::to_string(settings_.contact_stride),
+                         "must divide the terrain's tile_columns (" + std::to_string(T) + ")");
   frictions_ = palette_friction();  // a terrain painted before its coupling: tiles are made painted
   painted_seen_ = terrain.generation();
 }
@@ -142,6 +146,7 @@ TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
   hs.max_height = hi + settings_.headroom;
   hs.initial_height = hi;
   hs.friction = friction_;
+  hs.contact_stride = s.material.rigid ? 1 : settings_.contact_stride;  // rigid ground carries added bodies
   return add(tx, ty, hs, heights);
 }
 
@@ -254,10 +259,11 @@ std::int64_t TerrainTiles::push(std::span<const GridRect> changed) {
 }
 
 void TerrainTiles::drop_stale_contacts(const GridRect& columns) {
-  // Contact points over the columns and a cell around them.
-  const double cell = terrain_.settings().cell;
-  const double x0 = terrain_.column_x(columns.i0) - cell, y0 = terrain_.column_y(columns.j0) - cell;
-  const double x1 = terrain_.column_x(columns.i1() - 1) + cell, y1 = terrain_.column_y(columns.j1() - 1) + cell;
+  // Contact points over the columns and a triangle's edge around them (a coarse triangle
+  // with a changed corner reaches contact_stride cells from it).
+  const double margin = terrain_.settings().cell * (terrain_.settings().material.rigid ? 1 : settings_.contact_stride);
+  const double x0 = terrain_.column_x(columns.i0) - margin, y0 = terrain_.column_y(columns.j0) - margin;
+  const double x1 = terrain_.column_x(columns.i1() - 1) + margin, y1 = terrain_.column_y(columns.j1() - 1) + margin;
   const btTransform to_ground = frame_.to_ground();
   btDispatcher* dispatcher = world_.getDispatcher();
   const int n = dispatcher->getNumManifolds();

@@ -9,8 +9,10 @@
 
 #include <cmath>
 #include <memory>
+#include <numbers>
 
 #include "shore/bullet/terrain_coupling.h"
+#include "shore/scenes/character_cases.h"
 #include "shore/scenes/raycast_car.h"
 #include "shore/scenes/rigid_ground.h"
 #include "shore/scenes/world.h"
@@ -149,6 +151,68 @@ TEST(BulletQueries, KinematicCharacterControllerWalksOnSoftShoreGroundAsOnBullet
   double worst = 0.0;
   for (std::size_t k = 0; k < a.size(); ++k) worst = std::max(worst, double((a[k] - b[k]).length()));
   EXPECT_LT(worst, 1e-3) << "m, largest distance between the character on Shore's sand and on Bullet's ground";
+}
+
+/// Gentle ripples a few centimetres below the characters' start.
+class Ripples final : public shore::terrain::HeightSource {
+ public:
+  [[nodiscard]] double height(double x, double y) const override {
+    return 0.03 * std::sin(2.0 * std::numbers::pi * x / 0.7) * std::cos(2.0 * std::numbers::pi * y / 0.9) - 0.05;
+  }
+};
+
+// With a contact stride of 4 the character's capsule meets the soil's surface sampled every
+// fourth column, and walks exactly as on Bullet's own heightfield of 4 x the cell through the
+// same heights; with every column it walks on the ripples' finer triangles, a visibly
+// different path. Shore's ripples are the soil's columns (5 cm), untouched: the capsule is
+// not added, and presses nothing.
+TEST(BulletQueries, KinematicCharacterControllerWithAContactStrideWalksOnTheSampledSurface) {
+  shore::terrain::TerrainSettings s;
+  s.cell = 0.05;
+  s.threads = 1;
+  s.tile_columns = 32;
+  s.base = std::make_shared<Ripples>();
+  constexpr int kStride = 4;
+  shore::terrain::Terrain sand(s), fine_sand(s);
+  World on_shore, on_fine_shore;
+  shore::bullet::TerrainCouplingSettings cs;
+  cs.tiles.contact_stride = kStride;
+  shore::bullet::TerrainCoupling coupling(on_shore.world(), sand, cs);
+  shore::bullet::TerrainCoupling fine_coupling(on_fine_shore.world(), fine_sand);
+  const std::vector<btVector3> a = walk(on_shore), fine = walk(on_fine_shore);
+
+  World on_bullet;
+  shore::bullet::HeightfieldTileSettings tile;
+  tile.columns = 51;
+  tile.cell = kStride * s.cell;
+  tile.origin_x = tile.origin_y = -5.0;
+  tile.min_height = -1.0;
+  // The coarse vertices are the soil's columns whose indices are multiples of the stride.
+  const shore::scenes::RigidGround reference(
+      on_bullet, tile, [&](double x, double y) { return sand.height(sand.column_i(x), sand.column_j(y)); });
+  const std::vector<btVector3> b = walk(on_bullet);
+
+  EXPECT_NEAR(double(b.back().x()) + 3.0, 6.0, 0.1) << "m the reference character walked";
+  double worst = 0.0, worst_fine = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    worst = std::max(worst, double((a[k] - b[k]).length()));
+    worst_fine = std::max(worst_fine, double((fine[k] - b[k]).length()));
+  }
+  EXPECT_LT(worst, 1e-3) << "m, largest distance between the character on strided sand and on Bullet's coarse ground";
+  EXPECT_GT(worst_fine, 3e-3) << "m: on every column the character should walk another path";
+}
+
+// Over hilly sand with a line of 3 cm prints, the character on tiles of contact stride 2 walks
+// the path it walks on every column to within 2 cm, and neither sinks into the soil deeper than
+// Bullet's sweeps allow (the world's allowed CCD penetration) and a centimetre.
+TEST(BulletQueries, CharacterOnAContactStrideOfTwoStaysOnTheSoilAndOnItsPath) {
+  const double allowed = double(World().world().getDispatchInfo().m_allowedCcdPenetration);
+  const shore::scenes::CharacterWalkResult every = shore::scenes::run_character_walk({.cell = 0.02});
+  const shore::scenes::CharacterWalkResult sampled =
+      shore::scenes::run_character_walk({.cell = 0.02, .contact_stride = 2});
+  EXPECT_GT(double(every.track.back().x()) - double(every.track.front().x()), 4.5) << "m walked";
+  for (const auto* r : {&every, &sampled}) EXPECT_GT(r->gap_min, -(allowed + 0.01)) << "m: into the soil";
+  EXPECT_LT(shore::scenes::track_distance(sampled.track, every.track), 0.02) << "m from the path on every column";
 }
 
 // In a Y-up world (the ground's frame GroundFrame::y_up(), the controller's up the world's y)

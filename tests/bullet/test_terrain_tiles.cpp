@@ -86,6 +86,27 @@ TEST(TerrainTiles, LoweredGroundDropsStaleContactsAndWakesTheBody) {
   EXPECT_NEAR(box->getCenterOfMassPosition().z(), rest - 0.05, 0.005);
 }
 
+TEST(TerrainTiles, AContactStrideThatDoesNotDivideTheTileIsRefused) {
+  terrain::TerrainSettings s = flat_sand();
+  s.tile_columns = 32;
+  terrain::Terrain soil(s);
+  scenes::World world(9.81);
+  bullet::TerrainTilesSettings ts;
+  ts.contact_stride = 3;
+  try {
+    bullet::TerrainTiles tiles(world.world(), soil, ts);
+    ADD_FAILURE() << "a contact stride of 3 on tiles of 32 columns was accepted";
+  } catch (const InvalidSetting& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("contact_stride"), std::string::npos) << what;
+    EXPECT_NE(what.find("32"), std::string::npos) << what;
+  }
+  ts.contact_stride = 0;
+  EXPECT_THROW(bullet::TerrainTiles(world.world(), soil, ts), InvalidSetting);
+  ts.contact_stride = 4;
+  EXPECT_NO_THROW(bullet::TerrainTiles(world.world(), soil, ts));
+}
+
 // A checkpoint's tile list is read whole before any tile changes: one that names the same
 // tile twice (or a tile index beyond the 32 bits its key holds) is refused with a message
 // naming the tile, and the tiles in the world stay as they were.

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "shore/bullet/ground_frame.h"
+#include "shore/scenes/character_cases.h"
 #include "shore/scenes/multibody_cases.h"
 #include "shore/scenes/pool_cases.h"
 #include "shore/scenes/runner.h"
@@ -365,6 +366,42 @@ void rally(const SweepContext& ctx, SweepResult& out) {
       "simulated / wall seconds of the whole step, the fastest of 3 runs.");
 }
 
+/// A stock character controller over hilly sand with a line of 3 cm footprints, at 1 and 2 cm
+/// columns, with its tiles' contact stride 1, 2 and 4: the capsule's cost per step against
+/// how far its path and its height over the soil move from those on every column.
+void character_stride(const SweepContext& ctx, SweepResult& out) {
+  ctx.progress("character controller: contact stride 1, 2, 4 at 1 and 2 cm");
+  Table& t = out.table("coupling_character_stride", {"cell_m", "stride", "ms_per_step", "speedup", "path_error_m",
+                                                     "gap_min_m", "gap_mean_m", "gap_mean_change_m"});
+  for (const double cell : {0.01, 0.02}) {
+    std::vector<scenes::CharacterWalkResult> runs;
+    for (const int stride : {1, 2, 4})
+      runs.push_back(scenes::run_character_walk({.cell = cell, .contact_stride = stride}));
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+      const double speedup = runs[0].wall_ms_per_step / runs[k].wall_ms_per_step;
+      const double path = scenes::track_distance(runs[k].track, runs[0].track);
+      const double gap_change = runs[k].gap_mean - runs[0].gap_mean;
+      const int stride = 1 << k;
+      t.add({cell, double(stride), runs[k].wall_ms_per_step, speedup, path, runs[k].gap_min, runs[k].gap_mean,
+             gap_change});
+      const std::string at = std::to_string(int(std::lround(cell * 100))) + "cm";
+      if (stride == 1)
+        out.figure("plugin.character_ms_per_step_" + at, runs[k].wall_ms_per_step,
+                   "ms per 1/120 s step, contact stride 1 (every column)");
+      if (stride == 2) {
+        out.figure("plugin.character_stride2_speedup_" + at, speedup, "x, stride 2 over stride 1, same run");
+        out.figure("plugin.character_stride2_path_error_" + at, path,
+                   "m, largest distance from the path on every column");
+      }
+    }
+  }
+  out.note(
+      "Character (run_character_walk): a stock btKinematicCharacterController (capsule r 0.25 m, 1.7 m tall) walks "
+      "4 s at 1.3 m/s over hilly sand with a line of 3 cm deep prints, 1/120 s steps, one thread. Its tiles give "
+      "Bullet's sweeps and contacts one triangle pair per stride x stride columns "
+      "(TerrainTilesSettings::contact_stride); speedup and errors against stride 1 in the same run.");
+}
+
 /// The rover scene at its defaults: a six-wheeled btMultiBody over a sand dune and through a
 /// pool, one thread.
 void rover(const SweepContext& ctx, SweepResult& out) {
@@ -547,6 +584,7 @@ void run(const SweepContext& ctx, SweepResult& out) {
   wheel_cost_settings(ctx, out);
   vehicle(ctx, out);
   rally(ctx, out);
+  character_stride(ctx, out);
   rover(ctx, out);
   multibody_links(ctx, out);
   floating_sweep(ctx, out);

@@ -44,6 +44,12 @@ struct HeightfieldTileSettings {
   double max_height = 1.0;      ///< m, highest height the tile can hold
   double initial_height = 0.0;  ///< m, in [min_height, max_height]
   double friction = 0.6;        ///< Coulomb friction, >= 0
+  /// Vertices per triangle edge in Bullet's convex contacts and sweeps (the shape's
+  /// processAllTriangles): 1, every vertex; k > 1, one triangle pair per k x k cells, their
+  /// corners every k-th vertex (the heights there, not a fit), so a capsule or box meets
+  /// k^2 times fewer triangles. Ray tests (btRaycastVehicle, picking) always see every
+  /// vertex. >= 1 and dividing columns - 1, so neighbouring tiles share their coarse edges.
+  int contact_stride = 1;
 
   void validate() const;
 };
