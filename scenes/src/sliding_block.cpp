@@ -15,6 +15,10 @@ double mobilised_share(double slid, double length, double shear_modulus) {
   return (s - K * old_soil + (length - s) * old_soil) / length;
 }
 
+double base_eccentricity(double shear_over_normal, double height) { return 0.5 * height * shear_over_normal; }
+
+double bearing_eccentricity_limit(double n, double length) { return n * length / (2.0 * (n + 2.0)); }
+
 SlidingBlockMotion slide(const SlidingBlock& b) {
   const Check check{"scenes.SlidingBlock"};
   check.finite("drive", b.drive);

@@ -191,6 +191,8 @@ std::vector<MatrixCell> driven_cells(const MatrixCase& c, const MatrixSoil& s) {
   return out;
 }
 
+constexpr double kBoxHeight = 0.06, kBoxSeconds = 1.5;
+
 std::vector<MatrixCell> slope_cells(const MatrixCase& c, const MatrixSoil& s) {
   SlopeBoxCase b;
   b.run = one_thread(s.material);
@@ -199,9 +201,9 @@ std::vector<MatrixCell> slope_cells(const MatrixCase& c, const MatrixSoil& s) {
   // A flat box (a sled, 0.06 m tall): Coulomb's block has no moment balance, and a cube's
   // base shear, (c A + N tan(phi)) half its height below the centre of mass, pitches it
   // onto its front edge until it trips (docs/terrain.md, "Validation matrix").
-  b.height = 0.06;
+  b.height = kBoxHeight;
   b.mass = c.load;
-  b.seconds = 1.5;
+  b.seconds = kBoxSeconds;
   // The slide is chaotic: starts a micron apart part by 3 % to 7 % in the second half (and
   // more where the box ploughs), and the box's sides on a row of column centres leave edge
   // rows to rounding. The reference is a continuum block, so the cell is the mean over
@@ -221,34 +223,19 @@ std::vector<MatrixCell> slope_cells(const MatrixCase& c, const MatrixSoil& s) {
     lo = k == 0 ? one.acceleration : std::min(lo, one.acceleration);
     hi = k == 0 ? one.acceleration : std::max(hi, one.acceleration);
   }
-  // Coulomb with cohesion, plus the compaction resistance of the box's front edge sinking
-  // into fresh soil (Bekker's, for a sledge of width b at sinkage z: b k z^(n+1) / (n+1)),
-  // on the soil's Janosi-Hanamoto curve: the base carries c A + m g cos(theta) tan(phi) only
-  // where the box has sheared the soil by a few K, none of it at rest and 1 - (K / L)
-  // (1 - exp(-L / K)) of it once it has slid its length (Wong's track at full slip,
-  // sliding_block.h): m a = m g sin(theta) - R_c - (c A + m g cos(theta) tan(phi)) share(s).
-  // With K 0 it is Coulomb's block.
-  const terrain::Material& m = s.material;
-  const double drive = kGravity * std::sin(c.slope), area = c.size * c.size;
-  const double z = terrain::bekker::plate_sinkage(m, c.size, c.load * kGravity * std::cos(c.slope) / area);
-  const double compaction = terrain::bekker::wheel_compaction_resistance(m, z, c.size);
-  SlidingBlock block;
-  block.drive = drive - compaction / c.load;
-  block.strength = kGravity * std::cos(c.slope) * std::tan(m.friction_angle) + m.cohesion * area / c.load;
-  block.length = c.size;
-  block.shear_modulus = m.shear_modulus;
-  block.seconds = b.seconds;
-  const SlidingBlockMotion want = slide(block);
+  const SlopeBoxReference want = slope_box_reference(c);
   const double whole = 2.0 * r.distance / (b.seconds * b.seconds);
   // A box that should slide is measured relative to the reference; one that should hold (or
   // barely slide, below a tenth of the frictionless g sin(theta)), against g sin(theta).
   auto judged = [&](const char* quantity, double measured, double reference) {
-    const bool holds = reference < 0.1 * drive;
-    return cell(c, s, quantity, measured, reference, (measured - reference) / (holds ? drive : reference), 0.10,
-                holds ? "of g sin(theta)" : "relative");
+    const bool holds = reference < 0.1 * want.drive;
+    MatrixCell m = cell(c, s, quantity, measured, reference, (measured - reference) / (holds ? want.drive : reference),
+                        0.10, holds ? "of g sin(theta)" : "relative");
+    m.outside_validity = want.outside_validity;
+    return m;
   };
-  std::vector<MatrixCell> out = {judged("acceleration, whole slide", whole, want.whole),
-                                 judged("acceleration, second half", r.acceleration, want.second_half)};
+  std::vector<MatrixCell> out = {judged("acceleration, whole slide", whole, want.motion.whole),
+                                 judged("acceleration, second half", r.acceleration, want.motion.second_half)};
   for (MatrixCell& each : out)
     each.note = "tilt up to " + num(std::round(r.max_tilt / kDeg)) + " deg, slid " +
                 num(std::round(r.distance * 100) / 100) + " m, " + num(std::round(b.mass)) + " kg, second half over " +
@@ -367,6 +354,49 @@ std::vector<MatrixCase> matrix_cases(bool quick) {
              (offset < 0 ? "phi - " : "phi + ") + num(std::abs(offset)) + " deg (" + num(phi + offset) + " deg)"});
     out.push_back({k, "sphere drop", 0.2, 10.0, 0, 0, "D 0.2 m, 10 kg, 1 m"});
   }
+  return out;
+}
+
+SlopeBoxReference slope_box_reference(const MatrixCase& c) {
+  const std::vector<MatrixSoil> soils = matrix_soils();
+  if (c.soil >= soils.size())
+    throw std::invalid_argument("MatrixCase.soil: " + std::to_string(c.soil) + " is not allowed: must be below " +
+                                std::to_string(soils.size()));
+  // Coulomb with cohesion, plus the compaction resistance of the box's front edge sinking
+  // into fresh soil (Bekker's, for a sledge of width b at sinkage z: b k z^(n+1) / (n+1)),
+  // on the soil's Janosi-Hanamoto curve: the base carries c A + m g cos(theta) tan(phi) only
+  // where the box has sheared the soil by a few K, none of it at rest and 1 - (K / L)
+  // (1 - exp(-L / K)) of it once it has slid its length (Wong's track at full slip,
+  // sliding_block.h): m a = m g sin(theta) - R_c - (c A + m g cos(theta) tan(phi)) share(s).
+  // With K 0 it is Coulomb's block.
+  const terrain::Material& m = soils[c.soil].material;
+  SlopeBoxReference out;
+  out.drive = kGravity * std::sin(c.slope);
+  const double area = c.size * c.size, normal = kGravity * std::cos(c.slope);
+  const double z = terrain::bekker::plate_sinkage(m, c.size, c.load * normal / area);
+  const double compaction = terrain::bekker::wheel_compaction_resistance(m, z, c.size);
+  SlidingBlock block;
+  block.drive = out.drive - compaction / c.load;
+  block.strength = normal * std::tan(m.friction_angle) + m.cohesion * area / c.load;
+  block.length = c.size;
+  block.shear_modulus = m.shear_modulus;
+  block.seconds = kBoxSeconds;
+  out.motion = slide(block);
+  // The block slides on the surface at Bekker's sinkage with its whole base bearing. Its
+  // base shear acts half the box's height below the centre of mass, so the soil must push
+  // ahead of the middle; where Bekker's pressure grows too little with depth (small n) the
+  // base cannot do that by tilting within its sinkage, its rear lifts, and the sliding box
+  // rides on its front edge, pressing each fresh column to a few times the level sinkage:
+  // it ploughs and descends along its pitch, which the block leaves out. A box that holds
+  // meets no fresh soil.
+  const double steady = mobilised_share(c.size, c.size, m.shear_modulus);
+  out.eccentricity = base_eccentricity(block.strength * steady / normal, kBoxHeight);
+  out.eccentricity_limit = bearing_eccentricity_limit(m.bekker_n, c.size);
+  if (!out.holds() && out.eccentricity > out.eccentricity_limit)
+    out.outside_validity = "the base shear's couple lifts the rear (eccentricity " +
+                           num(std::round(out.eccentricity * 1e4) / 10) + " mm, Bekker's n " + num(m.bekker_n) +
+                           " bears at most " + num(std::round(out.eccentricity_limit * 1e4) / 10) +
+                           " mm): the box rides on its front edge and ploughs";
   return out;
 }
 

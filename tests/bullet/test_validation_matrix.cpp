@@ -84,6 +84,29 @@ TEST(ValidationMatrixSlopeBox, ASlidingBoxKeepsTheStrengthOfTheSoilThatCarriesIt
                                << second.error << " (" << second.error_kind << ")";
 }
 
+// Coulomb's block slides on the surface with its whole base bearing. Where Bekker's soil
+// cannot move the normal push as far ahead as the base shear's couple asks while the whole
+// base bears (bearing_eccentricity_limit), a sliding box rides on its front edge and
+// ploughs: those cells, and only those, are outside the reference's validity; a box that
+// holds meets no fresh soil and stays inside.
+TEST(ValidationMatrixSlopeBox, OnlySlidingBoxesWhoseCoupleTheSoilCannotCarryAreOutsideTheReference) {
+  const auto soils = shore::scenes::matrix_soils();
+  int outside = 0, sliding = 0;
+  for (const MatrixCase& c : shore::scenes::matrix_cases(false)) {
+    if (c.family != "slope box") continue;
+    const auto r = shore::scenes::slope_box_reference(c);
+    const auto& m = soils[c.soil].material;
+    EXPECT_DOUBLE_EQ(r.eccentricity_limit, shore::scenes::bearing_eccentricity_limit(m.bekker_n, c.size));
+    EXPECT_GT(r.eccentricity, 0.0);
+    const bool ploughs = !r.holds() && r.eccentricity > r.eccentricity_limit;
+    EXPECT_EQ(r.outside_validity.empty(), !ploughs) << soils[c.soil].name << ", " << c.label;
+    sliding += r.holds() ? 0 : 1;
+    outside += ploughs ? 1 : 0;
+  }
+  // The rule is no blanket: most sliding boxes stay inside.
+  EXPECT_GT(sliding, 2 * outside);
+}
+
 // The rule that a box sliding level keeps its columns' strength (a column remoulds only
 // where the body presses further into it with its block at its whole capacity) is checked
 // on ContactMemory itself (test_contact_memory.cpp), not on a matrix cell. The cell it was

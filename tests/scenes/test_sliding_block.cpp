@@ -66,6 +66,33 @@ TEST(SlidingBlock, AHeldBlockCreepsUntilTheSoilHasTakenItsWork) {
   EXPECT_NEAR(work, 0.0, 1e-3 * b.drive * m.distance);
 }
 
+/// The pressure's centre ahead of the middle of a base of `length` tilted on Bekker soil of
+/// exponent n, its sinkage z0 + x t at x from the middle (x ahead), by quadrature.
+double pressure_centre(double n, double length, double z0, double t) {
+  constexpr int kSlices = 200000;
+  double load = 0.0, moment = 0.0;
+  for (int q = 0; q < kSlices; ++q) {
+    const double x = (q + 0.5) * length / kSlices - length / 2;
+    const double p = std::pow(std::fmax(z0 + x * t, 0.0), n);
+    load += p, moment += p * x;
+  }
+  return moment / load;
+}
+
+TEST(SlidingBlock, BekkersSoilCarriesAnEccentricityUpToTheBaseTiltedOntoItsRearEdge) {
+  for (const double n : {0.13, 0.2, 0.5, 0.7, 1.1}) {
+    const double limit = shore::scenes::bearing_eccentricity_limit(n, 0.3);
+    // Tilted so that the rear edge just touches: the limit.
+    EXPECT_NEAR(pressure_centre(n, 0.3, 0.15, 1.0), limit, 1e-6) << "n " << n;
+    // Any tilt with the whole base bearing moves the centre less.
+    for (const double rear_depth : {0.1, 0.5, 2.0})
+      EXPECT_LT(pressure_centre(n, 0.3, 0.15 + rear_depth, 1.0), limit) << "n " << n << ", rear " << rear_depth;
+  }
+  // The softer the growth of pressure with depth, the less the base can carry.
+  EXPECT_LT(shore::scenes::bearing_eccentricity_limit(0.13, 0.3), shore::scenes::bearing_eccentricity_limit(1.1, 0.3));
+  EXPECT_DOUBLE_EQ(shore::scenes::base_eccentricity(0.8, 0.06), 0.024);  // the couple 0.8 N x 0.03 m over N
+}
+
 TEST(SlidingBlock, BadInputNamesTheField) {
   SlidingBlock b;
   b.length = 0.0;

@@ -32,6 +32,21 @@ struct SlidingBlockMotion {
 /// The share of the base's full strength carried after sliding `slid` m (above), in [0, 1].
 [[nodiscard]] double mobilised_share(double slid, double length, double shear_modulus);
 
+/// The base's eccentricity, m: how far ahead of the centre the normal push must act to
+/// balance the base shear's couple, (height / 2) x shear / normal (Coulomb's block has no
+/// moment balance of its own; a box of `height` with its centre of mass mid-height takes
+/// it). shear_over_normal >= 0, height >= 0.
+[[nodiscard]] double base_eccentricity(double shear_over_normal, double height);
+
+/// The largest eccentricity, m, a rigid base of `length` on Bekker soil of exponent n can
+/// carry with its whole length bearing: tilted so that its rear edge just keeps touching,
+/// the pressure k z^n grows from 0 at the rear to the front and its centre lies
+/// n length / (2 (n + 2)) ahead of the middle. A larger one lifts the rear: the load rides on
+/// a front strip of (n + 2)(length / 2 - e), pressed at its front edge deeper than the
+/// level base by [(n + 1) length / strip]^(1 / n), and the sliding base's front edge ploughs
+/// fresh soil to that depth (docs/terrain.md, "Validation matrix"). n > 0, length > 0.
+[[nodiscard]] double bearing_eccentricity_limit(double n, double length);
+
 /// The block's motion from rest: d2s/dt2 = drive - strength mobilised_share(s) while it
 /// slides; it stops and holds once it comes to rest with the soil able to hold it.
 /// Throws InvalidSetting for a field out of its range.

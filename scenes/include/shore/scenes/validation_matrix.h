@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "shore/scenes/sliding_block.h"
 #include "shore/terrain/material.h"
 
 namespace shore::scenes {
@@ -70,6 +71,29 @@ struct MatrixCell {
   [[nodiscard]] bool within() const { return std::abs(error) <= tolerance; }
   [[nodiscard]] double error_over_tolerance() const { return std::abs(error) / tolerance; }
 };
+
+/// A slope box case's reference: Wong's sliding block on the soil's Janosi-Hanamoto curve,
+/// less the compaction resistance of the box's front edge at Bekker's sinkage (sliding_block.h),
+/// and whether its assumptions hold for the case.
+struct SlopeBoxReference {
+  double drive = 0.0;  ///< m/s^2, g sin(theta)
+  SlidingBlockMotion motion;
+  /// m: how far ahead of the base's middle the sliding block's normal push must act
+  /// (base_eccentricity at its steady share of the strength), and how far Bekker's soil can
+  /// move it with the whole base bearing (bearing_eccentricity_limit)
+  double eccentricity = 0.0, eccentricity_limit = 0.0;
+  /// Empty, or why the block is outside its validity: a box that slides with its base's
+  /// eccentricity beyond the limit rides on its front edge and ploughs, where the block
+  /// slides on the surface at Bekker's sinkage (docs/terrain.md, "Validation matrix").
+  std::string outside_validity;
+  /// A block that holds or barely slides over the whole run (below a tenth of the
+  /// frictionless g sin(theta)); each cell whose own reference is that small is judged
+  /// against g sin(theta).
+  [[nodiscard]] bool holds() const { return motion.whole < 0.1 * drive; }
+};
+
+/// The reference of a "slope box" case (the box 0.06 m tall, 1.5 s from rest).
+SlopeBoxReference slope_box_reference(const MatrixCase& c);
 
 /// Runs one case (one thread, 1 cm cells, 1/240 s) and returns its cells.
 std::vector<MatrixCell> run_matrix_case(const MatrixCase& c);
