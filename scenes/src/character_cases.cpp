@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -39,9 +40,9 @@ terrain::TerrainSettings hilly_sand(double cell) {
 /// Earlier walkers' prints along the walk: boxes of soil lowered by depth (an outside edit).
 void press_prints(terrain::Terrain& soil, double depth, double x1) {
   if (depth <= 0.0) return;
-  int side = 1;
-  for (double x = kStartX + 0.4; x < x1; x += kPrintSpacing, side = -side) {
-    const double y = side * kPrintOffset;
+  const int prints = static_cast<int>(std::ceil((x1 - kStartX - 0.4) / kPrintSpacing));
+  for (int k = 0; k < prints; ++k) {
+    const double x = kStartX + 0.4 + k * kPrintSpacing, y = (k % 2 == 0 ? 1 : -1) * kPrintOffset;
     const std::int64_t i0 = soil.column_i(x - 0.5 * kPrintLength), i1 = soil.column_i(x + 0.5 * kPrintLength);
     const std::int64_t j0 = soil.column_j(y - 0.5 * kPrintWidth), j1 = soil.column_j(y + 0.5 * kPrintWidth);
     for (std::int64_t j = j0; j <= j1; ++j)
@@ -76,8 +77,8 @@ CharacterWalkResult run_character_walk(const CharacterWalkCase& c) {
   world.world().addAction(&character);
 
   CharacterWalkResult r;
-  const int steps = std::max(1, static_cast<int>(c.seconds / c.step + 0.5));
-  const int settle = static_cast<int>(1.0 / c.step);
+  const int steps = std::max(1, static_cast<int>(std::lround(c.seconds / c.step)));
+  const int settle = static_cast<int>(std::lround(1.0 / c.step));
   double wall = 0.0, gap_sum = 0.0;
   int gaps = 0;
   r.gap_min = std::numeric_limits<double>::infinity();
