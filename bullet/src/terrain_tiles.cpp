@@ -146,12 +146,14 @@ TerrainTiles::Tile& TerrainTiles::create(std::int64_t tx, std::int64_t ty) {
   hs.max_height = hi + settings_.headroom;
   hs.initial_height = hi;
   hs.friction = friction_;
-  hs.contact_stride = s.material.rigid ? 1 : settings_.contact_stride;  // rigid ground carries added bodies
   return add(tx, ty, hs, heights);
 }
 
-TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, const HeightfieldTileSettings& hs,
+TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, HeightfieldTileSettings hs,
                                       std::span<const double> heights) {
+  // Made or restored, a soft tile gives convex queries the stride; rigid ground carries
+  // added bodies through Bullet and keeps every column.
+  hs.contact_stride = terrain_.settings().material.rigid ? 1 : settings_.contact_stride;
   const int T = terrain_.settings().tile_columns;
   // A second tile at the same key would leave its collision object in the world after the
   // map refused it; callers check first, this keeps the invariant if one does not.

@@ -15,6 +15,7 @@
 #include "shore/core/byte_io.h"
 #include "shore/core/error.h"
 #include "shore/scenes/world.h"
+#include "shore/terrain/height_source.h"
 #include "shore/terrain/terrain.h"
 
 using namespace shore;
@@ -84,6 +85,62 @@ TEST(TerrainTiles, LoweredGroundDropsStaleContactsAndWakesTheBody) {
   EXPECT_EQ(stale, 0);
   for (int k = 0; k < 240; ++k) world.step(1.0 / 240);
   EXPECT_NEAR(box->getCenterOfMassPosition().z(), rest - 0.05, 0.005);
+}
+
+namespace {
+/// Ridges: every column with an odd index 4 cm above the others (at 0), 5 cm columns.
+class Ridges final : public terrain::HeightSource {
+ public:
+  [[nodiscard]] double height(double x, double y) const override {
+    const auto odd = [](double w) { return std::lround(w / 0.05) % 2 != 0; };
+    return odd(x) || odd(y) ? 0.04 : 0.0;
+  }
+};
+
+terrain::TerrainSettings ridged(const terrain::Material& material) {
+  terrain::TerrainSettings s;
+  s.cell = 0.05;
+  s.tile_columns = 32;
+  s.material = material;
+  s.base = std::make_shared<Ridges>();
+  return s;
+}
+
+/// Where a ball (r 0.1 m, not added to any coupling) comes to rest dropped at (0.8, 0.8).
+double ball_rest(scenes::World& world) {
+  btRigidBody* ball = world.add_body(std::make_unique<btSphereShape>(btScalar(0.1)), 1.0, btVector3(0.8f, 0.8f, 0.3f));
+  ball->setRollingFriction(btScalar(0.1));
+  for (int k = 0; k < 480; ++k) world.step(1.0 / 240);
+  return ball->getCenterOfMassPosition().z();
+}
+}  // namespace
+
+// Soft tiles made with a contact stride of 2 show a body Bullet collides with the even
+// columns (the plane z = 0 here), also once restored from a checkpoint; rigid ground's tiles
+// keep every column (the ridges), whatever the stride.
+TEST(TerrainTiles, SoftTilesMadeOrRestoredTakeTheContactStrideAndRigidTilesDoNot) {
+  bullet::TerrainTilesSettings ts;
+  ts.contact_stride = 2;
+  terrain::Terrain sand(ridged(terrain::Material::sand())), rock(ridged(terrain::Material::rigid_ground()));
+  ByteWriter saved;
+  {
+    scenes::World world(9.81);
+    bullet::TerrainTiles tiles(world.world(), sand, ts);
+    tiles.ensure_cover(0.0, 0.0, 1.5, 1.5);
+    EXPECT_NEAR(ball_rest(world), 0.1, 0.005) << "m: on the sampled plane";
+    tiles.save_state(saved);
+  }
+  {
+    scenes::World world(9.81);
+    bullet::TerrainTiles tiles(world.world(), sand, ts);
+    ByteReader r(saved.bytes, "tiles");
+    tiles.restore_state(r);
+    EXPECT_NEAR(ball_rest(world), 0.1, 0.005) << "m: restored, on the sampled plane";
+  }
+  scenes::World world(9.81);
+  bullet::TerrainTiles tiles(world.world(), rock, ts);
+  tiles.ensure_cover(0.0, 0.0, 1.5, 1.5);
+  EXPECT_GT(ball_rest(world), 0.12) << "m: rigid ground, on the ridges";
 }
 
 TEST(TerrainTiles, AContactStrideThatDoesNotDivideTheTileIsRefused) {
