@@ -153,7 +153,7 @@ TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, Heightfi
                                       std::span<const double> heights) {
   // Made or restored, a soft tile gives convex queries the stride; rigid ground carries
   // added bodies through Bullet and keeps every column.
-  hs.contact_stride = terrain_.settings().material.rigid ? 1 : settings_.contact_stride;
+  hs.contact_stride = contact_stride();
   const int T = terrain_.settings().tile_columns;
   // A second tile at the same key would leave its collision object in the world after the
   // map refused it; callers check first, this keeps the invariant if one does not.
@@ -172,6 +172,10 @@ TerrainTiles::Tile& TerrainTiles::add(std::int64_t tx, std::int64_t ty, Heightfi
   world_.addCollisionObject(tile.field->object(), group_,
                             btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
   return tiles_.emplace(key(tx, ty), std::move(tile)).first->second;
+}
+
+int TerrainTiles::contact_stride() const noexcept {
+  return terrain_.settings().material.rigid ? 1 : settings_.contact_stride;
 }
 
 void TerrainTiles::set_frame(const GroundFrame& frame) {

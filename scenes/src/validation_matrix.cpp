@@ -357,11 +357,18 @@ std::vector<MatrixCase> matrix_cases(bool quick) {
   return out;
 }
 
-SlopeBoxReference slope_box_reference(const MatrixCase& c) {
-  const std::vector<MatrixSoil> soils = matrix_soils();
+namespace {
+/// The case's soil; throws std::invalid_argument naming MatrixCase.soil past the table.
+MatrixSoil soil_of(const MatrixCase& c) {
+  std::vector<MatrixSoil> soils = matrix_soils();
   if (c.soil >= soils.size())
     throw std::invalid_argument("MatrixCase.soil: " + std::to_string(c.soil) + " is not allowed: must be below " +
                                 std::to_string(soils.size()));
+  return soils[c.soil];
+}
+}  // namespace
+
+SlopeBoxReference slope_box_reference(const MatrixCase& c) {
   // Coulomb with cohesion, plus the compaction resistance of the box's front edge sinking
   // into fresh soil (Bekker's, for a sledge of width b at sinkage z: b k z^(n+1) / (n+1)),
   // on the soil's Janosi-Hanamoto curve: the base carries c A + m g cos(theta) tan(phi) only
@@ -369,7 +376,7 @@ SlopeBoxReference slope_box_reference(const MatrixCase& c) {
   // (1 - exp(-L / K)) of it once it has slid its length (Wong's track at full slip,
   // sliding_block.h): m a = m g sin(theta) - R_c - (c A + m g cos(theta) tan(phi)) share(s).
   // With K 0 it is Coulomb's block.
-  const terrain::Material& m = soils[c.soil].material;
+  const terrain::Material m = soil_of(c).material;
   SlopeBoxReference out;
   out.drive = kGravity * std::sin(c.slope);
   const double area = c.size * c.size, normal = kGravity * std::cos(c.slope);
@@ -401,11 +408,7 @@ SlopeBoxReference slope_box_reference(const MatrixCase& c) {
 }
 
 std::vector<MatrixCell> run_matrix_case(const MatrixCase& c) {
-  const std::vector<MatrixSoil> soils = matrix_soils();
-  if (c.soil >= soils.size())
-    throw std::invalid_argument("MatrixCase.soil: " + std::to_string(c.soil) + " is not allowed: must be below " +
-                                std::to_string(soils.size()));
-  const MatrixSoil& s = soils[c.soil];
+  const MatrixSoil s = soil_of(c);
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<MatrixCell> cells;
   if (c.family == "plate")

@@ -4,6 +4,7 @@
 // step, tile update separately), what the settings that trade its accuracy for speed buy,
 // and the four-wheel vehicle's real-time factor (the vehicle scene).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -374,14 +375,15 @@ void character_stride(const SweepContext& ctx, SweepResult& out) {
   Table& t = out.table("coupling_character_stride", {"cell_m", "stride", "ms_per_step", "speedup", "path_error_m",
                                                      "gap_min_m", "gap_mean_m", "gap_mean_change_m"});
   for (const double cell : {0.01, 0.02}) {
+    constexpr std::array<int, 3> kStrides = {1, 2, 4};
     std::vector<scenes::CharacterWalkResult> runs;
-    for (const int stride : {1, 2, 4})
+    for (const int stride : kStrides)
       runs.push_back(scenes::run_character_walk({.cell = cell, .contact_stride = stride}));
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const double speedup = runs[0].wall_ms_per_step / runs[k].wall_ms_per_step;
       const double path = scenes::track_distance(runs[k].track, runs[0].track);
       const double gap_change = runs[k].gap_mean - runs[0].gap_mean;
-      const int stride = 1 << k;
+      const int stride = kStrides[k];
       t.add({cell, double(stride), runs[k].wall_ms_per_step, speedup, path, runs[k].gap_min, runs[k].gap_mean,
              gap_change});
       const std::string at = std::to_string(int(std::lround(cell * 100))) + "cm";

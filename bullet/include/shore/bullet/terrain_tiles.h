@@ -125,8 +125,11 @@ class TerrainTiles {
   };
   static std::uint64_t key(std::int64_t tx, std::int64_t ty) noexcept;
   Tile& create(std::int64_t tx, std::int64_t ty);
+  /// The tiles' contact stride: the settings' on soft ground; 1 on rigid ground, which
+  /// carries added bodies through Bullet.
+  [[nodiscard]] int contact_stride() const noexcept;
   /// A tile with these bounds and heights ((T + 1)^2, row-major) added to the world, made
-  /// or restored; its contact stride is the settings' on soft ground, 1 on rigid.
+  /// or restored, with contact_stride().
   Tile& add(std::int64_t tx, std::int64_t ty, HeightfieldTileSettings hs, std::span<const double> heights);
   /// Copies the terrain's heights of `columns` that are the tile's vertices; returns how many.
   std::int64_t copy_rect(Tile& tile, const GridRect& columns);
