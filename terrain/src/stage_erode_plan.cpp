@@ -126,7 +126,7 @@ void ErodeStage::assign_roles(const Region& region, std::span<const unsigned cha
   for (; k < size; ++k) cover[k] = (f[k] & kCovered) ? 1 : 0;
   for (k = 0; k < size; ++k) {
     out[k] = 0.0;
-    cap[k] = (f[k] & kContact) ? 0.0 : kInf;  // under a body: set each pass
+    cap[k] = (f[k] & (kContact | kHaloCovered)) ? 0.0 : kInf;  // under a body: set each pass
   }
   for (int y = 0; y < h; ++y) {
     std::uint64_t* give_row = givable_.row(y);

@@ -23,7 +23,7 @@ void ImprintStage::rasterize(const Region& region, std::span<const Imprint> impr
   }
   plain_.assign(size, kInf);
   hold_.assign(size, kInf);
-  flags_.assign(size, 0);  // the halo's flags stay 0: it is neither interior nor covered
+  flags_.assign(size, 0);  // the halo is not interior; flag_covered_halo marks what a body covers
   for (const Imprint& im : imprints) {
     const EnvelopeRaster& env = *im.envelope;
     const std::int64_t x0 = std::max(env.i0, region.si0), x1 = std::min(env.i0 + env.nx, region.si0 + region.w);
@@ -126,12 +126,34 @@ ImprintStage::Collision ImprintStage::collide(Region& region, const TerrainSetti
     row_volume_[static_cast<std::size_t>(y)] = vol;
     row_contacts_[static_cast<std::size_t>(y)] = contacts;
   });
+  flag_covered_halo(region, s);
   Collision out;  // fixed summation order: rows top to bottom
   for (int y = 0; y < region.h; ++y) {
     out.displaced += row_volume_[static_cast<std::size_t>(y)];
     out.contacts += row_contacts_[static_cast<std::size_t>(y)];
   }
   return out;
+}
+
+// A halo column lies outside the region's stages (its neighbours are not all gathered), so
+// the caps that keep soil out of a body cannot be computed for it. Under a body (a held
+// one: a pressing body's reach box and margin keep its covered columns interior) it
+// receives nothing, as a contact column; otherwise the region's erosion would fill it up
+// into the body and the scatter would write that back.
+void ImprintStage::flag_covered_halo(const Region& region, const TerrainSettings& s) {
+  const auto mark = [&](int x, int y) {
+    const std::size_t k = region.at(x, y);
+    const double body = std::min(coll_[k], hold_[k]);
+    if (body != kInf && body - region.ht[k] <= std::max(s.active_reach, s.contact_tolerance)) flags_[k] = kHaloCovered;
+  };
+  for (int x = 0; x < region.w; ++x) {
+    mark(x, 0);
+    if (region.h > 1) mark(x, region.h - 1);
+  }
+  for (int y = 1; y < region.h - 1; ++y) {
+    mark(0, y);
+    if (region.w > 1) mark(region.w - 1, y);
+  }
 }
 
 void ImprintStage::no_bodies(const Region& region) {

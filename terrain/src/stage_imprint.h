@@ -12,11 +12,13 @@
 
 namespace shore::terrain {
 
-/// What collision found for a region column (ImprintStage::flags; the halo has none).
+/// What collision found for a region column (ImprintStage::flags). A halo column carries
+/// at most kHaloCovered.
 enum : unsigned char {
-  kInterior = 1,  ///< not in the halo: its 8 neighbours exist
-  kCovered = 2,   ///< under a body: a body lies within active_reach above it (or touches it)
-  kContact = 4,   ///< touched: a body lies within contact_tolerance of its top
+  kInterior = 1,     ///< not in the halo: its 8 neighbours exist
+  kCovered = 2,      ///< under a body: a body lies within active_reach above it (or touches it)
+  kContact = 4,      ///< touched: a body lies within contact_tolerance of its top
+  kHaloCovered = 8,  ///< a halo column under a body (as kCovered): it receives no soil
 };
 
 class ImprintStage {
@@ -32,6 +34,8 @@ class ImprintStage {
   /// flags, the displaced heights, the body surface and region.ht_pressed (every column's
   /// height after collision, halo included).
   Collision collide(Region& region, const TerrainSettings& s);
+  /// Flags the halo columns under a body (kHaloCovered).
+  void flag_covered_halo(const Region& region, const TerrainSettings& s);
   /// The outcome of a step without bodies (relax): nothing covered, nothing displaced.
   void no_bodies(const Region& region);
 

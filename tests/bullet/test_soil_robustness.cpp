@@ -148,7 +148,8 @@ TEST(SoilRobustness, SleepingBodyWakesWhenTheGroundUnderItIsLowered) {
 }
 
 // A body at rest is still imprinted, holding without pressing: its print's rim, left
-// eroding by a one-pass cap, slumps outward but never slides in under the body.
+// eroding by a one-pass cap, slumps outward but never slides in under the body, also where
+// the still-eroding region's edge (its halo) runs under the body.
 TEST(SoilRobustness, ABodyAtRestKeepsErodingSoilOutOfItsPrint) {
   terrain::TerrainSettings s = soil_of("mud");
   s.max_erosion_passes = 1;
@@ -178,7 +179,7 @@ TEST(SoilRobustness, ABodyAtRestKeepsErodingSoilOutOfItsPrint) {
   for (std::int64_t j = soil.column_j(-0.18); j <= soil.column_j(0.18); ++j)
     for (std::int64_t i = soil.column_i(-0.18); i <= soil.column_i(0.18); ++i)
       above = std::max(above, soil.height(i, j) - underside.lower[underside.index(i, j)]);
-  EXPECT_LE(above, 2e-3);
+  EXPECT_LE(above, 0.25e-3);
 }
 
 TEST(SoilRobustness, SameResultWhateverTheThreadCount) {
