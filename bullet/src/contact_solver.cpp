@@ -478,10 +478,10 @@ double sweep(SolverBody& body, std::span<Block> blocks, std::span<const BlockRow
 
 /// The sweeps: settings.iterations of them, then more while the last one still changed some
 /// row's speed by more than kSettledSpeed, up to kMostSweeps times as many. Six sweeps alone
-/// left a box on rigid-plastic soil rolling at up to 0.2 rad/s: its rows hold rigidly, and
-/// the sweeps had not carried the push across its base when they stopped; the roll lifted
-/// one side out of contact, and those columns came back with their shear restarted
-/// (docs/terrain.md, "Validation matrix", "the rocking box").
+/// stopped the landing of a box on rigid-plastic soil unsettled and left it rolling at up
+/// to 0.2 rad/s; the roll lifted one side of its base out of contact, and those columns
+/// came back with their shear restarted (docs/terrain.md, "Validation matrix", "The
+/// rocking box").
 void sweeps(SolverBody& body, std::span<Block> blocks, std::span<const BlockRows> rows, double h,
             const SolverSettings& settings) {
   const int least = settings.iterations, most = settings.keep_masses ? least : least * kMostSweeps;
