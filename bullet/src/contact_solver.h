@@ -8,10 +8,10 @@
 // strength of its columns at the block's normal impulse. The rigid bottom rows first push
 // together, each in proportion to its capacity, until their capacity-weighted approach
 // stops; projected Gauss-Seidel over the rows in a fixed order, warm-started from the last
-// substep, then shares that out and finds impulses that stop the
-// body's approach and slip where the soil can, and yield where it cannot: the soil never
-// pulls and never reverses an approach. The same rule with one block is the momentum rule
-// Shore used before (p = -m v_z against S h).
+// substep and swept until it settles (SolverSettings::iterations), then shares that out and
+// finds impulses that stop the body's approach and slip where the soil can, and yield where
+// it cannot: the soil never pulls and never reverses an approach. The same rule with one
+// block is the momentum rule Shore used before (p = -m v_z against S h).
 //
 // A block whose columns all unload elastically (Material::unload_modulus) is a spring
 // instead: its push at the substep's end is preload + stiffness x h x (approach speed at
@@ -83,7 +83,10 @@ struct Block {
 
 struct SolverSettings {
   int block_columns = 4;  ///< columns per block side
-  int iterations = 6;     ///< PGS sweeps over the rows (TerrainContactSettings::iterations)
+  /// PGS sweeps over the rows (TerrainContactSettings::iterations): at least these; a solve
+  /// whose last sweep still moved some row's speed by more than 1 mm/s sweeps on, up to 4
+  /// times as many (a body at rest re-solving its kept contact, keep_masses: exactly these).
+  int iterations = 6;
   /// The blocks' effective masses are still right (the body has not moved since they were
   /// computed: a body at rest re-solving its kept contact).
   bool keep_masses = false;
