@@ -342,7 +342,9 @@ TEST(SoilContact, ABoxSlidingOnMudKeepsItsBaseOnTheSoil) {
     if (substep < 24) return;  // landed by 0.1 s
     const btCollisionObject* body = ground.bodies().front();
     fewest = std::min(fewest, ground.terrain_force(body).contact_columns);
-    const btVector3 w = btRigidBody::upcast(body)->getAngularVelocity();
+    const btRigidBody* rigid = btRigidBody::upcast(body);
+    ASSERT_NE(rigid, nullptr);
+    const btVector3 w = rigid->getAngularVelocity();
     const btVector3 downhill(btScalar(std::cos(c.slope)), 0, btScalar(-std::sin(c.slope)));
     fastest_roll = std::max(fastest_roll, std::fabs(double(w.dot(downhill))));
   };
