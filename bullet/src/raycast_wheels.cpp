@@ -639,10 +639,15 @@ RimShear RaycastWheels::grip(const terrain::Terrain& terrain, const terrain::Bea
   in.held_spin = in.hold ? held : 0.0;
   in.last_spin = wheel.last_spin;
   const Traction t = soil_traction(wheel.rim, in);
-  // Against the motion, no more than stops the chassis at the contact.
+  // Against the motion, no more than stops the chassis at the contact: a brake's or a
+  // resistance's. A wheel turning in its thrust's direction drives, and may reverse the
+  // motion: clipped, a car at rest that rolls back by a rounding's worth would get only the
+  // push that stops it, substep after substep, and never start.
   const btVector3 contact = chassis->getCenterOfMassPosition() + p.at;
+  const bool drives = t.spin * t.forward > 0.0;
   const double along =
-      stopping(t.forward * h, in.forward_speed, chassis->computeImpulseDenominator(contact, world_forward));
+      drives ? t.forward * h
+             : stopping(t.forward * h, in.forward_speed, chassis->computeImpulseDenominator(contact, world_forward));
   const double across = stopping(t.side * h, in.side_speed, chassis->computeImpulseDenominator(contact, world_axle));
   chassis->applyImpulse(world_forward * btScalar(along), p.at);
   // Sideways at the height the vehicle's roll influence sets, as Bullet's own side impulse.

@@ -16,6 +16,7 @@
 #include "shore/scenes/soil_cases.h"
 #include "shore/scenes/wong_reece.h"
 #include "shore/scenes/world.h"
+#include "shore/terrain/bekker.h"
 #include "shore/terrain/terrain.h"
 #include "soil_rig.h"
 
@@ -166,6 +167,35 @@ TEST(SoilVehicle, TheSoilHoldsTheWheelsSidewaysUpToItsStrength) {
               strength, bulldozing, least, most);
   EXPECT_GT(slid, 0.8 * least) << "m";
   EXPECT_LT(slid, 1.2 * most) << "m";
+}
+
+// A four-wheel-drive car at rest in its own prints starts when driven, whatever the column
+// size: the engine's thrust against Bekker's rolling compaction resistance moves it at least
+// half as far as that balance says in 2 s, and less far than on a bare plane. The wheels'
+// thrust is a drive, not a brake: were it limited to stopping the chassis whenever it
+// opposes the chassis' motion, a car that rolled back by a rounding's worth while settling
+// would get only the push that stops it, substep after substep (on 7 mm sand it stood still
+// for the whole 2 s, on 7.5 mm for about a second).
+TEST(SoilVehicle, ACarAtRestInItsPrintsStartsWhenDriven) {
+  const RaycastCarSettings car;  // the cost case's car: 800 kg, D 0.8 m, b 0.3 m
+  const shore::terrain::Material sand = shore::terrain::Material::sand();
+  const double load = car.mass * kGravity / 4, force = 500.0, t = 2.0;
+  const double rolling =
+      shore::terrain::bekker::wheel_sinkage_rolling(sand, load, 2 * car.wheel_radius, car.wheel_width);
+  const double resistance = shore::terrain::bekker::wheel_compaction_resistance(sand, rolling, car.wheel_width);
+  const double bekker = 0.5 * 4 * (force - resistance) / car.mass * t * t, bare = 0.5 * 4 * force / car.mass * t * t;
+  for (const double cell : {0.007, 0.0075, 0.01}) {
+    shore::scenes::RaycastCostCase c;
+    c.cell = cell;
+    c.seconds = t;
+    c.engine_force = force;
+    const double driven = shore::scenes::run_raycast_cost(c).distance;
+    std::printf(
+        "[ soil vehicle ] %.4f m cells: %.3f m in %.0f s (Bekker's rolling resistance %.0f N a wheel: %.3f m)\n", cell,
+        driven, t, resistance, bekker);
+    EXPECT_GT(driven, 0.5 * bekker) << "m, on " << cell << " m columns";
+    EXPECT_LT(driven, bare) << "m, on " << cell << " m columns";
+  }
 }
 
 // On ground that is not soft (a rigid terrain here) a SoilVehicle is Bullet's own vehicle:
