@@ -3,6 +3,7 @@
 // printed, for callgrind. A wheel's instructions per substep are a driven run minus a run
 // with no driven part (the same settling), over 4 wheels and the driven run's substeps:
 //   shore_raycast_cost [seconds driven, default 2] [plane 0|1] [cell m, default 0.01]
+//                      [material preset, default sand] [engine force N a wheel, default 500]
 //   valgrind --tool=callgrind shore_raycast_cost 2   (and 0; subtract, divide by 4 x 480)
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +16,8 @@ int main(int argc, char** argv) {
   if (argc > 1) c.seconds = std::atof(argv[1]);
   if (argc > 2) c.on_plane = std::atoi(argv[2]) != 0;
   if (argc > 3) c.cell = std::atof(argv[3]);
+  if (argc > 4) c.material = shore::terrain::Material::preset(argv[4]);
+  if (argc > 5) c.engine_force = std::atof(argv[5]);
   const scenes::RaycastCostResult r = scenes::run_raycast_cost(c);
   std::printf("%s: %lld substeps driven, %.4f s wall, %.6f m driven\n", c.on_plane ? "plane" : "soil",
               static_cast<long long>(r.substeps), r.wall_seconds, r.distance);

@@ -107,10 +107,27 @@ Bracket narrow_spin(const auto& g, Bracket b, double g_lo, double g_hi, double w
   });
 }
 
+/// The spin of a wheel held at rest by the rim's shear and its brake in the rolling frame
+/// (the balance at spin 0 lies forward of the root): locked, unless a drive against the
+/// motion (a car rolling back, driven forward) overcomes the shear and the brake (which now
+/// resists turning backward): then it turns against the motion, at most `top` fast.
+double against_motion(const auto& along, double drive, double brake, double top) {
+  const double target = drive + brake;  // turning backward, the brake helps the shear
+  if (!(target < 0.0)) return 0.0;      // locked: the brake holds it
+  const auto g = [&](double omega) { return along(omega) - target; };
+  const double g_hi = g(0.0);
+  if (!(g_hi > 0.0)) return 0.0;  // the shear and the brake hold it
+  const double g_lo = g(-top);
+  if (g_lo >= 0.0) return -top;  // spins backward: more than the soil takes
+  const Bracket b = narrow_spin(g, Bracket{-top, 0.0}, g_lo, g_hi, kSpinTolerance * top);
+  return 0.5 * (b.lo + b.hi);
+}
+
 /// The spin at which the rim's shear balances the drive less the brake (rolling frame).
 double balancing_spin(std::span<const RimStrip> rim, const TractionInput& in, const RollingFrame& f) {
-  const double target = f.dir * in.drive - std::max(in.brake, 0.0);
-  const auto g = [&](double omega) { return rim_force(rim, in, f, omega).along - target; };
+  const double drive = f.dir * in.drive, brake = std::max(in.brake, 0.0);
+  const auto along = [&](double omega) { return rim_force(rim, in, f, omega).along; };
+  const auto g = [&](double omega) { return along(omega) - (drive - brake); };
   const double top = (5.0 * std::max(f.speed, 0.0) + 2.0) / in.radius;
   const double guess = f.dir * in.last_spin;
   Bracket b;
@@ -119,10 +136,10 @@ double balancing_spin(std::span<const RimStrip> rim, const TractionInput& in, co
     bool end = false;
     double at = 0.0;
     b = warm_bracket(g, guess, top, g_lo, g_hi, end, at);
-    if (end) return at;
+    if (end) return at > 0.0 ? at : against_motion(along, drive, brake, top);
   } else {
     g_lo = g(0.0);
-    if (g_lo >= 0.0) return 0.0;  // locked: the brake holds it
+    if (g_lo >= 0.0) return against_motion(along, drive, brake, top);
     g_hi = g(top);
     if (g_hi <= 0.0) return top;  // spins: more than the soil takes
     b = {0.0, top};
@@ -135,6 +152,7 @@ double balancing_spin(std::span<const RimStrip> rim, const TractionInput& in, co
 
 double slip_of(double omega, double speed, double r) {
   const double rim = omega * r;
+  if (rim < 0.0 && speed > 0.0) return 1.0;  // turning against the motion: driven, slipping fully
   if (rim >= speed) return rim > 0.0 ? 1.0 - std::max(speed, 0.0) / rim : 0.0;  // driving
   return speed > 0.0 ? rim / speed - 1.0 : 0.0;                                 // braking
 }

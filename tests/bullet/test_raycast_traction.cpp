@@ -110,3 +110,31 @@ TEST(RaycastTraction, ASearchFromTheLastSpinAnswersTheEndsAsTheWholeRange) {
     EXPECT_EQ(soil_traction(strips, in).spin, cold) << start;
   }
 }
+
+// A wheel rolling back (a car rocking in a hole, or pushed) while its engine drives it
+// forward. Driven below what the soil holds, it keeps turning back, slower than it rolls,
+// and its shear balances the drive (the wheel has no inertia of its own). Driven beyond it,
+// it turns forward against the motion, at the top of the range, and the soil's whole shear
+// pushes the chassis forward; held locked instead, a wheel the soil cannot hold would skid
+// and stop the car it should drive.
+TEST(RaycastTraction, AWheelDrivenAgainstTheMotionTurnsAgainstItPastTheSoilsHold) {
+  const std::vector<RimStrip> strips = rim();
+  double strength = 0.0;  // what the rim's soil holds at most: every strip's strength
+  for (const RimStrip& s : strips) strength += s.strength;
+  TractionInput in = driven(0.0, 0.0);
+  in.forward_speed = -0.5, in.side_speed = 0.0;
+  const double rolling = in.forward_speed / kRadius;
+  in.drive = 0.2 * strength;
+  const Traction held = soil_traction(strips, in);
+  EXPECT_LT(held.spin, 0.0) << "rad/s: still turning back";
+  EXPECT_GT(held.spin, rolling) << "rad/s: slower than it rolls";
+  EXPECT_NEAR(held.torque / kRadius, in.drive, 1e-6 * in.drive) << "N: the shear balances the drive";
+  EXPECT_GT(held.forward, 0.0) << "N: pushed forward";
+  in.drive = 1.5 * strength;
+  const Traction spun = soil_traction(strips, in);
+  // The range's top in the backward-rolling frame: (5 |v| + 2) / r.
+  EXPECT_EQ(spun.spin, (5.0 * 0.5 + 2.0) / kRadius) << "rad/s: forward, the top of the range";
+  EXPECT_GT(spun.forward, 0.5 * strength) << "N: the soil's shear, forward";
+  EXPECT_LE(spun.forward, strength) << "N";
+  EXPECT_EQ(spun.slip, 1.0) << "driven, slipping fully";
+}
