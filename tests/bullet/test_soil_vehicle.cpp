@@ -198,6 +198,52 @@ TEST(SoilVehicle, ACarAtRestInItsPrintsStartsWhenDriven) {
   }
 }
 
+// A car braked hard at speed on sand and on mud: its wheels lock and skid, and the soil
+// stops it as Coulomb on its strength says, each wheel held back by the shear of its
+// contact, c A + W tan(phi) (remoulded by the skid to 1 - remould_shear_ratio of it at
+// most), plus Bekker's compaction resistance. Stopped, the chassis rocks back on its springs
+// and the car creeps back a little, as Bullet's own vehicle does (on a rigid heightfield the
+// same car rolls back 8 cm after stopping): at most 5 cm here, and then it stays.
+TEST(SoilVehicle, ABrakedCarSkidsToAStopAsCoulombOnTheSoilsStrength) {
+  for (const char* name : {"sand", "mud"}) {
+    const shore::terrain::Material soil = shore::terrain::Material::preset(name);
+    Rig rig(soil);
+    RaycastCarSettings s;  // 800 kg, D 0.8 m, b 0.3 m
+    s.soil_traction = true;
+    RaycastCar car(rig.world, s, btVector3(0, 0, btScalar(s.suspension_rest + s.wheel_radius - s.connection_height)));
+    const std::array<double, 4> widths{s.wheel_width, s.wheel_width, s.wheel_width, s.wheel_width};
+    rig.coupling.add_vehicle(&car.vehicle(), widths);
+    for (int k = 0; k < 240; ++k) rig.world.step(kSubstep);  // settles into its imprints
+    const double speed = 3.0, load = s.mass * kGravity / 4;
+    car.chassis()->setLinearVelocity(btVector3(btScalar(speed), 0, 0));
+    car.drive(0.0, 4 * load * kSubstep, 0.0);  // Bullet's brake, N s a substep: four times the load
+    const double x0 = car.chassis()->getCenterOfMassPosition().x();
+    double slowest = speed, stopped_at = -1.0;  // m/s, m
+    for (int k = 0; k < 480; ++k) {
+      rig.world.step(kSubstep);
+      const double v = car.chassis()->getLinearVelocity().x();
+      slowest = std::min(slowest, v);
+      if (stopped_at < 0.0 && v < 1e-3) stopped_at = car.chassis()->getCenterOfMassPosition().x() - x0;
+    }
+    const double travelled = car.chassis()->getCenterOfMassPosition().x() - x0;
+    // The contact: the chord of the wheel sunk to Bekker's rolling sinkage, the wheel's width wide.
+    const double sinkage = shore::terrain::bekker::wheel_sinkage_rolling(soil, load, 2 * s.wheel_radius, s.wheel_width);
+    const double area = 2.0 * std::sqrt(2.0 * s.wheel_radius * sinkage) * s.wheel_width;
+    const double strength = soil.cohesion * area + load * std::tan(soil.friction_angle);
+    const double resistance = shore::terrain::bekker::wheel_compaction_resistance(soil, sinkage, s.wheel_width);
+    const double longest = speed * speed / (2 * 4 * ((1 - soil.remould_shear_ratio) * strength + resistance) / s.mass);
+    const double shortest = speed * speed / (2 * 4 * (strength + resistance) / s.mass);
+    std::printf(
+        "[ soil vehicle ] %s: braked from %.1f m/s: stopped after %.3f m (Coulomb and Bekker: %.3f to %.3f m), "
+        "%.3f m at the end, slowest %.4f m/s\n",
+        name, speed, stopped_at, shortest, longest, travelled, slowest);
+    EXPECT_GT(stopped_at, 0.9 * shortest) << "m, " << name;
+    EXPECT_LT(stopped_at, 1.1 * longest) << "m, " << name;
+    EXPECT_GT(travelled, stopped_at - 0.05) << "m: it creeps back at most 5 cm, " << name;
+    EXPECT_LT(std::abs(car.chassis()->getLinearVelocity().x()), 1e-3f) << "m/s: and stays, " << name;
+  }
+}
+
 // On ground that is not soft (a rigid terrain here) a SoilVehicle is Bullet's own vehicle:
 // the same trajectory, bit for bit, as a stock btRaycastVehicle driven the same way.
 TEST(SoilVehicle, OffSoftGroundItIsBulletsVehicleBitForBit) {
