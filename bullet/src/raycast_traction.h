@@ -71,7 +71,7 @@ struct RimShear {
 
 struct Traction {
   double spin = 0.0;     ///< rad/s, positive rolling forward
-  double slip = 0.0;     ///< Wong's i = 1 - v / (omega r) driving, omega r / v - 1 braking
+  double slip = 0.0;     ///< Wong's i = 1 - v / (omega r) driving (1 against the motion), omega r / v - 1 braking
   double forward = 0.0;  ///< N on the chassis along the heading (thrust: the rim's shear, horizontal)
   double side = 0.0;     ///< N on the chassis along the axle
   double torque = 0.0;   ///< N m, the shear's moment about the axle (what drives the wheel)

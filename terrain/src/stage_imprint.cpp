@@ -6,6 +6,12 @@
 
 namespace shore::terrain {
 
+namespace {
+/// Whether a body whose surface lies at `body` covers a column topped at `top`: it touches
+/// it (within contact_tolerance) or lies within active_reach above it.
+bool covers(double body, double top, double tol, double reach) { return body <= top + tol || body - top <= reach; }
+}  // namespace
+
 // plain_ / star_ hold the lowest (offset) envelope of plain and star pressing imprints;
 // true_ the lowest of both (soil state); coll_ the collision surface (star imprints lowered
 // to their lowest point within +-1 column); hold_ the lowest envelope of holding imprints.
@@ -107,8 +113,8 @@ ImprintStage::Collision ImprintStage::collide(Region& region, const TerrainSetti
       region.ht_pressed[k] = top;
       if (body == kInf) continue;
       coll_[k] = body;
+      if (covers(body, top, tol, reach)) flags_[k] |= kCovered;
       const bool touching = body <= top + tol;
-      if (touching || body - top <= reach) flags_[k] |= kCovered;
       if (!touching) continue;
       flags_[k] |= kContact;
       if (!(e <= top + tol)) continue;  // held, not pressed
@@ -144,7 +150,7 @@ void ImprintStage::flag_covered_halo(const Region& region, const TerrainSettings
   const auto mark = [&](int x, int y) {
     const std::size_t k = region.at(x, y);
     const double body = std::min(coll_[k], hold_[k]);
-    if (body != kInf && body - region.ht[k] <= std::max(s.active_reach, s.contact_tolerance)) flags_[k] = kHaloCovered;
+    if (body != kInf && covers(body, region.ht[k], s.contact_tolerance, s.active_reach)) flags_[k] = kHaloCovered;
   };
   for (int x = 0; x < region.w; ++x) {
     mark(x, 0);

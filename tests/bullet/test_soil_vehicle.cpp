@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "shore/bullet/soil_vehicle.h"
 #include "shore/bullet/terrain_coupling.h"
@@ -43,6 +44,19 @@ RaycastCarSettings wong_reece_car() {
 using Rig = SoilRig;
 
 SoilVehicle& soil_vehicle(RaycastCar& car) { return dynamic_cast<SoilVehicle&>(car.vehicle()); }
+
+std::array<double, 4> widths(const RaycastCarSettings& s) {
+  return {s.wheel_width, s.wheel_width, s.wheel_width, s.wheel_width};
+}
+
+/// A car standing on the rig's flat soil (its wheels touching z = 0 at rest length), its
+/// vehicle added to the coupling with every wheel's width.
+std::unique_ptr<RaycastCar> car_on(Rig& rig, const RaycastCarSettings& s) {
+  auto car = std::make_unique<RaycastCar>(
+      rig.world, s, btVector3(0, 0, btScalar(s.suspension_rest + s.wheel_radius - s.connection_height)));
+  rig.coupling.add_vehicle(&car->vehicle(), widths(s));
+  return car;
+}
 
 /// The car towed at 0.5 m/s with every wheel held at the spin of `slip`, measured on its
 /// front wheels (they meet fresh soil, as Wong and Reece's wheel does) over the second half.
@@ -120,9 +134,8 @@ double sideways_strength() {
 double pushed_sideways(double share) {
   Rig rig(shore::terrain::Material::sand());
   const RaycastCarSettings s = wong_reece_car();
-  RaycastCar car(rig.world, s, btVector3(0, 0, btScalar(s.suspension_rest + s.wheel_radius - s.connection_height)));
-  const std::array<double, 4> widths{s.wheel_width, s.wheel_width, s.wheel_width, s.wheel_width};
-  rig.coupling.add_vehicle(&car.vehicle(), widths);
+  const std::unique_ptr<RaycastCar> owned = car_on(rig, s);
+  RaycastCar& car = *owned;
   for (int k = 0; k < 480; ++k) rig.world.step(kSubstep);  // settles into its imprints
   const double hold = sideways_strength();
   auto contacts_y = [&car] {
@@ -210,9 +223,8 @@ TEST(SoilVehicle, ABrakedCarSkidsToAStopAsCoulombOnTheSoilsStrength) {
     Rig rig(soil);
     RaycastCarSettings s;  // 800 kg, D 0.8 m, b 0.3 m
     s.soil_traction = true;
-    RaycastCar car(rig.world, s, btVector3(0, 0, btScalar(s.suspension_rest + s.wheel_radius - s.connection_height)));
-    const std::array<double, 4> widths{s.wheel_width, s.wheel_width, s.wheel_width, s.wheel_width};
-    rig.coupling.add_vehicle(&car.vehicle(), widths);
+    const std::unique_ptr<RaycastCar> owned = car_on(rig, s);
+    RaycastCar& car = *owned;
     for (int k = 0; k < 240; ++k) rig.world.step(kSubstep);  // settles into its imprints
     const double speed = 3.0, load = s.mass * kGravity / 4;
     car.chassis()->setLinearVelocity(btVector3(btScalar(speed), 0, 0));
@@ -254,8 +266,7 @@ TEST(SoilVehicle, OffSoftGroundItIsBulletsVehicleBitForBit) {
     RaycastCarSettings s = wong_reece_car();
     s.soil_traction = soil;
     RaycastCar car(rig.world, s, btVector3(0, 0, 1.0f));
-    const std::array<double, 4> widths{s.wheel_width, s.wheel_width, s.wheel_width, s.wheel_width};
-    rig.coupling.add_vehicle(&car.vehicle(), widths);
+    rig.coupling.add_vehicle(&car.vehicle(), widths(s));
     car.drive(300.0, 0.0, 0.1);
     for (int k = 0; k < 2 * 240; ++k) rig.world.step(kSubstep);
     return car.chassis()->getCenterOfMassPosition();

@@ -43,8 +43,10 @@ struct SoilVehicleState;
 /// false, for a wheel not on soft Shore ground).
 struct WheelTraction {
   bool on_soil = false;
-  double spin = 0.0;        ///< rad/s, positive rolling forward
-  double slip = 0.0;        ///< Wong's i: 1 - v / (omega r) when driving (0..1), omega r / v - 1 when braking (-1..0)
+  double spin = 0.0;  ///< rad/s, positive rolling forward
+  /// Wong's i: 1 - v / (omega r) when driving (0..1; 1 for a wheel driven against the
+  /// motion), omega r / v - 1 when braking (-1..0).
+  double slip = 0.0;
   double forward = 0.0;     ///< N, the soil's shear on the chassis along the wheel's heading (thrust)
   double side = 0.0;        ///< N, the soil's shear on the chassis along the wheel's axle
   double torque = 0.0;      ///< N m, the shear's moment about the axle: the torque driving the wheel takes
