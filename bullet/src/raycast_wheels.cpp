@@ -31,6 +31,9 @@ constexpr double kRolling = 0.05;   // m/s: a wheel slower than this is standing
 // kRiseLeast, then twice as high while it reaches that, never more than kRiseMost of its radius.
 constexpr double kRiseLeast = 0.01;  // m
 constexpr double kRiseMost = 0.5;
+// m: the floor a wheel presses stays this far above its ray's end (reachable_offset), against
+// rounding in Bullet's ray.
+constexpr double kRayMargin = 1e-4;
 // The rim's clinging soil is stepped every this many soil steps (Imprint::cling_every)
 // while each point of the rim stays on the soil that long (rim_stays).
 constexpr int kClingEvery = 2;
@@ -313,6 +316,17 @@ double stopping(double impulse, double speed, double denominator) {
   return std::clamp(impulse, -most, most);
 }
 
+/// m, how far the wheel's envelope may be lowered and keep its lowest point above its ray's
+/// end (`ray_end`, the ground frame's height; kRayMargin kept): pressed deeper, the wheel would
+/// find no ground in the next substep, its suspension would carry nothing, and the next touch
+/// would press again. On snow, where a few hundred newtons sink a wheel 20 cm, a car set down
+/// on its wheels fell onto its chassis. The soil yields no faster than the chassis follows.
+double reachable_offset(const EnvelopeRaster& envelope, double ray_end) {
+  double lowest = EnvelopeRaster::kNoLower;
+  for (const double z : envelope.lower) lowest = std::min(lowest, z);
+  return std::isfinite(lowest) ? std::max(lowest - ray_end - kRayMargin, 0.0) : 0.0;
+}
+
 /// Names wheel k of a vehicle from step to step for the spray (the soil clinging to it, its
 /// random numbers): above every body's key (a broadphase id, below 2^31), from the
 /// chassis' id and the wheel's index.
@@ -445,7 +459,12 @@ const terrain::Imprint* RaycastWheels::press(const terrain::Terrain& terrain, En
       chassis->applyImpulse(normal * btScalar((p.load - suspension_force) * h), p.at);
     }
   }
-  const terrain::Bearing* bearing = &wheel.solve.bearing(offset);
+  const btVector3 ray_end =
+      info.m_raycastInfo.m_hardPointWS +
+      info.m_raycastInfo.m_wheelDirectionWS * (info.getSuspensionRestLength() + info.m_wheelsRadius);
+  p.ray_end = double((framed_ ? to_ground_ * ray_end : ray_end).z());
+  offset = std::min(offset, reachable_offset(wheel.envelope, p.ray_end));
+  const terrain::Bearing* bearing = &wheel.solve.measure(offset);
   if (vehicle.soil != nullptr) {
     // Its traction; the soil it shears bears less, each strip by its own shear (loosen).
     const terrain::Material& m =
@@ -603,8 +622,9 @@ double RaycastWheels::loosen(const terrain::Terrain& terrain, const terrain::Mat
   wheel.loosening.build(terrain.settings().cell, wheel.bearing_part, wheel.from_centre, p.pose.getBasis().getColumn(1),
                         p.radius, shear, m);
   const double offset =
-      wheel.solve.offset(p.load, [&](const terrain::Bearing& b) { return wheel.loosening.capacity(b); });
-  wheel.loosening.apply(wheel.solve.bearing(offset), wheel.loosened);
+      std::min(wheel.solve.offset(p.load, [&](const terrain::Bearing& b) { return wheel.loosening.capacity(b); }),
+               reachable_offset(wheel.envelope, p.ray_end));
+  wheel.loosening.apply(wheel.solve.measure(offset), wheel.loosened);
   return offset;
 }
 

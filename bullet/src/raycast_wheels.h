@@ -170,6 +170,8 @@ class RaycastWheels {
     btVector3 at;                     ///< the contact point relative to the chassis' centre of mass
     btTransform pose, world_pose;     ///< the wheel's, in ground and world coordinates
     double radius = 0.0, load = 0.0;  ///< m; N, the suspension force plus the rise's
+    /// m, the height of the end of the wheel's ray (ground frame): it sinks no lower in a substep.
+    double ray_end = -std::numeric_limits<double>::infinity();
   };
   /// The wheel's rut and resistance; its imprint if the terrain deforms, else null.
   const terrain::Imprint* press(const terrain::Terrain& terrain, EnvelopeRasterizer& rasterizer, double h, bool deforms,
@@ -202,7 +204,7 @@ class RaycastWheels {
   void steer_by_walls(const terrain::Terrain& terrain, const terrain::Bearing& bearing, Vehicle& vehicle, int k,
                       const Pressed& p, double h);
   /// A slipping wheel's soil loosened strip by strip (RimLoosening): the offset at which it
-  /// carries the load, its loosened bearing in the wheel's `loosened`.
+  /// carries the load (the envelope no lower than p.ray_end), its loosened bearing in the wheel's `loosened`.
   double loosen(const terrain::Terrain& terrain, const terrain::Material& m, const RimShear& shear, Wheel& wheel,
                 const Pressed& p);
   /// A SoilVehicle's wheel: the soil's shear on its rim (material `m`, the one under the

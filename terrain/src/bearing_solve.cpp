@@ -151,6 +151,12 @@ const Bearing& BearingSolve::bearing(double offset) const {
   return *b;
 }
 
+const Bearing& BearingSolve::measure(double offset) {
+  if (!(offset >= 0.0) || !std::isfinite(offset))
+    throw InvalidSetting("terrain.BearingSolve.measure(offset)", detail::to_text(offset), "must be >= 0 and finite");
+  return state_->ready("terrain.BearingSolve.measure").measure(offset);
+}
+
 double BearingSolve::deepest() const noexcept {
   const State& st = *state_;
   double most = 0.0;

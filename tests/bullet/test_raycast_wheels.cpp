@@ -293,6 +293,59 @@ TEST(SoilRaycaster, AYUpCarSinksAsAZUpOneAndAsBekkerSays) {
   EXPECT_NEAR(y_up, z_up, 0.06 * z_up) << "m, the Y-up car's sinkage against the Z-up one's";
 }
 
+/// m: the deepest a standing wheel (both halves of the rim, D 0.8 m, b 0.3 m) carrying `load`
+/// may be pressed when the integral of (Bekker's capacity - load) over its sinkage may reach
+/// `work` (J): that integral by steps of 1 mm (midpoint rule), the depth where it passes.
+double deepest_for_work(const shore::terrain::Material& m, double load, double work) {
+  constexpr double kStep = 0.001;
+  double depth = 0.0;
+  for (double sum = 0.0; sum <= work && depth < kDiameter / 2; depth += kStep)
+    sum += (2.0 * front_arc_load(m, depth + 0.5 * kStep) - load) * kStep;
+  return depth;
+}
+
+// A car set down on deep snow at once (springs at rest length) stands on its four wheels:
+// the soil under a wheel yields no faster than the chassis follows, so its ray keeps finding
+// it. (Snow sinks a wheel 20 cm under a few hundred newtons: pressed past the ray's end in
+// one substep, the wheels found no ground and the car fell onto its chassis.) The stock
+// vehicle comes to rest no shallower than Bekker's static sinkage for its load (both halves
+// of the rim, on the circle) and no deeper than energy allows: the chassis' fall, the
+// sinkage z plus the springs' compression d = W / k, pays for the springs' energy and the
+// soil's work, so the integral of (Bekker's capacity - W) over z is at most W d / 2.
+TEST(SoilRaycaster, ACarSetDownOnDeepSnowStandsOnItsWheels) {
+  const shore::terrain::Material snow = shore::terrain::Material::snow();
+  for (const bool soil_traction : {false, true}) {
+    const char* name = soil_traction ? "SoilVehicle" : "stock vehicle";
+    Rig rig(snow);
+    RaycastCarSettings s;  // 800 kg, D 0.8 m, b 0.3 m
+    s.soil_traction = soil_traction;
+    RaycastCar car(rig.world, s, btVector3(0, 0, btScalar(s.suspension_rest + s.wheel_radius - s.connection_height)),
+                   &rig.coupling);
+    const std::array<double, 4> widths{kWidth, kWidth, kWidth, kWidth};
+    rig.coupling.add_vehicle(&car.vehicle(), widths, car.soil_raycaster());
+    int fewest = 4;
+    double clearance = s.suspension_rest;  // m, the chassis' underside above the untouched snow (0)
+    for (int k = 0; k < 3 * 240; ++k) {
+      rig.world.step(kSubstep);
+      if (k >= 24) fewest = std::min(fewest, car.wheels_on_ground());  // after the first touch
+      clearance = std::min(clearance, double(car.chassis()->getCenterOfMassPosition().z()) - s.half_height);
+    }
+    const double load = s.mass * kGravity / 4, sinkage = wheel_sinkage(car);
+    const double settled = front_arc_sinkage(snow, load / 2);  // both halves bear
+    const double compression = load / (s.suspension_stiffness * s.mass);
+    const double deepest = deepest_for_work(snow, load, 0.5 * load * compression);
+    std::printf(
+        "%s set down on snow: sinkage %.4f m (Bekker's static %.4f m, the energy's bound %.4f m), "
+        "%d wheels on the snow at least, the chassis at least %.3f m above it\n",
+        name, sinkage, settled, deepest, fewest, clearance);
+    EXPECT_EQ(fewest, 4) << name << ": wheels on the snow";
+    EXPECT_GT(clearance, 0.05) << name << ": m, the chassis' underside above the snow";
+    if (soil_traction) continue;  // its wheels loosen the soil they shear: Bekker's work is not its
+    EXPECT_GT(sinkage, 0.95 * settled) << name << ": m, against Bekker's static sinkage";
+    EXPECT_LT(sinkage, deepest) << name << ": m, against the energy's bound";
+  }
+}
+
 TEST(RaycastWheelErrors, BadRaycastersAreRefusedNamingTheField) {
   Rig rig(shore::terrain::Material::sand()), other(shore::terrain::Material::sand());
   shore::bullet::SoilRaycasterSettings bad;

@@ -55,6 +55,12 @@ class BearingSolve {
   /// offset). Valid until the next solve or reset(). Throws InvalidSetting for an offset no
   /// solve measured.
   [[nodiscard]] const Bearing& bearing(double offset) const;
+  /// What the soil bears with the envelope lowered by `offset` (m, >= 0 and finite), measured
+  /// now if no solve since the last reset measured it: exactly Terrain::bearing(envelope,
+  /// offset). For a caller that stops short of a solve's answer (a raycast wheel whose ray
+  /// reaches no deeper). Valid until the next solve, measure or reset(). Throws
+  /// InvalidSetting for a bad offset, or before the first reset.
+  [[nodiscard]] const Bearing& measure(double offset);
   /// The largest offset (m) measured since the last reset (0 before any solve).
   [[nodiscard]] double deepest() const noexcept;
   /// The offset (m) at which every covered column stands at bedrock, where the solve's
