@@ -195,14 +195,15 @@ TEST_P(RaycastWheelSoil, TowedOnFineCellsWithTheSoilRaycasterIsBekkers) {
 
 INSTANTIATE_TEST_SUITE_P(Presets, RaycastWheelSoil, ::testing::Values("sand", "mud"));
 
-/// A car (4 kN a wheel) casting with the SoilRaycaster on sand in a world whose ground lies
-/// in `frame`, the sand's base `base` (null: flat at 0) in columns of `cell` m, its centre over the ground's
-/// origin with its wheels touching at rest length. Owns the lot.
+/// A car (`s`: by default 4 kN a wheel) casting with the SoilRaycaster on soil of material `m`
+/// (by default sand) in a world whose ground lies in `frame`, the soil's base `base` (null:
+/// flat at 0) in columns of `cell` m, its centre over the ground's origin with its wheels
+/// touching at rest length. Owns the lot.
 struct SoilRaycasterCar {
   SoilRaycasterCar(const shore::bullet::GroundFrame& frame, std::shared_ptr<const shore::terrain::HeightSource> base,
-                   double cell = 0.02)
-      : soil(sand(std::move(base), cell)), world(kGravity, frame), coupling(world.world(), soil, on(frame)) {
-    const RaycastCarSettings s = heavy_car();
+                   double cell = 0.02, const shore::terrain::Material& m = shore::terrain::Material::sand(),
+                   const RaycastCarSettings& s = heavy_car())
+      : soil(ground(std::move(base), cell, m)), world(kGravity, frame), coupling(world.world(), soil, on(frame)) {
     const double ground = soil.settings().base ? soil.settings().base->height(0.0, 0.0) : 0.0;
     car = std::make_unique<RaycastCar>(
         world, s, btVector3(0, 0, btScalar(ground + s.suspension_rest + s.wheel_radius - s.connection_height)),
@@ -210,8 +211,9 @@ struct SoilRaycasterCar {
     const std::array<double, 4> widths{kWidth, kWidth, kWidth, kWidth};
     coupling.add_vehicle(&car->vehicle(), widths, car->soil_raycaster());
   }
-  static shore::terrain::TerrainSettings sand(std::shared_ptr<const shore::terrain::HeightSource> base, double cell) {
-    shore::terrain::TerrainSettings s = Rig::settings(shore::terrain::Material::sand());
+  static shore::terrain::TerrainSettings ground(std::shared_ptr<const shore::terrain::HeightSource> base, double cell,
+                                                const shore::terrain::Material& m) {
+    shore::terrain::TerrainSettings s = Rig::settings(m);
     s.base = std::move(base);
     s.cell = cell;
     return s;
@@ -311,39 +313,40 @@ double deepest_for_work(const shore::terrain::Material& m, double load, double w
 // vehicle comes to rest no shallower than Bekker's static sinkage for its load (both halves
 // of the rim, on the circle) and no deeper than energy allows: the chassis' fall, the
 // sinkage z plus the springs' compression d = W / k, pays for the springs' energy and the
-// soil's work, so the integral of (Bekker's capacity - W) over z is at most W d / 2.
+// soil's work, so the integral of (Bekker's capacity - W) over z is at most W d / 2. In a
+// Z-up and a Y-up world: the ray's end is compared with the envelope in the ground's frame.
 TEST(SoilRaycaster, ACarSetDownOnDeepSnowStandsOnItsWheels) {
   const shore::terrain::Material snow = shore::terrain::Material::snow();
-  for (const bool soil_traction : {false, true}) {
-    const char* name = soil_traction ? "SoilVehicle" : "stock vehicle";
-    Rig rig(snow);
-    RaycastCarSettings s;  // 800 kg, D 0.8 m, b 0.3 m
-    s.soil_traction = soil_traction;
-    RaycastCar car(rig.world, s, btVector3(0, 0, btScalar(s.suspension_rest + s.wheel_radius - s.connection_height)),
-                   &rig.coupling);
-    const std::array<double, 4> widths{kWidth, kWidth, kWidth, kWidth};
-    rig.coupling.add_vehicle(&car.vehicle(), widths, car.soil_raycaster());
-    int fewest = 4;
-    double clearance = s.suspension_rest;  // m, the chassis' underside above the untouched snow (0)
-    for (int k = 0; k < 3 * 240; ++k) {
-      rig.world.step(kSubstep);
-      if (k >= 24) fewest = std::min(fewest, car.wheels_on_ground());  // after the first touch
-      clearance = std::min(clearance, double(car.chassis()->getCenterOfMassPosition().z()) - s.half_height);
+  for (const shore::bullet::GroundFrame& frame :
+       {shore::bullet::GroundFrame::z_up(), shore::bullet::GroundFrame::y_up()})
+    for (const bool soil_traction : {false, true}) {
+      const std::string name =
+          std::string(soil_traction ? "SoilVehicle" : "stock vehicle") + (frame.identity() ? ", Z-up" : ", Y-up");
+      RaycastCarSettings s;  // 800 kg, D 0.8 m, b 0.3 m
+      s.soil_traction = soil_traction;
+      SoilRaycasterCar rig(frame, nullptr, 0.02, snow, s);
+      int fewest = 4;
+      double clearance = s.suspension_rest;  // m, the chassis' underside above the untouched snow (0)
+      for (int k = 0; k < 3 * 240; ++k) {
+        rig.world.step(kSubstep);
+        if (k >= 24) fewest = std::min(fewest, rig.car->wheels_on_ground());  // after the first touch
+        const btVector3 centre = rig.world.ground().to_ground() * rig.car->chassis()->getCenterOfMassPosition();
+        clearance = std::min(clearance, double(centre.z()) - s.half_height);
+      }
+      const double load = s.mass * kGravity / 4, sinkage = rig.sinkage();
+      const double settled = front_arc_sinkage(snow, load / 2);  // both halves bear
+      const double compression = load / (s.suspension_stiffness * s.mass);
+      const double deepest = deepest_for_work(snow, load, 0.5 * load * compression);
+      std::printf(
+          "%s set down on snow: sinkage %.4f m (Bekker's static %.4f m, the energy's bound %.4f m), "
+          "%d wheels on the snow at least, the chassis at least %.3f m above it\n",
+          name.c_str(), sinkage, settled, deepest, fewest, clearance);
+      EXPECT_EQ(fewest, 4) << name << ": wheels on the snow";
+      EXPECT_GT(clearance, 0.05) << name << ": m, the chassis' underside above the snow";
+      if (soil_traction) continue;  // its wheels loosen the soil they shear: Bekker's work is not its
+      EXPECT_GT(sinkage, 0.95 * settled) << name << ": m, against Bekker's static sinkage";
+      EXPECT_LT(sinkage, deepest) << name << ": m, against the energy's bound";
     }
-    const double load = s.mass * kGravity / 4, sinkage = wheel_sinkage(car);
-    const double settled = front_arc_sinkage(snow, load / 2);  // both halves bear
-    const double compression = load / (s.suspension_stiffness * s.mass);
-    const double deepest = deepest_for_work(snow, load, 0.5 * load * compression);
-    std::printf(
-        "%s set down on snow: sinkage %.4f m (Bekker's static %.4f m, the energy's bound %.4f m), "
-        "%d wheels on the snow at least, the chassis at least %.3f m above it\n",
-        name, sinkage, settled, deepest, fewest, clearance);
-    EXPECT_EQ(fewest, 4) << name << ": wheels on the snow";
-    EXPECT_GT(clearance, 0.05) << name << ": m, the chassis' underside above the snow";
-    if (soil_traction) continue;  // its wheels loosen the soil they shear: Bekker's work is not its
-    EXPECT_GT(sinkage, 0.95 * settled) << name << ": m, against Bekker's static sinkage";
-    EXPECT_LT(sinkage, deepest) << name << ": m, against the energy's bound";
-  }
 }
 
 TEST(RaycastWheelErrors, BadRaycastersAreRefusedNamingTheField) {
