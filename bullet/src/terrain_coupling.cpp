@@ -2,7 +2,9 @@
 // body's path through it.
 #include "shore/bullet/terrain_coupling.h"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "bedrock_rescue.h"
@@ -55,7 +57,9 @@ void TerrainCoupling::Parts::cover_bodies(double h) {
   const double margin = settings.cover_margin;
   // Any object that moves gets ground under it: rigid bodies (their reach grows with their
   // speed), and ghost objects, character capsules and other collision objects a game moves
-  // itself (no velocity Bullet knows: the margin is their reach).
+  // itself, whose reach grows with how far they moved since the last substep (Bullet knows
+  // no velocity of theirs: with the margin alone, a character moving 2 m a step walked off
+  // its ground and fell through the world).
   auto cover = [&](btCollisionObject& object) {
     if (object.isStaticObject() || object.getCollisionShape() == nullptr) return;
     const btRigidBody* body = btRigidBody::upcast(&object);
@@ -70,7 +74,11 @@ void TerrainCoupling::Parts::cover_bodies(double h) {
     if (!coupling_detail::motion_is_sane(object.getWorldTransform(), v, w, settings.max_speed)) return;
     btVector3 lo, hi;
     object.getCollisionShape()->getAabb(in_ground(object.getWorldTransform()), lo, hi);
-    const double reach = margin + 2.0 * h * v.length();
+    const btVector3 centre = (lo + hi) * btScalar(0.5);
+    const auto last = covered_at.find(&object);
+    const double moved = last != covered_at.end() ? double((centre - last->second).length()) : 0.0;
+    covering_at.emplace(&object, centre);
+    const double reach = margin + 2.0 * std::max(h * v.length(), moved);
     tiles.ensure_cover(lo.x() - reach, lo.y() - reach, hi.x() + reach, hi.y() + reach);
   };
   if (settings.cover_all_bodies) {
@@ -79,6 +87,8 @@ void TerrainCoupling::Parts::cover_bodies(double h) {
   } else {
     for (const Entry& e : bodies) cover(e.body->object());
   }
+  std::swap(covered_at, covering_at);  // objects not seen this substep are forgotten
+  covering_at.clear();
 }
 
 bool TerrainCoupling::Parts::on_terrain(const btVector3& world_point) const {

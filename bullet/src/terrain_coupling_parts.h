@@ -6,6 +6,7 @@
 // terrain_coupling_state.cpp.
 
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
@@ -46,7 +47,15 @@ struct TerrainCoupling::Parts {
   bool framed = false;
   btTransform to_ground = btTransform::getIdentity();
 
+  /// The centre (ground coordinates) of each moving object's bounding box when cover_bodies
+  /// last covered it, and the scratch for this substep's: how far an object moved in a
+  /// substep, for those Bullet knows no velocity of (ghost objects, bodies moved by hand).
+  std::unordered_map<const btCollisionObject*, btVector3> covered_at, covering_at;
+
   // ---- the substep (terrain_coupling.cpp) ----
+  /// Ground under every object that moves (settings.cover_all_bodies) or every added body:
+  /// its bounding box grown by cover_margin and twice its motion in a substep (its speed's,
+  /// or the distance it moved since the last substep, whichever is more).
   void cover_bodies(double h);
   /// A world point or pose in the ground's coordinates.
   [[nodiscard]] btVector3 in_ground(const btVector3& world_point) const {

@@ -12,6 +12,7 @@
 #include <numbers>
 
 #include "shore/bullet/terrain_coupling.h"
+#include "shore/bullet/terrain_tiles.h"
 #include "shore/scenes/character_cases.h"
 #include "shore/scenes/raycast_car.h"
 #include "shore/scenes/rigid_ground.h"
@@ -244,6 +245,41 @@ TEST(BulletQueries, KinematicCharacterControllerWalksOnShoreGroundInAYUpWorld) {
   }
   EXPECT_LT(worst_plane, 1e-3) << "m, largest distance between the character on Shore's sand and on Bullet's plane";
   EXPECT_LT(worst_z_up, 1e-3) << "m, largest distance between the walks in the Y-up and the Z-up world";
+}
+
+// Ground is made ahead of an object a game moves itself (a ghost object has no velocity
+// Bullet knows): by twice how far it moved in the last substep. A sphere moved 3 m a substep
+// over 2 cm sand (tiles of 1.28 m) finds the soil under where it will be next, by a ray cast
+// down there, every substep; with the cover margin alone (0.25 m) there was none, and a
+// character controller moved that far walked off its ground.
+TEST(BulletQueries, GroundIsMadeAheadOfAnObjectTheGameMovesItself) {
+  shore::terrain::TerrainSettings s;
+  s.cell = 0.02;
+  s.threads = 1;
+  shore::terrain::Terrain sand(s);  // flat at 0
+  World world;
+  shore::bullet::TerrainCoupling coupling(world.world(), sand);
+  btSphereShape ball(0.3f);
+  btGhostObject ghost;
+  ghost.setCollisionShape(&ball);
+  ghost.setCollisionFlags(btCollisionObject::CF_CHARACTER_OBJECT);  // not static: it moves
+  world.world().addCollisionObject(&ghost, btBroadphaseProxy::CharacterFilter,
+                                   btBroadphaseProxy::StaticFilter | btBroadphaseProxy::DefaultFilter);
+  constexpr double stride = 3.0;  // m a substep
+  int found = 0, asked = 0;
+  for (int k = 0; k < 20; ++k) {
+    const double x = k * stride;
+    ghost.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(btScalar(x), 0, 0.5f)));
+    world.step(1.0 / 60);
+    if (k == 0) continue;  // it has not moved yet
+    const btVector3 from(btScalar(x + stride), 0, 1), to(btScalar(x + stride), 0, -1);
+    btCollisionWorld::ClosestRayResultCallback ray(from, to);
+    world.world().rayTest(from, to, ray);
+    ++asked;
+    if (ray.hasHit() && shore::bullet::is_terrain_tile(ray.m_collisionObject)) ++found;
+  }
+  EXPECT_EQ(found, asked) << "substeps whose next position had soil under it";
+  world.world().removeCollisionObject(&ghost);
 }
 
 }  // namespace

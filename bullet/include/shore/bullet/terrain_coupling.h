@@ -120,8 +120,10 @@ struct TerrainCouplingSettings {
   /// side, each with its own coupling and region; put region edges on tile edges (multiples
   /// of the terrain's tile_columns * cell from its origin) so tiles meet exactly.
   Region region;
-  double cover_margin = 0.25;  ///< m kept covered by tiles around every moving object's AABB, > 0
-  double max_speed = 500.0;    ///< m/s: a body faster than this (or with a non-finite pose) is skipped and counted
+  /// m kept covered by tiles around every moving object's AABB, beyond twice its motion in a
+  /// substep (its velocity's, or how far it moved since the last substep), > 0
+  double cover_margin = 0.25;
+  double max_speed = 500.0;  ///< m/s: a body faster than this (or with a non-finite pose) is skipped and counted
   /// A body the terrain holds that moves slower than rest_speed and turns slower than
   /// rest_spin is at rest: it presses nothing new. Both > 0.
   double rest_speed = 1e-3;  ///< m/s
