@@ -44,6 +44,14 @@ shore::terrain::TerrainSettings hilly_ground(const shore::terrain::Material& mat
   return s;
 }
 
+/// Sand in columns of `cell` m (flat at 0 until a base is given), stepped on one thread.
+shore::terrain::TerrainSettings one_thread_sand(double cell) {
+  shore::terrain::TerrainSettings s;
+  s.cell = cell;
+  s.threads = 1;
+  return s;
+}
+
 struct Track {
   std::vector<btVector3> positions;
   int steps_with_all_wheels_down = 0;
@@ -131,9 +139,7 @@ std::vector<btVector3> walk(World& world) {
 }
 
 TEST(BulletQueries, KinematicCharacterControllerWalksOnSoftShoreGroundAsOnBulletGround) {
-  shore::terrain::TerrainSettings s;
-  s.cell = 0.05;
-  s.threads = 1;
+  shore::terrain::TerrainSettings s = one_thread_sand(0.05);
   shore::terrain::Terrain sand(s);  // flat at 0
   World on_shore;
   shore::bullet::TerrainCoupling coupling(on_shore.world(), sand);
@@ -168,9 +174,7 @@ class Ripples final : public shore::terrain::HeightSource {
 // different path. Shore's ripples are the soil's columns (5 cm), untouched: the capsule is
 // not added, and presses nothing.
 TEST(BulletQueries, KinematicCharacterControllerWithAContactStrideWalksOnTheSampledSurface) {
-  shore::terrain::TerrainSettings s;
-  s.cell = 0.05;
-  s.threads = 1;
+  shore::terrain::TerrainSettings s = one_thread_sand(0.05);
   s.tile_columns = 32;
   s.base = std::make_shared<Ripples>();
   constexpr int kStride = 4;
@@ -221,9 +225,7 @@ TEST(BulletQueries, CharacterOnAContactStrideOfTwoStaysOnTheSoilAndOnItsPath) {
 // plane), and, seen in the ground's coordinates, as in the Z-up world once it has landed
 // (Bullet's controller drops its first 5 cm differently when its up is not its initial z).
 TEST(BulletQueries, KinematicCharacterControllerWalksOnShoreGroundInAYUpWorld) {
-  shore::terrain::TerrainSettings s;
-  s.cell = 0.05;
-  s.threads = 1;
+  shore::terrain::TerrainSettings s = one_thread_sand(0.05);
   shore::terrain::Terrain z_sand(s), y_sand(s);
   World z_up;
   shore::bullet::TerrainCoupling z_coupling(z_up.world(), z_sand);
@@ -253,9 +255,7 @@ TEST(BulletQueries, KinematicCharacterControllerWalksOnShoreGroundInAYUpWorld) {
 // down there, every substep; with the cover margin alone (0.25 m) there was none, and a
 // character controller moved that far walked off its ground.
 TEST(BulletQueries, GroundIsMadeAheadOfAnObjectTheGameMovesItself) {
-  shore::terrain::TerrainSettings s;
-  s.cell = 0.02;
-  s.threads = 1;
+  shore::terrain::TerrainSettings s = one_thread_sand(0.02);
   shore::terrain::Terrain sand(s);  // flat at 0
   World world;
   shore::bullet::TerrainCoupling coupling(world.world(), sand);
