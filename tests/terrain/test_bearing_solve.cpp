@@ -5,7 +5,10 @@
 // load, and a ball where the nested search on the load (a raised raycast wheel's) answers.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
+#include <string>
 
 #include "shore/core/error.h"
 #include "shore/core/illinois.h"
@@ -126,6 +129,32 @@ TEST(BearingSolve, BadUseIsRefusedByName) {
     EXPECT_NE(std::string(e.what()).find("spring"), std::string::npos) << e.what();
   }
   EXPECT_THROW((void)BearingSolve{}.offset_under_spring(1.0, 1.0), shore::InvalidSetting);  // before any reset
+}
+
+// measure(offset) at an offset no solve reached (a raycast wheel stopped short of its
+// solve's answer by its ray) gives exactly what Terrain::bearing gives there, on rutted,
+// painted ground, before any solve and between solves; and a bad offset is refused by name.
+TEST(BearingSolve, MeasureAtAnyOffsetMatchesTerrainBitForBit) {
+  Terrain t(one_thread_sand());
+  paint_packed_and_mud(t);
+  const shore::EnvelopeRaster ball = sphere_envelope(t, 0.05, 0.03, 0.15, 0.12);
+  const Imprint im{&ball};
+  t.step({&im, 1});
+  const shore::EnvelopeRaster env = box_envelope(-15, -15, kPlate, kPlate, -0.01);
+  BearingSolve solve;
+  solve.reset(t, env);
+  expect_same(solve.measure(0.0021), t.bearing(env, 0.0021));  // before any solve
+  const double o = solve.offset(3000.0);
+  for (const double at : {0.5 * o, o, 1.5 * o, 0.0}) expect_same(solve.measure(at), t.bearing(env, at));
+  EXPECT_EQ(solve.offset(3000.0), o) << "a solve after measuring answers as before";
+  for (const double bad : {-1e-3, std::numeric_limits<double>::infinity(), std::nan("")}) {
+    try {
+      (void)solve.measure(bad);
+      FAIL() << "offset " << bad << " was taken";
+    } catch (const shore::InvalidSetting& e) {
+      EXPECT_NE(std::string(e.what()).find("offset"), std::string::npos) << e.what();
+    }
+  }
 }
 
 // A plate on a spring that gives `load` untouched and k N less per metre it sinks: Bekker's
