@@ -4,7 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
+#include <cstdint>
 #include <vector>
 
 #include "bedrock_rescue.h"
@@ -55,6 +55,7 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
 
 void TerrainCoupling::Parts::cover_bodies(double h) {
   const double margin = settings.cover_margin;
+  const std::uint64_t pass = ++cover_pass;
   // Any object that moves gets ground under it: rigid bodies (their reach grows with their
   // speed), and ghost objects, character capsules and other collision objects a game moves
   // itself, whose reach grows with how far they moved since the last substep (Bullet knows
@@ -75,9 +76,9 @@ void TerrainCoupling::Parts::cover_bodies(double h) {
     btVector3 lo, hi;
     object.getCollisionShape()->getAabb(in_ground(object.getWorldTransform()), lo, hi);
     const btVector3 centre = (lo + hi) * btScalar(0.5);
-    const auto last = covered_at.find(&object);
-    const double moved = last != covered_at.end() ? double((centre - last->second).length()) : 0.0;
-    covering_at.emplace(&object, centre);
+    const auto [last, fresh] = covered_at.try_emplace(&object, CoveredAt{centre, pass});
+    const double moved = fresh ? 0.0 : double((centre - last->second.centre).length());
+    last->second = {centre, pass};
     const double reach = margin + 2.0 * std::max(h * v.length(), moved);
     tiles.ensure_cover(lo.x() - reach, lo.y() - reach, hi.x() + reach, hi.y() + reach);
   };
@@ -87,8 +88,8 @@ void TerrainCoupling::Parts::cover_bodies(double h) {
   } else {
     for (const Entry& e : bodies) cover(e.body->object());
   }
-  std::swap(covered_at, covering_at);  // objects not seen this substep are forgotten
-  covering_at.clear();
+  // Objects not covered in this pass (gone from the world, or skipped) are forgotten.
+  std::erase_if(covered_at, [&](const auto& e) { return e.second.pass != pass; });
 }
 
 bool TerrainCoupling::Parts::on_terrain(const btVector3& world_point) const {

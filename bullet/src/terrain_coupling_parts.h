@@ -5,6 +5,7 @@
 // bodies' lifetimes in terrain_coupling_bodies.cpp, the checkpoint in
 // terrain_coupling_state.cpp.
 
+#include <cstdint>
 #include <memory>
 #include <unordered_map>
 #include <vector>
@@ -47,10 +48,15 @@ struct TerrainCoupling::Parts {
   bool framed = false;
   btTransform to_ground = btTransform::getIdentity();
 
-  /// The centre (ground coordinates) of each moving object's bounding box when cover_bodies
-  /// last covered it, and the scratch for this substep's: how far an object moved in a
-  /// substep, for those Bullet knows no velocity of (ghost objects, bodies moved by hand).
-  std::unordered_map<const btCollisionObject*, btVector3> covered_at, covering_at;
+  /// Where cover_bodies last covered each moving object: its bounding box's centre (ground
+  /// coordinates) and the pass that saw it. How far an object moved in a substep, for those
+  /// Bullet knows no velocity of (ghost objects, bodies moved by hand).
+  struct CoveredAt {
+    btVector3 centre;
+    std::uint64_t pass = 0;
+  };
+  std::unordered_map<const btCollisionObject*, CoveredAt> covered_at;
+  std::uint64_t cover_pass = 0;  ///< cover_bodies' calls so far
 
   // ---- the substep (terrain_coupling.cpp) ----
   /// Ground under every object that moves (settings.cover_all_bodies) or every added body:

@@ -67,6 +67,15 @@ void paint_packed_and_mud(Terrain& t) {
   t.paint_rect({-20, 0, 20, 20}, 2);
 }
 
+/// Packed sand and mud painted over sand (paint_packed_and_mud), with a ball pressed in off
+/// centre: a rut with sinkage the plates then meet.
+void rut_painted_ground(Terrain& t) {
+  paint_packed_and_mud(t);
+  const shore::EnvelopeRaster ball = sphere_envelope(t, 0.05, 0.03, 0.15, 0.12);
+  const Imprint im{&ball};
+  t.step({&im, 1});
+}
+
 }  // namespace
 
 TEST(BearingSolve, FreshPlateSinksAsBekkerForBothLoads) {
@@ -86,11 +95,7 @@ TEST(BearingSolve, FreshPlateSinksAsBekkerForBothLoads) {
 
 TEST(BearingSolve, RuttedPaintedGroundMatchesTerrainBitForBit) {
   Terrain t(one_thread_sand());
-  paint_packed_and_mud(t);
-  // A ball pressed in off centre leaves a rut with sinkage the plate then meets.
-  const shore::EnvelopeRaster ball = sphere_envelope(t, 0.05, 0.03, 0.15, 0.12);
-  const Imprint im{&ball};
-  t.step({&im, 1});
+  rut_painted_ground(t);
   {  // the plate sinks (the solve brackets and narrows) for the larger loads
     BearingSolve solve;
     solve.reset(t, box_envelope(-15, -15, kPlate, kPlate, 0.0));
@@ -136,10 +141,7 @@ TEST(BearingSolve, BadUseIsRefusedByName) {
 // painted ground, before any solve and between solves; and a bad offset is refused by name.
 TEST(BearingSolve, MeasureAtAnyOffsetMatchesTerrainBitForBit) {
   Terrain t(one_thread_sand());
-  paint_packed_and_mud(t);
-  const shore::EnvelopeRaster ball = sphere_envelope(t, 0.05, 0.03, 0.15, 0.12);
-  const Imprint im{&ball};
-  t.step({&im, 1});
+  rut_painted_ground(t);
   const shore::EnvelopeRaster env = box_envelope(-15, -15, kPlate, kPlate, -0.01);
   BearingSolve solve;
   solve.reset(t, env);
