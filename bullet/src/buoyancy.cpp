@@ -55,6 +55,30 @@ void surface_drag(const Submerged& wet, const WaterPlane& w, const Motion& m, co
   if (wet.cut_count > 0) element(wet.cut_points * (1.0 / wet.cut_count), wet.cut);
 }
 
+/// Scales drag (force and torque together) down to where its impulse over h would just
+/// stop the articulated body's motion relative to the water along that impulse: with
+/// J = (F, T) h and u the relative (v, w) at the centre, J . u + J^T A J <= 0. J . u is the
+/// drag's work on the body (never positive: each element opposes its own relative motion),
+/// and J^T A J what the impulse itself adds to the multibody's kinetic energy.
+void limit_articulated(const Motion& m, double water_vz, double h, Vec3& drag, Vec3& drag_torque) {
+  const Vec3 u_lin = m.v - Vec3{0, 0, water_vz};
+  const double u[6] = {u_lin.x, u_lin.y, u_lin.z, m.w.x, m.w.y, m.w.z};
+  const double j[6] = {drag.x * h, drag.y * h, drag.z * h, drag_torque.x * h, drag_torque.y * h, drag_torque.z * h};
+  double work = 0.0, response = 0.0;
+  for (int r = 0; r < 6; ++r) {
+    work += j[r] * u[r];
+    for (int c = 0; c < 6; ++c) response += j[r] * m.mobility[r][c] * j[c];
+  }
+  if (!(work < 0.0)) {  // no drag (or rounding's): nothing to oppose
+    drag = Vec3{}, drag_torque = Vec3{};
+    return;
+  }
+  if (response > -work) {
+    const double scale = -work / response;
+    drag = drag * scale, drag_torque = drag_torque * scale;
+  }
+}
+
 }  // namespace
 
 BodyWater water_forces(const Submerged& wet, double sampled_volume, Vec3 sampled_moment, const WaterPlane& w,
@@ -95,7 +119,9 @@ BodyWater water_forces(const Submerged& wet, double sampled_volume, Vec3 sampled
   if (speed > 0.0) out.projected_area = projected_area(wet, w, uc * (1.0 / speed));
   // Never more than stops the relative motion (or the spin) within the substep; a mass of
   // 0 (kinematic) is moved regardless.
-  if (m.mass > 0.0) {
+  if (m.articulated) {
+    limit_articulated(m, w.vz, h, drag, drag_torque);
+  } else if (m.mass > 0.0) {
     const double dv = norm(drag) * h / m.mass;
     if (dv > speed) drag = drag * (speed / std::max(dv, 1e-300));
     const double spin = norm(m.w), dw = (m.inv_inertia * to_bt(drag_torque)).length() * h;

@@ -221,8 +221,12 @@ void WaterCoupling::Parts::float_body(Entry& e, double h) {
   const double inv_mass = body.inverse_mass();
   m.mass = inv_mass > 0 ? 1.0 / inv_mass : 0.0;
   m.inv_inertia = body.inverse_inertia();
+  // A link answers through its whole articulation, even where its mass along up is
+  // infinite (an arm's blade hanging straight down cannot move up).
+  m.articulated = body.dynamic() && body.mobility(m.mobility);
   b.last = water_detail::water_forces(b.wet, sampled_volume, sampled_moment, plane, settings.fluid, m, h);
-  if (m.mass > 0.0 && b.last.submerged_volume > 0.0) {  // kinematic and static bodies: reported, not applied
+  const bool moves = m.articulated || m.mass > 0.0;  // kinematic and static bodies: reported, not applied
+  if (moves && b.last.submerged_volume > 0.0) {
     body.apply_impulse(b.last.force * btScalar(h), b.last.torque * btScalar(h));
     body.wake();
   }

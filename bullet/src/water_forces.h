@@ -16,13 +16,22 @@ struct Motion {
   Vec3 com;                 ///< centre of mass, world
   Vec3 v;                   ///< linear velocity
   Vec3 w;                   ///< angular velocity
-  double mass = 0.0;        ///< kg; 0: kinematic or static (the forces are reported, not limited)
+  double mass = 0.0;        ///< kg; 0 (and not articulated): kinematic or static (the forces are reported, not limited)
   btMatrix3x3 inv_inertia;  ///< world inverse inertia tensor
+  /// An articulated body (a btMultiBody link): its 6 x 6 mobility at the centre
+  /// (CoupledBody::mobility). Its mass and inertia cannot be taken apart (a push at its
+  /// centre turns it through its joints, a twist moves it), so its drag is limited through
+  /// this instead of mass and inv_inertia.
+  bool articulated = false;
+  double mobility[6][6] = {};
 };
 
 /// Forces on the body from `wet` (its analytic parts) and `sampled_volume` /
 /// `sampled_moment` (its sampled parts) under water plane w, over a substep h: drag scaled
-/// down where it would reverse the relative velocity or spin within the substep.
+/// down where it would reverse the relative velocity or spin within the substep. For an
+/// articulated body, down to where the drag impulse would reverse its relative motion along
+/// that impulse (6-D, through its mobility): the drag then never adds kinetic energy to the
+/// multibody however light the link is in some direction.
 BodyWater water_forces(const Submerged& wet, double sampled_volume, Vec3 sampled_moment, const WaterPlane& w,
                        const FluidSettings& fluid, const Motion& m, double h);
 
