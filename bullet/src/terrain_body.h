@@ -34,6 +34,13 @@ struct TerrainBody {
   /// if the body has come to rest by then.
   bool imprint_pending = false;
   contact_detail::TerrainContact contact;
+  /// Where the body was when the terrain last stepped (its envelope pose then), if it had
+  /// an envelope: a body that has since moved farther than its footprint is imprinted along
+  /// the way, so that a fast or thin one leaves an unbroken track.
+  btTransform stepped_pose = btTransform::getIdentity();
+  bool stepped_pose_known = false;
+  /// This substep's imprint when it is swept from stepped_pose (else the envelope itself).
+  EnvelopeRaster swept;
 };
 
 /// The body's true shape, without Bullet's collision margin: Shore, not Bullet, makes the

@@ -44,7 +44,13 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   if (!p.rigid) p.wheels.serve(p.terrain, p.rasterizer, h, deforms, p.imprints);
   // 4. The terrain deforms with the imprints (once per step_interval).
   stats_.active_columns = stats_.erosion_passes = 0;
-  if (deforms) p.step_terrain();
+  if (deforms) {
+    p.step_terrain();
+    for (Parts::Entry& e : p.bodies) {  // where the next step's sweeps start
+      e.record.stepped_pose = e.record.envelope_pose;
+      e.record.stepped_pose_known = !e.record.envelope.lower.empty();
+    }
+  }
   // 5. Its changes go into the tiles.
   p.push_changes();
   for (Parts::Entry& e : p.bodies) {  // the start of the next substep, for the terrain's work
@@ -188,7 +194,7 @@ void TerrainCoupling::Parts::serve(Entry& e, double h, bool deforms) {
   stats.envelope_seconds += seconds_since(t0);
   if (body.dynamic() && !rigid && coupling_detail::keep_above_bedrock(body, b.envelope, terrain, base_scratch))
     ++stats.rescues;
-  imprints.push_back(moving_imprint(b.envelope, body, b.settings.spray));
+  imprints.push_back(moving_imprint(deforms ? pressed(e) : b.envelope, body, b.settings.spray));
 }
 
 namespace {
@@ -342,6 +348,40 @@ void TerrainCoupling::Parts::rasterize(Entry& e) {
   clip_to_region(b.envelope);
   b.contact.memory.remap(old, b.envelope);
   b.contact.state = ContactState::to_build;
+}
+
+const EnvelopeRaster& TerrainCoupling::Parts::pressed(Entry& e) {
+  TerrainBody& b = e.record;
+  if (!b.stepped_pose_known || b.envelope.lower.empty()) return b.envelope;
+  const btTransform& from = b.stepped_pose;
+  const btTransform to = e.body->pose();  // the envelope's pose, or above it if lifted off bedrock
+  const btVector3 d = to.getOrigin() - from.getOrigin();
+  const double travel = std::hypot(double(d.x()), double(d.y()));
+  if (!(travel > rasterizer.grid().cell)) return b.envelope;
+  // The footprint's length along the travel: the shape's box, seen along it.
+  const btCollisionShape& shape = *e.body->shape();
+  btVector3 lo, hi;
+  shape.getAabb(to, lo, hi);
+  const double length =
+      (std::abs(double(d.x())) * double(hi.x() - lo.x()) + std::abs(double(d.y())) * double(hi.y() - lo.y())) / travel;
+  const double spacing = std::max(rasterizer.grid().cell, 0.25 * length);
+  if (!(travel > spacing)) return b.envelope;
+  const int poses = std::min(16, static_cast<int>(std::ceil(travel / spacing)));
+  try {
+    const GridRect start = rasterizer.window_of(shape, from);
+    const GridRect window = bounding(start, b.envelope);
+    rasterizer.rasterize(shape, to, window, b.swept);
+    const btQuaternion q0 = from.getRotation(), q1 = to.getRotation();
+    for (int k = 1; k < poses; ++k) {
+      const double t = double(k) / poses;
+      const btTransform between(q0.slerp(q1, btScalar(t)), from.getOrigin().lerp(to.getOrigin(), btScalar(t)));
+      rasterizer.accumulate(shape, between, b.swept);
+    }
+  } catch (const InvalidSetting&) {  // a path wider than the rasterizer takes: the envelope alone
+    return b.envelope;
+  }
+  clip_to_region(b.swept);
+  return b.swept;
 }
 
 bool TerrainCoupling::Parts::can_rasterize(const Entry& e) const {

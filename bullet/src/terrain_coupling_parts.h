@@ -87,6 +87,11 @@ struct TerrainCoupling::Parts {
 
   // ---- envelopes (terrain_coupling.cpp) ----
   void rasterize(Entry& e);
+  /// What the body presses in a substep the terrain steps: its envelope, or, if it moved
+  /// farther than a quarter of its footprint along its travel since the terrain last
+  /// stepped, its envelope swept from there (the union of the envelopes at up to 16 poses
+  /// along the way, the last its present one).
+  [[nodiscard]] const EnvelopeRaster& pressed(Entry& e);
   [[nodiscard]] bool can_rasterize(const Entry& e) const;
   [[nodiscard]] bool needs_envelope(const Entry& e, double h) const;
   [[nodiscard]] bool drifted(const Entry& e) const;

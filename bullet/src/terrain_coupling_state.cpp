@@ -19,7 +19,8 @@ constexpr char kMagic[8] = {'S', 'H', 'T', 'E', 'R', 'R', 'C', 'P'};
 // 2: the ground frame (1: Z up). 3: a block's friction is its columns' tan(phi) times their
 // mobilisation (before, the mobilisation alone, times entry 0's tan(phi) when solved).
 // 4: each column's remould displacement (the shear it took while it last yielded).
-constexpr std::uint32_t kVersion = 4;
+// 5: where each body was when the terrain last stepped (its imprint's sweep starts there).
+constexpr std::uint32_t kVersion = 5;
 
 /// The totals of the statistics (not the last substep's timings: a checkpoint of the same
 /// state is the same bytes).
@@ -53,6 +54,8 @@ struct SavedBody {
   btTransform pose;
   bool imprint_pending = false;
   contact_detail::TerrainContact contact;
+  btTransform stepped_pose = btTransform::getIdentity();
+  bool stepped_pose_known = false;
 };
 
 }  // namespace
@@ -71,6 +74,8 @@ std::vector<unsigned char> TerrainCoupling::save_state() const {
     coupling_detail::put_transform(w, e.record.envelope_pose);
     w.put(static_cast<std::uint8_t>(e.record.imprint_pending));
     e.record.contact.save(w);
+    w.put(static_cast<std::uint8_t>(e.record.stepped_pose_known));
+    coupling_detail::put_transform(w, e.record.stepped_pose);
   }
   parts_->tiles.save_state(w);
   return std::move(w.bytes);
@@ -106,6 +111,12 @@ void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const 
     if (version < 3) s.contact.scale_friction(det::tan(terrain_.settings().material.friction_angle));
     if (s.envelope.lower.empty() != (s.contact.state == contact_detail::ContactState::none))
       r.fail("body " + std::to_string(k) + "'s contact state does not match its envelope");
+    if (version >= 5) {  // before: unknown, so the first step after the restore sweeps nothing
+      s.stepped_pose_known = r.get<std::uint8_t>("body's stepped pose") != 0;
+      s.stepped_pose = coupling_detail::get_transform(r, "stepped pose");
+      if (!coupling_detail::finite(s.stepped_pose))
+        r.fail("body " + std::to_string(k) + "'s stepped pose is not finite");
+    }
   }
   parts_->tiles.restore_state(r);  // last in the bytes; changes the tiles only once all is read
   // Loading the terrain marked every column changed. The run that was saved had taken its
@@ -120,6 +131,8 @@ void TerrainCoupling::restore_state(std::span<const unsigned char> bytes, const 
     b.envelope_pose = saved[k].pose;
     b.imprint_pending = saved[k].imprint_pending;
     b.contact = std::move(saved[k].contact);
+    b.stepped_pose = saved[k].stepped_pose;
+    b.stepped_pose_known = saved[k].stepped_pose_known;
   }
 }
 
