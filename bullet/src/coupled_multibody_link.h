@@ -16,9 +16,12 @@
 // foot at a table's corner is lighter than the table, a wheel on an axle cannot slide
 // sideways, and each block's push stays within what its soil bears.
 //
+// The water's drag is limited through A too (water_forces.h: a link's mass and inertia
+// cannot be taken apart).
+//
 // inverse_mass and inverse_inertia (the one mass and inertia of the CoupledBody interface,
-// used where a scalar plan is enough: holding a body at rest, water drag limits, debug
-// arrows) are A's linear block along `up` (opposite gravity: the soil's push is mostly
+// used where a scalar plan is enough: holding a body at rest, debug arrows) are A's linear
+// block along `up` (opposite gravity: the soil's push is mostly
 // along it) and A's angular block, made invertible by a thousandth of its mean (a direction
 // the joints lock looks very stiff, not infinitely). For a multibody of one free base A is
 // exactly the base's 1/m and I^-1.
