@@ -286,6 +286,23 @@ void CoupledMultiBodyLink::velocity_change_deltas(const btVector3& dv, const btV
   }
 }
 
+std::vector<btScalar> generalized_velocity(const btMultiBody& body) {
+  const btScalar* v = body.getVelocityVector();
+  return {v, v + 6 + body.getNumDofs()};
+}
+
+void step_positions(btMultiBody& body, std::vector<btScalar>& dq, double h) {
+  if (!(h > 0.0) || !all_finite(dq)) return;
+  // The positions this substep's integration would have reached with the changed
+  // velocities: Bullet's own step with dq as the velocity.
+  body.stepPositionsMultiDof(btScalar(h), nullptr, dq.data());
+  btAlignedObjectArray<btQuaternion> q;
+  btAlignedObjectArray<btVector3> o;
+  q.resize(body.getNumLinks() + 1);
+  o.resize(body.getNumLinks() + 1);
+  body.updateCollisionObjectWorldTransforms(q, o);
+}
+
 void CoupledMultiBodyLink::change_velocities(const std::vector<btScalar>& dq, double h) {
   if (!all_finite(dq)) return;  // never poison the multibody
   btMultiBody& mb = *link_->m_multiBody;
@@ -294,8 +311,6 @@ void CoupledMultiBodyLink::change_velocities(const std::vector<btScalar>& dq, do
   // holds at rest must still fall asleep as a rigid body does.
   if (!mb.isAwake()) mb.wakeUp();
   if (!(h > 0.0)) return;
-  // The positions this substep's integration would have reached with the changed
-  // velocities: Bullet's own step with dq as the velocity.
   mb.stepPositionsMultiDof(btScalar(h), nullptr, const_cast<btScalar*>(dq.data()));
   scratch_q_.resize(mb.getNumLinks() + 1);
   scratch_o_.resize(mb.getNumLinks() + 1);

@@ -75,6 +75,12 @@ void refuse_if_added(bool held, const btMultiBodyLinkCollider& link, const char*
 /// The same in any world (non-finite velocities outside a btMultiBodyDynamicsWorld).
 [[nodiscard]] Motion link_motion(const btCollisionWorld& world, const btMultiBodyLinkCollider& link);
 
+/// The multibody's generalized velocity: base (angular, linear), then every joint's rates.
+[[nodiscard]] std::vector<btScalar> generalized_velocity(const btMultiBody& body);
+/// Moves the multibody's base and joints by dq (a generalized velocity) times h, as Bullet's
+/// integration would with dq as the velocity, and its colliders with them.
+void step_positions(btMultiBody& body, std::vector<btScalar>& dq, double h);
+
 class CoupledMultiBodyLink final : public CoupledBody {
  public:
   /// `world` must hold the link's multibody when the link is added (the caller checks).

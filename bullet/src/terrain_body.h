@@ -4,6 +4,7 @@
 
 #include <LinearMath/btTransform.h>
 
+#include "contact_solver.h"
 #include "coupled_body.h"
 #include "shore/bullet/config.h"
 #include "shore/bullet/envelope.h"
@@ -41,6 +42,23 @@ struct TerrainBody {
   bool stepped_pose_known = false;
   /// This substep's imprint when it is swept from stepped_pose (else the envelope itself).
   EnvelopeRaster swept;
+
+  // This substep's solve (not saved: each substep sets them before reading them).
+  /// serve_push ran to its end: serve_press makes the envelope and imprint.
+  bool to_press = false;
+  /// Its contact's push was solved (it moves under forces, awake, on soft soil).
+  bool pushed = false;
+  /// Its blocks were solved (not held at rest): solved_body is the solve's body, whose
+  /// slip advances the contact memory once every solve of the substep is done.
+  bool solved = false;
+  contact_detail::SolverBody solved_body;
+  /// The change its own soil push made to its motion (a link solved again with the other
+  /// links of its multibody takes it out first), and the solve's work and yield, which a
+  /// solve again replaces in the statistics.
+  btVector3 own_dv{0, 0, 0}, own_dw{0, 0, 0};
+  btVector3 solved_impulse{0, 0, 0}, solved_angular_impulse{0, 0, 0};  ///< N s, N m s: its last solve's
+  double solved_work = 0.0, solved_shear_work = 0.0;
+  bool solved_yielded = false;
 };
 
 /// The body's true shape, without Bullet's collision margin: Shore, not Bullet, makes the

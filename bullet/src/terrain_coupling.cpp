@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
+
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
 #include "bedrock_rescue.h"
 #include "bt_convert.h"
@@ -39,7 +42,14 @@ void TerrainCoupling::updateAction(btCollisionWorld*, btScalar substep) {
   // wheel: its rut and resistance.
   p.imprints.clear();
   const bool deforms = p.clock.advance(h, settings_.step_interval);
-  for (Parts::Entry& e : p.bodies) p.serve(e, h, deforms);
+  for (Parts::Entry& e : p.bodies) p.serve_push(e, h);
+  if (!p.rigid) {
+    const auto t1 = Clock::now();
+    p.solve_links_together(h);
+    stats_.reaction_seconds += seconds_since(t1);
+    p.advance_memories(h);
+  }
+  for (Parts::Entry& e : p.bodies) p.serve_press(e, h, deforms);
   p.wheels.set_soil_step(p.clock.seconds());
   if (!p.rigid) p.wheels.serve(p.terrain, p.rasterizer, h, deforms, p.imprints);
   // 4. The terrain deforms with the imprints (once per step_interval).
@@ -143,9 +153,10 @@ terrain::Imprint holding_imprint(const EnvelopeRaster& envelope) {
 
 }  // namespace
 
-void TerrainCoupling::Parts::serve(Entry& e, double h, bool deforms) {
+void TerrainCoupling::Parts::serve_push(Entry& e, double h) {
   CoupledBody& body = *e.body;
   TerrainBody& b = e.record;
+  b.to_press = b.pushed = b.solved = false;
   // 1. Sanity: a broken pose or an absurd speed never reaches the grid.
   if (!sane(body) || (b.settings.deform && !shape_still_fits(body, b, rasterizer.grid().cell, rasterizer.options()))) {
     ++stats.skipped_bodies;
@@ -159,14 +170,24 @@ void TerrainCoupling::Parts::serve(Entry& e, double h, bool deforms) {
     return;
   }
   // 2. The terrain's push, on bodies that move under forces.
-  bool moved = true;
   if (body.dynamic() && body.awake() && !rigid) {
     const auto t0 = Clock::now();
     solve_contact(e, h);  // reads the envelope of the previous substep
     stats.reaction_seconds += seconds_since(t0);
-    // A body the terrain holds at rest presses nothing new: imprinting it again would only
-    // re-press soil that erosion slid back under its sides, inflating sinkage forever. One
-    // that creeps away from where it was imprinted is imprinted again.
+    b.pushed = true;
+  }
+  b.to_press = true;
+}
+
+void TerrainCoupling::Parts::serve_press(Entry& e, double h, bool deforms) {
+  CoupledBody& body = *e.body;
+  TerrainBody& b = e.record;
+  if (!b.to_press) return;
+  // A body the terrain holds at rest presses nothing new: imprinting it again would only
+  // re-press soil that erosion slid back under its sides, inflating sinkage forever. One
+  // that creeps away from where it was imprinted is imprinted again.
+  bool moved = true;
+  if (b.pushed) {
     const coupling_detail::Motion m = body.motion();
     moved = b.envelope.lower.empty() || m.linear.length() > settings.rest_speed ||
             m.angular.length() > settings.rest_spin || drifted(e);
@@ -199,6 +220,12 @@ void TerrainCoupling::Parts::serve(Entry& e, double h, bool deforms) {
 
 namespace {
 
+/// Solves of a multibody's links in a substep (solve_links_together): the first, one after
+/// another, then this many less one again. The rover at 1/60 s (its wheels' deepest rut
+/// and slip, with its links added in either order): 1 pass 101 / 246 mm; 4 passes 38 /
+/// 79 mm; 6 passes 37 / 37 mm, 13 % slip (12 passes: 38 / 38 mm, 11 %).
+constexpr int kLinkPasses = 6;
+
 contact_detail::SolverBody solver_body(const CoupledBody& body) {
   const coupling_detail::Motion m = body.motion();
   contact_detail::SolverBody rb;
@@ -213,16 +240,23 @@ contact_detail::SolverBody solver_body(const CoupledBody& body) {
   return rb;
 }
 
-/// How the blocks being solved came to be.
-enum class Blocks { built, followed, kept_at_rest };
+/// How the blocks being solved came to be: built or followed this substep, kept at rest,
+/// or solved already this substep and solved again (solve_links_together).
+enum class Blocks { built, followed, kept_at_rest, again };
 
 /// Solves the body's blocks for this substep and applies the result: velocities corrected,
-/// pose re-integrated, the terrain's force recorded, the per-column memory advanced.
+/// pose re-integrated, the terrain's force recorded; the solve kept for the per-column
+/// memory (advance_memories). Solved again, the body's own last push is taken out of its
+/// motion first and its blocks start from the impulses they ended with: the statistics
+/// then count the last solve only.
 void solve_blocks(CoupledBody& body, TerrainBody& b, Blocks blocks, const TerrainCouplingSettings& settings,
                   TerrainCouplingStats& stats, double h) {
   contact_detail::TerrainContact& c = b.contact;
   if (c.blocks.empty()) return;
   contact_detail::SolverBody rb = solver_body(body);
+  const bool again = blocks == Blocks::again;
+  if (again) rb.v = rb.v - to_vec3(b.own_dv), rb.w = rb.w - to_vec3(b.own_dw);
+  const Vec3 free_v = rb.v, free_w = rb.w;
   // The blocks' points are the body's surface where the contact was built (the envelope's
   // pose: before Bullet moved the body on by a substep, more while the contact follows it),
   // so their arms are taken from the centre of mass there too. Taken from where it is now,
@@ -242,21 +276,82 @@ void solve_blocks(CoupledBody& body, TerrainBody& b, Blocks blocks, const Terrai
       settings.contact.block_columns, resting ? settings.contact.resting_iterations : settings.contact.iterations,
       resting};
   contact_detail::SolveResult r = contact_detail::solve(rb, start, c.blocks, h, solver);
-  if (r.stuck) contact_detail::stop_sway(body, {settings.rest_speed, settings.rest_spin}, rb, r);
-  body.correct_motion(to_bt(rb.v), to_bt(rb.w), h);
+  // Solved again, its change is applied as an impulse (below), which the sway stop is not.
+  if (r.stuck && !again) contact_detail::stop_sway(body, {settings.rest_speed, settings.rest_spin}, rb, r);
+  if (again) {
+    // Solved again: the change of its push itself, through the articulation (exact, where
+    // a velocity change would be matched through the inverse of the link's mobility); the
+    // joints move once, after the last solve (solve_links_together), so every solve of the
+    // substep sees one configuration.
+    body.apply_impulse(to_bt(r.impulse) - b.solved_impulse, to_bt(r.angular_impulse) - b.solved_angular_impulse);
+  } else {
+    body.correct_motion(to_bt(rb.v), to_bt(rb.w), h);
+  }
+  b.solved_impulse = to_bt(r.impulse), b.solved_angular_impulse = to_bt(r.angular_impulse);
+  b.own_dv = to_bt(rb.v - free_v), b.own_dw = to_bt(rb.w - free_w);
 
+  if (again) {
+    stats.plastic_work -= b.solved_work;
+    stats.shear_work -= b.solved_shear_work;
+    if (b.solved_yielded) --stats.yields;
+  }
   stats.plastic_work += r.work;
   stats.shear_work += r.shear_work;
   if (r.yielded) ++stats.yields;
+  b.solved_work = r.work, b.solved_shear_work = r.shear_work, b.solved_yielded = r.yielded;
   c.last.force = to_bt(r.impulse * (1.0 / h));
   c.last.torque = to_bt(r.angular_impulse * (1.0 / h));
   c.last.normal_force = to_bt(r.normal_impulse * (1.0 / h));
   c.last.contact_columns = c.patch.touching_columns;
   c.last.yielded = r.yielded;
-  if (!resting) c.memory.advance(c.patch.elements, b.envelope, rb, c.blocks, settings.contact.block_columns, h);
+  b.solved = !resting;
+  if (b.solved) b.solved_body = rb;
 }
 
 }  // namespace
+
+void TerrainCoupling::Parts::solve_links_together(double h) {
+  // The multibodies with more than one link solved this substep, each with its links'
+  // entries in the order served (few multibodies: a linear search).
+  thread_local std::vector<std::pair<const btMultiBody*, std::vector<std::size_t>>> groups;
+  groups.clear();
+  for (std::size_t k = 0; k < bodies.size(); ++k) {
+    if (!bodies[k].record.solved) continue;
+    const auto* link = btMultiBodyLinkCollider::upcast(&bodies[k].body->object());
+    if (link == nullptr) continue;
+    auto group =
+        std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == link->m_multiBody; });
+    if (group == groups.end()) {
+      groups.emplace_back(link->m_multiBody, std::vector<std::size_t>{});
+      group = groups.end() - 1;
+    }
+    group->second.push_back(k);
+  }
+  for (const auto& [multibody, links] : groups) {
+    if (links.size() < 2) continue;
+    btMultiBody& mb = *const_cast<btMultiBody*>(multibody);
+    const std::vector<btScalar> first = coupling_detail::generalized_velocity(mb);
+    for (int pass = 1; pass < kLinkPasses; ++pass)
+      for (std::size_t q = 0; q < links.size(); ++q) {
+        const std::size_t k = links[pass % 2 == 1 ? links.size() - 1 - q : q];
+        solve_blocks(*bodies[k].body, bodies[k].record, Blocks::again, settings, stats, h);
+      }
+    // The joints move by what the solves after the first changed, as Bullet's integration
+    // would have moved them.
+    std::vector<btScalar> change = coupling_detail::generalized_velocity(mb);
+    for (std::size_t i = 0; i < change.size(); ++i) change[i] -= first[i];
+    coupling_detail::step_positions(mb, change, h);
+  }
+}
+
+void TerrainCoupling::Parts::advance_memories(double h) {
+  for (Entry& e : bodies) {
+    TerrainBody& b = e.record;
+    if (!b.solved) continue;
+    contact_detail::TerrainContact& c = b.contact;
+    c.memory.advance(c.patch.elements, b.envelope, b.solved_body, c.blocks, settings.contact.block_columns, h);
+  }
+}
 
 // The terrain's push on one dynamic body, by where its contact stands (ContactState). Its
 // contact was made where the body stood at the start of this substep (the envelope kept

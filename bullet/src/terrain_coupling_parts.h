@@ -77,10 +77,19 @@ struct TerrainCoupling::Parts {
   /// A point on this coupling's ground (a raycast wheel's contact: Bullet's vehicle does
   /// not say what its ray hit).
   [[nodiscard]] bool on_terrain(const btVector3& world_point) const;
-  /// One body's path through the substep: its contact solved, its envelope made or kept,
-  /// its imprint.
-  void serve(Entry& e, double h, bool deforms);
+  /// One body's path through the substep, in two parts: sanity and its contact's push
+  /// (serve_push), then, once every body's push is solved, its envelope made or kept and
+  /// its imprint (serve_press).
+  void serve_push(Entry& e, double h);
+  void serve_press(Entry& e, double h, bool deforms);
   void solve_contact(Entry& e, double h);
+  /// The links of one multibody, each solved once as a body of its own (one after another,
+  /// each taking the others' pushes as they then were), solved again in turn, alternately
+  /// backward and forward, each taking out its own last push first: block Gauss-Seidel over
+  /// the multibody's links, so none keeps the share of the load it took by being first.
+  void solve_links_together(double h);
+  /// Advances each solved body's contact memory (its columns' shear) with its final solve.
+  void advance_memories(double h);
   void step_terrain();
   /// The terrain's changes into the tiles; bodies over them woken; fallen bodies rescued.
   void push_changes();
