@@ -313,7 +313,7 @@ void solve_blocks(CoupledBody& body, TerrainBody& b, Blocks blocks, const Terrai
 void TerrainCoupling::Parts::solve_links_together(double h) {
   // The multibodies with more than one link solved this substep, each with its links'
   // entries in the order served (few multibodies: a linear search).
-  thread_local std::vector<std::pair<const btMultiBody*, std::vector<std::size_t>>> groups;
+  thread_local std::vector<std::pair<btMultiBody*, std::vector<std::size_t>>> groups;
   groups.clear();
   for (std::size_t k = 0; k < bodies.size(); ++k) {
     if (!bodies[k].record.solved) continue;
@@ -329,7 +329,7 @@ void TerrainCoupling::Parts::solve_links_together(double h) {
   }
   for (const auto& [multibody, links] : groups) {
     if (links.size() < 2) continue;
-    btMultiBody& mb = *const_cast<btMultiBody*>(multibody);
+    btMultiBody& mb = *multibody;
     const std::vector<btScalar> first = coupling_detail::generalized_velocity(mb);
     for (int pass = 1; pass < kLinkPasses; ++pass)
       for (std::size_t q = 0; q < links.size(); ++q) {
