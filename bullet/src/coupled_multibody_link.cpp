@@ -291,16 +291,15 @@ std::vector<btScalar> generalized_velocity(const btMultiBody& body) {
   return {v, v + 6 + body.getNumDofs()};
 }
 
-void step_positions(btMultiBody& body, std::vector<btScalar>& dq, double h) {
+void step_positions(btMultiBody& body, const std::vector<btScalar>& dq, double h,
+                    btAlignedObjectArray<btQuaternion>& scratch_q, btAlignedObjectArray<btVector3>& scratch_o) {
   if (!(h > 0.0) || !all_finite(dq)) return;
   // The positions this substep's integration would have reached with the changed
-  // velocities: Bullet's own step with dq as the velocity.
-  body.stepPositionsMultiDof(btScalar(h), nullptr, dq.data());
-  btAlignedObjectArray<btQuaternion> q;
-  btAlignedObjectArray<btVector3> o;
-  q.resize(body.getNumLinks() + 1);
-  o.resize(body.getNumLinks() + 1);
-  body.updateCollisionObjectWorldTransforms(q, o);
+  // velocities: Bullet's own step with dq as the velocity (it only reads dq).
+  body.stepPositionsMultiDof(btScalar(h), nullptr, const_cast<btScalar*>(dq.data()));
+  scratch_q.resize(body.getNumLinks() + 1);
+  scratch_o.resize(body.getNumLinks() + 1);
+  body.updateCollisionObjectWorldTransforms(scratch_q, scratch_o);
 }
 
 void CoupledMultiBodyLink::change_velocities(const std::vector<btScalar>& dq, double h) {
@@ -310,11 +309,7 @@ void CoupledMultiBodyLink::change_velocities(const std::vector<btScalar>& dq, do
   // Woken only if asleep: wakeUp also restarts the sleep timer, and a multibody the soil
   // holds at rest must still fall asleep as a rigid body does.
   if (!mb.isAwake()) mb.wakeUp();
-  if (!(h > 0.0)) return;
-  mb.stepPositionsMultiDof(btScalar(h), nullptr, const_cast<btScalar*>(dq.data()));
-  scratch_q_.resize(mb.getNumLinks() + 1);
-  scratch_o_.resize(mb.getNumLinks() + 1);
-  mb.updateCollisionObjectWorldTransforms(scratch_q_, scratch_o_);
+  step_positions(mb, dq, h, scratch_q_, scratch_o_);
 }
 
 void CoupledMultiBodyLink::apply_impulse(const btVector3& impulse, const btVector3& angular_impulse) {

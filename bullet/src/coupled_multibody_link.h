@@ -78,8 +78,10 @@ void refuse_if_added(bool held, const btMultiBodyLinkCollider& link, const char*
 /// The multibody's generalized velocity: base (angular, linear), then every joint's rates.
 [[nodiscard]] std::vector<btScalar> generalized_velocity(const btMultiBody& body);
 /// Moves the multibody's base and joints by dq (a generalized velocity) times h, as Bullet's
-/// integration would with dq as the velocity, and its colliders with them.
-void step_positions(btMultiBody& body, std::vector<btScalar>& dq, double h);
+/// integration would with dq as the velocity, and its colliders with them (nothing for h 0
+/// or a non-finite dq). scratch_q, scratch_o: Bullet's workspace, reused.
+void step_positions(btMultiBody& body, const std::vector<btScalar>& dq, double h,
+                    btAlignedObjectArray<btQuaternion>& scratch_q, btAlignedObjectArray<btVector3>& scratch_o);
 
 class CoupledMultiBodyLink final : public CoupledBody {
  public:

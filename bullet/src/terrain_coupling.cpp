@@ -314,6 +314,8 @@ void TerrainCoupling::Parts::solve_links_together(double h) {
   // The multibodies with more than one link solved this substep, each with its links'
   // entries in the order served (few multibodies: a linear search).
   thread_local std::vector<std::pair<btMultiBody*, std::vector<std::size_t>>> groups;
+  thread_local btAlignedObjectArray<btQuaternion> scratch_q;
+  thread_local btAlignedObjectArray<btVector3> scratch_o;
   groups.clear();
   for (std::size_t k = 0; k < bodies.size(); ++k) {
     if (!bodies[k].record.solved) continue;
@@ -340,7 +342,7 @@ void TerrainCoupling::Parts::solve_links_together(double h) {
     // would have moved them.
     std::vector<btScalar> change = coupling_detail::generalized_velocity(mb);
     for (std::size_t i = 0; i < change.size(); ++i) change[i] -= first[i];
-    coupling_detail::step_positions(mb, change, h);
+    coupling_detail::step_positions(mb, change, h, scratch_q, scratch_o);
   }
 }
 

@@ -221,8 +221,9 @@ void WaterCoupling::Parts::float_body(Entry& e, double h) {
   const double inv_mass = body.inverse_mass();
   m.mass = inv_mass > 0 ? 1.0 / inv_mass : 0.0;
   m.inv_inertia = body.inverse_inertia();
-  // A link answers through its whole articulation, even where its mass along up is
-  // infinite (an arm's blade hanging straight down cannot move up).
+  // A link answers through its whole articulation (a rigid body held to some axes through
+  // its mobility), even where its mass along up is infinite (an arm's blade hanging
+  // straight down cannot move up).
   m.articulated = body.dynamic() && body.mobility(m.mobility);
   b.last = water_detail::water_forces(b.wet, sampled_volume, sampled_moment, plane, settings.fluid, m, h);
   const bool moves = m.articulated || m.mass > 0.0;  // kinematic and static bodies: reported, not applied

@@ -18,10 +18,10 @@ struct Motion {
   Vec3 w;                   ///< angular velocity
   double mass = 0.0;        ///< kg; 0 (and not articulated): kinematic or static (the forces are reported, not limited)
   btMatrix3x3 inv_inertia;  ///< world inverse inertia tensor
-  /// An articulated body (a btMultiBody link): its 6 x 6 mobility at the centre
-  /// (CoupledBody::mobility). Its mass and inertia cannot be taken apart (a push at its
-  /// centre turns it through its joints, a twist moves it), so its drag is limited through
-  /// this instead of mass and inv_inertia.
+  /// A body whose mass and inertia cannot be taken apart: a btMultiBody link (a push at its
+  /// centre turns it through its joints, a twist moves it) or a rigid body Bullet holds to
+  /// some axes (CoupledBody::mobility gives their 6 x 6 mobility at the centre). Its drag is
+  /// limited through the mobility instead of mass and inv_inertia.
   bool articulated = false;
   double mobility[6][6] = {};
 };

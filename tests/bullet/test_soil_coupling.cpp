@@ -180,32 +180,48 @@ TEST(SoilCoupling, ImpactCraterDoesNotDependOnTheSubstep) {
 }
 
 namespace {
-/// A kinematic blade 0.1 m thick and 1 m wide, its lower edge 0.1 m under the surface,
-/// dragged 4 m along x at `speed` (m/s) in substeps of h on 2 cm columns of `material`.
-/// Returns the trench's mean depth along its centre line from 0.2 to 3.8 m, m.
-double trench_depth(const Material& material, double speed, double h) {
-  shore::terrain::TerrainSettings ts;
-  ts.cell = 0.02;
-  ts.material = material;
-  ts.threads = 1;
-  World world;
-  shore::terrain::Terrain soil(ts);
-  shore::bullet::TerrainCoupling coupling(world.world(), soil);
-  const btVector3 half(0.05f, 0.5f, 0.3f);
-  btRigidBody* blade = world.add_body(std::make_unique<btBoxShape>(half), 0.0, btVector3(0, 0, half.z() - 0.1f));
-  blade->setCollisionFlags(blade->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
-  blade->setActivationState(DISABLE_DEACTIVATION);
-  coupling.add_body(blade);
-  const int steps = static_cast<int>(std::lround(4.0 / speed / h));
-  for (int k = 0; k < steps; ++k) {
-    btTransform t = blade->getWorldTransform();
-    t.setOrigin(t.getOrigin() + btVector3(btScalar(speed * h), 0, 0));
-    blade->getMotionState()->setWorldTransform(t);  // a kinematic body's pose comes from its motion state
-    world.step(h);
+/// A kinematic blade 0.1 m thick and 1 m wide, its lower edge 0.1 m under the surface at
+/// `at`, on `soil` (its own world and coupling), dragged along x.
+struct BladeRig {
+  BladeRig(shore::terrain::Terrain t, const btVector3& at) : soil(std::move(t)) {
+    coupling = std::make_unique<shore::bullet::TerrainCoupling>(world.world(), soil);
+    blade = world.add_body(std::make_unique<btBoxShape>(kHalf), 0.0, at);
+    blade->setCollisionFlags(blade->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+    blade->setActivationState(DISABLE_DEACTIVATION);
+    coupling->add_body(blade);
   }
+  /// Where the blade starts: its lower edge 0.1 m under the untouched surface at the origin.
+  static btVector3 start() { return {0, 0, kHalf.z() - 0.1f}; }
+  static shore::terrain::TerrainSettings soil_of(const Material& material) {
+    shore::terrain::TerrainSettings ts;
+    ts.cell = 0.02;
+    ts.material = material;
+    ts.threads = 1;
+    return ts;
+  }
+  void drag(int steps, double speed, double h) {
+    for (int k = 0; k < steps; ++k) {
+      btTransform t = blade->getWorldTransform();
+      t.setOrigin(t.getOrigin() + btVector3(btScalar(speed * h), 0, 0));
+      blade->getMotionState()->setWorldTransform(t);  // a kinematic body's pose comes from its motion state
+      world.step(h);
+    }
+  }
+  inline static const btVector3 kHalf{0.05f, 0.5f, 0.3f};
+  World world;
+  shore::terrain::Terrain soil;
+  std::unique_ptr<shore::bullet::TerrainCoupling> coupling;
+  btRigidBody* blade = nullptr;
+};
+
+/// The blade dragged 4 m at `speed` (m/s) in substeps of h on 2 cm columns of `material`:
+/// the trench's mean depth along its centre line from 0.2 to 3.8 m, m.
+double trench_depth(const Material& material, double speed, double h) {
+  BladeRig rig(shore::terrain::Terrain(BladeRig::soil_of(material)), BladeRig::start());
+  rig.drag(static_cast<int>(std::lround(4.0 / speed / h)), speed, h);
   double depth = 0.0;
   const int first = 10, last = 190;
-  for (int i = first; i <= last; ++i) depth -= soil.height(i, 0);
+  for (int i = first; i <= last; ++i) depth -= rig.soil.height(i, 0);
   return depth / (last - first + 1);
 }
 }  // namespace
@@ -230,44 +246,19 @@ TEST(SoilCoupling, AFastThinBladeCutsAnUnbrokenTrench) {
 }
 
 namespace {
-/// The trench of trench_depth's blade on sand at 20 m/s and 1/60 s, dragged `before` substeps,
+/// The trench of the blade on sand at 20 m/s and 1/60 s, dragged `before` substeps,
 /// then (through a checkpoint of the terrain and the coupling into a new world, if
 /// `restore`) `after` more: its heights along the centre line.
 std::vector<double> trench_through_checkpoint(int before, int after, bool restore) {
-  shore::terrain::TerrainSettings ts;
-  ts.cell = 0.02;
-  ts.threads = 1;
   const double speed = 20.0, h = 1.0 / 60;
-  const btVector3 half(0.05f, 0.5f, 0.3f);
-  struct Rig {
-    Rig(shore::terrain::Terrain t, const btVector3& half, const btVector3& at) : soil(std::move(t)) {
-      coupling = std::make_unique<shore::bullet::TerrainCoupling>(world.world(), soil);
-      blade = world.add_body(std::make_unique<btBoxShape>(half), 0.0, at);
-      blade->setCollisionFlags(blade->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
-      blade->setActivationState(DISABLE_DEACTIVATION);
-      coupling->add_body(blade);
-    }
-    void drag(int steps, double speed, double h) {
-      for (int k = 0; k < steps; ++k) {
-        btTransform t = blade->getWorldTransform();
-        t.setOrigin(t.getOrigin() + btVector3(btScalar(speed * h), 0, 0));
-        blade->getMotionState()->setWorldTransform(t);
-        world.step(h);
-      }
-    }
-    World world;
-    shore::terrain::Terrain soil;
-    std::unique_ptr<shore::bullet::TerrainCoupling> coupling;
-    btRigidBody* blade = nullptr;
-  };
-  const btVector3 start(0, 0, half.z() - 0.1f);
-  auto rig = std::make_unique<Rig>(shore::terrain::Terrain(ts), half, start);
+  auto rig =
+      std::make_unique<BladeRig>(shore::terrain::Terrain(BladeRig::soil_of(Material::sand())), BladeRig::start());
   rig->drag(before, speed, h);
   if (restore) {
     const std::vector<unsigned char> soil = rig->soil.save_bytes(), coupling = rig->coupling->save_state();
     const btVector3 at = rig->blade->getWorldTransform().getOrigin();
     rig.reset();
-    rig = std::make_unique<Rig>(shore::terrain::Terrain::load_bytes(soil, "trench soil"), half, at);
+    rig = std::make_unique<BladeRig>(shore::terrain::Terrain::load_bytes(soil, "trench soil"), at);
     rig->coupling->restore_state(coupling, "trench coupling");
   }
   rig->drag(after, speed, h);
